@@ -1,0 +1,24 @@
+"""Error types. Every user-facing error is a one-line message naming the field, the value and
+what is allowed; the CLI prints it on stderr and exits with code 2."""
+
+from __future__ import annotations
+
+
+class TetherheliError(ValueError):
+    """Base of the package's user-facing errors (a ValueError, so callers may catch either)."""
+
+
+class ParameterError(TetherheliError):
+    """An invalid parameter, scenario value or configuration field."""
+
+    def __init__(self, field: str, value: object, allowed: str, *, source: str | None = None):
+        self.field = field
+        self.value = value
+        self.allowed = allowed
+        self.source = source
+        where = f"{source}: " if source else ""
+        super().__init__(f"{where}{field} = {value!r} is invalid; allowed: {allowed}")
+
+
+class SingularConfigurationError(TetherheliError):
+    """The state lies on a coordinate singularity (|q5| or |q8| = 90 deg, q9 <= 0)."""

@@ -1,0 +1,218 @@
+"""Equations of motion by Kane's method (``sympy.physics.mechanics``), paper Secs. II-III.
+
+The mechanical description: the fuselage F and the stiff main rotor MR are rigid bodies; the
+rotor spins at the constant rate omega_MR about f3 relative to F (eq 1). The points of eq 2 are
+fixed in F. Loads (Sec. II-D): the rotor lift fMR,3 f3 at MRO; the rotor torques tMR,i f_i on
+MR, with the drag torque tMR,3 = rotor_drag_arm fMR,3; the tail-rotor force fTR,2 f2 at TRO and
+torque tTR,2 f2 on F; gravity at FO and MRO; the tether tension -TC c3 at P (eq 28); a wind
+force at HO.
+
+Generalized speeds are the same for both models (eqs 7-8): u1..u3 the velocity of HO in N,
+u4..u6 the angular velocity of F in N, in F. The free helicopter positions HO with Cartesian
+q1..q3 (eq 4); the tethered one with the spherical q7, q8, q9 (eq 27). The tethered kinematics
+(eq 29) are written in the tether frame C (c1, c2, c3), where the velocity of P has the compact
+components (-q9 c8 q7', q9 q8', q9'); this keeps M of eq 29 small.
+
+The free helicopter is the tethered derivation's dynamics with no tether: both models share
+every body, point and load here; only the position coordinates differ.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import sympy as sp
+from sympy.physics.mechanics import (
+    KanesMethod,
+    Point,
+    ReferenceFrame,
+    RigidBody,
+    dynamicsymbols,
+    inertia,
+)
+
+from ..params import PARAM_ORDER
+
+__all__ = ["Derivation", "ModelKind", "derive", "parameter_symbols"]
+
+ModelKind = Literal["free", "tethered"]
+
+INPUT_NAMES = ("fMR3", "tMR1", "tMR2", "fTR2")
+
+
+def parameter_symbols() -> dict[str, sp.Symbol]:
+    """SymPy symbols of the helicopter parameters, keyed by their ``HelicopterParams`` name."""
+    return {name: sp.Symbol(name, real=True) for name in PARAM_ORDER}
+
+
+@dataclass(frozen=True)
+class Derivation:
+    """The derived model: x' = f(x, inputs, wind, TC) and the outputs y = h(x).
+
+    Attributes
+    ----------
+    kind : "free" or "tethered"
+    q, u : coordinates and generalized speeds (SymPy functions of time)
+    qdot : kinematic differential equations, q' in terms of q and u (eqs 9-12, 29)
+    udot : dynamic equations, u' (eqs 13-18, 30-35)
+    mass_matrix, forcing : Kane's M(q) and f(q, u, ...) with M u' = f
+    outputs : [q1, q2, q3, q6] of HO in N (eqs 4, 43-45)
+    tether_torque : the tether's generalized forces on u4, u5 (the C1, C2 of eq 55)
+    inputs, wind : input symbols (fMR3, tMR1, tMR2, fTR2) and wind force (w1, w2, w3) [N]
+    tension : the tension magnitude TC (a symbol; eq 28's slack law is applied numerically)
+    params : parameter symbols in ``PARAM_ORDER``
+    dcm : N.dcm(F), the direction cosine matrix of Table I
+    """
+
+    kind: ModelKind
+    q: tuple[sp.Expr, ...]
+    u: tuple[sp.Expr, ...]
+    qdot: sp.Matrix
+    udot: sp.Matrix
+    mass_matrix: sp.Matrix
+    forcing: sp.Matrix
+    outputs: sp.Matrix
+    tether_torque: sp.Matrix
+    inputs: tuple[sp.Symbol, ...]
+    wind: tuple[sp.Symbol, ...]
+    tension: sp.Symbol
+    params: tuple[sp.Symbol, ...]
+    dcm: sp.Matrix
+
+    def state_symbols(self) -> tuple[sp.Symbol, ...]:
+        """Plain symbols standing for (q, u), in state order, for code generation."""
+        return tuple(sp.Symbol(str(s.func)) for s in (*self.q, *self.u))
+
+    def to_plain(self, expr: sp.Expr | sp.Matrix) -> sp.Expr | sp.Matrix:
+        """Replace the time functions q(t), u(t) by plain symbols."""
+        return expr.subs(dict(zip((*self.q, *self.u), self.state_symbols(), strict=True)))
+
+
+def derive(kind: ModelKind) -> Derivation:
+    """Derive the free (eqs 9-18) or the tethered (eqs 10-12, 29-35) equations of motion."""
+    if kind not in ("free", "tethered"):
+        raise ValueError(f"kind = {kind!r} is invalid; allowed: 'free' or 'tethered'")
+    p = parameter_symbols()
+    g, m_F, m_MR = p["g"], p["m_F"], p["m_MR"]
+    t = dynamicsymbols._t
+
+    q4, q5, q6 = dynamicsymbols("q4 q5 q6")
+    u1, u2, u3, u4, u5, u6 = dynamicsymbols("u1:7")
+    f_MR3, t_MR1, t_MR2, f_TR2 = sp.symbols(INPUT_NAMES, real=True)
+    wind = sp.symbols("w1 w2 w3", real=True)
+    T_C = sp.Symbol("T_C", real=True)
+
+    # Frames: N inertial; F by body-fixed 1-2-3 Euler angles (Table I); MR spins about f3.
+    N = ReferenceFrame("N")
+    F = ReferenceFrame("F")
+    F.orient_body_fixed(N, (q4, q5, q6), "123")
+    w_F_from_angles = F.ang_vel_in(N)
+    F.set_ang_vel(N, u4 * F.x + u5 * F.y + u6 * F.z)  # eq 8
+    MR = ReferenceFrame("MR")
+    MR.orient_axis(F, F.z, p["omega_MR"] * t)
+
+    # Points of eq 2 and the centre of mass HO of eq 3.
+    d_O_HO3 = (m_F * p["d_O_FO3"] + m_MR * p["d_O_MRO3"]) / (m_F + m_MR)
+    NO = Point("NO")
+    NO.set_vel(N, 0)
+    kd_eqs = [u4 - w_F_from_angles.dot(F.x), u5 - w_F_from_angles.dot(F.y),
+              u6 - w_F_from_angles.dot(F.z)]  # eq 8
+    if kind == "free":
+        q1, q2, q3 = dynamicsymbols("q1 q2 q3")
+        q = (q1, q2, q3, q4, q5, q6)
+        HO = NO.locatenew("HO", q1 * N.x + q2 * N.y + q3 * N.z)  # eq 4
+        kd_eqs = [u1 - q1.diff(t), u2 - q2.diff(t), u3 - q3.diff(t), *kd_eqs]  # eq 7
+    else:
+        q7, q8, q9 = dynamicsymbols("q7 q8 q9")
+        q = (q4, q5, q6, q7, q8, q9)
+        C = ReferenceFrame("C")
+        C.orient_body_fixed(N, (q7, q8, 0), "123")  # about n1, then about the new 2-axis
+        P_from_ground = NO.locatenew("P", q9 * C.z)  # eq 27
+        HO = P_from_ground.locatenew("HO", -(p["d_O_P3"] - d_O_HO3) * F.z)
+        v_P_from_q = P_from_ground.pos_from(NO).dt(N)
+    HO.set_vel(N, u1 * N.x + u2 * N.y + u3 * N.z)  # eq 7
+    # FO and MRO relative to HO: with d = dO-FO,3 - dO-MRO,3 they sit at +mMR d / m and
+    # -mF d / m along f3 (eq 3), so mF p_HO->FO + mMR p_HO->MRO = 0 holds term by term.
+    d_FO_MRO = p["d_O_FO3"] - p["d_O_MRO3"]
+    O = HO.locatenew("O", -d_O_HO3 * F.z)
+    FO = HO.locatenew("FO", m_MR * d_FO_MRO / (m_F + m_MR) * F.z)
+    MRO = HO.locatenew("MRO", -m_F * d_FO_MRO / (m_F + m_MR) * F.z)
+    TRO = O.locatenew("TRO", p["d_O_TRO1"] * F.x)
+    P = O.locatenew("P_F", p["d_O_P3"] * F.z)
+    for point in (O, FO, MRO, TRO, P):
+        point.v2pt_theory(HO, N, F)
+    if kind == "tethered":
+        # eq 29: the velocity of P from the spherical rates equals the one from u, in C.
+        v_P_from_u = P.vel(N)
+        kd_eqs += [(v_P_from_q - v_P_from_u).dot(c) for c in (C.x, C.y, C.z)]
+
+    fuselage = RigidBody(
+        "F", FO, F, m_F, (inertia(F, p["I_F11"], p["I_F22"], p["I_F33"]), FO)
+    )  # eq 1
+    # eq 1: the thin disc's dyadic IMR11 (mr1 mr1 + mr2 mr2) + 2 IMR11 mr3 mr3 is axisymmetric
+    # about mr3 = f3, so it equals the same dyadic written in F (tests check the identity);
+    # writing it in F keeps the spin angle omega_MR t out of the equations.
+    rotor = RigidBody("MR", MRO, MR, m_MR, (rotor_inertia_dyadic(F, p["I_MR11"]), MRO))
+    t_MR3 = p["rotor_drag_arm"] * f_MR3
+    loads = [
+        (MRO, f_MR3 * F.z),
+        (MR, t_MR1 * F.x + t_MR2 * F.y + t_MR3 * F.z),
+        (TRO, f_TR2 * F.y),
+        (F, p["t_TR2"] * F.y),
+        (FO, -m_F * g * N.z),
+        (MRO, -m_MR * g * N.z),
+        (HO, wind[0] * N.x + wind[1] * N.y + wind[2] * N.z),
+    ]
+    if kind == "tethered":
+        loads.append((P, -T_C * C.z))  # eq 28
+
+    speeds = (u1, u2, u3, u4, u5, u6)
+    kane = KanesMethod(N, q_ind=list(q), u_ind=list(speeds), kd_eqs=kd_eqs)
+    kane.kanes_equations([fuselage, rotor], loads)
+    mass = kane.mass_matrix.applyfunc(sp.factor)  # constant: depends on parameters only
+    if any(mass[i, j] != 0 for i in range(6) for j in range(6) if i != j):
+        raise RuntimeError("Kane's mass matrix is not diagonal; the generalized speeds are off")
+    # Each forcing row is linear in TC: expand the tension-free part (the centre-of-mass terms
+    # cancel), keep the tether term factored as the paper prints it (eqs 30-35).
+    forcing = sp.Matrix(
+        [sp.expand(row.subs(T_C, 0)) + T_C * sp.factor_terms(row.diff(T_C)) for row in kane.forcing]
+    )
+    udot = sp.Matrix([forcing[i] / mass[i, i] for i in range(6)])
+    kd_map = kane.kindiffdict()
+    euler = (q4, q5, q6)
+    qdot = sp.Matrix(
+        [_pythagoras(kd_map[qi.diff(t)], euler) if qi in euler else kd_map[qi.diff(t)] for qi in q]
+    )
+    r_HO = HO.pos_from(NO).to_matrix(N)
+    outputs = sp.Matrix([sp.factor_terms(r_HO[i]) for i in range(3)] + [q6])
+    tether_torque = sp.Matrix([T_C * forcing[3].diff(T_C), T_C * forcing[4].diff(T_C)])
+    return Derivation(
+        kind=kind,
+        q=q,
+        u=speeds,
+        qdot=qdot,
+        udot=udot,
+        mass_matrix=mass,
+        forcing=forcing,
+        outputs=outputs,
+        tether_torque=tether_torque,
+        inputs=(f_MR3, t_MR1, t_MR2, f_TR2),
+        wind=tuple(wind),
+        tension=T_C,
+        params=tuple(p[name] for name in PARAM_ORDER),
+        dcm=N.dcm(F),
+    )
+
+
+def rotor_inertia_dyadic(frame: ReferenceFrame, I_MR11: sp.Expr):
+    """Central inertia dyadic of the thin-disc rotor (eq 1), written in ``frame``."""
+    return inertia(frame, I_MR11, I_MR11, 2 * I_MR11)
+
+
+def _pythagoras(expr: sp.Expr, coordinates: tuple[sp.Expr, ...]) -> sp.Expr:
+    """Cancel a kinematic expression and fold sin^2 + cos^2 = 1 (cheap, exact)."""
+    expr = sp.cancel(expr)
+    for qi in coordinates:
+        expr = expr.subs(sp.sin(qi) ** 2, 1 - sp.cos(qi) ** 2)
+    return sp.cancel(expr)

@@ -1,0 +1,297 @@
+"""Model parameters: the paper's Tables II and III, the rotor-drag arm, and the tension PI gains.
+
+All parameter sets are frozen dataclasses; derived quantities (dO-HO,3, the K constants of
+eqs 19-26) are properties, computed, never stored. ``Params.paper()`` returns the paper's set;
+``Params.from_toml(path)`` or ``Params.paper().replace(...)`` override any field, strictly
+validated.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import tomllib
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+from typing import Any, Self
+
+import numpy as np
+
+from .errors import ParameterError
+
+__all__ = ["HelicopterParams", "Params", "TensionControlParams", "TetherParams"]
+
+
+def _meta(doc: str, *, positive: bool = False, nonzero: bool = False, nonnegative: bool = False):
+    return field(
+        metadata={"doc": doc, "positive": positive, "nonzero": nonzero, "nonnegative": nonnegative}
+    )
+
+
+class _Validated:
+    """Mixin: validate every float field of a frozen dataclass after construction."""
+
+    def __post_init__(self) -> None:
+        for f in fields(self):  # type: ignore[arg-type]
+            value = getattr(self, f.name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise ParameterError(
+                    f"{self._section}.{f.name}", value, "a real number"  # type: ignore[attr-defined]
+                )
+            value = float(value)
+            if not math.isfinite(value):
+                raise ParameterError(f"{self._section}.{f.name}", value, "a finite number")  # type: ignore[attr-defined]
+            if f.metadata.get("positive") and value <= 0.0:
+                raise ParameterError(f"{self._section}.{f.name}", value, "a number > 0")  # type: ignore[attr-defined]
+            if f.metadata.get("nonnegative") and value < 0.0:
+                raise ParameterError(f"{self._section}.{f.name}", value, "a number >= 0")  # type: ignore[attr-defined]
+            if f.metadata.get("nonzero") and value == 0.0:
+                raise ParameterError(f"{self._section}.{f.name}", value, "a nonzero number")  # type: ignore[attr-defined]
+            object.__setattr__(self, f.name, value)
+
+
+@dataclass(frozen=True)
+class HelicopterParams(_Validated):
+    """Mechanical parameters of the helicopter (paper Table II, eqs 1-2, Sec. II-D)."""
+
+    _section = "helicopter"
+
+    g: float = _meta("gravity acceleration g [m/s^2] (Table II)", positive=True)
+    m_F: float = _meta("fuselage mass mF [kg] (Table II)", positive=True)
+    m_MR: float = _meta("main-rotor mass mMR [kg] (Table II)", positive=True)
+    I_F11: float = _meta("fuselage principal inertia IF11 [kg m^2] (Table II)", positive=True)
+    I_F22: float = _meta("fuselage principal inertia IF22 [kg m^2] (Table II)", positive=True)
+    I_F33: float = _meta("fuselage principal inertia IF33 [kg m^2] (Table II)", positive=True)
+    I_MR11: float = _meta(
+        "main-rotor inertia IMR11 [kg m^2]; the thin disc has 2 IMR11 about mr3 (eq 1)",
+        positive=True,
+    )
+    omega_MR: float = _meta(
+        "main-rotor angular speed relative to the fuselage, about f3, omegaMR [rad/s] (Table II)"
+    )
+    d_O_FO3: float = _meta("f3 offset of the fuselage centre of mass FO from O [m] (eq 2)")
+    d_O_MRO3: float = _meta("f3 offset of the rotor centre MRO from O [m] (eq 2)")
+    d_O_TRO1: float = _meta("f1 offset of the tail rotor TRO from O [m] (eq 2)", nonzero=True)
+    d_O_P3: float = _meta("f3 offset of the tether attachment P from O [m] (eq 2)")
+    rotor_drag_arm: float = _meta(
+        "main-rotor drag torque per unit lift, tMR,3 = rotor_drag_arm * fMR,3 [m] "
+        "(implied by Tables IV-V, see SPEC.md)",
+        positive=True,
+    )
+    t_TR2: float = _meta("tail-rotor torque on the fuselage about f2, tTR,2 [N m] (Sec. II-D)")
+
+    # --- derived quantities (never stored) -------------------------------------------------
+    @property
+    def m(self) -> float:
+        """Total mass mF + mMR [kg]."""
+        return self.m_F + self.m_MR
+
+    @property
+    def d_O_HO3(self) -> float:
+        """f3 offset of the whole helicopter's centre of mass HO from O [m] (eq 3)."""
+        return (self.m_F * self.d_O_FO3 + self.m_MR * self.d_O_MRO3) / self.m
+
+    @property
+    def mu(self) -> float:
+        """Reduced mass mF mMR / (mF + mMR) [kg] (eqs 19-23)."""
+        return self.m_F * self.m_MR / self.m
+
+    @property
+    def _mu_d2(self) -> float:
+        return self.mu * (self.d_O_FO3 - self.d_O_MRO3) ** 2
+
+    @property
+    def K4p4(self) -> float:
+        """Eq 19 [kg m^2]."""
+        return self._mu_d2 + self.I_F11 + self.I_MR11
+
+    @property
+    def K456(self) -> float:
+        """Eq 20 [kg m^2]."""
+        return self._mu_d2 + self.I_F22 - self.I_F33 - self.I_MR11
+
+    @property
+    def K45(self) -> float:
+        """Eq 21 [kg m^2/s]."""
+        return -2.0 * self.I_MR11 * self.omega_MR
+
+    @property
+    def K5p5(self) -> float:
+        """Eq 22 [kg m^2]."""
+        return self._mu_d2 + self.I_F22 + self.I_MR11
+
+    @property
+    def K546(self) -> float:
+        """Eq 23 [kg m^2]."""
+        return -self._mu_d2 + self.I_F33 - self.I_F11 + self.I_MR11
+
+    @property
+    def K54(self) -> float:
+        """Eq 24 [kg m^2/s]."""
+        return 2.0 * self.I_MR11 * self.omega_MR
+
+    @property
+    def K6p6(self) -> float:
+        """Eq 25 [kg m^2]."""
+        return self.I_F33 + 2.0 * self.I_MR11
+
+    @property
+    def K645(self) -> float:
+        """Eq 26 [kg m^2]."""
+        return self.I_F11 - self.I_F22
+
+    @property
+    def tether_arm(self) -> float:
+        """dO-P,3 - dO-HO,3 [m]: the f3 lever of the tether force about HO (eqs 33-34, 40)."""
+        return self.d_O_P3 - self.d_O_HO3
+
+    def as_array(self) -> np.ndarray:
+        """The parameters in the fixed order of the generated code (``PARAM_ORDER``)."""
+        return np.array([getattr(self, n) for n in PARAM_ORDER], dtype=np.float64)
+
+
+#: Order of the helicopter parameters in the array handed to the generated numeric code.
+PARAM_ORDER: tuple[str, ...] = tuple(
+    f.name for f in dataclasses.fields(HelicopterParams)
+)
+
+
+@dataclass(frozen=True)
+class TetherParams(_Validated):
+    """Elastic tether and ground winch (paper Table III, eqs 28, 36-37)."""
+
+    _section = "tether"
+
+    L_N0: float = _meta("initial tether natural length L0N [m] (Table III)", positive=True)
+    K_C: float = _meta(
+        "tether elasticity constant KC [N/m] (Table III; printed 'Nm', see SPEC.md)", positive=True
+    )
+
+
+@dataclass(frozen=True)
+class TensionControlParams(_Validated):
+    """Ground-winch tension PI controller (eq 56) and its reference (eq 40, Sec. VI)."""
+
+    _section = "tension_control"
+
+    T_ref: float = _meta("reference tether tension TrefC [N] (Sec. VI: 25 N)", nonnegative=True)
+    K_P: float = _meta("proportional gain KP of eq 56 [m/(s N)]", nonnegative=True)
+    K_I: float = _meta("integral gain KI of eq 56 [m/(s^2 N)]", nonnegative=True)
+
+
+_PAPER_HELICOPTER = dict(
+    g=9.81,
+    m_F=12.0,
+    m_MR=0.67,
+    I_F11=0.6,
+    I_F22=1.0,
+    I_F33=1.0,
+    I_MR11=0.1159,
+    omega_MR=-141.37,
+    d_O_FO3=-0.11,
+    d_O_MRO3=0.166,
+    d_O_TRO1=-1.08,
+    d_O_P3=-0.3,
+    rotor_drag_arm=0.1,
+    t_TR2=0.0,
+)
+_PAPER_TETHER = dict(L_N0=9.375, K_C=40.0)
+_PAPER_TENSION_CONTROL = dict(T_ref=25.0, K_P=1.0, K_I=0.1)
+
+
+@dataclass(frozen=True)
+class Params:
+    """The full parameter set: helicopter (Table II), tether (Table III), tension control."""
+
+    helicopter: HelicopterParams
+    tether: TetherParams
+    tension_control: TensionControlParams
+
+    @classmethod
+    def paper(cls) -> Self:
+        """The paper's values (Tables II-III, KP = 1, KI = 0.1, TrefC = 25 N)."""
+        return cls(
+            helicopter=HelicopterParams(**_PAPER_HELICOPTER),
+            tether=TetherParams(**_PAPER_TETHER),
+            tension_control=TensionControlParams(**_PAPER_TENSION_CONTROL),
+        )
+
+    def replace(self, overrides: dict[str, Any] | None = None, **sections: dict[str, Any]) -> Self:
+        """A copy with overridden fields, e.g. ``replace(tether={"K_C": 60.0})`` or
+        ``replace({"tether.K_C": 60.0})``. Unknown sections or keys raise ParameterError."""
+        merged: dict[str, dict[str, Any]] = {}
+        for dotted, value in (overrides or {}).items():
+            section, _, key = dotted.partition(".")
+            if not key:
+                raise ParameterError(dotted, value, "a key of the form section.field")
+            merged.setdefault(section, {})[key] = value
+        for section, values in sections.items():
+            if not isinstance(values, dict):
+                raise ParameterError(section, values, "a table of field = value")
+            merged.setdefault(section, {}).update(values)
+        return self._with(merged, source=None)
+
+    def _with(self, merged: dict[str, dict[str, Any]], source: str | None) -> Self:
+        kwargs = {}
+        for f in fields(self):
+            current = getattr(self, f.name)
+            values = merged.pop(f.name, {})
+            allowed = {g.name for g in fields(current)}
+            for key in values:
+                if key not in allowed:
+                    raise ParameterError(
+                        f"{f.name}.{key}", values[key], f"one of {sorted(allowed)}", source=source
+                    )
+            try:
+                kwargs[f.name] = dataclasses.replace(current, **values)
+            except ParameterError as exc:
+                raise ParameterError(exc.field, exc.value, exc.allowed, source=source) from None
+        if merged:
+            name = next(iter(merged))
+            raise ParameterError(
+                name, merged[name], f"one of {[f.name for f in fields(self)]}", source=source
+            )
+        return type(self)(**kwargs)
+
+    @classmethod
+    def from_toml(cls, path: str | Path, *, base: Params | None = None) -> Self:
+        """Load overrides of the paper's values from a TOML file with tables ``[helicopter]``,
+        ``[tether]``, ``[tension_control]``."""
+        path = Path(path)
+        try:
+            data = tomllib.loads(path.read_text())
+        except FileNotFoundError:
+            raise ParameterError("file", str(path), "an existing TOML file") from None
+        except tomllib.TOMLDecodeError as exc:
+            raise ParameterError("file", str(path), f"valid TOML ({exc})") from None
+        return cls.from_mapping(data, base=base, source=str(path))
+
+    @classmethod
+    def from_mapping(
+        cls, data: dict[str, Any], *, base: Params | None = None, source: str | None = None
+    ) -> Self:
+        """Overrides from a nested mapping (the parsed form of the TOML file)."""
+        base = base if base is not None else cls.paper()
+        merged: dict[str, dict[str, Any]] = {}
+        for section, values in data.items():
+            if not isinstance(values, dict):
+                raise ParameterError(section, values, "a table of field = value", source=source)
+            merged[section] = dict(values)
+        return base._with(merged, source=source)  # type: ignore[return-value]
+
+    def to_dict(self) -> dict[str, dict[str, float]]:
+        """Plain nested dict (for recording a run's configuration)."""
+        return dataclasses.asdict(self)
+
+    @staticmethod
+    def field_docs() -> dict[str, str]:
+        """``section.field`` -> the field's documentation (units and source)."""
+        out = {}
+        for section_cls, section in (
+            (HelicopterParams, "helicopter"),
+            (TetherParams, "tether"),
+            (TensionControlParams, "tension_control"),
+        ):
+            for f in fields(section_cls):
+                out[f"{section}.{f.name}"] = f.metadata["doc"]
+        return out
