@@ -36,7 +36,9 @@ class _Validated:
             value = getattr(self, f.name)
             if isinstance(value, bool) or not isinstance(value, (int, float)):
                 raise ParameterError(
-                    f"{self._section}.{f.name}", value, "a real number"  # type: ignore[attr-defined]
+                    f"{self._section}.{f.name}",
+                    value,
+                    "a real number",  # type: ignore[attr-defined]
                 )
             value = float(value)
             if not math.isfinite(value):
@@ -56,7 +58,7 @@ class HelicopterParams(_Validated):
 
     _section = "helicopter"
 
-    g: float = _meta("gravity acceleration g [m/s^2] (Table II)", positive=True)
+    g: float = _meta("gravity acceleration g [m/s^2] (Table II)", nonnegative=True)
     m_F: float = _meta("fuselage mass mF [kg] (Table II)", positive=True)
     m_MR: float = _meta("main-rotor mass mMR [kg] (Table II)", positive=True)
     I_F11: float = _meta("fuselage principal inertia IF11 [kg m^2] (Table II)", positive=True)
@@ -151,9 +153,7 @@ class HelicopterParams(_Validated):
 
 
 #: Order of the helicopter parameters in the array handed to the generated numeric code.
-PARAM_ORDER: tuple[str, ...] = tuple(
-    f.name for f in dataclasses.fields(HelicopterParams)
-)
+PARAM_ORDER: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(HelicopterParams))
 
 
 @dataclass(frozen=True)

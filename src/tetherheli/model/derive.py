@@ -116,8 +116,11 @@ def derive(kind: ModelKind) -> Derivation:
     d_O_HO3 = (m_F * p["d_O_FO3"] + m_MR * p["d_O_MRO3"]) / (m_F + m_MR)
     NO = Point("NO")
     NO.set_vel(N, 0)
-    kd_eqs = [u4 - w_F_from_angles.dot(F.x), u5 - w_F_from_angles.dot(F.y),
-              u6 - w_F_from_angles.dot(F.z)]  # eq 8
+    kd_eqs = [
+        u4 - w_F_from_angles.dot(F.x),
+        u5 - w_F_from_angles.dot(F.y),
+        u6 - w_F_from_angles.dot(F.z),
+    ]  # eq 8
     if kind == "free":
         q1, q2, q3 = dynamicsymbols("q1 q2 q3")
         q = (q1, q2, q3, q4, q5, q6)
@@ -135,12 +138,12 @@ def derive(kind: ModelKind) -> Derivation:
     # FO and MRO relative to HO: with d = dO-FO,3 - dO-MRO,3 they sit at +mMR d / m and
     # -mF d / m along f3 (eq 3), so mF p_HO->FO + mMR p_HO->MRO = 0 holds term by term.
     d_FO_MRO = p["d_O_FO3"] - p["d_O_MRO3"]
-    O = HO.locatenew("O", -d_O_HO3 * F.z)
+    point_O = HO.locatenew("O", -d_O_HO3 * F.z)
     FO = HO.locatenew("FO", m_MR * d_FO_MRO / (m_F + m_MR) * F.z)
     MRO = HO.locatenew("MRO", -m_F * d_FO_MRO / (m_F + m_MR) * F.z)
-    TRO = O.locatenew("TRO", p["d_O_TRO1"] * F.x)
-    P = O.locatenew("P_F", p["d_O_P3"] * F.z)
-    for point in (O, FO, MRO, TRO, P):
+    TRO = point_O.locatenew("TRO", p["d_O_TRO1"] * F.x)
+    P = point_O.locatenew("P_F", p["d_O_P3"] * F.z)
+    for point in (point_O, FO, MRO, TRO, P):
         point.v2pt_theory(HO, N, F)
     if kind == "tethered":
         # eq 29: the velocity of P from the spherical rates equals the one from u, in C.

@@ -1,0 +1,165 @@
+"""Generate the numeric model code from the Kane derivation (``tetherheli derive``).
+
+The generated module ``_generated.py`` holds plain-Python scalar functions (``math`` only, a
+fixed argument order, array parameters, results written into caller-owned arrays) that Numba
+compiles in ``dynamics.py``. SymPy never runs inside a simulation.
+
+Argument order of every generated function: ``(x, inp, wind, tension, p, out...)`` with
+x (12,) the model state (q, u), inp (4,) = [fMR3, tMR1, tMR2, fTR2] [N, N m], wind (3,) the
+wind force on HO in N [N], tension TC [N], p (14,) the helicopter parameters in
+``params.PARAM_ORDER``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import sympy as sp
+from sympy.printing.pycode import PythonCodePrinter
+
+from .derive import Derivation, derive
+
+__all__ = ["GENERATED_PATH", "generate_source", "write_generated"]
+
+GENERATED_PATH = Path(__file__).with_name("_generated.py")
+
+
+class _Printer(PythonCodePrinter):
+    """Print ``math.sin`` etc. and integer powers as products (fast, exact in Numba)."""
+
+    def _print_Pow(self, expr, rational=False):
+        base, exp = expr.as_base_exp()
+        if exp.is_Integer and 1 < abs(int(exp)) <= 4:
+            prod = "*".join([f"({self._print(base)})"] * abs(int(exp)))
+            return prod if exp > 0 else f"1.0/({prod})"
+        return super()._print_Pow(expr, rational=rational)
+
+
+def _function(
+    name: str,
+    args: str,
+    doc: str,
+    outputs: list[tuple[str, sp.Matrix]],
+    subs: dict,
+    printer: _Printer,
+) -> str:
+    """One generated function: CSE over all outputs, then element assignments."""
+    flat = []
+    for _, mat in outputs:
+        flat.extend(list(mat))
+    flat = [sp.sympify(e).xreplace(subs) for e in flat]
+    replacements, reduced = sp.cse(flat, symbols=sp.numbered_symbols("t"), optimizations="basic")
+    lines = [f"def {name}({args}):", f'    """{doc}"""']
+    for sym, expr in replacements:
+        lines.append(f"    {sym} = {printer.doprint(expr)}")
+    k = 0
+    for out_name, mat in outputs:
+        rows, cols = mat.shape
+        for i in range(rows):
+            for j in range(cols):
+                expr = reduced[k]
+                k += 1
+                index = f"{i}" if cols == 1 else f"{i}, {j}"
+                lines.append(f"    {out_name}[{index}] = {printer.doprint(expr)}")
+    return "\n".join(lines) + "\n"
+
+
+def _substitutions(d: Derivation) -> dict:
+    subs = {}
+    for i, s in enumerate((*d.q, *d.u)):
+        subs[s] = sp.Symbol(f"x[{i}]")
+    for i, s in enumerate(d.inputs):
+        subs[s] = sp.Symbol(f"inp[{i}]")
+    for i, s in enumerate(d.wind):
+        subs[s] = sp.Symbol(f"wind[{i}]")
+    for i, s in enumerate(d.params):
+        subs[s] = sp.Symbol(f"p[{i}]")
+    subs[d.tension] = sp.Symbol("tension")
+    return subs
+
+
+def _model_functions(d: Derivation, printer: _Printer) -> list[str]:
+    subs = _substitutions(d)
+    rhs = sp.Matrix([*d.qdot, *d.udot])
+    states = sp.Matrix([*d.q, *d.u])
+    args = "x, inp, wind, tension, p"
+    k = d.kind
+    funcs = [
+        _function(
+            f"{k}_rhs",
+            f"{args}, out",
+            f"{k} model: out (12,) = d(q, u)/dt (eqs {'9-18' if k == 'free' else '10-12, 29-35'}).",
+            [("out", rhs)],
+            subs,
+            printer,
+        ),
+        _function(
+            f"{k}_jacobian",
+            f"{args}, A, B, E_wind, E_tension",
+            f"{k} model: Jacobians of {k}_rhs w.r.t. x (12, 12), inp (12, 4), wind (12, 3), "
+            "tension (12,).",
+            [
+                ("A", rhs.jacobian(states)),
+                ("B", rhs.jacobian(sp.Matrix(d.inputs))),
+                ("E_wind", rhs.jacobian(sp.Matrix(d.wind))),
+                ("E_tension", rhs.diff(d.tension)),
+            ],
+            subs,
+            printer,
+        ),
+        _function(
+            f"{k}_outputs",
+            "x, p, out",
+            f"{k} model: out (4,) = [q1, q2, q3, q6], HO in N and yaw (eqs 4, 43-45).",
+            [("out", d.outputs)],
+            subs,
+            printer,
+        ),
+        _function(
+            f"{k}_output_jacobian",
+            "x, p, C",
+            f"{k} model: C (4, 12) = d[q1, q2, q3, q6]/dx.",
+            [("C", d.outputs.jacobian(states))],
+            subs,
+            printer,
+        ),
+    ]
+    if k == "tethered":
+        funcs.append(
+            _function(
+                "tethered_tether_torque",
+                "x, tension, p, out",
+                "out (2,) = tether torque about HO on f1, f2 [N m] (the C1, C2 of eqs 33-34, 55).",
+                [("out", d.tether_torque)],
+                subs,
+                printer,
+            )
+        )
+    return funcs
+
+
+def generate_source() -> str:
+    """Derive both models and return the source text of ``_generated.py``."""
+    printer = _Printer({"fully_qualified_modules": True, "standard": "python3"})
+    parts = [
+        '"""Numeric model code generated by ``tetherheli derive`` from model/derive.py.\n\n'
+        "Do not edit by hand: a test fails if this file and a fresh derivation disagree.\n"
+        f"Generated with SymPy {sp.__version__}.\n"
+        '"""\n\n'
+        "# ruff: noqa\n"
+        "import math\n\n"
+        f"SYMPY_VERSION = {sp.__version__!r}\n"
+    ]
+    for kind in ("free", "tethered"):
+        for func in _model_functions(derive(kind), printer):
+            parts.append("\n\n" + func)
+    return "".join(parts)
+
+
+def write_generated(path: Path = GENERATED_PATH) -> Path:
+    """Regenerate the committed numeric code, atomically."""
+    text = generate_source()
+    tmp = path.with_suffix(".py.tmp")
+    tmp.write_text(text)
+    tmp.replace(path)
+    return path

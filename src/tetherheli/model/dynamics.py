@@ -1,0 +1,245 @@
+"""Numeric dynamics of the free and the tethered helicopter: the public model classes.
+
+``TetheredHelicopter`` and ``FreeHelicopter`` share one implementation (``_Helicopter``):
+validation, batching and dispatch to the compiled kernels. They differ only in the position
+coordinates (Cartesian q1..q3 for the free model, spherical q7..q9 plus the winch length for
+the tethered one); the free helicopter is the tethered model with no tension.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import ClassVar
+
+import numpy as np
+
+from ..errors import SingularConfigurationError
+from ..params import Params
+from . import kernels
+from .trim import TrimPoint, hover_trim
+
+__all__ = ["FreeHelicopter", "TetheredHelicopter"]
+
+INPUT: tuple[str, ...] = ("fMR3", "tMR1", "tMR2", "fTR2")
+OUTPUT: tuple[str, ...] = ("q1", "q2", "q3", "q6")
+#: |cos| below this counts as the Euler / spherical singularity (|q5| or |q8| at 90 deg).
+_SINGULAR_COS = 1e-9
+
+
+def _as_array(name: str, value: object, width: int) -> np.ndarray:
+    """float64 array of shape (width,) or (n, width), finite, else ValueError naming it."""
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be numeric with shape ({width},) or (n, {width})") from None
+    if arr.ndim not in (1, 2) or arr.shape[-1] != width:
+        raise ValueError(f"{name} has shape {arr.shape}; allowed: ({width},) or (n, {width})")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} has non-finite entries; allowed: finite numbers")
+    return arr
+
+
+class _Helicopter:
+    """Shared machinery of the two model classes (not public)."""
+
+    STATE: ClassVar[tuple[str, ...]]
+    INPUT: ClassVar[tuple[str, ...]] = INPUT
+    OUTPUT: ClassVar[tuple[str, ...]] = OUTPUT
+
+    def __init__(self, params: Params | None = None) -> None:
+        if params is not None and not isinstance(params, Params):
+            raise TypeError(f"params must be a tetherheli.Params or None, not {type(params)}")
+        self.params = params if params is not None else Params.paper()
+        self._p = self.params.helicopter.as_array()
+        self._p.setflags(write=False)
+
+    @property
+    def n_state(self) -> int:
+        return len(self.STATE)
+
+    def _check_state(self, x: object) -> np.ndarray:
+        x = _as_array("x", x, self.n_state)
+        rows = np.atleast_2d(x)
+        if np.any(np.abs(np.cos(rows[:, 1 if self.n_state == 13 else 4])) < _SINGULAR_COS):
+            raise SingularConfigurationError(
+                "x: |q5| is at 90 deg, the Euler-angle singularity (eqs 10, 12); "
+                "allowed: |q5| < 90 deg"
+            )
+        self._check_position(rows)
+        return x
+
+    def _check_position(self, rows: np.ndarray) -> None:
+        """Model-specific singularity checks (override)."""
+
+    def _broadcast(self, x: np.ndarray, name: str, value: object, width: int) -> np.ndarray:
+        arr = _as_array(name, value, width)
+        if x.ndim == 1:
+            if arr.ndim != 1:
+                raise ValueError(f"{name} has shape {arr.shape}; allowed: ({width},) for one state")
+            return arr
+        if arr.ndim == 1:
+            return np.broadcast_to(arr, (x.shape[0], width))
+        if arr.shape[0] != x.shape[0]:
+            raise ValueError(
+                f"{name} has {arr.shape[0]} rows; allowed: {x.shape[0]} (one per state)"
+            )
+        return arr
+
+    def outputs(self, x: object) -> np.ndarray:
+        """Outputs [q1, q2, q3, q6] [m, m, m, rad] (eqs 4, 43-45 with the eq-43 s5 fix), (4,)
+        or (n, 4)."""
+        x = self._check_state(x)
+        rows = np.atleast_2d(x)
+        y = np.empty((rows.shape[0], 4))
+        for i in range(rows.shape[0]):
+            self._outputs_kernel(rows[i], self._p, y[i])
+        return y[0] if x.ndim == 1 else y
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(params={self.params!r})"
+
+
+class TetheredHelicopter(_Helicopter):
+    """The tethered helicopter (Sec. III): spherical coordinates, elastic tether, ground winch.
+
+    State ``STATE`` (13,): q4, q5, q6 body-123 Euler angles [rad]; q7, q8 tether angles at the
+    ground [rad]; q9 tether length [m]; u1..u3 velocity of HO in N [m/s]; u4..u6 angular
+    velocity of F in F [rad/s]; LN the tether's natural length [m].
+    Inputs ``INPUT`` (4,): fMR3 [N], tMR1 [N m], tMR2 [N m], fTR2 [N].
+    """
+
+    STATE: ClassVar[tuple[str, ...]] = (
+        "q4", "q5", "q6", "q7", "q8", "q9", "u1", "u2", "u3", "u4", "u5", "u6", "LN",
+    )  # fmt: skip
+    _outputs_kernel = staticmethod(kernels.tethered_outputs)
+
+    def _check_position(self, rows: np.ndarray) -> None:
+        if np.any(np.abs(np.cos(rows[:, 4])) < _SINGULAR_COS):
+            raise SingularConfigurationError(
+                "x: |q8| is at 90 deg, the tether-angle singularity (eq 29); allowed: |q8| < 90 deg"
+            )
+        if np.any(rows[:, 5] <= 0.0):
+            raise SingularConfigurationError(
+                f"x: q9 = {rows[:, 5].min()!r} m; allowed: a tether length q9 > 0 (eq 29)"
+            )
+
+    def derivative(
+        self,
+        x: object,
+        u: object,
+        wind: object = (0.0, 0.0, 0.0),
+        reel_rate: object = 0.0,
+    ) -> np.ndarray:
+        """dx/dt (eqs 10-12, 29-35, 37) for one state (13,) or a batch (n, 13).
+
+        Parameters
+        ----------
+        x : (13,) or (n, 13) state, see ``STATE``
+        u : (4,) or (n, 4) inputs [fMR3, tMR1, tMR2, fTR2] [N, N m, N m, N]
+        wind : (3,) or (n, 3) wind force on HO, N components [N]
+        reel_rate : dLN/dt = RC [m/s] (eq 37), scalar or (n,)
+        """
+        x = self._check_state(x)
+        u = self._broadcast(x, "u", u, 4)
+        wind = self._broadcast(x, "wind", wind, 3)
+        rate = np.asarray(reel_rate, dtype=np.float64)
+        if not np.all(np.isfinite(rate)):
+            raise ValueError("reel_rate is not finite; allowed: finite numbers [m/s]")
+        out = np.empty_like(x)
+        K_C = self.params.tether.K_C
+        if x.ndim == 1:
+            if rate.ndim != 0:
+                raise ValueError(f"reel_rate has shape {rate.shape}; allowed: a scalar")
+            kernels.tethered_derivative(x, u, wind, float(rate), self._p, K_C, out)
+        else:
+            rate = np.ascontiguousarray(np.broadcast_to(rate, (x.shape[0],)))
+            kernels.tethered_derivative_batch(
+                np.ascontiguousarray(x),
+                np.ascontiguousarray(u),
+                np.ascontiguousarray(wind),
+                rate,
+                self._p,
+                K_C,
+                out,
+            )
+        return out
+
+    def tension(self, x: object) -> np.ndarray | float:
+        """Tether tension TC = KC max(q9 - LN, 0) [N] (eq 28); float or (n,)."""
+        x = self._check_state(x)
+        stretch = np.atleast_2d(x)[:, 5] - np.atleast_2d(x)[:, 12]
+        t = self.params.tether.K_C * np.maximum(stretch, 0.0)
+        return float(t[0]) if x.ndim == 1 else t
+
+    def tether_torque(self, x: object, tension: float | None = None) -> np.ndarray:
+        """Tether torque about HO on [f1, f2] [N m] (eqs 33-34; eq 55's C1, C2 with TC)."""
+        x = self._check_state(x)
+        if x.ndim != 1:
+            raise ValueError(f"x has shape {x.shape}; allowed: (13,)")
+        t = self.tension(x) if tension is None else float(tension)
+        out = np.empty(2)
+        kernels.tethered_tether_torque(x, t, self._p, out)
+        return out
+
+    def trim(self, tension: float, q9: float = 10.0) -> TrimPoint:
+        """Hover trim with tension [N] and tether length q9 [m] (Tables IV, V)."""
+        return hover_trim(self.params, tension, q9)
+
+
+class FreeHelicopter(_Helicopter):
+    """The free helicopter (Sec. II): the tethered model with no tether, Cartesian position.
+
+    State ``STATE`` (12,): q1..q3 position of HO in N [m]; q4..q6 Euler angles [rad];
+    u1..u6 as for ``TetheredHelicopter``. Inputs as for ``TetheredHelicopter``.
+    """
+
+    STATE: ClassVar[tuple[str, ...]] = (
+        "q1", "q2", "q3", "q4", "q5", "q6", "u1", "u2", "u3", "u4", "u5", "u6",
+    )  # fmt: skip
+    _outputs_kernel = staticmethod(kernels.free_outputs)
+
+    def derivative(self, x: object, u: object, wind: object = (0.0, 0.0, 0.0)) -> np.ndarray:
+        """dx/dt (eqs 9-18) for one state (12,) or a batch (n, 12); see
+        ``TetheredHelicopter.derivative`` for the arguments."""
+        x = self._check_state(x)
+        u = self._broadcast(x, "u", u, 4)
+        wind = self._broadcast(x, "wind", wind, 3)
+        out = np.empty_like(x)
+        if x.ndim == 1:
+            kernels.free_derivative(x, u, wind, self._p, out)
+        else:
+            kernels.free_derivative_batch(
+                np.ascontiguousarray(x),
+                np.ascontiguousarray(u),
+                np.ascontiguousarray(wind),
+                self._p,
+                out,
+            )
+        return out
+
+    def trim(self, position: Sequence[float] | None = None) -> TrimPoint:
+        """Hover trim of the free helicopter (Table IV).
+
+        ``position`` is HO's [q1, q2, q3] [m]; None places it where Table IV does: above the
+        ground point with a 10 m vertical tether (q1 = 0, q2 = -0.0189, q3 = 10.2037 m).
+        The returned ``x`` is the free state (12,).
+        """
+        tethered = hover_trim(self.params, 0.0, 10.0)
+        y = tethered.y.copy()
+        if position is not None:
+            pos = _as_array("position", position, 3)
+            if pos.ndim != 1:
+                raise ValueError(f"position has shape {pos.shape}; allowed: (3,)")
+            y[:3] = pos
+        x = np.zeros(12)
+        x[:3] = y[:3]
+        x[3:6] = tethered.x[:3]
+        return TrimPoint(x=x, u=tethered.u, y=y, tension=0.0, feedforward=np.zeros(4))
+
+
+def state_index(model: type[_Helicopter] | _Helicopter, name: str) -> int:
+    """Index of a named state entry, e.g. ``state_index(TetheredHelicopter, "q9")``."""
+    try:
+        return model.STATE.index(name)
+    except ValueError:
+        raise ValueError(f"state name {name!r} is unknown; allowed: {model.STATE}") from None

@@ -1,0 +1,111 @@
+"""Hover trim (paper Tables IV and V).
+
+At hover q5 = q6 = q7 = q8 = 0 (tether vertical, SPEC.md), all speeds are zero and the winch's
+natural length is LN = q9 - TC / KC (eq 28). The unknowns [q4, q5, fMR3, tMR1, tMR2, fTR2]
+solve u' = 0 (eqs 30-35) with the inputs of eq 54 at trim: the hover input u0|T plus minus the
+feed-forward C_f-fwd (eq 55) that cancels the tether torque. Table V's inputs therefore exclude
+the tether moment; the torque the rotor must actually produce about f1 is u0|T's tMR1 - C1.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import root
+
+from ..errors import ParameterError
+from ..params import Params
+from . import kernels
+
+__all__ = ["TrimPoint", "hover_trim"]
+
+
+@dataclass(frozen=True)
+class TrimPoint:
+    """A hover equilibrium of the tethered model.
+
+    Attributes
+    ----------
+    x : (13,) state [q4..q9, u1..u6, LN] [rad, m, m/s, rad/s, m]
+    u : (4,) hover input u0 = [fMR3, tMR1, tMR2, fTR2] [N, N m, N m, N], excluding the tether
+        torque (Tables IV, V)
+    y : (4,) outputs [q1, q2, q3, q6] [m, m, m, rad] (eqs 43-45)
+    tension : TC at trim [N]
+    feedforward : (4,) C_f-fwd = [0, C1, C2, 0] at trim [N m] (eq 55)
+    """
+
+    x: np.ndarray
+    u: np.ndarray
+    y: np.ndarray
+    tension: float
+    feedforward: np.ndarray
+
+    @property
+    def u_total(self) -> np.ndarray:
+        """Inputs the rotors actually produce at trim, u0 - C_f-fwd (eq 54) (4,)."""
+        return self.u - self.feedforward
+
+    @property
+    def t_MR1_total(self) -> float:
+        """Total main-rotor torque about f1 at trim [N m]: u0|T's tMR1 minus C1."""
+        return float(self.u_total[1])
+
+
+def hover_trim(params: Params, tension: float, q9: float = 10.0) -> TrimPoint:
+    """Hover trim with tether tension ``tension`` [N] and tether length ``q9`` [m]."""
+    if (
+        isinstance(tension, bool)
+        or not isinstance(tension, (int, float))
+        or not math.isfinite(tension)
+        or tension < 0.0
+    ):
+        raise ParameterError("tension", tension, "a finite number >= 0 [N]")
+    if (
+        isinstance(q9, bool)
+        or not isinstance(q9, (int, float))
+        or not math.isfinite(q9)
+        or (q9 <= 0.0)
+    ):
+        raise ParameterError("q9", q9, "a finite tether length > 0 [m]")
+    h = params.helicopter
+    p = h.as_array()
+    K_C = params.tether.K_C
+    x = np.zeros(13)
+    x[5] = q9
+    x[12] = q9 - tension / K_C
+    wind = np.zeros(3)
+    out = np.empty(13)
+    torque = np.empty(2)
+
+    def assemble(z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        xs = x.copy()
+        xs[0], xs[1] = z[0], z[1]
+        kernels.tethered_tether_torque(xs, float(tension), p, torque)
+        u0 = np.array([z[2], z[3], z[4], z[5]])
+        ffwd = np.array([0.0, torque[0], torque[1], 0.0])
+        return xs, u0, ffwd
+
+    def residual(z: np.ndarray) -> np.ndarray:
+        xs, u0, ffwd = assemble(z)
+        kernels.tethered_rhs(xs, u0 - ffwd, wind, float(tension), p, out)
+        return out[6:12] * np.array([h.m, h.m, h.m, h.K4p4, h.K5p5, h.K6p6])
+
+    # Closed-form start: lift balances weight plus tension, tail rotor balances rotor drag.
+    lift = h.m * h.g + tension
+    ratio = -h.rotor_drag_arm / h.d_O_TRO1
+    q4 = math.atan(ratio)
+    z0 = np.array(
+        [q4, 0.0, lift * math.cos(q4), -h.d_O_HO3 * lift * math.sin(q4), 0.0, lift * math.sin(q4)]
+    )
+    sol = root(residual, z0, method="hybr", options={"xtol": 1e-15})
+    scale = h.m * h.g
+    if not np.all(np.isfinite(sol.x)) or np.max(np.abs(residual(sol.x))) > 1e-9 * scale:
+        raise ParameterError(
+            "trim", f"tension={tension}, q9={q9}", "a hover the helicopter can hold (no trim found)"
+        )
+    xs, u0, ffwd = assemble(sol.x)
+    y = np.empty(4)
+    kernels.tethered_outputs(xs, p, y)
+    return TrimPoint(x=xs, u=u0, y=y, tension=float(tension), feedforward=ffwd)

@@ -1,0 +1,69 @@
+"""Hover trim: the paper's Tables IV and V to every printed digit."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from tetherheli import ParameterError
+
+
+def _check_table(trim, fMR3, tMR1, fTR2):
+    assert np.degrees(trim.x[0]) == pytest.approx(5.29, abs=0.005)  # q4
+    assert trim.x[1:5] == pytest.approx(0.0, abs=1e-12)  # q5 = q7 = q8 = 0, q6 = 0
+    assert trim.x[5] == 10.0  # q9
+    assert trim.x[6:12] == pytest.approx(0.0, abs=0)  # speeds
+    assert trim.y[0] == pytest.approx(0.0, abs=5e-5)  # q1
+    assert trim.y[1] == pytest.approx(-0.0189, abs=5e-5)  # q2
+    assert trim.y[2] == pytest.approx(10.2037, abs=5e-5)  # q3
+    assert trim.y[3] == 0.0  # q6
+    assert trim.u[0] == pytest.approx(fMR3, abs=5e-5)
+    assert trim.u[1] == pytest.approx(tMR1, abs=5e-5)
+    assert trim.u[2] == pytest.approx(0.0, abs=5e-5)
+    assert trim.u[3] == pytest.approx(fTR2, abs=5e-5)
+
+
+def test_table_iv_free_hover(tethered):
+    """Table IV (TC = 0): fMR3 = 123.7633 N, tMR1 = 1.0933 N m, fTR2 = 11.4596 N, q4 = 5.29 deg."""
+    _check_table(tethered.trim(0.0), 123.7633, 1.0933, 11.4596)
+
+
+def test_table_v_tethered_hover(tethered):
+    """Table V (TC = 25 N): fMR3 = 148.6568 N, tMR1 = 1.3132 N m, fTR2 = 13.7645 N."""
+    trim = tethered.trim(25.0)
+    _check_table(trim, 148.6568, 1.3132, 13.7645)
+    # Table V excludes the tether moment: the total is u0's tMR1 minus the feed-forward C1.
+    arm = tethered.params.helicopter.tether_arm
+    c1 = 25.0 * arm * np.sin(trim.x[0])  # eq 55 at q5 = q6 = q7 = q8 = 0
+    assert trim.feedforward[1] == pytest.approx(c1, rel=1e-12)
+    assert trim.t_MR1_total == pytest.approx(1.3132 - c1, abs=5e-5)
+
+
+def test_trim_is_equilibrium(tethered, free):
+    """At trim the full nonlinear derivative vanishes (with the eq-54 input u0 - C_f-fwd)."""
+    for tension in (0.0, 25.0, 40.0):
+        trim = tethered.trim(tension)
+        assert np.abs(tethered.derivative(trim.x, trim.u_total)).max() < 1e-12
+    ft = free.trim()
+    assert np.abs(free.derivative(ft.x, ft.u)).max() < 1e-12
+    np.testing.assert_allclose(ft.y, tethered.trim(0.0).y, atol=0)
+
+
+def test_rotor_drag_consistency(tethered):
+    """SPEC.md: tMR3 = 0.1 m x fMR3 balances the tail rotor: 1.08 fTR2 = 0.1 fMR3."""
+    for tension in (0.0, 25.0):
+        u = tethered.trim(tension).u
+        assert 1.08 * u[3] == pytest.approx(0.1 * u[0], rel=1e-12)
+
+
+def test_free_trim_position(free):
+    trim = free.trim(position=(1.0, 2.0, 3.0))
+    np.testing.assert_array_equal(trim.x[:3], [1.0, 2.0, 3.0])
+
+
+@pytest.mark.parametrize(
+    ("tension", "q9"), [(-1.0, 10.0), (np.nan, 10.0), (25.0, 0.0), (25.0, -2.0)]
+)
+def test_trim_bad_input(tethered, tension, q9):
+    with pytest.raises(ParameterError):
+        tethered.trim(tension, q9)
