@@ -5,17 +5,11 @@ augmenting hovering stability in small-size autonomous helicopters". See docs/no
 the paper's symbols and their code names.
 """
 
-from importlib.metadata import PackageNotFoundError
-from importlib.metadata import version as _version
-
+from ._version import __version__
 from .errors import ParameterError, SingularConfigurationError, TetherheliError
 from .model import FreeHelicopter, LinearModel, TetheredHelicopter, TrimPoint, linearize
 from .params import HelicopterParams, Params, TensionControlParams, TetherParams
-
-try:
-    __version__ = _version("tetherheli")
-except PackageNotFoundError:  # running from a source tree without installation
-    __version__ = "0.0.0+unknown"
+from .sim import Scenario, SimulationResult, load_scenario, simulate
 
 __all__ = [
     "FreeHelicopter",
@@ -23,6 +17,8 @@ __all__ = [
     "LinearModel",
     "ParameterError",
     "Params",
+    "Scenario",
+    "SimulationResult",
     "SingularConfigurationError",
     "TensionControlParams",
     "TetherParams",
@@ -31,4 +27,6 @@ __all__ = [
     "TrimPoint",
     "__version__",
     "linearize",
+    "load_scenario",
+    "simulate",
 ]

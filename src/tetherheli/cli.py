@@ -13,7 +13,7 @@ import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
-from . import __version__
+from ._version import __version__
 from .errors import TetherheliError
 from .params import Params
 
@@ -195,3 +195,91 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("tetherheli: interrupted", file=sys.stderr)
         return 130
+
+
+# --- simulation commands --------------------------------------------------------------------
+
+
+def _cmd_paper(args: argparse.Namespace) -> int:
+    from .report import run_paper
+
+    command = (
+        "tetherheli paper " + " ".join(sys.argv[2:])
+        if sys.argv[1:2] == ["paper"]
+        else ("tetherheli paper")
+    )
+    summary = run_paper(
+        args.out, dt=args.dt, pulse_duration=args.pulse_duration, command=command.strip()
+    )
+    red = summary["reduction_percent"]
+    print(f"wrote {args.out}/ (report.md, summary.json, fig6-fig9 PNG, time series)")
+    print("reduction of the disturbance effect by the tether (100 (free - tethered) / free):")
+    for k, v in red.items():
+        print(f"  {k:<14} {v:6.1f} %")
+    return 0
+
+
+def _cmd_simulate(args: argparse.Namespace) -> int:
+    from .report import write_run
+    from .sim import load_scenario, simulate
+
+    scenario = load_scenario(args.scenario)
+    result = simulate(scenario, method=args.method)
+    write_run(result, args.out, command=f"tetherheli simulate {args.scenario}")
+    if not result.ok:
+        t_end = result.time[-1] if result.time.size else 0.0
+        print(
+            f"tetherheli: run {scenario.name} stopped at t = {t_end:g} s: {result.message} "
+            f"(partial results in {args.out})",
+            file=sys.stderr,
+        )
+        return 1
+    print(f"wrote {args.out}/ ({scenario.name}: {result.message})")
+    return 0
+
+
+def _dt_arg(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: allowed: a number [s]") from None
+    if not (math.isfinite(value) and 0 < value <= 1.0):
+        raise argparse.ArgumentTypeError(f"{text!r}: allowed: a sample time in (0, 1] s")
+    return value
+
+
+def _register_simulation(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("paper", help="the paper's four wind simulations, Figs. 6-9, report")
+    p.add_argument("--out", default="paper_out", help="output directory (default paper_out)")
+    p.add_argument("--dt", type=_dt_arg, default=0.01, help="controller sample time [s]")
+    p.add_argument(
+        "--pulse-duration",
+        type=_dt_arg_pulse,
+        default=1.0,
+        help="duration of the 20 N pulse [s] (not stated in the paper; default 1)",
+    )
+    p.set_defaults(func=_cmd_paper)
+
+    p = sub.add_parser("simulate", help="run one scenario TOML file")
+    p.add_argument("scenario", help="scenario TOML file (see scenarios/)")
+    p.add_argument("--out", required=True, help="output directory")
+    p.add_argument(
+        "--method",
+        choices=("rk4", "adaptive"),
+        default="rk4",
+        help="integration: compiled fixed-step RK4 or the adaptive reference",
+    )
+    p.set_defaults(func=_cmd_simulate)
+
+
+def _dt_arg_pulse(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: allowed: a number [s]") from None
+    if not (math.isfinite(value) and 0 < value <= 20.0):
+        raise argparse.ArgumentTypeError(f"{text!r}: allowed: a duration in (0, 20] s")
+    return value
+
+
+_EXTRA_COMMANDS.append(_register_simulation)

@@ -11,8 +11,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import expm
 
+from .._linalg import discretize_zoh
 from .dynamics import FreeHelicopter, TetheredHelicopter
 from .kernels import (
     free_jacobian,
@@ -23,29 +23,6 @@ from .kernels import (
 from .trim import TrimPoint
 
 __all__ = ["LinearModel", "discretize_zoh", "linearize"]
-
-
-def discretize_zoh(A: np.ndarray, B: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
-    """Zero-order-hold discretization: G = e^{A dt}, H = int_0^dt e^{A s} ds B (eq 46).
-
-    Computed with one block-matrix exponential of [[A, B], [0, 0]] dt.
-    """
-    A = np.asarray(A, dtype=float)
-    B = np.asarray(B, dtype=float)
-    if A.ndim != 2 or A.shape[0] != A.shape[1]:
-        raise ValueError(f"A has shape {A.shape}; allowed: square (n, n)")
-    if B.ndim != 2 or B.shape[0] != A.shape[0]:
-        raise ValueError(f"B has shape {B.shape}; allowed: ({A.shape[0]}, m)")
-    if not (np.isfinite(dt) and dt > 0):
-        raise ValueError(f"dt = {dt!r} is invalid; allowed: a finite number > 0 [s]")
-    if not (np.all(np.isfinite(A)) and np.all(np.isfinite(B))):
-        raise ValueError("A or B has non-finite entries; allowed: finite numbers")
-    n, m = B.shape
-    block = np.zeros((n + m, n + m))
-    block[:n, :n] = A
-    block[:n, n:] = B
-    phi = expm(block * dt)
-    return phi[:n, :n], phi[:n, n:]
 
 
 @dataclass(frozen=True)

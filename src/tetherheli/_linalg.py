@@ -1,0 +1,80 @@
+"""Shared linear-algebra helpers: zero-order-hold discretization and array validation."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy.linalg import expm
+
+from .errors import ParameterError, TetherheliError
+
+__all__ = ["check_dt", "discretize_zoh", "real_matrix"]
+
+
+def check_dt(dt: float) -> float:
+    if isinstance(dt, bool) or not isinstance(dt, (int, float, np.floating, np.integer)):
+        raise ParameterError("dt", dt, "a finite number > 0 [s]")
+    value = float(dt)
+    if not (math.isfinite(value) and value > 0.0):
+        raise ParameterError("dt", dt, "a finite number > 0 [s]")
+    return value
+
+
+def real_matrix(name: str, value: ArrayLike, shape: tuple[int | None, int | None]) -> np.ndarray:
+    """A finite float 2-D copy of ``value``; ``None`` in ``shape`` means any size."""
+    try:
+        arr = np.array(value, dtype=np.float64, ndmin=2)
+    except (TypeError, ValueError) as exc:
+        raise TetherheliError(f"{name} is not a real 2-D array ({exc})") from None
+    expected = "(" + ", ".join("*" if s is None else str(s) for s in shape) + ")"
+    if arr.ndim != 2 or any(
+        s is not None and a != s for a, s in zip(arr.shape, shape, strict=True)
+    ):
+        raise TetherheliError(f"{name} has shape {arr.shape}; allowed: {expected}")
+    if not np.all(np.isfinite(arr)):
+        raise TetherheliError(f"{name} has non-finite entries; allowed: finite numbers")
+    return arr
+
+
+def discretize_zoh(A: ArrayLike, B: ArrayLike, dt: float) -> tuple[np.ndarray, np.ndarray]:
+    """Zero-order-hold discretisation of x' = A x + B u (giving eq 46's G and H).
+
+    G = e^{A dt} and H = int_0^dt e^{A s} ds B, both read from one block-matrix exponential
+    expm([[A, B], [0, 0]] dt) = [[G, H], [0, I]].
+
+    Parameters
+    ----------
+    A : array_like, shape (n, n)
+        Continuous-time state matrix [1/s].
+    B : array_like, shape (n, m)
+        Continuous-time input matrix [state unit / (input unit s)].
+    dt : float
+        Sample time [s], finite and > 0.
+
+    Returns
+    -------
+    G : ndarray, shape (n, n)
+        Discrete state-transition matrix (dimensionless).
+    H : ndarray, shape (n, m)
+        Discrete input matrix [state unit / input unit].
+
+    Raises
+    ------
+    ValueError
+        If ``dt`` is not finite and positive, a matrix is not 2-D of matching size, or has
+        non-finite entries (the message names the argument).
+    """
+    dt = check_dt(dt)
+    A = real_matrix("A", A, (None, None))
+    n = A.shape[0]
+    if A.shape[1] != n:
+        raise TetherheliError(f"A has shape {A.shape}; allowed: square (n, n)")
+    B = real_matrix("B", B, (n, None))
+    m = B.shape[1]
+    block = np.zeros((n + m, n + m))
+    block[:n, :n] = A * dt
+    block[:n, n:] = B * dt
+    phi = expm(block)
+    return phi[:n, :n].copy(), phi[:n, n:].copy()

@@ -1,0 +1,55 @@
+"""The controller contract: a measurement in, a command out, at every control sample.
+
+To plug in your own controller, subclass ``Controller`` and implement ``reset()`` and
+``step(t, measurement) -> Command``; pass it to ``tetherheli.simulate(scenario,
+controller=...)``. The simulator calls ``reset()`` once, then ``step`` at t_k = k dt and holds
+the command constant until the next sample (zero-order hold).
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["Command", "Controller", "Measurement"]
+
+
+@dataclass(frozen=True)
+class Measurement:
+    """What the controller sees at a sample.
+
+    state : (13,) [q4..q9, u1..u6, LN] in tethered coordinates (for the free configuration
+        q7..q9 locate the attachment point P as a virtual tether would)
+    tension : measured tether tension (load cell, T_C^est) [N]
+    """
+
+    state: np.ndarray
+    tension: float
+
+
+@dataclass(frozen=True)
+class Command:
+    """What the controller commands until the next sample.
+
+    inputs : (4,) [fMR3, tMR1, tMR2, fTR2] applied to the rotors [N, N m, N m, N]
+    reel_rate : RC = dLN/dt [m/s] (eq 37)
+    feedforward : (4,) the part of ``inputs`` that is feed-forward (recorded only)
+    """
+
+    inputs: np.ndarray
+    reel_rate: float = 0.0
+    feedforward: np.ndarray = field(default_factory=lambda: np.zeros(4))
+
+
+class Controller(ABC):
+    """Base class of controllers (see the module docstring for the contract)."""
+
+    @abstractmethod
+    def reset(self) -> None:
+        """Clear internal state (integrators) before a run."""
+
+    @abstractmethod
+    def step(self, t: float, measurement: Measurement) -> Command:
+        """The command for the sample at time t [s]."""

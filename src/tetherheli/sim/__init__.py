@@ -1,0 +1,16 @@
+"""Closed-loop simulation: scenarios, the compiled engine, results."""
+
+from .result import SimulationResult
+from .scenario import ControlSettings, Limits, Scenario, load_scenario
+from .simulate import compile_wind, paper_gain, simulate
+
+__all__ = [
+    "ControlSettings",
+    "Limits",
+    "Scenario",
+    "SimulationResult",
+    "compile_wind",
+    "load_scenario",
+    "paper_gain",
+    "simulate",
+]

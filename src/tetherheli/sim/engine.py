@@ -1,0 +1,262 @@
+"""The compiled closed-loop engine (Numba): plant, paper controller, winch, wind, integrator.
+
+One call runs a whole scenario without returning to Python: at every control sample t_k the
+controller reads the state, computes the inputs (held constant over the sample, zero-order
+hold), and the plant is integrated to t_{k+1} by fixed-step RK4 with ``n_substeps`` steps.
+
+Wind discontinuities (pulse and step edges) placed on integration-step boundaries are handled
+exactly: an RK4 step over [ta, tb] evaluates the wind at ta as the right limit and at tb as the
+left limit, i.e. it integrates the force on the open interval (ta, tb).
+
+Everything a run needs is packed into flat float64 arrays with named indices (``CFG_*``), so
+one compiled function serves every scenario and Numba's on-disk cache survives between
+processes.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..control.paper import paper_control
+from ..model.kernels import tension_from_state, tethered_rhs
+
+_jit = njit(cache=True, error_model="numpy")
+
+# --- wind program: one row per built-in profile ----------------------------------------------
+WIND_PULSE, WIND_SINE, WIND_STEP, WIND_CONSTANT = 0, 1, 2, 3
+#: columns: kind, start [s], duration [s], magnitude [N], frequency [Hz], phase [rad], n1, n2, n3
+WIND_COLUMNS = 9
+
+# --- scalar configuration, packed in one array ----------------------------------------------
+CFG_DT = 0  # control sample time [s]
+CFG_N_SUB = 1  # RK4 steps per sample
+CFG_K_C = 2  # tether elasticity [N/m]
+CFG_ATTACHED = 3  # 1: tether attached, 0: removed (free configuration)
+CFG_MAX_TENSION = 4  # [N]; a run stops when exceeded
+CFG_MAX_DEVIATION = 5  # [m]; a run stops as diverged when |y - y_ref| exceeds it
+CFG_MAX_ANGLE = 6  # [rad]; |q4|, |q5|, |q7|, |q8| beyond it: diverged
+CFG_GUST_DT = 7  # gust-table step [s] (0: no gust table)
+CFG_SIZE = 8
+
+# --- run status ------------------------------------------------------------------------------
+STATUS_OK = 0
+STATUS_NONFINITE = 1
+STATUS_GROUND = 2
+STATUS_MAX_TENSION = 3
+STATUS_DIVERGED = 4
+STATUS_SINGULAR = 5
+STATUS_MESSAGES = (
+    "completed",
+    "the state became non-finite",
+    "the helicopter hit the ground (q3 < 0 or the attachment point P at ground level)",
+    "the tether tension exceeded the configured maximum",
+    "the run diverged (deviation or attitude beyond the configured bounds)",
+    "the state reached a coordinate singularity (q9 <= 0 or |q5|, |q8| at 90 deg)",
+)
+
+# --- summary metrics computed on line --------------------------------------------------------
+SUMMARY_FIELDS = (
+    "peak_q1", "peak_q2", "peak_q3", "peak_q4", "peak_q5",
+    "sumsq_q1", "sumsq_q2", "sumsq_q3", "tension_min", "tension_max", "n_samples",
+)  # fmt: skip
+
+
+@_jit
+def _wind_program_force(program, t, side, out):
+    """Add the built-in profiles' force at time t; side = +1 right limit, -1 left limit."""
+    for r in range(program.shape[0]):
+        kind = program[r, 0]
+        start = program[r, 1]
+        if kind == WIND_CONSTANT:
+            active = True
+            value = program[r, 3]
+        elif kind == WIND_PULSE:
+            end = start + program[r, 2]
+            if side > 0:
+                active = start <= t < end
+            else:
+                active = start < t <= end
+            value = program[r, 3]
+        elif kind == WIND_STEP:
+            active = start <= t if side > 0 else start < t
+            value = program[r, 3]
+        else:  # WIND_SINE, absolute time (Sec. VI: 20 sin(2 pi 0.1 t) from t = 30 s)
+            active = start <= t if side > 0 else start < t
+            value = program[r, 3] * math.sin(2.0 * math.pi * program[r, 4] * t + program[r, 5])
+        if active:
+            out[0] += value * program[r, 6]
+            out[1] += value * program[r, 7]
+            out[2] += value * program[r, 8]
+
+
+@_jit
+def wind_force(program, gust, gust_dt, drag, t, side, velocity, out):
+    """Wind force on HO in N [N]: the profiles plus the drag of the gust velocity relative to
+    HO, 0.5 rho CdA |v_rel| v_rel per axis (drag[i] = 0.5 rho CdA_i)."""
+    out[0] = 0.0
+    out[1] = 0.0
+    out[2] = 0.0
+    _wind_program_force(program, t, side, out)
+    if gust_dt > 0.0 and gust.shape[0] > 0:
+        s = t / gust_dt
+        i = int(s) if s > 0.0 else 0  # floor for s >= 0
+        if s <= 0.0:
+            w = 0.0
+        elif i >= gust.shape[0] - 1:
+            i, w = gust.shape[0] - 1, 0.0
+        else:
+            w = s - i
+        for a in range(3):
+            g = gust[i, a] if w == 0.0 else gust[i, a] * (1.0 - w) + gust[i + 1, a] * w
+            rel = g - velocity[a]
+            out[a] += drag[a] * abs(rel) * rel
+
+
+@_jit
+def plant_derivative(x, inp, reel_rate, t, side, cfg, p, program, gust, drag, wind, out):
+    """dx/dt (13,) of the tethered-coordinate plant; tension 0 when the tether is removed."""
+    wind_force(program, gust, cfg[CFG_GUST_DT], drag, t, side, x[6:9], wind)
+    if cfg[CFG_ATTACHED] > 0.5:
+        tension = tension_from_state(x[5], x[12], cfg[CFG_K_C])
+        tethered_rhs(x, inp, wind, tension, p, out)
+        out[12] = reel_rate
+    else:
+        tethered_rhs(x, inp, wind, 0.0, p, out)
+        out[12] = 0.0
+
+
+@_jit
+def rk4_interval(x, inp, reel_rate, t0, cfg, p, program, gust, drag, work):
+    """Advance x in place over one control sample [t0, t0 + dt] with n_sub RK4 steps."""
+    n_sub = int(cfg[CFG_N_SUB])
+    h = cfg[CFG_DT] / n_sub
+    k1, k2, k3, k4, tmp, wind = work[0], work[1], work[2], work[3], work[4], work[5]
+    n = x.shape[0]
+    for j in range(n_sub):
+        ta = t0 + j * h
+        tb = t0 + (j + 1) * h
+        tm = ta + 0.5 * h
+        plant_derivative(x, inp, reel_rate, ta, 1, cfg, p, program, gust, drag, wind, k1)
+        for i in range(n):
+            tmp[i] = x[i] + 0.5 * h * k1[i]
+        plant_derivative(tmp, inp, reel_rate, tm, 1, cfg, p, program, gust, drag, wind, k2)
+        for i in range(n):
+            tmp[i] = x[i] + 0.5 * h * k2[i]
+        plant_derivative(tmp, inp, reel_rate, tm, 1, cfg, p, program, gust, drag, wind, k3)
+        for i in range(n):
+            tmp[i] = x[i] + h * k3[i]
+        plant_derivative(tmp, inp, reel_rate, tb, -1, cfg, p, program, gust, drag, wind, k4)
+        for i in range(n):
+            x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+
+
+@_jit
+def check_state(x, y, y_ref, tension, cfg):
+    """Status of a sampled state (``STATUS_*``)."""
+    for i in range(x.shape[0]):
+        if not math.isfinite(x[i]):
+            return STATUS_NONFINITE
+    # HO below the ground, or the attachment point P touching it (z_P = q9 c7 c8 < 1 cm,
+    # which also covers the spherical singularities q9 -> 0 and |q8| -> 90 deg near ground)
+    if y[2] < 0.0 or x[5] * math.cos(x[3]) * math.cos(x[4]) < 0.01:
+        return STATUS_GROUND
+    if x[5] <= 0.0 or abs(math.cos(x[1])) < 1e-9 or abs(math.cos(x[4])) < 1e-9:
+        return STATUS_SINGULAR
+    if tension > cfg[CFG_MAX_TENSION]:
+        return STATUS_MAX_TENSION
+    a = cfg[CFG_MAX_ANGLE]
+    if abs(x[0]) > a or abs(x[1]) > a or abs(x[3]) > a or abs(x[4]) > a:
+        return STATUS_DIVERGED
+    d = cfg[CFG_MAX_DEVIATION]
+    if abs(y[0] - y_ref[0]) > d or abs(y[1] - y_ref[1]) > d or abs(y[2] - y_ref[2]) > d:
+        return STATUS_DIVERGED
+    return STATUS_OK
+
+
+@_jit
+def _accumulate(summary, x, x_ref, y, y_ref, tension):
+    for a in range(3):
+        dev = y[a] - y_ref[a]
+        if abs(dev) > summary[a]:
+            summary[a] = abs(dev)
+        summary[5 + a] += dev * dev
+    if abs(x[0] - x_ref[0]) > summary[3]:
+        summary[3] = abs(x[0] - x_ref[0])
+    if abs(x[1] - x_ref[1]) > summary[4]:
+        summary[4] = abs(x[1] - x_ref[1])
+    if tension < summary[8]:
+        summary[8] = tension
+    if tension > summary[9]:
+        summary[9] = tension
+    summary[10] += 1.0
+
+
+@_jit
+def run_paper_loop(
+    x_init,
+    n_samples,
+    cfg,
+    ctrl,
+    p,
+    gain,
+    x_ref,
+    y_ref,
+    u0,
+    program,
+    gust,
+    drag,
+    record,
+    out_x,
+    out_u,
+    out_ffwd,
+    out_rate,
+    out_tension,
+    out_wind,
+    out_y,
+    summary,
+):
+    """Run the closed loop for n_samples control samples; returns (status, samples done).
+
+    With ``record`` the arrays out_* (n_samples + 1 rows) receive the sampled signals: state,
+    applied inputs (with feed-forward), feed-forward, reel rate, tension, wind force, outputs.
+    ``summary`` (len(SUMMARY_FIELDS),) always receives the on-line metrics.
+    """
+    x = x_init.copy()
+    z = np.zeros(4)
+    winch_integral = np.zeros(1)
+    y = np.empty(4)
+    inp = np.empty(4)
+    ffwd = np.empty(4)
+    wind = np.empty(3)
+    work = np.empty((6, 13))
+    summary[:] = 0.0
+    summary[8] = np.inf
+    summary[9] = -np.inf
+    dt = cfg[CFG_DT]
+    for k in range(n_samples + 1):
+        t = k * dt
+        attached = cfg[CFG_ATTACHED] > 0.5
+        tension = tension_from_state(x[5], x[12], cfg[CFG_K_C]) if attached else 0.0
+        rate = paper_control(
+            x, tension, z, winch_integral, ctrl, p, gain, x_ref, y_ref, u0, y, inp, ffwd
+        )
+        status = check_state(x, y, y_ref, tension, cfg)
+        if status != STATUS_OK:
+            return status, k
+        _accumulate(summary, x, x_ref, y, y_ref, tension)
+        if record:
+            wind_force(program, gust, cfg[CFG_GUST_DT], drag, t, 1, x[6:9], wind)
+            out_x[k] = x
+            out_u[k] = inp
+            out_ffwd[k] = ffwd
+            out_rate[k] = rate
+            out_tension[k] = tension
+            out_wind[k] = wind
+            out_y[k] = y
+        if k == n_samples:
+            break
+        rk4_interval(x, inp, rate, t, cfg, p, program, gust, drag, work)
+    return STATUS_OK, n_samples + 1

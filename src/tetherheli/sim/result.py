@@ -1,0 +1,167 @@
+"""The result of a closed-loop run: a frozen object that plotting and export only read."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .._io import atomic_write_bytes, atomic_write_text
+from .engine import STATUS_MESSAGES, STATUS_OK
+
+__all__ = ["SimulationResult", "atomic_write_bytes", "atomic_write_text"]
+
+STATE_NAMES = ("q4", "q5", "q6", "q7", "q8", "q9", "u1", "u2", "u3", "u4", "u5", "u6", "LN")
+STATE_UNITS = ("rad",) * 5 + ("m", "m/s", "m/s", "m/s", "rad/s", "rad/s", "rad/s", "m")
+INPUT_NAMES = ("fMR3", "tMR1", "tMR2", "fTR2")
+INPUT_UNITS = ("N", "N m", "N m", "N")
+OUTPUT_NAMES = ("q1", "q2", "q3", "q6")
+OUTPUT_UNITS = ("m", "m", "m", "rad")
+
+
+@dataclass(frozen=True)
+class SimulationResult:
+    """A sampled closed-loop run (one row per control sample t_k = k dt).
+
+    Attributes
+    ----------
+    time : (n,) [s]
+    states : (n, 13) tethered-coordinate state [q4..q9, u1..u6, LN] (see ``STATE_NAMES``);
+        for the free configuration q7..q9 locate P as if a tether were there
+    outputs : (n, 4) [q1, q2, q3, q6] [m, m, m, rad] (eqs 43-45)
+    inputs : (n, 4) applied [fMR3, tMR1, tMR2, fTR2], including the feed-forward (eq 54)
+    feedforward : (n, 4) C_f-fwd of eq 55 (zeros without tether or feed-forward)
+    tension : (n,) tether tension TC [N]
+    reel_rate : (n,) winch rate RC held over [t_k, t_k+1) [m/s] (eq 37)
+    wind : (n, 3) wind force on HO in N [N]
+    trim_state, trim_input, trim_output : the run's trim (its references)
+    status : 0 on success, else a failure code; ``message`` says which
+    configuration : the scenario as plain data; ``version`` the package version
+    """
+
+    time: np.ndarray
+    states: np.ndarray
+    outputs: np.ndarray
+    inputs: np.ndarray
+    feedforward: np.ndarray
+    tension: np.ndarray
+    reel_rate: np.ndarray
+    wind: np.ndarray
+    trim_state: np.ndarray
+    trim_input: np.ndarray
+    trim_output: np.ndarray
+    status: int
+    configuration: dict[str, Any]
+    version: str
+    method: str = "rk4"
+    extra: dict[str, np.ndarray] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        for name in (
+            "time",
+            "states",
+            "outputs",
+            "inputs",
+            "feedforward",
+            "tension",
+            "reel_rate",
+            "wind",
+            "trim_state",
+            "trim_input",
+            "trim_output",
+        ):
+            getattr(self, name).setflags(write=False)
+
+    @property
+    def ok(self) -> bool:
+        """True when the run completed without hitting a stop condition."""
+        return self.status == STATUS_OK
+
+    @property
+    def message(self) -> str:
+        return STATUS_MESSAGES[self.status]
+
+    @property
+    def winch_length(self) -> np.ndarray:
+        """Tether natural length LN (n,) [m]."""
+        return self.states[:, 12]
+
+    @property
+    def name(self) -> str:
+        return str(self.configuration.get("name", "run"))
+
+    def deviations(self) -> dict[str, np.ndarray]:
+        """Deviations from the run's own trim: q1..q3 [m], q4, q5 [rad]."""
+        d = {n: self.outputs[:, i] - self.trim_output[i] for i, n in enumerate(("q1", "q2", "q3"))}
+        d["q4"] = self.states[:, 0] - self.trim_state[0]
+        d["q5"] = self.states[:, 1] - self.trim_state[1]
+        return d
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """All sampled signals as named columns (name -> (n,))."""
+        cols: dict[str, np.ndarray] = {"t": self.time}
+        for i, n in enumerate(STATE_NAMES):
+            cols[n] = self.states[:, i]
+        for i, n in enumerate(OUTPUT_NAMES[:3]):
+            cols[n] = self.outputs[:, i]
+        for i, n in enumerate(INPUT_NAMES):
+            cols[n] = self.inputs[:, i]
+        cols["C1_ffwd"] = self.feedforward[:, 1]
+        cols["C2_ffwd"] = self.feedforward[:, 2]
+        cols["TC"] = self.tension
+        cols["RC"] = self.reel_rate
+        for i, n in enumerate(("Fw1", "Fw2", "Fw3")):
+            cols[n] = self.wind[:, i]
+        for n, v in self.extra.items():
+            cols[n] = v
+        return cols
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write the time series as CSV (SI units; header row), atomically."""
+        cols = self.columns()
+        buf = io.StringIO()
+        writer = csv.writer(buf, lineterminator="\n")
+        writer.writerow(cols.keys())
+        data = np.column_stack(list(cols.values()))
+        for row in data:
+            writer.writerow([repr(float(v)) for v in row])
+        atomic_write_text(Path(path), buf.getvalue())
+        return Path(path)
+
+    def metadata(self) -> dict[str, Any]:
+        """Configuration, version, status, trim: what is recorded next to the results."""
+        return {
+            "tetherheli_version": self.version,
+            "status": self.status,
+            "message": self.message,
+            "method": self.method,
+            "configuration": self.configuration,
+            "trim": {
+                "state": dict(zip(STATE_NAMES, map(float, self.trim_state), strict=True)),
+                "input": dict(zip(INPUT_NAMES, map(float, self.trim_input), strict=True)),
+                "output": dict(zip(OUTPUT_NAMES, map(float, self.trim_output), strict=True)),
+            },
+            "units": {
+                **dict(zip(STATE_NAMES, STATE_UNITS, strict=True)),
+                **dict(zip(INPUT_NAMES, INPUT_UNITS, strict=True)),
+                **dict(zip(OUTPUT_NAMES, OUTPUT_UNITS, strict=True)),
+                "t": "s",
+                "TC": "N",
+                "RC": "m/s",
+                "Fw": "N",
+            },
+        }
+
+    def save(self, directory: str | Path, stem: str | None = None) -> dict[str, Path]:
+        """Write ``<stem>.csv`` and ``<stem>.json`` (configuration + version) into directory."""
+        directory = Path(directory)
+        stem = stem or self.name
+        csv_path = self.to_csv(directory / f"{stem}.csv")
+        meta_path = directory / f"{stem}.json"
+        atomic_write_text(meta_path, json.dumps(self.metadata(), indent=2) + "\n")
+        return {"csv": csv_path, "json": meta_path}

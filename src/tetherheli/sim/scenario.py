@@ -1,0 +1,286 @@
+"""Scenarios: what to simulate, loaded strictly from TOML (Sec. VI's runs ship in scenarios/).
+
+A scenario file::
+
+    name = "paper_sim1_tethered"
+    configuration = "tethered"        # or "free" (the tether removed, Sec. VI)
+    duration = 60.0                   # [s]
+    q9 = 10.0                         # tether length at trim [m]
+    [control]
+    dt = 0.01                         # controller sample time [s] (not given by the paper)
+    substeps = 2                      # RK4 steps per sample
+    feedforward = true                # eq 55
+    Qy = [1, 1, 1, 1, 10, 10, 10, 10] # eq 53 weights (paper)
+    Ru = [1, 1, 1, 1]
+    [limits]
+    max_tension = 500.0               # [N]
+    max_deviation = 100.0             # [m]
+    max_angle_deg = 80.0              # [deg]
+    [[wind]]                          # force profiles on HO, see tetherheli.disturbances
+    type = "pulse"
+    ...
+    [params.tether]                   # overrides of the paper's parameters
+    K_C = 40.0
+
+Every key is checked: unknown keys, wrong types and out-of-range values raise a
+``ParameterError`` naming the file, the key and what is allowed.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Literal
+
+from ..disturbances import Disturbance, NoWind, disturbance_from_dict, paper_wind
+from ..errors import ParameterError
+from ..params import Params
+
+__all__ = ["ControlSettings", "Limits", "Scenario", "load_scenario", "paper_scenario"]
+
+PAPER_QY = (1.0, 1.0, 1.0, 1.0, 10.0, 10.0, 10.0, 10.0)
+PAPER_RU = (1.0, 1.0, 1.0, 1.0)
+
+
+@dataclass(frozen=True)
+class ControlSettings:
+    """Controller and integrator settings (Sec. V)."""
+
+    dt: float = 0.01
+    substeps: int = 2
+    feedforward: bool = True
+    Qy: tuple[float, ...] = PAPER_QY
+    Ru: tuple[float, ...] = PAPER_RU
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Bounds that stop a run with a failure status (never reported as success)."""
+
+    max_tension: float = 500.0
+    max_deviation: float = 100.0
+    max_angle_deg: float = 80.0
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """One closed-loop run: configuration, duration, controller settings, wind, parameters."""
+
+    name: str = "scenario"
+    configuration: Literal["free", "tethered"] = "tethered"
+    duration: float = 60.0
+    q9: float = 10.0
+    control: ControlSettings = field(default_factory=ControlSettings)
+    limits: Limits = field(default_factory=Limits)
+    wind: Disturbance = field(default_factory=NoWind)
+    params: Params = field(default_factory=Params.paper)
+    description: str = ""
+
+    def __post_init__(self) -> None:
+        _validate(self, source=None)
+
+    @property
+    def n_samples(self) -> int:
+        """Number of control intervals in the run."""
+        return round(self.duration / self.control.dt)
+
+    def replace(self, **changes: Any) -> Scenario:
+        """A copy with fields replaced (validated)."""
+        return dataclasses.replace(self, **changes)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The full configuration as plain data (recorded next to every result)."""
+        return {
+            "name": self.name,
+            "description": self.description,
+            "configuration": self.configuration,
+            "duration": self.duration,
+            "q9": self.q9,
+            "control": dataclasses.asdict(self.control),
+            "limits": dataclasses.asdict(self.limits),
+            "wind": self.wind.to_dict(),
+            "params": self.params.to_dict(),
+        }
+
+
+def _number(source, key, value, *, low=None, high=None, low_open=False, integer=False):
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ParameterError(key, value, "an integer" if integer else "a number", source=source)
+    if integer and not float(value).is_integer():
+        raise ParameterError(key, value, "an integer", source=source)
+    if not math.isfinite(value):
+        raise ParameterError(key, value, "a finite number", source=source)
+    if low is not None and (value <= low if low_open else value < low):
+        raise ParameterError(
+            key, value, f"a number {'>' if low_open else '>='} {low}", source=source
+        )
+    if high is not None and value > high:
+        raise ParameterError(key, value, f"a number <= {high}", source=source)
+    return int(value) if integer else float(value)
+
+
+def _validate(s: Scenario, source: str | None) -> None:
+    if s.configuration not in ("free", "tethered"):
+        raise ParameterError(
+            "configuration", s.configuration, "'free' or 'tethered'", source=source
+        )
+    _number(source, "duration", s.duration, low=0.0, low_open=True)
+    _number(source, "q9", s.q9, low=0.0, low_open=True)
+    c = s.control
+    _number(source, "control.dt", c.dt, low=0.0, low_open=True)
+    if c.dt > s.duration:
+        raise ParameterError(
+            "control.dt", c.dt, f"a sample time <= duration ({s.duration} s)", source=source
+        )
+    if abs(s.duration / c.dt - round(s.duration / c.dt)) > 1e-9 * s.duration / c.dt:
+        raise ParameterError(
+            "duration",
+            s.duration,
+            f"a whole number of control samples (dt = {c.dt} s)",
+            source=source,
+        )
+    _number(source, "control.substeps", c.substeps, low=1, high=1000, integer=True)
+    if not isinstance(c.feedforward, bool):
+        raise ParameterError("control.feedforward", c.feedforward, "true or false", source=source)
+    for key, vec, n in (("control.Qy", c.Qy, 8), ("control.Ru", c.Ru, 4)):
+        if not isinstance(vec, (list, tuple)) or len(vec) != n:
+            raise ParameterError(key, vec, f"a list of {n} numbers", source=source)
+        for v in vec:
+            _number(source, key, v, low=0.0, low_open=(key == "control.Ru"))
+    lim = s.limits
+    _number(source, "limits.max_tension", lim.max_tension, low=0.0, low_open=True)
+    _number(source, "limits.max_deviation", lim.max_deviation, low=0.0, low_open=True)
+    _number(source, "limits.max_angle_deg", lim.max_angle_deg, low=0.0, high=89.0, low_open=True)
+    if not isinstance(s.params, Params):
+        raise ParameterError("params", s.params, "a tetherheli.Params", source=source)
+    if s.configuration == "tethered" and s.params.tension_control.T_ref >= lim.max_tension:
+        raise ParameterError(
+            "params.tension_control.T_ref",
+            s.params.tension_control.T_ref,
+            f"a reference below limits.max_tension ({lim.max_tension} N)",
+            source=source,
+        )
+
+
+_TOP_KEYS = {
+    "name",
+    "description",
+    "configuration",
+    "duration",
+    "q9",
+    "control",
+    "limits",
+    "wind",
+    "params",
+}
+
+
+def _table(source, key, value, allowed_cls) -> dict[str, Any]:
+    if not isinstance(value, dict):
+        raise ParameterError(key, value, "a table", source=source)
+    allowed = {f.name for f in dataclasses.fields(allowed_cls)}
+    for k in value:
+        if k not in allowed:
+            raise ParameterError(f"{key}.{k}", value[k], f"one of {sorted(allowed)}", source=source)
+    return value
+
+
+def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Scenario:
+    """Build a validated Scenario from parsed TOML data."""
+    for k in data:
+        if k not in _TOP_KEYS:
+            raise ParameterError(k, data[k], f"one of {sorted(_TOP_KEYS)}", source=source)
+    kwargs: dict[str, Any] = {}
+    for k in ("name", "description"):
+        if k in data:
+            if not isinstance(data[k], str):
+                raise ParameterError(k, data[k], "a string", source=source)
+            kwargs[k] = data[k]
+    if "configuration" in data:
+        kwargs["configuration"] = data["configuration"]
+    for k in ("duration", "q9"):
+        if k in data:
+            kwargs[k] = _number(source, k, data[k], low=0.0, low_open=True)
+    if "control" in data:
+        ctl = dict(_table(source, "control", data["control"], ControlSettings))
+        for k in ("Qy", "Ru"):
+            if k in ctl:
+                if not isinstance(ctl[k], list):
+                    raise ParameterError(f"control.{k}", ctl[k], "a list of numbers", source=source)
+                ctl[k] = tuple(ctl[k])
+        if "dt" in ctl:
+            ctl["dt"] = _number(source, "control.dt", ctl["dt"], low=0.0, low_open=True)
+        if "substeps" in ctl:
+            ctl["substeps"] = _number(
+                source, "control.substeps", ctl["substeps"], low=1, high=1000, integer=True
+            )
+        kwargs["control"] = ControlSettings(**ctl)
+    if "limits" in data:
+        lim = _table(source, "limits", data["limits"], Limits)
+        kwargs["limits"] = Limits(
+            **{k: _number(source, f"limits.{k}", v, low=0.0, low_open=True) for k, v in lim.items()}
+        )
+    if "wind" in data:
+        kwargs["wind"] = disturbance_from_dict(data["wind"], source=source)
+    if "params" in data:
+        if not isinstance(data["params"], dict):
+            raise ParameterError("params", data["params"], "a table", source=source)
+        kwargs["params"] = Params.from_mapping(data["params"], source=source)
+    scenario = Scenario.__new__(Scenario)
+    defaults = Scenario.__dataclass_fields__
+    for name, f in defaults.items():
+        if name in kwargs:
+            value = kwargs[name]
+        elif f.default is not dataclasses.MISSING:
+            value = f.default
+        else:
+            value = f.default_factory()  # type: ignore[misc]
+        object.__setattr__(scenario, name, value)
+    _validate(scenario, source)
+    return scenario
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Load and validate a scenario TOML file (see the module docstring for its keys)."""
+    path = Path(path)
+    source = str(path)
+    try:
+        text = path.read_text()
+    except FileNotFoundError:
+        raise ParameterError("file", source, "an existing scenario TOML file") from None
+    except (IsADirectoryError, PermissionError, UnicodeDecodeError) as exc:
+        raise ParameterError("file", source, f"a readable TOML file ({exc})") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ParameterError("file", source, f"valid TOML ({exc})") from None
+    return scenario_from_dict(data, source=source)
+
+
+def paper_scenario(
+    simulation: int,
+    configuration: Literal["free", "tethered"],
+    *,
+    pulse_duration: float = 1.0,
+    dt: float = 0.01,
+) -> Scenario:
+    """Sec. VI's simulation 1 (wind along n1) or 2 (along n2), free or tethered: a 20 N pulse
+    at t = 10 s lasting ``pulse_duration`` (not stated in the paper; 1 s assumed), then
+    20 sin(2 pi 0.1 t) N from t = 30 s; 60 s; Tref = 25 N; references at trim."""
+    if simulation not in (1, 2):
+        raise ParameterError("simulation", simulation, "1 or 2")
+    return Scenario(
+        name=f"paper_sim{simulation}_{configuration}",
+        description=(
+            f"Paper Sec. VI, simulation {simulation}, {configuration} configuration: 20 N pulse "
+            f"along n{simulation} at t = 10 s lasting {pulse_duration:g} s (assumed; not stated "
+            "in the paper), then 20 sin(2 pi 0.1 t) N from t = 30 s."
+        ),
+        configuration=configuration,
+        duration=60.0,
+        control=ControlSettings(dt=dt),
+        wind=paper_wind(simulation, pulse_duration=pulse_duration),
+    )

@@ -1,0 +1,347 @@
+"""Closed-loop simulation of a scenario: ``simulate(scenario) -> SimulationResult``.
+
+The controller is sampled every ``dt`` with zero-order hold; between samples the plant is
+integrated by fixed-step RK4 with ``substeps`` steps (method "rk4", the default, run entirely
+by the compiled engine for the paper's controller) or by SciPy's DOP853 with tight tolerances,
+restarted at every sample and at every wind discontinuity (method "adaptive", the accuracy
+reference). Both configurations use the tethered-coordinate plant; the free configuration
+removes the tether (TC = 0, no winch, no feed-forward), as in Sec. VI.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Literal
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from .._version import __version__
+from ..control.base import Controller, Measurement
+from ..control.lqi import LQIGain, design_lqi
+from ..control.paper import (
+    CTRL_DT,
+    CTRL_FFWD,
+    CTRL_K_I,
+    CTRL_K_P,
+    CTRL_REEL_RATE_LIMIT,
+    CTRL_SIZE,
+    CTRL_T_REF,
+    CTRL_WINCH,
+    PaperController,
+)
+from ..disturbances import (
+    ConstantForce,
+    Disturbance,
+    NoWind,
+    Pulse,
+    Sine,
+    Step,
+    Turbulence,
+    WindSum,
+)
+from ..errors import ParameterError
+from ..model import TetheredHelicopter, TrimPoint, linearize
+from ..model.kernels import tension_from_state
+from ..params import Params
+from . import engine
+from .result import SimulationResult
+from .scenario import Scenario
+
+__all__ = ["CompiledWind", "compile_wind", "paper_gain", "simulate"]
+
+Method = Literal["rk4", "adaptive"]
+_LQI_STATES = ("q4", "q5", "q6", "q7", "q8", "q9", "u1", "u2", "u3", "u4", "u5", "u6")
+
+
+@lru_cache(maxsize=64)
+def paper_gain(
+    params: Params, dt: float, Qy: tuple[float, ...], Ru: tuple[float, ...], q9: float = 10.0
+) -> LQIGain:
+    """K_LQI|F: the LQI gain designed on the linearized tethered equations at TC = 0 (the free
+    helicopter) about Table IV's hover (Sec. V-A, eqs 46-53), for sample time dt."""
+    model = TetheredHelicopter(params)
+    lin = linearize(model, model.trim(0.0, q9)).select(_LQI_STATES)
+    G, H = lin.discretize(dt)
+    return design_lqi(G, H, lin.C, dt, Qy=np.diag(Qy), Ru=np.diag(Ru))
+
+
+@dataclass(frozen=True)
+class CompiledWind:
+    """A disturbance in the engine's form: profile rows, a gust table and drag coefficients."""
+
+    program: np.ndarray  # (k, WIND_COLUMNS)
+    gust: np.ndarray  # (m, 3) gust + mean wind velocity on a grid [m/s]
+    gust_dt: float  # grid step [s] (0: none)
+    drag: np.ndarray  # (3,) 0.5 rho CdA per axis [kg/m]
+
+    def breakpoints(self, t_end: float) -> np.ndarray:
+        """Times in (0, t_end) where a profile switches (pulse and step edges, sine starts)."""
+        pts = []
+        for row in self.program:
+            kind, start, duration = int(row[0]), row[1], row[2]
+            if kind in (engine.WIND_PULSE, engine.WIND_STEP, engine.WIND_SINE):
+                pts.append(start)
+            if kind == engine.WIND_PULSE:
+                pts.append(start + duration)
+        arr = np.array(sorted(set(pts)), dtype=float)
+        return arr[(arr > 0.0) & (arr < t_end)]
+
+
+def compile_wind(wind: Disturbance) -> CompiledWind | None:
+    """The engine form of built-in disturbances, or None for a custom one."""
+    rows: list[list[float]] = []
+    gusts: list[Turbulence] = []
+    parts = wind.components if isinstance(wind, WindSum) else (wind,)
+    for d in parts:
+        if isinstance(d, NoWind):
+            continue
+        if isinstance(d, Pulse):
+            rows.append([engine.WIND_PULSE, d.start, d.duration, d.magnitude, 0, 0, *d.direction])
+        elif isinstance(d, Step):
+            rows.append([engine.WIND_STEP, d.start, 0, d.magnitude, 0, 0, *d.direction])
+        elif isinstance(d, Sine):
+            rows.append(
+                [engine.WIND_SINE, d.start, 0, d.amplitude, d.frequency, d.phase, *d.direction]
+            )
+        elif isinstance(d, ConstantForce):
+            rows.append([engine.WIND_CONSTANT, 0, 0, 1.0, 0, 0, *d.vector])
+        elif isinstance(d, Turbulence):
+            gusts.append(d)
+        else:
+            return None
+    if len(gusts) > 1:
+        return None
+    program = np.array(rows, dtype=float).reshape(-1, engine.WIND_COLUMNS)
+    if gusts:
+        g = gusts[0]
+        table = np.ascontiguousarray(g.N_v_gust_grid + np.asarray(g.N_v_mean_wind))
+        drag = 0.5 * g.drag.rho * np.asarray(g.drag.cd_area_m2, dtype=float)
+        return CompiledWind(program, table, float(g.dt), drag)
+    return CompiledWind(program, np.zeros((0, 3)), 0.0, np.zeros(3))
+
+
+def _setup(scenario: Scenario):
+    params = scenario.params
+    model = TetheredHelicopter(params)
+    tethered = scenario.configuration == "tethered"
+    T_ref = params.tension_control.T_ref if tethered else 0.0
+    trim: TrimPoint = model.trim(T_ref, scenario.q9)
+    c = scenario.control
+    gain = paper_gain(params, c.dt, tuple(c.Qy), tuple(c.Ru), scenario.q9)
+    ctrl = np.zeros(CTRL_SIZE)
+    ctrl[CTRL_DT] = c.dt
+    ctrl[CTRL_FFWD] = float(tethered and c.feedforward)
+    ctrl[CTRL_WINCH] = float(tethered)
+    ctrl[CTRL_T_REF] = T_ref
+    ctrl[CTRL_K_P] = params.tension_control.K_P
+    ctrl[CTRL_K_I] = params.tension_control.K_I
+    ctrl[CTRL_REEL_RATE_LIMIT] = math.inf
+    cfg = np.zeros(engine.CFG_SIZE)
+    cfg[engine.CFG_DT] = c.dt
+    cfg[engine.CFG_N_SUB] = c.substeps
+    cfg[engine.CFG_K_C] = params.tether.K_C
+    cfg[engine.CFG_ATTACHED] = float(tethered)
+    cfg[engine.CFG_MAX_TENSION] = scenario.limits.max_tension
+    cfg[engine.CFG_MAX_DEVIATION] = scenario.limits.max_deviation
+    cfg[engine.CFG_MAX_ANGLE] = math.radians(scenario.limits.max_angle_deg)
+    return model, trim, gain, ctrl, cfg
+
+
+def simulate(
+    scenario: Scenario,
+    *,
+    method: Method = "rk4",
+    controller: Controller | None = None,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+) -> SimulationResult:
+    """Simulate a scenario in closed loop.
+
+    Parameters
+    ----------
+    scenario : the run (see ``load_scenario``)
+    method : "rk4" (fixed step, compiled) or "adaptive" (DOP853 reference)
+    controller : a custom ``Controller``; None uses the paper's (LQI + feed-forward + PI)
+    rtol, atol : tolerances of the adaptive method
+
+    Returns
+    -------
+    SimulationResult. A run that diverges, becomes non-finite, hits the ground or exceeds the
+    maximum tension stops early with ``status`` != 0 and ``message`` saying why.
+    """
+    if not isinstance(scenario, Scenario):
+        raise TypeError(f"scenario must be a tetherheli Scenario, not {type(scenario).__name__}")
+    if method not in ("rk4", "adaptive"):
+        raise ParameterError("method", method, "'rk4' or 'adaptive'")
+    model, trim, gain, ctrl, cfg = _setup(scenario)
+    wind = compile_wind(scenario.wind)
+    n = scenario.n_samples
+    p = model.params.helicopter.as_array()
+    if wind is not None:
+        cfg[engine.CFG_GUST_DT] = wind.gust_dt
+    paper = controller is None
+    if paper:
+        controller = PaperController(gain.K, trim.x, trim.y, trim.u, ctrl, p)
+    rec = _Recorder(n)
+    if paper and method == "rk4" and wind is not None:
+        summary = np.zeros(len(engine.SUMMARY_FIELDS))
+        status, done = engine.run_paper_loop(
+            trim.x.copy(),
+            n,
+            cfg,
+            ctrl,
+            p,
+            gain.K,
+            np.ascontiguousarray(trim.x[:12]),
+            trim.y.copy(),
+            trim.u.copy(),
+            wind.program,
+            wind.gust,
+            wind.drag,
+            True,
+            rec.x,
+            rec.u,
+            rec.ffwd,
+            rec.rate,
+            rec.tension,
+            rec.wind,
+            rec.y,
+            summary,
+        )
+    else:
+        status, done = _python_loop(
+            scenario, controller, method, cfg, p, wind, trim, rec, rtol=rtol, atol=atol
+        )
+    return rec.result(done, status, scenario, trim, method)
+
+
+class _Recorder:
+    def __init__(self, n: int) -> None:
+        self.dt = 0.0
+        self.x = np.zeros((n + 1, 13))
+        self.u = np.zeros((n + 1, 4))
+        self.ffwd = np.zeros((n + 1, 4))
+        self.rate = np.zeros(n + 1)
+        self.tension = np.zeros(n + 1)
+        self.wind = np.zeros((n + 1, 3))
+        self.y = np.zeros((n + 1, 4))
+
+    def result(
+        self, done: int, status: int, scenario: Scenario, trim: TrimPoint, method: str
+    ) -> SimulationResult:
+        k = done
+        return SimulationResult(
+            time=np.arange(k) * scenario.control.dt,
+            states=self.x[:k].copy(),
+            outputs=self.y[:k].copy(),
+            inputs=self.u[:k].copy(),
+            feedforward=self.ffwd[:k].copy(),
+            tension=self.tension[:k].copy(),
+            reel_rate=self.rate[:k].copy(),
+            wind=self.wind[:k].copy(),
+            trim_state=trim.x.copy(),
+            trim_input=trim.u.copy(),
+            trim_output=trim.y.copy(),
+            status=int(status),
+            configuration=scenario.to_dict(),
+            version=__version__,
+            method=method,
+        )
+
+
+def _python_loop(scenario, controller, method, cfg, p, wind, trim, rec, *, rtol, atol):
+    """The closed loop driven from Python: any Controller, RK4 or the adaptive reference."""
+    dt = scenario.control.dt
+    n = scenario.n_samples
+    attached = cfg[engine.CFG_ATTACHED] > 0.5
+    K_C = cfg[engine.CFG_K_C]
+    x = trim.x.copy()
+    y = np.empty(4)
+    work = np.empty((6, 13))
+    wind_buf = np.empty(3)
+    breaks = wind.breakpoints(n * dt) if wind is not None else np.array([])
+    controller.reset()
+    from ..model.kernels import tethered_outputs
+
+    for k in range(n + 1):
+        t = k * dt
+        tension = tension_from_state(x[5], x[12], K_C) if attached else 0.0
+        cmd = controller.step(t, Measurement(state=x.copy(), tension=tension))
+        inp = np.asarray(cmd.inputs, dtype=float)
+        rate = float(cmd.reel_rate) if attached else 0.0
+        tethered_outputs(x, p, y)
+        status = engine.check_state(x, y, trim.y, tension, cfg)
+        if status == engine.STATUS_OK and not (np.all(np.isfinite(inp)) and math.isfinite(rate)):
+            status = engine.STATUS_NONFINITE
+        if status != engine.STATUS_OK:
+            return status, k
+        rec.x[k], rec.u[k], rec.ffwd[k] = x, inp, cmd.feedforward
+        rec.rate[k], rec.tension[k], rec.y[k] = rate, tension, y
+        rec.wind[k] = _wind_at(scenario.wind, wind, cfg, t, 1, x, wind_buf)
+        if k == n:
+            break
+        if method == "rk4":
+            if wind is None:
+                _rk4_custom_wind(
+                    x, inp, rate, t, dt, int(cfg[engine.CFG_N_SUB]), cfg, p, scenario.wind
+                )
+            else:
+                engine.rk4_interval(
+                    x, inp, rate, t, cfg, p, wind.program, wind.gust, wind.drag, work
+                )
+        else:
+            inside = breaks[(breaks > t) & (breaks < t + dt)]
+            edges = [t, *inside.tolist(), t + dt]
+            for a, b in itertools.pairwise(edges):
+                mid = 0.5 * (a + b)
+
+                def rhs(tt, xx, mid=mid, inp=inp, rate=rate):
+                    out = np.empty(13)
+                    side = 1 if tt < mid else -1
+                    _plant(xx, inp, rate, tt, side, cfg, p, scenario.wind, wind, out)
+                    return out
+
+                sol = solve_ivp(rhs, (a, b), x, method="DOP853", rtol=rtol, atol=atol)
+                if not sol.success:
+                    return engine.STATUS_NONFINITE, k + 1
+                x = sol.y[:, -1].copy()
+    return engine.STATUS_OK, n + 1
+
+
+def _wind_at(disturbance, wind, cfg, t, side, x, buf):
+    if wind is not None:
+        engine.wind_force(
+            wind.program, wind.gust, cfg[engine.CFG_GUST_DT], wind.drag, t, side, x[6:9], buf
+        )
+        return buf.copy()
+    return np.asarray(disturbance.force_at(t, x[6:9]), dtype=float)
+
+
+def _plant(x, inp, rate, t, side, cfg, p, disturbance, wind, out):
+    if wind is not None:
+        engine.plant_derivative(
+            x, inp, rate, t, side, cfg, p, wind.program, wind.gust, wind.drag, np.empty(3), out
+        )
+        return
+    # custom disturbance: evaluate in Python, then the compiled plant with a constant force
+    force = np.asarray(disturbance.force_at(t, x[6:9]), dtype=float)
+    program = np.array([[engine.WIND_CONSTANT, 0, 0, 1.0, 0, 0, *force]])
+    engine.plant_derivative(
+        x, inp, rate, t, side, cfg, p, program, np.zeros((0, 3)), np.zeros(3), np.empty(3), out
+    )
+
+
+def _rk4_custom_wind(x, inp, rate, t0, dt, n_sub, cfg, p, disturbance):
+    h = dt / n_sub
+    k1, k2, k3, k4 = (np.empty(13) for _ in range(4))
+    for j in range(n_sub):
+        ta = t0 + j * h
+        _plant(x, inp, rate, ta, 1, cfg, p, disturbance, None, k1)
+        _plant(x + 0.5 * h * k1, inp, rate, ta + 0.5 * h, 1, cfg, p, disturbance, None, k2)
+        _plant(x + 0.5 * h * k2, inp, rate, ta + 0.5 * h, 1, cfg, p, disturbance, None, k3)
+        _plant(x + h * k3, inp, rate, ta + h, -1, cfg, p, disturbance, None, k4)
+        x += h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)

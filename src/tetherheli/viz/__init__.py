@@ -1,0 +1,1 @@
+"""Figures and animation; these modules only read results."""
