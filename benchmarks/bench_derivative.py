@@ -42,7 +42,7 @@ def main() -> None:
     x = trim.x.copy()
     u = trim.u_total.copy()
     wind = np.array([3.0, -1.0, 0.5])
-    p = model.params.helicopter.as_array()
+    p = model.constants
     out = np.empty(13)
     n = 2_000_000
     _loop(x, u, wind, p, 40.0, out, 10)

@@ -184,6 +184,10 @@ def test_generated_code_matches_fresh_derivation(rng):
             x[5] = 9.0
             inp, wind, tension = rng.normal(size=4) * 10, rng.normal(size=3), 17.0
             a, b = np.empty(12), np.empty(12)
-            fresh[f"{kind}_rhs"](x, inp, wind, tension, p, a)
-            getattr(_generated, f"{kind}_rhs")(x, inp, wind, tension, p, b)
+            c_fresh = np.empty(fresh[f"N_{kind.upper()}_CONSTANTS"])
+            c_ours = np.empty(getattr(_generated, f"N_{kind.upper()}_CONSTANTS"))
+            fresh[f"{kind}_constants"](p, c_fresh)
+            getattr(_generated, f"{kind}_constants")(p, c_ours)
+            fresh[f"{kind}_rhs"](x, inp, wind, tension, c_fresh, a)
+            getattr(_generated, f"{kind}_rhs")(x, inp, wind, tension, c_ours, b)
             np.testing.assert_array_equal(a, b)

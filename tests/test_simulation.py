@@ -114,7 +114,7 @@ def test_free_configuration_equals_free_model(paper):
     s = paper_scenario(2, "free")
     ours = simulate(s)
     _, trim, gain, ctrl, _ = _setup(s)
-    p = paper.helicopter.as_array()
+    p = TetheredHelicopter(paper).constants
     ctl = PaperController(gain.K, trim.x, trim.y, trim.u, ctrl, p)
     free = FreeHelicopter(paper)
     arm = paper.helicopter.tether_arm
@@ -164,7 +164,7 @@ def test_python_loop_equals_compiled_loop():
     s = paper_scenario(1, "tethered").replace(duration=20.0)
     compiled = simulate(s)
     model, trim, gain, ctrl, _ = _setup(s)
-    ctl = PaperController(gain.K, trim.x, trim.y, trim.u, ctrl, model.params.helicopter.as_array())
+    ctl = PaperController(gain.K, trim.x, trim.y, trim.u, ctrl, model.constants)
     python = simulate(s, controller=ctl)
     np.testing.assert_array_equal(compiled.states, python.states)
     np.testing.assert_array_equal(compiled.inputs, python.inputs)

@@ -3,13 +3,35 @@
 Implements Sandino, Bejar, Kondak, Ollero, "On the use of tethered configurations for
 augmenting hovering stability in small-size autonomous helicopters". See docs/notation.md for
 the paper's symbols and their code names.
+
+The public names below are imported lazily (on first use), so that light commands such as
+``tetherheli derive`` start fast and work even while the generated code is being rebuilt.
 """
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
 
 from ._version import __version__
 from .errors import ParameterError, SingularConfigurationError, TetherheliError
-from .model import FreeHelicopter, LinearModel, TetheredHelicopter, TrimPoint, linearize
 from .params import HelicopterParams, Params, TensionControlParams, TetherParams
-from .sim import Scenario, SimulationResult, load_scenario, simulate
+
+if TYPE_CHECKING:
+    from .model import FreeHelicopter, LinearModel, TetheredHelicopter, TrimPoint, linearize
+    from .sim import Scenario, SimulationResult, load_scenario, simulate
+
+_LAZY = {
+    "FreeHelicopter": ".model",
+    "LinearModel": ".model",
+    "TetheredHelicopter": ".model",
+    "TrimPoint": ".model",
+    "linearize": ".model",
+    "Scenario": ".sim",
+    "SimulationResult": ".sim",
+    "load_scenario": ".sim",
+    "simulate": ".sim",
+}
 
 __all__ = [
     "FreeHelicopter",
@@ -30,3 +52,16 @@ __all__ = [
     "load_scenario",
     "simulate",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'tetherheli' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module, __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)

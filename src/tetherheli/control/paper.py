@@ -32,7 +32,7 @@ CTRL_SIZE = 7
 
 @_jit
 def paper_control(
-    x, measured_tension, z, winch_integral, ctrl, p, gain, x_ref, y_ref, u0, y, inp, ffwd
+    x, measured_tension, z, winch_integral, ctrl, c, gain, x_ref, y_ref, u0, y, inp, ffwd
 ):
     """Eqs 50-56 at one sample; fills inp (4,), ffwd (4,), y (4,) and returns the reel rate.
 
@@ -41,7 +41,7 @@ def paper_control(
     RC = KP e + KI I with e = T - Tref, then I += dt e (eq 56). ``z`` (4,) and
     ``winch_integral`` (1,) are updated in place; x is the (13,) tethered-coordinate state.
     """
-    tethered_outputs(x, p, y)
+    tethered_outputs(x, c, y)
     for i in range(4):
         acc = u0[i]
         for j in range(12):
@@ -51,10 +51,7 @@ def paper_control(
         inp[i] = acc
     ffwd[:] = 0.0
     if ctrl[CTRL_FFWD] > 0.5:
-        torque = np.empty(2)
-        tethered_tether_torque(x, measured_tension, p, torque)
-        ffwd[1] = torque[0]
-        ffwd[2] = torque[1]
+        tethered_tether_torque(x, measured_tension, c, ffwd[1:3])
         inp[1] -= ffwd[1]
         inp[2] -= ffwd[2]
     dt = ctrl[CTRL_DT]
@@ -84,16 +81,16 @@ class PaperController(Controller):
     trim_output : (4,) y0, the output references
     trim_input : (4,) u0|F or u0|T (Tables IV, V)
     ctrl : (CTRL_SIZE,) settings, see the CTRL_* indices
-    params_array : (14,) helicopter parameters in ``PARAM_ORDER``
+    constants : the tethered model's constants, ``kernels.model_constants("tethered", h)``
     """
 
-    def __init__(self, gain, trim_state, trim_output, trim_input, ctrl, params_array) -> None:
+    def __init__(self, gain, trim_state, trim_output, trim_input, ctrl, constants) -> None:
         self.gain = np.ascontiguousarray(gain, dtype=float)
         self.x_ref = np.ascontiguousarray(trim_state[:12], dtype=float)
         self.y_ref = np.ascontiguousarray(trim_output, dtype=float)
         self.u0 = np.ascontiguousarray(trim_input, dtype=float)
         self.ctrl = np.ascontiguousarray(ctrl, dtype=float)
-        self.p = np.ascontiguousarray(params_array, dtype=float)
+        self.c = np.ascontiguousarray(constants, dtype=float)
         self.reset()
 
     def reset(self) -> None:
@@ -110,7 +107,7 @@ class PaperController(Controller):
             self._z,
             self._winch_integral,
             self.ctrl,
-            self.p,
+            self.c,
             self.gain,
             self.x_ref,
             self.y_ref,

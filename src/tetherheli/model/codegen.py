@@ -4,10 +4,11 @@ The generated module ``_generated.py`` holds plain-Python scalar functions (``ma
 fixed argument order, array parameters, results written into caller-owned arrays) that Numba
 compiles in ``dynamics.py``. SymPy never runs inside a simulation.
 
-Argument order of every generated function: ``(x, inp, wind, tension, p, out...)`` with
+Argument order of every generated function: ``(x, inp, wind, tension, c, out...)`` with
 x (12,) the model state (q, u), inp (4,) = [fMR3, tMR1, tMR2, fTR2] [N, N m], wind (3,) the
-wind force on HO in N [N], tension TC [N], p (14,) the helicopter parameters in
-``params.PARAM_ORDER``.
+wind force on HO in N [N], tension TC [N], c the model's constants: every parameter-only
+subexpression, computed once by ``<model>_constants(p, c)`` from the helicopter parameters
+p (14,) in ``params.PARAM_ORDER``.
 """
 
 from __future__ import annotations
@@ -35,19 +36,46 @@ class _Printer(PythonCodePrinter):
         return super()._print_Pow(expr, rational=rational)
 
 
-def _function(
-    name: str,
-    args: str,
-    doc: str,
-    outputs: list[tuple[str, sp.Matrix]],
-    subs: dict,
-    printer: _Printer,
+class _ConstantPool:
+    """Hoists every parameter-only subexpression into a constant c[k], computed once per
+    parameter set by ``<model>_constants(p, c)`` instead of at every evaluation."""
+
+    def __init__(self, params: tuple[sp.Symbol, ...]) -> None:
+        self.params = frozenset(params)
+        self.index: dict[sp.Expr, sp.Symbol] = {}
+
+    def _is_constant(self, e: sp.Expr) -> bool:
+        return e.free_symbols <= self.params
+
+    def _const(self, e: sp.Expr) -> sp.Expr:
+        if e.is_Number:
+            return e
+        if e not in self.index:
+            self.index[e] = sp.Symbol(f"c[{len(self.index)}]")
+        return self.index[e]
+
+    def hoist(self, e: sp.Expr) -> sp.Expr:
+        if self._is_constant(e):
+            return self._const(e)
+        if e.is_Add or e.is_Mul:
+            const = [a for a in e.args if self._is_constant(a)]
+            rest = [self.hoist(a) for a in e.args if not self._is_constant(a)]
+            if const:
+                rest.insert(0, self._const(e.func(*const)))
+            return e.func(*rest)
+        if e.args:
+            return e.func(*[self.hoist(a) for a in e.args])
+        return e
+
+    def definitions(self) -> list[tuple[sp.Symbol, sp.Expr]]:
+        return [(sym, expr) for expr, sym in self.index.items()]
+
+
+def _emit(
+    name: str, args: str, doc: str, outputs: list[tuple[str, sp.Matrix]], printer: _Printer
 ) -> str:
     """One generated function: CSE over all outputs, then element assignments."""
-    flat = []
-    for _, mat in outputs:
-        flat.extend(list(mat))
-    flat = [sp.sympify(e).xreplace(subs) for e in flat]
+    flat = [e for _, mat in outputs for e in mat]
     replacements, reduced = sp.cse(flat, symbols=sp.numbered_symbols("t"), optimizations="basic")
     lines = [f"def {name}({args}):", f'    """{doc}"""']
     for sym, expr in replacements:
@@ -57,14 +85,14 @@ def _function(
         rows, cols = mat.shape
         for i in range(rows):
             for j in range(cols):
-                expr = reduced[k]
-                k += 1
                 index = f"{i}" if cols == 1 else f"{i}, {j}"
-                lines.append(f"    {out_name}[{index}] = {printer.doprint(expr)}")
+                lines.append(f"    {out_name}[{index}] = {printer.doprint(reduced[k])}")
+                k += 1
     return "\n".join(lines) + "\n"
 
 
-def _substitutions(d: Derivation) -> dict:
+def _substitutions(d: Derivation) -> tuple[dict, dict]:
+    """(time functions and inputs -> array-element symbols, parameters -> p[i] symbols)."""
     subs = {}
     for i, s in enumerate((*d.q, *d.u)):
         subs[s] = sp.Symbol(f"x[{i}]")
@@ -72,28 +100,30 @@ def _substitutions(d: Derivation) -> dict:
         subs[s] = sp.Symbol(f"inp[{i}]")
     for i, s in enumerate(d.wind):
         subs[s] = sp.Symbol(f"wind[{i}]")
-    for i, s in enumerate(d.params):
-        subs[s] = sp.Symbol(f"p[{i}]")
     subs[d.tension] = sp.Symbol("tension")
-    return subs
+    params = {s: sp.Symbol(f"p[{i}]") for i, s in enumerate(d.params)}
+    return subs, params
 
 
 def _model_functions(d: Derivation, printer: _Printer) -> list[str]:
-    subs = _substitutions(d)
+    subs, params = _substitutions(d)
+    pool = _ConstantPool(d.params)
     rhs = sp.Matrix([*d.qdot, *d.udot])
     states = sp.Matrix([*d.q, *d.u])
-    args = "x, inp, wind, tension, p"
+
+    def prepared(mat: sp.Matrix) -> sp.Matrix:
+        return mat.xreplace(subs).applyfunc(pool.hoist)
+
+    args = "x, inp, wind, tension, c"
     k = d.kind
-    funcs = [
-        _function(
+    specs = [
+        (
             f"{k}_rhs",
             f"{args}, out",
             f"{k} model: out (12,) = d(q, u)/dt (eqs {'9-18' if k == 'free' else '10-12, 29-35'}).",
             [("out", rhs)],
-            subs,
-            printer,
         ),
-        _function(
+        (
             f"{k}_jacobian",
             f"{args}, A, B, E_wind, E_tension",
             f"{k} model: Jacobians of {k}_rhs w.r.t. x (12, 12), inp (12, 4), wind (12, 3), "
@@ -104,38 +134,45 @@ def _model_functions(d: Derivation, printer: _Printer) -> list[str]:
                 ("E_wind", rhs.jacobian(sp.Matrix(d.wind))),
                 ("E_tension", rhs.diff(d.tension)),
             ],
-            subs,
-            printer,
         ),
-        _function(
+        (
             f"{k}_outputs",
-            "x, p, out",
+            "x, c, out",
             f"{k} model: out (4,) = [q1, q2, q3, q6], HO in N and yaw (eqs 4, 43-45).",
             [("out", d.outputs)],
-            subs,
-            printer,
         ),
-        _function(
+        (
             f"{k}_output_jacobian",
-            "x, p, C",
+            "x, c, C",
             f"{k} model: C (4, 12) = d[q1, q2, q3, q6]/dx.",
             [("C", d.outputs.jacobian(states))],
-            subs,
-            printer,
         ),
     ]
     if k == "tethered":
-        funcs.append(
-            _function(
+        specs.append(
+            (
                 "tethered_tether_torque",
-                "x, tension, p, out",
+                "x, tension, c, out",
                 "out (2,) = tether torque about HO on f1, f2 [N m] (the C1, C2 of eqs 33-34, 55).",
                 [("out", d.tether_torque)],
-                subs,
-                printer,
             )
         )
-    return funcs
+    funcs = [
+        _emit(name, fargs, doc, [(o, prepared(m)) for o, m in outs], printer)
+        for name, fargs, doc, outs in specs
+    ]
+    defs = pool.definitions()
+    constants = _emit(
+        f"{k}_constants",
+        "p, c",
+        f"{k} model: c ({len(defs)},) = the parameter-only subexpressions of the {k} "
+        "functions, from the helicopter parameters p in PARAM_ORDER.",
+        [("c", sp.Matrix([expr.xreplace(params) for _, expr in defs]))],
+        printer,
+    )
+    # the pool numbered c[i] in order of appearance: assignments c[i] = ... match
+    header = f"N_{k.upper()}_CONSTANTS = {len(defs)}\n"
+    return [header, constants, *funcs]
 
 
 def generate_source() -> str:

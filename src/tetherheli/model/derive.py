@@ -184,9 +184,16 @@ def derive(kind: ModelKind) -> Derivation:
     udot = sp.Matrix([forcing[i] / mass[i, i] for i in range(6)])
     kd_map = kane.kindiffdict()
     euler = (q4, q5, q6)
-    qdot = sp.Matrix(
-        [_pythagoras(kd_map[qi.diff(t)], euler) if qi in euler else kd_map[qi.diff(t)] for qi in q]
-    )
+    qdot_list = [
+        _pythagoras(kd_map[qi.diff(t)], euler) if qi in euler else kd_map[qi.diff(t)] for qi in q
+    ]
+    if kind == "tethered":
+        # eq 29 in the tether frame: v_P = q9' c3 + q9 q8' c1 - q9 c8 q7' c2, so each rate is
+        # one projection of v_P (from u) on C; algebraically the solution Kane's method found.
+        qdot_list[3] = -v_P_from_u.dot(C.y) / (q9 * sp.cos(q8))
+        qdot_list[4] = v_P_from_u.dot(C.x) / q9
+        qdot_list[5] = v_P_from_u.dot(C.z)
+    qdot = sp.Matrix(qdot_list)
     r_HO = HO.pos_from(NO).to_matrix(N)
     outputs = sp.Matrix([sp.factor_terms(r_HO[i]) for i in range(3)] + [q6])
     tether_torque = sp.Matrix([T_C * forcing[3].diff(T_C), T_C * forcing[4].diff(T_C)])

@@ -43,6 +43,7 @@ class _Helicopter:
     """Shared machinery of the two model classes (not public)."""
 
     STATE: ClassVar[tuple[str, ...]]
+    _KIND: ClassVar[str]
     INPUT: ClassVar[tuple[str, ...]] = INPUT
     OUTPUT: ClassVar[tuple[str, ...]] = OUTPUT
 
@@ -50,8 +51,12 @@ class _Helicopter:
         if params is not None and not isinstance(params, Params):
             raise TypeError(f"params must be a tetherheli.Params or None, not {type(params)}")
         self.params = params if params is not None else Params.paper()
-        self._p = self.params.helicopter.as_array()
-        self._p.setflags(write=False)
+        self._c = kernels.model_constants(self._KIND, self.params.helicopter)
+
+    @property
+    def constants(self) -> np.ndarray:
+        """The generated code's constants for these parameters (read-only, see ``kernels``)."""
+        return self._c
 
     @property
     def n_state(self) -> int:
@@ -92,7 +97,7 @@ class _Helicopter:
         rows = np.atleast_2d(x)
         y = np.empty((rows.shape[0], 4))
         for i in range(rows.shape[0]):
-            self._outputs_kernel(rows[i], self._p, y[i])
+            self._outputs_kernel(rows[i], self._c, y[i])
         return y[0] if x.ndim == 1 else y
 
     def __repr__(self) -> str:
@@ -111,6 +116,7 @@ class TetheredHelicopter(_Helicopter):
     STATE: ClassVar[tuple[str, ...]] = (
         "q4", "q5", "q6", "q7", "q8", "q9", "u1", "u2", "u3", "u4", "u5", "u6", "LN",
     )  # fmt: skip
+    _KIND = "tethered"
     _outputs_kernel = staticmethod(kernels.tethered_outputs)
 
     def _check_position(self, rows: np.ndarray) -> None:
@@ -150,7 +156,7 @@ class TetheredHelicopter(_Helicopter):
         if x.ndim == 1:
             if rate.ndim != 0:
                 raise ValueError(f"reel_rate has shape {rate.shape}; allowed: a scalar")
-            kernels.tethered_derivative(x, u, wind, float(rate), self._p, K_C, out)
+            kernels.tethered_derivative(x, u, wind, float(rate), self._c, K_C, out)
         else:
             rate = np.ascontiguousarray(np.broadcast_to(rate, (x.shape[0],)))
             kernels.tethered_derivative_batch(
@@ -158,7 +164,7 @@ class TetheredHelicopter(_Helicopter):
                 np.ascontiguousarray(u),
                 np.ascontiguousarray(wind),
                 rate,
-                self._p,
+                self._c,
                 K_C,
                 out,
             )
@@ -178,7 +184,7 @@ class TetheredHelicopter(_Helicopter):
             raise ValueError(f"x has shape {x.shape}; allowed: (13,)")
         t = self.tension(x) if tension is None else float(tension)
         out = np.empty(2)
-        kernels.tethered_tether_torque(x, t, self._p, out)
+        kernels.tethered_tether_torque(x, t, self._c, out)
         return out
 
     def trim(self, tension: float, q9: float = 10.0) -> TrimPoint:
@@ -196,6 +202,7 @@ class FreeHelicopter(_Helicopter):
     STATE: ClassVar[tuple[str, ...]] = (
         "q1", "q2", "q3", "q4", "q5", "q6", "u1", "u2", "u3", "u4", "u5", "u6",
     )  # fmt: skip
+    _KIND = "free"
     _outputs_kernel = staticmethod(kernels.free_outputs)
 
     def derivative(self, x: object, u: object, wind: object = (0.0, 0.0, 0.0)) -> np.ndarray:
@@ -206,13 +213,13 @@ class FreeHelicopter(_Helicopter):
         wind = self._broadcast(x, "wind", wind, 3)
         out = np.empty_like(x)
         if x.ndim == 1:
-            kernels.free_derivative(x, u, wind, self._p, out)
+            kernels.free_derivative(x, u, wind, self._c, out)
         else:
             kernels.free_derivative_batch(
                 np.ascontiguousarray(x),
                 np.ascontiguousarray(u),
                 np.ascontiguousarray(wind),
-                self._p,
+                self._c,
                 out,
             )
         return out

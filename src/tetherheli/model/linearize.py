@@ -72,7 +72,7 @@ def linearize(model: TetheredHelicopter | FreeHelicopter, trim: TrimPoint) -> Li
     Inputs are the total rotor inputs (u0 - C_f-fwd at trim); the tethered model's state
     includes LN, with the reel rate as a separate input column ``B_reel``.
     """
-    p = model.params.helicopter.as_array()
+    p = model.constants
     x0 = np.asarray(trim.x, dtype=float)
     u0 = trim.u_total
     wind = np.zeros(3)

@@ -70,7 +70,7 @@ def hover_trim(params: Params, tension: float, q9: float = 10.0) -> TrimPoint:
     ):
         raise ParameterError("q9", q9, "a finite tether length > 0 [m]")
     h = params.helicopter
-    p = h.as_array()
+    p = kernels.model_constants("tethered", h)
     K_C = params.tether.K_C
     x = np.zeros(13)
     x[5] = q9

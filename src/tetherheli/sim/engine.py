@@ -24,6 +24,7 @@ from ..control.paper import paper_control
 from ..model.kernels import tension_from_state, tethered_rhs
 
 _jit = njit(cache=True, error_model="numpy")
+_jit_inline = njit(cache=True, error_model="numpy", inline="always")
 
 # --- wind program: one row per built-in profile ----------------------------------------------
 WIND_PULSE, WIND_SINE, WIND_STEP, WIND_CONSTANT = 0, 1, 2, 3
@@ -64,7 +65,7 @@ SUMMARY_FIELDS = (
 )  # fmt: skip
 
 
-@_jit
+@_jit_inline
 def _wind_program_force(program, t, side, out):
     """Add the built-in profiles' force at time t; side = +1 right limit, -1 left limit."""
     for r in range(program.shape[0]):
@@ -92,8 +93,8 @@ def _wind_program_force(program, t, side, out):
             out[2] += value * program[r, 8]
 
 
-@_jit
-def wind_force(program, gust, gust_dt, drag, t, side, velocity, out):
+@_jit_inline
+def wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out):
     """Wind force on HO in N [N]: the profiles plus the drag of the gust velocity relative to
     HO, 0.5 rho CdA |v_rel| v_rel per axis (drag[i] = 0.5 rho CdA_i)."""
     out[0] = 0.0
@@ -111,25 +112,25 @@ def wind_force(program, gust, gust_dt, drag, t, side, velocity, out):
             w = s - i
         for a in range(3):
             g = gust[i, a] if w == 0.0 else gust[i, a] * (1.0 - w) + gust[i + 1, a] * w
-            rel = g - velocity[a]
+            rel = g - (v1 if a == 0 else (v2 if a == 1 else v3))
             out[a] += drag[a] * abs(rel) * rel
 
 
-@_jit
-def plant_derivative(x, inp, reel_rate, t, side, cfg, p, program, gust, drag, wind, out):
+@_jit_inline
+def plant_derivative(x, inp, reel_rate, t, side, cfg, c, program, gust, drag, wind, out):
     """dx/dt (13,) of the tethered-coordinate plant; tension 0 when the tether is removed."""
-    wind_force(program, gust, cfg[CFG_GUST_DT], drag, t, side, x[6:9], wind)
+    wind_force(program, gust, cfg[CFG_GUST_DT], drag, t, side, x[6], x[7], x[8], wind)
     if cfg[CFG_ATTACHED] > 0.5:
         tension = tension_from_state(x[5], x[12], cfg[CFG_K_C])
-        tethered_rhs(x, inp, wind, tension, p, out)
+        tethered_rhs(x, inp, wind, tension, c, out)
         out[12] = reel_rate
     else:
-        tethered_rhs(x, inp, wind, 0.0, p, out)
+        tethered_rhs(x, inp, wind, 0.0, c, out)
         out[12] = 0.0
 
 
 @_jit
-def rk4_interval(x, inp, reel_rate, t0, cfg, p, program, gust, drag, work):
+def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work):
     """Advance x in place over one control sample [t0, t0 + dt] with n_sub RK4 steps."""
     n_sub = int(cfg[CFG_N_SUB])
     h = cfg[CFG_DT] / n_sub
@@ -139,16 +140,16 @@ def rk4_interval(x, inp, reel_rate, t0, cfg, p, program, gust, drag, work):
         ta = t0 + j * h
         tb = t0 + (j + 1) * h
         tm = ta + 0.5 * h
-        plant_derivative(x, inp, reel_rate, ta, 1, cfg, p, program, gust, drag, wind, k1)
+        plant_derivative(x, inp, reel_rate, ta, 1, cfg, c, program, gust, drag, wind, k1)
         for i in range(n):
             tmp[i] = x[i] + 0.5 * h * k1[i]
-        plant_derivative(tmp, inp, reel_rate, tm, 1, cfg, p, program, gust, drag, wind, k2)
+        plant_derivative(tmp, inp, reel_rate, tm, 1, cfg, c, program, gust, drag, wind, k2)
         for i in range(n):
             tmp[i] = x[i] + 0.5 * h * k2[i]
-        plant_derivative(tmp, inp, reel_rate, tm, 1, cfg, p, program, gust, drag, wind, k3)
+        plant_derivative(tmp, inp, reel_rate, tm, 1, cfg, c, program, gust, drag, wind, k3)
         for i in range(n):
             tmp[i] = x[i] + h * k3[i]
-        plant_derivative(tmp, inp, reel_rate, tb, -1, cfg, p, program, gust, drag, wind, k4)
+        plant_derivative(tmp, inp, reel_rate, tb, -1, cfg, c, program, gust, drag, wind, k4)
         for i in range(n):
             x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
 
@@ -200,7 +201,7 @@ def run_paper_loop(
     n_samples,
     cfg,
     ctrl,
-    p,
+    c,
     gain,
     x_ref,
     y_ref,
@@ -241,14 +242,14 @@ def run_paper_loop(
         attached = cfg[CFG_ATTACHED] > 0.5
         tension = tension_from_state(x[5], x[12], cfg[CFG_K_C]) if attached else 0.0
         rate = paper_control(
-            x, tension, z, winch_integral, ctrl, p, gain, x_ref, y_ref, u0, y, inp, ffwd
+            x, tension, z, winch_integral, ctrl, c, gain, x_ref, y_ref, u0, y, inp, ffwd
         )
         status = check_state(x, y, y_ref, tension, cfg)
         if status != STATUS_OK:
             return status, k
         _accumulate(summary, x, x_ref, y, y_ref, tension)
         if record:
-            wind_force(program, gust, cfg[CFG_GUST_DT], drag, t, 1, x[6:9], wind)
+            wind_force(program, gust, cfg[CFG_GUST_DT], drag, t, 1, x[6], x[7], x[8], wind)
             out_x[k] = x
             out_u[k] = inp
             out_ffwd[k] = ffwd
@@ -258,5 +259,5 @@ def run_paper_loop(
             out_y[k] = y
         if k == n_samples:
             break
-        rk4_interval(x, inp, rate, t, cfg, p, program, gust, drag, work)
+        rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, work)
     return STATUS_OK, n_samples + 1

@@ -180,12 +180,12 @@ def simulate(
     model, trim, gain, ctrl, cfg = _setup(scenario)
     wind = compile_wind(scenario.wind)
     n = scenario.n_samples
-    p = model.params.helicopter.as_array()
+    c = model.constants
     if wind is not None:
         cfg[engine.CFG_GUST_DT] = wind.gust_dt
     paper = controller is None
     if paper:
-        controller = PaperController(gain.K, trim.x, trim.y, trim.u, ctrl, p)
+        controller = PaperController(gain.K, trim.x, trim.y, trim.u, ctrl, c)
     rec = _Recorder(n)
     if paper and method == "rk4" and wind is not None:
         summary = np.zeros(len(engine.SUMMARY_FIELDS))
@@ -194,7 +194,7 @@ def simulate(
             n,
             cfg,
             ctrl,
-            p,
+            c,
             gain.K,
             np.ascontiguousarray(trim.x[:12]),
             trim.y.copy(),
@@ -214,7 +214,7 @@ def simulate(
         )
     else:
         status, done = _python_loop(
-            scenario, controller, method, cfg, p, wind, trim, rec, rtol=rtol, atol=atol
+            scenario, controller, method, cfg, c, wind, trim, rec, rtol=rtol, atol=atol
         )
     return rec.result(done, status, scenario, trim, method)
 
@@ -253,7 +253,7 @@ class _Recorder:
         )
 
 
-def _python_loop(scenario, controller, method, cfg, p, wind, trim, rec, *, rtol, atol):
+def _python_loop(scenario, controller, method, cfg, c, wind, trim, rec, *, rtol, atol):
     """The closed loop driven from Python: any Controller, RK4 or the adaptive reference."""
     dt = scenario.control.dt
     n = scenario.n_samples
@@ -273,7 +273,7 @@ def _python_loop(scenario, controller, method, cfg, p, wind, trim, rec, *, rtol,
         cmd = controller.step(t, Measurement(state=x.copy(), tension=tension))
         inp = np.asarray(cmd.inputs, dtype=float)
         rate = float(cmd.reel_rate) if attached else 0.0
-        tethered_outputs(x, p, y)
+        tethered_outputs(x, c, y)
         status = engine.check_state(x, y, trim.y, tension, cfg)
         if status == engine.STATUS_OK and not (np.all(np.isfinite(inp)) and math.isfinite(rate)):
             status = engine.STATUS_NONFINITE
@@ -287,11 +287,11 @@ def _python_loop(scenario, controller, method, cfg, p, wind, trim, rec, *, rtol,
         if method == "rk4":
             if wind is None:
                 _rk4_custom_wind(
-                    x, inp, rate, t, dt, int(cfg[engine.CFG_N_SUB]), cfg, p, scenario.wind
+                    x, inp, rate, t, dt, int(cfg[engine.CFG_N_SUB]), cfg, c, scenario.wind
                 )
             else:
                 engine.rk4_interval(
-                    x, inp, rate, t, cfg, p, wind.program, wind.gust, wind.drag, work
+                    x, inp, rate, t, cfg, c, wind.program, wind.gust, wind.drag, work
                 )
         else:
             inside = breaks[(breaks > t) & (breaks < t + dt)]
@@ -302,7 +302,7 @@ def _python_loop(scenario, controller, method, cfg, p, wind, trim, rec, *, rtol,
                 def rhs(tt, xx, mid=mid, inp=inp, rate=rate):
                     out = np.empty(13)
                     side = 1 if tt < mid else -1
-                    _plant(xx, inp, rate, tt, side, cfg, p, scenario.wind, wind, out)
+                    _plant(xx, inp, rate, tt, side, cfg, c, scenario.wind, wind, out)
                     return out
 
                 sol = solve_ivp(rhs, (a, b), x, method="DOP853", rtol=rtol, atol=atol)
@@ -315,33 +315,42 @@ def _python_loop(scenario, controller, method, cfg, p, wind, trim, rec, *, rtol,
 def _wind_at(disturbance, wind, cfg, t, side, x, buf):
     if wind is not None:
         engine.wind_force(
-            wind.program, wind.gust, cfg[engine.CFG_GUST_DT], wind.drag, t, side, x[6:9], buf
+            wind.program,
+            wind.gust,
+            cfg[engine.CFG_GUST_DT],
+            wind.drag,
+            t,
+            side,
+            x[6],
+            x[7],
+            x[8],
+            buf,
         )
         return buf.copy()
     return np.asarray(disturbance.force_at(t, x[6:9]), dtype=float)
 
 
-def _plant(x, inp, rate, t, side, cfg, p, disturbance, wind, out):
+def _plant(x, inp, rate, t, side, cfg, c, disturbance, wind, out):
     if wind is not None:
         engine.plant_derivative(
-            x, inp, rate, t, side, cfg, p, wind.program, wind.gust, wind.drag, np.empty(3), out
+            x, inp, rate, t, side, cfg, c, wind.program, wind.gust, wind.drag, np.empty(3), out
         )
         return
     # custom disturbance: evaluate in Python, then the compiled plant with a constant force
     force = np.asarray(disturbance.force_at(t, x[6:9]), dtype=float)
     program = np.array([[engine.WIND_CONSTANT, 0, 0, 1.0, 0, 0, *force]])
     engine.plant_derivative(
-        x, inp, rate, t, side, cfg, p, program, np.zeros((0, 3)), np.zeros(3), np.empty(3), out
+        x, inp, rate, t, side, cfg, c, program, np.zeros((0, 3)), np.zeros(3), np.empty(3), out
     )
 
 
-def _rk4_custom_wind(x, inp, rate, t0, dt, n_sub, cfg, p, disturbance):
+def _rk4_custom_wind(x, inp, rate, t0, dt, n_sub, cfg, c, disturbance):
     h = dt / n_sub
     k1, k2, k3, k4 = (np.empty(13) for _ in range(4))
     for j in range(n_sub):
         ta = t0 + j * h
-        _plant(x, inp, rate, ta, 1, cfg, p, disturbance, None, k1)
-        _plant(x + 0.5 * h * k1, inp, rate, ta + 0.5 * h, 1, cfg, p, disturbance, None, k2)
-        _plant(x + 0.5 * h * k2, inp, rate, ta + 0.5 * h, 1, cfg, p, disturbance, None, k3)
-        _plant(x + h * k3, inp, rate, ta + h, -1, cfg, p, disturbance, None, k4)
+        _plant(x, inp, rate, ta, 1, cfg, c, disturbance, None, k1)
+        _plant(x + 0.5 * h * k1, inp, rate, ta + 0.5 * h, 1, cfg, c, disturbance, None, k2)
+        _plant(x + 0.5 * h * k2, inp, rate, ta + 0.5 * h, 1, cfg, c, disturbance, None, k3)
+        _plant(x + h * k3, inp, rate, ta + h, -1, cfg, c, disturbance, None, k4)
         x += h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
