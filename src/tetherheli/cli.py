@@ -282,4 +282,36 @@ def _dt_arg_pulse(text: str) -> float:
     return value
 
 
+def _cmd_animate(args: argparse.Namespace) -> int:
+    from .viz.animation import animate, list_runs
+
+    list_runs(args.result_dir)  # a missing folder is reported as such, before the output
+    stems = args.runs.split(",") if args.runs else None
+    output = Path(args.out) if args.out else Path(args.result_dir) / "animation.gif"
+    path = animate(
+        args.result_dir,
+        output,
+        stems=stems,
+        fps=args.fps,
+        speed=args.speed,
+        max_frames=args.max_frames,
+    )
+    print(f"wrote {path}")
+    return 0
+
+
+def _register_animate(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("animate", help="3-D animation (GIF/MP4) of the runs in a result folder")
+    p.add_argument("result_dir", help="folder written by `tetherheli paper` or `simulate`")
+    p.add_argument("--out", help="output .gif or .mp4 (default RESULT_DIR/animation.gif)")
+    p.add_argument("--runs", help="comma-separated run names (default: all in the folder)")
+    p.add_argument("--fps", type=_positive_float("--fps"), default=20.0)
+    p.add_argument(
+        "--speed", type=_positive_float("--speed"), default=1.0, help="playback speed-up"
+    )
+    p.add_argument("--max-frames", type=int, default=600)
+    p.set_defaults(func=_cmd_animate)
+
+
 _EXTRA_COMMANDS.append(_register_simulation)
+_EXTRA_COMMANDS.append(_register_animate)
