@@ -300,6 +300,19 @@ def _cmd_animate(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_sensing(args: argparse.Namespace) -> int:
+    from .report import run_sensing
+
+    table = run_sensing(args.out, scenarios=tuple(args.scenario) or None)
+    print(f"wrote {args.out}/ (sensing.png, summary.json, time series)")
+    print(f"{'run':<18} {'source':<8} {'estimate error RMS q1/q2/q3 [m]':<34} true deviation RMS")
+    for name, row in table.items():
+        e = "/".join(f"{v:.3f}" for v in row["estimate_error_rms"].values())
+        d = "/".join(f"{v:.3f}" for v in row["true_deviation_rms"].values())
+        print(f"{name:<18} {row['position_source']:<8} {e:<34} {d}")
+    return 0
+
+
 def _register_animate(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("animate", help="3-D animation (GIF/MP4) of the runs in a result folder")
     p.add_argument("result_dir", help="folder written by `tetherheli paper` or `simulate`")
@@ -311,6 +324,16 @@ def _register_animate(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--max-frames", type=int, default=600)
     p.set_defaults(func=_cmd_animate)
+
+    p = sub.add_parser("sensing", help="the tether as a GPS-free position sensor (Sec. IV-F)")
+    p.add_argument("--out", default="sensing_out", help="output directory")
+    p.add_argument(
+        "--scenario",
+        action="append",
+        default=[],
+        help="scenario with [sensors] (repeatable; default: the shipped pair)",
+    )
+    p.set_defaults(func=_cmd_sensing)
 
 
 _EXTRA_COMMANDS.append(_register_simulation)

@@ -17,6 +17,7 @@ import numpy as np
 from ._io import atomic_directory, atomic_write_text
 from ._version import __version__
 from .analysis import reduction_percent, run_metrics
+from .errors import ParameterError
 from .sim import SimulationResult, simulate
 from .sim.scenario import Scenario, paper_scenario
 
@@ -260,3 +261,82 @@ def write_run(
             lines += ["![outputs](outputs.png)", "", "![inputs](inputs.png)", ""]
         atomic_write_text(tmp / "report.md", "\n".join(lines))
     return info
+
+
+def sensing_scenario(source: str) -> Scenario:
+    """Paper simulation 1, tethered, with the controller's position from a consumer GPS
+    ("gps") or from the tether (encoders + altimeter + IMU, "tether"); seed 1."""
+    from .sensors import SensorConfig
+
+    sensors = {"gps": SensorConfig.typical_gps, "tether": SensorConfig.typical_tether}
+    if source not in sensors:
+        raise ParameterError("source", source, "'gps' or 'tether'")
+    base = paper_scenario(1, "tethered")
+    label = (
+        "a consumer GPS"
+        if source == "gps"
+        else ("the tether (encoders + altimeter + IMU, Sec. IV-F)")
+    )
+    return base.replace(
+        name=f"sensing_{source}",
+        sensors=sensors[source](),
+        seed=1,
+        description=f"Paper simulation 1, tethered, position from {label}.",
+    )
+
+
+def run_sensing(
+    out_dir: str | Path,
+    *,
+    scenarios: tuple[str | Path, ...] | None = None,
+    command: str = "tetherheli sensing",
+) -> dict[str, Any]:
+    """The tether as a GPS-free position sensor (Sec. IV-F): fly the shipped
+    ``sensing_gps`` and ``sensing_tether`` scenarios (or the given ones), compare the
+    controller's position-estimate error and the true deviation from trim, and plot both."""
+    import matplotlib.pyplot as plt
+
+    from .sim import load_scenario
+    from .viz.plots import save_figure
+
+    if scenarios:
+        runs = [load_scenario(p) for p in scenarios]
+    else:  # the shipped scenarios/sensing_{gps,tether}.toml, built here (a test checks equality)
+        runs = [sensing_scenario("gps"), sensing_scenario("tether")]
+    results = {s.name: simulate(s) for s in runs}
+    table: dict[str, Any] = {}
+    for name, r in results.items():
+        if not r.ok:
+            raise RuntimeError(f"run {name} failed: {r.message}")
+        if "q1_est" not in r.extra:
+            raise ParameterError("sensors", name, "a scenario with noisy sensors ([sensors])")
+        est = np.column_stack([r.extra[f"q{i}_est"] for i in (1, 2, 3)])
+        err = est - r.outputs[:, :3]
+        dev = r.outputs[:, :3] - r.trim_output[:3]
+        table[name] = {
+            "position_source": r.configuration["sensors"]["position_source"],
+            "estimate_error_rms": dict(
+                zip(("q1", "q2", "q3"), np.sqrt(np.mean(err**2, axis=0)).tolist(), strict=True)
+            ),
+            "true_deviation_rms": dict(
+                zip(("q1", "q2", "q3"), np.sqrt(np.mean(dev**2, axis=0)).tolist(), strict=True)
+            ),
+        }
+    fig, axes = plt.subplots(2, 1, figsize=(7.5, 6.0), sharex=True, layout="constrained")
+    for name, r in results.items():
+        axes[0].plot(r.time, r.extra["q1_est"] - r.outputs[:, 0], lw=0.6, label=name)
+        axes[1].plot(r.time, r.outputs[:, 0] - r.trim_output[0], lw=1.0, label=name)
+    axes[0].set_ylabel("q1 estimate error [m]")
+    axes[1].set_ylabel("true q1 deviation [m]")
+    axes[1].set_xlabel("t [s]")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle("Position from a GPS against the tether as a sensor (Sec. IV-F)")
+    with atomic_directory(out_dir) as tmp:
+        for name, r in results.items():
+            r.save(tmp, name)
+        save_figure(fig, tmp / "sensing.png")
+        info = {"tetherheli_version": __version__, "command": command, "runs": table}
+        atomic_write_text(tmp / "summary.json", json.dumps(info, indent=2) + "\n")
+    return table

@@ -20,8 +20,9 @@ import math
 import numpy as np
 from numba import njit
 
-from ..control.paper import paper_control
-from ..model.kernels import tension_from_state, tethered_rhs
+from ..control.paper import CTRL_FFWD, CTRL_WINCH, paper_control
+from ..model.kernels import tension_from_state, tethered_outputs, tethered_rhs
+from ..sensors import N_CHANNELS, measure
 
 _jit = njit(cache=True, error_model="numpy")
 _jit_inline = njit(cache=True, error_model="numpy", inline="always")
@@ -195,6 +196,148 @@ def _accumulate(summary, x, x_ref, y, y_ref, tension):
     summary[10] += 1.0
 
 
+# --- actuators, packed in one array -----------------------------------------------------------
+ACT_U_MIN = 0  # (4,) lower input limits [N, N m, N m, N]
+ACT_U_MAX = 4  # (4,) upper input limits
+ACT_TAU = 8  # first-order actuator time constant [s] (0: none)
+ACT_BREAK = 9  # tether breaking / release tension [N] (inf: never)
+ACT_SIZE = 10
+
+
+def default_actuators() -> np.ndarray:
+    """Ideal actuators: no limits, no lag, an unbreakable tether."""
+    act = np.zeros(ACT_SIZE)
+    act[ACT_U_MIN : ACT_U_MIN + 4] = -np.inf
+    act[ACT_U_MAX : ACT_U_MAX + 4] = np.inf
+    act[ACT_BREAK] = np.inf
+    return act
+
+
+@_jit
+def apply_actuators(inp, applied, act, dt, first):
+    """Saturate the command, then pass it through the first-order lag (step-invariant at the
+    sample rate: u_k = u_{k-1} + (1 - e^{-dt/tau}) (sat(cmd_k) - u_{k-1})); inp becomes the
+    applied input and ``applied`` (4,) keeps it for the next sample."""
+    tau = act[ACT_TAU]
+    gain = 1.0 if (first or tau <= 0.0) else 1.0 - math.exp(-dt / tau)
+    for i in range(4):
+        v = min(max(inp[i], act[ACT_U_MIN + i]), act[ACT_U_MAX + i])
+        v = applied[i] + gain * (v - applied[i]) if not first else v
+        applied[i] = v
+        inp[i] = v
+
+
+@_jit
+def run_closed_loop(
+    x_init,
+    n_samples,
+    cfg_in,
+    ctrl_in,
+    c,
+    gain,
+    x_ref,
+    y_ref,
+    u0,
+    program,
+    gust,
+    drag,
+    act,
+    noise,
+    source_code,
+    arm,
+    record,
+    out_x,
+    out_u,
+    out_ffwd,
+    out_rate,
+    out_tension,
+    out_wind,
+    out_y,
+    out_y_est,
+    summary,
+):
+    """Run the closed loop for n_samples control samples; returns (status, samples done).
+
+    The controller sees measurements (``sensors.measure`` with the sample's row of ``noise``
+    when ``noise`` has rows, else the true state); its command goes through the actuators
+    (``act``); a tension above act[ACT_BREAK] releases the tether (the run continues free).
+    With ``record`` the out_* arrays (n_samples + 1 rows) receive the sampled signals: true
+    state, applied inputs (with feed-forward), feed-forward, reel rate, true tension, wind
+    force, true outputs, and the controller's output estimate. ``summary``
+    (len(SUMMARY_FIELDS),) always receives the on-line metrics.
+    """
+    cfg = cfg_in.copy()
+    ctrl = ctrl_in.copy()
+    x = x_init.copy()
+    x_meas = x_init.copy()
+    z = np.zeros(4)
+    winch_integral = np.zeros(1)
+    y = np.empty(4)
+    y_est = np.empty(4)
+    inp = np.empty(4)
+    applied = np.empty(4)
+    ffwd = np.empty(4)
+    wind = np.empty(3)
+    work = np.empty((6, 13))
+    summary[:] = 0.0
+    summary[8] = np.inf
+    summary[9] = -np.inf
+    dt = cfg[CFG_DT]
+    sensed = noise.shape[0] > 0
+    for k in range(n_samples + 1):
+        t = k * dt
+        attached = cfg[CFG_ATTACHED] > 0.5
+        tension = tension_from_state(x[5], x[12], cfg[CFG_K_C]) if attached else 0.0
+        if attached and tension > act[ACT_BREAK]:  # the safety device releases the tether
+            cfg[CFG_ATTACHED] = 0.0
+            ctrl[CTRL_WINCH] = 0.0
+            ctrl[CTRL_FFWD] = 0.0
+            tension = 0.0
+        if sensed:
+            measured_tension = measure(x, tension, noise[k], source_code, arm, x_meas)
+        else:
+            x_meas[:] = x
+            measured_tension = tension
+        rate = paper_control(
+            x_meas,
+            measured_tension,
+            z,
+            winch_integral,
+            ctrl,
+            c,
+            gain,
+            x_ref,
+            y_ref,
+            u0,
+            y_est,
+            inp,
+            ffwd,
+        )
+        apply_actuators(inp, applied, act, dt, k == 0)
+        if sensed:
+            tethered_outputs(x, c, y)
+        else:
+            y[:] = y_est
+        status = check_state(x, y, y_ref, tension, cfg)
+        if status != STATUS_OK:
+            return status, k
+        _accumulate(summary, x, x_ref, y, y_ref, tension)
+        if record:
+            wind_force(program, gust, cfg[CFG_GUST_DT], drag, t, 1, x[6], x[7], x[8], wind)
+            out_x[k] = x
+            out_u[k] = inp
+            out_ffwd[k] = ffwd
+            out_rate[k] = rate
+            out_tension[k] = tension
+            out_wind[k] = wind
+            out_y[k] = y
+            out_y_est[k] = y_est
+        if k == n_samples:
+            break
+        rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, work)
+    return STATUS_OK, n_samples + 1
+
+
 @_jit
 def run_paper_loop(
     x_init,
@@ -219,45 +362,38 @@ def run_paper_loop(
     out_y,
     summary,
 ):
-    """Run the closed loop for n_samples control samples; returns (status, samples done).
-
-    With ``record`` the arrays out_* (n_samples + 1 rows) receive the sampled signals: state,
-    applied inputs (with feed-forward), feed-forward, reel rate, tension, wind force, outputs.
-    ``summary`` (len(SUMMARY_FIELDS),) always receives the on-line metrics.
-    """
-    x = x_init.copy()
-    z = np.zeros(4)
-    winch_integral = np.zeros(1)
-    y = np.empty(4)
-    inp = np.empty(4)
-    ffwd = np.empty(4)
-    wind = np.empty(3)
-    work = np.empty((6, 13))
-    summary[:] = 0.0
-    summary[8] = np.inf
-    summary[9] = -np.inf
-    dt = cfg[CFG_DT]
-    for k in range(n_samples + 1):
-        t = k * dt
-        attached = cfg[CFG_ATTACHED] > 0.5
-        tension = tension_from_state(x[5], x[12], cfg[CFG_K_C]) if attached else 0.0
-        rate = paper_control(
-            x, tension, z, winch_integral, ctrl, c, gain, x_ref, y_ref, u0, y, inp, ffwd
-        )
-        status = check_state(x, y, y_ref, tension, cfg)
-        if status != STATUS_OK:
-            return status, k
-        _accumulate(summary, x, x_ref, y, y_ref, tension)
-        if record:
-            wind_force(program, gust, cfg[CFG_GUST_DT], drag, t, 1, x[6], x[7], x[8], wind)
-            out_x[k] = x
-            out_u[k] = inp
-            out_ffwd[k] = ffwd
-            out_rate[k] = rate
-            out_tension[k] = tension
-            out_wind[k] = wind
-            out_y[k] = y
-        if k == n_samples:
-            break
-        rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, work)
-    return STATUS_OK, n_samples + 1
+    """``run_closed_loop`` with ideal actuators and sensors (the paper's set-up)."""
+    act = np.zeros(ACT_SIZE)
+    for i in range(4):
+        act[ACT_U_MIN + i] = -np.inf
+        act[ACT_U_MAX + i] = np.inf
+    act[ACT_BREAK] = np.inf
+    out_y_est = np.empty((out_y.shape[0], 4))
+    return run_closed_loop(
+        x_init,
+        n_samples,
+        cfg,
+        ctrl,
+        c,
+        gain,
+        x_ref,
+        y_ref,
+        u0,
+        program,
+        gust,
+        drag,
+        act,
+        np.zeros((0, N_CHANNELS)),
+        0,
+        0.0,
+        record,
+        out_x,
+        out_u,
+        out_ffwd,
+        out_rate,
+        out_tension,
+        out_wind,
+        out_y,
+        out_y_est,
+        summary,
+    )

@@ -38,8 +38,16 @@ from typing import Any, Literal
 from ..disturbances import Disturbance, NoWind, disturbance_from_dict, paper_wind
 from ..errors import ParameterError
 from ..params import Params
+from ..sensors import SensorConfig, sensor_config_from_dict
 
-__all__ = ["ControlSettings", "Limits", "Scenario", "load_scenario", "paper_scenario"]
+__all__ = [
+    "ActuatorSettings",
+    "ControlSettings",
+    "Limits",
+    "Scenario",
+    "load_scenario",
+    "paper_scenario",
+]
 
 PAPER_QY = (1.0, 1.0, 1.0, 1.0, 10.0, 10.0, 10.0, 10.0)
 PAPER_RU = (1.0, 1.0, 1.0, 1.0)
@@ -65,6 +73,26 @@ class Limits:
     max_angle_deg: float = 80.0
 
 
+_INF = math.inf
+
+
+@dataclass(frozen=True)
+class ActuatorSettings:
+    """Actuator and tether-device realism (all off by default; Sec. IV-C, eq 40).
+
+    u_min, u_max : input limits [fMR3 N, tMR1 N m, tMR2 N m, fTR2 N] (the cyclic limits are
+        eq 40's tmax_MR1,2); time_constant : first-order actuator lag [s] (0: none);
+    reel_rate_limit : |dLN/dt| bound of the winch [m/s] (anti-windup in the PI, eq 56);
+    breaking_tension : the safety device releases the tether above it [N] (Sec. IV-C).
+    """
+
+    u_min: tuple[float, float, float, float] = (-_INF, -_INF, -_INF, -_INF)
+    u_max: tuple[float, float, float, float] = (_INF, _INF, _INF, _INF)
+    time_constant: float = 0.0
+    reel_rate_limit: float = _INF
+    breaking_tension: float = _INF
+
+
 @dataclass(frozen=True)
 class Scenario:
     """One closed-loop run: configuration, duration, controller settings, wind, parameters."""
@@ -78,6 +106,9 @@ class Scenario:
     wind: Disturbance = field(default_factory=NoWind)
     params: Params = field(default_factory=Params.paper)
     description: str = ""
+    actuators: ActuatorSettings = field(default_factory=ActuatorSettings)
+    sensors: SensorConfig = field(default_factory=SensorConfig)
+    seed: int = 0
 
     def __post_init__(self) -> None:
         _validate(self, source=None)
@@ -103,6 +134,9 @@ class Scenario:
             "limits": dataclasses.asdict(self.limits),
             "wind": self.wind.to_dict(),
             "params": self.params.to_dict(),
+            "actuators": dataclasses.asdict(self.actuators),
+            "sensors": self.sensors.to_dict(),
+            "seed": self.seed,
         }
 
 
@@ -154,6 +188,31 @@ def _validate(s: Scenario, source: str | None) -> None:
     _number(source, "limits.max_tension", lim.max_tension, low=0.0, low_open=True)
     _number(source, "limits.max_deviation", lim.max_deviation, low=0.0, low_open=True)
     _number(source, "limits.max_angle_deg", lim.max_angle_deg, low=0.0, high=89.0, low_open=True)
+    a = s.actuators
+    for key, vec in (("actuators.u_min", a.u_min), ("actuators.u_max", a.u_max)):
+        if not isinstance(vec, (list, tuple)) or len(vec) != 4:
+            raise ParameterError(key, vec, "a list of 4 numbers [N, N m, N m, N]", source=source)
+        for v in vec:
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or math.isnan(v):
+                raise ParameterError(key, vec, "a list of 4 numbers (inf allowed)", source=source)
+    if any(lo >= hi for lo, hi in zip(a.u_min, a.u_max, strict=True)):
+        raise ParameterError(
+            "actuators.u_min", a.u_min, "limits below actuators.u_max", source=source
+        )
+    _number(source, "actuators.time_constant", a.time_constant, low=0.0, high=10.0)
+    for key, v in (
+        ("actuators.reel_rate_limit", a.reel_rate_limit),
+        ("actuators.breaking_tension", a.breaking_tension),
+    ):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or math.isnan(v) or v <= 0:
+            raise ParameterError(key, v, "a number > 0 (inf: none)", source=source)
+    if not isinstance(s.sensors, SensorConfig):
+        raise ParameterError("sensors", s.sensors, "a SensorConfig", source=source)
+    try:
+        s.sensors.check_configuration(tethered=s.configuration == "tethered")
+    except ParameterError as exc:
+        raise ParameterError(exc.field, exc.value, exc.allowed, source=source) from None
+    _number(source, "seed", s.seed, low=0, integer=True)
     if not isinstance(s.params, Params):
         raise ParameterError("params", s.params, "a tetherheli.Params", source=source)
     if s.configuration == "tethered" and s.params.tension_control.T_ref >= lim.max_tension:
@@ -175,6 +234,9 @@ _TOP_KEYS = {
     "limits",
     "wind",
     "params",
+    "actuators",
+    "sensors",
+    "seed",
 }
 
 
@@ -223,6 +285,22 @@ def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Sc
         kwargs["limits"] = Limits(
             **{k: _number(source, f"limits.{k}", v, low=0.0, low_open=True) for k, v in lim.items()}
         )
+    if "actuators" in data:
+        act = dict(_table(source, "actuators", data["actuators"], ActuatorSettings))
+        for k in ("u_min", "u_max"):
+            if k in act:
+                if not isinstance(act[k], list):
+                    raise ParameterError(
+                        f"actuators.{k}", act[k], "a list of 4 numbers", source=source
+                    )
+                act[k] = tuple(act[k])
+        kwargs["actuators"] = ActuatorSettings(**act)
+    if "sensors" in data:
+        if not isinstance(data["sensors"], dict):
+            raise ParameterError("sensors", data["sensors"], "a table", source=source)
+        kwargs["sensors"] = sensor_config_from_dict(data["sensors"], source=source)
+    if "seed" in data:
+        kwargs["seed"] = _number(source, "seed", data["seed"], low=0, integer=True)
     if "wind" in data:
         kwargs["wind"] = disturbance_from_dict(data["wind"], source=source)
     if "params" in data:

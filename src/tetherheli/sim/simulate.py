@@ -47,6 +47,7 @@ from ..errors import ParameterError
 from ..model import TetheredHelicopter, TrimPoint, linearize
 from ..model.kernels import tension_from_state
 from ..params import Params
+from ..sensors import N_CHANNELS, measure, noise_table
 from . import engine
 from .result import SimulationResult
 from .scenario import Scenario
@@ -151,6 +152,35 @@ def _setup(scenario: Scenario):
     return model, trim, gain, ctrl, cfg
 
 
+def _actuators(scenario: Scenario, trim: TrimPoint, ctrl: np.ndarray) -> np.ndarray:
+    """The engine's actuator array; rejects limits the hover input does not fit in."""
+    a = scenario.actuators
+    act = engine.default_actuators()
+    act[engine.ACT_U_MIN : engine.ACT_U_MIN + 4] = a.u_min
+    act[engine.ACT_U_MAX : engine.ACT_U_MAX + 4] = a.u_max
+    act[engine.ACT_TAU] = a.time_constant
+    act[engine.ACT_BREAK] = a.breaking_tension
+    ctrl[CTRL_REEL_RATE_LIMIT] = a.reel_rate_limit
+    need = trim.u_total
+    for i, name in enumerate(("fMR3", "tMR1", "tMR2", "fTR2")):
+        if not a.u_min[i] < need[i] < a.u_max[i]:
+            raise ParameterError(
+                "actuators.u_min/u_max",
+                f"{name} in [{a.u_min[i]:g}, {a.u_max[i]:g}]",
+                f"limits around the hover need {name} = {need[i]:.4g} (the helicopter "
+                "cannot hover otherwise)",
+            )
+    return act
+
+
+def _noise(scenario: Scenario) -> np.ndarray:
+    """Per-sample sensor noise rows, drawn from the scenario's seed (none when perfect)."""
+    if scenario.sensors.is_perfect:
+        return np.zeros((0, N_CHANNELS))
+    rng = np.random.default_rng(np.random.SeedSequence(scenario.seed))
+    return noise_table(scenario.sensors, scenario.n_samples, rng)
+
+
 def simulate(
     scenario: Scenario,
     *,
@@ -183,13 +213,17 @@ def simulate(
     c = model.constants
     if wind is not None:
         cfg[engine.CFG_GUST_DT] = wind.gust_dt
+    act = _actuators(scenario, trim, ctrl)
+    noise = _noise(scenario)
+    arm = model.params.helicopter.tether_arm
+    source = scenario.sensors.source_code
     paper = controller is None
     if paper:
         controller = PaperController(gain.K, trim.x, trim.y, trim.u, ctrl, c)
     rec = _Recorder(n)
     if paper and method == "rk4" and wind is not None:
         summary = np.zeros(len(engine.SUMMARY_FIELDS))
-        status, done = engine.run_paper_loop(
+        status, done = engine.run_closed_loop(
             trim.x.copy(),
             n,
             cfg,
@@ -202,6 +236,10 @@ def simulate(
             wind.program,
             wind.gust,
             wind.drag,
+            act,
+            noise,
+            source,
+            arm,
             True,
             rec.x,
             rec.u,
@@ -210,18 +248,31 @@ def simulate(
             rec.tension,
             rec.wind,
             rec.y,
+            rec.y_est,
             summary,
         )
     else:
         status, done = _python_loop(
-            scenario, controller, method, cfg, c, wind, trim, rec, rtol=rtol, atol=atol
+            scenario,
+            controller,
+            method,
+            cfg,
+            c,
+            wind,
+            trim,
+            rec,
+            act,
+            noise,
+            source,
+            arm,
+            rtol=rtol,
+            atol=atol,
         )
-    return rec.result(done, status, scenario, trim, method)
+    return rec.result(done, status, scenario, trim, method, sensed=noise.shape[0] > 0)
 
 
 class _Recorder:
     def __init__(self, n: int) -> None:
-        self.dt = 0.0
         self.x = np.zeros((n + 1, 13))
         self.u = np.zeros((n + 1, 4))
         self.ffwd = np.zeros((n + 1, 4))
@@ -229,11 +280,23 @@ class _Recorder:
         self.tension = np.zeros(n + 1)
         self.wind = np.zeros((n + 1, 3))
         self.y = np.zeros((n + 1, 4))
+        self.y_est = np.zeros((n + 1, 4))
 
     def result(
-        self, done: int, status: int, scenario: Scenario, trim: TrimPoint, method: str
+        self,
+        done: int,
+        status: int,
+        scenario: Scenario,
+        trim: TrimPoint,
+        method: str,
+        *,
+        sensed: bool = False,
     ) -> SimulationResult:
         k = done
+        extra = {}
+        if sensed:  # the controller's position estimate next to the truth
+            for i, name in enumerate(("q1_est", "q2_est", "q3_est")):
+                extra[name] = self.y_est[:k, i].copy()
         return SimulationResult(
             time=np.arange(k) * scenario.control.dt,
             states=self.x[:k].copy(),
@@ -250,16 +313,22 @@ class _Recorder:
             configuration=scenario.to_dict(),
             version=__version__,
             method=method,
+            extra=extra,
         )
 
 
-def _python_loop(scenario, controller, method, cfg, c, wind, trim, rec, *, rtol, atol):
-    """The closed loop driven from Python: any Controller, RK4 or the adaptive reference."""
+def _python_loop(
+    scenario, controller, method, cfg, c, wind, trim, rec, act, noise, source, arm, *, rtol, atol
+):
+    """The closed loop driven from Python: any Controller, RK4 or the adaptive reference; the
+    same sensors, actuators and tether release as the compiled loop."""
     dt = scenario.control.dt
     n = scenario.n_samples
-    attached = cfg[engine.CFG_ATTACHED] > 0.5
+    cfg = cfg.copy()
     K_C = cfg[engine.CFG_K_C]
     x = trim.x.copy()
+    x_meas = np.empty(13)
+    applied = np.empty(4)
     y = np.empty(4)
     work = np.empty((6, 13))
     wind_buf = np.empty(3)
@@ -269,10 +338,23 @@ def _python_loop(scenario, controller, method, cfg, c, wind, trim, rec, *, rtol,
 
     for k in range(n + 1):
         t = k * dt
+        attached = cfg[engine.CFG_ATTACHED] > 0.5
         tension = tension_from_state(x[5], x[12], K_C) if attached else 0.0
-        cmd = controller.step(t, Measurement(state=x.copy(), tension=tension))
-        inp = np.asarray(cmd.inputs, dtype=float)
+        if attached and tension > act[engine.ACT_BREAK]:
+            cfg[engine.CFG_ATTACHED] = 0.0
+            attached, tension = False, 0.0
+        if noise.shape[0]:
+            measured = measure(x, tension, noise[k], source, arm, x_meas)
+        else:
+            x_meas[:], measured = x, tension
+        cmd = controller.step(t, Measurement(state=x_meas.copy(), tension=measured))
+        inp = np.array(cmd.inputs, dtype=float)
+        if inp.shape != (4,):
+            raise ValueError(f"controller command has shape {inp.shape}; allowed: (4,)")
         rate = float(cmd.reel_rate) if attached else 0.0
+        if np.all(np.isfinite(inp)):
+            engine.apply_actuators(inp, applied, act, dt, k == 0)
+        tethered_outputs(x_meas, c, rec.y_est[k])
         tethered_outputs(x, c, y)
         status = engine.check_state(x, y, trim.y, tension, cfg)
         if status == engine.STATUS_OK and not (np.all(np.isfinite(inp)) and math.isfinite(rate)):

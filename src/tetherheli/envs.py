@@ -1,0 +1,500 @@
+"""Gymnasium environment: a tethered helicopter hovering in wind, for reinforcement learning.
+
+``TetheredHoverEnv`` wraps the compiled tethered-coordinate plant of the closed-loop engine
+(:func:`tetherheli.sim.engine.rk4_interval`, the same RK4 integration ``simulate`` uses) as a
+:class:`gymnasium.Env`. One environment step is one control sample ``dt`` (10 ms by default):
+the inputs are held constant over the sample (zero-order hold) and the plant is integrated
+with the scenario's RK4 sub-steps. The winch always runs the paper's PI tension loop (eq 56).
+
+Action
+    ``Box(-1, 1, (4,), float32)``; the action is clipped to [-1, 1] and multiplied by
+    ``action_scale`` (default ``(20 N, 2 N m, 2 N m, 5 N)``) to give a vector in the model's
+    input order ``[fMR3, tMR1, tMR2, fTR2]`` (main-rotor collective force, main-rotor torques
+    about f1 and f2, tail-rotor force).
+
+    - ``residual=True`` (default): the scaled action is *added* to the command of the paper's
+      controller (LQI with integral action + tether-torque feed-forward, eqs 50-55, computed by
+      :func:`tetherheli.control.paper.paper_control`). A zero action reproduces ``simulate``.
+    - ``residual=False``: the scaled action is the deviation of the rotor inputs from their
+      trim values (``trim.u_total``, which includes the trim feed-forward); the LQI is not
+      applied. A zero action holds the trim inputs (open loop, unstable in wind).
+
+Observation
+    ``Box(-OBS_LIMIT, OBS_LIMIT, (13,), float32)``: deviations from the hover trim, in the order
+    of ``OBSERVATION_NAMES``::
+
+        0-2   q1, q2, q3   position of HO in N (outputs, eqs 43-45) [m]
+        3-5   q4, q5, q6   helicopter attitude angles [rad]
+        6-8   u1, u2, u3   velocity of HO in N [m/s]
+        9-11  u4, u5, u6   angular rates [rad/s]
+        12    TC - Tref    tether tension minus its reference [N] (0 - 0 if free)
+
+    Values are clipped to +-``OBS_LIMIT`` and a non-finite value (only possible on the
+    terminating step of a blown-up run) is reported as 0.
+
+Reward
+    ``-(|q_1..3 - q_ref|^2 + effort_weight |a|^2)`` per step, with the position error [m] after
+    the step and the clipped action ``a``; on a terminating step ``-termination_penalty``.
+
+Episode end
+    ``terminated`` when :func:`tetherheli.sim.engine.check_state` reports a failure (ground
+    contact, non-finite state, coordinate singularity, tension above ``limits.max_tension``,
+    deviation or attitude beyond the scenario's limits); ``truncated`` after
+    ``max_episode_time`` seconds.
+
+Wind
+    Drawn at every ``reset`` from the environment's ``np_random`` (seeded by
+    ``reset(seed=...)``): a kind among ``wind`` (``"pulse"``, ``"sine"``, ``"turbulence"``,
+    ``"none"``), then its parameters (see :meth:`TetheredHoverEnv.draw_wind`). A fixed
+    :class:`~tetherheli.disturbances.Disturbance` may be passed instead, and
+    ``reset(options={"wind": disturbance})`` overrides the wind of one episode.
+
+The environment is not registered on import: call :func:`register_envs` once, then
+``gymnasium.make("tetherheli/TetheredHover-v0", ...)``. Requires the ``gymnasium`` package
+(``pip install "tetherheli[rl]"``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any, ClassVar
+
+import gymnasium
+import numpy as np
+from gymnasium import spaces
+
+from .control.paper import CTRL_T_REF, paper_control
+from .disturbances import (
+    Disturbance,
+    DragModel,
+    HoverTurbulence,
+    NoWind,
+    Pulse,
+    Sine,
+    Turbulence,
+)
+from .errors import ParameterError
+from .model.kernels import tension_from_state, tethered_outputs
+from .sim import engine
+from .sim.scenario import Scenario
+from .sim.simulate import CompiledWind, _setup, compile_wind
+
+__all__ = [
+    "ENV_ID",
+    "OBSERVATION_NAMES",
+    "OBS_LIMIT",
+    "WIND_KINDS",
+    "TetheredHoverEnv",
+    "register_envs",
+]
+
+#: Gymnasium id under which :func:`register_envs` registers :class:`TetheredHoverEnv`.
+ENV_ID = "tetherheli/TetheredHover-v0"
+
+#: Names of the observation entries (all deviations from trim).
+OBSERVATION_NAMES = (
+    "q1", "q2", "q3", "q4", "q5", "q6", "u1", "u2", "u3", "u4", "u5", "u6", "tension",
+)  # fmt: skip
+
+#: Bound of the observation box; observations are clipped to +-OBS_LIMIT.
+OBS_LIMIT = 1.0e4
+
+#: Wind kinds that :meth:`TetheredHoverEnv.draw_wind` can draw.
+WIND_KINDS = ("none", "pulse", "sine", "turbulence")
+
+_DEFAULT_ACTION_SCALE = (20.0, 2.0, 2.0, 5.0)
+_DEFAULT_DRAG = DragModel(cd_area_m2=(0.3, 0.3, 0.5))
+
+
+def _positive(name: str, value: object, *, allow_zero: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise ParameterError(name, value, "a real number")
+    x = float(value)
+    ok = math.isfinite(x) and (x >= 0.0 if allow_zero else x > 0.0)
+    if not ok:
+        raise ParameterError(name, value, f"a finite number {'>=' if allow_zero else '>'} 0")
+    return x
+
+
+class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
+    """Hold a tethered helicopter at its hover trim in wind (see the module docstring).
+
+    Parameters
+    ----------
+    scenario : Scenario, optional
+        Parameters, configuration (``"tethered"``, or ``"free"`` with the tether removed),
+        tether length ``q9``, controller settings (``dt``, RK4 ``substeps``, feed-forward, LQI
+        weights) and failure limits. Its ``duration`` and ``wind`` are ignored (see
+        ``max_episode_time`` and ``wind``); actuator and sensor models, where the scenario
+        has them, must be the ideal defaults. Default: ``Scenario()``, the paper's tethered
+        helicopter with 10 ms samples.
+    wind : str, sequence of str or Disturbance, optional
+        The episode wind: a kind from ``WIND_KINDS``, several kinds (one drawn uniformly per
+        episode), or a fixed built-in disturbance used in every episode. Default
+        ``("pulse", "sine", "turbulence")``.
+    residual : bool, optional
+        True (default): the action corrects the paper controller's command. False: the action
+        sets the rotor inputs around trim directly.
+    action_scale : sequence of 4 floats, optional
+        Input per unit action for ``[fMR3, tMR1, tMR2, fTR2]`` [N, N m, N m, N], > 0. Default
+        ``(20, 2, 2, 5)``.
+    max_episode_time : float, optional
+        Episode length before truncation [s], a whole number of samples (default 30).
+    max_wind_force : float, optional
+        Largest pulse magnitude and sine amplitude drawn [N], >= 0 (default 20, the paper's).
+    max_mean_wind : float, optional
+        Largest horizontal mean wind of a turbulence draw [m/s], >= 0 (default 3).
+    turbulence : HoverTurbulence, optional
+        Gust model of turbulence draws (default ``HoverTurbulence()``).
+    drag : DragModel, optional
+        Drag of turbulence draws (default CdA = (0.3, 0.3, 0.5) m^2, an assumption).
+    gust_dt : float, optional
+        Grid step of the turbulence gust table [s] (default 0.05).
+    effort_weight : float, optional
+        Weight of ``|a|^2`` in the reward, >= 0 (default 0.01).
+    termination_penalty : float, optional
+        Reward of a terminating step is ``-termination_penalty`` (default 100).
+    render_mode : None
+        Rendering is not supported.
+
+    Attributes
+    ----------
+    trim : TrimPoint
+        The hover trim the observation is measured from.
+    wind_disturbance : Disturbance or None
+        The current episode's wind (None before the first reset).
+    """
+
+    metadata: ClassVar[dict[str, Any]] = {"render_modes": []}
+
+    def __init__(
+        self,
+        scenario: Scenario | None = None,
+        *,
+        wind: str | Sequence[str] | Disturbance = ("pulse", "sine", "turbulence"),
+        residual: bool = True,
+        action_scale: Sequence[float] = _DEFAULT_ACTION_SCALE,
+        max_episode_time: float = 30.0,
+        max_wind_force: float = 20.0,
+        max_mean_wind: float = 3.0,
+        turbulence: HoverTurbulence | None = None,
+        drag: DragModel | None = None,
+        gust_dt: float = 0.05,
+        effort_weight: float = 0.01,
+        termination_penalty: float = 100.0,
+        render_mode: str | None = None,
+    ) -> None:
+        if render_mode is not None:
+            raise ParameterError("render_mode", render_mode, "None (rendering is not supported)")
+        self.render_mode = None
+        if scenario is None:
+            scenario = Scenario()
+        if not isinstance(scenario, Scenario):
+            raise ParameterError("scenario", scenario, "a tetherheli Scenario or None")
+        default = Scenario()
+        for name in ("actuators", "sensors"):  # set-ups the environment does not model (yet)
+            if getattr(scenario, name, None) != getattr(default, name, None):
+                raise ParameterError(
+                    f"scenario.{name}", getattr(scenario, name), f"the default (ideal) {name}"
+                )
+        max_episode_time = _positive("max_episode_time", max_episode_time)
+        # validates that the episode is a whole number of samples
+        self.scenario = scenario.replace(duration=max_episode_time, wind=NoWind())
+        self.max_episode_time = max_episode_time
+        self._kinds, self._fixed_wind = self._parse_wind(wind)
+        if not isinstance(residual, bool):
+            raise ParameterError("residual", residual, "True or False")
+        self.residual = residual
+        scale = np.asarray(action_scale, dtype=float)
+        if scale.shape != (4,) or not np.all(np.isfinite(scale)) or np.any(scale <= 0.0):
+            raise ParameterError("action_scale", action_scale, "4 finite numbers > 0")
+        self.action_scale = scale
+        self.max_wind_force = _positive("max_wind_force", max_wind_force, allow_zero=True)
+        self.max_mean_wind = _positive("max_mean_wind", max_mean_wind, allow_zero=True)
+        self.gust_dt = _positive("gust_dt", gust_dt)
+        self.effort_weight = _positive("effort_weight", effort_weight, allow_zero=True)
+        self.termination_penalty = _positive(
+            "termination_penalty", termination_penalty, allow_zero=True
+        )
+        self.turbulence = HoverTurbulence() if turbulence is None else turbulence
+        if not isinstance(self.turbulence, HoverTurbulence):
+            raise ParameterError("turbulence", turbulence, "a HoverTurbulence or None")
+        self.drag = _DEFAULT_DRAG if drag is None else drag
+        if not isinstance(self.drag, DragModel):
+            raise ParameterError("drag", drag, "a DragModel or None")
+
+        model, trim, gain, ctrl, cfg = _setup(self.scenario)
+        self.trim = trim
+        self.dt = self.scenario.control.dt
+        self.n_max = self.scenario.n_samples
+        self._c = np.ascontiguousarray(model.constants)
+        self._gain = np.ascontiguousarray(gain.K)
+        self._ctrl = ctrl
+        self._cfg_base = cfg
+        self._cfg = cfg.copy()
+        self._attached = cfg[engine.CFG_ATTACHED] > 0.5
+        self._K_C = float(cfg[engine.CFG_K_C])
+        self._T_ref = float(ctrl[CTRL_T_REF])
+        self._x_ref = np.ascontiguousarray(trim.x[:12])
+        self._y_ref = trim.y.copy()
+        self._u0 = trim.u.copy()
+        self._u_trim_total = np.asarray(trim.u_total, dtype=float).copy()
+
+        self.action_space = spaces.Box(-1.0, 1.0, shape=(4,), dtype=np.float32)
+        self.observation_space = spaces.Box(
+            -OBS_LIMIT, OBS_LIMIT, shape=(len(OBSERVATION_NAMES),), dtype=np.float32
+        )
+
+        self.wind_disturbance: Disturbance | None = None
+        self._wind: CompiledWind | None = None
+        self._x = trim.x.copy()
+        self._z = np.zeros(4)
+        self._winch_integral = np.zeros(1)
+        self._y = np.empty(4)
+        self._inp = np.empty(4)
+        self._ffwd = np.empty(4)
+        self._work = np.empty((6, 13))
+        self._k = 0
+        self._done = True
+
+    # ------------------------------------------------------------------ configuration
+
+    @staticmethod
+    def _parse_wind(
+        wind: str | Sequence[str] | Disturbance,
+    ) -> tuple[tuple[str, ...], Disturbance | None]:
+        allowed = f"a kind among {WIND_KINDS}, a sequence of them, or a built-in Disturbance"
+        if isinstance(wind, Disturbance):
+            if compile_wind(wind) is None:
+                raise ParameterError("wind", wind, allowed)
+            return (), wind
+        kinds = (wind,) if isinstance(wind, str) else tuple(wind)
+        if not kinds or not all(isinstance(k, str) and k in WIND_KINDS for k in kinds):
+            raise ParameterError("wind", wind, allowed)
+        return kinds, None
+
+    def _horizontal(self) -> tuple[float, float, float]:
+        angle = float(self.np_random.uniform(0.0, 2.0 * math.pi))
+        return (math.cos(angle), math.sin(angle), 0.0)
+
+    def draw_wind(self, kind: str) -> Disturbance:
+        """Draw one episode's wind of the given kind from ``np_random``.
+
+        Parameters
+        ----------
+        kind : str
+            One of ``WIND_KINDS``:
+
+            - ``"none"``: no wind;
+            - ``"pulse"``: magnitude U(0, max_wind_force) N, start U(0, T/2), duration
+              U(0.5, 2) s (both rounded to the sample grid), random horizontal direction;
+            - ``"sine"``: amplitude U(0, max_wind_force) N, frequency U(0.05, 0.5) Hz, start
+              U(0, T/2) s on the sample grid, phase chosen so that the force starts from 0,
+              random horizontal direction;
+            - ``"turbulence"``: a ``Turbulence`` of the ``turbulence`` gust model and ``drag``,
+              seeded from ``np_random``, with a horizontal mean wind of random direction and
+              speed U(0, max_mean_wind) m/s.
+
+            T is ``max_episode_time``.
+
+        Returns
+        -------
+        Disturbance
+        """
+        rng = self.np_random
+        T, dt = self.max_episode_time, self.dt
+        if kind == "none":
+            return NoWind()
+        if kind == "pulse":
+            magnitude = float(rng.uniform(0.0, self.max_wind_force))
+            start = dt * round(float(rng.uniform(0.0, 0.5 * T)) / dt)
+            duration = max(dt, dt * round(float(rng.uniform(0.5, 2.0)) / dt))
+            return Pulse(start, duration, magnitude, self._horizontal())
+        if kind == "sine":
+            amplitude = float(rng.uniform(0.0, self.max_wind_force))
+            frequency = float(rng.uniform(0.05, 0.5))
+            start = dt * round(float(rng.uniform(0.0, 0.5 * T)) / dt)
+            phase = -2.0 * math.pi * frequency * start
+            return Sine(amplitude, frequency, start, self._horizontal(), phase)
+        if kind == "turbulence":
+            seed = int(rng.integers(0, 2**63 - 1))
+            speed = float(rng.uniform(0.0, self.max_mean_wind))
+            mean = tuple(speed * v for v in self._horizontal())
+            return Turbulence(
+                self.turbulence,
+                self.drag,
+                seed,
+                T + self.gust_dt,
+                self.gust_dt,
+                N_v_mean_wind=mean,  # type: ignore[arg-type]
+            )
+        raise ParameterError("kind", kind, f"one of {WIND_KINDS}")
+
+    # ------------------------------------------------------------------ gymnasium API
+
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        """Start an episode at the hover trim with a new wind.
+
+        Parameters
+        ----------
+        seed : int, optional
+            Reseeds ``np_random`` (which draws the wind).
+        options : dict, optional
+            ``{"wind": Disturbance}`` uses that (built-in) disturbance for this episode
+            instead of a draw.
+
+        Returns
+        -------
+        observation : ndarray, shape (13,), float32
+            Zero up to the trim's rounding (see the module docstring for the order).
+        info : dict
+            As for :meth:`step`; ``inputs`` (no input applied yet) and ``reel_rate`` are NaN.
+        """
+        super().reset(seed=seed)
+        wind = (options or {}).get("wind")
+        if wind is None:
+            if self._fixed_wind is not None:
+                wind = self._fixed_wind
+            else:
+                wind = self.draw_wind(self._kinds[int(self.np_random.integers(len(self._kinds)))])
+        compiled = compile_wind(wind) if isinstance(wind, Disturbance) else None
+        if compiled is None:
+            raise ParameterError("options['wind']", wind, "a built-in Disturbance")
+        self.wind_disturbance = wind
+        self._wind = compiled
+        self._cfg = self._cfg_base.copy()
+        self._cfg[engine.CFG_GUST_DT] = compiled.gust_dt
+        self._x = self.trim.x.copy()
+        self._z = np.zeros(4)
+        self._winch_integral = np.zeros(1)
+        self._k = 0
+        self._done = False
+        tethered_outputs(self._x, self._c, self._y)
+        self._inp[:] = np.nan
+        return self._observation(), self._info(engine.STATUS_OK, math.nan)
+
+    def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        """Advance one control sample.
+
+        Parameters
+        ----------
+        action : array_like, shape (4,)
+            In [-1, 1] (clipped); see the module docstring for its meaning.
+
+        Returns
+        -------
+        observation : ndarray, shape (13,), float32
+        reward : float
+        terminated : bool
+            The state failed ``engine.check_state`` (``info["status"]`` says why).
+        truncated : bool
+            ``max_episode_time`` reached.
+        info : dict
+            ``time`` [s]; ``status`` (``engine.STATUS_*``) and ``message``; ``outputs``
+            (4,) float64 [q1, q2, q3, q6] [m, m, m, rad]; ``inputs`` (4,) the rotor inputs
+            applied over the step; ``reel_rate`` [m/s] applied over the step; ``tension`` [N].
+        """
+        if self._done:
+            raise RuntimeError("the episode has ended (or not started): call reset() first")
+        a = np.clip(np.asarray(action, dtype=float).reshape(4), -1.0, 1.0)
+        if not np.all(np.isfinite(a)):
+            raise ParameterError("action", action, "4 finite numbers")
+        x, wind = self._x, self._wind
+        assert wind is not None
+        t = self._k * self.dt
+        tension = self._tension()
+        rate = paper_control(
+            x,
+            tension,
+            self._z,
+            self._winch_integral,
+            self._ctrl,
+            self._c,
+            self._gain,
+            self._x_ref,
+            self._y_ref,
+            self._u0,
+            self._y,
+            self._inp,
+            self._ffwd,
+        )
+        if self.residual:
+            self._inp += self.action_scale * a
+        else:
+            self._inp[:] = self._u_trim_total + self.action_scale * a
+        engine.rk4_interval(
+            x,
+            self._inp,
+            rate,
+            t,
+            self._cfg,
+            self._c,
+            wind.program,
+            wind.gust,
+            wind.drag,
+            self._work,
+        )
+        self._k += 1
+        tension = self._tension()
+        tethered_outputs(x, self._c, self._y)
+        status = engine.check_state(x, self._y, self._y_ref, tension, self._cfg)
+        terminated = status != engine.STATUS_OK
+        truncated = not terminated and self._k >= self.n_max
+        if terminated:
+            reward = -self.termination_penalty
+        else:
+            e = self._y[:3] - self._y_ref[:3]
+            reward = -(float(e @ e) + self.effort_weight * float(a @ a))
+        self._done = terminated or truncated
+        return self._observation(), reward, terminated, truncated, self._info(status, rate)
+
+    # ------------------------------------------------------------------ helpers
+
+    def _tension(self) -> float:
+        if not self._attached:
+            return 0.0
+        return float(tension_from_state(self._x[5], self._x[12], self._K_C))
+
+    def _observation(self) -> np.ndarray:
+        x, x0 = self._x, self.trim.x
+        obs = np.empty(len(OBSERVATION_NAMES))
+        obs[0:3] = self._y[:3] - self._y_ref[:3]
+        obs[3:6] = x[0:3] - x0[0:3]
+        obs[6:12] = x[6:12] - x0[6:12]
+        obs[12] = self._tension() - self._T_ref
+        obs = np.clip(np.nan_to_num(obs, nan=0.0), -OBS_LIMIT, OBS_LIMIT)
+        return obs.astype(np.float32)
+
+    def _info(self, status: int, rate: float) -> dict[str, Any]:
+        return {
+            "time": self._k * self.dt,
+            "status": int(status),
+            "message": engine.STATUS_MESSAGES[status],
+            "outputs": self._y.copy(),
+            "inputs": self._inp.copy(),
+            "reel_rate": float(rate),
+            "tension": self._tension(),
+        }
+
+    @property
+    def state(self) -> np.ndarray:
+        """A copy of the plant state (13,): q4..q9, u1..u6, LN (see ``TetheredHelicopter``)."""
+        return self._x.copy()
+
+    @property
+    def time(self) -> float:
+        """Simulated time since the reset [s]."""
+        return self._k * self.dt
+
+
+def register_envs() -> None:
+    """Register ``ENV_ID`` ("tetherheli/TetheredHover-v0") with Gymnasium (idempotent).
+
+    The environment truncates itself at ``max_episode_time``, so no ``TimeLimit`` wrapper is
+    added; keyword arguments of ``gymnasium.make`` go to :class:`TetheredHoverEnv`.
+    """
+    if ENV_ID not in gymnasium.registry:
+        gymnasium.register(id=ENV_ID, entry_point="tetherheli.envs:TetheredHoverEnv")

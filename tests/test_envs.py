@@ -1,0 +1,197 @@
+"""The Gymnasium environment ``TetheredHoverEnv`` (tethered hover in wind, for RL)."""
+
+from __future__ import annotations
+
+import dataclasses
+import warnings
+
+import numpy as np
+import pytest
+
+gymnasium = pytest.importorskip("gymnasium")
+
+from gymnasium.utils.env_checker import check_env  # noqa: E402
+
+from tetherheli import simulate  # noqa: E402
+from tetherheli.disturbances import Pulse  # noqa: E402
+from tetherheli.envs import (  # noqa: E402
+    ENV_ID,
+    OBSERVATION_NAMES,
+    TetheredHoverEnv,
+    register_envs,
+)
+from tetherheli.errors import ParameterError  # noqa: E402
+from tetherheli.sim import engine  # noqa: E402
+from tetherheli.sim.scenario import Scenario  # noqa: E402
+
+
+def _rollout(env: TetheredHoverEnv, actions: np.ndarray, seed: int):
+    obs, _ = env.reset(seed=seed)
+    observations, rewards = [obs], []
+    for a in actions:
+        obs, reward, terminated, truncated, _ = env.step(a)
+        observations.append(obs)
+        rewards.append(reward)
+        if terminated or truncated:
+            break
+    return np.array(observations), np.array(rewards)
+
+
+def test_check_env_passes_without_warnings():
+    env = TetheredHoverEnv(max_episode_time=2.0)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        check_env(env.unwrapped)
+    # without a spec, check_env can only say that it cannot try other render modes; nothing
+    # about the spaces, seeding, determinism or returned data
+    messages = [str(w.message) for w in caught]
+    assert len(messages) == 1, messages
+    assert "Not able to test alternative render modes" in messages[0]
+    assert env.observation_space.shape == (len(OBSERVATION_NAMES),)
+    assert env.observation_space.dtype == np.float32
+    assert env.action_space.shape == (4,)
+
+
+def test_check_env_of_registered_env_emits_no_warning():
+    register_envs()
+    env = gymnasium.make(ENV_ID, max_episode_time=2.0)
+    check_env(env.unwrapped)  # filterwarnings = error: any warning fails the test
+    env.close()
+
+
+def test_registration_and_make():
+    register_envs()
+    register_envs()  # idempotent: no "overriding" warning
+    assert ENV_ID in gymnasium.registry
+    env = gymnasium.make(ENV_ID, wind="pulse", max_episode_time=1.0)
+    obs, info = env.reset(seed=3)
+    assert env.observation_space.contains(obs)
+    assert info["status"] == engine.STATUS_OK
+    steps = 0
+    truncated = terminated = False
+    while not (terminated or truncated):
+        obs, _, terminated, truncated, _ = env.step(env.action_space.sample())
+        steps += 1
+    assert truncated and not terminated and steps == 100
+    env.close()
+
+
+def test_equal_seeds_give_identical_episodes():
+    actions = np.random.default_rng(7).uniform(-0.3, 0.3, size=(300, 4)).astype(np.float32)
+    for wind in ("pulse", "sine", "turbulence"):
+        env_a = TetheredHoverEnv(wind=wind, max_episode_time=3.0)
+        env_b = TetheredHoverEnv(wind=wind, max_episode_time=3.0)
+        obs_a, rew_a = _rollout(env_a, actions, seed=11)
+        obs_b, rew_b = _rollout(env_b, actions, seed=11)
+        assert env_a.wind_disturbance == env_b.wind_disturbance
+        np.testing.assert_array_equal(obs_a, obs_b)
+        np.testing.assert_array_equal(rew_a, rew_b)
+        # a different seed draws a different wind
+        env_b.reset(seed=12)
+        assert env_b.wind_disturbance != env_a.wind_disturbance
+
+
+def test_zero_residual_without_wind_stays_at_trim():
+    env = TetheredHoverEnv(wind="none", max_episode_time=5.0)
+    obs, _ = env.reset(seed=0)
+    assert np.all(np.abs(obs) < 1e-9)
+    truncated = False
+    while not truncated:
+        obs, reward, terminated, truncated, _ = env.step(np.zeros(4, dtype=np.float32))
+        assert not terminated
+        assert np.all(np.abs(obs) < 1e-9)
+        assert reward <= 0.0 and reward > -1e-15
+    assert env.time == pytest.approx(5.0)
+
+
+def test_zero_residual_equals_simulate():
+    pulse = Pulse(start=0.5, duration=1.0, magnitude=20.0, direction=(0.6, 0.8, 0.0))
+    scenario = Scenario(duration=2.0, wind=pulse)
+    result = simulate(scenario)
+    assert result.ok
+    env = TetheredHoverEnv(scenario, wind=pulse, max_episode_time=2.0)
+    _, info = env.reset(seed=0)
+    outputs, states, inputs = [info["outputs"]], [env.state], []
+    truncated = False
+    while not truncated:
+        _, _, terminated, truncated, info = env.step(np.zeros(4, dtype=np.float32))
+        assert not terminated
+        outputs.append(info["outputs"])
+        states.append(env.state)
+        inputs.append(info["inputs"])
+    np.testing.assert_allclose(np.array(outputs), result.outputs, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(np.array(states), result.states, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(np.array(inputs), result.inputs[:-1], rtol=0, atol=1e-12)
+    # the pulse moved the helicopter, so the comparison is not trivial
+    assert np.abs(result.outputs[:, :2] - result.trim_output[:2]).max() > 0.05
+
+
+def test_reset_option_overrides_wind():
+    pulse = Pulse(start=0.0, duration=1.0, magnitude=10.0, direction=(1.0, 0.0, 0.0))
+    env = TetheredHoverEnv(wind="none", max_episode_time=1.0)
+    env.reset(seed=0, options={"wind": pulse})
+    assert env.wind_disturbance == pulse
+    for _ in range(50):
+        obs, *_ = env.step(np.zeros(4, dtype=np.float32))
+    assert obs[6] > 0.01  # pushed along n1: u1 > 0
+    env.reset(seed=0)
+    assert env.wind_disturbance != pulse
+
+
+def test_forced_divergence_terminates_with_penalty():
+    env = TetheredHoverEnv(wind="none", residual=False, termination_penalty=50.0)
+    env.reset(seed=0)
+    action = np.array([0.0, 1.0, 0.0, 0.0], dtype=np.float32)  # full roll torque, open loop
+    for _ in range(env.n_max):
+        obs, reward, terminated, truncated, info = env.step(action)
+        if terminated or truncated:
+            break
+    assert terminated and not truncated
+    assert info["status"] == engine.STATUS_DIVERGED
+    assert reward == -50.0
+    assert env.observation_space.contains(obs)
+    assert info["time"] < 10.0
+    with pytest.raises(RuntimeError, match="reset"):
+        env.step(action)
+
+
+def test_residual_action_changes_inputs_by_scale():
+    env = TetheredHoverEnv(wind="none", action_scale=(10.0, 1.0, 1.0, 2.0))
+    env.reset(seed=0)
+    _, _, _, _, info0 = env.step(np.zeros(4, dtype=np.float32))
+    env.reset(seed=0)
+    _, _, _, _, info1 = env.step(np.array([1.0, -1.0, 0.5, 2.0], dtype=np.float32))  # clipped
+    np.testing.assert_allclose(info1["inputs"] - info0["inputs"], [10.0, -1.0, 0.5, 2.0])
+    absolute = TetheredHoverEnv(wind="none", residual=False)
+    absolute.reset(seed=0)
+    _, _, _, _, info = absolute.step(np.zeros(4, dtype=np.float32))
+    np.testing.assert_allclose(info["inputs"], absolute.trim.u_total, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "field"),
+    [
+        ({"wind": "hurricane"}, "wind"),
+        ({"wind": ()}, "wind"),
+        ({"residual": 1}, "residual"),
+        ({"action_scale": (1.0, 1.0, 0.0, 1.0)}, "action_scale"),
+        ({"max_episode_time": -1.0}, "max_episode_time"),
+        ({"max_episode_time": 1.005}, "duration"),
+        ({"render_mode": "human"}, "render_mode"),
+        ({"effort_weight": float("nan")}, "effort_weight"),
+    ],
+)
+def test_invalid_arguments_are_rejected(kwargs, field):
+    with pytest.raises(ParameterError) as err:
+        TetheredHoverEnv(**kwargs)
+    assert err.value.field == field
+
+
+def test_non_ideal_actuators_are_rejected():
+    default = Scenario()
+    if not hasattr(default, "actuators"):
+        pytest.skip("this version's Scenario has no actuator model")
+    lagged = dataclasses.replace(default.actuators, time_constant=0.05)
+    with pytest.raises(ParameterError) as err:
+        TetheredHoverEnv(default.replace(actuators=lagged))
+    assert err.value.field == "scenario.actuators"

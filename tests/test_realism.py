@@ -1,0 +1,140 @@
+"""Actuators, sensors and the tether release in the closed loop (issue: beyond the paper)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from tetherheli import ParameterError, load_scenario, simulate
+from tetherheli.report import sensing_scenario
+from tetherheli.sensors import SensorConfig, hover_error_std
+from tetherheli.sim.scenario import ActuatorSettings, paper_scenario
+
+INF = np.inf
+
+
+def test_defaults_leave_the_paper_unchanged():
+    """Ideal actuators and perfect sensors give the paper's run bit for bit."""
+    s = paper_scenario(1, "tethered")
+    a = simulate(s)
+    b = simulate(s.replace(actuators=ActuatorSettings(), sensors=SensorConfig(), seed=7))
+    np.testing.assert_array_equal(a.states, b.states)
+    assert "q1_est" not in a.extra
+
+
+def _cyclic_limited(limit):
+    return paper_scenario(1, "tethered").replace(
+        actuators=ActuatorSettings(
+            u_min=(-INF, -limit, -limit, -INF), u_max=(INF, limit, limit, INF)
+        )
+    )
+
+
+def test_cyclic_saturation_eq40():
+    """Eq 40: with the cyclic torque limited to 4 N m the applied tMR1, tMR2 never exceed
+    it and the paper's run still completes; at 3 N m the LQI, which has no anti-windup,
+    loses the helicopter, and the run says so."""
+    r = simulate(_cyclic_limited(4.0))
+    assert r.ok
+    assert np.abs(simulate(paper_scenario(1, "tethered")).inputs[:, 1:3]).max() > 4.0
+    assert np.abs(r.inputs[:, 1:3]).max() <= 4.0 + 1e-12
+    tight = simulate(_cyclic_limited(3.0))
+    assert not tight.ok and "diverged" in tight.message
+
+
+def test_limit_below_hover_need_is_rejected():
+    """A collective limit below the hover lift (148.66 N at 25 N tension): cannot hover."""
+    s = paper_scenario(1, "tethered").replace(
+        actuators=ActuatorSettings(u_max=(140.0, INF, INF, INF))
+    )
+    with pytest.raises(ParameterError, match="cannot hover"):
+        simulate(s)
+
+
+def test_actuator_lag_is_first_order():
+    """A first-order lag: after a step in the command, the applied input closes
+    1 - e^{-dt/tau} of the gap per sample; the response is slower than without lag."""
+    tau = 0.05
+    s = paper_scenario(1, "tethered").replace(duration=20.0)
+    lagged = simulate(s.replace(actuators=ActuatorSettings(time_constant=tau)))
+    ideal = simulate(s)
+    assert lagged.ok
+    k = np.searchsorted(lagged.time, 10.0) + 2
+    du_lag = np.abs(np.diff(lagged.inputs[k - 5 : k + 5, 1])).max()
+    du_ideal = np.abs(np.diff(ideal.inputs[k - 5 : k + 5, 1])).max()
+    assert du_lag < du_ideal
+    assert not np.array_equal(lagged.outputs, ideal.outputs)
+
+
+def test_reel_rate_limit():
+    """The winch's reel rate stays within its limit (PI with anti-windup, eq 56)."""
+    s = paper_scenario(1, "tethered").replace(actuators=ActuatorSettings(reel_rate_limit=0.002))
+    r = simulate(s)
+    assert r.ok and np.abs(r.reel_rate).max() <= 0.002 + 1e-15
+    assert np.abs(simulate(paper_scenario(1, "tethered")).reel_rate).max() > 0.002
+
+
+def test_tether_release_above_breaking_tension():
+    """Sec. IV-C safety device: above the breaking tension the tether is released, the
+    tension is zero from then on and the helicopter flies on, free."""
+    s = paper_scenario(1, "tethered").replace(actuators=ActuatorSettings(breaking_tension=25.05))
+    r = simulate(s)
+    assert r.ok
+    k = np.argmax(r.tension == 0.0)
+    assert 10.0 <= r.time[k] <= 15.0  # during the pulse response
+    assert np.all(r.tension[k:] == 0.0) and np.all(r.reel_rate[k:] == 0.0)
+
+
+def test_tether_as_sensor_error_matches_prediction():
+    """Sec. IV-F: the controller's position estimate from encoders + altimeter + attitude
+    errs by about the first-order prediction (hover_error_std); a consumer GPS by ~1.5 m."""
+    r = simulate(sensing_scenario("tether"))
+    g = simulate(sensing_scenario("gps"))
+    assert r.ok and g.ok
+    err = np.column_stack([r.extra[f"q{i}_est"] for i in (1, 2, 3)]) - r.outputs[:, :3]
+    predicted = hover_error_std(
+        SensorConfig.typical_tether(),
+        q9=10.0,
+        arm=r.configuration["params"]["helicopter"]["d_O_P3"] + 0.0954049,
+        q4=r.trim_state[0],
+    )
+    np.testing.assert_allclose(err.std(axis=0), predicted, rtol=0.15)
+    gerr = np.column_stack([g.extra[f"q{i}_est"] for i in (1, 2, 3)]) - g.outputs[:, :3]
+    assert 1.3 < gerr[:, 0].std() < 1.7
+    # fed by the tether the hover is steadier than fed by the GPS
+    dev = lambda x: np.sqrt(np.mean((x.outputs[:, 1] - x.trim_output[1]) ** 2))  # noqa: E731
+    assert dev(r) < 0.6 * dev(g)
+
+
+def test_sensing_scenarios_shipped():
+    """scenarios/sensing_{gps,tether}.toml equal the code's definitions."""
+    for source in ("gps", "tether"):
+        assert load_scenario(f"scenarios/sensing_{source}.toml") == sensing_scenario(source)
+
+
+def test_sensor_noise_reproducible_by_seed():
+    s = sensing_scenario("tether")
+    a, b = simulate(s), simulate(s)
+    np.testing.assert_array_equal(a.states, b.states)
+    c = simulate(s.replace(seed=2))
+    assert not np.array_equal(a.states, c.states)
+
+
+@pytest.mark.parametrize(
+    ("text", "key"),
+    [
+        ("[actuators]\nu_max = [1, 2]\n", "actuators.u_max"),
+        ("[actuators]\ntime_constant = -1.0\n", "actuators.time_constant"),
+        ("[actuators]\nbreaking_tension = 0.0\n", "actuators.breaking_tension"),
+        ("[actuators]\nspeed = 1.0\n", "actuators.speed"),
+        ("[sensors]\nencoder_std = -1.0\n", "encoder_std"),
+        ("configuration = 'free'\n[sensors]\nposition_source = 'tether'\n", "position_source"),
+        ("seed = -3\n", "seed"),
+    ],
+)
+def test_bad_realism_settings(tmp_path, text, key):
+    f = tmp_path / "bad.toml"
+    f.write_text("duration = 2.0\n" + text)
+    with pytest.raises(ParameterError) as err:
+        load_scenario(f)
+    assert key in str(err.value) and str(f) in str(err.value)
