@@ -313,6 +313,38 @@ def _cmd_sensing(args: argparse.Namespace) -> int:
     return 0
 
 
+def _values_arg(text: str) -> list[float]:
+    """'a:b:n' (n points from a to b) or a comma-separated list."""
+    try:
+        if ":" in text:
+            a, b, n = text.split(":")
+            if int(n) < 1 or int(n) > 10000:
+                raise ValueError
+            import numpy as np
+
+            return np.linspace(float(a), float(b), int(n)).tolist()
+        return [float(v) for v in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: allowed: START:STOP:N (1 <= N <= 10000) or a comma-separated list"
+        ) from None
+
+
+def _cmd_sweep(args: argparse.Namespace) -> int:
+    from .sim import load_scenario
+    from .sweep import sweep, write_sweep
+
+    scenario = load_scenario(args.scenario)
+    result = sweep(scenario, args.param, args.values, args.metric, cyclic_limit=args.cyclic_limit)
+    write_sweep(result, args.out, command="tetherheli sweep " + " ".join(sys.argv[2:]))
+    for v, m, s in zip(result.values, result.metric, result.statuses, strict=True):
+        print(f"{args.param} = {v:<10.6g} {args.metric} = {m:.6g}  ({s})")
+    if result.bound is not None:
+        print(f"eq 40 tension bound: TC < {result.bound:.2f} N")
+    print(f"best {args.param}: {result.best_value}")
+    return 0
+
+
 def _register_animate(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("animate", help="3-D animation (GIF/MP4) of the runs in a result folder")
     p.add_argument("result_dir", help="folder written by `tetherheli paper` or `simulate`")
@@ -324,6 +356,25 @@ def _register_animate(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--max-frames", type=int, default=600)
     p.set_defaults(func=_cmd_animate)
+
+    p = sub.add_parser("sweep", help="a metric against a parameter (e.g. the best Tref)")
+    p.add_argument("scenario", help="scenario TOML file")
+    p.add_argument(
+        "--param",
+        required=True,
+        help="section.field of the parameters (e.g. tension_control.T_ref, "
+        "tether.K_C, helicopter.d_O_P3), q9 or control.dt",
+    )
+    p.add_argument("--values", type=_values_arg, required=True, help="START:STOP:N or a,b,c")
+    p.add_argument("--metric", default="rms_q1", help="rms_q1, peak_q1, ... (default rms_q1)")
+    p.add_argument(
+        "--cyclic-limit",
+        type=_positive_float("--cyclic-limit"),
+        default=None,
+        help="tmax_MR1,2 of eq 40 [N m] (default: the paper's 20%% rule)",
+    )
+    p.add_argument("--out", required=True, help="output directory")
+    p.set_defaults(func=_cmd_sweep)
 
     p = sub.add_parser("sensing", help="the tether as a GPS-free position sensor (Sec. IV-F)")
     p.add_argument("--out", default="sensing_out", help="output directory")

@@ -1,0 +1,154 @@
+"""Design sweeps: one metric of a scenario against one parameter, e.g. the reference tension
+(the trade-off of Sec. IV-C, eq 40), the tether stiffness KC, the attachment offset dO-P,3 or
+the sample time dt.
+
+The tension bound of eq 40: the tether moment |dO-P,3 - dO-HO,3| TC must stay below the cyclic
+saturation torque tmax_MR1,2, so TC < tmax / |arm|. The paper sizes it as 20% of the hover
+lift, tmax = 0.2 fMR3,hover |arm| (``paper_cyclic_limit``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ._io import atomic_directory, atomic_write_text
+from ._version import __version__
+from .analysis import run_metrics
+from .errors import ParameterError
+from .params import Params
+from .sim import Scenario, simulate
+
+__all__ = ["METRICS", "SweepResult", "paper_cyclic_limit", "sweep", "tension_bound"]
+
+#: metric name -> (group, key) of ``RunMetrics``
+METRICS = {
+    **{f"peak_{q}": ("peak_abs_dev", q) for q in ("q1", "q2", "q3", "q4_deg", "q5_deg")},
+    **{f"rms_{q}": ("rms_dev", q) for q in ("q1", "q2", "q3")},
+    "tension_max": ("tension_max", None),
+}
+_SCENARIO_FIELDS = {"q9", "control.dt"}
+
+
+def paper_cyclic_limit(params: Params) -> float:
+    """tmax_MR1,2 implied by the paper (eq 40): 20% of the free hover lift times |arm| [N m]."""
+    from .model import TetheredHelicopter
+
+    lift = float(TetheredHelicopter(params).trim(0.0).u[0])
+    return 0.2 * lift * abs(params.helicopter.tether_arm)
+
+
+def tension_bound(params: Params, cyclic_limit: float) -> float:
+    """Eq 40: the largest tension whose moment about HO the cyclic can still balance [N]."""
+    if not (math.isfinite(cyclic_limit) and cyclic_limit > 0):
+        raise ParameterError("cyclic_limit", cyclic_limit, "a torque > 0 [N m]")
+    return cyclic_limit / abs(params.helicopter.tether_arm)
+
+
+def _with(scenario: Scenario, parameter: str, value: float) -> Scenario:
+    if parameter == "q9":
+        return scenario.replace(q9=value)
+    if parameter == "control.dt":
+        return scenario.replace(control=dataclasses.replace(scenario.control, dt=value))
+    return scenario.replace(params=scenario.params.replace({parameter: value}))
+
+
+@dataclass(frozen=True)
+class SweepResult:
+    """values (n,), metric (n,) (NaN where the run failed), statuses (n,), and the best value
+    among the successful runs (below the eq-40 bound when sweeping T_ref with a bound)."""
+
+    parameter: str
+    metric_name: str
+    values: np.ndarray
+    metric: np.ndarray
+    statuses: tuple[str, ...]
+    bound: float | None
+    best_value: float | None
+
+    def as_dict(self) -> dict[str, Any]:
+        return {
+            "parameter": self.parameter,
+            "metric": self.metric_name,
+            "values": self.values.tolist(),
+            "metric_values": [None if not np.isfinite(m) else float(m) for m in self.metric],
+            "statuses": list(self.statuses),
+            "tension_bound_eq40": self.bound,
+            "best_value": self.best_value,
+        }
+
+
+def sweep(
+    scenario: Scenario,
+    parameter: str,
+    values: np.ndarray,
+    metric: str = "rms_q1",
+    *,
+    cyclic_limit: float | None = None,
+) -> SweepResult:
+    """Simulate ``scenario`` once per value of ``parameter`` ("section.field" of Params,
+    "q9" or "control.dt") and collect ``metric`` (see ``METRICS``)."""
+    if metric not in METRICS:
+        raise ParameterError("metric", metric, f"one of {sorted(METRICS)}")
+    allowed = set(Params.field_docs()) | _SCENARIO_FIELDS
+    if parameter not in allowed:
+        raise ParameterError("parameter", parameter, f"one of {sorted(allowed)}")
+    values = np.asarray(values, dtype=float)
+    if values.ndim != 1 or values.size == 0 or not np.all(np.isfinite(values)):
+        raise ParameterError("values", values.tolist(), "a non-empty list of finite numbers")
+    scenarios = [_with(scenario, parameter, float(v)) for v in values]  # validates each
+    group, key = METRICS[metric]
+    out = np.full(values.size, np.nan)
+    statuses = []
+    for i, s in enumerate(scenarios):
+        r = simulate(s)
+        statuses.append(r.message)
+        if r.ok:
+            m = run_metrics(r)
+            out[i] = getattr(m, group)[key] if key else getattr(m, group)
+    bound = None
+    if parameter == "tension_control.T_ref":
+        limit = cyclic_limit if cyclic_limit is not None else paper_cyclic_limit(scenario.params)
+        bound = tension_bound(scenario.params, limit)
+    ok = np.isfinite(out) & (values <= bound if bound is not None else True)
+    best = float(values[ok][np.argmin(out[ok])]) if np.any(ok) else None
+    return SweepResult(parameter, metric, values, out, tuple(statuses), bound, best)
+
+
+def write_sweep(result: SweepResult, out_dir: str | Path, *, command: str) -> None:
+    """Table (CSV), plot (PNG) and summary.json of a sweep, written whole or not at all."""
+    import matplotlib.pyplot as plt
+
+    from .viz.plots import save_figure
+
+    fig, ax = plt.subplots(figsize=(7.0, 4.0), layout="constrained")
+    ax.plot(result.values, result.metric, "o-", color="tab:blue", label=result.metric_name)
+    if result.bound is not None:
+        ax.axvline(
+            result.bound, color="tab:red", ls="--", label=f"eq 40 bound: TC < {result.bound:.1f} N"
+        )
+    if result.best_value is not None:
+        ax.axvline(
+            result.best_value, color="tab:green", ls=":", label=f"best: {result.best_value:g}"
+        )
+    ax.set_xlabel(result.parameter)
+    ax.set_ylabel(result.metric_name)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    rows = ["value,metric,status"] + [
+        f"{v!r},{m!r},{s}"
+        for v, m, s in zip(
+            result.values.tolist(), result.metric.tolist(), result.statuses, strict=True
+        )
+    ]
+    with atomic_directory(out_dir) as tmp:
+        save_figure(fig, tmp / "sweep.png")
+        atomic_write_text(tmp / "sweep.csv", "\n".join(rows) + "\n")
+        info = {**result.as_dict(), "tetherheli_version": __version__, "command": command}
+        atomic_write_text(tmp / "summary.json", json.dumps(info, indent=2) + "\n")

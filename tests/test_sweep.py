@@ -1,0 +1,82 @@
+"""Design sweeps and the tension bound of eq 40."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from tetherheli import ParameterError, Params
+from tetherheli.cli import main
+from tetherheli.sim.scenario import paper_scenario
+from tetherheli.sweep import paper_cyclic_limit, sweep, tension_bound
+
+
+def test_eq40_bound_is_twenty_percent_of_hover_lift(paper):
+    """Eq 40: tmax / |dO-P,3 - dO-HO,3| = 0.2 fMR3,hover (Table IV: 0.2 x 123.7633 N)."""
+    limit = paper_cyclic_limit(paper)
+    assert tension_bound(paper, limit) == pytest.approx(0.2 * 123.7633, abs=5e-5)
+    assert tension_bound(paper, 5.0) == pytest.approx(5.0 / 0.2045951, rel=1e-6)
+
+
+def test_tension_sweep_finds_best_below_bound():
+    """More tension steadies the hover (Sec. IV-A), up to the eq-40 bound."""
+    s = paper_scenario(1, "tethered").replace(duration=40.0)
+    r = sweep(s, "tension_control.T_ref", np.array([0.0, 10.0, 20.0, 30.0]), "rms_q1")
+    assert np.all(np.diff(r.metric) < 0)
+    assert r.bound == pytest.approx(24.7527, abs=1e-3)
+    assert r.best_value == 20.0
+
+
+def test_sweep_other_parameters():
+    """KC and dt sweeps run and record each value's result."""
+    s = paper_scenario(1, "tethered").replace(duration=15.0)
+    r = sweep(s, "tether.K_C", np.array([20.0, 80.0]), "peak_q1")
+    assert np.all(np.isfinite(r.metric)) and r.bound is None
+    r = sweep(s, "control.dt", np.array([0.01, 0.005]), "peak_q1")
+    assert abs(r.metric[0] - r.metric[1]) < 0.05
+
+
+@pytest.mark.parametrize(
+    ("param", "metric", "match"),
+    [("tether.KC", "rms_q1", "parameter"), ("tether.K_C", "rms_q9", "metric")],
+)
+def test_sweep_bad_names(param, metric, match):
+    with pytest.raises(ParameterError, match=match):
+        sweep(paper_scenario(1, "tethered"), param, np.array([1.0]), metric)
+
+
+def test_sweep_cli(tmp_path, capsys):
+    out = tmp_path / "sw"
+    argv = [
+        "sweep",
+        "scenarios/paper_sim1_tethered.toml",
+        "--param",
+        "tension_control.T_ref",
+        "--values",
+        "10,20",
+        "--out",
+        str(out),
+    ]
+    assert main(argv) == 0
+    info = json.loads((out / "summary.json").read_text())
+    assert info["best_value"] == 20.0 and (out / "sweep.png").exists()
+    bad = [
+        "sweep",
+        "scenarios/paper_sim1_tethered.toml",
+        "--param",
+        "nope",
+        "--values",
+        "1",
+        "--out",
+        str(tmp_path / "x"),
+    ]
+    assert main(bad) == 2
+    assert not (tmp_path / "x").exists()
+    assert main([*bad[:5], "1:2:0", "--out", str(tmp_path / "y")]) == 2
+    assert len(capsys.readouterr().err.strip().splitlines()) == 2
+
+
+def test_params_field_docs_cover_sweepable_names():
+    assert "tension_control.T_ref" in Params.field_docs()
