@@ -6,7 +6,9 @@ Prints, measured in this run:
     after warm-up (best of several), the same closed loop written here the way a researcher
     would in SciPy (solve_ivp restarted at every 10 ms zero-order-hold sample, Python
     right-hand side and controller), their agreement and the ratio;
-(b) single-core throughput of the compiled engine in runs per second (summaries only);
+(b) Monte Carlo throughput on all cores: ``run_batch`` of 1000 dispersed paper runs in this
+    process, and ``tetherheli montecarlo`` of 1000 draws (2000 runs: each draw free and
+    tethered) counted over the whole fresh process (start-up, draws, runs, table, figures);
 (c) the cold start of ``tetherheli paper`` end to end (a fresh process; Numba's on-disk cache
     as it is: run it twice to see the warm-cache figure).
 Timings vary with the machine and its load; no test asserts them.
@@ -25,8 +27,9 @@ from scipy.integrate import solve_ivp
 
 from tetherheli import simulate
 from tetherheli.sim import engine
+from tetherheli.sim.batch import _prepare, _run_nogil
 from tetherheli.sim.scenario import paper_scenario
-from tetherheli.sim.simulate import _setup, compile_wind
+from tetherheli.sim.simulate import _setup
 
 
 def scipy_baseline(scenario):
@@ -67,14 +70,40 @@ def scipy_baseline(scenario):
     return np.array(ys)
 
 
-def compiled_summary_run(args):
-    engine.run_paper_loop(*args)
+def monte_carlo(n_draws: int) -> tuple[float, float]:
+    """(runs/s of run_batch over 2 n_draws runs in this process, runs/s of the CLI's whole
+    process for the same draws)."""
+    from pathlib import Path
+
+    from tetherheli.montecarlo import CONFIGURATIONS, draw, load_montecarlo
+    from tetherheli.sim.batch import run_batch
+
+    path = Path(__file__).resolve().parents[1] / "scenarios" / "montecarlo_paper_sim1.toml"
+    base, config = load_montecarlo(path)
+    children = np.random.SeedSequence(1).spawn(n_draws)
+    t0 = time.perf_counter()
+    scenarios = [
+        draw(base, config, ch, i).scenario.replace(configuration=cfg)
+        for i, ch in enumerate(children)
+        for cfg in CONFIGURATIONS
+    ]
+    batch = run_batch(scenarios, design_params=base.params)
+    t_batch = time.perf_counter() - t0
+    assert bool(batch.ok.all())
+    with tempfile.TemporaryDirectory() as tmp:
+        cmd = [sys.executable, "-m", "tetherheli", "montecarlo", str(path), "--quiet"]
+        cmd += ["--runs", str(n_draws), "--seed", "1", "--out", f"{tmp}/mc"]
+        t0 = time.perf_counter()
+        subprocess.run(cmd, check=True, capture_output=True)
+        t_cli = time.perf_counter() - t0
+    return 2 * n_draws / t_batch, 2 * n_draws / t_cli
 
 
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--skip-cold", action="store_true")
     parser.add_argument("--repeat", type=int, default=20)
+    parser.add_argument("--draws", type=int, default=1000, help="Monte Carlo draws for (b)")
     opts = parser.parse_args()
 
     s = paper_scenario(1, "tethered")
@@ -86,34 +115,13 @@ def main() -> None:
         times.append(time.perf_counter() - t0)
     t_sim = min(times)
 
-    model, trim, gain, ctrl, cfg = _setup(s)
-    w = compile_wind(s.wind)
-    n = s.n_samples
-    one = np.zeros((1, 13)), np.zeros((1, 4)), np.zeros((1, 4)), np.zeros(1), np.zeros(1)
-    args = (
-        trim.x.copy(),
-        n,
-        cfg,
-        ctrl,
-        model.constants,
-        gain.K,
-        np.ascontiguousarray(trim.x[:12]),
-        trim.y.copy(),
-        trim.u.copy(),
-        w.program,
-        w.gust,
-        w.drag,
-        False,
-        *one,
-        np.zeros((1, 3)),
-        np.zeros((1, 4)),
-        np.zeros(len(engine.SUMMARY_FIELDS)),
-    )
-    compiled_summary_run(args)
+    args = _prepare(s, None)
+    summary = np.zeros(len(engine.SUMMARY_FIELDS))
+    _run_nogil(*args, summary)
     engine_times = []
     for _ in range(opts.repeat):
         t0 = time.perf_counter()
-        compiled_summary_run(args)
+        _run_nogil(*args, summary)
         engine_times.append(time.perf_counter() - t0)
     t_engine = min(engine_times)
 
@@ -134,7 +142,12 @@ def main() -> None:
         f"    max |q1..q3 difference|:               {agreement:9.2e} m "
         "(the baseline's own RK45 tolerance)"
     )
-    print(f"(b) single-core throughput, summaries only: {1.0 / t_engine:9.0f} runs/s")
+    print(f"    single-core throughput, summaries only:{1.0 / t_engine:9.0f} runs/s")
+    batch_rate, cli_rate = monte_carlo(opts.draws)
+    n_runs = 2 * opts.draws
+    print(f"(b) Monte Carlo, {opts.draws} draws x (free, tethered) = {n_runs} runs, all cores")
+    print(f"    run_batch in this process:             {batch_rate:9.0f} runs/s")
+    print(f"    `tetherheli montecarlo`, whole process:{cli_rate:9.0f} runs/s")
     if not opts.skip_cold:
         with tempfile.TemporaryDirectory() as tmp:
             t0 = time.perf_counter()

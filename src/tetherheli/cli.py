@@ -110,7 +110,7 @@ def _cmd_trim(args: argparse.Namespace) -> int:
 
 
 def _cmd_derive(args: argparse.Namespace) -> int:
-    from .model.codegen import GENERATED_PATH, generate_source
+    from .model.codegen import GENERATED_PATH, clear_numba_cache, generate_source
 
     text = generate_source()
     target = Path(args.output) if args.output else GENERATED_PATH
@@ -124,6 +124,8 @@ def _cmd_derive(args: argparse.Namespace) -> int:
     tmp = target.with_suffix(target.suffix + ".tmp")
     tmp.write_text(text)
     tmp.replace(target)
+    if target.resolve() == GENERATED_PATH.resolve():
+        clear_numba_cache()  # compiled callers of the old kernels would go stale
     print(f"wrote {target}")
     return 0
 
@@ -220,21 +222,31 @@ def _cmd_paper(args: argparse.Namespace) -> int:
 
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
-    from .report import write_run
+    from .report import write_comparison, write_run
     from .sim import load_scenario, simulate
 
-    scenario = load_scenario(args.scenario)
-    result = simulate(scenario, method=args.method)
-    write_run(result, args.out, command=f"tetherheli simulate {args.scenario}")
-    if not result.ok:
-        t_end = result.time[-1] if result.time.size else 0.0
+    scenarios = [load_scenario(path) for path in args.scenario]  # all validated first
+    names = [s.name for s in scenarios]
+    if len(set(names)) != len(names):
+        raise _UsageError(f"tetherheli simulate: scenario names must differ, got {names}")
+    command = "tetherheli simulate " + " ".join(args.scenario)
+    results = [simulate(s, method=args.method) for s in scenarios]
+    if len(results) == 1:
+        write_run(results[0], args.out, command=command)
+    else:
+        write_comparison(results, args.out, command=command)
+    failed = [r for r in results if not r.ok]
+    for r in failed:
+        t_end = r.time[-1] if r.time.size else 0.0
         print(
-            f"tetherheli: run {scenario.name} stopped at t = {t_end:g} s: {result.message} "
+            f"tetherheli: run {r.name} stopped at t = {t_end:g} s: {r.message} "
             f"(partial results in {args.out})",
             file=sys.stderr,
         )
+    if failed:
         return 1
-    print(f"wrote {args.out}/ ({scenario.name}: {result.message})")
+    done = ", ".join(f"{r.name}: {r.message}" for r in results)
+    print(f"wrote {args.out}/ ({done})")
     return 0
 
 
@@ -260,8 +272,13 @@ def _register_simulation(sub: argparse._SubParsersAction) -> None:
     )
     p.set_defaults(func=_cmd_paper)
 
-    p = sub.add_parser("simulate", help="run one scenario TOML file")
-    p.add_argument("scenario", help="scenario TOML file (see scenarios/)")
+    p = sub.add_parser("simulate", help="run scenario TOML files (several: overlaid)")
+    p.add_argument(
+        "scenario",
+        nargs="+",
+        help="scenario TOML file(s) (see scenarios/); several runs go to OUT/<name>/ and are "
+        "overlaid in OUT/outputs.png, OUT/inputs.png",
+    )
     p.add_argument("--out", required=True, help="output directory")
     p.add_argument(
         "--method",
@@ -345,6 +362,61 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     return 0
 
 
+def _count_arg(name: str, low: int, high: int) -> Callable[[str], int]:
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            value = None
+        if value is None or not low <= value <= high:
+            raise argparse.ArgumentTypeError(
+                f"{name} = {text!r}: allowed: an integer in [{low}, {high}]"
+            )
+        return value
+
+    return parse
+
+
+def _cmd_montecarlo(args: argparse.Namespace) -> int:
+    import dataclasses
+
+    from .montecarlo import CONFIGURATIONS, load_montecarlo, run_montecarlo
+    from .sim.batch import connect
+
+    base, config = load_montecarlo(args.scenario)
+    if args.runs is not None:
+        config = dataclasses.replace(config, runs=args.runs)
+    if args.seed is not None:
+        config = dataclasses.replace(config, seed=args.seed)
+    client = connect(args.scheduler, args.connect_timeout) if args.scheduler else None
+    try:
+        summary = run_montecarlo(
+            base,
+            config,
+            args.out,
+            chunk_size=args.chunk_size,
+            workers=args.workers,
+            max_chunks=args.max_chunks,
+            progress=not args.quiet,
+            client=client,
+        )
+    finally:
+        if client is not None:
+            client.close()
+    if summary is None:
+        print(f"stopped after --max-chunks; run the same command again to resume ({args.out})")
+        return 0
+    print(f"wrote {args.out}/ (results.csv, summary.json, peak_q1_hist.png, peak_q1_cdf.png)")
+    for cfg in CONFIGURATIONS:
+        s = summary["statistics"][cfg]
+        p = s.get("peak_q1", {})
+        print(
+            f"  {cfg:<9} completed {s['completed']}/{s['runs']}, peak q1 median "
+            f"{p.get('p50', float('nan')):.4f} m, p95 {p.get('p95', float('nan')):.4f} m"
+        )
+    return 0
+
+
 def _register_animate(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("animate", help="3-D animation (GIF/MP4) of the runs in a result folder")
     p.add_argument("result_dir", help="folder written by `tetherheli paper` or `simulate`")
@@ -375,6 +447,37 @@ def _register_animate(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--out", required=True, help="output directory")
     p.set_defaults(func=_cmd_sweep)
+
+    p = sub.add_parser("montecarlo", help="Monte Carlo of a scenario, free against tethered")
+    p.add_argument("scenario", help="scenario TOML file with a [montecarlo] table")
+    p.add_argument("--out", required=True, help="output directory (resumable)")
+    p.add_argument(
+        "--runs", type=_count_arg("--runs", 1, 10_000_000), help="number of draws N (overrides)"
+    )
+    p.add_argument("--seed", type=_count_arg("--seed", 0, 2**63 - 1), help="root seed (overrides)")
+    p.add_argument(
+        "--chunk-size",
+        type=_count_arg("--chunk-size", 1, 1_000_000),
+        default=50,
+        help="draws per resumable chunk file (default 50)",
+    )
+    p.add_argument(
+        "--workers", type=_count_arg("--workers", 1, 1024), help="threads (default: all CPUs)"
+    )
+    p.add_argument(
+        "--max-chunks",
+        type=_count_arg("--max-chunks", 0, 10_000_000),
+        help="compute at most this many new chunks, then stop (resume by running again)",
+    )
+    p.add_argument("--scheduler", help="run on a dask.distributed scheduler, e.g. tcp://host:8786")
+    p.add_argument(
+        "--connect-timeout",
+        type=_positive_float("--connect-timeout"),
+        default=10.0,
+        help="seconds to wait for the scheduler (default 10)",
+    )
+    p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
+    p.set_defaults(func=_cmd_montecarlo)
 
     p = sub.add_parser("sensing", help="the tether as a GPS-free position sensor (Sec. IV-F)")
     p.add_argument("--out", default="sensing_out", help="output directory")

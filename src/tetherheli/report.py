@@ -263,6 +263,41 @@ def write_run(
     return info
 
 
+def write_comparison(
+    results: list[SimulationResult], out_dir: str | Path, *, command: str
+) -> dict[str, Any]:
+    """Several runs: each in ``out_dir/<name>/`` as ``write_run`` writes it, overlaid in
+    ``outputs.png`` and ``inputs.png``, with their metrics side by side in ``summary.json``
+    and ``report.md``."""
+    from .viz.plots import figure_inputs, figure_outputs, save_figure
+
+    with atomic_directory(out_dir) as tmp:
+        infos = {r.name: write_run(r, tmp / r.name, command=command) for r in results}
+        plotted = [r for r in results if r.time.size > 1]
+        if plotted:
+            title = " vs ".join(r.name for r in plotted)
+            save_figure(figure_outputs(plotted, title), tmp / "outputs.png")
+            save_figure(figure_inputs(plotted, title), tmp / "inputs.png")
+        summary = {"tetherheli_version": __version__, "command": command, "runs": infos}
+        atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=2) + "\n")
+        lines = [f"# {title if plotted else 'comparison'}", "", f"Produced by `{command}`.", ""]
+        lines += ["| metric | " + " | ".join(infos) + " |"]
+        lines += ["|---|" + "---:|" * len(infos)]
+        rows = [("status", lambda i: i["message"])]
+        for group in ("peak_abs_dev", "rms_dev"):
+            for k in ("q1", "q2", "q3"):
+                rows.append(
+                    (f"{group} {k} [m]", lambda i, g=group, k=k: f"{i['metrics'][g][k]:.4g}")
+                )
+        for name, get in rows:
+            cells = [get(i) if i["metrics"] or name == "status" else "-" for i in infos.values()]
+            lines.append(f"| {name} | " + " | ".join(cells) + " |")
+        if plotted:
+            lines += ["", "![outputs](outputs.png)", "", "![inputs](inputs.png)"]
+        atomic_write_text(tmp / "report.md", "\n".join(lines) + "\n")
+    return summary
+
+
 def sensing_scenario(source: str) -> Scenario:
     """Paper simulation 1, tethered, with the controller's position from a consumer GPS
     ("gps") or from the tether (encoders + altimeter + IMU, "tether"); seed 1."""

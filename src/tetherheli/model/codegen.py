@@ -13,6 +13,7 @@ p (14,) in ``params.PARAM_ORDER``.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import sympy as sp
@@ -20,7 +21,7 @@ from sympy.printing.pycode import PythonCodePrinter
 
 from .derive import Derivation, derive
 
-__all__ = ["GENERATED_PATH", "generate_source", "write_generated"]
+__all__ = ["GENERATED_PATH", "clear_numba_cache", "generate_source", "write_generated"]
 
 GENERATED_PATH = Path(__file__).with_name("_generated.py")
 
@@ -54,10 +55,29 @@ class _ConstantPool:
             self.index[e] = sp.Symbol(f"c[{len(self.index)}]")
         return self.index[e]
 
+    def _split(self, term: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
+        """term = coefficient * rest, the coefficient parameter-only."""
+        if self._is_constant(term):
+            return term, sp.S.One
+        if term.is_Mul:
+            const = [a for a in term.args if self._is_constant(a)]
+            rest = [a for a in term.args if not self._is_constant(a)]
+            return sp.Mul(*const), sp.Mul(*rest)
+        return sp.S.One, term
+
     def hoist(self, e: sp.Expr) -> sp.Expr:
         if self._is_constant(e):
             return self._const(e)
-        if e.is_Add or e.is_Mul:
+        if e.is_Add:
+            # collect: c_a x + c_b x -> (c_a + c_b) x, one hoisted constant per distinct x
+            groups: dict[sp.Expr, list[sp.Expr]] = {}
+            for term in e.args:
+                coeff, rest = self._split(term)
+                groups.setdefault(rest, []).append(coeff)
+            return sp.Add(
+                *(self._const(sp.Add(*cs)) * self.hoist(rest) for rest, cs in groups.items())
+            )
+        if e.is_Mul:
             const = [a for a in e.args if self._is_constant(a)]
             rest = [self.hoist(a) for a in e.args if not self._is_constant(a)]
             if const:
@@ -193,10 +213,31 @@ def generate_source() -> str:
     return "".join(parts)
 
 
+def clear_numba_cache(package_root: Path = GENERATED_PATH.parents[1]) -> int:
+    """Delete Numba's on-disk cache (``*.nbi``, ``*.nbc``) of every module in the package.
+
+    Numba keys a cached function on its own source file only; functions that inline the
+    generated kernels (the engine, the controller) would keep stale machine code after
+    ``_generated.py`` changes. Returns the number of files removed.
+    """
+    removed = 0
+    roots = [Path(package_root)]
+    cache_dir = os.environ.get("NUMBA_CACHE_DIR")
+    if cache_dir:
+        roots += [p for p in Path(cache_dir).rglob("*") if p.is_dir() and "tetherheli" in p.name]
+    for root in roots:
+        for pattern in ("*.nbi", "*.nbc"):
+            for f in root.rglob(pattern):
+                f.unlink(missing_ok=True)
+                removed += 1
+    return removed
+
+
 def write_generated(path: Path = GENERATED_PATH) -> Path:
-    """Regenerate the committed numeric code, atomically."""
+    """Regenerate the committed numeric code, atomically, and clear the stale Numba cache."""
     text = generate_source()
     tmp = path.with_suffix(".py.tmp")
     tmp.write_text(text)
     tmp.replace(path)
+    clear_numba_cache(path.parents[1])
     return path

@@ -125,14 +125,25 @@ def compile_wind(wind: Disturbance) -> CompiledWind | None:
     return CompiledWind(program, np.zeros((0, 3)), 0.0, np.zeros(3))
 
 
-def _setup(scenario: Scenario):
+def _setup(scenario: Scenario, design_params: Params | None = None):
+    """Model, trim, LQI gain and packed engine arrays of one run.
+
+    The gain is designed on ``design_params`` (default: the scenario's own parameters; a
+    Monte Carlo passes the nominal ones); plant, trim and winch use the scenario's.
+    """
     params = scenario.params
     model = TetheredHelicopter(params)
     tethered = scenario.configuration == "tethered"
     T_ref = params.tension_control.T_ref if tethered else 0.0
     trim: TrimPoint = model.trim(T_ref, scenario.q9)
     c = scenario.control
-    gain = paper_gain(params, c.dt, tuple(c.Qy), tuple(c.Ru), scenario.q9)
+    gain = paper_gain(
+        params if design_params is None else design_params,
+        c.dt,
+        tuple(c.Qy),
+        tuple(c.Ru),
+        scenario.q9,
+    )
     ctrl = np.zeros(CTRL_SIZE)
     ctrl[CTRL_DT] = c.dt
     ctrl[CTRL_FFWD] = float(tethered and c.feedforward)

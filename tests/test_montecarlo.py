@@ -1,0 +1,214 @@
+"""Monte Carlo: reproducible draws, resumable chunks, strict configuration."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tetherheli.errors import ParameterError
+from tetherheli.montecarlo import (
+    load_montecarlo,
+    montecarlo_config_from_dict,
+    run_montecarlo,
+)
+from tetherheli.sim import simulate
+from tetherheli.sim.batch import run_batch
+
+ROOT = Path(__file__).resolve().parents[1]
+
+SHORT = """
+name = "mc_short"
+duration = 5.0
+[[wind]]
+type = "pulse"
+start = 1.0
+duration = 0.5
+magnitude = 20.0
+direction = [1.0, 0.0, 0.0]
+[[wind]]
+type = "sine"
+amplitude = 10.0
+frequency = 0.5
+start = 2.0
+direction = [1.0, 0.0, 0.0]
+[montecarlo]
+runs = 8
+seed = 7
+amplitude_std_percent = 20.0
+direction_std_deg = 10.0
+random_phase = true
+start_jitter_s = 0.5
+params = { "helicopter.m_F" = 5.0, "tether.K_C" = 10.0 }
+"""
+
+
+@pytest.fixture
+def short_file(tmp_path: Path) -> Path:
+    p = tmp_path / "mc.toml"
+    p.write_text(SHORT)
+    return p
+
+
+def _run(path: Path, out: Path, **kw):
+    base, config = load_montecarlo(path)
+    return run_montecarlo(base, config, out, chunk_size=3, progress=False, **kw)
+
+
+def _rows(out: Path) -> list[dict[str, str]]:
+    with open(out / "results.csv", newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+def test_outputs_and_equal_seeds_equal_tables(short_file, tmp_path):
+    s1 = _run(short_file, tmp_path / "a")
+    _run(short_file, tmp_path / "b", workers=1)
+    a = (tmp_path / "a" / "results.csv").read_bytes()
+    assert a == (tmp_path / "b" / "results.csv").read_bytes()
+    rows = _rows(tmp_path / "a")
+    assert len(rows) == 16
+    assert [r["configuration"] for r in rows[:2]] == ["free", "tethered"]
+    assert [int(r["run"]) for r in rows[::2]] == list(range(8))
+    assert {r["seed_entropy"] for r in rows} == {"7"}
+    assert [r["spawn_key"] for r in rows[::2]] == [str(i) for i in range(8)]
+    assert all(r["status"] == "0" for r in rows)
+    # the free and tethered runs of a draw share its dispersed values
+    for f, t in zip(rows[::2], rows[1::2], strict=True):
+        assert f["amplitude_scale"] == t["amplitude_scale"]
+        assert f["value:tether.K_C"] == t["value:tether.K_C"]
+        assert float(f["tension_max"]) == 0.0 and float(t["tension_min"]) > 20.0
+    factors = np.array([float(r["factor:helicopter.m_F"]) for r in rows])
+    assert np.all(np.abs(factors - 1.0) <= 0.05) and np.ptp(factors) > 0
+    summary = json.loads((tmp_path / "a" / "summary.json").read_text())
+    assert summary == s1 and summary["N"] == 8 and summary["seed"] == 7
+    assert summary["statistics"]["free"]["completed"] == 8
+    assert "p95" in summary["statistics"]["tethered"]["peak_q1"]
+    for name in ("peak_q1_hist.png", "peak_q1_cdf.png"):
+        assert (tmp_path / "a" / name).stat().st_size > 1000
+    # another seed gives other draws
+    base, config = load_montecarlo(short_file)
+    other = run_montecarlo(
+        base, config.__class__(**{**config.__dict__, "seed": 8}), tmp_path / "c", progress=False
+    )
+    assert other is not None
+    assert (tmp_path / "c" / "results.csv").read_bytes() != a
+
+
+def test_row_equals_a_single_simulation(short_file, tmp_path):
+    """Row 3 (draw 1, tethered) is the dispersed scenario run alone with the nominal gain."""
+    from tetherheli.montecarlo import draw
+
+    base, config = load_montecarlo(short_file)
+    _run(short_file, tmp_path / "a")
+    row = _rows(tmp_path / "a")[3]
+    child = np.random.SeedSequence(7).spawn(8)[1]
+    d = draw(base, config, child, 1)
+    assert float(row["value:helicopter.m_F"]) == d.scenario.params.helicopter.m_F
+    b = run_batch([d.scenario], design_params=base.params)
+    assert float(row["peak_q1"]) == b.metrics(0)["peak_q1"]
+    # with nominal parameters the batch is exactly simulate()
+    nominal = d.scenario.replace(params=base.params)
+    single = simulate(nominal)
+    dev = single.outputs[:, 0] - single.trim_output[0]
+    assert run_batch([nominal]).metrics(0)["peak_q1"] == pytest.approx(
+        float(np.max(np.abs(dev))), rel=1e-12
+    )
+
+
+def test_resume_after_interrupt_equals_uninterrupted(short_file, tmp_path, capsys):
+    assert _run(short_file, tmp_path / "r", max_chunks=1) is None
+    assert not (tmp_path / "r" / "results.csv").exists()
+    assert len(list((tmp_path / "r" / "partial").glob("chunk_*.csv"))) == 1
+    assert _run(short_file, tmp_path / "r", max_chunks=1) is None
+    assert len(list((tmp_path / "r" / "partial").glob("chunk_*.csv"))) == 2
+    assert _run(short_file, tmp_path / "r") is not None
+    _run(short_file, tmp_path / "full")
+    assert (tmp_path / "r" / "results.csv").read_bytes() == (
+        tmp_path / "full" / "results.csv"
+    ).read_bytes()
+    # a different job may not reuse the folder
+    base, config = load_montecarlo(short_file)
+    with pytest.raises(ParameterError, match=r"partial/job\.json"):
+        run_montecarlo(base, config, tmp_path / "r", chunk_size=4, progress=False)
+
+
+def test_progress_on_stderr(short_file, tmp_path, capsys):
+    base, config = load_montecarlo(short_file)
+    run_montecarlo(base, config, tmp_path / "p", chunk_size=4, progress=True)
+    err = capsys.readouterr().err
+    assert "4/8" in err and "8/8 draws 100.0%" in err
+
+
+@pytest.mark.parametrize(
+    ("table", "match"),
+    [
+        ({"runs": 0}, "montecarlo.runs"),
+        ({"runs": 2.5}, "montecarlo.runs"),
+        ({"amplitude_std_percent": -1.0}, "amplitude_std_percent"),
+        ({"amplitude_std_percent": 150.0}, "amplitude_std_percent"),
+        ({"direction_std_deg": 720.0}, "direction_std_deg"),
+        ({"start_jitter_s": -0.1}, "start_jitter_s"),
+        ({"start_jitter_s": math.inf}, "start_jitter_s"),
+        ({"random_phase": 1}, "random_phase"),
+        ({"params": {"helicopter.m_F": 100.0}}, "helicopter.m_F"),
+        ({"params": {"helicopter.m_F": -5.0}}, "helicopter.m_F"),
+        ({"params": {"helicopter.mass": 5.0}}, "helicopter.mass"),
+        ({"params": {"m_F": 5.0}}, "m_F"),
+        ({"params": 5.0}, "montecarlo.params"),
+        ({"amplitude": 5.0}, "montecarlo.amplitude"),
+    ],
+)
+def test_bad_config_one_line_error(table, match):
+    with pytest.raises(ParameterError, match=match) as info:
+        montecarlo_config_from_dict(table, source="f.toml")
+    assert "\n" not in str(info.value) and str(info.value).startswith("f.toml: ")
+
+
+def test_file_errors(tmp_path):
+    p = tmp_path / "nomc.toml"
+    p.write_text('name = "x"\n')
+    with pytest.raises(ParameterError, match=r"\[montecarlo\] table"):
+        load_montecarlo(p)
+    p.write_text('[montecarlo]\nruns = 4\n[[wind]]\ntype = "turbulence"\n')
+    with pytest.raises(ParameterError):
+        load_montecarlo(p)
+    with pytest.raises(ParameterError, match="file"):
+        load_montecarlo(tmp_path / "missing.toml")
+
+
+def test_cli_subcommand(short_file, tmp_path, capsys):
+    from tetherheli import cli
+
+    out = tmp_path / "o"
+    for bad, word in (("--runs", "--runs"), ("--chunk-size", "--chunk-size")):
+        assert cli.main(["montecarlo", str(short_file), "--out", str(out), bad, "0"]) == 2
+        err = capsys.readouterr().err
+        assert word in err and len(err.strip().splitlines()) == 1
+    assert not out.exists()
+    args = ["montecarlo", str(short_file), "--out", str(out), "--runs", "4"]
+    assert cli.main([*args, "--quiet", "--chunk-size", "2"]) == 0
+    assert "completed 4/4" in capsys.readouterr().out
+    # an unreachable scheduler: one line, exit 2, nothing written
+    out2 = tmp_path / "o2"
+    code = cli.main(
+        [*args[:3], str(out2), "--scheduler", "tcp://127.0.0.1:9", "--connect-timeout", "1"]
+    )
+    err = capsys.readouterr().err
+    assert code == 2 and "scheduler" in err and len(err.strip().splitlines()) == 1
+    assert not out2.exists()
+
+
+def test_shipped_scenario_loads():
+    base, config = load_montecarlo(ROOT / "scenarios" / "montecarlo_paper_sim1.toml")
+    assert base.duration == 60.0 and config.runs == 1000
+    assert dict(config.params) == {
+        "helicopter.m_F": 5.0,
+        "helicopter.I_F11": 10.0,
+        "tether.K_C": 10.0,
+    }
+    assert config.amplitude_std_percent == 20.0 and config.direction_std_deg == 10.0
+    assert config.start_jitter_s == 0.5
