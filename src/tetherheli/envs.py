@@ -254,7 +254,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._y = np.empty(4)
         self._inp = np.empty(4)
         self._ffwd = np.empty(4)
-        self._work = np.empty((6, 13))
+        self._work = np.empty((engine.RK4_WORK_ROWS, 13))
         self._k = 0
         self._done = True
 

@@ -10,13 +10,14 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..model.kernels import tethered_outputs, tethered_tether_torque
+from ..model.kernels import angle_trig, tethered_outputs_sc, tethered_tether_torque_sc
 from .base import Command, Controller, Measurement
 from .tension import tension_pi_step
 
 __all__ = ["CTRL_SIZE", "PaperController", "paper_control"]
 
 _jit = njit(cache=True, error_model="numpy")
+_jit_inline = njit(cache=True, error_model="numpy", inline="always")
 _tension_pi_step = _jit(tension_pi_step)
 
 # controller settings, packed in one array
@@ -41,7 +42,20 @@ def paper_control(
     RC = KP e + KI I with e = T - Tref, then I += dt e (eq 56). ``z`` (4,) and
     ``winch_integral`` (1,) are updated in place; x is the (13,) tethered-coordinate state.
     """
-    tethered_outputs(x, c, y)
+    sc = np.empty(10)
+    angle_trig(x, sc)
+    return paper_control_sc(
+        x, sc, measured_tension, z, winch_integral, ctrl, c, gain, x_ref, y_ref, u0, y, inp, ffwd
+    )
+
+
+@_jit_inline
+def paper_control_sc(
+    x, sc, measured_tension, z, winch_integral, ctrl, c, gain, x_ref, y_ref, u0, y, inp, ffwd
+):
+    """``paper_control`` with sc (10,) = sin, cos of x[0..4] given (``kernels.angle_trig``);
+    the engine's entry point."""
+    tethered_outputs_sc(x, sc, c, y)
     for i in range(4):
         acc = u0[i]
         for j in range(12):
@@ -49,11 +63,15 @@ def paper_control(
         for j in range(4):
             acc -= gain[i, 12 + j] * z[j]
         inp[i] = acc
-    ffwd[:] = 0.0
+    ffwd[0] = 0.0
+    ffwd[3] = 0.0
     if ctrl[CTRL_FFWD] > 0.5:
-        tethered_tether_torque(x, measured_tension, c, ffwd[1:3])
+        tethered_tether_torque_sc(x, sc, measured_tension, c, ffwd[1:3])
         inp[1] -= ffwd[1]
         inp[2] -= ffwd[2]
+    else:
+        ffwd[1] = 0.0
+        ffwd[2] = 0.0
     dt = ctrl[CTRL_DT]
     for j in range(4):
         z[j] += dt * (y_ref[j] - y[j])

@@ -948,3 +948,64 @@ def tethered_tether_torque(x, tension, c, out):
     t13 = t9*math.sin(x[3])
     out[0] = -c[0]*tension*(t0*t1*t2 - t10*(t5 + t6*t8) - t13*(-t11 + t12*t6))
     out[1] = c[1]*tension*(t1*t2*t4 + t10*(-t11*t6 + t12) - t13*(t5*t6 + t8))
+
+
+def tethered_rhs_sc(x, sc, inp, wind, tension, c, out):
+    """tethered_rhs with sc (10,) = [sin x[0..4], cos x[0..4]] given."""
+    t0 = 1/sc[6]
+    t1 = sc[2]*x[10]
+    t2 = sc[7]*x[9]
+    t3 = 1/x[5]
+    t4 = sc[2]*sc[5]
+    t5 = sc[0]*sc[7]
+    t6 = sc[1]*t5 + t4
+    t7 = sc[0]*sc[2]
+    t8 = sc[5]*sc[7]
+    t9 = -sc[1]*t8 + t7
+    t10 = sc[1]*t4
+    t11 = t10 + t5
+    t12 = sc[1]*t7
+    t13 = t12 - t8
+    t14 = sc[3]*sc[4]
+    t15 = sc[4]*sc[8]
+    t16 = sc[6]*sc[9]
+    t17 = c[0]*x[10]
+    t18 = c[1]*x[9]
+    t19 = sc[8]*sc[9]
+    t20 = sc[3]*sc[9]
+    t21 = sc[4]*sc[6]*sc[7] + t19*t9 - t20*t6
+    t22 = sc[2]*sc[4]*sc[6] - t11*t19 - t13*t20
+    t23 = inp[0]*sc[6]
+    out[0] = -t0*(t1 - t2)
+    out[1] = sc[2]*x[9] + sc[7]*x[10]
+    out[2] = t0*(sc[1]*t1 - sc[1]*t2 + sc[6]*x[11])
+    out[3] = t3*(c[0]*x[9]*(sc[3]*t11 - sc[8]*t13) + c[1]*x[10]*(sc[3]*t9 + sc[8]*t6) - sc[3]*x[8] - sc[8]*x[7])/sc[9]
+    out[4] = t3*(sc[9]*x[6] + t14*x[7] - t15*x[8] + t17*(sc[7]*t16 + t14*t6 - t15*t9) - t18*(sc[2]*t16 + t11*t15 + t13*t14))
+    out[5] = sc[4]*x[6] + t17*t21 - t18*t22 + t19*x[8] - t20*x[7]
+    out[6] = c[2]*(inp[0]*sc[1] - inp[3]*sc[2]*sc[6] - sc[4]*tension + wind[0])
+    out[7] = c[2]*(-inp[3]*t12 + inp[3]*t8 - sc[0]*t23 + t20*tension + wind[1])
+    out[8] = c[2]*(c[3] + inp[3]*t10 + inp[3]*t5 + sc[5]*t23 - t19*tension + wind[2])
+    out[9] = c[7]*(-c[0]*t22*tension + c[4]*x[10]*x[11] + c[5]*x[10] + c[6]*inp[3] + inp[1])
+    out[10] = c[11]*(c[10]*x[9] + c[1]*t21*tension + c[8] + c[9]*x[11]*x[9] + inp[2])
+    out[11] = c[15]*(c[12]*inp[0] + c[13]*inp[3] + c[14]*x[10]*x[9])
+
+
+def tethered_outputs_sc(x, sc, c, out):
+    """tethered_outputs with sc (10,) = [sin x[0..4], cos x[0..4]] given."""
+    t0 = sc[9]*x[5]
+    out[0] = c[1]*sc[1] + sc[4]*x[5]
+    out[1] = c[0]*sc[0]*sc[6] - sc[3]*t0
+    out[2] = c[1]*sc[5]*sc[6] + sc[8]*t0
+    out[3] = x[2]
+
+
+def tethered_tether_torque_sc(x, sc, tension, c, out):
+    """tethered_tether_torque with sc (10,) = [sin x[0..4], cos x[0..4]] given."""
+    t0 = sc[0]*sc[7]
+    t1 = sc[2]*sc[5]
+    t2 = sc[8]*sc[9]
+    t3 = sc[5]*sc[7]
+    t4 = sc[0]*sc[2]
+    t5 = sc[3]*sc[9]
+    out[0] = -c[0]*tension*(sc[2]*sc[4]*sc[6] - t2*(sc[1]*t1 + t0) - t5*(sc[1]*t4 - t3))
+    out[1] = c[1]*tension*(sc[4]*sc[6]*sc[7] + t2*(-sc[1]*t3 + t4) - t5*(sc[1]*t0 + t1))

@@ -181,6 +181,26 @@ def _model_functions(d: Derivation, printer: _Printer) -> list[str]:
         _emit(name, fargs, doc, [(o, prepared(m)) for o, m in outs], printer)
         for name, fargs, doc, outs in specs
     ]
+    if k == "tethered":
+        # the same functions with sin/cos of the angles q4..q8 given in sc (10,) =
+        # [sin x0..x4, cos x0..x4]: the engine gets them cheaply at the RK4 stages
+        trig = {}
+        for i in range(5):
+            xi = sp.Symbol(f"x[{i}]")
+            trig[sp.sin(xi)] = sp.Symbol(f"sc[{i}]")
+            trig[sp.cos(xi)] = sp.Symbol(f"sc[{i + 5}]")
+        for name, fargs, _, outs in specs:
+            if name not in ("tethered_rhs", "tethered_outputs", "tethered_tether_torque"):
+                continue
+            funcs.append(
+                _emit(
+                    f"{name}_sc",
+                    fargs.replace("x, ", "x, sc, ", 1),
+                    f"{name} with sc (10,) = [sin x[0..4], cos x[0..4]] given.",
+                    [(o, prepared(m).xreplace(trig)) for o, m in outs],
+                    printer,
+                )
+            )
     defs = pool.definitions()
     constants = _emit(
         f"{k}_constants",

@@ -12,6 +12,8 @@ a 13th entry, the winch's natural length LN, driven by the reel rate (eq 37).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -43,6 +45,51 @@ tethered_jacobian = _jit(gen.tethered_jacobian)
 tethered_outputs = _jit(gen.tethered_outputs)
 tethered_output_jacobian = _jit(gen.tethered_output_jacobian)
 tethered_tether_torque = _jit(gen.tethered_tether_torque)
+tethered_rhs_sc = _jit_inline(gen.tethered_rhs_sc)
+tethered_outputs_sc = _jit_inline(gen.tethered_outputs_sc)
+tethered_tether_torque_sc = _jit_inline(gen.tethered_tether_torque_sc)
+
+#: Angle steps up to this size [rad] are applied by the angle-addition formulas with the
+#: Taylor series of sin and cos (truncation below 1e-19 relative); larger ones call libm.
+TRIG_STEP_MAX = 0.05
+# Taylor coefficients of sin and cos (multiplications only: no division in the hot loop)
+_S3, _S5, _S7, _S9 = -1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362880.0
+_C2, _C4, _C6, _C8 = -0.5, 1.0 / 24.0, -1.0 / 720.0, 1.0 / 40320.0
+
+
+@_jit_inline
+def angle_trig(x, sc):
+    """sc (10,) = [sin x[0..4], cos x[0..4]] of the angles q4..q8 (libm)."""
+    for i in range(5):
+        a = x[i]  # one load: sin and cos of it fuse into one sincos call
+        s = math.sin(a)
+        c = math.cos(a)
+        sc[i] = s
+        sc[5 + i] = c
+
+
+@_jit_inline
+def angle_trig_from(x, x_base, sc_base, sc):
+    """``angle_trig(x, sc)`` from the values sc_base at a nearby x_base, without libm:
+    sin(a + d) = sin a cos d + cos a sin d with d = x - x_base and the Taylor series of
+    sin d, cos d (to d^9, d^10). Agrees with libm to a few units in the last place; steps
+    larger than TRIG_STEP_MAX fall back to libm. The RK4 stages use it: sin and cos are
+    half of a derivative's cost."""
+    for i in range(5):
+        d = x[i] - x_base[i]
+        if abs(d) > TRIG_STEP_MAX:
+            a = x[i]
+            s = math.sin(a)
+            c = math.cos(a)
+            sc[i] = s
+            sc[5 + i] = c
+            continue
+        d2 = d * d
+        sin_d = d + d * d2 * (_S3 + d2 * (_S5 + d2 * (_S7 + d2 * _S9)))
+        cos_d = 1.0 + d2 * (_C2 + d2 * (_C4 + d2 * (_C6 + d2 * _C8)))
+        s, c = sc_base[i], sc_base[5 + i]
+        sc[i] = s * cos_d + c * sin_d
+        sc[5 + i] = c * cos_d - s * sin_d
 
 
 def model_constants(kind: str, helicopter: HelicopterParams) -> np.ndarray:

@@ -20,8 +20,14 @@ import math
 import numpy as np
 from numba import njit
 
-from ..control.paper import CTRL_FFWD, CTRL_WINCH, paper_control
-from ..model.kernels import tension_from_state, tethered_outputs, tethered_rhs
+from ..control.paper import CTRL_FFWD, CTRL_WINCH, paper_control_sc
+from ..model.kernels import (
+    angle_trig,
+    angle_trig_from,
+    tension_from_state,
+    tethered_outputs,
+    tethered_rhs_sc,
+)
 from ..sensors import N_CHANNELS, measure
 
 _jit = njit(cache=True, error_model="numpy")
@@ -42,6 +48,9 @@ CFG_MAX_DEVIATION = 5  # [m]; a run stops as diverged when |y - y_ref| exceeds i
 CFG_MAX_ANGLE = 6  # [rad]; |q4|, |q5|, |q7|, |q8| beyond it: diverged
 CFG_GUST_DT = 7  # gust-table step [s] (0: no gust table)
 CFG_SIZE = 8
+
+#: rows of the scratch array of ``rk4_interval``
+RK4_WORK_ROWS = 8
 
 # --- run status ------------------------------------------------------------------------------
 STATUS_OK = 0
@@ -118,39 +127,50 @@ def wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out):
 
 
 @_jit_inline
-def plant_derivative(x, inp, reel_rate, t, side, cfg, c, program, gust, drag, wind, out):
-    """dx/dt (13,) of the tethered-coordinate plant; tension 0 when the tether is removed."""
+def plant_derivative(x, sc, inp, reel_rate, t, side, cfg, c, program, gust, drag, wind, out):
+    """dx/dt (13,) of the tethered-coordinate plant; tension 0 when the tether is removed.
+    sc (10,): sin and cos of x[0..4] (``kernels.angle_trig``)."""
     wind_force(program, gust, cfg[CFG_GUST_DT], drag, t, side, x[6], x[7], x[8], wind)
     if cfg[CFG_ATTACHED] > 0.5:
         tension = tension_from_state(x[5], x[12], cfg[CFG_K_C])
-        tethered_rhs(x, inp, wind, tension, c, out)
+        tethered_rhs_sc(x, sc, inp, wind, tension, c, out)
         out[12] = reel_rate
     else:
-        tethered_rhs(x, inp, wind, 0.0, c, out)
+        tethered_rhs_sc(x, sc, inp, wind, 0.0, c, out)
         out[12] = 0.0
 
 
 @_jit
 def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work):
-    """Advance x in place over one control sample [t0, t0 + dt] with n_sub RK4 steps."""
+    """Advance x in place over one control sample [t0, t0 + dt] with n_sub RK4 steps.
+
+    ``work`` (8, 13) is scratch. sin and cos of the angles come from libm once per step, at
+    its start; the other stages get them by the angle-addition formulas
+    (``kernels.angle_trig_from``), which agree with libm to a few units in the last place.
+    """
     n_sub = int(cfg[CFG_N_SUB])
     h = cfg[CFG_DT] / n_sub
     k1, k2, k3, k4, tmp, wind = work[0], work[1], work[2], work[3], work[4], work[5]
+    sc0, sc = work[6], work[7]
     n = x.shape[0]
     for j in range(n_sub):
         ta = t0 + j * h
         tb = t0 + (j + 1) * h
         tm = ta + 0.5 * h
-        plant_derivative(x, inp, reel_rate, ta, 1, cfg, c, program, gust, drag, wind, k1)
+        angle_trig(x, sc0)
+        plant_derivative(x, sc0, inp, reel_rate, ta, 1, cfg, c, program, gust, drag, wind, k1)
         for i in range(n):
             tmp[i] = x[i] + 0.5 * h * k1[i]
-        plant_derivative(tmp, inp, reel_rate, tm, 1, cfg, c, program, gust, drag, wind, k2)
+        angle_trig_from(tmp, x, sc0, sc)
+        plant_derivative(tmp, sc, inp, reel_rate, tm, 1, cfg, c, program, gust, drag, wind, k2)
         for i in range(n):
             tmp[i] = x[i] + 0.5 * h * k2[i]
-        plant_derivative(tmp, inp, reel_rate, tm, 1, cfg, c, program, gust, drag, wind, k3)
+        angle_trig_from(tmp, x, sc0, sc)
+        plant_derivative(tmp, sc, inp, reel_rate, tm, 1, cfg, c, program, gust, drag, wind, k3)
         for i in range(n):
             tmp[i] = x[i] + h * k3[i]
-        plant_derivative(tmp, inp, reel_rate, tb, -1, cfg, c, program, gust, drag, wind, k4)
+        angle_trig_from(tmp, x, sc0, sc)
+        plant_derivative(tmp, sc, inp, reel_rate, tb, -1, cfg, c, program, gust, drag, wind, k4)
         for i in range(n):
             x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
 
@@ -278,7 +298,8 @@ def run_closed_loop(
     applied = np.empty(4)
     ffwd = np.empty(4)
     wind = np.empty(3)
-    work = np.empty((6, 13))
+    work = np.empty((RK4_WORK_ROWS, 13))
+    sc_meas = np.empty(10)
     summary[:] = 0.0
     summary[8] = np.inf
     summary[9] = -np.inf
@@ -298,8 +319,10 @@ def run_closed_loop(
         else:
             x_meas[:] = x
             measured_tension = tension
-        rate = paper_control(
+        angle_trig(x_meas, sc_meas)
+        rate = paper_control_sc(
             x_meas,
+            sc_meas,
             measured_tension,
             z,
             winch_integral,

@@ -17,7 +17,6 @@ from functools import lru_cache
 from typing import Literal
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from .._version import __version__
 from ..control.base import Controller, Measurement
@@ -45,7 +44,7 @@ from ..disturbances import (
 )
 from ..errors import ParameterError
 from ..model import TetheredHelicopter, TrimPoint, linearize
-from ..model.kernels import tension_from_state
+from ..model.kernels import angle_trig, angle_trig_from, tension_from_state
 from ..params import Params
 from ..sensors import N_CHANNELS, measure, noise_table
 from . import engine
@@ -341,7 +340,7 @@ def _python_loop(
     x_meas = np.empty(13)
     applied = np.empty(4)
     y = np.empty(4)
-    work = np.empty((6, 13))
+    work = np.empty((engine.RK4_WORK_ROWS, 13))
     wind_buf = np.empty(3)
     breaks = wind.breakpoints(n * dt) if wind is not None else np.array([])
     controller.reset()
@@ -394,9 +393,13 @@ def _python_loop(
 
                 def rhs(tt, xx, mid=mid, inp=inp, rate=rate):
                     out = np.empty(13)
+                    sc = np.empty(10)
+                    angle_trig(xx, sc)  # libm at every evaluation: the accurate reference
                     side = 1 if tt < mid else -1
-                    _plant(xx, inp, rate, tt, side, cfg, c, scenario.wind, wind, out)
+                    _plant(xx, sc, inp, rate, tt, side, cfg, c, scenario.wind, wind, out)
                     return out
+
+                from scipy.integrate import solve_ivp  # only the adaptive mode needs it
 
                 sol = solve_ivp(rhs, (a, b), x, method="DOP853", rtol=rtol, atol=atol)
                 if not sol.success:
@@ -423,27 +426,32 @@ def _wind_at(disturbance, wind, cfg, t, side, x, buf):
     return np.asarray(disturbance.force_at(t, x[6:9]), dtype=float)
 
 
-def _plant(x, inp, rate, t, side, cfg, c, disturbance, wind, out):
+def _plant(x, sc, inp, rate, t, side, cfg, c, disturbance, wind, out):
     if wind is not None:
         engine.plant_derivative(
-            x, inp, rate, t, side, cfg, c, wind.program, wind.gust, wind.drag, np.empty(3), out
+            x, sc, inp, rate, t, side, cfg, c, wind.program, wind.gust, wind.drag, np.empty(3), out
         )
         return
     # custom disturbance: evaluate in Python, then the compiled plant with a constant force
     force = np.asarray(disturbance.force_at(t, x[6:9]), dtype=float)
     program = np.array([[engine.WIND_CONSTANT, 0, 0, 1.0, 0, 0, *force]])
     engine.plant_derivative(
-        x, inp, rate, t, side, cfg, c, program, np.zeros((0, 3)), np.zeros(3), np.empty(3), out
+        x, sc, inp, rate, t, side, cfg, c, program, np.zeros((0, 3)), np.zeros(3), np.empty(3), out
     )
 
 
 def _rk4_custom_wind(x, inp, rate, t0, dt, n_sub, cfg, c, disturbance):
+    """``engine.rk4_interval`` with a Python disturbance (same stages, same trigonometry)."""
     h = dt / n_sub
     k1, k2, k3, k4 = (np.empty(13) for _ in range(4))
+    sc0, sc = np.empty(10), np.empty(10)
     for j in range(n_sub):
         ta = t0 + j * h
-        _plant(x, inp, rate, ta, 1, cfg, c, disturbance, None, k1)
-        _plant(x + 0.5 * h * k1, inp, rate, ta + 0.5 * h, 1, cfg, c, disturbance, None, k2)
-        _plant(x + 0.5 * h * k2, inp, rate, ta + 0.5 * h, 1, cfg, c, disturbance, None, k3)
-        _plant(x + h * k3, inp, rate, ta + h, -1, cfg, c, disturbance, None, k4)
+        angle_trig(x, sc0)
+        _plant(x, sc0, inp, rate, ta, 1, cfg, c, disturbance, None, k1)
+        for k_prev, k_next, a, t in ((k1, k2, 0.5, 0.5), (k2, k3, 0.5, 0.5), (k3, k4, 1.0, 1.0)):
+            stage = x + a * h * k_prev
+            angle_trig_from(stage, x, sc0, sc)
+            side = -1 if k_next is k4 else 1
+            _plant(stage, sc, inp, rate, ta + t * h, side, cfg, c, disturbance, None, k_next)
         x += h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
