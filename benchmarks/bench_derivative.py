@@ -17,7 +17,7 @@ from tetherheli import TetheredHelicopter
 from tetherheli.model import kernels
 
 
-@njit(cache=True)
+@njit  # not cached: a benchmark must measure the current kernels
 def _loop(x, u, wind, p, K_C, out, n):
     acc = 0.0
     for i in range(n):

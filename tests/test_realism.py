@@ -74,6 +74,24 @@ def test_reel_rate_limit():
     assert np.abs(simulate(paper_scenario(1, "tethered")).reel_rate).max() > 0.002
 
 
+def test_reel_acceleration_limit():
+    """The winch's acceleration limit: the reel rate changes by at most a dt per sample and
+    a loose limit changes nothing. The paper's PI asks for up to 0.33 m/s^2; at 0.3 m/s^2 the
+    limit binds and the tension still stays within 25 +- 0.2 N; at 0.03 m/s^2 the slew-limited
+    loop limit-cycles (measured 20-32 N), which the run reports faithfully."""
+    base = paper_scenario(1, "tethered")
+    ideal = simulate(base)
+    assert 0.3 < np.abs(np.diff(ideal.reel_rate)).max() / 0.01 < 0.4
+    for a, band in ((0.3, 0.2), (0.03, 10.0)):
+        r = simulate(base.replace(actuators=ActuatorSettings(reel_acceleration_limit=a)))
+        assert r.ok
+        assert np.abs(np.diff(r.reel_rate)).max() <= a * 0.01 * (1 + 1e-12)
+        assert np.abs(r.tension - 25.0).max() < band
+    assert np.abs(r.tension - 25.0).max() > 5.0  # 0.03 m/s^2: the loop limit-cycles
+    loose = simulate(base.replace(actuators=ActuatorSettings(reel_acceleration_limit=1e6)))
+    np.testing.assert_array_equal(loose.states, ideal.states)
+
+
 def test_tether_release_above_breaking_tension():
     """Sec. IV-C safety device: above the breaking tension the tether is released, the
     tension is zero from then on and the helicopter flies on, free."""
@@ -126,6 +144,7 @@ def test_sensor_noise_reproducible_by_seed():
         ("[actuators]\nu_max = [1, 2]\n", "actuators.u_max"),
         ("[actuators]\ntime_constant = -1.0\n", "actuators.time_constant"),
         ("[actuators]\nbreaking_tension = 0.0\n", "actuators.breaking_tension"),
+        ("[actuators]\nreel_acceleration_limit = -2.0\n", "actuators.reel_acceleration_limit"),
         ("[actuators]\nspeed = 1.0\n", "actuators.speed"),
         ("[sensors]\nencoder_std = -1.0\n", "encoder_std"),
         ("configuration = 'free'\n[sensors]\nposition_source = 'tether'\n", "position_source"),

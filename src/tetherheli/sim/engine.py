@@ -221,7 +221,8 @@ ACT_U_MIN = 0  # (4,) lower input limits [N, N m, N m, N]
 ACT_U_MAX = 4  # (4,) upper input limits
 ACT_TAU = 8  # first-order actuator time constant [s] (0: none)
 ACT_BREAK = 9  # tether breaking / release tension [N] (inf: never)
-ACT_SIZE = 10
+ACT_REEL_ACCEL = 10  # |d(reel rate)/dt| bound of the winch [m/s^2] (inf: none)
+ACT_SIZE = 11
 
 
 def default_actuators() -> np.ndarray:
@@ -230,6 +231,7 @@ def default_actuators() -> np.ndarray:
     act[ACT_U_MIN : ACT_U_MIN + 4] = -np.inf
     act[ACT_U_MAX : ACT_U_MAX + 4] = np.inf
     act[ACT_BREAK] = np.inf
+    act[ACT_REEL_ACCEL] = np.inf
     return act
 
 
@@ -245,6 +247,14 @@ def apply_actuators(inp, applied, act, dt, first):
         v = applied[i] + gain * (v - applied[i]) if not first else v
         applied[i] = v
         inp[i] = v
+
+
+@_jit
+def limit_reel_acceleration(rate, previous_rate, act, dt):
+    """The commanded reel rate with its change since the last sample bounded by
+    act[ACT_REEL_ACCEL] dt (the winch motor's acceleration limit)."""
+    step = act[ACT_REEL_ACCEL] * dt
+    return min(max(rate, previous_rate - step), previous_rate + step)
 
 
 @_jit
@@ -300,6 +310,7 @@ def run_closed_loop(
     wind = np.empty(3)
     work = np.empty((RK4_WORK_ROWS, 13))
     sc_meas = np.empty(10)
+    previous_rate = 0.0  # the winch starts at rest
     summary[:] = 0.0
     summary[8] = np.inf
     summary[9] = -np.inf
@@ -320,6 +331,7 @@ def run_closed_loop(
             x_meas[:] = x
             measured_tension = tension
         angle_trig(x_meas, sc_meas)
+        integral_before = winch_integral[0]
         rate = paper_control_sc(
             x_meas,
             sc_meas,
@@ -337,6 +349,11 @@ def run_closed_loop(
             ffwd,
         )
         apply_actuators(inp, applied, act, dt, k == 0)
+        limited = limit_reel_acceleration(rate, previous_rate, act, dt)
+        if limited != rate:  # conditional integration: no PI windup while the limit binds
+            winch_integral[0] = integral_before
+        rate = limited
+        previous_rate = rate
         if sensed:
             tethered_outputs(x, c, y)
         else:
@@ -391,6 +408,7 @@ def run_paper_loop(
         act[ACT_U_MIN + i] = -np.inf
         act[ACT_U_MAX + i] = np.inf
     act[ACT_BREAK] = np.inf
+    act[ACT_REEL_ACCEL] = np.inf
     out_y_est = np.empty((out_y.shape[0], 4))
     return run_closed_loop(
         x_init,

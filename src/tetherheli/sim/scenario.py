@@ -83,6 +83,9 @@ class ActuatorSettings:
     u_min, u_max : input limits [fMR3 N, tMR1 N m, tMR2 N m, fTR2 N] (the cyclic limits are
         eq 40's tmax_MR1,2); time_constant : first-order actuator lag [s] (0: none);
     reel_rate_limit : |dLN/dt| bound of the winch [m/s] (anti-windup in the PI, eq 56);
+    reel_acceleration_limit : bound on the change of the reel rate [m/s^2], applied per
+        sample to the PI's command; the paper's PI then integrates only while the limit does
+        not bind (a custom controller gets the limited rate without being told);
     breaking_tension : the safety device releases the tether above it [N] (Sec. IV-C).
     """
 
@@ -90,6 +93,7 @@ class ActuatorSettings:
     u_max: tuple[float, float, float, float] = (_INF, _INF, _INF, _INF)
     time_constant: float = 0.0
     reel_rate_limit: float = _INF
+    reel_acceleration_limit: float = _INF
     breaking_tension: float = _INF
 
 
@@ -202,6 +206,7 @@ def _validate(s: Scenario, source: str | None) -> None:
     _number(source, "actuators.time_constant", a.time_constant, low=0.0, high=10.0)
     for key, v in (
         ("actuators.reel_rate_limit", a.reel_rate_limit),
+        ("actuators.reel_acceleration_limit", a.reel_acceleration_limit),
         ("actuators.breaking_tension", a.breaking_tension),
     ):
         if isinstance(v, bool) or not isinstance(v, (int, float)) or math.isnan(v) or v <= 0:

@@ -170,6 +170,7 @@ def _actuators(scenario: Scenario, trim: TrimPoint, ctrl: np.ndarray) -> np.ndar
     act[engine.ACT_U_MAX : engine.ACT_U_MAX + 4] = a.u_max
     act[engine.ACT_TAU] = a.time_constant
     act[engine.ACT_BREAK] = a.breaking_tension
+    act[engine.ACT_REEL_ACCEL] = a.reel_acceleration_limit
     ctrl[CTRL_REEL_RATE_LIMIT] = a.reel_rate_limit
     need = trim.u_total
     for i, name in enumerate(("fMR3", "tMR1", "tMR2", "fTR2")):
@@ -344,6 +345,7 @@ def _python_loop(
     wind_buf = np.empty(3)
     breaks = wind.breakpoints(n * dt) if wind is not None else np.array([])
     controller.reset()
+    previous_rate = 0.0  # the winch starts at rest
     from ..model.kernels import tethered_outputs
 
     for k in range(n + 1):
@@ -364,6 +366,9 @@ def _python_loop(
         rate = float(cmd.reel_rate) if attached else 0.0
         if np.all(np.isfinite(inp)):
             engine.apply_actuators(inp, applied, act, dt, k == 0)
+        if math.isfinite(rate):
+            rate = engine.limit_reel_acceleration(rate, previous_rate, act, dt)
+            previous_rate = rate
         tethered_outputs(x_meas, c, rec.y_est[k])
         tethered_outputs(x, c, y)
         status = engine.check_state(x, y, trim.y, tension, cfg)
