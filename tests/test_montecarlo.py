@@ -212,3 +212,50 @@ def test_shipped_scenario_loads():
     }
     assert config.amplitude_std_percent == 20.0 and config.direction_std_deg == 10.0
     assert config.start_jitter_s == 0.5
+
+
+TURBULENT = """
+name = "mc_turbulence"
+duration = 5.0
+[wind]
+type = "turbulence"
+seed = 1
+duration = 5.0
+dt = 0.01
+N_v_mean_wind = [5.0, 0.0, 0.0]
+[wind.model]
+type = "hover"
+gain = [1.5, 1.5, 0.7]
+[wind.drag]
+cd_area_m2 = [0.4, 0.4, 0.8]
+[montecarlo]
+runs = 4
+seed = 11
+direction_std_deg = 90.0
+"""
+
+
+def test_turbulence_gets_a_fresh_series_per_draw(tmp_path):
+    """Gust statistics: draw i flies gusts from SeedSequence(seed) with spawn key (i, 0),
+    its mean wind rotated by the direction draw; rows equal the drawn scenarios run alone."""
+    from tetherheli.disturbances import Turbulence
+    from tetherheli.montecarlo import draw
+
+    f = tmp_path / "t.toml"
+    f.write_text(TURBULENT)
+    base, config = load_montecarlo(f)
+    summary = run_montecarlo(base, config, tmp_path / "o", chunk_size=2, progress=False)
+    assert summary["statistics"]["tethered"]["completed"] == 4
+    rows = _rows(tmp_path / "o")
+    children = np.random.SeedSequence(11).spawn(4)
+    winds = []
+    for i in range(4):
+        d = draw(base, config, children[i], i)
+        w = d.scenario.wind
+        assert isinstance(w, Turbulence) and w.seed == 11 and w.spawn_key == (i, 0)
+        ang = math.radians(d.direction_deg)
+        assert w.N_v_mean_wind[:2] == pytest.approx((5 * math.cos(ang), 5 * math.sin(ang)))
+        winds.append(w.gust_velocity(np.linspace(0.0, 5.0, 11)))
+        tethered = run_batch([d.scenario], design_params=base.params)
+        assert float(rows[2 * i + 1]["rms_q1"]) == tethered.metrics(0)["rms_q1"]
+    assert not np.array_equal(winds[0], winds[1])

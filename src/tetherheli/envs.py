@@ -436,6 +436,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             wind.gust,
             wind.drag,
             self._work,
+            False,
         )
         self._k += 1
         tension = self._tension()

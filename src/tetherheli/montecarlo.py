@@ -19,6 +19,9 @@ Definitions:
 - one time shift, one rotation and one scale per draw apply to every wind component (pulse,
   step, sine, constant); the time shift moves the whole profile (starts clipped at 0 s, sine
   phases shifted by -2 pi f shift, so the sine keeps its shape relative to its start);
+- a turbulence component gets a fresh gust series per draw (seed = the root seed, spawn key
+  (i, 0): a stream independent of the draw's dispersions) and its mean wind is rotated by the
+  draw's direction; amplitude scale and time shift do not apply to it (gust statistics);
 - parameter uncertainty p% is a uniform band of half-width p% about the nominal value
   (0 <= p < 100), percentages of amplitude std are limited to [0, 100];
 - **the controller is designed on the nominal parameters** (the LQI gain of the file's
@@ -54,7 +57,16 @@ import numpy as np
 
 from ._io import atomic_open, atomic_write_bytes, atomic_write_text
 from ._version import __version__
-from .disturbances import ConstantForce, Disturbance, NoWind, Pulse, Sine, Step, WindSum
+from .disturbances import (
+    ConstantForce,
+    Disturbance,
+    NoWind,
+    Pulse,
+    Sine,
+    Step,
+    Turbulence,
+    WindSum,
+)
 from .errors import ParameterError
 from .params import Params
 from .sim import engine
@@ -220,11 +232,11 @@ def load_montecarlo(path: str | Path) -> tuple[Scenario, MonteCarloConfig]:
 def _wind_parts(wind: Disturbance, source: str | None = None) -> tuple[Disturbance, ...]:
     parts = wind.components if isinstance(wind, WindSum) else (wind,)
     for d in parts:
-        if not isinstance(d, (Pulse, Step, Sine, ConstantForce, NoWind)):
+        if not isinstance(d, (Pulse, Step, Sine, ConstantForce, NoWind, Turbulence)):
             raise ParameterError(
                 "wind",
                 getattr(d, "type_name", type(d).__name__),
-                "pulse, step, sine or constant profiles in a Monte Carlo",
+                "pulse, step, sine, constant or turbulence profiles in a Monte Carlo",
                 source=source,
             )
     return tuple(parts)
@@ -302,6 +314,15 @@ def draw(
             )
         elif isinstance(d, ConstantForce):
             parts.append(ConstantForce(_rot(d.vector, a, scale)))
+        elif isinstance(d, Turbulence):  # a fresh gust series per draw, mean wind rotated
+            parts.append(
+                dataclasses.replace(
+                    d,
+                    seed=int(child.entropy),  # type: ignore[arg-type]
+                    spawn_key=(*child.spawn_key, 0),
+                    N_v_mean_wind=_rot(d.N_v_mean_wind, a),
+                )
+            )
     wind: Disturbance = functools.reduce(operator.add, parts) if parts else NoWind()
     params = base.params
     if factors:

@@ -141,12 +141,14 @@ def plant_derivative(x, sc, inp, reel_rate, t, side, cfg, c, program, gust, drag
 
 
 @_jit
-def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work):
+def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work, trig_given):
     """Advance x in place over one control sample [t0, t0 + dt] with n_sub RK4 steps.
 
-    ``work`` (8, 13) is scratch. sin and cos of the angles come from libm once per step, at
-    its start; the other stages get them by the angle-addition formulas
-    (``kernels.angle_trig_from``), which agree with libm to a few units in the last place.
+    ``work`` (RK4_WORK_ROWS, 13) is scratch. sin and cos of the angles come from libm once
+    per step, at its start (with ``trig_given``, the first step's are already in
+    work[6, :10], ``kernels.angle_trig(x)``); the other stages get them by the
+    angle-addition formulas (``kernels.angle_trig_from``), which agree with libm to a few
+    units in the last place.
     """
     n_sub = int(cfg[CFG_N_SUB])
     h = cfg[CFG_DT] / n_sub
@@ -157,7 +159,8 @@ def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work):
         ta = t0 + j * h
         tb = t0 + (j + 1) * h
         tm = ta + 0.5 * h
-        angle_trig(x, sc0)
+        if j > 0 or not trig_given:
+            angle_trig(x, sc0)
         plant_derivative(x, sc0, inp, reel_rate, ta, 1, cfg, c, program, gust, drag, wind, k1)
         for i in range(n):
             tmp[i] = x[i] + 0.5 * h * k1[i]
@@ -178,14 +181,22 @@ def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work):
 @_jit
 def check_state(x, y, y_ref, tension, cfg):
     """Status of a sampled state (``STATUS_*``)."""
+    sc = np.empty(10)
+    angle_trig(x, sc)
+    return check_state_sc(x, sc, y, y_ref, tension, cfg)
+
+
+@_jit_inline
+def check_state_sc(x, sc, y, y_ref, tension, cfg):
+    """``check_state`` with sc = sin, cos of x[0..4] given (``kernels.angle_trig``)."""
     for i in range(x.shape[0]):
         if not math.isfinite(x[i]):
             return STATUS_NONFINITE
     # HO below the ground, or the attachment point P touching it (z_P = q9 c7 c8 < 1 cm,
     # which also covers the spherical singularities q9 -> 0 and |q8| -> 90 deg near ground)
-    if y[2] < 0.0 or x[5] * math.cos(x[3]) * math.cos(x[4]) < 0.01:
+    if y[2] < 0.0 or x[5] * sc[8] * sc[9] < 0.01:
         return STATUS_GROUND
-    if x[5] <= 0.0 or abs(math.cos(x[1])) < 1e-9 or abs(math.cos(x[4])) < 1e-9:
+    if x[5] <= 0.0 or abs(sc[6]) < 1e-9 or abs(sc[9]) < 1e-9:
         return STATUS_SINGULAR
     if tension > cfg[CFG_MAX_TENSION]:
         return STATUS_MAX_TENSION
@@ -310,6 +321,7 @@ def run_closed_loop(
     wind = np.empty(3)
     work = np.empty((RK4_WORK_ROWS, 13))
     sc_meas = np.empty(10)
+    sc_true = work[6, :10]  # sin, cos of the true angles: the checks and the first RK4 step
     previous_rate = 0.0  # the winch starts at rest
     summary[:] = 0.0
     summary[8] = np.inf
@@ -356,9 +368,11 @@ def run_closed_loop(
         previous_rate = rate
         if sensed:
             tethered_outputs(x, c, y)
+            angle_trig(x, sc_true)
         else:
             y[:] = y_est
-        status = check_state(x, y, y_ref, tension, cfg)
+            sc_true[:] = sc_meas
+        status = check_state_sc(x, sc_true, y, y_ref, tension, cfg)
         if status != STATUS_OK:
             return status, k
         _accumulate(summary, x, x_ref, y, y_ref, tension)
@@ -374,7 +388,7 @@ def run_closed_loop(
             out_y_est[k] = y_est
         if k == n_samples:
             break
-        rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, work)
+        rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, work, True)
     return STATUS_OK, n_samples + 1
 
 

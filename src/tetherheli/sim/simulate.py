@@ -388,7 +388,7 @@ def _python_loop(
                 )
             else:
                 engine.rk4_interval(
-                    x, inp, rate, t, cfg, c, wind.program, wind.gust, wind.drag, work
+                    x, inp, rate, t, cfg, c, wind.program, wind.gust, wind.drag, work, False
                 )
         else:
             inside = breaks[(breaks > t) & (breaks < t + dt)]
