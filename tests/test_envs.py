@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-import dataclasses
+import math
 import warnings
 
 import numpy as np
@@ -187,11 +187,41 @@ def test_invalid_arguments_are_rejected(kwargs, field):
     assert err.value.field == field
 
 
-def test_non_ideal_actuators_are_rejected():
-    default = Scenario()
-    if not hasattr(default, "actuators"):
-        pytest.skip("this version's Scenario has no actuator model")
-    lagged = dataclasses.replace(default.actuators, time_constant=0.05)
+def test_non_ideal_sensors_are_rejected():
+    from tetherheli.sensors import SensorConfig
+
+    noisy = Scenario().replace(sensors=SensorConfig(position_source="gps", gps_std=(1, 1, 1)))
     with pytest.raises(ParameterError) as err:
-        TetheredHoverEnv(default.replace(actuators=lagged))
-    assert err.value.field == "scenario.actuators"
+        TetheredHoverEnv(noisy)
+    assert err.value.field == "scenario.sensors"
+
+
+def test_actuators_zero_residual_equals_simulate():
+    """Saturation, lag and winch limits act in the environment exactly as in simulate."""
+    from tetherheli.sim.scenario import ActuatorSettings
+
+    inf = math.inf
+    pulse = Pulse(start=0.5, duration=1.0, magnitude=20.0, direction=(0.6, 0.8, 0.0))
+    act = ActuatorSettings(
+        u_min=(-inf, -2.5, -2.5, -inf),
+        u_max=(inf, 2.5, 2.5, inf),
+        time_constant=0.03,
+        reel_rate_limit=0.05,
+        reel_acceleration_limit=0.2,
+    )
+    scenario = Scenario(duration=2.0, wind=pulse, actuators=act)
+    result = simulate(scenario)
+    assert result.ok and np.abs(result.inputs[:, 1:3]).max() == pytest.approx(2.5)
+    env = TetheredHoverEnv(scenario, wind=pulse, max_episode_time=2.0)
+    env.reset(seed=0)
+    states, inputs, truncated = [env.state], [], False
+    while not truncated:
+        _, _, terminated, truncated, info = env.step(np.zeros(4, dtype=np.float32))
+        assert not terminated
+        states.append(env.state)
+        inputs.append(info["inputs"])
+    np.testing.assert_allclose(np.array(states), result.states, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(np.array(inputs), result.inputs[:-1], rtol=0, atol=1e-12)
+    below = ActuatorSettings(u_max=(100.0, inf, inf, inf))
+    with pytest.raises(ParameterError, match="cannot hover"):
+        TetheredHoverEnv(Scenario(actuators=below))

@@ -64,7 +64,7 @@ import gymnasium
 import numpy as np
 from gymnasium import spaces
 
-from .control.paper import CTRL_T_REF, paper_control
+from .control.paper import CTRL_FFWD, CTRL_T_REF, CTRL_WINCH, paper_control
 from .disturbances import (
     Disturbance,
     DragModel,
@@ -78,7 +78,7 @@ from .errors import ParameterError
 from .model.kernels import tension_from_state, tethered_outputs
 from .sim import engine
 from .sim.scenario import Scenario
-from .sim.simulate import CompiledWind, _setup, compile_wind
+from .sim.simulate import CompiledWind, _actuators, _setup, compile_wind
 
 __all__ = [
     "ENV_ID",
@@ -126,9 +126,10 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         Parameters, configuration (``"tethered"``, or ``"free"`` with the tether removed),
         tether length ``q9``, controller settings (``dt``, RK4 ``substeps``, feed-forward, LQI
         weights) and failure limits. Its ``duration`` and ``wind`` are ignored (see
-        ``max_episode_time`` and ``wind``); actuator and sensor models, where the scenario
-        has them, must be the ideal defaults. Default: ``Scenario()``, the paper's tethered
-        helicopter with 10 ms samples.
+        ``max_episode_time`` and ``wind``). Its actuators (saturation, lag, winch rate and
+        acceleration limits, tether release) act on the total command exactly as in
+        ``simulate``; its sensors must be the ideal defaults (the observation is the true
+        state). Default: ``Scenario()``, the paper's tethered helicopter with 10 ms samples.
     wind : str, sequence of str or Disturbance, optional
         The episode wind: a kind from ``WIND_KINDS``, several kinds (one drawn uniformly per
         episode), or a fixed built-in disturbance used in every episode. Default
@@ -192,12 +193,10 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             scenario = Scenario()
         if not isinstance(scenario, Scenario):
             raise ParameterError("scenario", scenario, "a tetherheli Scenario or None")
-        default = Scenario()
-        for name in ("actuators", "sensors"):  # set-ups the environment does not model (yet)
-            if getattr(scenario, name, None) != getattr(default, name, None):
-                raise ParameterError(
-                    f"scenario.{name}", getattr(scenario, name), f"the default (ideal) {name}"
-                )
+        if scenario.sensors != Scenario().sensors:  # the observation is the true state
+            raise ParameterError(
+                "scenario.sensors", scenario.sensors, "the default (ideal) sensors"
+            )
         max_episode_time = _positive("max_episode_time", max_episode_time)
         # validates that the episode is a whole number of samples
         self.scenario = scenario.replace(duration=max_episode_time, wind=NoWind())
@@ -225,15 +224,16 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             raise ParameterError("drag", drag, "a DragModel or None")
 
         model, trim, gain, ctrl, cfg = _setup(self.scenario)
+        self._act = _actuators(self.scenario, trim, ctrl)  # rejects limits below hover need
         self.trim = trim
         self.dt = self.scenario.control.dt
         self.n_max = self.scenario.n_samples
         self._c = np.ascontiguousarray(model.constants)
         self._gain = np.ascontiguousarray(gain.K)
-        self._ctrl = ctrl
+        self._ctrl_base = ctrl
+        self._ctrl = ctrl.copy()
         self._cfg_base = cfg
         self._cfg = cfg.copy()
-        self._attached = cfg[engine.CFG_ATTACHED] > 0.5
         self._K_C = float(cfg[engine.CFG_K_C])
         self._T_ref = float(ctrl[CTRL_T_REF])
         self._x_ref = np.ascontiguousarray(trim.x[:12])
@@ -254,6 +254,8 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._y = np.empty(4)
         self._inp = np.empty(4)
         self._ffwd = np.empty(4)
+        self._applied = np.empty(4)
+        self._previous_rate = 0.0
         self._work = np.empty((engine.RK4_WORK_ROWS, 13))
         self._k = 0
         self._done = True
@@ -367,6 +369,8 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._wind = compiled
         self._cfg = self._cfg_base.copy()
         self._cfg[engine.CFG_GUST_DT] = compiled.gust_dt
+        self._ctrl = self._ctrl_base.copy()
+        self._previous_rate = 0.0
         self._x = self.trim.x.copy()
         self._z = np.zeros(4)
         self._winch_integral = np.zeros(1)
@@ -406,6 +410,12 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         assert wind is not None
         t = self._k * self.dt
         tension = self._tension()
+        if tension > self._act[engine.ACT_BREAK]:  # the safety device releases the tether
+            self._cfg[engine.CFG_ATTACHED] = 0.0
+            self._ctrl[CTRL_WINCH] = 0.0
+            self._ctrl[CTRL_FFWD] = 0.0
+            tension = 0.0
+        integral_before = self._winch_integral[0]
         rate = paper_control(
             x,
             tension,
@@ -425,6 +435,12 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             self._inp += self.action_scale * a
         else:
             self._inp[:] = self._u_trim_total + self.action_scale * a
+        # the scenario's actuators, exactly as the engine applies them
+        engine.apply_actuators(self._inp, self._applied, self._act, self.dt, self._k == 0)
+        limited = engine.limit_reel_acceleration(rate, self._previous_rate, self._act, self.dt)
+        if limited != rate:
+            self._winch_integral[0] = integral_before
+        rate = self._previous_rate = limited
         engine.rk4_interval(
             x,
             self._inp,
@@ -455,7 +471,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
     # ------------------------------------------------------------------ helpers
 
     def _tension(self) -> float:
-        if not self._attached:
+        if self._cfg[engine.CFG_ATTACHED] <= 0.5:
             return 0.0
         return float(tension_from_state(self._x[5], self._x[12], self._K_C))
 

@@ -28,7 +28,7 @@ from ..model.kernels import (
     tethered_outputs,
     tethered_rhs_sc,
 )
-from ..sensors import N_CHANNELS, measure
+from ..sensors import measure
 
 _jit = njit(cache=True, error_model="numpy")
 _jit_inline = njit(cache=True, error_model="numpy", inline="always")
@@ -390,65 +390,3 @@ def run_closed_loop(
             break
         rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, work, True)
     return STATUS_OK, n_samples + 1
-
-
-@_jit
-def run_paper_loop(
-    x_init,
-    n_samples,
-    cfg,
-    ctrl,
-    c,
-    gain,
-    x_ref,
-    y_ref,
-    u0,
-    program,
-    gust,
-    drag,
-    record,
-    out_x,
-    out_u,
-    out_ffwd,
-    out_rate,
-    out_tension,
-    out_wind,
-    out_y,
-    summary,
-):
-    """``run_closed_loop`` with ideal actuators and sensors (the paper's set-up)."""
-    act = np.zeros(ACT_SIZE)
-    for i in range(4):
-        act[ACT_U_MIN + i] = -np.inf
-        act[ACT_U_MAX + i] = np.inf
-    act[ACT_BREAK] = np.inf
-    act[ACT_REEL_ACCEL] = np.inf
-    out_y_est = np.empty((out_y.shape[0], 4))
-    return run_closed_loop(
-        x_init,
-        n_samples,
-        cfg,
-        ctrl,
-        c,
-        gain,
-        x_ref,
-        y_ref,
-        u0,
-        program,
-        gust,
-        drag,
-        act,
-        np.zeros((0, N_CHANNELS)),
-        0,
-        0.0,
-        record,
-        out_x,
-        out_u,
-        out_ffwd,
-        out_rate,
-        out_tension,
-        out_wind,
-        out_y,
-        out_y_est,
-        summary,
-    )
