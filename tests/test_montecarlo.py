@@ -130,8 +130,21 @@ def test_resume_after_interrupt_equals_uninterrupted(short_file, tmp_path, capsy
     assert (tmp_path / "r" / "results.csv").read_bytes() == (
         tmp_path / "full" / "results.csv"
     ).read_bytes()
-    # a different job may not reuse the folder
+    # a larger N extends the finished job: the first draws are reused, the table equals a
+    # fresh run of the larger N
     base, config = load_montecarlo(short_file)
+    more = config.__class__(**{**config.__dict__, "runs": 11})
+    before = {p.name: p.stat().st_mtime_ns for p in (tmp_path / "r" / "partial").glob("c*")}
+    run_montecarlo(base, more, tmp_path / "r", chunk_size=3, progress=False)
+    run_montecarlo(base, more, tmp_path / "fresh", chunk_size=3, progress=False)
+    assert (tmp_path / "r" / "results.csv").read_bytes() == (
+        tmp_path / "fresh" / "results.csv"
+    ).read_bytes()
+    after = {p.name: p.stat().st_mtime_ns for p in (tmp_path / "r" / "partial").glob("c*")}
+    assert all(
+        after[name] == t for name, t in before.items() if name != "chunk_000000006_000000008.csv"
+    )
+    # a different job may not reuse the folder
     with pytest.raises(ParameterError, match=r"partial/job\.json"):
         run_montecarlo(base, config, tmp_path / "r", chunk_size=4, progress=False)
 

@@ -34,8 +34,9 @@ Definitions:
 
 Output directory: ``results.csv`` (one row per run and configuration), ``summary.json``
 (configuration, version, N, seed, percentiles), ``peak_q1_hist.png``, ``peak_q1_cdf.png``.
-Work is done in chunks written to ``partial/chunk_NNNNNN.csv``; running the same command
-again skips the finished chunks.
+Work is done in chunks written to ``partial/chunk_<first>_<end>.csv``; running the same
+command again skips the finished chunks, and running it with a larger N extends the job
+(the first draws are reused: draw i does not depend on N).
 """
 
 from __future__ import annotations
@@ -397,9 +398,13 @@ def _run_chunk(
 
 
 def _fingerprint(base: Scenario, config: MonteCarloConfig, chunk_size: int) -> dict[str, Any]:
+    """What a chunk's rows depend on: not N (draw i does not depend on it), so a finished
+    job can be extended with more runs in the same directory."""
+    mc = config.to_dict()
+    del mc["runs"]
     return {
         "scenario": base.to_dict(),
-        "montecarlo": config.to_dict(),
+        "montecarlo": mc,
         "chunk_size": chunk_size,
         "version": __version__,
     }
@@ -468,6 +473,8 @@ def run_montecarlo(
         _int("max_chunks", max_chunks, 0, MAX_RUNS)
     _wind_parts(base.wind)
     out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise ParameterError("out", str(out), "a directory (new, or of the same job)")
     part = out / "partial"
     part.mkdir(parents=True, exist_ok=True)
     fp = _fingerprint(base, config, chunk_size)
@@ -486,9 +493,11 @@ def run_montecarlo(
     n_chunks = -(-n // chunk_size)
     computed = 0
     done = 0
+    paths = []
     for c in range(n_chunks):
-        path = part / f"chunk_{c:06d}.csv"
         lo, hi = c * chunk_size, min(n, (c + 1) * chunk_size)
+        path = part / f"chunk_{lo:09d}_{hi:09d}.csv"  # draws lo..hi-1
+        paths.append(path)
         if not path.exists():
             if max_chunks is not None and computed >= max_chunks:
                 if progress:
@@ -501,8 +510,8 @@ def run_montecarlo(
             _progress(done, n)
     with atomic_open(out / "results.csv") as fh:  # streamed: one chunk in memory at a time
         fh.write(",".join(_columns(config)) + "\n")
-        for c in range(n_chunks):
-            fh.write((part / f"chunk_{c:06d}.csv").read_text())
+        for path in paths:
+            fh.write(path.read_text())
     columns = _read_columns(out / "results.csv")
     text = json.dumps(_summarize(base, config, columns), indent=2) + "\n"
     atomic_write_text(out / "summary.json", text)
