@@ -129,8 +129,13 @@ def wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out):
 @_jit_inline
 def plant_derivative(x, sc, inp, reel_rate, t, side, cfg, c, program, gust, drag, wind, out):
     """dx/dt (13,) of the tethered-coordinate plant; tension 0 when the tether is removed.
-    sc (10,): sin and cos of x[0..4] (``kernels.angle_trig``)."""
+    sc (10,): sin and cos of x[0..4] (``kernels.angle_trig``); wind (3,) receives the force."""
     wind_force(program, gust, cfg[CFG_GUST_DT], drag, t, side, x[6], x[7], x[8], wind)
+    _plant_in_wind(x, sc, inp, reel_rate, cfg, c, wind, out)
+
+
+@_jit_inline
+def _plant_in_wind(x, sc, inp, reel_rate, cfg, c, wind, out):
     if cfg[CFG_ATTACHED] > 0.5:
         tension = tension_from_state(x[5], x[12], cfg[CFG_K_C])
         tethered_rhs_sc(x, sc, inp, wind, tension, c, out)
@@ -140,42 +145,63 @@ def plant_derivative(x, sc, inp, reel_rate, t, side, cfg, c, program, gust, drag
         out[12] = 0.0
 
 
+#: sin/cos of the step-start angles are chained by angle addition for at most this many
+#: RK4 steps, then taken from libm again (bounds the rounding drift to a few ulp)
+TRIG_CHAIN_STEPS = 4
+
+
 @_jit
 def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work, trig_given):
     """Advance x in place over one control sample [t0, t0 + dt] with n_sub RK4 steps.
 
-    ``work`` (RK4_WORK_ROWS, 13) is scratch. sin and cos of the angles come from libm once
-    per step, at its start (with ``trig_given``, the first step's are already in
-    work[6, :10], ``kernels.angle_trig(x)``); the other stages get them by the
-    angle-addition formulas (``kernels.angle_trig_from``), which agree with libm to a few
-    units in the last place.
+    ``work`` (RK4_WORK_ROWS, 13) is scratch. sin and cos of the angles come from libm at the
+    sample's start (with ``trig_given`` they are already in work[6, :10],
+    ``kernels.angle_trig(x)``) and every TRIG_CHAIN_STEPS steps; everywhere else (the RK4
+    stages, the next step's start) by the angle-addition formulas
+    (``kernels.angle_trig_from``), which agree with libm to a few units in the last place.
+    Without a gust table the wind depends on t only, so the two mid-step stages share it.
     """
     n_sub = int(cfg[CFG_N_SUB])
     h = cfg[CFG_DT] / n_sub
     k1, k2, k3, k4, tmp, wind = work[0], work[1], work[2], work[3], work[4], work[5]
     sc0, sc = work[6], work[7]
     n = x.shape[0]
+    gdt = cfg[CFG_GUST_DT]
+    gusty = gdt > 0.0 and gust.shape[0] > 0
+    if not trig_given:
+        angle_trig(x, sc0)
     for j in range(n_sub):
         ta = t0 + j * h
         tb = t0 + (j + 1) * h
         tm = ta + 0.5 * h
-        if j > 0 or not trig_given:
-            angle_trig(x, sc0)
-        plant_derivative(x, sc0, inp, reel_rate, ta, 1, cfg, c, program, gust, drag, wind, k1)
+        wind_force(program, gust, gdt, drag, ta, 1, x[6], x[7], x[8], wind)
+        _plant_in_wind(x, sc0, inp, reel_rate, cfg, c, wind, k1)
         for i in range(n):
             tmp[i] = x[i] + 0.5 * h * k1[i]
         angle_trig_from(tmp, x, sc0, sc)
-        plant_derivative(tmp, sc, inp, reel_rate, tm, 1, cfg, c, program, gust, drag, wind, k2)
+        wind_force(program, gust, gdt, drag, tm, 1, tmp[6], tmp[7], tmp[8], wind)
+        _plant_in_wind(tmp, sc, inp, reel_rate, cfg, c, wind, k2)
         for i in range(n):
             tmp[i] = x[i] + 0.5 * h * k2[i]
         angle_trig_from(tmp, x, sc0, sc)
-        plant_derivative(tmp, sc, inp, reel_rate, tm, 1, cfg, c, program, gust, drag, wind, k3)
+        if gusty:  # the drag depends on the stage's velocity
+            wind_force(program, gust, gdt, drag, tm, 1, tmp[6], tmp[7], tmp[8], wind)
+        _plant_in_wind(tmp, sc, inp, reel_rate, cfg, c, wind, k3)
         for i in range(n):
             tmp[i] = x[i] + h * k3[i]
         angle_trig_from(tmp, x, sc0, sc)
-        plant_derivative(tmp, sc, inp, reel_rate, tb, -1, cfg, c, program, gust, drag, wind, k4)
+        wind_force(program, gust, gdt, drag, tb, -1, tmp[6], tmp[7], tmp[8], wind)
+        _plant_in_wind(tmp, sc, inp, reel_rate, cfg, c, wind, k4)
         for i in range(n):
+            tmp[i] = x[i]  # the step's start, for the next step's trigonometry
             x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+        if j + 1 < n_sub:
+            if (j + 1) % TRIG_CHAIN_STEPS == 0:
+                angle_trig(x, sc0)
+            else:
+                angle_trig_from(x, tmp, sc0, sc)
+                for i in range(10):
+                    sc0[i] = sc[i]
 
 
 @_jit

@@ -97,6 +97,20 @@ class ActuatorSettings:
     breaking_tension: float = _INF
 
 
+def _wind_record(wind: Disturbance) -> dict[str, Any]:
+    """The wind's table; a custom disturbance without ``to_dict`` is recorded by its class
+    and repr (enough to identify it, not to reload it)."""
+    try:
+        return wind.to_dict()
+    except NotImplementedError:
+        cls = type(wind)
+        return {
+            "type": "custom",
+            "class": f"{cls.__module__}.{cls.__qualname__}",
+            "repr": repr(wind),
+        }
+
+
 @dataclass(frozen=True)
 class Scenario:
     """One closed-loop run: configuration, duration, controller settings, wind, parameters."""
@@ -136,7 +150,7 @@ class Scenario:
             "q9": self.q9,
             "control": dataclasses.asdict(self.control),
             "limits": dataclasses.asdict(self.limits),
-            "wind": self.wind.to_dict(),
+            "wind": _wind_record(self.wind),
             "params": self.params.to_dict(),
             "actuators": dataclasses.asdict(self.actuators),
             "sensors": self.sensors.to_dict(),

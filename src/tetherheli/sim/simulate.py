@@ -437,8 +437,11 @@ def _plant(x, sc, inp, rate, t, side, cfg, c, disturbance, wind, out):
             x, sc, inp, rate, t, side, cfg, c, wind.program, wind.gust, wind.drag, np.empty(3), out
         )
         return
-    # custom disturbance: evaluate in Python, then the compiled plant with a constant force
-    force = np.asarray(disturbance.force_at(t, x[6:9]), dtype=float)
+    # custom disturbance: evaluate in Python, then the compiled plant with a constant force;
+    # at a step's end the left limit (the float just below t), as the engine does for its
+    # built-in profiles, so a jump placed on a step boundary acts from that boundary on
+    t_eval = t if side > 0 else math.nextafter(t, -math.inf)
+    force = np.asarray(disturbance.force_at(t_eval, x[6:9]), dtype=float)
     program = np.array([[engine.WIND_CONSTANT, 0, 0, 1.0, 0, 0, *force]])
     engine.plant_derivative(
         x, sc, inp, rate, t, side, cfg, c, program, np.zeros((0, 3)), np.zeros(3), np.empty(3), out
@@ -450,13 +453,20 @@ def _rk4_custom_wind(x, inp, rate, t0, dt, n_sub, cfg, c, disturbance):
     h = dt / n_sub
     k1, k2, k3, k4 = (np.empty(13) for _ in range(4))
     sc0, sc = np.empty(10), np.empty(10)
+    angle_trig(x, sc0)
     for j in range(n_sub):
         ta = t0 + j * h
-        angle_trig(x, sc0)
         _plant(x, sc0, inp, rate, ta, 1, cfg, c, disturbance, None, k1)
         for k_prev, k_next, a, t in ((k1, k2, 0.5, 0.5), (k2, k3, 0.5, 0.5), (k3, k4, 1.0, 1.0)):
             stage = x + a * h * k_prev
             angle_trig_from(stage, x, sc0, sc)
             side = -1 if k_next is k4 else 1
             _plant(stage, sc, inp, rate, ta + t * h, side, cfg, c, disturbance, None, k_next)
+        start = x.copy()
         x += h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+        if j + 1 < n_sub:
+            if (j + 1) % engine.TRIG_CHAIN_STEPS == 0:
+                angle_trig(x, sc0)
+            else:
+                angle_trig_from(x, start, sc0, sc)
+                sc0[:] = sc
