@@ -435,7 +435,9 @@ def _register_animate(sub: argparse._SubParsersAction) -> None:
         "--param",
         required=True,
         help="section.field of the parameters (e.g. tension_control.T_ref, "
-        "tether.K_C, helicopter.d_O_P3), q9 or control.dt",
+        "tether.K_C, helicopter.d_O_P3), q9, control.dt, or an actuator setting "
+        "(actuators.cyclic_limit, .time_constant, .reel_rate_limit, "
+        ".reel_acceleration_limit, .breaking_tension)",
     )
     p.add_argument("--values", type=_values_arg, required=True, help="START:STOP:N or a,b,c")
     p.add_argument("--metric", default="rms_q1", help="rms_q1, peak_q1, ... (default rms_q1)")

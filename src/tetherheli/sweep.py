@@ -24,6 +24,8 @@ from .analysis import run_metrics
 from .errors import ParameterError
 from .params import Params
 from .sim import Scenario, simulate
+from .sim.batch import run_batch
+from .sim.simulate import compile_wind
 
 __all__ = ["METRICS", "SweepResult", "paper_cyclic_limit", "sweep", "tension_bound"]
 
@@ -33,7 +35,14 @@ METRICS = {
     **{f"rms_{q}": ("rms_dev", q) for q in ("q1", "q2", "q3")},
     "tension_max": ("tension_max", None),
 }
-_SCENARIO_FIELDS = {"q9", "control.dt"}
+_ACTUATOR_FIELDS = {
+    "actuators.cyclic_limit",  # symmetric limit on tMR1 and tMR2 (eq 40's tmax_MR1,2) [N m]
+    "actuators.time_constant",
+    "actuators.reel_rate_limit",
+    "actuators.reel_acceleration_limit",
+    "actuators.breaking_tension",
+}
+_SCENARIO_FIELDS = {"q9", "control.dt", *_ACTUATOR_FIELDS}
 
 
 def paper_cyclic_limit(params: Params) -> float:
@@ -56,6 +65,16 @@ def _with(scenario: Scenario, parameter: str, value: float) -> Scenario:
         return scenario.replace(q9=value)
     if parameter == "control.dt":
         return scenario.replace(control=dataclasses.replace(scenario.control, dt=value))
+    if parameter == "actuators.cyclic_limit":
+        if not (math.isfinite(value) and value > 0):
+            raise ParameterError(parameter, value, "a torque > 0 [N m]")
+        a = scenario.actuators
+        u_min = (a.u_min[0], -value, -value, a.u_min[3])
+        u_max = (a.u_max[0], value, value, a.u_max[3])
+        return scenario.replace(actuators=dataclasses.replace(a, u_min=u_min, u_max=u_max))
+    if parameter in _ACTUATOR_FIELDS:
+        field = parameter.partition(".")[2]
+        return scenario.replace(actuators=dataclasses.replace(scenario.actuators, **{field: value}))
     return scenario.replace(params=scenario.params.replace({parameter: value}))
 
 
@@ -92,8 +111,15 @@ def sweep(
     *,
     cyclic_limit: float | None = None,
 ) -> SweepResult:
-    """Simulate ``scenario`` once per value of ``parameter`` ("section.field" of Params,
-    "q9" or "control.dt") and collect ``metric`` (see ``METRICS``)."""
+    """Simulate ``scenario`` once per value of ``parameter`` and collect ``metric`` (see
+    ``METRICS``).
+
+    ``parameter`` is a "section.field" of Params, "q9", "control.dt", or an actuator setting:
+    "actuators.cyclic_limit" (symmetric limit on tMR1, tMR2: eq 40's tmax_MR1,2 [N m]),
+    "actuators.time_constant", "actuators.reel_rate_limit",
+    "actuators.reel_acceleration_limit", "actuators.breaking_tension". Built-in winds run as
+    one compiled batch on all cores (``sim.batch.run_batch``, the numbers of ``simulate``).
+    """
     if metric not in METRICS:
         raise ParameterError("metric", metric, f"one of {sorted(METRICS)}")
     allowed = set(Params.field_docs()) | _SCENARIO_FIELDS
@@ -103,15 +129,23 @@ def sweep(
     if values.ndim != 1 or values.size == 0 or not np.all(np.isfinite(values)):
         raise ParameterError("values", values.tolist(), "a non-empty list of finite numbers")
     scenarios = [_with(scenario, parameter, float(v)) for v in values]  # validates each
-    group, key = METRICS[metric]
     out = np.full(values.size, np.nan)
-    statuses = []
-    for i, s in enumerate(scenarios):
-        r = simulate(s)
-        statuses.append(r.message)
-        if r.ok:
-            m = run_metrics(r)
-            out[i] = getattr(m, group)[key] if key else getattr(m, group)
+    statuses: list[str] = []
+    if all(compile_wind(s.wind) is not None for s in scenarios):
+        # built-in winds: the compiled batch on all cores (per-run summaries, the numbers of
+        # simulate); its metric names are METRICS' names
+        batch = run_batch(scenarios)
+        statuses = batch.messages()
+        for i in np.flatnonzero(batch.ok):
+            out[i] = batch.metrics(int(i))[metric]
+    else:
+        group, key = METRICS[metric]
+        for i, s in enumerate(scenarios):
+            r = simulate(s)
+            statuses.append(r.message)
+            if r.ok:
+                m = run_metrics(r)
+                out[i] = getattr(m, group)[key] if key else getattr(m, group)
     bound = None
     if parameter == "tension_control.T_ref":
         limit = cyclic_limit if cyclic_limit is not None else paper_cyclic_limit(scenario.params)
