@@ -295,3 +295,25 @@ def test_many_substeps_and_a_python_disturbance_agree():
     custom = simulate(s.replace(wind=PythonPulse()))
     assert custom.ok
     np.testing.assert_allclose(custom.states, rk4.states, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("configuration", ["tethered", "free"])
+def test_rk4_converges_at_fourth_order(configuration):
+    """The fixed-step RK4 of the engine (with its angle-addition trigonometry) converges at
+    order 4: halving the step from 20 to 10 to 5 ms (40 ms control sample, smooth sine wind)
+    divides the error against the adaptive DOP853 reference by ~16. Measured log-log slopes:
+    3.82 and 4.01 tethered, 3.82 and 3.99 free."""
+    from tetherheli.disturbances import Sine
+
+    wind = Sine(20.0, 0.5, 0.0, (0.6, 0.8, 0.0))
+
+    def run(substeps, method="rk4"):
+        control = ControlSettings(dt=0.04, substeps=substeps)
+        s = Scenario(configuration=configuration, duration=5.0, wind=wind, control=control)
+        return simulate(s, method=method).states[:, :12]
+
+    ref = run(1, "adaptive")
+    steps = np.array([0.02, 0.01, 0.005])
+    errors = np.array([np.abs(run(n) - ref).max() for n in (2, 4, 8)])
+    slopes = np.diff(np.log(errors)) / np.diff(np.log(steps))
+    assert np.all(slopes > 3.6) and slopes[-1] == pytest.approx(4.0, abs=0.2), slopes
