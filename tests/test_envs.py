@@ -187,13 +187,37 @@ def test_invalid_arguments_are_rejected(kwargs, field):
     assert err.value.field == field
 
 
-def test_non_ideal_sensors_are_rejected():
+def test_sensors_feed_controller_and_observation():
+    """With the scenario's sensors the paper's controller and the observation see
+    measurements: a zero residual with the episode's noise table equals ``simulate`` with the
+    same table; equal seeds give equal noisy episodes; the reward uses the true position."""
+    import sys
+
     from tetherheli.sensors import SensorConfig
 
-    noisy = Scenario().replace(sensors=SensorConfig(position_source="gps", gps_std=(1, 1, 1)))
-    with pytest.raises(ParameterError) as err:
-        TetheredHoverEnv(noisy)
-    assert err.value.field == "scenario.sensors"
+    sim_module = sys.modules["tetherheli.sim.simulate"]
+    pulse = Pulse(start=0.5, duration=1.0, magnitude=20.0, direction=(0.6, 0.8, 0.0))
+    sensors = SensorConfig(position_source="tether", encoder_std=0.002, altimeter_std=0.05)
+    scenario = Scenario(duration=2.0, wind=pulse, sensors=sensors, seed=4)
+    result = simulate(scenario)
+    env = TetheredHoverEnv(scenario, wind=pulse, max_episode_time=2.0)
+    obs0, _ = env.reset(seed=0)
+    env._noise = sim_module._noise(scenario)  # the run's table, to compare with simulate
+    env._measure(env._tension())
+    states, truncated = [env.state], False
+    while not truncated:
+        _, reward, terminated, truncated, info = env.step(np.zeros(4, dtype=np.float32))
+        assert not terminated
+        e = info["outputs"][:3] - env._y_ref[:3]
+        assert reward == pytest.approx(-float(e @ e))
+        states.append(env.state)
+    np.testing.assert_allclose(np.array(states), result.states, rtol=0, atol=1e-12)
+    # the observation is measured: not the true deviation, but close to it
+    first, _ = TetheredHoverEnv(scenario, wind=pulse).reset(seed=1)
+    again, _ = TetheredHoverEnv(scenario, wind=pulse).reset(seed=1)
+    np.testing.assert_array_equal(first, again)
+    assert np.any(first[:3] != 0.0) and np.all(np.abs(first[:3]) < 0.5)
+    assert not np.array_equal(obs0, first)
 
 
 def test_actuators_zero_residual_equals_simulate():

@@ -20,8 +20,9 @@ Action
       applied. A zero action holds the trim inputs (open loop, unstable in wind).
 
 Observation
-    ``Box(-OBS_LIMIT, OBS_LIMIT, (13,), float32)``: deviations from the hover trim, in the order
-    of ``OBSERVATION_NAMES``::
+    ``Box(-OBS_LIMIT, OBS_LIMIT, (13,), float32)``: deviations from the hover trim, as the
+    scenario's sensors read them (the true values with the default, perfect sensors), in the
+    order of ``OBSERVATION_NAMES``::
 
         0-2   q1, q2, q3   position of HO in N (outputs, eqs 43-45) [m]
         3-5   q4, q5, q6   helicopter attitude angles [rad]
@@ -76,6 +77,7 @@ from .disturbances import (
 )
 from .errors import ParameterError
 from .model.kernels import tension_from_state, tethered_outputs
+from .sensors import N_CHANNELS, measure, noise_table
 from .sim import engine
 from .sim.scenario import Scenario
 from .sim.simulate import CompiledWind, _actuators, _setup, compile_wind
@@ -128,8 +130,10 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         weights) and failure limits. Its ``duration`` and ``wind`` are ignored (see
         ``max_episode_time`` and ``wind``). Its actuators (saturation, lag, winch rate and
         acceleration limits, tether release) act on the total command exactly as in
-        ``simulate``; its sensors must be the ideal defaults (the observation is the true
-        state). Default: ``Scenario()``, the paper's tethered helicopter with 10 ms samples.
+        ``simulate``. Its sensors (``[sensors]``: noise, biases, GPS or tether position
+        source) feed both the paper's controller and the observation, with each episode's
+        noise drawn from ``np_random``; the reward and the failure checks use the true state.
+        Default: ``Scenario()``, the paper's tethered helicopter with 10 ms samples.
     wind : str, sequence of str or Disturbance, optional
         The episode wind: a kind from ``WIND_KINDS``, several kinds (one drawn uniformly per
         episode), or a fixed built-in disturbance used in every episode. Default
@@ -193,10 +197,6 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             scenario = Scenario()
         if not isinstance(scenario, Scenario):
             raise ParameterError("scenario", scenario, "a tetherheli Scenario or None")
-        if scenario.sensors != Scenario().sensors:  # the observation is the true state
-            raise ParameterError(
-                "scenario.sensors", scenario.sensors, "the default (ideal) sensors"
-            )
         max_episode_time = _positive("max_episode_time", max_episode_time)
         # validates that the episode is a whole number of samples
         self.scenario = scenario.replace(duration=max_episode_time, wind=NoWind())
@@ -252,6 +252,14 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._z = np.zeros(4)
         self._winch_integral = np.zeros(1)
         self._y = np.empty(4)
+        self._sensors = self.scenario.sensors
+        self._source = self._sensors.source_code
+        self._arm = model.params.helicopter.tether_arm
+        self._noise = np.zeros((0, N_CHANNELS))
+        self._x_meas = np.empty(13)
+        self._y_meas = np.empty(4)
+        self._y_est = np.empty(4)
+        self._tension_meas = 0.0
         self._inp = np.empty(4)
         self._ffwd = np.empty(4)
         self._applied = np.empty(4)
@@ -376,7 +384,12 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._winch_integral = np.zeros(1)
         self._k = 0
         self._done = False
+        if self._sensors.is_perfect:
+            self._noise = np.zeros((0, N_CHANNELS))
+        else:  # the episode's sensor noise, from the environment's seeded generator
+            self._noise = noise_table(self._sensors, self.n_max, self.np_random)
         tethered_outputs(self._x, self._c, self._y)
+        self._measure(self._tension())
         self._inp[:] = np.nan
         return self._observation(), self._info(engine.STATUS_OK, math.nan)
 
@@ -415,10 +428,11 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             self._ctrl[CTRL_WINCH] = 0.0
             self._ctrl[CTRL_FFWD] = 0.0
             tension = 0.0
+        self._measure(tension)
         integral_before = self._winch_integral[0]
         rate = paper_control(
-            x,
-            tension,
+            self._x_meas,
+            self._tension_meas,
             self._z,
             self._winch_integral,
             self._ctrl,
@@ -427,7 +441,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             self._x_ref,
             self._y_ref,
             self._u0,
-            self._y,
+            self._y_est,
             self._inp,
             self._ffwd,
         )
@@ -466,6 +480,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             e = self._y[:3] - self._y_ref[:3]
             reward = -(float(e @ e) + self.effort_weight * float(a @ a))
         self._done = terminated or truncated
+        self._measure(tension)  # the next observation: what the sensors read now
         return self._observation(), reward, terminated, truncated, self._info(status, rate)
 
     # ------------------------------------------------------------------ helpers
@@ -475,13 +490,27 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             return 0.0
         return float(tension_from_state(self._x[5], self._x[12], self._K_C))
 
+    def _measure(self, tension: float) -> None:
+        """What the sensors read at the current sample (the scenario's ``[sensors]``; the
+        true state when they are perfect): fills _x_meas, _y_meas, _tension_meas."""
+        if self._noise.shape[0] == 0:
+            self._x_meas[:] = self._x
+            self._tension_meas = tension
+        else:
+            self._tension_meas = float(
+                measure(
+                    self._x, tension, self._noise[self._k], self._source, self._arm, self._x_meas
+                )
+            )
+        tethered_outputs(self._x_meas, self._c, self._y_meas)
+
     def _observation(self) -> np.ndarray:
-        x, x0 = self._x, self.trim.x
+        x, x0 = self._x_meas, self.trim.x
         obs = np.empty(len(OBSERVATION_NAMES))
-        obs[0:3] = self._y[:3] - self._y_ref[:3]
+        obs[0:3] = self._y_meas[:3] - self._y_ref[:3]
         obs[3:6] = x[0:3] - x0[0:3]
         obs[6:12] = x[6:12] - x0[6:12]
-        obs[12] = self._tension() - self._T_ref
+        obs[12] = self._tension_meas - self._T_ref
         obs = np.clip(np.nan_to_num(obs, nan=0.0), -OBS_LIMIT, OBS_LIMIT)
         return obs.astype(np.float32)
 
