@@ -39,7 +39,7 @@ from ..errors import ParameterError
 from ..params import Params
 from . import engine
 from .scenario import Scenario
-from .simulate import CompiledWind, _actuators, _noise, _setup, compile_wind
+from .simulate import CompiledWind, _engine_setup, compile_wind
 
 __all__ = ["METRIC_NAMES", "BatchResult", "connect", "run_batch", "summary_metrics"]
 
@@ -208,28 +208,8 @@ def _check(scenario: Scenario) -> CompiledWind:
 
 def _prepare(scenario: Scenario, design_params: Params | None) -> tuple:
     """Engine arguments of one run (Python side: trim, gain lookup, packed arrays)."""
-    wind = _check(scenario)
-    model, trim, gain, ctrl, cfg = _setup(scenario, design_params)
-    cfg[engine.CFG_GUST_DT] = wind.gust_dt
-    act = _actuators(scenario, trim, ctrl)
-    return (
-        trim.x.copy(),
-        scenario.n_samples,
-        cfg,
-        ctrl,
-        model.constants,
-        gain.K,
-        np.ascontiguousarray(trim.x[:12]),
-        trim.y.copy(),
-        trim.u.copy(),
-        wind.program,
-        wind.gust,
-        wind.drag,
-        act,
-        _noise(scenario),
-        scenario.sensors.source_code,
-        model.params.helicopter.tether_arm,
-    )
+    _check(scenario)
+    return _engine_setup(scenario, design_params).engine_args(scenario.n_samples)
 
 
 def connect(address: str, timeout_s: float = 10.0) -> Any:

@@ -192,6 +192,66 @@ def _noise(scenario: Scenario) -> np.ndarray:
     return noise_table(scenario.sensors, scenario.n_samples, rng)
 
 
+@dataclass(frozen=True)
+class _EngineSetup:
+    """Everything one run needs, packed for the compiled engine."""
+
+    model: TetheredHelicopter
+    trim: TrimPoint
+    gain: LQIGain
+    ctrl: np.ndarray
+    cfg: np.ndarray
+    wind: CompiledWind | None
+    act: np.ndarray
+    noise: np.ndarray
+    source: int
+    arm: float
+
+    def engine_args(self, n_samples: int) -> tuple:
+        """The leading arguments of ``engine.run_closed_loop`` (built-in winds only)."""
+        assert self.wind is not None
+        return (
+            self.trim.x.copy(),
+            n_samples,
+            self.cfg,
+            self.ctrl,
+            self.model.constants,
+            self.gain.K,
+            np.ascontiguousarray(self.trim.x[:12]),
+            self.trim.y.copy(),
+            self.trim.u.copy(),
+            self.wind.program,
+            self.wind.gust,
+            self.wind.drag,
+            self.act,
+            self.noise,
+            self.source,
+            self.arm,
+        )
+
+
+def _engine_setup(scenario: Scenario, design_params: Params | None = None) -> _EngineSetup:
+    """Set-up, trim, gain (designed on ``design_params``, default the scenario's), wind,
+    actuators and sensor noise of one run."""
+    model, trim, gain, ctrl, cfg = _setup(scenario, design_params)
+    wind = compile_wind(scenario.wind)
+    if wind is not None:
+        cfg[engine.CFG_GUST_DT] = wind.gust_dt
+    act = _actuators(scenario, trim, ctrl)
+    return _EngineSetup(
+        model,
+        trim,
+        gain,
+        ctrl,
+        cfg,
+        wind,
+        act,
+        _noise(scenario),
+        scenario.sensors.source_code,
+        model.params.helicopter.tether_arm,
+    )
+
+
 def simulate(
     scenario: Scenario,
     *,
@@ -218,39 +278,18 @@ def simulate(
         raise TypeError(f"scenario must be a tetherheli Scenario, not {type(scenario).__name__}")
     if method not in ("rk4", "adaptive"):
         raise ParameterError("method", method, "'rk4' or 'adaptive'")
-    model, trim, gain, ctrl, cfg = _setup(scenario)
-    wind = compile_wind(scenario.wind)
+    setup = _engine_setup(scenario)
+    trim, wind, noise = setup.trim, setup.wind, setup.noise
     n = scenario.n_samples
-    c = model.constants
-    if wind is not None:
-        cfg[engine.CFG_GUST_DT] = wind.gust_dt
-    act = _actuators(scenario, trim, ctrl)
-    noise = _noise(scenario)
-    arm = model.params.helicopter.tether_arm
-    source = scenario.sensors.source_code
+    c = setup.model.constants
     paper = controller is None
     if paper:
-        controller = PaperController(gain.K, trim.x, trim.y, trim.u, ctrl, c)
+        controller = PaperController(setup.gain.K, trim.x, trim.y, trim.u, setup.ctrl, c)
     rec = _Recorder(n)
     if paper and method == "rk4" and wind is not None:
         summary = np.zeros(len(engine.SUMMARY_FIELDS))
         status, done = engine.run_closed_loop(
-            trim.x.copy(),
-            n,
-            cfg,
-            ctrl,
-            c,
-            gain.K,
-            np.ascontiguousarray(trim.x[:12]),
-            trim.y.copy(),
-            trim.u.copy(),
-            wind.program,
-            wind.gust,
-            wind.drag,
-            act,
-            noise,
-            source,
-            arm,
+            *setup.engine_args(n),
             True,
             rec.x,
             rec.u,
@@ -267,15 +306,15 @@ def simulate(
             scenario,
             controller,
             method,
-            cfg,
+            setup.cfg,
             c,
             wind,
             trim,
             rec,
-            act,
+            setup.act,
             noise,
-            source,
-            arm,
+            setup.source,
+            setup.arm,
             rtol=rtol,
             atol=atol,
         )
