@@ -117,11 +117,11 @@ def main() -> None:
 
     args = _prepare(s, None)
     summary = np.zeros(len(engine.SUMMARY_FIELDS))
-    _run_nogil(*args, summary)
+    _run_nogil(args, summary)
     engine_times = []
     for _ in range(opts.repeat):
         t0 = time.perf_counter()
-        _run_nogil(*args, summary)
+        _run_nogil(args, summary)
         engine_times.append(time.perf_counter() - t0)
     t_engine = min(engine_times)
 

@@ -39,7 +39,7 @@ from ..errors import ParameterError
 from ..params import Params
 from . import engine
 from .scenario import Scenario
-from .simulate import CompiledWind, _engine_setup, compile_wind
+from .simulate import _engine_setup, compile_wind
 
 __all__ = ["METRIC_NAMES", "BatchResult", "connect", "run_batch", "summary_metrics"]
 
@@ -63,58 +63,16 @@ METRIC_NAMES = (
 
 
 @njit(cache=True, nogil=True)
-def _run_nogil(
-    x_init,
-    n_samples,
-    cfg,
-    ctrl,
-    c,
-    gain,
-    x_ref,
-    y_ref,
-    u0,
-    program,
-    gust,
-    drag,
-    act,
-    noise,
-    source_code,
-    arm,
-    summary,
-):  # pragma: no cover - compiled
-    """``engine.run_closed_loop`` without recording (1-row dummy outputs), GIL released."""
+def _run_nogil(engine_args, summary):  # pragma: no cover - compiled
+    """``engine.run_closed_loop(*engine_args, ...)`` without recording (1-row dummy outputs),
+    GIL released; ``engine_args`` is ``_EngineSetup.engine_args``."""
     d13 = np.zeros((1, 13))
     d4 = np.zeros((1, 4))
     d3 = np.zeros((1, 3))
     d1 = np.zeros(1)
     return engine.run_closed_loop(
-        x_init,
-        n_samples,
-        cfg,
-        ctrl,
-        c,
-        gain,
-        x_ref,
-        y_ref,
-        u0,
-        program,
-        gust,
-        drag,
-        act,
-        noise,
-        source_code,
-        arm,
-        False,
-        d13,
-        d4,
-        d4,
-        d1,
-        d1,
-        d3,
-        d4,
-        d4,
-        summary,
-    )
+        *engine_args, False, d13, d4, d4, d1, d1, d3, d4, d4, summary
+    )  # fmt: skip
 
 
 def summary_metrics(summary: np.ndarray) -> dict[str, float]:
@@ -193,7 +151,8 @@ def _default_workers() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-def _check(scenario: Scenario) -> CompiledWind:
+def _check(scenario: Scenario) -> None:
+    """A run_batch scenario: a Scenario whose wind the compiled engine can run."""
     if not isinstance(scenario, Scenario):
         raise TypeError(f"scenario must be a tetherheli Scenario, not {type(scenario).__name__}")
     wind = compile_wind(scenario.wind)
@@ -203,12 +162,11 @@ def _check(scenario: Scenario) -> CompiledWind:
             type(scenario.wind).__name__,
             "built-in disturbances only (run_batch uses the compiled engine)",
         )
-    return wind
 
 
 def _prepare(scenario: Scenario, design_params: Params | None) -> tuple:
-    """Engine arguments of one run (Python side: trim, gain lookup, packed arrays)."""
-    _check(scenario)
+    """Engine arguments of one run (Python side: trim, gain lookup, packed arrays); the
+    scenario was checked by ``run_batch`` (``_check``)."""
     return _engine_setup(scenario, design_params).engine_args(scenario.n_samples)
 
 
@@ -314,7 +272,7 @@ def run_batch(
 
     def run_one(i: int) -> None:
         args = _prepare(scenarios[i], design_params)
-        st, k = _run_nogil(*args, summaries[i])
+        st, k = _run_nogil(args, summaries[i])
         status[i] = st
         done[i] = k
 
