@@ -65,7 +65,7 @@ import gymnasium
 import numpy as np
 from gymnasium import spaces
 
-from .control.paper import CTRL_FFWD, CTRL_T_REF, CTRL_WINCH, paper_control
+from .control.paper import CTRL_T_REF, paper_control
 from .disturbances import (
     Disturbance,
     DragModel,
@@ -423,11 +423,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         assert wind is not None
         t = self._k * self.dt
         tension = self._tension()
-        if tension > self._act[engine.ACT_BREAK]:  # the safety device releases the tether
-            self._cfg[engine.CFG_ATTACHED] = 0.0
-            self._ctrl[CTRL_WINCH] = 0.0
-            self._ctrl[CTRL_FFWD] = 0.0
-            tension = 0.0
+        tension = engine.release_if_broken(tension, self._cfg, self._ctrl, self._act)
         self._measure(tension)
         integral_before = self._winch_integral[0]
         rate = paper_control(
@@ -450,11 +446,17 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         else:
             self._inp[:] = self._u_trim_total + self.action_scale * a
         # the scenario's actuators, exactly as the engine applies them
-        engine.apply_actuators(self._inp, self._applied, self._act, self.dt, self._k == 0)
-        limited = engine.limit_reel_acceleration(rate, self._previous_rate, self._act, self.dt)
-        if limited != rate:
-            self._winch_integral[0] = integral_before
-        rate = self._previous_rate = limited
+        rate = self._previous_rate = engine.actuate(
+            self._inp,
+            self._applied,
+            rate,
+            self._previous_rate,
+            self._act,
+            self.dt,
+            self._k == 0,
+            self._winch_integral,
+            integral_before,
+        )
         engine.rk4_interval(
             x,
             self._inp,

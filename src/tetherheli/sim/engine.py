@@ -294,6 +294,32 @@ def limit_reel_acceleration(rate, previous_rate, act, dt):
     return min(max(rate, previous_rate - step), previous_rate + step)
 
 
+@_jit_inline
+def release_if_broken(tension, cfg, ctrl, act):
+    """The safety device (Sec. IV-C): above act[ACT_BREAK] the tether is released, cfg and the
+    paper controller's ctrl switch to the free configuration (no winch, no feed-forward);
+    returns the tension acting from now on [N]."""
+    if tension > act[ACT_BREAK]:
+        cfg[CFG_ATTACHED] = 0.0
+        ctrl[CTRL_WINCH] = 0.0
+        ctrl[CTRL_FFWD] = 0.0
+        return 0.0
+    return tension
+
+
+@_jit_inline
+def actuate(inp, applied, rate, previous_rate, act, dt, first, winch_integral, integral_before):
+    """The actuators on the paper controller's command: saturation and lag of inp (in place,
+    ``apply_actuators``) and the winch's acceleration limit on the reel rate, the PI's
+    integrator held at ``integral_before`` while the limit binds (conditional integration,
+    no windup). Returns the applied reel rate [m/s]."""
+    apply_actuators(inp, applied, act, dt, first)
+    limited = limit_reel_acceleration(rate, previous_rate, act, dt)
+    if limited != rate:
+        winch_integral[0] = integral_before
+    return limited
+
+
 @_jit
 def run_closed_loop(
     x_init,
@@ -358,11 +384,7 @@ def run_closed_loop(
         t = k * dt
         attached = cfg[CFG_ATTACHED] > 0.5
         tension = tension_from_state(x[5], x[12], cfg[CFG_K_C]) if attached else 0.0
-        if attached and tension > act[ACT_BREAK]:  # the safety device releases the tether
-            cfg[CFG_ATTACHED] = 0.0
-            ctrl[CTRL_WINCH] = 0.0
-            ctrl[CTRL_FFWD] = 0.0
-            tension = 0.0
+        tension = release_if_broken(tension, cfg, ctrl, act)
         if sensed:
             measured_tension = measure(x, tension, noise[k], source_code, arm, x_meas)
         else:
@@ -386,11 +408,9 @@ def run_closed_loop(
             inp,
             ffwd,
         )
-        apply_actuators(inp, applied, act, dt, k == 0)
-        limited = limit_reel_acceleration(rate, previous_rate, act, dt)
-        if limited != rate:  # conditional integration: no PI windup while the limit binds
-            winch_integral[0] = integral_before
-        rate = limited
+        rate = actuate(
+            inp, applied, rate, previous_rate, act, dt, k == 0, winch_integral, integral_before
+        )
         previous_rate = rate
         if sensed:
             tethered_outputs(x, c, y)
