@@ -150,6 +150,19 @@ def _plant_in_wind(x, sc, inp, reel_rate, cfg, c, wind, out):
 TRIG_CHAIN_STEPS = 4
 
 
+@_jit_inline
+def next_step_trig(x, start, sc0, sc, steps_done):
+    """sc0 (10,) becomes sin, cos of the angles of x, the start of the next RK4 step: from libm
+    every TRIG_CHAIN_STEPS steps, otherwise by angle addition from the previous step's start
+    ``start`` whose values sc0 holds (``sc`` is scratch)."""
+    if steps_done % TRIG_CHAIN_STEPS == 0:
+        angle_trig(x, sc0)
+    else:
+        angle_trig_from(x, start, sc0, sc)
+        for i in range(10):
+            sc0[i] = sc[i]
+
+
 @_jit
 def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work, trig_given):
     """Advance x in place over one control sample [t0, t0 + dt] with n_sub RK4 steps.
@@ -196,12 +209,7 @@ def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work, trig_
             tmp[i] = x[i]  # the step's start, for the next step's trigonometry
             x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         if j + 1 < n_sub:
-            if (j + 1) % TRIG_CHAIN_STEPS == 0:
-                angle_trig(x, sc0)
-            else:
-                angle_trig_from(x, tmp, sc0, sc)
-                for i in range(10):
-                    sc0[i] = sc[i]
+            next_step_trig(x, tmp, sc0, sc, j + 1)
 
 
 @_jit

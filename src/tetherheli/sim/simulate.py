@@ -504,8 +504,4 @@ def _rk4_custom_wind(x, inp, rate, t0, dt, n_sub, cfg, c, disturbance):
         start = x.copy()
         x += h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
         if j + 1 < n_sub:
-            if (j + 1) % engine.TRIG_CHAIN_STEPS == 0:
-                angle_trig(x, sc0)
-            else:
-                angle_trig_from(x, start, sc0, sc)
-                sc0[:] = sc
+            engine.next_step_trig(x, start, sc0, sc, j + 1)
