@@ -508,11 +508,15 @@ def run_montecarlo(
         done = hi
         if progress:
             _progress(done, n)
+    header = _columns(config)
+    table = _ColumnReader(header)
     with atomic_open(out / "results.csv") as fh:  # streamed: one chunk in memory at a time
-        fh.write(",".join(_columns(config)) + "\n")
+        fh.write(",".join(header) + "\n")
         for path in paths:
-            fh.write(path.read_text())
-    columns = _read_columns(out / "results.csv")
+            text = path.read_text()
+            fh.write(text)
+            table.add(text)
+    columns = table.arrays()
     text = json.dumps(_summarize(base, config, columns), indent=2) + "\n"
     atomic_write_text(out / "summary.json", text)
     summary: dict[str, Any] = json.loads(text)
@@ -520,22 +524,26 @@ def run_montecarlo(
     return summary
 
 
-def _read_columns(path: Path) -> dict[str, np.ndarray]:
-    """The configuration, status and metric columns of results.csv as arrays (one pass;
-    O(rows) floats, not O(rows) dicts of strings)."""
-    names = ("status", *METRIC_NAMES)
-    cols: dict[str, list] = {"configuration": [], **{k: [] for k in names}}
-    with open(path, newline="", encoding="utf-8") as fh:
-        reader = csv.reader(fh)
-        header = next(reader)
-        where = {k: header.index(k) for k in cols}
-        for row in reader:
-            cols["configuration"].append(row[where["configuration"]])
-            for k in names:
-                cols[k].append(float(row[where[k]]))
-    out = {k: np.asarray(v, dtype=float) for k, v in cols.items() if k != "configuration"}
-    out["configuration"] = np.asarray(cols["configuration"])
-    return out
+class _ColumnReader:
+    """The configuration, status and metric columns of the results table, collected while it
+    is written (O(rows) floats, not O(rows) dicts of strings; the table is not read back)."""
+
+    _NUMERIC = ("status", *METRIC_NAMES)
+
+    def __init__(self, header: list[str]) -> None:
+        self._where = {k: header.index(k) for k in ("configuration", *self._NUMERIC)}
+        self._cols: dict[str, list] = {k: [] for k in self._where}
+
+    def add(self, chunk_text: str) -> None:
+        for row in csv.reader(io.StringIO(chunk_text)):
+            self._cols["configuration"].append(row[self._where["configuration"]])
+            for k in self._NUMERIC:
+                self._cols[k].append(float(row[self._where[k]]))
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        out = {k: np.asarray(self._cols[k], dtype=float) for k in self._NUMERIC}
+        out["configuration"] = np.asarray(self._cols["configuration"])
+        return out
 
 
 _PCTS = (1, 5, 25, 50, 75, 95, 99)
