@@ -250,14 +250,23 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     return 0
 
 
-def _dt_arg(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r}: allowed: a number [s]") from None
-    if not (math.isfinite(value) and 0 < value <= 1.0):
-        raise argparse.ArgumentTypeError(f"{text!r}: allowed: a sample time in (0, 1] s")
-    return value
+def _seconds_arg(what: str, high: float) -> Callable[[str], float]:
+    """An argparse type: a time in (0, high] s, else one line naming ``what`` it must be."""
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r}: allowed: a number [s]") from None
+        if not (math.isfinite(value) and 0 < value <= high):
+            raise argparse.ArgumentTypeError(f"{text!r}: allowed: {what} in (0, {high:g}] s")
+        return value
+
+    return parse
+
+
+_dt_arg = _seconds_arg("a sample time", 1.0)
+_dt_arg_pulse = _seconds_arg("a duration", 20.0)
 
 
 def _register_simulation(sub: argparse._SubParsersAction) -> None:
@@ -287,16 +296,6 @@ def _register_simulation(sub: argparse._SubParsersAction) -> None:
         help="integration: compiled fixed-step RK4 or the adaptive reference",
     )
     p.set_defaults(func=_cmd_simulate)
-
-
-def _dt_arg_pulse(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r}: allowed: a number [s]") from None
-    if not (math.isfinite(value) and 0 < value <= 20.0):
-        raise argparse.ArgumentTypeError(f"{text!r}: allowed: a duration in (0, 20] s")
-    return value
 
 
 def _cmd_animate(args: argparse.Namespace) -> int:

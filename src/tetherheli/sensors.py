@@ -56,7 +56,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 from types import MappingProxyType
 from typing import Any
 
@@ -304,15 +304,7 @@ class SensorConfig:
         and it loses the fixed solution under multipath or occlusion, the "typical
         degradation factors of GPS systems" of Sec. IV-F.
         """
-        return cls(
-            position_source="gps",
-            load_cell_std=0.1,
-            attitude_std=0.5 * _DEG,
-            gyro_std=2e-3,
-            velocity_std=0.02,
-            gps_std=(0.02, 0.02, 0.04),
-            winch_encoder_std=1e-3,
-        )
+        return replace(cls.typical_gps(), velocity_std=0.02, gps_std=(0.02, 0.02, 0.04))
 
     @classmethod
     def typical_tether(cls) -> SensorConfig:

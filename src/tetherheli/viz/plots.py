@@ -30,6 +30,17 @@ def _style(result: SimulationResult) -> dict:
     return _STYLE.get(str(result.configuration.get("configuration")), dict(lw=1.1))
 
 
+def _finish(fig: Figure, axes: np.ndarray, title: str) -> Figure:
+    """Shared time axis label, legend, grid and title of the stacked time-series figures."""
+    axes[-1].set_xlabel("t [s]")
+    axes[0].legend(loc="upper right", fontsize=8)
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    if title:
+        fig.suptitle(title)
+    return fig
+
+
 def figure_outputs(runs: list[SimulationResult], title: str = "") -> Figure:
     """Figs. 6 and 8: wind force, q1, q2, q3 [m] and q4, q5 [deg] against time."""
     fig, axes = plt.subplots(6, 1, figsize=(7.5, 10.5), sharex=True, layout="constrained")
@@ -45,13 +56,7 @@ def figure_outputs(runs: list[SimulationResult], title: str = "") -> Figure:
         axes[4].set_ylabel("q4 [deg]")
         axes[5].plot(r.time, np.degrees(r.states[:, 1]), **st)
         axes[5].set_ylabel("q5 [deg]")
-    axes[-1].set_xlabel("t [s]")
-    axes[0].legend(loc="upper right", fontsize=8)
-    for ax in axes:
-        ax.grid(alpha=0.3)
-    if title:
-        fig.suptitle(title)
-    return fig
+    return _finish(fig, axes, title)
 
 
 def figure_inputs(runs: list[SimulationResult], title: str = "") -> Figure:
@@ -66,13 +71,7 @@ def figure_inputs(runs: list[SimulationResult], title: str = "") -> Figure:
             ax.plot(r.time, r.inputs[:, i], **st)
             ax.set_ylabel(f"{name} [{unit}]")
     axes[0].set_ylabel("TC [N]")
-    axes[-1].set_xlabel("t [s]")
-    axes[0].legend(loc="upper right", fontsize=8)
-    for ax in axes:
-        ax.grid(alpha=0.3)
-    if title:
-        fig.suptitle(title)
-    return fig
+    return _finish(fig, axes, title)
 
 
 def save_figure(fig: Figure, path: str | Path, dpi: int = 110) -> Path:
