@@ -12,8 +12,11 @@ from matplotlib import animation
 from PIL import Image
 
 from tetherheli import Params
+from tetherheli._io import OUTPUT_RECORD, OutputPathError, record_outputs
 from tetherheli.errors import ParameterError
+from tetherheli.resources import MEMORY_LIMIT_ENV, ResourceLimitError
 from tetherheli.viz.animation import (
+    MAX_FRAMES,
     RunData,
     animate,
     direction_cosines,
@@ -267,14 +270,49 @@ def test_failed_rendering_leaves_no_file(results: Path, tmp_path: Path, monkeypa
         animate(results, out, fps=2, dpi=20)
     assert list(out_dir.iterdir()) == []
 
-    # failing while the file is being written: an existing file is left untouched
+    # failing while the file is being written: an existing file (one tetherheli wrote, in an
+    # output directory it recorded) is left untouched
     monkeypatch.undo()
+    record_outputs(out_dir, [], writer="simulate")
+    animate(results, out, fps=2, dpi=20)
+    old = out.read_bytes()
     monkeypatch.setattr(animation.PillowWriter, "finish", boom)
-    out.write_bytes(b"old")
     with pytest.raises(RuntimeError, match="disk full"):
         animate(results, out, fps=2, dpi=20)
-    assert [p.name for p in out_dir.iterdir()] == ["broken.gif"]
-    assert out.read_bytes() == b"old"
+    assert sorted(p.name for p in out_dir.iterdir()) == [OUTPUT_RECORD, "broken.gif"]
+    assert out.read_bytes() == old
+
+
+def test_never_overwrites_a_file_it_did_not_write(results: Path, tmp_path: Path):
+    """Issue 9: an animation never replaces a user's file; one it wrote may be re-rendered."""
+    mine = tmp_path / "movie.gif"
+    mine.write_bytes(b"the user's own movie")
+    with pytest.raises(OutputPathError, match="not written by tetherheli"):
+        animate(results, mine, fps=2, dpi=20)
+    assert mine.read_bytes() == b"the user's own movie"
+    # in a tetherheli output directory the animation is recorded ...
+    record_outputs(results, [], writer="simulate")
+    out = results / "animation.gif"
+    animate(results, out, fps=2, dpi=20)
+    animate(results, out, fps=2, dpi=20)  # ... so it may be rendered again
+    out.write_bytes(b"edited by the user")  # changed since: the user's now
+    with pytest.raises(OutputPathError, match="changed since"):
+        animate(results, out, fps=2, dpi=20)
+
+
+def test_render_options_are_bounded_before_rendering(results: Path, tmp_path: Path, monkeypatch):
+    """Issue 9: fps, frames and resolution are capped, and a GIF's frames must fit the budget."""
+    for bad, match in (
+        ({"fps": 101}, "fps"),
+        ({"max_frames": MAX_FRAMES + 1}, "max_frames"),
+        ({"dpi": 601}, "dpi"),
+    ):
+        with pytest.raises(ParameterError, match=match):
+            animate(results, tmp_path / "a.gif", **bad)
+    monkeypatch.setenv(MEMORY_LIMIT_ENV, "50M")
+    with pytest.raises(ResourceLimitError, match=r"frames at dpi = 80 needs about .* 47\.7 MiB"):
+        animate(results, tmp_path / "a.gif", fps=100, max_frames=MAX_FRAMES)
+    assert not (tmp_path / "a.gif").exists()
 
 
 def test_output_format_and_options_are_checked(results: Path, tmp_path: Path, monkeypatch):

@@ -1,16 +1,34 @@
-"""Atomic output: files and directories are written whole or not at all."""
+"""Safe output: files are written whole or not at all, and an output directory never loses a
+file that tetherheli did not write (``output_directory``)."""
 
 from __future__ import annotations
 
 import contextlib
+import json
 import os
 import shutil
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
-from typing import IO
+from typing import IO, Any
 
-__all__ = ["atomic_directory", "atomic_open", "atomic_write_bytes", "atomic_write_text"]
+from ._version import __version__
+from .errors import TetherheliError
+
+__all__ = [
+    "OUTPUT_RECORD",
+    "OutputPathError",
+    "atomic_open",
+    "atomic_write_bytes",
+    "atomic_write_text",
+    "check_output_file",
+    "check_output_location",
+    "claim_output_directory",
+    "foreign_files",
+    "output_directory",
+    "record_output_file",
+    "record_outputs",
+]
 
 
 def _umask() -> int:
@@ -57,28 +75,263 @@ def atomic_open(path: str | Path, mode: str = "w") -> Iterator[IO]:
         raise
 
 
-@contextlib.contextmanager
-def atomic_directory(path: str | Path) -> Iterator[Path]:
-    """Build an output directory in a temporary sibling and move it into place on success.
+# --- output directories: never delete or overwrite what tetherheli did not write ------------
 
-    On any error the temporary directory is removed and an existing ``path`` is left as it
-    was; on success an existing ``path`` is replaced.
+#: The record, inside every output directory tetherheli writes, of the files it wrote there:
+#: relative path -> size, modification time and the command that wrote it. A file that is not
+#: listed, or whose size or time changed since, is the user's and is never removed or replaced.
+OUTPUT_RECORD = ".tetherheli-output.json"
+
+
+class OutputPathError(TetherheliError):
+    """An output location that would put a user's files at risk (one-line message)."""
+
+
+def _resolved(path: str | Path) -> Path:
+    return Path(path).expanduser().resolve()
+
+
+def check_output_location(
+    path: str | Path, *, option: str = "--out", inputs: Iterable[str | Path] = ()
+) -> Path:
+    """The resolved ``path`` (symlinks followed), or OutputPathError when it is the filesystem
+    root, the home directory, the current directory, an ancestor of either, or a directory
+    that holds one of the ``inputs`` (input files or folders) or is inside an input folder."""
+    target = _resolved(path)
+    shown = f"{option} {path}" + (f" (= {target})" if str(target) != str(path) else "")
+    guarded = {"the current directory": Path.cwd().resolve(), "the home directory": _home()}
+    if target == Path(target.anchor):
+        raise OutputPathError(f"{shown} is the filesystem root; allowed: a dedicated directory")
+    for label, place in guarded.items():
+        if place is not None and (target == place or target in place.parents):
+            relation = "is" if target == place else "is an ancestor of"
+            raise OutputPathError(
+                f"{shown} {relation} {label}; allowed: a dedicated directory below it"
+            )
+    for item in inputs:
+        source = _resolved(item)
+        if target == source or target in source.parents:
+            raise OutputPathError(
+                f"{shown} holds the input {item}; allowed: a directory that holds no input"
+            )
+        if source.is_dir() and source in target.parents:
+            raise OutputPathError(
+                f"{shown} lies inside the input folder {item}; allowed: a directory outside it"
+            )
+    if target.exists() and not target.is_dir():
+        raise OutputPathError(f"{shown} exists and is not a directory; allowed: a directory")
+    return target
+
+
+def _home() -> Path | None:
+    try:
+        return Path.home().resolve()
+    except (KeyError, RuntimeError):  # no HOME and no passwd entry
+        return None
+
+
+def _stamp(path: Path) -> dict[str, int]:
+    st = path.stat()
+    return {"size": st.st_size, "mtime_ns": st.st_mtime_ns}
+
+
+def read_output_record(directory: Path) -> dict[str, dict[str, Any]]:
+    """The files tetherheli wrote in ``directory`` (relative path -> stamp and writer); {} for a
+    directory without a readable record."""
+    try:
+        data = json.loads((directory / OUTPUT_RECORD).read_text(encoding="utf-8"))
+        files = data["files"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return {}
+    if not isinstance(files, dict):
+        return {}
+    return {k: v for k, v in files.items() if isinstance(v, dict) and _is_relative_name(k)}
+
+
+def _is_relative_name(rel: str) -> bool:
+    parts = Path(rel).parts
+    return bool(parts) and not Path(rel).is_absolute() and ".." not in parts
+
+
+def is_own_file(directory: Path, rel: str, record: dict[str, dict[str, Any]]) -> bool:
+    """True when ``directory/rel`` is listed in the record and unchanged since written."""
+    entry = record.get(rel)
+    path = directory / rel
+    if entry is None or path.is_symlink() or not path.is_file():
+        return False
+    stamp = _stamp(path)
+    return stamp["size"] == entry.get("size") and stamp["mtime_ns"] == entry.get("mtime_ns")
+
+
+def _files_below(directory: Path) -> list[str]:
+    """Relative paths of the files (and links) below ``directory``, the record excepted."""
+    found = []
+    for root, dirs, files in os.walk(directory):
+        base = Path(root)
+        links = [d for d in dirs if (base / d).is_symlink()]
+        files = files + links  # a link to a folder is a foreign entry, not a folder to enter
+        dirs[:] = [d for d in dirs if d not in links]
+        for name in files:
+            rel = (base / name).relative_to(directory).as_posix()
+            if rel != OUTPUT_RECORD:
+                found.append(rel)
+    return sorted(found)
+
+
+def foreign_files(directory: Path) -> list[str]:
+    """Files below ``directory`` that tetherheli did not write (or that changed since)."""
+    if not directory.is_dir():
+        return []
+    record = read_output_record(directory)
+    return [rel for rel in _files_below(directory) if not is_own_file(directory, rel, record)]
+
+
+def _refuse_foreign(shown: str, foreign: list[str]) -> None:
+    more = f" and {len(foreign) - 1} more" if len(foreign) > 1 else ""
+    raise OutputPathError(
+        f"{shown} was not created by tetherheli and holds files ({foreign[0]}{more}); allowed: "
+        "a new or empty directory, one tetherheli wrote, or --force to write beside them "
+        "(they are kept)"
+    )
+
+
+def claim_output_directory(
+    path: str | Path,
+    *,
+    option: str = "--out",
+    inputs: Iterable[str | Path] = (),
+    force: bool = False,
+    own: Callable[[str], bool] = lambda rel: False,
+) -> Path:
+    """Check ``path`` as an output directory before any work: ``check_output_location``, then
+    a directory that tetherheli did not create (no ``OUTPUT_RECORD``) must be empty unless
+    ``force``; ``own`` marks further files as the caller's, e.g. a resumable job's partial
+    results. In a directory tetherheli created, the user's added files are simply kept.
+    Returns the resolved directory."""
+    target = check_output_location(path, option=option, inputs=inputs)
+    if force or (target / OUTPUT_RECORD).is_file():
+        return target
+    foreign = [rel for rel in foreign_files(target) if not own(rel)]
+    if foreign:
+        _refuse_foreign(f"{option} {path}", foreign)
+    return target
+
+
+def record_outputs(directory: Path, rels: Iterable[str], *, writer: str) -> None:
+    """Add files just written in ``directory`` to its record, as written by ``writer``."""
+    record = read_output_record(directory)
+    record = {k: v for k, v in record.items() if (directory / k).exists()}
+    for rel in rels:
+        record[rel] = {**_stamp(directory / rel), "writer": writer}
+    _write_record(directory, record)
+
+
+def _write_record(directory: Path, record: dict[str, dict[str, Any]]) -> None:
+    data = {"tetherheli_version": __version__, "files": dict(sorted(record.items()))}
+    atomic_write_text(directory / OUTPUT_RECORD, json.dumps(data, indent=2) + "\n")
+
+
+def _recording_folder(path: Path) -> Path | None:
+    """The nearest folder above ``path`` that holds an ``OUTPUT_RECORD``, if any."""
+    for folder in path.parents:
+        if (folder / OUTPUT_RECORD).is_file():
+            return folder
+    return None
+
+
+def check_output_file(path: str | Path, *, option: str = "--out") -> Path:
+    """An output file may be new, or one tetherheli wrote (listed, unchanged, in the record of
+    the nearest output directory above it); anything else is refused. Returns the resolved
+    path."""
+    target = _resolved(path)
+    if target.is_dir():
+        raise OutputPathError(f"{option} {path} is a directory; allowed: a file name")
+    if target.exists() or target.is_symlink():
+        folder = _recording_folder(target)
+        rel = target.relative_to(folder).as_posix() if folder else ""
+        if folder is None or not is_own_file(folder, rel, read_output_record(folder)):
+            raise OutputPathError(
+                f"{option} {path} exists and was not written by tetherheli (or was changed "
+                "since); allowed: a new file name (tetherheli never overwrites it)"
+            )
+    return target
+
+
+def record_output_file(path: str | Path, *, writer: str) -> None:
+    """List a file just written in the record of the nearest output directory above it, if
+    any (so it may be replaced by the same command later, and is kept by the others)."""
+    target = _resolved(path)
+    folder = _recording_folder(target)
+    if folder is not None:
+        record_outputs(folder, [target.relative_to(folder).as_posix()], writer=writer)
+
+
+@contextlib.contextmanager
+def output_directory(
+    path: str | Path,
+    *,
+    writer: str,
+    option: str = "--out",
+    inputs: Iterable[str | Path] = (),
+    force: bool = False,
+) -> Iterator[Path]:
+    """Build a command's output in a temporary sibling folder and put it in place on success.
+
+    ``path`` is checked first (``claim_output_directory``: a dedicated location with no foreign
+    files unless ``force``). A new directory is moved into place whole. In an existing one,
+    each new file replaces its namesake, files that ``writer`` wrote on an earlier run and
+    did not write now are removed, and every other file (the user's, or another command's
+    such as an animation) is kept; a foreign file where a new one would go is refused. On
+    any error nothing in ``path`` changes. The record ``OUTPUT_RECORD`` lists what was written.
     """
-    path = Path(path).resolve()
-    if path.exists() and not path.is_dir():
-        raise FileExistsError(f"output {path} exists and is not a directory")
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(dir=path.parent, prefix=f".{path.name}.", suffix=".partial"))
+    target = claim_output_directory(path, option=option, inputs=inputs, force=force)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(dir=target.parent, prefix=f".{target.name}.", suffix=".partial"))
     os.chmod(tmp, 0o777 & ~_umask())
     try:
         yield tmp
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    old = None
-    if path.exists():
-        old = path.with_name(f".{path.name}.old-{os.getpid()}")
-        os.replace(path, old)
-    os.replace(tmp, path)
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
+        new = _files_below(tmp)
+        if not target.exists():
+            _write_record(tmp, {rel: {**_stamp(tmp / rel), "writer": writer} for rel in new})
+            os.replace(tmp, target)
+            return
+        record = read_output_record(target)
+        clash = [
+            rel
+            for rel in new
+            if ((target / rel).exists() or (target / rel).is_symlink())
+            and not is_own_file(target, rel, record)
+        ]
+        if clash:
+            raise OutputPathError(
+                f"{option} {path}: {clash[0]} was not written by tetherheli, or was changed "
+                "since; allowed: move it away or choose another directory (tetherheli never "
+                "overwrites it)"
+            )
+        for rel in new:
+            (target / rel).parent.mkdir(parents=True, exist_ok=True)
+            os.replace(tmp / rel, target / rel)
+        kept = {}
+        for rel, entry in record.items():
+            if rel in new or not is_own_file(target, rel, record):
+                continue
+            if entry.get("writer") == writer:
+                _remove_file_and_empty_parents(target, rel)
+            else:
+                kept[rel] = entry
+        kept.update({rel: {**_stamp(target / rel), "writer": writer} for rel in new})
+        _write_record(target, kept)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)  # the temporary folder is ours alone
+
+
+def _remove_file_and_empty_parents(directory: Path, rel: str) -> None:
+    path = directory / rel
+    path.unlink()
+    for parent in path.parents:
+        if parent == directory:
+            break
+        try:
+            parent.rmdir()  # only an empty folder goes
+        except OSError:
+            break

@@ -1,12 +1,15 @@
 """The ``tetherheli`` command line (also ``python -m tetherheli``).
 
-Every user error (bad parameter, scenario or argument) is printed as one line on stderr and
-exits with code 2, without a traceback.
+Exit codes: 0 success; 1 a run failed (reported, results written); 2 a user error (bad
+parameter, scenario, argument or output path), printed as one line on stderr without a
+traceback; 70 an internal error (a bug: one line, ``--debug`` prints the traceback);
+130 interrupted.
 """
 
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import math
 import sys
@@ -20,6 +23,8 @@ from .params import Params
 __all__ = ["main"]
 
 EXIT_USAGE = 2
+EXIT_INTERNAL = 70  # sysexits' EX_SOFTWARE
+EXIT_INTERRUPTED = 130
 
 
 class _Parser(argparse.ArgumentParser):
@@ -149,7 +154,12 @@ def _positive_float(name: str) -> Callable[[str], float]:
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="tetherheli", description=__doc__.splitlines()[0])
     parser.add_argument("--version", action="version", version=f"tetherheli {__version__}")
+    common = _Parser(add_help=False)
+    common.add_argument(
+        "--debug", action="store_true", help="print the traceback of an internal error"
+    )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    sub.add_parser = functools.partial(sub.add_parser, parents=[common])  # type: ignore[method-assign]
 
     p = sub.add_parser("trim", help="hover trim (Tables IV and V)")
     p.add_argument(
@@ -181,8 +191,29 @@ def build_parser() -> argparse.ArgumentParser:
 _EXTRA_COMMANDS: list[Callable[[argparse._SubParsersAction], None]] = []
 
 
+def _first_line(exc: BaseException) -> str:
+    text = str(exc).strip()
+    return text.splitlines()[0] if text else type(exc).__name__
+
+
+def _join_negative_values(argv: list[str]) -> list[str]:
+    """``--values -0.2:-0.05:4`` as ``--values=-0.2:-0.05:4`` (argparse would take a value
+    that starts with '-' for an option)."""
+    out: list[str] = []
+    it = iter(argv)
+    for token in it:
+        if token == "--values":
+            value = next(it, None)
+            out.append(token if value is None else f"--values={value}")
+        else:
+            out.append(token)
+    return out
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit code."""
+    """Run the command line; returns the exit code (see the module docstring)."""
+    argv = _join_negative_values(list(sys.argv[1:] if argv is None else argv))
+    debug = "--debug" in argv
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
@@ -190,13 +221,40 @@ def main(argv: Sequence[str] | None = None) -> int:
     except _UsageError as exc:
         print(str(exc), file=sys.stderr)
         return EXIT_USAGE
-    except (TetherheliError, ValueError, OSError) as exc:
-        message = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        print(f"tetherheli: error: {message}", file=sys.stderr)
+    except TetherheliError as exc:
+        print(f"tetherheli: error: {_first_line(exc)}", file=sys.stderr)
+        return EXIT_USAGE
+    except OSError as exc:
+        if exc.filename is None or debug:  # not about a user's path: a fault of ours
+            return _internal_error(exc, debug)
+        print(f"tetherheli: error: {exc.filename}: {exc.strerror or exc}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:
-        print("tetherheli: interrupted", file=sys.stderr)
-        return 130
+        print(_open_line_break() + "tetherheli: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except Exception as exc:
+        return _internal_error(exc, debug)
+
+
+def _open_line_break() -> str:
+    """A newline when a progress bar left the terminal line open, else ''."""
+    from .progress import line_open
+
+    return "\n" if line_open() else ""
+
+
+def _internal_error(exc: BaseException, debug: bool) -> int:
+    if debug:
+        import traceback
+
+        traceback.print_exception(exc)
+    print(
+        f"{_open_line_break()}tetherheli: internal error ({type(exc).__name__}: "
+        f"{_first_line(exc)}); this is a bug: please report it with the output of the same "
+        "command with --debug",
+        file=sys.stderr,
+    )
+    return EXIT_INTERNAL
 
 
 # --- simulation commands --------------------------------------------------------------------
@@ -211,7 +269,11 @@ def _cmd_paper(args: argparse.Namespace) -> int:
         else ("tetherheli paper")
     )
     summary = run_paper(
-        args.out, dt=args.dt, pulse_duration=args.pulse_duration, command=command.strip()
+        args.out,
+        dt=args.dt,
+        pulse_duration=args.pulse_duration,
+        command=command.strip(),
+        force=args.force,
     )
     red = summary["reduction_percent"]
     print(f"wrote {args.out}/ (report.md, summary.json, fig6-fig9 PNG, time series)")
@@ -222,19 +284,25 @@ def _cmd_paper(args: argparse.Namespace) -> int:
 
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
+    from ._io import claim_output_directory
     from .report import write_comparison, write_run
     from .sim import load_scenario, simulate
+    from .sim.simulate import check_run_memory
 
     scenarios = [load_scenario(path) for path in args.scenario]  # all validated first
     names = [s.name for s in scenarios]
     if len(set(names)) != len(names):
         raise _UsageError(f"tetherheli simulate: scenario names must differ, got {names}")
+    for s in scenarios:  # refuse what cannot fit before the first run
+        check_run_memory(s)
+    inputs = tuple(args.scenario)
+    claim_output_directory(args.out, inputs=inputs, force=args.force)
     command = "tetherheli simulate " + " ".join(args.scenario)
     results = [simulate(s, method=args.method) for s in scenarios]
     if len(results) == 1:
-        write_run(results[0], args.out, command=command)
+        write_run(results[0], args.out, command=command, inputs=inputs, force=args.force)
     else:
-        write_comparison(results, args.out, command=command)
+        write_comparison(results, args.out, command=command, inputs=inputs, force=args.force)
     failed = [r for r in results if not r.ok]
     for r in failed:
         t_end = r.time[-1] if r.time.size else 0.0
@@ -269,6 +337,15 @@ _dt_arg = _seconds_arg("a sample time", 1.0)
 _dt_arg_pulse = _seconds_arg("a duration", 20.0)
 
 
+def _add_force(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--force",
+        action="store_true",
+        help="write into an output directory that holds files tetherheli did not write "
+        "(they are kept; only tetherheli's own files are ever replaced or removed)",
+    )
+
+
 def _register_simulation(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("paper", help="the paper's four wind simulations, Figs. 6-9, report")
     p.add_argument("--out", default="paper_out", help="output directory (default paper_out)")
@@ -279,6 +356,7 @@ def _register_simulation(sub: argparse._SubParsersAction) -> None:
         default=1.0,
         help="duration of the 20 N pulse [s] (not stated in the paper; default 1)",
     )
+    _add_force(p)
     p.set_defaults(func=_cmd_paper)
 
     p = sub.add_parser("simulate", help="run scenario TOML files (several: overlaid)")
@@ -295,6 +373,7 @@ def _register_simulation(sub: argparse._SubParsersAction) -> None:
         default="rk4",
         help="integration: compiled fixed-step RK4 or the adaptive reference",
     )
+    _add_force(p)
     p.set_defaults(func=_cmd_simulate)
 
 
@@ -319,7 +398,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
 def _cmd_sensing(args: argparse.Namespace) -> int:
     from .report import run_sensing
 
-    table = run_sensing(args.out, scenarios=tuple(args.scenario) or None)
+    table = run_sensing(args.out, scenarios=tuple(args.scenario) or None, force=args.force)
     print(f"wrote {args.out}/ (sensing.png, summary.json, time series)")
     print(f"{'run':<18} {'source':<8} {'estimate error RMS q1/q2/q3 [m]':<34} true deviation RMS")
     for name, row in table.items():
@@ -347,12 +426,21 @@ def _values_arg(text: str) -> list[float]:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
+    from ._io import claim_output_directory
     from .sim import load_scenario
     from .sweep import sweep, write_sweep
 
     scenario = load_scenario(args.scenario)
+    inputs = (args.scenario,)
+    claim_output_directory(args.out, inputs=inputs, force=args.force)
     result = sweep(scenario, args.param, args.values, args.metric, cyclic_limit=args.cyclic_limit)
-    write_sweep(result, args.out, command="tetherheli sweep " + " ".join(sys.argv[2:]))
+    write_sweep(
+        result,
+        args.out,
+        command="tetherheli sweep " + " ".join(sys.argv[2:]),
+        inputs=inputs,
+        force=args.force,
+    )
     for v, m, s in zip(result.values, result.metric, result.statuses, strict=True):
         print(f"{args.param} = {v:<10.6g} {args.metric} = {m:.6g}  ({s})")
     if result.bound is not None:
@@ -421,11 +509,18 @@ def _register_animate(sub: argparse._SubParsersAction) -> None:
     p.add_argument("result_dir", help="folder written by `tetherheli paper` or `simulate`")
     p.add_argument("--out", help="output .gif or .mp4 (default RESULT_DIR/animation.gif)")
     p.add_argument("--runs", help="comma-separated run names (default: all in the folder)")
-    p.add_argument("--fps", type=_positive_float("--fps"), default=20.0)
+    p.add_argument(
+        "--fps", type=_positive_float("--fps"), default=20.0, help="frames/s, at most 100"
+    )
     p.add_argument(
         "--speed", type=_positive_float("--speed"), default=1.0, help="playback speed-up"
     )
-    p.add_argument("--max-frames", type=int, default=600)
+    p.add_argument(
+        "--max-frames",
+        type=_count_arg("--max-frames", 1, 20_000),
+        default=600,
+        help="at most this many frames (a longer run is sampled more coarsely; default 600)",
+    )
     p.set_defaults(func=_cmd_animate)
 
     p = sub.add_parser("sweep", help="a metric against a parameter (e.g. the best Tref)")
@@ -447,6 +542,7 @@ def _register_animate(sub: argparse._SubParsersAction) -> None:
         help="tmax_MR1,2 of eq 40 [N m] (default: the paper's 20%% rule)",
     )
     p.add_argument("--out", required=True, help="output directory")
+    _add_force(p)
     p.set_defaults(func=_cmd_sweep)
 
     p = sub.add_parser("montecarlo", help="Monte Carlo of a scenario, free against tethered")
@@ -478,6 +574,7 @@ def _register_animate(sub: argparse._SubParsersAction) -> None:
         help="seconds to wait for the scheduler (default 10)",
     )
     p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
+    _add_force(p)
     p.set_defaults(func=_cmd_montecarlo)
 
     p = sub.add_parser("sensing", help="the tether as a GPS-free position sensor (Sec. IV-F)")
@@ -488,6 +585,7 @@ def _register_animate(sub: argparse._SubParsersAction) -> None:
         default=[],
         help="scenario with [sensors] (repeatable; default: the shipped pair)",
     )
+    _add_force(p)
     p.set_defaults(func=_cmd_sensing)
 
 

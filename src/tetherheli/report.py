@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from ._io import atomic_directory, atomic_write_text
+from ._io import atomic_write_text, claim_output_directory, output_directory
 from ._version import __version__
 from .analysis import reduction_percent, run_metrics
 from .errors import ParameterError
@@ -175,8 +175,12 @@ def run_paper(
     dt: float = 0.01,
     pulse_duration: float = 1.0,
     command: str = "tetherheli paper",
+    force: bool = False,
 ) -> dict[str, Any]:
-    """Run the four simulations of Sec. VI and write the paper's outputs into ``out_dir``."""
+    """Run the four simulations of Sec. VI and write the paper's outputs into ``out_dir``
+    (``_io.output_directory``: refused before any run if it holds files tetherheli did not
+    write, unless ``force``; those are kept)."""
+    claim_output_directory(out_dir, force=force)
     from .viz.plots import figure_inputs, figure_outputs, save_figure
 
     scenarios = {
@@ -191,7 +195,7 @@ def run_paper(
                 f"run {k} failed at t = {r.time[-1] if r.time.size else 0:g} s: {r.message}"
             )
     summary = paper_summary(results, dt=dt, pulse_duration=pulse_duration)
-    with atomic_directory(out_dir) as tmp:
+    with output_directory(out_dir, writer="paper", force=force) as tmp:
         for k, r in results.items():
             r.save(tmp, k)
         for sim, (fo, fi) in ((1, ("fig6", "fig7")), (2, ("fig8", "fig9"))):
@@ -219,11 +223,23 @@ def run_paper(
 
 
 def write_run(
-    result: SimulationResult, out_dir: str | Path, *, command: str = "tetherheli simulate"
+    result: SimulationResult,
+    out_dir: str | Path,
+    *,
+    command: str = "tetherheli simulate",
+    inputs: tuple[str | Path, ...] = (),
+    force: bool = False,
 ) -> dict[str, Any]:
-    """Write one run (time series, figures, metrics, report) into ``out_dir``."""
+    """Write one run (time series, figures, metrics, report) into ``out_dir``
+    (``_io.output_directory``: the user's files there are kept, never replaced)."""
+    with output_directory(out_dir, writer="simulate", inputs=inputs, force=force) as tmp:
+        return _write_run_files(result, tmp, command)
+
+
+def _write_run_files(result: SimulationResult, directory: Path, command: str) -> dict[str, Any]:
     from .viz.plots import figure_inputs, figure_outputs, save_figure
 
+    directory.mkdir(exist_ok=True)
     metrics = run_metrics(result).as_dict() if result.time.size else {}
     info = {
         "name": result.name,
@@ -233,46 +249,50 @@ def write_run(
         "tetherheli_version": __version__,
         "command": command,
     }
-    with atomic_directory(out_dir) as tmp:
-        result.save(tmp, result.name)
-        if result.time.size > 1:
-            save_figure(figure_outputs([result], result.name), tmp / "outputs.png")
-            save_figure(figure_inputs([result], result.name), tmp / "inputs.png")
-        atomic_write_text(tmp / "summary.json", json.dumps(info, indent=2) + "\n")
-        lines = [
-            f"# {result.name}",
-            "",
-            f"Status: {result.message}.",
-            "",
-            f"Produced by `{command}` with tetherheli {__version__}.",
+    result.save(directory, result.name)
+    if result.time.size > 1:
+        save_figure(figure_outputs([result], result.name), directory / "outputs.png")
+        save_figure(figure_inputs([result], result.name), directory / "inputs.png")
+    atomic_write_text(directory / "summary.json", json.dumps(info, indent=2) + "\n")
+    lines = [
+        f"# {result.name}",
+        "",
+        f"Status: {result.message}.",
+        "",
+        f"Produced by `{command}` with tetherheli {__version__}.",
+        "",
+    ]
+    if metrics:
+        lines += ["| metric | value |", "|---|---:|"]
+        for group in ("peak_abs_dev", "rms_dev"):
+            for k, v in metrics[group].items():
+                lines.append(f"| {group} {k} | {v:.5g} |")
+        lines += [
+            f"| tension min [N] | {metrics['tension_min']:.5g} |",
+            f"| tension max [N] | {metrics['tension_max']:.5g} |",
             "",
         ]
-        if metrics:
-            lines += ["| metric | value |", "|---|---:|"]
-            for group in ("peak_abs_dev", "rms_dev"):
-                for k, v in metrics[group].items():
-                    lines.append(f"| {group} {k} | {v:.5g} |")
-            lines += [
-                f"| tension min [N] | {metrics['tension_min']:.5g} |",
-                f"| tension max [N] | {metrics['tension_max']:.5g} |",
-                "",
-            ]
-        if result.time.size > 1:
-            lines += ["![outputs](outputs.png)", "", "![inputs](inputs.png)", ""]
-        atomic_write_text(tmp / "report.md", "\n".join(lines))
+    if result.time.size > 1:
+        lines += ["![outputs](outputs.png)", "", "![inputs](inputs.png)", ""]
+    atomic_write_text(directory / "report.md", "\n".join(lines))
     return info
 
 
 def write_comparison(
-    results: list[SimulationResult], out_dir: str | Path, *, command: str
+    results: list[SimulationResult],
+    out_dir: str | Path,
+    *,
+    command: str,
+    inputs: tuple[str | Path, ...] = (),
+    force: bool = False,
 ) -> dict[str, Any]:
     """Several runs: each in ``out_dir/<name>/`` as ``write_run`` writes it, overlaid in
     ``outputs.png`` and ``inputs.png``, with their metrics side by side in ``summary.json``
     and ``report.md``."""
     from .viz.plots import figure_inputs, figure_outputs, save_figure
 
-    with atomic_directory(out_dir) as tmp:
-        infos = {r.name: write_run(r, tmp / r.name, command=command) for r in results}
+    with output_directory(out_dir, writer="simulate", inputs=inputs, force=force) as tmp:
+        infos = {r.name: _write_run_files(r, tmp / r.name, command) for r in results}
         plotted = [r for r in results if r.time.size > 1]
         if plotted:
             title = " vs ".join(r.name for r in plotted)
@@ -325,6 +345,7 @@ def run_sensing(
     *,
     scenarios: tuple[str | Path, ...] | None = None,
     command: str = "tetherheli sensing",
+    force: bool = False,
 ) -> dict[str, Any]:
     """The tether as a GPS-free position sensor (Sec. IV-F): fly the shipped
     ``sensing_gps`` and ``sensing_tether`` scenarios (or the given ones), compare the
@@ -334,6 +355,7 @@ def run_sensing(
     from .sim import load_scenario
     from .viz.plots import save_figure
 
+    claim_output_directory(out_dir, inputs=scenarios or (), force=force)
     if scenarios:
         runs = [load_scenario(p) for p in scenarios]
     else:  # the shipped scenarios/sensing_{gps,tether}.toml, built here (a test checks equality)
@@ -368,7 +390,7 @@ def run_sensing(
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
     fig.suptitle("Position from a GPS against the tether as a sensor (Sec. IV-F)")
-    with atomic_directory(out_dir) as tmp:
+    with output_directory(out_dir, writer="sensing", inputs=scenarios or (), force=force) as tmp:
         for name, r in results.items():
             r.save(tmp, name)
         save_figure(fig, tmp / "sensing.png")

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from ._io import atomic_directory, atomic_write_text
+from ._io import atomic_write_text, output_directory
 from ._version import __version__
 from .analysis import run_metrics
 from .errors import ParameterError
@@ -155,8 +155,16 @@ def sweep(
     return SweepResult(parameter, metric, values, out, tuple(statuses), bound, best)
 
 
-def write_sweep(result: SweepResult, out_dir: str | Path, *, command: str) -> None:
-    """Table (CSV), plot (PNG) and summary.json of a sweep, written whole or not at all."""
+def write_sweep(
+    result: SweepResult,
+    out_dir: str | Path,
+    *,
+    command: str,
+    inputs: tuple[str | Path, ...] = (),
+    force: bool = False,
+) -> None:
+    """Table (CSV), plot (PNG) and summary.json of a sweep, written whole or not at all
+    (``_io.output_directory``: the user's files in ``out_dir`` are kept, never replaced)."""
     import matplotlib.pyplot as plt
 
     from .viz.plots import save_figure
@@ -181,7 +189,7 @@ def write_sweep(result: SweepResult, out_dir: str | Path, *, command: str) -> No
             result.values.tolist(), result.metric.tolist(), result.statuses, strict=True
         )
     ]
-    with atomic_directory(out_dir) as tmp:
+    with output_directory(out_dir, writer="sweep", inputs=inputs, force=force) as tmp:
         save_figure(fig, tmp / "sweep.png")
         atomic_write_text(tmp / "sweep.csv", "\n".join(rows) + "\n")
         info = {**result.as_dict(), "tetherheli_version": __version__, "command": command}

@@ -40,7 +40,7 @@ from ..errors import ParameterError
 from ..params import Params
 from . import engine
 from .scenario import Scenario
-from .simulate import _engine_setup, compile_wind
+from .simulate import _engine_setup, check_run_memory, compile_wind
 
 __all__ = ["METRIC_NAMES", "BatchResult", "connect", "run_batch", "summary_metrics"]
 
@@ -252,6 +252,7 @@ def run_batch(
         return BatchResult(summaries, status, done)
     for s in scenarios:  # fail fast, before any work is sent anywhere
         _check(s)
+        check_run_memory(s, record=False, concurrent=min(workers, n))
     if client is not None:
         n_threads = max(1, sum(client.nthreads().values()))
         size = max(1, -(-n // (4 * n_threads)))

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import csv
-import io
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -11,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from .._io import atomic_write_bytes, atomic_write_text
+from .._io import atomic_open, atomic_write_bytes, atomic_write_text
 from .engine import STATUS_MESSAGES, STATUS_OK
 
 __all__ = ["SimulationResult", "atomic_write_bytes", "atomic_write_text"]
@@ -22,6 +21,7 @@ INPUT_NAMES = ("fMR3", "tMR1", "tMR2", "fTR2")
 INPUT_UNITS = ("N", "N m", "N m", "N")
 OUTPUT_NAMES = ("q1", "q2", "q3", "q6")
 OUTPUT_UNITS = ("m", "m", "m", "rad")
+_CSV_BLOCK_ROWS = 4096
 
 
 @dataclass(frozen=True)
@@ -122,15 +122,16 @@ class SimulationResult:
         return cols
 
     def to_csv(self, path: str | Path) -> Path:
-        """Write the time series as CSV (SI units; header row), atomically."""
+        """Write the time series as CSV (SI units; header row), atomically, streamed in blocks
+        of rows (a long run is not held a second time as text)."""
         cols = self.columns()
-        buf = io.StringIO()
-        writer = csv.writer(buf, lineterminator="\n")
-        writer.writerow(cols.keys())
-        data = np.column_stack(list(cols.values()))
-        for row in data:
-            writer.writerow([repr(float(v)) for v in row])
-        atomic_write_text(Path(path), buf.getvalue())
+        columns = list(cols.values())
+        with atomic_open(Path(path)) as fh:
+            writer = csv.writer(fh, lineterminator="\n")
+            writer.writerow(cols.keys())
+            for start in range(0, self.time.size, _CSV_BLOCK_ROWS):
+                block = np.column_stack([c[start : start + _CSV_BLOCK_ROWS] for c in columns])
+                writer.writerows([repr(float(v)) for v in row] for row in block)
         return Path(path)
 
     def metadata(self) -> dict[str, Any]:

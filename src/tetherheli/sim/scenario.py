@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -174,7 +175,28 @@ def _number(source, key, value, *, low=None, high=None, low_open=False, integer=
     return int(value) if integer else float(value)
 
 
+#: A scenario name becomes a file stem and a folder name: letters, digits, '_', '.', '-'.
+_NAME_PATTERN = re.compile(r"[A-Za-z0-9_.-]{1,100}")
+#: The most control samples one run may have (about 12 days at dt = 1 ms, 115 days at 10 ms).
+MAX_SAMPLES = 1_000_000_000
+
+
+def check_name(key: str, value: object, *, source: str | None = None) -> str:
+    """A name that becomes a file stem or a folder: 1-100 letters, digits, '_', '.', '-',
+    not '.' or '..' (never a path); else ParameterError naming ``key``."""
+    if not isinstance(value, str) or not _NAME_PATTERN.fullmatch(value) or value in (".", ".."):
+        raise ParameterError(
+            key,
+            value,
+            "a plain name of 1-100 letters, digits, '_', '.' or '-' (not '.' or '..'; no "
+            "path separators)",
+            source=source,
+        )
+    return value
+
+
 def _validate(s: Scenario, source: str | None) -> None:
+    check_name("name", s.name, source=source)
     if s.configuration not in ("free", "tethered"):
         raise ParameterError(
             "configuration", s.configuration, "'free' or 'tethered'", source=source
@@ -186,6 +208,13 @@ def _validate(s: Scenario, source: str | None) -> None:
     if c.dt > s.duration:
         raise ParameterError(
             "control.dt", c.dt, f"a sample time <= duration ({s.duration} s)", source=source
+        )
+    if s.duration / c.dt > MAX_SAMPLES:
+        raise ParameterError(
+            "duration",
+            s.duration,
+            f"at most {MAX_SAMPLES:.0e} control samples (duration / control.dt; dt = {c.dt} s)",
+            source=source,
         )
     if abs(s.duration / c.dt - round(s.duration / c.dt)) > 1e-9 * s.duration / c.dt:
         raise ParameterError(

@@ -46,6 +46,7 @@ from ..errors import ParameterError
 from ..model import TetheredHelicopter, TrimPoint, linearize
 from ..model.kernels import angle_trig, angle_trig_from, tension_from_state
 from ..params import Params
+from ..resources import check_memory
 from ..sensors import N_CHANNELS, measure, noise_table
 from . import engine
 from .result import SimulationResult
@@ -184,6 +185,33 @@ def _actuators(scenario: Scenario, trim: TrimPoint, ctrl: np.ndarray) -> np.ndar
     return act
 
 
+#: Floats recorded per control sample: state 13, inputs 4, feed-forward 4, reel rate 1,
+#: tension 1, wind 3, outputs 4, output estimate 4 (``_Recorder``).
+_RECORDED_FLOATS = 34
+#: Peak memory of a recorded run over its recorded arrays: the result, the metrics'
+#: temporaries and the figures' copies of the plotted lines (measured about 2.2; margin kept).
+_RECORDED_PEAK_FACTOR = 3
+
+
+def check_run_memory(scenario: Scenario, *, record: bool = True, concurrent: int = 1) -> int:
+    """Estimate the bytes one run of ``scenario`` allocates (recorded signals when ``record``,
+    sensor-noise table, ``concurrent`` runs at once) and refuse it (``ResourceLimitError``,
+    before anything is allocated) above the memory budget (``tetherheli.resources``)."""
+    rows = scenario.n_samples + 1
+    per_run = 0 if scenario.sensors.is_perfect else rows * N_CHANNELS * 8
+    if record:
+        per_run += rows * _RECORDED_FLOATS * 8 * _RECORDED_PEAK_FACTOR
+    needed = per_run * concurrent
+    at_once = f", {concurrent} runs at once" if concurrent > 1 else ""
+    check_memory(
+        f"run {scenario.name}: duration = {scenario.duration:g} s at dt = "
+        f"{scenario.control.dt:g} s ({rows} samples{at_once})",
+        needed,
+        hint="shorten the duration or lengthen control.dt",
+    )
+    return needed
+
+
 def _noise(scenario: Scenario) -> np.ndarray:
     """Per-sample sensor noise rows, drawn from the scenario's seed (none when perfect)."""
     if scenario.sensors.is_perfect:
@@ -278,6 +306,7 @@ def simulate(
         raise TypeError(f"scenario must be a tetherheli Scenario, not {type(scenario).__name__}")
     if method not in ("rk4", "adaptive"):
         raise ParameterError("method", method, "'rk4' or 'adaptive'")
+    check_run_memory(scenario)
     setup = _engine_setup(scenario)
     trim, wind, noise = setup.trim, setup.wind, setup.noise
     n = scenario.n_samples
@@ -347,15 +376,16 @@ class _Recorder:
         if sensed:  # the controller's position estimate next to the truth
             for i, name in enumerate(("q1_est", "q2_est", "q3_est")):
                 extra[name] = self.y_est[:k, i].copy()
+        # views, not copies: the recorder is dropped here, so a long run is held once
         return SimulationResult(
             time=np.arange(k) * scenario.control.dt,
-            states=self.x[:k].copy(),
-            outputs=self.y[:k].copy(),
-            inputs=self.u[:k].copy(),
-            feedforward=self.ffwd[:k].copy(),
-            tension=self.tension[:k].copy(),
-            reel_rate=self.rate[:k].copy(),
-            wind=self.wind[:k].copy(),
+            states=self.x[:k],
+            outputs=self.y[:k],
+            inputs=self.u[:k],
+            feedforward=self.ffwd[:k],
+            tension=self.tension[:k],
+            reel_rate=self.rate[:k],
+            wind=self.wind[:k],
             trim_state=trim.x.copy(),
             trim_input=trim.u.copy(),
             trim_output=trim.y.copy(),

@@ -45,8 +45,10 @@ from matplotlib.ticker import MaxNLocator
 from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 from PIL import Image
 
+from .._io import check_output_file, record_output_file
 from ..errors import ParameterError
 from ..params import HelicopterParams, Params
+from ..resources import check_memory
 
 __all__ = [
     "HelicopterPoints",
@@ -591,7 +593,7 @@ class _Scene:
                 close_hi = np.maximum(close_hi, flat.max(axis=0))
         close_lo, close_hi = close_lo - _MARGIN, close_hi + _MARGIN
 
-        self.fig = Figure(figsize=(10.0, 6.0), dpi=dpi)
+        self.fig = Figure(figsize=_FIGURE_INCHES, dpi=dpi)
         FigureCanvasAgg(self.fig)
         top = 0.92 - 0.035 * len(runs)  # the run lines sit above the panels
         bottom = 0.1
@@ -816,13 +818,34 @@ def _positive(name: str, value: Any, *, integer: bool = False) -> None:
         raise ParameterError(name, value, "a positive integer" if integer else "a number > 0")
 
 
+#: Upper bounds of the rendering options: GIF frame delays are whole centiseconds (100 fps at
+#: most); the frame count and resolution bound the time and memory of a render.
+MAX_FPS = 100.0
+MAX_FRAMES = 20_000
+MAX_DPI = 600.0
+_FIGURE_INCHES = (10.0, 6.0)
+
+
 def _output_path(output: str | Path, allowed: str) -> Path:
     out = Path(output)
     if out.is_dir():
         raise ParameterError("output", str(out), f"a file name ({allowed}), not a directory")
     if not out.parent.is_dir():
         raise ParameterError("output", str(out), "a path inside an existing directory")
+    check_output_file(out, option="output")  # never replaces a file tetherheli did not write
     return out
+
+
+def _check_render_memory(n_frames: int, dpi: float, gif: bool) -> None:
+    """Refuse a render whose frames do not fit the memory budget: a GIF keeps every frame
+    (1 byte per pixel after palettising, plus one RGBA frame being drawn); MP4 streams."""
+    pixels = _FIGURE_INCHES[0] * dpi * _FIGURE_INCHES[1] * dpi
+    needed = pixels * 4 * 3 + (n_frames * pixels if gif else 0)
+    check_memory(
+        f"animation of {n_frames} frames at dpi = {dpi:g}",
+        needed,
+        hint="lower --max-frames or the resolution, or write an .mp4 (streamed)",
+    )
 
 
 def _umask() -> int:
@@ -914,6 +937,11 @@ def animate(
     ):
         _positive(name, value)
     _positive("max_frames", max_frames, integer=True)
+    for name, value, high in (("fps", fps, MAX_FPS), ("max_frames", max_frames, MAX_FRAMES)):
+        if value > high:
+            raise ParameterError(name, value, f"at most {high:g}")
+    if dpi > MAX_DPI:
+        raise ParameterError("dpi", dpi, f"at most {MAX_DPI:g}")
     if wind_scale is not None:
         _positive("wind_scale", wind_scale)
     allowed = "'.gif' (Pillow) or '.mp4' (needs ffmpeg)"
@@ -929,6 +957,7 @@ def animate(
         )
     runs = _load_runs(directory, stems)
     times, playback = _frame_times(runs, float(fps), float(speed), int(max_frames))
+    _check_render_memory(len(times), float(dpi), gif=suffix == ".gif")
     scene = _Scene(
         runs, times, rotor_radius=float(rotor_radius), wind_scale=wind_scale, dpi=float(dpi)
     )
@@ -945,6 +974,7 @@ def animate(
                 writer.finish()
             raise
         writer.finish()
+    record_output_file(out, writer="animate")
     return out
 
 
@@ -977,6 +1007,8 @@ def render_frame(
     """
     for name, value in (("dpi", dpi), ("rotor_radius", rotor_radius)):
         _positive(name, value)
+    if dpi > MAX_DPI:
+        raise ParameterError("dpi", dpi, f"at most {MAX_DPI:g}")
     if wind_scale is not None:
         _positive("wind_scale", wind_scale)
     out = _output_path(output, "an image file such as .png")
@@ -1000,4 +1032,5 @@ def render_frame(
     scene.update(0)
     with _atomic_target(out) as tmp:
         scene.fig.savefig(tmp, dpi=float(dpi))
+    record_output_file(out, writer="animate")
     return out
