@@ -266,7 +266,9 @@ def list_runs(directory: str | Path) -> list[str]:
     """Stems of the saved runs in a directory, sorted.
 
     A run is a ``<stem>.csv`` with a ``<stem>.json`` beside it whose JSON object has a
-    ``configuration`` table (as ``SimulationResult.save`` writes); other files are ignored.
+    ``configuration`` table (as ``SimulationResult.save`` writes), in the directory or one
+    folder below it (``<name>/<stem>``, as ``tetherheli simulate`` writes several runs);
+    other files are ignored.
 
     Raises
     ------
@@ -275,10 +277,10 @@ def list_runs(directory: str | Path) -> list[str]:
     """
     path = _directory(directory)
     stems = []
-    for csv_path in sorted(path.glob("*.csv")):
+    for csv_path in sorted([*path.glob("*.csv"), *path.glob("*/*.csv")]):
         json_path = csv_path.with_suffix(".json")
         if json_path.is_file() and _is_result(json_path):
-            stems.append(csv_path.stem)
+            stems.append(csv_path.relative_to(path).with_suffix("").as_posix())
     return stems
 
 
@@ -359,9 +361,9 @@ def load_run(directory: str | Path, stem: str | None = None) -> RunData:
                 "stem", None, f"one of {stems} (the directory holds several)", source=str(path)
             )
         stem = stems[0]
-    csv_path, json_path = path / f"{stem}.csv", path / f"{stem}.json"
-    if not (csv_path.is_file() and json_path.is_file()):
+    elif stem not in list_runs(path):  # a name, never a path of the user's choosing
         raise ParameterError("stem", stem, f"one of {list_runs(path)}", source=str(path))
+    csv_path, json_path = path / f"{stem}.csv", path / f"{stem}.json"
     meta = _read_json(json_path)
     cfg = meta["configuration"]
     kind = cfg.get("configuration")
