@@ -323,3 +323,15 @@ def test_animation_run_names_are_names_not_paths(workdir: Path, capsys):
         assert main(["animate", "r", "--runs", stem, "--out", "r/a.gif"]) == 2
         assert "stem = " in capsys.readouterr().err
     assert not (workdir / "r" / "a.gif").exists()
+
+
+def test_derive_never_overwrites_a_users_file(tmp_path: Path, capsys):
+    """derive --output writes a new file, or one derive wrote; never a user's file."""
+    thesis = tmp_path / "thesis.py"
+    thesis.write_text("# mine\n")
+    assert main(["derive", "--output", str(thesis)]) == 2
+    assert "not written by tetherheli" in capsys.readouterr().err
+    assert thesis.read_text() == "# mine\n"
+    fresh = tmp_path / "gen.py"
+    assert main(["derive", "--output", str(fresh)]) == 0
+    assert main(["derive", "--check", "--output", str(fresh)]) == 0

@@ -115,10 +115,14 @@ def _cmd_trim(args: argparse.Namespace) -> int:
 
 
 def _cmd_derive(args: argparse.Namespace) -> int:
+    from ._io import atomic_write_text, check_output_file, record_output_file
     from .model.codegen import GENERATED_PATH, clear_numba_cache, generate_source
 
-    text = generate_source()
     target = Path(args.output) if args.output else GENERATED_PATH
+    generated = target.resolve() == GENERATED_PATH.resolve()
+    if not (args.check or generated):  # a user's path: a new file, or one derive wrote
+        check_output_file(target, option="--output")
+    text = generate_source()
     if args.check:
         current = target.read_text() if target.exists() else ""
         if current != text:
@@ -126,11 +130,11 @@ def _cmd_derive(args: argparse.Namespace) -> int:
             return 1
         print(f"{target} matches a fresh derivation")
         return 0
-    tmp = target.with_suffix(target.suffix + ".tmp")
-    tmp.write_text(text)
-    tmp.replace(target)
-    if target.resolve() == GENERATED_PATH.resolve():
+    atomic_write_text(target, text)
+    if generated:
         clear_numba_cache()  # compiled callers of the old kernels would go stale
+    else:
+        record_output_file(target, writer="derive")
     print(f"wrote {target}")
     return 0
 
