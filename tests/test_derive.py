@@ -191,16 +191,3 @@ def test_generated_code_matches_fresh_derivation(rng):
             fresh[f"{kind}_rhs"](x, inp, wind, tension, c_fresh, a)
             getattr(_generated, f"{kind}_rhs")(x, inp, wind, tension, c_ours, b)
             np.testing.assert_array_equal(a, b)
-
-
-def test_clear_numba_cache_removes_only_cache_files(tmp_path):
-    """`tetherheli derive` clears Numba's cache: callers that inline the generated kernels
-    (engine, controller) are cached against their own file only and would go stale."""
-    from tetherheli.model.codegen import clear_numba_cache
-
-    cache = tmp_path / "sim" / "__pycache__"
-    cache.mkdir(parents=True)
-    for name in ("engine.run-1.py311.nbi", "engine.run-1.py311.1.nbc", "engine.cpython-311.pyc"):
-        (cache / name).write_bytes(b"x")
-    assert clear_numba_cache(tmp_path) == 2
-    assert [p.name for p in cache.iterdir()] == ["engine.cpython-311.pyc"]

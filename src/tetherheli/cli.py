@@ -116,7 +116,7 @@ def _cmd_trim(args: argparse.Namespace) -> int:
 
 def _cmd_derive(args: argparse.Namespace) -> int:
     from ._io import atomic_write_text, check_output_file, record_output_file
-    from .model.codegen import GENERATED_PATH, clear_numba_cache, generate_source
+    from .model.codegen import GENERATED_PATH, generate_source
 
     target = Path(args.output) if args.output else GENERATED_PATH
     generated = target.resolve() == GENERATED_PATH.resolve()
@@ -130,10 +130,8 @@ def _cmd_derive(args: argparse.Namespace) -> int:
             return 1
         print(f"{target} matches a fresh derivation")
         return 0
-    atomic_write_text(target, text)
-    if generated:
-        clear_numba_cache()  # compiled callers of the old kernels would go stale
-    else:
+    atomic_write_text(target, text)  # compiled callers recompile on the next import
+    if not generated:
         record_output_file(target, writer="derive")
     print(f"wrote {target}")
     return 0

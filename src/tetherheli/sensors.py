@@ -61,8 +61,8 @@ from types import MappingProxyType
 from typing import Any
 
 import numpy as np
-from numba import njit
 
+from ._compile import compiled
 from .errors import ParameterError
 
 __all__ = [
@@ -90,7 +90,7 @@ __all__ = [
     "tether_position_estimate",
 ]
 
-_jit = njit(cache=True, error_model="numpy")
+_jit = compiled(error_model="numpy")
 
 # --- noise channels: columns of a noise row ---------------------------------------------------
 CH_LOAD_CELL = 0  # [N]

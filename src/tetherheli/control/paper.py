@@ -8,16 +8,16 @@ the tether-torque feed-forward (eqs 54-55), and the winch's PI tension control (
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from .._compile import compiled
 from ..model.kernels import angle_trig, tethered_outputs_sc, tethered_tether_torque_sc
 from .base import Command, Controller, Measurement
 from .tension import tension_pi_step
 
 __all__ = ["CTRL_SIZE", "PaperController", "paper_control"]
 
-_jit = njit(cache=True, error_model="numpy")
-_jit_inline = njit(cache=True, error_model="numpy", inline="always")
+_jit = compiled(error_model="numpy")
+_jit_inline = compiled(error_model="numpy", inline="always")
 _tension_pi_step = _jit(tension_pi_step)
 
 # controller settings, packed in one array

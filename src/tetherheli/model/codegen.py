@@ -13,15 +13,15 @@ p (14,) in ``params.PARAM_ORDER``.
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
+from .._io import atomic_write_text
 from .derive import Derivation, derive
 
-__all__ = ["GENERATED_PATH", "clear_numba_cache", "generate_source", "write_generated"]
+__all__ = ["GENERATED_PATH", "generate_source", "write_generated"]
 
 GENERATED_PATH = Path(__file__).with_name("_generated.py")
 
@@ -233,31 +233,8 @@ def generate_source() -> str:
     return "".join(parts)
 
 
-def clear_numba_cache(package_root: Path = GENERATED_PATH.parents[1]) -> int:
-    """Delete Numba's on-disk cache (``*.nbi``, ``*.nbc``) of every module in the package.
-
-    Numba keys a cached function on its own source file only; functions that inline the
-    generated kernels (the engine, the controller) would keep stale machine code after
-    ``_generated.py`` changes. Returns the number of files removed.
-    """
-    removed = 0
-    roots = [Path(package_root)]
-    cache_dir = os.environ.get("NUMBA_CACHE_DIR")
-    if cache_dir:
-        roots += [p for p in Path(cache_dir).rglob("*") if p.is_dir() and "tetherheli" in p.name]
-    for root in roots:
-        for pattern in ("*.nbi", "*.nbc"):
-            for f in root.rglob(pattern):
-                f.unlink(missing_ok=True)
-                removed += 1
-    return removed
-
-
 def write_generated(path: Path = GENERATED_PATH) -> Path:
-    """Regenerate the committed numeric code, atomically, and clear the stale Numba cache."""
-    text = generate_source()
-    tmp = path.with_suffix(".py.tmp")
-    tmp.write_text(text)
-    tmp.replace(path)
-    clear_numba_cache(path.parents[1])
+    """Regenerate the committed numeric code, atomically (the compiled code that uses it is
+    recompiled on the next import: ``tetherheli._compile``)."""
+    atomic_write_text(path, generate_source())
     return path

@@ -15,8 +15,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from .._compile import compiled
 from ..params import HelicopterParams
 from . import _generated as gen
 
@@ -29,10 +29,10 @@ __all__ = [
     "tethered_derivative_batch",
 ]
 
-_jit = njit(cache=True, fastmath={"nnan", "ninf"}, error_model="numpy")
+_jit = compiled(fastmath={"nnan", "ninf"}, error_model="numpy")
 # Hot kernels are inlined at Numba-IR level into their callers: a call between separately
 # compiled Numba functions costs ~30 ns here, a third of a derivative evaluation.
-_jit_inline = njit(cache=True, fastmath={"nnan", "ninf"}, error_model="numpy", inline="always")
+_jit_inline = compiled(fastmath={"nnan", "ninf"}, error_model="numpy", inline="always")
 
 free_constants = _jit(gen.free_constants)
 tethered_constants = _jit(gen.tethered_constants)

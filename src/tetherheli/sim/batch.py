@@ -34,8 +34,8 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numba import njit
 
+from .._compile import compiled
 from ..errors import ParameterError
 from ..params import Params
 from . import engine
@@ -63,7 +63,7 @@ METRIC_NAMES = (
 )
 
 
-@njit(cache=True, nogil=True)
+@compiled(nogil=True)
 def _run_nogil(engine_args, summary):  # pragma: no cover - compiled
     """``engine.run_closed_loop(*engine_args, ...)`` without recording (1-row dummy outputs),
     GIL released; ``engine_args`` is ``_EngineSetup.engine_args``."""

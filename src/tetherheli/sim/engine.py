@@ -18,8 +18,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from .._compile import compiled
 from ..control.paper import CTRL_FFWD, CTRL_WINCH, paper_control_sc
 from ..model.kernels import (
     angle_trig,
@@ -30,8 +30,8 @@ from ..model.kernels import (
 )
 from ..sensors import measure
 
-_jit = njit(cache=True, error_model="numpy")
-_jit_inline = njit(cache=True, error_model="numpy", inline="always")
+_jit = compiled(error_model="numpy")
+_jit_inline = compiled(error_model="numpy", inline="always")
 
 # --- wind program: one row per built-in profile ----------------------------------------------
 WIND_PULSE, WIND_SINE, WIND_STEP, WIND_CONSTANT = 0, 1, 2, 3
