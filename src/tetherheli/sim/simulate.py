@@ -301,6 +301,7 @@ def simulate(
             rec.y_est,
             summary,
         )
+        rec.release[:] = summary[engine.SUMMARY_RELEASE_TIME : engine.SUMMARY_RELEASE_TIME + 2]
     else:
         status, done = _python_loop(
             scenario,
@@ -331,6 +332,7 @@ class _Recorder:
         self.wind = np.zeros((n + 1, 3))
         self.y = np.zeros((n + 1, 4))
         self.y_est = np.zeros((n + 1, 4))
+        self.release = np.full(2, np.nan)  # tether release: time [s], tension [N]
 
     def result(
         self,
@@ -364,6 +366,8 @@ class _Recorder:
             version=__version__,
             method=method,
             extra=extra,
+            release_time=None if math.isnan(self.release[0]) else float(self.release[0]),
+            release_tension=None if math.isnan(self.release[1]) else float(self.release[1]),
         )
 
 
@@ -385,15 +389,18 @@ def _python_loop(
     breaks = wind.breakpoints(n * dt) if wind is not None else np.array([])
     controller.reset()
     previous_rate = 0.0  # the winch starts at rest
+    # the engine's release switches its own controller settings; a Python controller is told
+    # by the zero tension and the detached configuration (no reel rate) instead
+    ctrl_scratch = np.zeros(CTRL_SIZE)
     from ..model.kernels import tethered_outputs
 
     for k in range(n + 1):
         t = k * dt
         attached = cfg[engine.CFG_ATTACHED] > 0.5
         tension = tension_from_state(x[5], x[12], K_C) if attached else 0.0
-        if attached and tension > act[engine.ACT_BREAK]:
-            cfg[engine.CFG_ATTACHED] = 0.0
-            attached, tension = False, 0.0
+        if attached:
+            tension = engine.release_if_broken(tension, t, cfg, ctrl_scratch, act, rec.release)
+            attached = cfg[engine.CFG_ATTACHED] > 0.5
         if noise.shape[0]:
             measured = measure(x, tension, noise[k], source, arm, x_meas)
         else:
