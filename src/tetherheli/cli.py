@@ -235,11 +235,13 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         write_run(results[0], args.out, command=command)
     else:
         write_comparison(results, args.out, command=command)
+    for r in results:
+        if r.released:
+            print(f"tetherheli: run {r.name}: {r.release_note()}", file=sys.stderr)
     failed = [r for r in results if not r.ok]
     for r in failed:
-        t_end = r.time[-1] if r.time.size else 0.0
         print(
-            f"tetherheli: run {r.name} stopped at t = {t_end:g} s: {r.message} "
+            f"tetherheli: run {r.name} stopped at t = {r.end_time:g} s: {r.message} "
             f"(partial results in {args.out})",
             file=sys.stderr,
         )

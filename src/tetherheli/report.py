@@ -229,6 +229,7 @@ def write_run(
         "name": result.name,
         "status": result.status,
         "message": result.message,
+        "tether_release": result.release_info(),
         "metrics": metrics,
         "tetherheli_version": __version__,
         "command": command,
@@ -244,6 +245,10 @@ def write_run(
             "",
             f"Status: {result.message}.",
             "",
+        ]
+        if result.released:
+            lines += [f"Event: {result.release_note()}.", ""]
+        lines += [
             f"Produced by `{command}` with tetherheli {__version__}.",
             "",
         ]
