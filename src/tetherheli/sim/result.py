@@ -99,9 +99,13 @@ class SimulationResult:
 
     @property
     def end_time(self) -> float:
-        """Time of the last recorded sample [s] (0 without samples): where a failed run
-        stopped."""
-        return float(self.time[-1]) if self.time.size else 0.0
+        """Where the run ended [s]: the last sample of a completed run; for a failed run the
+        control sample at which the failure was detected (the first one not recorded: its
+        state failed the checks, or the integration towards it failed)."""
+        dt = self.configuration.get("control", {}).get("dt")
+        if self.ok or dt is None:
+            return float(self.time[-1]) if self.time.size else 0.0
+        return self.time.size * float(dt)
 
     def release_info(self) -> dict[str, float] | None:
         """The tether release as plain data, ``{"time", "tension", "breaking_tension"}``
