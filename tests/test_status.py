@@ -7,11 +7,12 @@ from __future__ import annotations
 import csv
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-from tetherheli import simulate
+from tetherheli import load_scenario, simulate
 from tetherheli.cli import main
 from tetherheli.disturbances import Step
 from tetherheli.sim import engine
@@ -191,3 +192,110 @@ def test_env_info_reports_release():
     assert released["tether_release"]["time"] == pytest.approx(0.96)
     assert released["tether_release"]["tension"] > BREAK
     assert "tether released" in released["message"]
+
+
+# --- B. physically failed runs are reported, never a traceback -------------------------------
+
+
+def test_paper_with_coarse_dt_reports_failures(tmp_path, capsys):
+    """`paper --dt 1`: every run fails (the 1 s sample time cannot hold the hover). The job
+    writes its outputs, records each run's status and failure time, leaves the reductions
+    null / n/a, prints one line per failed run and exits 1."""
+    out = tmp_path / "paper"
+    assert main(["paper", "--dt", "1", "--out", str(out)]) == 1
+    captured = capsys.readouterr()
+    lines = [x for x in captured.err.splitlines() if x]
+    assert len(lines) == 4 and all(x.startswith("tetherheli: run sim") for x in lines)
+    assert "Traceback" not in captured.err
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["reduction_percent"] == dict.fromkeys(
+        ("sim1_q1_peak", "sim1_q1_rms", "sim2_q2_peak", "sim2_q2_rms")
+    )
+    statuses = summary["statuses"]
+    assert set(statuses) == {"sim1_free", "sim1_tethered", "sim2_free", "sim2_tethered"}
+    for key, st in statuses.items():
+        run = json.loads((out / f"{key}.json").read_text())
+        assert not st["completed"] and st["status"] == run["status"] != 0
+        assert st["message"] == run["message"]
+        # the failure is detected at the first control sample not recorded
+        n = len((out / f"{key}.csv").read_text().splitlines()) - 1
+        assert st["end_time"] == n * 1.0
+        assert f"run {key} failed at t = {st['end_time']:g} s: {st['message']}" in captured.err
+    report = (out / "report.md").read_text()
+    assert "## Failed runs" in report and "NaN" not in report and "nan" not in report
+    assert "| n/a |" in report and "No reduction can be computed" in report
+    for fig in ("fig6_sim1_outputs", "fig7_sim1_inputs", "fig8_sim2_outputs", "fig9_sim2_inputs"):
+        assert (out / f"{fig}.png").stat().st_size > 0
+
+
+def test_paper_summary_of_successful_runs_records_completed_statuses():
+    """The four paper runs complete; summary's statuses say so (numbers as before)."""
+    from tetherheli.report import paper_summary
+    from tetherheli.sim.scenario import paper_scenario
+
+    results = {
+        f"sim{s}_{c}": simulate(paper_scenario(s, c).replace(duration=20.0))
+        for s in (1, 2)
+        for c in ("free", "tethered")
+    }
+    summary = paper_summary(results, dt=0.01, pulse_duration=1.0)
+    assert all(
+        st["completed"] and st["message"] == "completed" for st in summary["statuses"].values()
+    )
+    assert all(isinstance(v, float) for v in summary["reduction_percent"].values())
+
+
+def _sensing_failing_text() -> str:
+    """The shipped GPS sensing scenario, 20 s, with a 3 N m cyclic limit that loses it."""
+    text = (Path(__file__).resolve().parents[1] / "scenarios" / "sensing_gps.toml").read_text()
+    text = text.replace('name = "sensing_gps"', 'name = "sensing_fails"')
+    text = text.replace("duration = 60.0", "duration = 20.0")
+    return text + "\n[actuators]\nu_min = [-1e9, -3.0, -3.0, -1e9]\nu_max = [1e9, 3.0, 3.0, 1e9]\n"
+
+
+def test_sensing_with_failing_scenario_reports_it(tmp_path, capsys):
+    """`sensing` with a scenario whose saturated cyclic loses the helicopter: outputs
+    written, the run's status and failure time in summary.json, one line, exit 1."""
+    path = tmp_path / "fails.toml"
+    path.write_text(_sensing_failing_text())
+    direct = simulate(load_scenario(path))
+    assert not direct.ok
+    out = tmp_path / "sensing"
+    assert main(["sensing", "--scenario", str(path), "--out", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert err.strip().splitlines() == [
+        f"tetherheli: run sensing_fails failed at t = {direct.end_time:g} s: {direct.message} "
+        f"(partial results in {out})"
+    ]
+    info = json.loads((out / "summary.json").read_text())
+    row = info["runs"]["sensing_fails"]
+    assert info["failed"] == ["sensing_fails"]
+    assert row["status"] == direct.status and row["end_time"] == direct.end_time
+    assert row["true_deviation_rms"]["q1"] > 0.0
+    assert (out / "sensing.png").stat().st_size > 0
+
+
+def test_unplottable_wind_keeps_status_and_figures(tmp_path, capsys):
+    """A 1e308 N wind pulse: the run becomes non-finite; its figures leave out the samples
+    that cannot be drawn (with a note) instead of crashing, and the status is kept."""
+    from tetherheli.viz.plots import PLOT_LIMIT, figure_outputs, plottable
+
+    path = tmp_path / "huge.toml"
+    path.write_text(
+        'name = "huge"\nduration = 3.0\n[[wind]]\ntype = "pulse"\nstart = 1.0\n'
+        "duration = 1.0\nmagnitude = 1e308\ndirection = [1, 0, 0]\n"
+    )
+    out = tmp_path / "out"
+    assert main(["simulate", str(path), "--out", str(out)]) == 1
+    assert "Traceback" not in capsys.readouterr().err
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"] == engine.STATUS_NONFINITE
+    assert (out / "outputs.png").stat().st_size > 0 and (out / "inputs.png").exists()
+    r = simulate(load_scenario(path))
+    assert r.end_time == pytest.approx(1.01) and np.abs(r.wind).max() > PLOT_LIMIT
+    clean, dropped = plottable(r.wind[:, 0])
+    assert dropped == int(np.sum(np.abs(r.wind[:, 0]) > PLOT_LIMIT)) > 0
+    assert np.all(np.isnan(clean[np.abs(r.wind[:, 0]) > PLOT_LIMIT]))
+    fig = figure_outputs([r])
+    assert any("not drawn" in t.get_text() for t in fig.texts)
+    assert "stopped at t = 1.01 s" in fig.axes[0].get_legend().get_texts()[0].get_text()
