@@ -42,7 +42,7 @@ from ..disturbances import (
     Turbulence,
     WindSum,
 )
-from ..errors import ParameterError
+from ..errors import InfeasibleError, ParameterError
 from ..model import TetheredHelicopter, TrimPoint, linearize
 from ..model.kernels import angle_trig, angle_trig_from, tension_from_state
 from ..params import Params
@@ -175,7 +175,7 @@ def _actuators(scenario: Scenario, trim: TrimPoint, ctrl: np.ndarray) -> np.ndar
     need = trim.u_total
     for i, name in enumerate(("fMR3", "tMR1", "tMR2", "fTR2")):
         if not a.u_min[i] < need[i] < a.u_max[i]:
-            raise ParameterError(
+            raise InfeasibleError(
                 "actuators.u_min/u_max",
                 f"{name} in [{a.u_min[i]:g}, {a.u_max[i]:g}]",
                 f"limits around the hover need {name} = {need[i]:.4g} (the helicopter "
