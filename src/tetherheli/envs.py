@@ -74,6 +74,7 @@ from .disturbances import (
     Pulse,
     Sine,
     Turbulence,
+    check_wind_covers,
 )
 from .errors import ParameterError
 from .model.kernels import tension_from_state, tethered_outputs
@@ -373,6 +374,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         compiled = compile_wind(wind) if isinstance(wind, Disturbance) else None
         if compiled is None:
             raise ParameterError("options['wind']", wind, "a built-in Disturbance")
+        check_wind_covers(wind, self.max_episode_time)  # a gust grid as long as the episode
         self.wind_disturbance = wind
         self._wind = compiled
         self._cfg = self._cfg_base.copy()
