@@ -377,6 +377,18 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     if result.bound is not None:
         print(f"eq 40 tension bound: TC < {result.bound:.2f} N")
     print(f"best {args.param}: {result.best_value}")
+    for i in result.failed:
+        print(
+            f"tetherheli: sweep point {args.param} = {result.values[i]:g}: {result.statuses[i]}",
+            file=sys.stderr,
+        )
+    if result.failed:
+        print(
+            f"tetherheli: {len(result.failed)} of {len(result.values)} sweep points failed or "
+            f"were invalid (statuses in {args.out}/summary.json)",
+            file=sys.stderr,
+        )
+        return 1
     return 0
 
 
