@@ -299,3 +299,156 @@ def test_unplottable_wind_keeps_status_and_figures(tmp_path, capsys):
     fig = figure_outputs([r])
     assert any("not drawn" in t.get_text() for t in fig.texts)
     assert "stopped at t = 1.01 s" in fig.axes[0].get_legend().get_texts()[0].get_text()
+
+
+# --- C. a sweep tells the truth --------------------------------------------------------------
+
+
+def test_sweep_records_impossible_and_failed_points():
+    """A T_ref sweep beyond what the tether gives records those points as invalid (with the
+    reason, metric NaN) and still runs the others; a cyclic limit below the hover need is
+    invalid, one that loses the helicopter failed; neither is reported as completed."""
+    from tetherheli.sim.scenario import paper_scenario
+    from tetherheli.sweep import sweep
+
+    s = paper_scenario(1, "tethered").replace(duration=12.0)
+    r = sweep(s, "tension_control.T_ref", np.array([20.0, 199.0, 201.0, 450.0]), "rms_q1")
+    assert r.completed == (True, True, False, False) and r.failed == (2, 3)
+    assert np.all(np.isfinite(r.metric[:2])) and np.all(np.isnan(r.metric[2:]))
+    for st in r.statuses[2:]:
+        assert st.startswith("invalid: params.tension_control.T_ref") and "<= 200 N" in st
+    assert r.as_dict()["failed"] == 2 and r.as_dict()["completed"] == [True, True, False, False]
+    full = paper_scenario(1, "tethered")  # 3 N m loses the helicopter at about 20 s
+    c = sweep(full, "actuators.cyclic_limit", np.array([0.5, 3.0, 5.0]), "peak_q1")
+    assert c.statuses[0].startswith("invalid: actuators.u_min/u_max") and "hover" in c.statuses[0]
+    assert c.completed == (False, False, True) and c.best_value == 5.0
+
+
+def test_sweep_cli_exits_1_when_a_point_fails(tmp_path, capsys):
+    """`sweep` with failed or invalid points: outputs written (the CSV quotes reasons with
+    commas), one stderr line per such point and a count, exit 1; all completed: exit 0."""
+    scenario = str(Path(__file__).resolve().parents[1] / "scenarios" / "paper_sim1_tethered.toml")
+    out = tmp_path / "sw"
+    argv = ["sweep", scenario, "--param", "tension_control.T_ref", "--values", "20,450"]
+    assert main([*argv, "--out", str(out)]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 2
+    assert err[0].startswith("tetherheli: sweep point tension_control.T_ref = 450: invalid:")
+    assert err[1].startswith("tetherheli: 1 of 2 sweep points failed or were invalid")
+    with (out / "sweep.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    assert [r["status"][:8] for r in rows] == ["complete", "invalid:"]
+    info = json.loads((out / "summary.json").read_text())
+    assert info["completed"] == [True, False] and info["metric_values"][1] is None
+    assert (
+        main(["sweep", scenario, "--param", "tether.K_C", "--values", "40", "--out", str(out)]) == 0
+    )
+
+
+# --- D. physically meaningless input refused where it enters ---------------------------------
+
+
+def test_trim_refuses_tension_beyond_tether_and_names_the_bound(paper):
+    """LN = q9 - TC/K_C (eq 28) must stay >= q9 / 2: at most K_C q9 / 2 = 200 N at 10 m for
+    the paper's tether; 500 N (LN = -2.5 m) is refused, 200 N gives LN = 5 m."""
+    from tetherheli import InfeasibleError, ParameterError
+    from tetherheli.model.trim import hover_trim
+    from tetherheli.params import MAX_TETHER_STRAIN
+
+    assert paper.tether.max_tension(10.0) == 200.0
+    assert paper.tether.natural_length(10.0, 25.0) == 9.375  # Table V
+    t = hover_trim(paper, 200.0, 10.0)
+    ln = t.x[12]
+    assert ln == 5.0 and (10.0 - ln) == MAX_TETHER_STRAIN * ln
+    for tension in (200.0001, 400.0, 500.0):
+        with pytest.raises(InfeasibleError, match=r"tension = .* allowed: a tension <= 200 N"):
+            hover_trim(paper, tension, 10.0)
+    assert issubclass(InfeasibleError, ParameterError)
+    # the bound scales with the length: 20 N at 1 m
+    with pytest.raises(InfeasibleError, match="<= 20 N"):
+        hover_trim(paper, 25.0, 1.0)
+
+
+def test_trim_cli_refuses_impossible_tension_and_length(capsys):
+    assert main(["trim", "--tension", "500"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "tension = 500.0" in err[0] and "<= 200 N" in err[0]
+    assert "LN = q9 - TC/K_C = -2.5 m" in err[0]
+    assert main(["trim", "--q9", "1e308"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [
+        "tetherheli: error: q9 = 1e+308 is invalid; allowed: a tether length in [0.5, 1000] m"
+    ]
+    assert main(["trim", "--tension", "200", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["trim"]["LN"] == 5.0
+
+
+@pytest.mark.parametrize(
+    ("text", "field", "exc"),
+    [
+        ("[params.tension_control]\nT_ref = 450.0\n", "params.tension_control.T_ref", "Infeasible"),
+        ("q9 = 1.0\n", "params.tension_control.T_ref", "Infeasible"),  # 25 N > 20 N at 1 m
+        ("[params.tether]\nK_C = 4.0\n", "params.tension_control.T_ref", "Infeasible"),
+        ("q9 = 1e308\n", "q9", "Parameter"),
+        ("q9 = 0.1\n", "q9", "Parameter"),
+        ("[params.tether]\nL_N0 = 1e308\n", "tether.L_N0", "Parameter"),
+        ("[params.helicopter]\nd_O_P3 = -300.0\n", "helicopter.d_O_P3", "Parameter"),
+        ("[params.helicopter]\nrotor_drag_arm = 50.0\n", "helicopter.rotor_drag_arm", "Parameter"),
+    ],
+)
+def test_scenario_refuses_meaningless_values(tmp_path, capsys, text, field, exc):
+    """Each is refused when the scenario is loaded, with one line naming the field (exit 2
+    from the CLI); the free configuration does not use T_ref."""
+    from tetherheli import InfeasibleError, ParameterError
+
+    path = tmp_path / "bad.toml"
+    path.write_text('name = "bad"\nduration = 2.0\n' + text)
+    expected = InfeasibleError if exc == "Infeasible" else ParameterError
+    with pytest.raises(expected, match=field.replace(".", r"\.")):
+        load_scenario(path)
+    assert main(["simulate", str(path), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and field in err[0]
+    assert not (tmp_path / "out").exists()
+    if exc == "Infeasible":
+        path.write_text('name = "bad"\nconfiguration = "free"\nduration = 2.0\n' + text)
+        assert load_scenario(path).configuration == "free"
+
+
+def test_short_gust_grid_refused_in_every_path(tmp_path, capsys):
+    """A turbulence whose gust grid ends before the run is refused at set-up by the one
+    check (``check_wind_covers``): the scenario (both integrators, batch, sweep, Monte
+    Carlo use it) and the Gymnasium environment; one grid covering the run is accepted."""
+    from tetherheli import ParameterError
+    from tetherheli.disturbances import (
+        DragModel,
+        HoverTurbulence,
+        Turbulence,
+        check_wind_covers,
+    )
+
+    drag = DragModel(cd_area_m2=(0.4, 0.4, 0.8))
+    turb = Turbulence(HoverTurbulence(), drag, seed=1, duration=2.0, dt=0.1)
+    with pytest.raises(ParameterError, match=r"wind\.duration = 2\.0 .*run's duration \(3 s"):
+        Scenario(duration=3.0, wind=turb)
+    with pytest.raises(ParameterError, match=r"wind\[1\]\.duration"):
+        Scenario(duration=3.0, wind=Step(0.5, 1.0, (1.0, 0.0, 0.0)) + turb)
+    ok = Scenario(duration=2.0, wind=turb)
+    assert simulate(ok).ok and simulate(ok, method="adaptive").ok
+    check_wind_covers(turb, 2.0)
+    # the scenario file: one line naming the field, exit 2
+    text = Path(__file__).resolve().parents[1] / "scenarios" / "turbulence_hover_free.toml"
+    body = text.read_text().replace("duration = 120.0  # [s]", "duration = 130.0  # [s]")
+    assert "duration = 130.0" in body
+    path = tmp_path / "short.toml"
+    path.write_text(body)
+    assert main(["simulate", str(path), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "wind.duration = 120.0" in err[0] and "130 s" in err[0]
+    # the environment: an episode longer than the gust series is refused at reset
+    pytest.importorskip("gymnasium")
+    from tetherheli.envs import TetheredHoverEnv
+
+    env = TetheredHoverEnv(wind=turb, max_episode_time=3.0)
+    with pytest.raises(ParameterError, match=r"wind\.duration"):
+        env.reset(seed=0)
