@@ -172,7 +172,8 @@ def test_paper_command_writes_everything(tmp_path, capsys):
     out = tmp_path / "paper"
     assert main(["paper", "--out", str(out)]) == 0
     s = json.loads((out / "summary.json").read_text())
-    assert set(s) == {"dt", "pulse_duration", "runs", "reduction_percent"}
+    assert set(s) == {"dt", "pulse_duration", "runs", "reduction_percent", "statuses"}
+    assert all(st["completed"] and st["status"] == 0 for st in s["statuses"].values())
     assert set(s["runs"]) == {"sim1_free", "sim1_tethered", "sim2_free", "sim2_tethered"}
     for run in s["runs"].values():
         assert set(run) == {"peak_abs_dev", "rms_dev", "tension_min", "tension_max"}

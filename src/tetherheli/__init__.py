@@ -14,7 +14,12 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 from ._version import __version__
-from .errors import ParameterError, SingularConfigurationError, TetherheliError
+from .errors import (
+    InfeasibleError,
+    ParameterError,
+    SingularConfigurationError,
+    TetherheliError,
+)
 from .params import HelicopterParams, Params, TensionControlParams, TetherParams
 
 if TYPE_CHECKING:
@@ -36,6 +41,7 @@ _LAZY = {
 __all__ = [
     "FreeHelicopter",
     "HelicopterParams",
+    "InfeasibleError",
     "LinearModel",
     "ParameterError",
     "Params",

@@ -281,8 +281,21 @@ def _cmd_paper(args: argparse.Namespace) -> int:
     print(f"wrote {args.out}/ (report.md, summary.json, fig6-fig9 PNG, time series)")
     print("reduction of the disturbance effect by the tether (100 (free - tethered) / free):")
     for k, v in red.items():
-        print(f"  {k:<14} {v:6.1f} %")
-    return 0
+        print(f"  {k:<14} {v:6.1f} %" if v is not None else f"  {k:<14}    n/a (a run failed)")
+    return _report_failures(summary["statuses"], args.out)
+
+
+def _report_failures(statuses: dict, out: str) -> int:
+    """One line on stderr per failed run of ``statuses`` (``report.run_status`` records);
+    the exit code: 1 if any failed, else 0."""
+    failed = {k: st for k, st in statuses.items() if not st["completed"]}
+    for k, st in failed.items():
+        print(
+            f"tetherheli: run {k} failed at t = {st['end_time']:g} s: {st['message']} "
+            f"(partial results in {out})",
+            file=sys.stderr,
+        )
+    return 1 if failed else 0
 
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
@@ -305,11 +318,13 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         write_run(results[0], args.out, command=command, inputs=inputs, force=args.force)
     else:
         write_comparison(results, args.out, command=command, inputs=inputs, force=args.force)
+    for r in results:
+        if r.released:
+            print(f"tetherheli: run {r.name}: {r.release_note()}", file=sys.stderr)
     failed = [r for r in results if not r.ok]
     for r in failed:
-        t_end = r.time[-1] if r.time.size else 0.0
         print(
-            f"tetherheli: run {r.name} stopped at t = {t_end:g} s: {r.message} "
+            f"tetherheli: run {r.name} stopped at t = {r.end_time:g} s: {r.message} "
             f"(partial results in {args.out})",
             file=sys.stderr,
         )
@@ -403,11 +418,15 @@ def _cmd_sensing(args: argparse.Namespace) -> int:
     table = run_sensing(args.out, scenarios=tuple(args.scenario) or None, force=args.force)
     print(f"wrote {args.out}/ (sensing.png, summary.json, time series)")
     print(f"{'run':<18} {'source':<8} {'estimate error RMS q1/q2/q3 [m]':<34} true deviation RMS")
+
+    def triple(values: dict | None) -> str:
+        return "/".join(f"{v:.3f}" for v in values.values()) if values else "n/a"
+
     for name, row in table.items():
-        e = "/".join(f"{v:.3f}" for v in row["estimate_error_rms"].values())
-        d = "/".join(f"{v:.3f}" for v in row["true_deviation_rms"].values())
-        print(f"{name:<18} {row['position_source']:<8} {e:<34} {d}")
-    return 0
+        e, d = triple(row["estimate_error_rms"]), triple(row["true_deviation_rms"])
+        note = "" if row["completed"] else f"  (failed at t = {row['end_time']:g} s)"
+        print(f"{name:<18} {row['position_source']:<8} {e:<34} {d}{note}")
+    return _report_failures(table, args.out)
 
 
 def _values_arg(text: str) -> list[float]:
@@ -448,6 +467,18 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     if result.bound is not None:
         print(f"eq 40 tension bound: TC < {result.bound:.2f} N")
     print(f"best {args.param}: {result.best_value}")
+    for i in result.failed:
+        print(
+            f"tetherheli: sweep point {args.param} = {result.values[i]:g}: {result.statuses[i]}",
+            file=sys.stderr,
+        )
+    if result.failed:
+        print(
+            f"tetherheli: {len(result.failed)} of {len(result.values)} sweep points failed or "
+            f"were invalid (statuses in {args.out}/summary.json)",
+            file=sys.stderr,
+        )
+        return 1
     return 0
 
 

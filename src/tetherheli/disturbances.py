@@ -63,6 +63,7 @@ __all__ = [
     "Step",
     "Turbulence",
     "WindSum",
+    "check_wind_covers",
     "disturbance_from_dict",
     "paper_wind",
 ]
@@ -995,10 +996,21 @@ class Turbulence(Disturbance):
         out = self._interp(ts)
         return out[0] if scalar else out
 
+    @property
+    def t_end(self) -> float:
+        """The end of the gust grid [s] (>= ``duration``)."""
+        return self.dt * (self._gust.shape[0] - 1)
+
+    def covers(self, t: float | np.ndarray) -> bool | np.ndarray:
+        """Whether time(s) ``t`` [s] lie within the gust grid [0, ``t_end``] (relative
+        tolerance 1e-12 at the end)."""
+        return (t >= 0.0) & (t <= self.t_end * (1.0 + 1e-12))
+
     def _interp(self, t: np.ndarray) -> np.ndarray:
-        end = self.dt * (self._gust.shape[0] - 1)
-        if np.any(t < 0.0) or np.any(t > end * (1.0 + 1e-12)):
-            bad = t[(t < 0.0) | (t > end * (1.0 + 1e-12))][0]
+        end = self.t_end
+        inside = self.covers(t)
+        if not np.all(inside):
+            bad = t[~inside][0]
             raise ParameterError(
                 "t", float(bad), f"a time within the turbulence grid [0, {end:g}] s"
             )
@@ -1107,6 +1119,33 @@ def _build_typed(spec: Any, registry: dict[str, type], where: str, source: str |
     if kind not in registry:
         raise ParameterError(f"{where}.type", kind, f"one of {sorted(registry)}", source=source)
     return _build(registry[kind], spec, where, source, typed=True)
+
+
+def check_wind_covers(
+    wind: Disturbance, duration: float, *, name: str = "wind", source: str | None = None
+) -> None:
+    """Refuse a turbulence whose gust grid ends before a run of ``duration`` [s] does.
+
+    The one check for every path: the compiled engine would hold the last gust value for the
+    rest of the run and the Python loop would stop with an error mid-run; ``Scenario``
+    calls it on construction, the Gymnasium environment on every episode's wind.
+
+    Raises
+    ------
+    ParameterError
+        Naming the turbulence's ``duration`` field (``wind.duration``, ``wind[i].duration``).
+    """
+    if isinstance(wind, WindSum):
+        for i, part in enumerate(wind.components):
+            check_wind_covers(part, duration, name=f"{name}[{i}]", source=source)
+    elif isinstance(wind, Turbulence) and not wind.covers(duration):
+        raise ParameterError(
+            f"{name}.duration",
+            wind.duration,
+            f"a gust series covering the whole run: >= the run's duration ({duration:g} s; "
+            f"the gust grid ends at {wind.t_end:g} s)",
+            source=source,
+        )
 
 
 def disturbance_from_dict(

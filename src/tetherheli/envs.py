@@ -74,6 +74,7 @@ from .disturbances import (
     Pulse,
     Sine,
     Turbulence,
+    check_wind_covers,
 )
 from .errors import ParameterError
 from .model.kernels import tension_from_state, tethered_outputs
@@ -373,11 +374,13 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         compiled = compile_wind(wind) if isinstance(wind, Disturbance) else None
         if compiled is None:
             raise ParameterError("options['wind']", wind, "a built-in Disturbance")
+        check_wind_covers(wind, self.max_episode_time)  # a gust grid as long as the episode
         self.wind_disturbance = wind
         self._wind = compiled
         self._cfg = self._cfg_base.copy()
         self._cfg[engine.CFG_GUST_DT] = compiled.gust_dt
         self._ctrl = self._ctrl_base.copy()
+        self._release = np.full(2, np.nan)  # tether release: time [s], tension [N]
         self._previous_rate = 0.0
         self._x = self.trim.x.copy()
         self._z = np.zeros(4)
@@ -412,7 +415,9 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         info : dict
             ``time`` [s]; ``status`` (``engine.STATUS_*``) and ``message``; ``outputs``
             (4,) float64 [q1, q2, q3, q6] [m, m, m, rad]; ``inputs`` (4,) the rotor inputs
-            applied over the step; ``reel_rate`` [m/s] applied over the step; ``tension`` [N].
+            applied over the step; ``reel_rate`` [m/s] applied over the step; ``tension`` [N];
+            ``tether_release``: None, or ``{"time", "tension"}`` [s, N] once the safety device
+            has released the tether in this episode (``message`` then says so too).
         """
         if self._done:
             raise RuntimeError("the episode has ended (or not started): call reset() first")
@@ -423,7 +428,9 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         assert wind is not None
         t = self._k * self.dt
         tension = self._tension()
-        tension = engine.release_if_broken(tension, self._cfg, self._ctrl, self._act)
+        tension = engine.release_if_broken(
+            tension, t, self._cfg, self._ctrl, self._act, self._release
+        )
         self._measure(tension)
         integral_before = self._winch_integral[0]
         rate = paper_control(
@@ -517,10 +524,15 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         return obs.astype(np.float32)
 
     def _info(self, status: int, rate: float) -> dict[str, Any]:
+        t_release, tension_release = (float(v) for v in self._release)
+        released = not math.isnan(t_release)
         return {
             "time": self._k * self.dt,
             "status": int(status),
-            "message": engine.STATUS_MESSAGES[status],
+            "message": engine.status_message(status, t_release),
+            "tether_release": (
+                {"time": t_release, "tension": tension_release} if released else None
+            ),
             "outputs": self._y.copy(),
             "inputs": self._inp.copy(),
             "reel_rate": float(rate),

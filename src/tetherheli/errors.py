@@ -20,5 +20,11 @@ class ParameterError(TetherheliError):
         super().__init__(f"{where}{field} = {value!r} is invalid; allowed: {allowed}")
 
 
+class InfeasibleError(ParameterError):
+    """A well-formed value that the physics cannot meet: a tension the tether cannot give at
+    its length, a hover outside the actuator limits, a trim that does not exist. A sweep
+    records such a point as invalid (with this message) instead of stopping."""
+
+
 class SingularConfigurationError(TetherheliError):
     """The state lies on a coordinate singularity (|q5| or |q8| = 90 deg, q9 <= 0)."""

@@ -32,8 +32,10 @@ Definitions:
   does not depend on N, the chunking or the number of workers. The table records the child's
   entropy and spawn key.
 
-Output directory: ``results.csv`` (one row per run and configuration), ``summary.json``
-(configuration, version, N, seed, percentiles), ``peak_q1_hist.png``, ``peak_q1_cdf.png``.
+Output directory: ``results.csv`` (one row per run and configuration; ``release_time``,
+``release_tension`` record a tether release by the safety device, NaN without one),
+``summary.json`` (configuration, version, N, seed, percentiles, releases per configuration),
+``peak_q1_hist.png``, ``peak_q1_cdf.png``.
 Work is done in chunks written to ``partial/chunk_<first>_<end>.csv``; running the same
 command again skips the finished chunks, and running it with a larger N extends the job
 (the first draws are reused: draw i does not depend on N).
@@ -353,8 +355,12 @@ def _columns(config: MonteCarloConfig) -> list[str]:
     cols = ["run", "seed_entropy", "spawn_key", "amplitude_scale", "direction_deg"]
     cols += ["phase_rad", "start_shift_s"]
     cols += [f"factor:{n}" for n, _ in config.params] + [f"value:{n}" for n, _ in config.params]
-    cols += ["configuration", "status", "message", *METRIC_NAMES]
+    cols += ["configuration", "status", "message", *METRIC_NAMES, *_RELEASE_COLUMNS]
     return cols
+
+
+#: the tether release of a run (``BatchResult.release``): time [s], tension [N]; NaN if none
+_RELEASE_COLUMNS = ("release_time", "release_tension")
 
 
 def _fmt(v: object) -> str:
@@ -391,7 +397,8 @@ def _run_chunk(
         for cfg in CONFIGURATIONS:
             m = batch.metrics(k)
             st = int(batch.status[k])
-            row = [*head, cfg, st, engine.STATUS_MESSAGES[st], *(m[n] for n in METRIC_NAMES)]
+            release = (batch.release_time[k], batch.release_tension[k])
+            row = [*head, cfg, st, batch.message(k), *(m[n] for n in METRIC_NAMES), *release]
             w.writerow([_fmt(v) for v in row])
             k += 1
     return buf.getvalue()
@@ -406,6 +413,7 @@ def _fingerprint(base: Scenario, config: MonteCarloConfig, chunk_size: int) -> d
         "scenario": base.to_dict(),
         "montecarlo": mc,
         "chunk_size": chunk_size,
+        "columns": _columns(config),  # chunks of another table layout are not reused
         "version": __version__,
     }
 
@@ -528,7 +536,7 @@ class _ColumnReader:
     """The configuration, status and metric columns of the results table, collected while it
     is written (O(rows) floats, not O(rows) dicts of strings; the table is not read back)."""
 
-    _NUMERIC = ("status", *METRIC_NAMES)
+    _NUMERIC = ("status", *METRIC_NAMES, "release_time")
 
     def __init__(self, header: list[str]) -> None:
         self._where = {k: header.index(k) for k in ("configuration", *self._NUMERIC)}
@@ -569,6 +577,7 @@ def _summarize(
             "runs": int(sel.sum()),
             "completed": int(ok.sum()),
             "failed": int(sel.sum() - ok.sum()),
+            "tether_released": int((sel & np.isfinite(columns["release_time"])).sum()),
         }
         for m in _SUMMARY_METRICS:
             v = columns[m][ok]

@@ -17,14 +17,63 @@ from typing import Any, Self
 
 import numpy as np
 
-from .errors import ParameterError
+from .errors import InfeasibleError, ParameterError
 
-__all__ = ["HelicopterParams", "Params", "TensionControlParams", "TetherParams"]
+__all__ = [
+    "MAX_TETHER_STRAIN",
+    "OFFSET_RANGE",
+    "TETHER_LENGTH_RANGE",
+    "HelicopterParams",
+    "Params",
+    "TensionControlParams",
+    "TetherParams",
+    "check_tether_length",
+]
+
+#: Tether lengths [m] with a physical meaning for the model (q9, L0N): at least 0.5 m, so the
+#: attachment point stays clear of the ground at hover; at most 1 km, beyond which a straight,
+#: massless, linearly elastic tether (eq 28) is no longer a model of a real one.
+TETHER_LENGTH_RANGE = (0.5, 1000.0)
+#: Offsets of points of the helicopter from O [m] (eq 2, the rotor-drag arm): within 10 m,
+#: the size of a small helicopter with a generous margin (Table II's are below 1.1 m).
+OFFSET_RANGE = (-10.0, 10.0)
+#: The tether's largest elastic elongation at hover as a fraction of its natural length LN:
+#: q9 - LN <= MAX_TETHER_STRAIN LN. Eq 28's linear spring is a model of a real tether only
+#: below it (tether fibres break at a few % to 30 % strain; even elastic cords stay near-linear
+#: only up to about 100 %); beyond it LN shrinks to nothing and then goes negative.
+MAX_TETHER_STRAIN = 1.0
 
 
-def _meta(doc: str, *, positive: bool = False, nonzero: bool = False, nonnegative: bool = False):
+def check_tether_length(value: Any, field: str = "q9", source: str | None = None) -> float:
+    """``value`` as a tether length in ``TETHER_LENGTH_RANGE`` [m], else ParameterError
+    naming ``field``."""
+    lo, hi = TETHER_LENGTH_RANGE
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, (int, float))
+        or not math.isfinite(value)
+        or not lo <= value <= hi
+    ):
+        raise ParameterError(field, value, f"a tether length in [{lo:g}, {hi:g}] m", source=source)
+    return float(value)
+
+
+def _meta(
+    doc: str,
+    *,
+    positive: bool = False,
+    nonzero: bool = False,
+    nonnegative: bool = False,
+    bounds: tuple[float, float] | None = None,
+):
     return field(
-        metadata={"doc": doc, "positive": positive, "nonzero": nonzero, "nonnegative": nonnegative}
+        metadata={
+            "doc": doc,
+            "positive": positive,
+            "nonzero": nonzero,
+            "nonnegative": nonnegative,
+            "bounds": bounds,
+        }
     )
 
 
@@ -49,6 +98,13 @@ class _Validated:
                 raise ParameterError(f"{self._section}.{f.name}", value, "a number >= 0")  # type: ignore[attr-defined]
             if f.metadata.get("nonzero") and value == 0.0:
                 raise ParameterError(f"{self._section}.{f.name}", value, "a nonzero number")  # type: ignore[attr-defined]
+            bounds = f.metadata.get("bounds")
+            if bounds is not None and not bounds[0] <= value <= bounds[1]:
+                raise ParameterError(
+                    f"{self._section}.{f.name}",  # type: ignore[attr-defined]
+                    value,
+                    f"a number in [{bounds[0]:g}, {bounds[1]:g}] (physically sensible range)",
+                )
             object.__setattr__(self, f.name, value)
 
 
@@ -71,14 +127,23 @@ class HelicopterParams(_Validated):
     omega_MR: float = _meta(
         "main-rotor angular speed relative to the fuselage, about f3, omegaMR [rad/s] (Table II)"
     )
-    d_O_FO3: float = _meta("f3 offset of the fuselage centre of mass FO from O [m] (eq 2)")
-    d_O_MRO3: float = _meta("f3 offset of the rotor centre MRO from O [m] (eq 2)")
-    d_O_TRO1: float = _meta("f1 offset of the tail rotor TRO from O [m] (eq 2)", nonzero=True)
-    d_O_P3: float = _meta("f3 offset of the tether attachment P from O [m] (eq 2)")
+    d_O_FO3: float = _meta(
+        "f3 offset of the fuselage centre of mass FO from O [m] (eq 2)", bounds=OFFSET_RANGE
+    )
+    d_O_MRO3: float = _meta(
+        "f3 offset of the rotor centre MRO from O [m] (eq 2)", bounds=OFFSET_RANGE
+    )
+    d_O_TRO1: float = _meta(
+        "f1 offset of the tail rotor TRO from O [m] (eq 2)", nonzero=True, bounds=OFFSET_RANGE
+    )
+    d_O_P3: float = _meta(
+        "f3 offset of the tether attachment P from O [m] (eq 2)", bounds=OFFSET_RANGE
+    )
     rotor_drag_arm: float = _meta(
         "main-rotor drag torque per unit lift, tMR,3 = rotor_drag_arm * fMR,3 [m] "
         "(implied by Tables IV-V, see SPEC.md)",
         positive=True,
+        bounds=OFFSET_RANGE,
     )
     t_TR2: float = _meta("tail-rotor torque on the fuselage about f2, tTR,2 [N m] (Sec. II-D)")
 
@@ -162,10 +227,41 @@ class TetherParams(_Validated):
 
     _section = "tether"
 
-    L_N0: float = _meta("initial tether natural length L0N [m] (Table III)", positive=True)
+    L_N0: float = _meta(
+        "initial tether natural length L0N [m] (Table III)",
+        positive=True,
+        bounds=TETHER_LENGTH_RANGE,
+    )
     K_C: float = _meta(
         "tether elasticity constant KC [N/m] (Table III; printed 'Nm', see SPEC.md)", positive=True
     )
+
+    def natural_length(self, q9: float, tension: float) -> float:
+        """Eq 28 at a taut tether: the natural length LN = q9 - TC / KC [m] giving tension
+        ``tension`` [N] at length ``q9`` [m]."""
+        return q9 - tension / self.K_C
+
+    def max_tension(self, q9: float) -> float:
+        """The largest tension [N] the tether gives at length ``q9`` [m] within
+        ``MAX_TETHER_STRAIN``: KC (q9 - LN) with LN = q9 / (1 + MAX_TETHER_STRAIN)."""
+        return self.K_C * q9 * MAX_TETHER_STRAIN / (1.0 + MAX_TETHER_STRAIN)
+
+    def check_tension(
+        self, tension: float, q9: float, field: str, source: str | None = None
+    ) -> None:
+        """Refuse a hover tension the tether cannot give at length q9 (``max_tension``):
+        InfeasibleError naming ``field`` with the largest allowed value."""
+        limit = self.max_tension(q9)
+        if tension > limit:
+            raise InfeasibleError(
+                field,
+                tension,
+                f"a tension <= {limit:.6g} N, the most this tether (K_C = {self.K_C:g} N/m) "
+                f"gives at q9 = {q9:g} m: above it the natural length LN = q9 - TC/K_C "
+                f"= {self.natural_length(q9, tension):.4g} m would be below "
+                f"q9/{1.0 + MAX_TETHER_STRAIN:g} (strain > {100 * MAX_TETHER_STRAIN:g}%)",
+                source=source,
+            )
 
 
 @dataclass(frozen=True)

@@ -21,7 +21,13 @@ from .errors import ParameterError
 from .sim import SimulationResult, simulate
 from .sim.scenario import Scenario, paper_scenario
 
-__all__ = ["PAPER_CLAIM_PERCENT", "paper_summary", "run_paper", "write_run"]
+__all__ = [
+    "PAPER_CLAIM_PERCENT",
+    "paper_summary",
+    "run_paper",
+    "run_status",
+    "write_run",
+]
 
 #: Sec. VI: "the disturbance effect ... is reduced up to a 30% from the response of the free
 #: system".
@@ -29,30 +35,57 @@ PAPER_CLAIM_PERCENT = 30.0
 RUN_KEYS = ("sim1_free", "sim1_tethered", "sim2_free", "sim2_tethered")
 
 
+def run_status(result: SimulationResult) -> dict[str, Any]:
+    """How a run ended, as plain data: status code, message, whether it completed, the time
+    of its last recorded sample [s] (where a failed run stopped) and its tether release."""
+    return {
+        "status": result.status,
+        "message": result.message,
+        "completed": result.ok,
+        "end_time": result.end_time,
+        "tether_release": result.release_info(),
+    }
+
+
+def _metrics_or_none(result: SimulationResult) -> dict[str, Any] | None:
+    """``run_metrics`` over the recorded samples (up to a failure), None without samples."""
+    return run_metrics(result).as_dict() if result.time.size else None
+
+
+#: summary.json's reductions: key -> (simulation, output, metric group of ``RunMetrics``)
+_REDUCTIONS = {
+    "sim1_q1_peak": ("sim1", "q1", "peak_abs_dev"),
+    "sim1_q1_rms": ("sim1", "q1", "rms_dev"),
+    "sim2_q2_peak": ("sim2", "q2", "peak_abs_dev"),
+    "sim2_q2_rms": ("sim2", "q2", "rms_dev"),
+}
+
+
 def paper_summary(
     results: dict[str, SimulationResult], *, dt: float, pulse_duration: float
 ) -> dict[str, Any]:
-    """summary.json's content from the four runs (keys as documented in the README)."""
-    metrics = {k: run_metrics(results[k]) for k in RUN_KEYS}
-    red = {
-        "sim1_q1_peak": reduction_percent(
-            metrics["sim1_free"].peak_abs_dev["q1"], metrics["sim1_tethered"].peak_abs_dev["q1"]
-        ),
-        "sim1_q1_rms": reduction_percent(
-            metrics["sim1_free"].rms_dev["q1"], metrics["sim1_tethered"].rms_dev["q1"]
-        ),
-        "sim2_q2_peak": reduction_percent(
-            metrics["sim2_free"].peak_abs_dev["q2"], metrics["sim2_tethered"].peak_abs_dev["q2"]
-        ),
-        "sim2_q2_rms": reduction_percent(
-            metrics["sim2_free"].rms_dev["q2"], metrics["sim2_tethered"].rms_dev["q2"]
-        ),
-    }
+    """summary.json's content from the four runs (keys as documented in the README).
+
+    ``statuses`` says how every run ended; the metrics of a failed run cover its samples up
+    to the failure, and a reduction involving a failed run is None (it cannot be computed).
+    """
+    metrics = {k: _metrics_or_none(results[k]) for k in RUN_KEYS}
+    red: dict[str, float | None] = {}
+    for key, (sim, q, group) in _REDUCTIONS.items():
+        free, tethered = results[f"{sim}_free"], results[f"{sim}_tethered"]
+        if free.ok and tethered.ok:
+            red[key] = reduction_percent(
+                metrics[f"{sim}_free"][group][q],  # type: ignore[index]
+                metrics[f"{sim}_tethered"][group][q],  # type: ignore[index]
+            )
+        else:
+            red[key] = None
     return {
         "dt": dt,
         "pulse_duration": pulse_duration,
-        "runs": {k: metrics[k].as_dict() for k in RUN_KEYS},
+        "runs": metrics,
         "reduction_percent": red,
+        "statuses": {k: run_status(results[k]) for k in RUN_KEYS},
     }
 
 
@@ -67,9 +100,19 @@ def _manifest(command: str, scenarios: dict[str, Scenario]) -> dict[str, Any]:
     }
 
 
-def _claim_sentence(red: dict[str, float]) -> str:
-    best = max(red.values())
-    worst = min(red.values())
+def _claim_sentence(reductions: dict[str, float | None]) -> str:
+    red = [v for v in reductions.values() if v is not None]
+    if not red:
+        return (
+            "No reduction can be computed: a run of each simulation failed (see Failed runs), "
+            "so the paper's claim is not checked."
+        )
+    best = max(red)
+    worst = min(red)
+    if len(red) < len(reductions):
+        best_note = " (only the simulations whose runs both completed are compared)"
+    else:
+        best_note = ""
     if best >= PAPER_CLAIM_PERCENT:
         verdict = (
             f'The paper\'s "up to 30%" is matched or exceeded here: the largest '
@@ -83,19 +126,46 @@ def _claim_sentence(red: dict[str, float]) -> str:
     else:
         verdict = "The tether did not reduce the disturbance effect in these runs."
     return (
-        verdict + " The paper does not define its metric (peak or RMS) nor the pulse "
+        verdict + best_note + " The paper does not define its metric (peak or RMS) nor the pulse "
         "duration or the controller's sample time, so the comparison is indicative only."
     )
+
+
+def _fmt(value: float | None, spec: str, suffix: str = "") -> str:
+    """A number for the report, "n/a" where it could not be computed."""
+    return "n/a" if value is None else f"{value:{spec}}{suffix}"
 
 
 def _report_md(summary: dict[str, Any], command: str) -> str:
     red = summary["reduction_percent"]
     runs = summary["runs"]
+    statuses = summary["statuses"]
+    failed = [k for k in RUN_KEYS if not statuses[k]["completed"]]
     lines = [
         "# tetherheli: the paper's wind-disturbance simulations (Sec. VI)",
         "",
         f"Produced by `{command}` with tetherheli {__version__}.",
         "",
+    ]
+    if failed:
+        lines += ["## Failed runs", ""]
+        for k in failed:
+            st = statuses[k]
+            lines.append(f"- **{k}** failed at t = {st['end_time']:g} s: {st['message']}.")
+        lines += [
+            "",
+            "Their metrics below cover the run up to the failure; a reduction that involves a "
+            "failed run is n/a. Their figures draw them up to the failure.",
+            "",
+        ]
+    released = [k for k in RUN_KEYS if statuses[k]["tether_release"] is not None]
+    for k in released:
+        ev = statuses[k]["tether_release"]
+        lines += [
+            f"- {k}: tether released at t = {ev['time']:g} s (tension {ev['tension']:.6g} N).",
+            "",
+        ]
+    lines += [
         "## Set-up",
         "",
         "- Plant: the tethered model (eqs 10-12, 29-35, 37); the free configuration is the same "
@@ -117,16 +187,12 @@ def _report_md(summary: dict[str, Any], command: str) -> str:
         "| metric | free | tethered | reduction |",
         "|---|---:|---:|---:|",
     ]
-    for key, sim, q, kind in (
-        ("sim1_q1_peak", "sim1", "q1", "peak_abs_dev"),
-        ("sim1_q1_rms", "sim1", "q1", "rms_dev"),
-        ("sim2_q2_peak", "sim2", "q2", "peak_abs_dev"),
-        ("sim2_q2_rms", "sim2", "q2", "rms_dev"),
-    ):
-        f = runs[f"{sim}_free"][kind][q]
-        t = runs[f"{sim}_tethered"][kind][q]
+    for key, (sim, q, kind) in _REDUCTIONS.items():
+        free, teth = runs[f"{sim}_free"], runs[f"{sim}_tethered"]
+        f = _fmt(free[kind][q] if free else None, ".4f")
+        t = _fmt(teth[kind][q] if teth else None, ".4f")
         label = f"{sim} {q} {'peak' if kind == 'peak_abs_dev' else 'RMS'} [m]"
-        lines.append(f"| {label} | {f:.4f} | {t:.4f} | {red[key]:.1f}% |")
+        lines.append(f"| {label} | {f} | {t} | {_fmt(red[key], '.1f', '%')} |")
     lines += [
         "",
         _claim_sentence(red),
@@ -139,9 +205,13 @@ def _report_md(summary: dict[str, Any], command: str) -> str:
     ]
     for k in RUN_KEYS:
         r = runs[k]
+        name = k if statuses[k]["completed"] else f"{k} (failed at {statuses[k]['end_time']:g} s)"
+        if r is None:
+            lines.append(f"| {name} |" + " n/a |" * 10)
+            continue
         pk, rm = r["peak_abs_dev"], r["rms_dev"]
         lines.append(
-            f"| {k} | {pk['q1']:.4f} | {pk['q2']:.4f} | {pk['q3']:.4f} | {pk['q4_deg']:.3f} | "
+            f"| {name} | {pk['q1']:.4f} | {pk['q2']:.4f} | {pk['q3']:.4f} | {pk['q4_deg']:.3f} | "
             f"{pk['q5_deg']:.3f} | {rm['q1']:.4f} | {rm['q2']:.4f} | {rm['q3']:.4f} | "
             f"{r['tension_min']:.3f} | {r['tension_max']:.3f} |"
         )
@@ -179,7 +249,12 @@ def run_paper(
 ) -> dict[str, Any]:
     """Run the four simulations of Sec. VI and write the paper's outputs into ``out_dir``
     (``_io.output_directory``: refused before any run if it holds files tetherheli did not
-    write, unless ``force``; those are kept)."""
+    write, unless ``force``; those are kept).
+
+    A run that fails (e.g. with a coarse ``dt``) is recorded, not raised: its status is in
+    summary.json's ``statuses`` and in report.md, its reductions are None ("n/a"), and the
+    figures draw it up to the failure. The caller decides the exit code (the CLI: 1).
+    """
     claim_output_directory(out_dir, force=force)
     from .viz.plots import figure_inputs, figure_outputs, save_figure
 
@@ -189,11 +264,6 @@ def run_paper(
         for cfg in ("free", "tethered")
     }
     results = {k: simulate(s) for k, s in scenarios.items()}
-    for k, r in results.items():
-        if not r.ok:
-            raise RuntimeError(
-                f"run {k} failed at t = {r.time[-1] if r.time.size else 0:g} s: {r.message}"
-            )
     summary = paper_summary(results, dt=dt, pulse_duration=pulse_duration)
     with output_directory(out_dir, writer="paper", force=force) as tmp:
         for k, r in results.items():
@@ -245,6 +315,7 @@ def _write_run_files(result: SimulationResult, directory: Path, command: str) ->
         "name": result.name,
         "status": result.status,
         "message": result.message,
+        "tether_release": result.release_info(),
         "metrics": metrics,
         "tetherheli_version": __version__,
         "command": command,
@@ -259,6 +330,10 @@ def _write_run_files(result: SimulationResult, directory: Path, command: str) ->
         "",
         f"Status: {result.message}.",
         "",
+    ]
+    if result.released:
+        lines += [f"Event: {result.release_note()}.", ""]
+    lines += [
         f"Produced by `{command}` with tetherheli {__version__}.",
         "",
     ]
@@ -349,40 +424,48 @@ def run_sensing(
 ) -> dict[str, Any]:
     """The tether as a GPS-free position sensor (Sec. IV-F): fly the shipped
     ``sensing_gps`` and ``sensing_tether`` scenarios (or the given ones), compare the
-    controller's position-estimate error and the true deviation from trim, and plot both."""
+    controller's position-estimate error and the true deviation from trim, and plot both.
+
+    A failed run is recorded, not raised: its row holds its status (``run_status``), its
+    RMS figures cover the samples up to the failure (None without samples), and the plot
+    draws it up to the failure. The caller decides the exit code (the CLI: 1)."""
     import matplotlib.pyplot as plt
 
     from .sim import load_scenario
-    from .viz.plots import save_figure
+    from .viz.plots import plottable, save_figure
 
     claim_output_directory(out_dir, inputs=scenarios or (), force=force)
     if scenarios:
         runs = [load_scenario(p) for p in scenarios]
     else:  # the shipped scenarios/sensing_{gps,tether}.toml, built here (a test checks equality)
         runs = [sensing_scenario("gps"), sensing_scenario("tether")]
+    for s in runs:
+        if s.sensors.is_perfect:
+            raise ParameterError("sensors", s.name, "a scenario with noisy sensors ([sensors])")
     results = {s.name: simulate(s) for s in runs}
     table: dict[str, Any] = {}
+
+    def rms(a: np.ndarray) -> dict[str, float] | None:
+        if not a.shape[0]:
+            return None
+        return dict(zip(("q1", "q2", "q3"), np.sqrt(np.mean(a**2, axis=0)).tolist(), strict=True))
+
     for name, r in results.items():
-        if not r.ok:
-            raise RuntimeError(f"run {name} failed: {r.message}")
-        if "q1_est" not in r.extra:
-            raise ParameterError("sensors", name, "a scenario with noisy sensors ([sensors])")
         est = np.column_stack([r.extra[f"q{i}_est"] for i in (1, 2, 3)])
         err = est - r.outputs[:, :3]
         dev = r.outputs[:, :3] - r.trim_output[:3]
         table[name] = {
             "position_source": r.configuration["sensors"]["position_source"],
-            "estimate_error_rms": dict(
-                zip(("q1", "q2", "q3"), np.sqrt(np.mean(err**2, axis=0)).tolist(), strict=True)
-            ),
-            "true_deviation_rms": dict(
-                zip(("q1", "q2", "q3"), np.sqrt(np.mean(dev**2, axis=0)).tolist(), strict=True)
-            ),
+            **run_status(r),
+            # over the recorded samples: up to the failure for a failed run
+            "estimate_error_rms": rms(err),
+            "true_deviation_rms": rms(dev),
         }
     fig, axes = plt.subplots(2, 1, figsize=(7.5, 6.0), sharex=True, layout="constrained")
     for name, r in results.items():
-        axes[0].plot(r.time, r.extra["q1_est"] - r.outputs[:, 0], lw=0.6, label=name)
-        axes[1].plot(r.time, r.outputs[:, 0] - r.trim_output[0], lw=1.0, label=name)
+        label = name if r.ok else f"{name} (failed at t = {r.end_time:g} s)"
+        axes[0].plot(r.time, plottable(r.extra["q1_est"] - r.outputs[:, 0])[0], lw=0.6, label=label)
+        axes[1].plot(r.time, plottable(r.outputs[:, 0] - r.trim_output[0])[0], lw=1.0, label=label)
     axes[0].set_ylabel("q1 estimate error [m]")
     axes[1].set_ylabel("true q1 deviation [m]")
     axes[1].set_xlabel("t [s]")
@@ -394,6 +477,11 @@ def run_sensing(
         for name, r in results.items():
             r.save(tmp, name)
         save_figure(fig, tmp / "sensing.png")
-        info = {"tetherheli_version": __version__, "command": command, "runs": table}
+        info = {
+            "tetherheli_version": __version__,
+            "command": command,
+            "failed": [name for name, r in results.items() if not r.ok],
+            "runs": table,
+        }
         atomic_write_text(tmp / "summary.json", json.dumps(info, indent=2) + "\n")
     return table

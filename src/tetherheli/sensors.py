@@ -64,6 +64,7 @@ import numpy as np
 
 from ._compile import compiled
 from .errors import ParameterError
+from .params import check_tether_length
 
 __all__ = [
     "CHANNEL_NAMES",
@@ -649,7 +650,8 @@ def hover_error_std(
     config : SensorConfig
         Its ``encoder_std``, ``altimeter_std`` and ``attitude_std`` are used.
     q9 : float
-        Tether length [m] (> 0); 10 m at the paper's trim (Table V).
+        Tether length [m] (in ``params.TETHER_LENGTH_RANGE``); 10 m at the paper's trim
+        (Table V).
     arm : float
         dO-P,3 - dO-HO,3 [m]; -0.2046 m for Table II.
     q4 : float
@@ -668,8 +670,7 @@ def hover_error_std(
     for name, value in values.items():
         if not _is_real(value) or not math.isfinite(float(value)):
             raise ParameterError(name, value, "a finite number")
-    if q9 <= 0.0:
-        raise ParameterError("q9", q9, "a tether length > 0")
+    q9 = check_tether_length(float(q9), "q9")
     if math.cos(q7) * math.cos(q8) <= 1e-9:
         raise ParameterError("q7, q8", (q7, q8), "angles with cos q7 cos q8 > 0")
     jac = _tether_estimate_jacobian(q4, q5, q7, q8, q9, arm)

@@ -9,7 +9,9 @@ lift, tmax = 0.2 fMR3,hover |arm| (``paper_cyclic_limit``).
 
 from __future__ import annotations
 
+import csv
 import dataclasses
+import io
 import json
 import math
 from dataclasses import dataclass
@@ -21,7 +23,7 @@ import numpy as np
 from ._io import atomic_write_text, output_directory
 from ._version import __version__
 from .analysis import run_metrics
-from .errors import ParameterError
+from .errors import InfeasibleError, ParameterError
 from .params import Params
 from .sim import Scenario, simulate
 from .sim.batch import run_batch
@@ -80,8 +82,10 @@ def _with(scenario: Scenario, parameter: str, value: float) -> Scenario:
 
 @dataclass(frozen=True)
 class SweepResult:
-    """values (n,), metric (n,) (NaN where the run failed), statuses (n,), and the best value
-    among the successful runs (below the eq-40 bound when sweeping T_ref with a bound)."""
+    """values (n,), metric (n,) (NaN where the run failed or the point was invalid),
+    statuses (n,), completed (n,) (the run completed; a tether release counts as completed),
+    and the best value among the completed runs (below the eq-40 bound when sweeping T_ref
+    with a bound). An invalid point's status is "invalid: <why>"."""
 
     parameter: str
     metric_name: str
@@ -90,6 +94,12 @@ class SweepResult:
     statuses: tuple[str, ...]
     bound: float | None
     best_value: float | None
+    completed: tuple[bool, ...] = ()
+
+    @property
+    def failed(self) -> tuple[int, ...]:
+        """Indices of the points whose run failed or that were invalid."""
+        return tuple(i for i, ok in enumerate(self.completed) if not ok)
 
     def as_dict(self) -> dict[str, Any]:
         return {
@@ -98,9 +108,51 @@ class SweepResult:
             "values": self.values.tolist(),
             "metric_values": [None if not np.isfinite(m) else float(m) for m in self.metric],
             "statuses": list(self.statuses),
+            "completed": list(self.completed),
+            "failed": len(self.failed),
             "tension_bound_eq40": self.bound,
             "best_value": self.best_value,
         }
+
+
+_INVALID = "invalid: "
+
+
+def _prepare_points(
+    scenario: Scenario, parameter: str, values: np.ndarray
+) -> tuple[list[Scenario | None], list[str]]:
+    """The scenario of every value, or None with the reason when the physics cannot meet it
+    (``InfeasibleError``: e.g. a T_ref above what the tether gives); malformed values
+    (``ParameterError``) stop the sweep."""
+    scenarios: list[Scenario | None] = []
+    reasons: list[str] = []
+    for v in values:
+        try:
+            scenarios.append(_with(scenario, parameter, float(v)))
+            reasons.append("")
+        except InfeasibleError as exc:
+            scenarios.append(None)
+            reasons.append(_INVALID + str(exc))
+    return scenarios, reasons
+
+
+def _run_batch_feasible(scenarios: list[Scenario | None], reasons: list[str]):
+    """``run_batch`` over the valid points; a point whose set-up the physics cannot meet
+    (no trim, a hover outside the actuator limits) becomes invalid, the others still run."""
+    from .sim.simulate import _engine_setup
+
+    idx = [i for i, s in enumerate(scenarios) if s is not None]
+    try:
+        return idx, run_batch([scenarios[i] for i in idx])  # type: ignore[misc]
+    except InfeasibleError:
+        for i in idx:  # rare: find the points that cannot be set up, then run the rest
+            try:
+                _engine_setup(scenarios[i])  # type: ignore[arg-type]
+            except InfeasibleError as exc:
+                scenarios[i] = None
+                reasons[i] = _INVALID + str(exc)
+        idx = [i for i, s in enumerate(scenarios) if s is not None]
+        return idx, run_batch([scenarios[i] for i in idx])  # type: ignore[misc]
 
 
 def sweep(
@@ -119,6 +171,11 @@ def sweep(
     "actuators.time_constant", "actuators.reel_rate_limit",
     "actuators.reel_acceleration_limit", "actuators.breaking_tension". Built-in winds run as
     one compiled batch on all cores (``sim.batch.run_batch``, the numbers of ``simulate``).
+
+    A value the physics cannot meet (``InfeasibleError``: a T_ref above what the tether gives
+    at its length, a hover outside the actuator limits, no trim) is recorded as an invalid
+    point, status "invalid: <why>", metric NaN, not completed; the other points still run.
+    A malformed value (e.g. a negative cyclic limit) raises ParameterError: no sweep.
     """
     if metric not in METRICS:
         raise ParameterError("metric", metric, f"one of {sorted(METRICS)}")
@@ -128,21 +185,30 @@ def sweep(
     values = np.asarray(values, dtype=float)
     if values.ndim != 1 or values.size == 0 or not np.all(np.isfinite(values)):
         raise ParameterError("values", values.tolist(), "a non-empty list of finite numbers")
-    scenarios = [_with(scenario, parameter, float(v)) for v in values]  # validates each
+    scenarios, statuses = _prepare_points(scenario, parameter, values)  # validates each
     out = np.full(values.size, np.nan)
-    statuses: list[str] = []
-    if all(compile_wind(s.wind) is not None for s in scenarios):
-        # built-in winds: the compiled batch on all cores (per-run summaries, the numbers of
-        # simulate); its metric names are METRICS' names
-        batch = run_batch(scenarios)
-        statuses = batch.messages()
-        for i in np.flatnonzero(batch.ok):
-            out[i] = batch.metrics(int(i))[metric]
+    completed = [False] * values.size
+    if compile_wind(scenario.wind) is not None:
+        # built-in winds (the sweep does not change the wind): the compiled batch on all
+        # cores (per-run summaries, the numbers of simulate); its metric names are METRICS'
+        idx, batch = _run_batch_feasible(scenarios, statuses)
+        for j, i in enumerate(idx):
+            statuses[i] = batch.message(j)
+            completed[i] = bool(batch.ok[j])
+            if completed[i]:
+                out[i] = batch.metrics(j)[metric]
     else:
         group, key = METRICS[metric]
         for i, s in enumerate(scenarios):
-            r = simulate(s)
-            statuses.append(r.message)
+            if s is None:
+                continue
+            try:
+                r = simulate(s)
+            except InfeasibleError as exc:
+                statuses[i] = _INVALID + str(exc)
+                continue
+            statuses[i] = r.message
+            completed[i] = r.ok
             if r.ok:
                 m = run_metrics(r)
                 out[i] = getattr(m, group)[key] if key else getattr(m, group)
@@ -152,7 +218,9 @@ def sweep(
         bound = tension_bound(scenario.params, limit)
     ok = np.isfinite(out) & (values <= bound if bound is not None else True)
     best = float(values[ok][np.argmin(out[ok])]) if np.any(ok) else None
-    return SweepResult(parameter, metric, values, out, tuple(statuses), bound, best)
+    return SweepResult(
+        parameter, metric, values, out, tuple(statuses), bound, best, tuple(completed)
+    )
 
 
 def write_sweep(
@@ -179,18 +247,29 @@ def write_sweep(
         ax.axvline(
             result.best_value, color="tab:green", ls=":", label=f"best: {result.best_value:g}"
         )
+    if result.failed:
+        bad = result.values[list(result.failed)]
+        ax.plot(
+            bad,
+            np.full(bad.size, 0.03),
+            "x",
+            color="tab:red",
+            transform=ax.get_xaxis_transform(),
+            label=f"failed or invalid ({bad.size})",
+        )
     ax.set_xlabel(result.parameter)
     ax.set_ylabel(result.metric_name)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    rows = ["value,metric,status"] + [
-        f"{v!r},{m!r},{s}"
-        for v, m, s in zip(
-            result.values.tolist(), result.metric.tolist(), result.statuses, strict=True
-        )
-    ]
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")  # quotes a status holding a comma
+    writer.writerow(["value", "metric", "status"])
+    for v, m, s in zip(
+        result.values.tolist(), result.metric.tolist(), result.statuses, strict=True
+    ):
+        writer.writerow([repr(v), repr(m), s])
     with output_directory(out_dir, writer="sweep", inputs=inputs, force=force) as tmp:
         save_figure(fig, tmp / "sweep.png")
-        atomic_write_text(tmp / "sweep.csv", "\n".join(rows) + "\n")
+        atomic_write_text(tmp / "sweep.csv", buf.getvalue())
         info = {**result.as_dict(), "tetherheli_version": __version__, "command": command}
         atomic_write_text(tmp / "summary.json", json.dumps(info, indent=2) + "\n")

@@ -15,8 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import root
 
-from ..errors import ParameterError
-from ..params import Params
+from ..errors import InfeasibleError, ParameterError
+from ..params import Params, check_tether_length
 from . import kernels
 
 __all__ = ["TrimPoint", "hover_trim"]
@@ -54,7 +54,12 @@ class TrimPoint:
 
 
 def hover_trim(params: Params, tension: float, q9: float = 10.0) -> TrimPoint:
-    """Hover trim with tether tension ``tension`` [N] and tether length ``q9`` [m]."""
+    """Hover trim with tether tension ``tension`` [N] and tether length ``q9`` [m].
+
+    Raises ParameterError for a q9 outside ``params.TETHER_LENGTH_RANGE`` and InfeasibleError
+    for a tension the tether cannot give at that length (``TetherParams.check_tension``) or
+    a hover with no trim.
+    """
     if (
         isinstance(tension, bool)
         or not isinstance(tension, (int, float))
@@ -62,19 +67,13 @@ def hover_trim(params: Params, tension: float, q9: float = 10.0) -> TrimPoint:
         or tension < 0.0
     ):
         raise ParameterError("tension", tension, "a finite number >= 0 [N]")
-    if (
-        isinstance(q9, bool)
-        or not isinstance(q9, (int, float))
-        or not math.isfinite(q9)
-        or (q9 <= 0.0)
-    ):
-        raise ParameterError("q9", q9, "a finite tether length > 0 [m]")
+    q9 = check_tether_length(q9, "q9")
+    params.tether.check_tension(tension, q9, "tension")  # the natural length LN stays sensible
     h = params.helicopter
     p = kernels.model_constants("tethered", h)
-    K_C = params.tether.K_C
     x = np.zeros(13)
     x[5] = q9
-    x[12] = q9 - tension / K_C
+    x[12] = params.tether.natural_length(q9, tension)
     wind = np.zeros(3)
     out = np.empty(13)
     torque = np.empty(2)
@@ -102,7 +101,7 @@ def hover_trim(params: Params, tension: float, q9: float = 10.0) -> TrimPoint:
     sol = root(residual, z0, method="hybr", options={"xtol": 1e-15})
     scale = h.m * h.g
     if not np.all(np.isfinite(sol.x)) or np.max(np.abs(residual(sol.x))) > 1e-9 * scale:
-        raise ParameterError(
+        raise InfeasibleError(
             "trim", f"tension={tension}, q9={q9}", "a hover the helicopter can hold (no trim found)"
         )
     xs, u0, ffwd = assemble(sol.x)

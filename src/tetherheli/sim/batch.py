@@ -122,6 +122,9 @@ class BatchResult:
         ``(N,)`` int, ``engine.STATUS_*`` (0: completed).
     samples_done : numpy.ndarray
         ``(N,)`` int, samples recorded before the run ended (``n_samples + 1`` if completed).
+
+    A run whose tether the safety device released is still ``ok`` (it completed, free); its
+    ``release`` and ``message`` say when.
     """
 
     summaries: np.ndarray
@@ -136,9 +139,28 @@ class BatchResult:
         """``(N,)`` bool: the run completed."""
         return self.status == engine.STATUS_OK
 
+    @property
+    def release_time(self) -> np.ndarray:
+        """``(N,)`` the time [s] at which each run's tether was released (NaN: never)."""
+        return self.summaries[:, engine.SUMMARY_RELEASE_TIME]
+
+    @property
+    def release_tension(self) -> np.ndarray:
+        """``(N,)`` the tension [N] that released each run's tether (NaN: never)."""
+        return self.summaries[:, engine.SUMMARY_RELEASE_TENSION]
+
+    def release(self, i: int) -> tuple[float, float] | None:
+        """Run ``i``'s tether release, (time [s], tension [N]), or None."""
+        t = float(self.release_time[i])
+        return None if math.isnan(t) else (t, float(self.release_tension[i]))
+
+    def message(self, i: int) -> str:
+        """Run ``i``'s status message, with its tether release (``engine.status_message``)."""
+        return engine.status_message(int(self.status[i]), float(self.release_time[i]))
+
     def messages(self) -> list[str]:
-        """The status message of every run."""
-        return [engine.STATUS_MESSAGES[int(s)] for s in self.status]
+        """The status message of every run (a tether release included)."""
+        return [self.message(i) for i in range(len(self))]
 
     def metrics(self, i: int) -> dict[str, float]:
         """``summary_metrics`` of run ``i``."""

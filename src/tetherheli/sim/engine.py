@@ -72,7 +72,34 @@ STATUS_MESSAGES = (
 SUMMARY_FIELDS = (
     "peak_q1", "peak_q2", "peak_q3", "peak_q4", "peak_q5",
     "sumsq_q1", "sumsq_q2", "sumsq_q3", "tension_min", "tension_max", "n_samples",
+    "release_time", "release_tension",
 )  # fmt: skip
+#: summary slots of the tether-release event (``release_if_broken``): the sample time [s] at
+#: which the safety device released the tether and the tension [N] that exceeded the breaking
+#: tension; both NaN when the tether was not released
+SUMMARY_RELEASE_TIME = SUMMARY_FIELDS.index("release_time")
+SUMMARY_RELEASE_TENSION = SUMMARY_FIELDS.index("release_tension")
+assert SUMMARY_RELEASE_TENSION == SUMMARY_RELEASE_TIME + 1  # one (2,) event slice
+
+
+def status_message(status: int, release_time: float | None = None) -> str:
+    """The message of a run's status; a tether release (at ``release_time`` [s], None or NaN:
+    none) is part of it, so a released run is never a plain "completed"."""
+    message = STATUS_MESSAGES[int(status)]
+    if release_time is None or not math.isfinite(release_time):
+        return message
+    if status == STATUS_OK:
+        return f"{message} (tether released at t = {release_time:g} s)"
+    return f"{message} (after the tether was released at t = {release_time:g} s)"
+
+
+def release_sentence(release_time: float, tension: float, breaking_tension: float) -> str:
+    """One line describing a tether release, e.g. "tether released at t = 12.3 s (tension
+    61.2034 N > breaking 60 N); continued free"."""
+    return (
+        f"tether released at t = {release_time:g} s (tension {tension:.6g} N > breaking "
+        f"{breaking_tension:g} N); continued free"
+    )
 
 
 @_jit_inline
@@ -303,14 +330,17 @@ def limit_reel_acceleration(rate, previous_rate, act, dt):
 
 
 @_jit_inline
-def release_if_broken(tension, cfg, ctrl, act):
+def release_if_broken(tension, t, cfg, ctrl, act, event):
     """The safety device (Sec. IV-C): above act[ACT_BREAK] the tether is released, cfg and the
-    paper controller's ctrl switch to the free configuration (no winch, no feed-forward);
-    returns the tension acting from now on [N]."""
+    paper controller's ctrl switch to the free configuration (no winch, no feed-forward) and
+    the event is recorded, event[0] = t [s], event[1] = tension [N] (``event`` (2,) is left
+    alone otherwise); returns the tension acting from now on [N]."""
     if tension > act[ACT_BREAK]:
         cfg[CFG_ATTACHED] = 0.0
         ctrl[CTRL_WINCH] = 0.0
         ctrl[CTRL_FFWD] = 0.0
+        event[0] = t
+        event[1] = tension
         return 0.0
     return tension
 
@@ -361,7 +391,8 @@ def run_closed_loop(
 
     The controller sees measurements (``sensors.measure`` with the sample's row of ``noise``
     when ``noise`` has rows, else the true state); its command goes through the actuators
-    (``act``); a tension above act[ACT_BREAK] releases the tether (the run continues free).
+    (``act``); a tension above act[ACT_BREAK] releases the tether (the run continues free;
+    the release's time and tension go to the summary's ``release_*`` slots, else NaN).
     With ``record`` the out_* arrays (n_samples + 1 rows) receive the sampled signals: true
     state, applied inputs (with feed-forward), feed-forward, reel rate, true tension, wind
     force, true outputs, and the controller's output estimate. ``summary``
@@ -386,13 +417,16 @@ def run_closed_loop(
     summary[:] = 0.0
     summary[8] = np.inf
     summary[9] = -np.inf
+    summary[SUMMARY_RELEASE_TIME] = np.nan
+    summary[SUMMARY_RELEASE_TENSION] = np.nan
+    release = summary[SUMMARY_RELEASE_TIME : SUMMARY_RELEASE_TIME + 2]
     dt = cfg[CFG_DT]
     sensed = noise.shape[0] > 0
     for k in range(n_samples + 1):
         t = k * dt
         attached = cfg[CFG_ATTACHED] > 0.5
         tension = tension_from_state(x[5], x[12], cfg[CFG_K_C]) if attached else 0.0
-        tension = release_if_broken(tension, cfg, ctrl, act)
+        tension = release_if_broken(tension, t, cfg, ctrl, act, release)
         if sensed:
             measured_tension = measure(x, tension, noise[k], source_code, arm, x_meas)
         else:

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from .._io import atomic_open, atomic_write_bytes, atomic_write_text
-from .engine import STATUS_MESSAGES, STATUS_OK
+from .engine import STATUS_OK, release_sentence, status_message
 
 __all__ = ["SimulationResult", "atomic_write_bytes", "atomic_write_text"]
 
@@ -42,6 +42,9 @@ class SimulationResult:
     trim_state, trim_input, trim_output : the run's trim (its references)
     status : 0 on success, else a failure code; ``message`` says which
     configuration : the scenario as plain data; ``version`` the package version
+    release_time, release_tension : the safety device released the tether at this control
+        sample [s], the tension [N] having exceeded the breaking tension (None: not released);
+        the run then continued free, and ``message`` says so
     """
 
     time: np.ndarray
@@ -60,6 +63,8 @@ class SimulationResult:
     version: str
     method: str = "rk4"
     extra: dict[str, np.ndarray] = field(default_factory=dict)
+    release_time: float | None = None
+    release_tension: float | None = None
 
     def __post_init__(self) -> None:
         for name in (
@@ -84,7 +89,46 @@ class SimulationResult:
 
     @property
     def message(self) -> str:
-        return STATUS_MESSAGES[self.status]
+        """What happened: the status, with the tether release if there was one."""
+        return status_message(self.status, self.release_time)
+
+    @property
+    def released(self) -> bool:
+        """True when the safety device released the tether during the run."""
+        return self.release_time is not None
+
+    @property
+    def end_time(self) -> float:
+        """Where the run ended [s]: the last sample of a completed run; for a failed run the
+        control sample at which the failure was detected (the first one not recorded: its
+        state failed the checks, or the integration towards it failed)."""
+        dt = self.configuration.get("control", {}).get("dt")
+        if self.ok or dt is None:
+            return float(self.time[-1]) if self.time.size else 0.0
+        return self.time.size * float(dt)
+
+    def release_info(self) -> dict[str, float] | None:
+        """The tether release as plain data, ``{"time", "tension", "breaking_tension"}``
+        [s, N, N], or None."""
+        if self.release_time is None or self.release_tension is None:
+            return None
+        return {
+            "time": self.release_time,
+            "tension": self.release_tension,
+            "breaking_tension": self.breaking_tension,
+        }
+
+    @property
+    def breaking_tension(self) -> float:
+        """The breaking tension of the run's safety device [N] (inf: none)."""
+        return float(self.configuration.get("actuators", {}).get("breaking_tension", np.inf))
+
+    def release_note(self) -> str | None:
+        """One line on the tether release (``engine.release_sentence``), or None."""
+        info = self.release_info()
+        if info is None:
+            return None
+        return release_sentence(info["time"], info["tension"], info["breaking_tension"])
 
     @property
     def winch_length(self) -> np.ndarray:
@@ -140,6 +184,7 @@ class SimulationResult:
             "tetherheli_version": self.version,
             "status": self.status,
             "message": self.message,
+            "tether_release": self.release_info(),
             "method": self.method,
             "configuration": self.configuration,
             "trim": {

@@ -36,9 +36,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
-from ..disturbances import Disturbance, NoWind, disturbance_from_dict, paper_wind
+from ..disturbances import (
+    Disturbance,
+    NoWind,
+    check_wind_covers,
+    disturbance_from_dict,
+    paper_wind,
+)
 from ..errors import ParameterError
-from ..params import Params
+from ..params import Params, check_tether_length
 from ..sensors import SensorConfig, sensor_config_from_dict
 
 __all__ = [
@@ -202,7 +208,7 @@ def _validate(s: Scenario, source: str | None) -> None:
             "configuration", s.configuration, "'free' or 'tethered'", source=source
         )
     _number(source, "duration", s.duration, low=0.0, low_open=True)
-    _number(source, "q9", s.q9, low=0.0, low_open=True)
+    check_tether_length(s.q9, "q9", source=source)
     c = s.control
     _number(source, "control.dt", c.dt, low=0.0, low_open=True)
     if c.dt > s.duration:
@@ -270,6 +276,13 @@ def _validate(s: Scenario, source: str | None) -> None:
             f"a reference below limits.max_tension ({lim.max_tension} N)",
             source=source,
         )
+    if s.configuration == "tethered":  # the trim's natural length must be sensible
+        s.params.tether.check_tension(
+            s.params.tension_control.T_ref, s.q9, "params.tension_control.T_ref", source=source
+        )
+    if not isinstance(s.wind, Disturbance):
+        raise ParameterError("wind", s.wind, "a tetherheli Disturbance", source=source)
+    check_wind_covers(s.wind, s.duration, source=source)
 
 
 _TOP_KEYS = {

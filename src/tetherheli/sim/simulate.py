@@ -42,7 +42,7 @@ from ..disturbances import (
     Turbulence,
     WindSum,
 )
-from ..errors import ParameterError
+from ..errors import InfeasibleError, ParameterError
 from ..model import TetheredHelicopter, TrimPoint, linearize
 from ..model.kernels import angle_trig, angle_trig_from, tension_from_state
 from ..params import Params
@@ -176,7 +176,7 @@ def _actuators(scenario: Scenario, trim: TrimPoint, ctrl: np.ndarray) -> np.ndar
     need = trim.u_total
     for i, name in enumerate(("fMR3", "tMR1", "tMR2", "fTR2")):
         if not a.u_min[i] < need[i] < a.u_max[i]:
-            raise ParameterError(
+            raise InfeasibleError(
                 "actuators.u_min/u_max",
                 f"{name} in [{a.u_min[i]:g}, {a.u_max[i]:g}]",
                 f"limits around the hover need {name} = {need[i]:.4g} (the helicopter "
@@ -330,6 +330,7 @@ def simulate(
             rec.y_est,
             summary,
         )
+        rec.release[:] = summary[engine.SUMMARY_RELEASE_TIME : engine.SUMMARY_RELEASE_TIME + 2]
     else:
         status, done = _python_loop(
             scenario,
@@ -360,6 +361,7 @@ class _Recorder:
         self.wind = np.zeros((n + 1, 3))
         self.y = np.zeros((n + 1, 4))
         self.y_est = np.zeros((n + 1, 4))
+        self.release = np.full(2, np.nan)  # tether release: time [s], tension [N]
 
     def result(
         self,
@@ -394,6 +396,8 @@ class _Recorder:
             version=__version__,
             method=method,
             extra=extra,
+            release_time=None if math.isnan(self.release[0]) else float(self.release[0]),
+            release_tension=None if math.isnan(self.release[1]) else float(self.release[1]),
         )
 
 
@@ -415,15 +419,18 @@ def _python_loop(
     breaks = wind.breakpoints(n * dt) if wind is not None else np.array([])
     controller.reset()
     previous_rate = 0.0  # the winch starts at rest
+    # the engine's release switches its own controller settings; a Python controller is told
+    # by the zero tension and the detached configuration (no reel rate) instead
+    ctrl_scratch = np.zeros(CTRL_SIZE)
     from ..model.kernels import tethered_outputs
 
     for k in range(n + 1):
         t = k * dt
         attached = cfg[engine.CFG_ATTACHED] > 0.5
         tension = tension_from_state(x[5], x[12], K_C) if attached else 0.0
-        if attached and tension > act[engine.ACT_BREAK]:
-            cfg[engine.CFG_ATTACHED] = 0.0
-            attached, tension = False, 0.0
+        if attached:
+            tension = engine.release_if_broken(tension, t, cfg, ctrl_scratch, act, rec.release)
+            attached = cfg[engine.CFG_ATTACHED] > 0.5
         if noise.shape[0]:
             measured = measure(x, tension, noise[k], source, arm, x_meas)
         else:
