@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .names import POSITION
 from .sim.result import SimulationResult
 
 __all__ = ["RunMetrics", "reduction_percent", "run_metrics"]
@@ -44,10 +45,10 @@ def run_metrics(result: SimulationResult) -> RunMetrics:
     if result.time.size == 0:
         raise ValueError("result has no samples; allowed: a run with at least one sample")
     dev = result.deviations()
-    peak = {k: float(np.max(np.abs(dev[k]))) for k in ("q1", "q2", "q3")}
+    peak = {k: float(np.max(np.abs(dev[k]))) for k in POSITION}
     peak["q4_deg"] = math.degrees(float(np.max(np.abs(dev["q4"]))))
     peak["q5_deg"] = math.degrees(float(np.max(np.abs(dev["q5"]))))
-    rms = {k: float(np.sqrt(np.mean(dev[k] ** 2))) for k in ("q1", "q2", "q3")}
+    rms = {k: float(np.sqrt(np.mean(dev[k] ** 2))) for k in POSITION}
     return RunMetrics(peak, rms, float(result.tension.min()), float(result.tension.max()))
 
 

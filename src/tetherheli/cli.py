@@ -68,7 +68,7 @@ def _trim_values(args: argparse.Namespace) -> dict[str, float]:
     model = TetheredHelicopter(_load_params(args.params))
     trim = model.trim(args.tension, args.q9)
     values = dict(zip(model.STATE, trim.x, strict=True))
-    values.update(zip(("q1", "q2", "q3", "q6"), trim.y, strict=True))
+    values.update(zip(model.OUTPUT, trim.y, strict=True))
     values.update(zip(model.INPUT, trim.u, strict=True))
     values["tMR1_total"] = trim.t_MR1_total
     values["LN"] = float(trim.x[12])

@@ -78,6 +78,7 @@ from .disturbances import (
 )
 from .errors import ParameterError
 from .model.kernels import tension_from_state, tethered_outputs
+from .names import FREE_STATE
 from .sensors import N_CHANNELS, measure, noise_table
 from .sim import engine
 from .sim.scenario import Scenario
@@ -96,9 +97,7 @@ __all__ = [
 ENV_ID = "tetherheli/TetheredHover-v0"
 
 #: Names of the observation entries (all deviations from trim).
-OBSERVATION_NAMES = (
-    "q1", "q2", "q3", "q4", "q5", "q6", "u1", "u2", "u3", "u4", "u5", "u6", "tension",
-)  # fmt: skip
+OBSERVATION_NAMES = (*FREE_STATE, "tension")
 
 #: Bound of the observation box; observations are clipped to +-OBS_LIMIT.
 OBS_LIMIT = 1.0e4

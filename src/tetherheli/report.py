@@ -18,6 +18,7 @@ from ._io import atomic_write_text, claim_output_directory, output_directory
 from ._version import __version__
 from .analysis import reduction_percent, run_metrics
 from .errors import ParameterError
+from .names import POSITION
 from .sim import SimulationResult, simulate
 from .sim.scenario import Scenario, paper_scenario
 
@@ -380,7 +381,7 @@ def write_comparison(
         lines += ["|---|" + "---:|" * len(infos)]
         rows = [("status", lambda i: i["message"])]
         for group in ("peak_abs_dev", "rms_dev"):
-            for k in ("q1", "q2", "q3"):
+            for k in POSITION:
                 rows.append(
                     (f"{group} {k} [m]", lambda i, g=group, k=k: f"{i['metrics'][g][k]:.4g}")
                 )
@@ -448,7 +449,7 @@ def run_sensing(
     def rms(a: np.ndarray) -> dict[str, float] | None:
         if not a.shape[0]:
             return None
-        return dict(zip(("q1", "q2", "q3"), np.sqrt(np.mean(a**2, axis=0)).tolist(), strict=True))
+        return dict(zip(POSITION, np.sqrt(np.mean(a**2, axis=0)).tolist(), strict=True))
 
     for name, r in results.items():
         est = np.column_stack([r.extra[f"q{i}_est"] for i in (1, 2, 3)])

@@ -24,6 +24,7 @@ from ._io import atomic_write_text, output_directory
 from ._version import __version__
 from .analysis import run_metrics
 from .errors import InfeasibleError, ParameterError
+from .names import POSITION
 from .params import Params
 from .sim import Scenario, simulate
 from .sim.batch import run_batch
@@ -33,8 +34,8 @@ __all__ = ["METRICS", "SweepResult", "paper_cyclic_limit", "sweep", "tension_bou
 
 #: metric name -> (group, key) of ``RunMetrics``
 METRICS = {
-    **{f"peak_{q}": ("peak_abs_dev", q) for q in ("q1", "q2", "q3", "q4_deg", "q5_deg")},
-    **{f"rms_{q}": ("rms_dev", q) for q in ("q1", "q2", "q3")},
+    **{f"peak_{q}": ("peak_abs_dev", q) for q in (*POSITION, "q4_deg", "q5_deg")},
+    **{f"rms_{q}": ("rms_dev", q) for q in POSITION},
     "tension_max": ("tension_max", None),
 }
 _ACTUATOR_FIELDS = {

@@ -32,13 +32,14 @@ from sympy.physics.mechanics import (
     inertia,
 )
 
+from ..names import INPUT
 from ..params import PARAM_ORDER
 
 __all__ = ["Derivation", "ModelKind", "derive", "parameter_symbols"]
 
 ModelKind = Literal["free", "tethered"]
 
-INPUT_NAMES = ("fMR3", "tMR1", "tMR2", "fTR2")
+INPUT_NAMES = INPUT
 
 
 def parameter_symbols() -> dict[str, sp.Symbol]:

@@ -14,14 +14,13 @@ from typing import ClassVar
 import numpy as np
 
 from ..errors import SingularConfigurationError
+from ..names import FREE_STATE, INPUT, OUTPUT, TETHERED_STATE
 from ..params import Params
 from . import kernels
 from .trim import TrimPoint, hover_trim
 
 __all__ = ["FreeHelicopter", "TetheredHelicopter"]
 
-INPUT: tuple[str, ...] = ("fMR3", "tMR1", "tMR2", "fTR2")
-OUTPUT: tuple[str, ...] = ("q1", "q2", "q3", "q6")
 #: |cos| below this counts as the Euler / spherical singularity (|q5| or |q8| at 90 deg).
 _SINGULAR_COS = 1e-9
 
@@ -113,9 +112,7 @@ class TetheredHelicopter(_Helicopter):
     Inputs ``INPUT`` (4,): fMR3 [N], tMR1 [N m], tMR2 [N m], fTR2 [N].
     """
 
-    STATE: ClassVar[tuple[str, ...]] = (
-        "q4", "q5", "q6", "q7", "q8", "q9", "u1", "u2", "u3", "u4", "u5", "u6", "LN",
-    )  # fmt: skip
+    STATE: ClassVar[tuple[str, ...]] = TETHERED_STATE
     _KIND = "tethered"
     _outputs_kernel = staticmethod(kernels.tethered_outputs)
 
@@ -199,9 +196,7 @@ class FreeHelicopter(_Helicopter):
     u1..u6 as for ``TetheredHelicopter``. Inputs as for ``TetheredHelicopter``.
     """
 
-    STATE: ClassVar[tuple[str, ...]] = (
-        "q1", "q2", "q3", "q4", "q5", "q6", "u1", "u2", "u3", "u4", "u5", "u6",
-    )  # fmt: skip
+    STATE: ClassVar[tuple[str, ...]] = FREE_STATE
     _KIND = "free"
     _outputs_kernel = staticmethod(kernels.free_outputs)
 

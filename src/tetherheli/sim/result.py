@@ -11,16 +11,21 @@ from typing import Any
 import numpy as np
 
 from .._io import atomic_open, atomic_write_bytes, atomic_write_text
+from ..names import (
+    INPUT,
+    INPUT_UNITS,
+    OUTPUT,
+    OUTPUT_UNITS,
+    POSITION,
+    TETHERED_STATE,
+    TETHERED_STATE_UNITS,
+)
 from .engine import STATUS_OK, release_sentence, status_message
 
 __all__ = ["SimulationResult", "atomic_write_bytes", "atomic_write_text"]
 
-STATE_NAMES = ("q4", "q5", "q6", "q7", "q8", "q9", "u1", "u2", "u3", "u4", "u5", "u6", "LN")
-STATE_UNITS = ("rad",) * 5 + ("m", "m/s", "m/s", "m/s", "rad/s", "rad/s", "rad/s", "m")
-INPUT_NAMES = ("fMR3", "tMR1", "tMR2", "fTR2")
-INPUT_UNITS = ("N", "N m", "N m", "N")
-OUTPUT_NAMES = ("q1", "q2", "q3", "q6")
-OUTPUT_UNITS = ("m", "m", "m", "rad")
+STATE_NAMES, STATE_UNITS = TETHERED_STATE, TETHERED_STATE_UNITS
+INPUT_NAMES, OUTPUT_NAMES = INPUT, OUTPUT
 _CSV_BLOCK_ROWS = 4096
 
 
@@ -141,7 +146,7 @@ class SimulationResult:
 
     def deviations(self) -> dict[str, np.ndarray]:
         """Deviations from the run's own trim: q1..q3 [m], q4, q5 [rad]."""
-        d = {n: self.outputs[:, i] - self.trim_output[i] for i, n in enumerate(("q1", "q2", "q3"))}
+        d = {n: self.outputs[:, i] - self.trim_output[i] for i, n in enumerate(POSITION)}
         d["q4"] = self.states[:, 0] - self.trim_state[0]
         d["q5"] = self.states[:, 1] - self.trim_state[1]
         return d

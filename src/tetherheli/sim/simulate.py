@@ -45,6 +45,7 @@ from ..disturbances import (
 from ..errors import InfeasibleError, ParameterError
 from ..model import TetheredHelicopter, TrimPoint, linearize
 from ..model.kernels import angle_trig, angle_trig_from, tension_from_state
+from ..names import INPUT, TETHERED_STATE
 from ..params import Params
 from ..resources import check_memory
 from ..sensors import N_CHANNELS, measure, noise_table
@@ -55,7 +56,7 @@ from .scenario import Scenario
 __all__ = ["CompiledWind", "compile_wind", "paper_gain", "simulate"]
 
 Method = Literal["rk4", "adaptive"]
-_LQI_STATES = ("q4", "q5", "q6", "q7", "q8", "q9", "u1", "u2", "u3", "u4", "u5", "u6")
+_LQI_STATES = TETHERED_STATE[:12]
 
 
 @lru_cache(maxsize=64)
@@ -174,7 +175,7 @@ def _actuators(scenario: Scenario, trim: TrimPoint, ctrl: np.ndarray) -> np.ndar
     act[engine.ACT_REEL_ACCEL] = a.reel_acceleration_limit
     ctrl[CTRL_REEL_RATE_LIMIT] = a.reel_rate_limit
     need = trim.u_total
-    for i, name in enumerate(("fMR3", "tMR1", "tMR2", "fTR2")):
+    for i, name in enumerate(INPUT):
         if not a.u_min[i] < need[i] < a.u_max[i]:
             raise InfeasibleError(
                 "actuators.u_min/u_max",

@@ -47,6 +47,7 @@ from PIL import Image
 
 from .._io import check_output_file, record_output_file
 from ..errors import ParameterError
+from ..names import POSITION
 from ..params import HelicopterParams, Params
 from ..resources import check_memory
 
@@ -383,7 +384,7 @@ def load_run(directory: str | Path, stem: str | None = None) -> RunData:
     trim_out = meta.get("trim", {}).get("output") if isinstance(meta.get("trim"), dict) else None
     if isinstance(trim_out, dict):
         try:
-            trim_position = np.array([float(trim_out[k]) for k in ("q1", "q2", "q3")])
+            trim_position = np.array([float(trim_out[k]) for k in POSITION])
         except (KeyError, TypeError, ValueError):
             raise ParameterError(
                 "trim.output", trim_out, "numbers q1, q2, q3 [m]", source=str(json_path)

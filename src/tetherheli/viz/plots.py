@@ -18,6 +18,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .._io import atomic_write_bytes
+from ..names import INPUT, INPUT_UNITS
 from ..sim.result import SimulationResult
 
 __all__ = ["PLOT_LIMIT", "figure_inputs", "figure_outputs", "plottable", "save_figure"]
@@ -116,7 +117,7 @@ def figure_inputs(runs: list[SimulationResult], title: str = "") -> Figure:
         st = _style(r)
         plot(axes[0], r.time, r.tension, **st)
         for i, (ax, name, unit) in enumerate(
-            zip(axes[1:], ("fMR3", "tMR1", "tMR2"), ("N", "N m", "N m"), strict=True)
+            zip(axes[1:], INPUT[:3], INPUT_UNITS[:3], strict=True)
         ):
             plot(ax, r.time, r.inputs[:, i], **st)
             ax.set_ylabel(f"{name} [{unit}]")

@@ -1,0 +1,33 @@
+"""Names and units of the model's variables: the one source that the model, results, plots,
+reports and the command line use (notation: ``docs/notation.md``)."""
+
+from __future__ import annotations
+
+__all__ = [
+    "FREE_STATE",
+    "FREE_STATE_UNITS",
+    "INPUT",
+    "INPUT_UNITS",
+    "OUTPUT",
+    "OUTPUT_UNITS",
+    "POSITION",
+    "TETHERED_STATE",
+    "TETHERED_STATE_UNITS",
+]
+
+#: Tethered state (13,): q4..q6 body-123 Euler angles [rad], q7, q8 tether angles at the ground
+#: [rad], q9 tether length [m], u1..u3 velocity of HO in N [m/s], u4..u6 angular velocity of F
+#: in F [rad/s], LN the tether's natural length [m] (eqs 27-37).
+TETHERED_STATE = ("q4", "q5", "q6", "q7", "q8", "q9", "u1", "u2", "u3", "u4", "u5", "u6", "LN")
+TETHERED_STATE_UNITS = ("rad",) * 5 + ("m",) + ("m/s",) * 3 + ("rad/s",) * 3 + ("m",)
+#: Free state (12,): q1..q3 position of HO in N [m], then q4..q6, u1..u6 as above (eqs 1-18).
+FREE_STATE = ("q1", "q2", "q3", "q4", "q5", "q6", "u1", "u2", "u3", "u4", "u5", "u6")
+FREE_STATE_UNITS = ("m",) * 3 + ("rad",) * 3 + ("m/s",) * 3 + ("rad/s",) * 3
+#: Inputs (4,): main-rotor thrust, roll and pitch torques, tail-rotor thrust (Table I).
+INPUT = ("fMR3", "tMR1", "tMR2", "fTR2")
+INPUT_UNITS = ("N", "N m", "N m", "N")
+#: Controlled outputs (4,): position of HO in N and the yaw angle (eqs 43-45).
+OUTPUT = ("q1", "q2", "q3", "q6")
+OUTPUT_UNITS = ("m", "m", "m", "rad")
+#: The position outputs, whose deviations the metrics report.
+POSITION = OUTPUT[:3]
