@@ -272,3 +272,68 @@ def test_turbulence_gets_a_fresh_series_per_draw(tmp_path):
         tethered = run_batch([d.scenario], design_params=base.params)
         assert float(rows[2 * i + 1]["rms_q1"]) == tethered.metrics(0)["rms_q1"]
     assert not np.array_equal(winds[0], winds[1])
+
+
+# --- seeds in O(chunk) memory (issue 9, section 3) -----------------------------------------
+
+#: The dispersion columns of SHORT (free rows) as written by the code that spawned all N seeds
+#: up front (``SeedSequence(7).spawn(8)``), before seeds were made per chunk.
+SHORT_DRAWS_BEFORE = """\
+0,7,0,0.8739864150842441,14.650846344213505,3.7155686524197566,1.068178641806855,1.0229339666876247,0.9338322176008053,12.275207600251496,37.35328870403221
+1,7,1,1.2803820241263577,8.534203299688002,1.399195875822633,-0.028511756665739182,0.9594485779403863,0.9757489110738109,11.513382935284636,39.02995644295244
+2,7,2,1.0078970033013877,11.078549331761538,0.21528692685972883,0.43654980682859773,1.0142855785716158,0.9137481382518305,12.17142694285939,36.549925530073224
+3,7,3,0.7968475323834981,-9.11867698857605,0.07361399115717338,0.07158146330774931,0.9725423860851911,1.0066830095493609,11.670508633022292,40.267320381974436
+4,7,4,1.0981014733216479,-6.028726521667189,3.2406223060272237,-0.5896121875799888,1.0269672858872085,0.9127079367170076,12.323607430646502,36.5083174686803
+5,7,5,1.014553708525258,9.128039162031719,0.21136245141014867,0.20491691825077635,0.9622169580201217,1.026607739704243,11.546603496241461,41.06430958816972
+6,7,6,1.1458630268899013,13.355239238332201,3.309933484031582,-0.5492807499416801,1.0337321473545724,1.0296791486819454,12.404785768254868,41.18716594727782
+7,7,7,1.1804877814618082,-21.131506839412427,1.7498543505975177,0.2679597094328362,1.0072582609566736,0.960309958586958,12.087099131480084,38.41239834347832
+"""
+
+
+@pytest.mark.parametrize("seed", [0, 7, 20261122, 2**63 - 1])
+def test_draw_seed_is_the_spawned_child(seed):
+    from tetherheli.montecarlo import draw_seed
+
+    children = np.random.SeedSequence(seed).spawn(40)
+    for i in (0, 1, 17, 39):
+        mine, child = draw_seed(seed, i), children[i]
+        assert (mine.entropy, mine.spawn_key, mine.pool_size) == (
+            child.entropy,
+            child.spawn_key,
+            child.pool_size,
+        )
+        np.testing.assert_array_equal(mine.generate_state(8), child.generate_state(8))
+        a, b = np.random.default_rng(mine), np.random.default_rng(child)
+        np.testing.assert_array_equal(a.standard_normal(5), b.standard_normal(5))
+
+
+def test_results_equal_the_spawn_everything_code(short_file, tmp_path):
+    """Seeds made per chunk give today's table: the dispersions equal those written when all N
+    seeds were spawned up front, and every chunk's rows equal ``_run_chunk`` of the spawned
+    children (the old code path)."""
+    from tetherheli.montecarlo import _run_chunk
+
+    _run(short_file, tmp_path / "a")
+    lines = (tmp_path / "a" / "results.csv").read_text().splitlines()[1:]
+    assert [",".join(r.split(",")[:11]) for r in lines[::2]] == SHORT_DRAWS_BEFORE.splitlines()
+    base, config = load_montecarlo(short_file)
+    children = np.random.SeedSequence(config.seed).spawn(config.runs)
+    old = "".join(_run_chunk(base, config, children[lo : lo + 3], lo, 1, None) for lo in (0, 3, 6))
+    assert "\n".join(lines) + "\n" == old
+
+
+def test_ten_million_runs_start_in_bounded_memory(short_file, tmp_path):
+    """No O(N) work before the first run: a 10^7-draw job allocates a few hundred kB before
+    it would start its first chunk (spawning every seed took 4 GB)."""
+    import tracemalloc
+
+    base, config = load_montecarlo(short_file)
+    huge = config.__class__(**{**config.__dict__, "runs": 10_000_000})
+    tracemalloc.start()
+    try:
+        got = run_montecarlo(base, huge, tmp_path / "h", chunk_size=2, max_chunks=0)
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert got is None and peak < 2_000_000
+    assert not list((tmp_path / "h" / "partial").glob("chunk_*"))

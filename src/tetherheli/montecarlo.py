@@ -28,9 +28,10 @@ Definitions:
   parameters, ``run_batch(design_params=...)``); the plant is the dispersed one, and the
   trim operating point (initial state, references, trim inputs) is the dispersed plant's own
   hover trim;
-- seeds: ``numpy.random.SeedSequence(seed).spawn(N)``; draw i uses child i only, so a draw
-  does not depend on N, the chunking or the number of workers. The table records the child's
-  entropy and spawn key.
+- seeds: draw i uses child i of ``numpy.random.SeedSequence(seed).spawn(N)`` only, so a draw
+  does not depend on N, the chunking or the number of workers. That child is
+  ``SeedSequence(seed, spawn_key=(i,))``, made per chunk (``draw_seed``): memory before and
+  during the run is O(chunk), not O(N). The table records the child's entropy and spawn key.
 
 Output directory: ``results.csv`` (one row per run and configuration), ``summary.json``
 (configuration, version, N, seed, percentiles), ``peak_q1_hist.png``, ``peak_q1_cdf.png``.
@@ -50,6 +51,7 @@ import math
 import operator
 import sys
 import tomllib
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -78,6 +80,7 @@ __all__ = [
     "Draw",
     "MonteCarloConfig",
     "draw",
+    "draw_seed",
     "load_montecarlo",
     "montecarlo_config_from_dict",
     "run_montecarlo",
@@ -270,6 +273,23 @@ class Draw:
     start_shift_s: float
     param_factors: tuple[tuple[str, float], ...]
     scenario: Scenario
+
+
+def draw_seed(seed: int, index: int) -> np.random.SeedSequence:
+    """The seed of draw ``index``: child ``index`` of ``SeedSequence(seed).spawn(N)`` for any
+    N > ``index``, made on its own in O(1) (same entropy, spawn key ``(index,)``, pool size)."""
+    return np.random.SeedSequence(seed, spawn_key=(index,))
+
+
+def _chunks(n: int, chunk_size: int) -> Iterator[tuple[int, int]]:
+    """(first draw, end) of every chunk, lazily (no O(N) list)."""
+    for lo in range(0, n, chunk_size):
+        yield lo, min(n, lo + chunk_size)
+
+
+def _chunk_path(part: Path, lo: int, hi: int) -> Path:
+    """The chunk file of draws ``lo`` .. ``hi - 1``."""
+    return part / f"chunk_{lo:09d}_{hi:09d}.csv"
 
 
 def _rot(v: tuple[float, ...], angle: float, scale: float = 1.0) -> tuple[float, float, float]:
@@ -489,21 +509,17 @@ def run_montecarlo(
     else:
         atomic_write_text(fp_path, json.dumps(fp, indent=2))
     n = config.runs
-    children = np.random.SeedSequence(config.seed).spawn(n)
-    n_chunks = -(-n // chunk_size)
     computed = 0
     done = 0
-    paths = []
-    for c in range(n_chunks):
-        lo, hi = c * chunk_size, min(n, (c + 1) * chunk_size)
-        path = part / f"chunk_{lo:09d}_{hi:09d}.csv"  # draws lo..hi-1
-        paths.append(path)
+    for lo, hi in _chunks(n, chunk_size):
+        path = _chunk_path(part, lo, hi)
         if not path.exists():
             if max_chunks is not None and computed >= max_chunks:
                 if progress:
                     print(file=sys.stderr)
                 return None
-            atomic_write_text(path, _run_chunk(base, config, children[lo:hi], lo, workers, client))
+            children = [draw_seed(config.seed, i) for i in range(lo, hi)]
+            atomic_write_text(path, _run_chunk(base, config, children, lo, workers, client))
             computed += 1
         done = hi
         if progress:
@@ -512,8 +528,8 @@ def run_montecarlo(
     table = _ColumnReader(header)
     with atomic_open(out / "results.csv") as fh:  # streamed: one chunk in memory at a time
         fh.write(",".join(header) + "\n")
-        for path in paths:
-            text = path.read_text()
+        for lo, hi in _chunks(n, chunk_size):
+            text = _chunk_path(part, lo, hi).read_text()
             fh.write(text)
             table.add(text)
     columns = table.arrays()
