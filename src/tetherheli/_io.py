@@ -1,4 +1,5 @@
-"""Atomic output: files and directories are written whole or not at all."""
+"""Atomic output: files and directories are written whole or not at all, and are on disk
+(file and directory fsync) when the call returns."""
 
 from __future__ import annotations
 
@@ -19,15 +20,39 @@ def _umask() -> int:
     return mask
 
 
+def _fsync_directory(path: Path) -> None:
+    """Make a rename in ``path`` durable (a no-op where directories cannot be opened)."""
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
+    except OSError:  # pragma: no cover - not POSIX
+        return
+    try:
+        os.fsync(fd)
+    except OSError:  # pragma: no cover - file systems that refuse fsync on directories
+        pass
+    finally:
+        os.close(fd)
+
+
+def _commit(fh: IO, tmp: str, path: Path) -> None:
+    """Flush and fsync the open temporary file ``fh``, close it, and rename it to ``path``;
+    then fsync the folder, so that after a crash ``path`` is the old file or the whole new one."""
+    fh.flush()
+    os.fsync(fh.fileno())
+    fh.close()
+    os.chmod(tmp, 0o666 & ~_umask())  # mkstemp creates 0600; give the usual permissions
+    os.replace(tmp, path)
+    _fsync_directory(path.parent)
+
+
 def atomic_write_bytes(path: Path, data: bytes) -> None:
-    """Write a file whole or not at all (temporary file in the same folder, then rename)."""
+    """Write a file whole or not at all (temporary file in the same folder, fsync, rename)."""
     path = Path(path)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
-        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp creates 0600; give the usual permissions
-        os.replace(tmp, path)
+            _commit(fh, tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
@@ -50,8 +75,7 @@ def atomic_open(path: str | Path, mode: str = "w") -> Iterator[IO]:
         kw = {"encoding": "utf-8", "newline": ""} if mode == "w" else {}
         with os.fdopen(fd, mode, **kw) as fh:
             yield fh
-        os.chmod(tmp, 0o666 & ~_umask())
-        os.replace(tmp, path)
+            _commit(fh, tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
@@ -80,5 +104,6 @@ def atomic_directory(path: str | Path) -> Iterator[Path]:
         old = path.with_name(f".{path.name}.old-{os.getpid()}")
         os.replace(path, old)
     os.replace(tmp, path)
+    _fsync_directory(path.parent)
     if old is not None:
         shutil.rmtree(old, ignore_errors=True)
