@@ -337,3 +337,16 @@ def test_ten_million_runs_start_in_bounded_memory(short_file, tmp_path):
         tracemalloc.stop()
     assert got is None and peak < 2_000_000
     assert not list((tmp_path / "h" / "partial").glob("chunk_*"))
+
+
+def test_cli_non_utf8_scenario_and_params_name_their_path(tmp_path, capsys):
+    from tetherheli import cli
+
+    bad = tmp_path / "latin1.toml"
+    bad.write_bytes(SHORT.replace('"mc_short"', '"caf\xe9"').encode("latin-1"))
+    assert cli.main(["montecarlo", str(bad), "--out", str(tmp_path / "b")]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and str(bad) in err and "UTF-8" in err
+    assert cli.main(["trim", "--params", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and str(bad) in err and "UTF-8" in err

@@ -1,5 +1,8 @@
-"""Atomic output: files and directories are written whole or not at all, and are on disk
-(file and directory fsync) when the call returns."""
+"""File input and atomic output.
+
+Input files (TOML) are read by ``read_toml``, whose every failure is one line naming the
+path. Output files and directories are written whole or not at all, and are on disk (file and
+directory fsync) when the call returns."""
 
 from __future__ import annotations
 
@@ -7,11 +10,43 @@ import contextlib
 import os
 import shutil
 import tempfile
+import tomllib
 from collections.abc import Iterator
 from pathlib import Path
-from typing import IO
+from typing import IO, Any
 
-__all__ = ["atomic_directory", "atomic_open", "atomic_write_bytes", "atomic_write_text"]
+from .errors import ParameterError
+
+__all__ = [
+    "atomic_directory",
+    "atomic_open",
+    "atomic_write_bytes",
+    "atomic_write_text",
+    "read_toml",
+]
+
+
+def read_toml(path: str | Path, what: str = "TOML file") -> dict[str, Any]:
+    """The parsed TOML file ``path`` (a ``what``).
+
+    Raises
+    ------
+    ParameterError
+        One line naming the path: missing, unreadable (a directory, permissions), not UTF-8,
+        or not valid TOML.
+    """
+    source = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ParameterError("file", source, f"an existing {what}") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise ParameterError("file", source, f"a readable UTF-8 {what} ({reason})") from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ParameterError("file", source, f"valid TOML ({exc})") from None
 
 
 def _umask() -> int:

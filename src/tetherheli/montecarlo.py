@@ -50,7 +50,6 @@ import json
 import math
 import operator
 import sys
-import tomllib
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -58,7 +57,7 @@ from typing import Any
 
 import numpy as np
 
-from ._io import atomic_open, atomic_write_bytes, atomic_write_text
+from ._io import atomic_open, atomic_write_bytes, atomic_write_text, read_toml
 from ._version import __version__
 from .disturbances import (
     ConstantForce,
@@ -215,16 +214,8 @@ def load_montecarlo(path: str | Path) -> tuple[Scenario, MonteCarloConfig]:
     (Scenario, MonteCarloConfig)
         The nominal scenario and the dispersions.
     """
-    path = Path(path)
     source = str(path)
-    try:
-        data = tomllib.loads(path.read_text())
-    except FileNotFoundError:
-        raise ParameterError("file", source, "an existing scenario TOML file") from None
-    except (IsADirectoryError, PermissionError, UnicodeDecodeError) as exc:
-        raise ParameterError("file", source, f"a readable TOML file ({exc})") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise ParameterError("file", source, f"valid TOML ({exc})") from None
+    data = read_toml(path, "scenario TOML file")
     if "montecarlo" not in data:
         raise ParameterError("montecarlo", None, "a [montecarlo] table", source=source)
     config = montecarlo_config_from_dict(data.pop("montecarlo"), source=source)
