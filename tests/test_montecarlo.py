@@ -64,6 +64,10 @@ def _rows(out: Path) -> list[dict[str, str]]:
         return list(csv.DictReader(fh))
 
 
+def _chunks_of(out: Path) -> list[Path]:
+    return sorted((out / "partial").glob("chunk_*.csv"))
+
+
 def test_outputs_and_equal_seeds_equal_tables(short_file, tmp_path):
     s1 = _run(short_file, tmp_path / "a")
     _run(short_file, tmp_path / "b", workers=1)
@@ -350,3 +354,150 @@ def test_cli_non_utf8_scenario_and_params_name_their_path(tmp_path, capsys):
     assert cli.main(["trim", "--params", str(bad)]) == 2
     err = capsys.readouterr().err
     assert len(err.strip().splitlines()) == 1 and str(bad) in err and "UTF-8" in err
+
+
+# --- failed draws are data (issue 9, section 4) --------------------------------------------
+
+#: A plant dispersed by +-50% in mass against a main-rotor thrust limit of 160 N: heavy draws
+#: cannot hover (no trim within the actuator limits), tethered ones (25 N more) first.
+FAILING = """
+name = "mc_fail"
+duration = 2.0
+[actuators]
+u_max = [160.0, 1e9, 1e9, 1e9]
+[[wind]]
+type = "pulse"
+start = 0.5
+duration = 0.5
+magnitude = 20.0
+direction = [1.0, 0.0, 0.0]
+[montecarlo]
+runs = 6
+seed = 3
+params = { "helicopter.m_F" = 50.0 }
+"""
+
+
+@pytest.fixture
+def failing_file(tmp_path: Path) -> Path:
+    p = tmp_path / "fail.toml"
+    p.write_text(FAILING)
+    return p
+
+
+def test_a_draw_that_cannot_hover_is_a_failed_row(failing_file, tmp_path):
+    from tetherheli.sim import engine
+
+    summary = _run(failing_file, tmp_path / "f")
+    rows = _rows(tmp_path / "f")
+    assert len(rows) == 12 and rows[0]["reason"] == ""
+    failed = [r for r in rows if r["status"] != "0"]
+    assert failed and len(failed) < len(rows)
+    for r in failed:
+        assert int(r["status"]) == engine.STATUS_SETUP
+        assert r["message"] == engine.STATUS_MESSAGES[engine.STATUS_SETUP]
+        assert "fMR3" in r["reason"] and "cannot hover" in r["reason"]
+        assert math.isnan(float(r["peak_q1"])) and float(r["n_samples"]) == 0.0
+    # the heavier the draw, the sooner it fails: some draws fly free but not tethered
+    pairs = {(f["status"], t["status"]) for f, t in zip(rows[::2], rows[1::2], strict=True)}
+    assert ("0", "6") in pairs and ("0", "0") in pairs
+    # percentiles are over the completed runs only
+    for cfg in ("free", "tethered"):
+        ok = [float(r["peak_q1"]) for r in rows if r["configuration"] == cfg and r["status"] == "0"]
+        s = summary["statistics"][cfg]
+        assert (s["runs"], s["completed"], s["failed"]) == (6, len(ok), 6 - len(ok))
+        assert s["peak_q1"]["p50"] == float(np.percentile(ok, 50))
+        assert s["peak_q1"]["max"] == max(ok)
+
+
+def test_cli_failed_draws_exit_0_or_1_with_strict(failing_file, tmp_path, capsys):
+    from tetherheli import cli
+
+    args = ["montecarlo", str(failing_file), "--out", str(tmp_path / "o"), "--quiet"]
+    assert cli.main(args) == 0
+    captured = capsys.readouterr()
+    assert "runs failed" in captured.err and "reason" in captured.err
+    assert "Traceback" not in captured.err and len(captured.err.strip().splitlines()) == 1
+    assert cli.main([*args, "--strict"]) == 1  # the finished job, reread
+    assert "runs failed" in capsys.readouterr().err
+    # a job without failures is not affected by --strict
+    assert cli.main([*args[:-2], str(tmp_path / "ok"), "--runs", "1", "--quiet", "--strict"]) == 0
+
+
+# --- --max-chunks stops with its own exit code ---------------------------------------------
+
+
+def test_cli_max_chunks_exit_3_then_resume(short_file, tmp_path, capsys):
+    from tetherheli import cli
+
+    args = ["montecarlo", str(short_file), "--out", str(tmp_path / "o"), "--chunk-size", "3"]
+    assert cli.main([*args, "--max-chunks", "1"]) == cli.EXIT_STOPPED == 3
+    err = capsys.readouterr().err
+    assert "--max-chunks" in err and "run the same command again to resume" in err
+    assert not (tmp_path / "o" / "results.csv").exists()
+    assert cli.main([*args, "--max-chunks", "5"]) == 0  # enough left to finish: a finished job
+    _run(short_file, tmp_path / "full")
+    assert (tmp_path / "o" / "results.csv").read_bytes() == (
+        tmp_path / "full" / "results.csv"
+    ).read_bytes()
+
+
+def test_cli_ten_million_runs_start_at_once(short_file, tmp_path, capsys):
+    from tetherheli import cli
+
+    out = tmp_path / "h"
+    args = ["montecarlo", str(short_file), "--out", str(out), "--runs", "10000000"]
+    assert cli.main([*args, "--chunk-size", "1", "--max-chunks", "1", "--quiet"]) == 3
+    assert [p.name for p in sorted((out / "partial").glob("chunk_*"))] == [
+        "chunk_000000000_000000001.csv"
+    ]
+
+
+# --- Dask: a lost scheduler or no workers ---------------------------------------------------
+
+
+def test_lost_scheduler_is_one_line_exit_1_and_resumable(short_file, tmp_path, capsys, monkeypatch):
+    distributed = pytest.importorskip("distributed")
+    from tetherheli import cli, montecarlo
+
+    cluster = distributed.LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
+    )
+    real = montecarlo._run_chunk
+
+    def then_lose_the_scheduler(*args, **kwargs):
+        rows = real(*args, **kwargs)
+        cluster.close()
+        return rows
+
+    monkeypatch.setattr(montecarlo, "_run_chunk", then_lose_the_scheduler)
+    out = tmp_path / "o"
+    args = ["montecarlo", str(short_file), "--out", str(out), "--chunk-size", "3"]
+    try:
+        code = cli.main(
+            [*args, "--scheduler", cluster.scheduler_address, "--connect-timeout", "1", "--quiet"]
+        )
+    finally:
+        cluster.close()
+    err = capsys.readouterr().err
+    assert code == 1 and len(err.strip().splitlines()) == 1, err
+    assert "Dask scheduler" in err and "run the same command again to resume" in err
+    assert len(_chunks_of(out)) == 1
+    monkeypatch.setattr(montecarlo, "_run_chunk", real)
+    assert cli.main([*args, "--quiet"]) == 0
+    _run(short_file, tmp_path / "full")
+    assert (out / "results.csv").read_bytes() == (tmp_path / "full" / "results.csv").read_bytes()
+
+
+def test_no_workers_is_reported_after_the_timeout(short_file, tmp_path, capsys):
+    distributed = pytest.importorskip("distributed")
+    from tetherheli import cli
+
+    with distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster:
+        args = ["montecarlo", str(short_file), "--out", str(tmp_path / "o"), "--quiet"]
+        code = cli.main(
+            [*args, "--scheduler", cluster.scheduler_address, "--worker-timeout", "0.5"]
+        )
+    err = capsys.readouterr().err
+    assert code == 1 and len(err.strip().splitlines()) == 1
+    assert "no Dask worker" in err and "--worker-timeout" in err

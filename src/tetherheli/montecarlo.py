@@ -33,6 +33,11 @@ Definitions:
   ``SeedSequence(seed, spawn_key=(i,))``, made per chunk (``draw_seed``): memory before and
   during the run is O(chunk), not O(N). The table records the child's entropy and spawn key.
 
+Failed runs are data: a run that fails in flight (diverges, hits the ground, ...) or whose
+dispersed plant cannot be set up (no hover trim within the actuator limits:
+``engine.STATUS_SETUP``, the error in the ``reason`` column) is a row with its status, and the
+job goes on; percentiles are over the completed runs.
+
 Output directory: ``results.csv`` (one row per run and configuration), ``summary.json``
 (configuration, version, N, seed, percentiles), ``peak_q1_hist.png``, ``peak_q1_cdf.png``.
 Work is done in chunks written to ``partial/chunk_<first>_<end>.csv``; running the same
@@ -364,7 +369,7 @@ def _columns(config: MonteCarloConfig) -> list[str]:
     cols = ["run", "seed_entropy", "spawn_key", "amplitude_scale", "direction_deg"]
     cols += ["phase_rad", "start_shift_s"]
     cols += [f"factor:{n}" for n, _ in config.params] + [f"value:{n}" for n, _ in config.params]
-    cols += ["configuration", "status", "message", *METRIC_NAMES]
+    cols += ["configuration", "status", "message", "reason", *METRIC_NAMES]
     return cols
 
 
@@ -379,10 +384,18 @@ def _run_chunk(
     start: int,
     workers: int | None,
     client: Any,
+    worker_timeout_s: float = 60.0,
 ) -> str:
     draws = [draw(base, config, ch, start + j) for j, ch in enumerate(children)]
     scenarios = [d.scenario.replace(configuration=cfg) for d in draws for cfg in CONFIGURATIONS]
-    batch = run_batch(scenarios, workers=workers, design_params=base.params, client=client)
+    batch = run_batch(
+        scenarios,
+        workers=workers,
+        design_params=base.params,
+        client=client,
+        record_setup_failures=True,
+        worker_timeout_s=worker_timeout_s,
+    )
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     k = 0
@@ -402,7 +415,8 @@ def _run_chunk(
         for cfg in CONFIGURATIONS:
             m = batch.metrics(k)
             st = int(batch.status[k])
-            row = [*head, cfg, st, engine.STATUS_MESSAGES[st], *(m[n] for n in METRIC_NAMES)]
+            why = batch.reasons[k]
+            row = [*head, cfg, st, engine.STATUS_MESSAGES[st], why, *(m[n] for n in METRIC_NAMES)]
             w.writerow([_fmt(v) for v in row])
             k += 1
     return buf.getvalue()
@@ -443,6 +457,7 @@ def run_montecarlo(
     max_chunks: int | None = None,
     progress: bool = True,
     client: Any = None,
+    worker_timeout_s: float = 60.0,
 ) -> dict[str, Any] | None:
     """Run (or resume) a Monte Carlo and write its outputs to ``out``.
 
@@ -465,6 +480,8 @@ def run_montecarlo(
         Progress line on stderr.
     client : distributed.Client, optional
         Run the chunks on this Dask cluster (``sim.batch.connect``); same table as in-process.
+    worker_timeout_s : float
+        With ``client``: how long the cluster may have no worker before ``ClusterError``.
 
     Returns
     -------
@@ -475,6 +492,15 @@ def run_montecarlo(
     ------
     ParameterError
         Bad arguments, or ``out/partial`` belongs to a different job.
+    ClusterError
+        With ``client``: the scheduler was lost, or no worker for ``worker_timeout_s``; the
+        finished chunks are kept and the same call resumes the job.
+
+    Notes
+    -----
+    A draw whose plant cannot be set up (no hover trim, actuator limits it cannot hover
+    within) is a failed row (``engine.STATUS_SETUP``, the error in ``reason``); the job goes
+    on.
     """
     if not isinstance(config, MonteCarloConfig):
         raise TypeError("config must be a MonteCarloConfig")
@@ -510,7 +536,8 @@ def run_montecarlo(
                     print(file=sys.stderr)
                 return None
             children = [draw_seed(config.seed, i) for i in range(lo, hi)]
-            atomic_write_text(path, _run_chunk(base, config, children, lo, workers, client))
+            rows = _run_chunk(base, config, children, lo, workers, client, worker_timeout_s)
+            atomic_write_text(path, rows)
             computed += 1
         done = hi
         if progress:
@@ -615,7 +642,8 @@ def _figures(out: Path, columns: dict[str, np.ndarray]) -> None:
         FigureCanvasAgg(fig)
         ax = fig.add_subplot()
         for cfg, v in data.items():
-            if not v.size:
+            if not v.size:  # every run failed: say so in the legend
+                ax.plot([], [], color=colors[cfg], label=f"{cfg}: {totals[cfg]} runs, all failed")
                 continue
             failed = totals[cfg] - v.size
             label = f"{cfg}: {v.size} runs" + (f", {failed} failed (not shown)" if failed else "")
