@@ -343,19 +343,6 @@ def test_ten_million_runs_start_in_bounded_memory(short_file, tmp_path):
     assert not list((tmp_path / "h" / "partial").glob("chunk_*"))
 
 
-def test_cli_non_utf8_scenario_and_params_name_their_path(tmp_path, capsys):
-    from tetherheli import cli
-
-    bad = tmp_path / "latin1.toml"
-    bad.write_bytes(SHORT.replace('"mc_short"', '"caf\xe9"').encode("latin-1"))
-    assert cli.main(["montecarlo", str(bad), "--out", str(tmp_path / "b")]) == 2
-    err = capsys.readouterr().err
-    assert len(err.strip().splitlines()) == 1 and str(bad) in err and "UTF-8" in err
-    assert cli.main(["trim", "--params", str(bad)]) == 2
-    err = capsys.readouterr().err
-    assert len(err.strip().splitlines()) == 1 and str(bad) in err and "UTF-8" in err
-
-
 # --- failed draws are data (issue 9, section 4) --------------------------------------------
 
 #: A plant dispersed by +-50% in mass against a main-rotor thrust limit of 160 N: heavy draws
@@ -451,6 +438,112 @@ def test_cli_ten_million_runs_start_at_once(short_file, tmp_path, capsys):
     assert [p.name for p in sorted((out / "partial").glob("chunk_*"))] == [
         "chunk_000000000_000000001.csv"
     ]
+
+
+# --- chunk files that can be trusted (issue 9, section 5) ----------------------------------
+
+
+def test_damaged_chunks_are_named_and_computed_again(short_file, tmp_path, capsys):
+    """Truncated, empty, garbled, misplaced or old-format chunk files: each is named in one
+    line on stderr and computed again; the table equals an uninterrupted run's."""
+    _run(short_file, tmp_path / "full")
+    full = (tmp_path / "full" / "results.csv").read_bytes()
+    first = _chunks_of(tmp_path / "full")[0].read_text()
+    assert first.count("\n") == 7 and first.splitlines()[-1].startswith("# tetherheli")
+    assert first.splitlines()[-1].split(",")[0] == "# tetherheli montecarlo chunk: draws 0..2"
+    damages = {
+        "truncated": lambda p: p.write_bytes(p.read_bytes()[:300]),
+        "empty": lambda p: p.write_bytes(b""),
+        "garbled": lambda p: p.write_text(p.read_text().replace(",free,", ",frXe,", 1)),
+        "not UTF-8": lambda p: p.write_bytes(b"\xff\xfe" + p.read_bytes()),
+        "old format": lambda p: p.write_text("".join(p.read_text().splitlines(True)[:-1])),
+    }
+    out = tmp_path / "d"
+    _run(short_file, out)
+    capsys.readouterr()
+    for k, (what, damage) in enumerate(damages.items()):
+        chunk = _chunks_of(out)[k % 3]
+        damage(chunk)
+        assert _run(short_file, out) is not None
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and str(chunk) in err[0] and "computing it again" in err[0], what
+        assert (out / "results.csv").read_bytes() == full, what
+    assert _run(short_file, out) is not None and capsys.readouterr().err == ""
+    # a chunk holding other draws (copied over another)
+    a, b, _ = _chunks_of(out)
+    b.write_bytes(a.read_bytes())
+    capsys.readouterr()
+    _run(short_file, out)
+    assert "holds draws 0..2, not 3..5" in capsys.readouterr().err
+    assert (out / "results.csv").read_bytes() == full
+
+
+def test_cli_truncated_chunk_is_recomputed(short_file, tmp_path, capsys):
+    from tetherheli import cli
+
+    out = tmp_path / "o"
+    args = ["montecarlo", str(short_file), "--out", str(out), "--chunk-size", "3"]
+    assert cli.main([*args, "--quiet"]) == 0
+    whole = (out / "results.csv").read_bytes()
+    chunk = _chunks_of(out)[1]
+    chunk.write_bytes(chunk.read_bytes()[:-40])
+    capsys.readouterr()
+    assert cli.main(args) == 0
+    err = capsys.readouterr().err
+    lines = [line for line in err.replace("\r", "\n").splitlines() if "tetherheli" in line]
+    assert lines == [f"tetherheli: {chunk} has no checksum line (truncated, or written before "
+                     "checksums); computing it again"]  # fmt: skip
+    assert (out / "results.csv").read_bytes() == whole
+
+
+def test_cli_corrupt_job_file_names_it(short_file, tmp_path, capsys):
+    from tetherheli import cli
+
+    out = tmp_path / "o"
+    args = ["montecarlo", str(short_file), "--out", str(out), "--quiet", "--runs", "2"]
+    assert cli.main(args) == 0
+    job = out / "partial" / "job.json"
+    for content in (b"", b'{"scenario": ', b"\xff\xfe{}"):
+        job.write_bytes(content)
+        capsys.readouterr()
+        assert cli.main(args) == 2
+        err = capsys.readouterr().err
+        assert len(err.strip().splitlines()) == 1 and str(job) in err and "Traceback" not in err
+
+
+def test_cli_non_utf8_scenario_and_params_name_their_path(tmp_path, capsys):
+    from tetherheli import cli
+
+    bad = tmp_path / "latin1.toml"
+    bad.write_bytes(SHORT.replace('"mc_short"', '"caf\xe9"').encode("latin-1"))
+    assert cli.main(["montecarlo", str(bad), "--out", str(tmp_path / "b")]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and str(bad) in err and "UTF-8" in err
+    assert cli.main(["trim", "--params", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and str(bad) in err and "UTF-8" in err
+
+
+# --- the progress line ----------------------------------------------------------------------
+
+
+def test_interrupt_message_starts_a_new_line(short_file, tmp_path, capsys, monkeypatch):
+    from tetherheli import cli, montecarlo
+
+    real, calls = montecarlo._run_chunk, []
+
+    def interrupted(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(montecarlo, "_run_chunk", interrupted)
+    out = tmp_path / "o"
+    assert cli.main(["montecarlo", str(short_file), "--out", str(out), "--chunk-size", "3"]) == 130
+    err = capsys.readouterr().err
+    assert "3/8 draws" in err and "\ntetherheli: interrupted\n" in err
+    assert len(_chunks_of(out)) == 1  # the finished chunk is kept
 
 
 # --- Dask: a lost scheduler or no workers ---------------------------------------------------

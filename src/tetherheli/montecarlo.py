@@ -40,9 +40,12 @@ job goes on; percentiles are over the completed runs.
 
 Output directory: ``results.csv`` (one row per run and configuration), ``summary.json``
 (configuration, version, N, seed, percentiles), ``peak_q1_hist.png``, ``peak_q1_cdf.png``.
-Work is done in chunks written to ``partial/chunk_<first>_<end>.csv``; running the same
-command again skips the finished chunks, and running it with a larger N extends the job
-(the first draws are reused: draw i does not depend on N).
+Work is done in chunks written (fsync, then rename) to ``partial/chunk_<first>_<end>.csv``:
+the chunk's rows of ``results.csv`` and a last line ``# tetherheli montecarlo chunk: draws
+a..b, n rows, sha256 <hex of the rows>``. Running the same command again verifies every
+finished chunk against that line (and each row's column count and draw), computes a damaged
+one again after naming it on stderr, and skips the others; running it with a larger N extends
+the job (the first draws are reused: draw i does not depend on N).
 """
 
 from __future__ import annotations
@@ -50,10 +53,12 @@ from __future__ import annotations
 import csv
 import dataclasses
 import functools
+import hashlib
 import io
 import json
 import math
 import operator
+import re
 import sys
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -74,7 +79,7 @@ from .disturbances import (
     Turbulence,
     WindSum,
 )
-from .errors import ParameterError
+from .errors import ParameterError, TetherheliError
 from .params import Params
 from .sim import engine
 from .sim.batch import METRIC_NAMES, run_batch
@@ -435,16 +440,104 @@ def _fingerprint(base: Scenario, config: MonteCarloConfig, chunk_size: int) -> d
     }
 
 
-def _progress(done: int, total: int) -> None:
-    frac = done / total if total else 1.0
-    bar = "#" * int(30 * frac)
-    end = "\n" if done >= total else ""
-    print(
-        f"\rmontecarlo [{bar:<30}] {done}/{total} draws {100 * frac:5.1f}%",
-        end=end,
-        file=sys.stderr,
-    )
-    sys.stderr.flush()
+class _ProgressLine:
+    """The progress line on stderr. It knows whether its line is open: a note, and whatever is
+    printed after an exception left the ``with`` block (an error, "interrupted"), starts on a
+    new line instead of being glued to the bar."""
+
+    def __init__(self, enabled: bool) -> None:
+        self.enabled = enabled
+        self._open = False
+
+    def __enter__(self) -> _ProgressLine:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.end_line()
+
+    def update(self, done: int, total: int) -> None:
+        if not self.enabled:
+            return
+        frac = done / total if total else 1.0
+        bar = "#" * int(30 * frac)
+        print(
+            f"\rmontecarlo [{bar:<30}] {done}/{total} draws {100 * frac:5.1f}%",
+            end="",
+            file=sys.stderr,
+        )
+        self._open = True
+        if done >= total:
+            self.end_line()
+        sys.stderr.flush()
+
+    def end_line(self) -> None:
+        if self._open:
+            self._open = False
+            print(file=sys.stderr)
+            sys.stderr.flush()
+
+    def note(self, message: str) -> None:
+        """One line on stderr (progress or not)."""
+        self.end_line()
+        print(message, file=sys.stderr)
+        sys.stderr.flush()
+
+
+_CHUNK_END = re.compile(
+    r"# tetherheli montecarlo chunk: draws (\d+)\.\.(\d+), (\d+) rows, sha256 ([0-9a-f]{64})"
+)
+
+
+def _seal(rows: str, lo: int, hi: int) -> str:
+    """A chunk file's text: its rows (as results.csv gets them) and a last line with the draw
+    range, the row count and the SHA-256 of the rows, checked by ``_chunk_rows``."""
+    digest = hashlib.sha256(rows.encode("utf-8")).hexdigest()
+    n = rows.count("\n")
+    return f"{rows}# tetherheli montecarlo chunk: draws {lo}..{hi - 1}, {n} rows, sha256 {digest}\n"
+
+
+class _BadChunk(Exception):
+    """A chunk file that fails verification; the message says how."""
+
+
+def _chunk_rows(path: Path, lo: int, hi: int, n_columns: int) -> str:
+    """The verified rows of the chunk file of draws ``lo`` .. ``hi - 1``.
+
+    Raises
+    ------
+    _BadChunk
+        Unreadable, empty, truncated, garbled (checksum), rows or draws other than expected.
+    """
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise _BadChunk(f"cannot be read ({exc.strerror or exc})") from None
+    if not data:
+        raise _BadChunk("is empty")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise _BadChunk("is garbled (not UTF-8 text)") from None
+    head, _, last = text.removesuffix("\n").rpartition("\n")
+    end = _CHUNK_END.fullmatch(last) if text.endswith("\n") else None
+    if end is None:
+        raise _BadChunk("has no checksum line (truncated, or written before checksums)")
+    rows = head + "\n" if head else ""
+    first, final, count, digest = end.groups()
+    expected = len(CONFIGURATIONS) * (hi - lo)
+    if (int(first), int(final)) != (lo, hi - 1):
+        raise _BadChunk(f"holds draws {first}..{final}, not {lo}..{hi - 1}")
+    if int(count) != expected:
+        raise _BadChunk(f"says it has {count} rows, not {expected}")
+    if hashlib.sha256(rows.encode("utf-8")).hexdigest() != digest:
+        raise _BadChunk("is garbled (its checksum does not match)")
+    table = list(csv.reader(io.StringIO(rows)))
+    if len(table) != expected:
+        raise _BadChunk(f"has {len(table)} rows, not {expected}")
+    for j, row in enumerate(table):
+        if len(row) != n_columns or row[0] != str(lo + j // len(CONFIGURATIONS)):
+            raise _BadChunk(f"is garbled (row {j + 1})")
+    return rows
 
 
 def run_montecarlo(
@@ -491,7 +584,8 @@ def run_montecarlo(
     Raises
     ------
     ParameterError
-        Bad arguments, or ``out/partial`` belongs to a different job.
+        Bad arguments, ``out/partial`` belongs to a different job, or its ``job.json`` is
+        unreadable.
     ClusterError
         With ``client``: the scheduler was lost, or no worker for ``worker_timeout_s``; the
         finished chunks are kept and the same call resumes the job.
@@ -500,7 +594,8 @@ def run_montecarlo(
     -----
     A draw whose plant cannot be set up (no hover trim, actuator limits it cannot hover
     within) is a failed row (``engine.STATUS_SETUP``, the error in ``reason``); the job goes
-    on.
+    on. On every call each finished chunk file is verified against its last line (draw range,
+    row count, SHA-256); one that fails is named in one line on stderr and computed again.
     """
     if not isinstance(config, MonteCarloConfig):
         raise TypeError("config must be a MonteCarloConfig")
@@ -517,7 +612,17 @@ def run_montecarlo(
     fp = _fingerprint(base, config, chunk_size)
     fp_path = part / "job.json"
     if fp_path.exists():
-        if json.loads(fp_path.read_text()) != json.loads(json.dumps(fp)):
+        try:
+            recorded = json.loads(fp_path.read_text(encoding="utf-8"))
+        except (OSError, ValueError) as exc:  # ValueError: not UTF-8, not JSON
+            reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            raise ParameterError(
+                "file",
+                str(fp_path),
+                f"the job record of a Monte Carlo in this folder ({reason}); delete {part} "
+                "to start the job over",
+            ) from None
+        if recorded != json.loads(json.dumps(fp)):
             raise ParameterError(
                 "out",
                 str(out),
@@ -526,28 +631,38 @@ def run_montecarlo(
     else:
         atomic_write_text(fp_path, json.dumps(fp, indent=2))
     n = config.runs
+    header = _columns(config)
     computed = 0
-    done = 0
-    for lo, hi in _chunks(n, chunk_size):
-        path = _chunk_path(part, lo, hi)
-        if not path.exists():
+    with _ProgressLine(progress) as bar:
+        for lo, hi in _chunks(n, chunk_size):
+            path = _chunk_path(part, lo, hi)
+            if path.exists():
+                try:
+                    _chunk_rows(path, lo, hi, len(header))
+                except _BadChunk as exc:
+                    bar.note(f"tetherheli: {path} {exc}; computing it again")
+                else:
+                    bar.update(hi, n)
+                    continue
             if max_chunks is not None and computed >= max_chunks:
-                if progress:
-                    print(file=sys.stderr)
                 return None
             children = [draw_seed(config.seed, i) for i in range(lo, hi)]
             rows = _run_chunk(base, config, children, lo, workers, client, worker_timeout_s)
-            atomic_write_text(path, rows)
+            atomic_write_text(path, _seal(rows, lo, hi))
             computed += 1
-        done = hi
-        if progress:
-            _progress(done, n)
-    header = _columns(config)
+            bar.update(hi, n)
     table = _ColumnReader(header)
     with atomic_open(out / "results.csv") as fh:  # streamed: one chunk in memory at a time
         fh.write(",".join(header) + "\n")
         for lo, hi in _chunks(n, chunk_size):
-            text = _chunk_path(part, lo, hi).read_text()
+            path = _chunk_path(part, lo, hi)
+            try:
+                text = _chunk_rows(path, lo, hi, len(header))
+            except _BadChunk as exc:
+                raise TetherheliError(
+                    f"{path} {exc} after it was verified (changed by another process?); "
+                    "run the same command again"
+                ) from None
             fh.write(text)
             table.add(text)
     columns = table.arrays()
