@@ -403,10 +403,10 @@ def test_cli_failed_draws_exit_0_or_1_with_strict(failing_file, tmp_path, capsys
     args = ["montecarlo", str(failing_file), "--out", str(tmp_path / "o"), "--quiet"]
     assert cli.main(args) == 0
     captured = capsys.readouterr()
-    assert "runs failed" in captured.err and "reason" in captured.err
+    assert "failed (status, message and reason in" in captured.err
     assert "Traceback" not in captured.err and len(captured.err.strip().splitlines()) == 1
     assert cli.main([*args, "--strict"]) == 1  # the finished job, reread
-    assert "runs failed" in capsys.readouterr().err
+    assert "failed (status, message and reason in" in capsys.readouterr().err
     # a job without failures is not affected by --strict
     assert cli.main([*args[:-2], str(tmp_path / "ok"), "--runs", "1", "--quiet", "--strict"]) == 0
 

@@ -432,8 +432,8 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
         )
     if failed:
         print(
-            f"tetherheli: {failed} runs failed (status, message and reason in "
-            f"{args.out}/results.csv; percentiles are over completed runs)",
+            f"tetherheli: {failed} run{'s' if failed > 1 else ''} failed (status, message and "
+            f"reason in {args.out}/results.csv; percentiles are over completed runs)",
             file=sys.stderr,
         )
     return 1 if failed and args.strict else 0
