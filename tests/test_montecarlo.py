@@ -64,6 +64,10 @@ def _rows(out: Path) -> list[dict[str, str]]:
         return list(csv.DictReader(fh))
 
 
+def _chunks_of(out: Path) -> list[Path]:
+    return sorted((out / "partial").glob("chunk_*.csv"))
+
+
 def test_outputs_and_equal_seeds_equal_tables(short_file, tmp_path):
     s1 = _run(short_file, tmp_path / "a")
     _run(short_file, tmp_path / "b", workers=1)
@@ -272,3 +276,321 @@ def test_turbulence_gets_a_fresh_series_per_draw(tmp_path):
         tethered = run_batch([d.scenario], design_params=base.params)
         assert float(rows[2 * i + 1]["rms_q1"]) == tethered.metrics(0)["rms_q1"]
     assert not np.array_equal(winds[0], winds[1])
+
+
+# --- seeds in O(chunk) memory (issue 9, section 3) -----------------------------------------
+
+#: The dispersion columns of SHORT (free rows) as written by the code that spawned all N seeds
+#: up front (``SeedSequence(7).spawn(8)``), before seeds were made per chunk.
+SHORT_DRAWS_BEFORE = """\
+0,7,0,0.8739864150842441,14.650846344213505,3.7155686524197566,1.068178641806855,1.0229339666876247,0.9338322176008053,12.275207600251496,37.35328870403221
+1,7,1,1.2803820241263577,8.534203299688002,1.399195875822633,-0.028511756665739182,0.9594485779403863,0.9757489110738109,11.513382935284636,39.02995644295244
+2,7,2,1.0078970033013877,11.078549331761538,0.21528692685972883,0.43654980682859773,1.0142855785716158,0.9137481382518305,12.17142694285939,36.549925530073224
+3,7,3,0.7968475323834981,-9.11867698857605,0.07361399115717338,0.07158146330774931,0.9725423860851911,1.0066830095493609,11.670508633022292,40.267320381974436
+4,7,4,1.0981014733216479,-6.028726521667189,3.2406223060272237,-0.5896121875799888,1.0269672858872085,0.9127079367170076,12.323607430646502,36.5083174686803
+5,7,5,1.014553708525258,9.128039162031719,0.21136245141014867,0.20491691825077635,0.9622169580201217,1.026607739704243,11.546603496241461,41.06430958816972
+6,7,6,1.1458630268899013,13.355239238332201,3.309933484031582,-0.5492807499416801,1.0337321473545724,1.0296791486819454,12.404785768254868,41.18716594727782
+7,7,7,1.1804877814618082,-21.131506839412427,1.7498543505975177,0.2679597094328362,1.0072582609566736,0.960309958586958,12.087099131480084,38.41239834347832
+"""
+
+
+@pytest.mark.parametrize("seed", [0, 7, 20261122, 2**63 - 1])
+def test_draw_seed_is_the_spawned_child(seed):
+    from tetherheli.montecarlo import draw_seed
+
+    children = np.random.SeedSequence(seed).spawn(40)
+    for i in (0, 1, 17, 39):
+        mine, child = draw_seed(seed, i), children[i]
+        assert (mine.entropy, mine.spawn_key, mine.pool_size) == (
+            child.entropy,
+            child.spawn_key,
+            child.pool_size,
+        )
+        np.testing.assert_array_equal(mine.generate_state(8), child.generate_state(8))
+        a, b = np.random.default_rng(mine), np.random.default_rng(child)
+        np.testing.assert_array_equal(a.standard_normal(5), b.standard_normal(5))
+
+
+def test_results_equal_the_spawn_everything_code(short_file, tmp_path):
+    """Seeds made per chunk give today's table: the dispersions equal those written when all N
+    seeds were spawned up front, and every chunk's rows equal ``_run_chunk`` of the spawned
+    children (the old code path)."""
+    from tetherheli.montecarlo import _run_chunk
+
+    _run(short_file, tmp_path / "a")
+    lines = (tmp_path / "a" / "results.csv").read_text().splitlines()[1:]
+    assert [",".join(r.split(",")[:11]) for r in lines[::2]] == SHORT_DRAWS_BEFORE.splitlines()
+    base, config = load_montecarlo(short_file)
+    children = np.random.SeedSequence(config.seed).spawn(config.runs)
+    old = "".join(_run_chunk(base, config, children[lo : lo + 3], lo, 1, None) for lo in (0, 3, 6))
+    assert "\n".join(lines) + "\n" == old
+
+
+def test_ten_million_runs_start_in_bounded_memory(short_file, tmp_path):
+    """No O(N) work before the first run: a 10^7-draw job allocates a few hundred kB before
+    it would start its first chunk (spawning every seed took 4 GB)."""
+    import tracemalloc
+
+    base, config = load_montecarlo(short_file)
+    huge = config.__class__(**{**config.__dict__, "runs": 10_000_000})
+    tracemalloc.start()
+    try:
+        got = run_montecarlo(base, huge, tmp_path / "h", chunk_size=2, max_chunks=0)
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert got is None and peak < 2_000_000
+    assert not list((tmp_path / "h" / "partial").glob("chunk_*"))
+
+
+# --- failed draws are data (issue 9, section 4) --------------------------------------------
+
+#: A plant dispersed by +-50% in mass against a main-rotor thrust limit of 160 N: heavy draws
+#: cannot hover (no trim within the actuator limits), tethered ones (25 N more) first.
+FAILING = """
+name = "mc_fail"
+duration = 2.0
+[actuators]
+u_max = [160.0, 1e9, 1e9, 1e9]
+[[wind]]
+type = "pulse"
+start = 0.5
+duration = 0.5
+magnitude = 20.0
+direction = [1.0, 0.0, 0.0]
+[montecarlo]
+runs = 6
+seed = 3
+params = { "helicopter.m_F" = 50.0 }
+"""
+
+
+@pytest.fixture
+def failing_file(tmp_path: Path) -> Path:
+    p = tmp_path / "fail.toml"
+    p.write_text(FAILING)
+    return p
+
+
+def test_a_draw_that_cannot_hover_is_a_failed_row(failing_file, tmp_path):
+    from tetherheli.sim import engine
+
+    summary = _run(failing_file, tmp_path / "f")
+    rows = _rows(tmp_path / "f")
+    assert len(rows) == 12 and rows[0]["reason"] == ""
+    failed = [r for r in rows if r["status"] != "0"]
+    assert failed and len(failed) < len(rows)
+    for r in failed:
+        assert int(r["status"]) == engine.STATUS_SETUP
+        assert r["message"] == engine.STATUS_MESSAGES[engine.STATUS_SETUP]
+        assert "fMR3" in r["reason"] and "cannot hover" in r["reason"]
+        assert math.isnan(float(r["peak_q1"])) and float(r["n_samples"]) == 0.0
+    # the heavier the draw, the sooner it fails: some draws fly free but not tethered
+    pairs = {(f["status"], t["status"]) for f, t in zip(rows[::2], rows[1::2], strict=True)}
+    assert ("0", "6") in pairs and ("0", "0") in pairs
+    # percentiles are over the completed runs only
+    for cfg in ("free", "tethered"):
+        ok = [float(r["peak_q1"]) for r in rows if r["configuration"] == cfg and r["status"] == "0"]
+        s = summary["statistics"][cfg]
+        assert (s["runs"], s["completed"], s["failed"]) == (6, len(ok), 6 - len(ok))
+        assert s["peak_q1"]["p50"] == float(np.percentile(ok, 50))
+        assert s["peak_q1"]["max"] == max(ok)
+
+
+def test_cli_failed_draws_exit_0_or_1_with_strict(failing_file, tmp_path, capsys):
+    from tetherheli import cli
+
+    args = ["montecarlo", str(failing_file), "--out", str(tmp_path / "o"), "--quiet"]
+    assert cli.main(args) == 0
+    captured = capsys.readouterr()
+    assert "failed (status, message and reason in" in captured.err
+    assert "Traceback" not in captured.err and len(captured.err.strip().splitlines()) == 1
+    assert cli.main([*args, "--strict"]) == 1  # the finished job, reread
+    assert "failed (status, message and reason in" in capsys.readouterr().err
+    # a job without failures is not affected by --strict
+    assert cli.main([*args[:-2], str(tmp_path / "ok"), "--runs", "1", "--quiet", "--strict"]) == 0
+
+
+# --- --max-chunks stops with its own exit code ---------------------------------------------
+
+
+def test_cli_max_chunks_exit_3_then_resume(short_file, tmp_path, capsys):
+    from tetherheli import cli
+
+    args = ["montecarlo", str(short_file), "--out", str(tmp_path / "o"), "--chunk-size", "3"]
+    assert cli.main([*args, "--max-chunks", "1"]) == cli.EXIT_STOPPED == 3
+    err = capsys.readouterr().err
+    assert "--max-chunks" in err and "run the same command again to resume" in err
+    assert not (tmp_path / "o" / "results.csv").exists()
+    assert cli.main([*args, "--max-chunks", "5"]) == 0  # enough left to finish: a finished job
+    _run(short_file, tmp_path / "full")
+    assert (tmp_path / "o" / "results.csv").read_bytes() == (
+        tmp_path / "full" / "results.csv"
+    ).read_bytes()
+
+
+def test_cli_ten_million_runs_start_at_once(short_file, tmp_path, capsys):
+    from tetherheli import cli
+
+    out = tmp_path / "h"
+    args = ["montecarlo", str(short_file), "--out", str(out), "--runs", "10000000"]
+    assert cli.main([*args, "--chunk-size", "1", "--max-chunks", "1", "--quiet"]) == 3
+    assert [p.name for p in sorted((out / "partial").glob("chunk_*"))] == [
+        "chunk_000000000_000000001.csv"
+    ]
+
+
+# --- chunk files that can be trusted (issue 9, section 5) ----------------------------------
+
+
+def test_damaged_chunks_are_named_and_computed_again(short_file, tmp_path, capsys):
+    """Truncated, empty, garbled, misplaced or old-format chunk files: each is named in one
+    line on stderr and computed again; the table equals an uninterrupted run's."""
+    _run(short_file, tmp_path / "full")
+    full = (tmp_path / "full" / "results.csv").read_bytes()
+    first = _chunks_of(tmp_path / "full")[0].read_text()
+    assert first.count("\n") == 7 and first.splitlines()[-1].startswith("# tetherheli")
+    assert first.splitlines()[-1].split(",")[0] == "# tetherheli montecarlo chunk: draws 0..2"
+    damages = {
+        "truncated": lambda p: p.write_bytes(p.read_bytes()[:300]),
+        "empty": lambda p: p.write_bytes(b""),
+        "garbled": lambda p: p.write_text(p.read_text().replace(",free,", ",frXe,", 1)),
+        "not UTF-8": lambda p: p.write_bytes(b"\xff\xfe" + p.read_bytes()),
+        "old format": lambda p: p.write_text("".join(p.read_text().splitlines(True)[:-1])),
+    }
+    out = tmp_path / "d"
+    _run(short_file, out)
+    capsys.readouterr()
+    for k, (what, damage) in enumerate(damages.items()):
+        chunk = _chunks_of(out)[k % 3]
+        damage(chunk)
+        assert _run(short_file, out) is not None
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and str(chunk) in err[0] and "computing it again" in err[0], what
+        assert (out / "results.csv").read_bytes() == full, what
+    assert _run(short_file, out) is not None and capsys.readouterr().err == ""
+    # a chunk holding other draws (copied over another)
+    a, b, _ = _chunks_of(out)
+    b.write_bytes(a.read_bytes())
+    capsys.readouterr()
+    _run(short_file, out)
+    assert "holds draws 0..2, not 3..5" in capsys.readouterr().err
+    assert (out / "results.csv").read_bytes() == full
+
+
+def test_cli_truncated_chunk_is_recomputed(short_file, tmp_path, capsys):
+    from tetherheli import cli
+
+    out = tmp_path / "o"
+    args = ["montecarlo", str(short_file), "--out", str(out), "--chunk-size", "3"]
+    assert cli.main([*args, "--quiet"]) == 0
+    whole = (out / "results.csv").read_bytes()
+    chunk = _chunks_of(out)[1]
+    chunk.write_bytes(chunk.read_bytes()[:-40])
+    capsys.readouterr()
+    assert cli.main(args) == 0
+    err = capsys.readouterr().err
+    lines = [line for line in err.replace("\r", "\n").splitlines() if "tetherheli" in line]
+    assert lines == [f"tetherheli: {chunk} has no checksum line (truncated, or written before "
+                     "checksums); computing it again"]  # fmt: skip
+    assert (out / "results.csv").read_bytes() == whole
+
+
+def test_cli_corrupt_job_file_names_it(short_file, tmp_path, capsys):
+    from tetherheli import cli
+
+    out = tmp_path / "o"
+    args = ["montecarlo", str(short_file), "--out", str(out), "--quiet", "--runs", "2"]
+    assert cli.main(args) == 0
+    job = out / "partial" / "job.json"
+    for content in (b"", b'{"scenario": ', b"\xff\xfe{}"):
+        job.write_bytes(content)
+        capsys.readouterr()
+        assert cli.main(args) == 2
+        err = capsys.readouterr().err
+        assert len(err.strip().splitlines()) == 1 and str(job) in err and "Traceback" not in err
+
+
+def test_cli_non_utf8_scenario_and_params_name_their_path(tmp_path, capsys):
+    from tetherheli import cli
+
+    bad = tmp_path / "latin1.toml"
+    bad.write_bytes(SHORT.replace('"mc_short"', '"caf\xe9"').encode("latin-1"))
+    assert cli.main(["montecarlo", str(bad), "--out", str(tmp_path / "b")]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and str(bad) in err and "UTF-8" in err
+    assert cli.main(["trim", "--params", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and str(bad) in err and "UTF-8" in err
+
+
+# --- the progress line ----------------------------------------------------------------------
+
+
+def test_interrupt_message_starts_a_new_line(short_file, tmp_path, capsys, monkeypatch):
+    from tetherheli import cli, montecarlo
+
+    real, calls = montecarlo._run_chunk, []
+
+    def interrupted(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(montecarlo, "_run_chunk", interrupted)
+    out = tmp_path / "o"
+    assert cli.main(["montecarlo", str(short_file), "--out", str(out), "--chunk-size", "3"]) == 130
+    err = capsys.readouterr().err
+    assert "3/8 draws" in err and "\ntetherheli: interrupted\n" in err
+    assert len(_chunks_of(out)) == 1  # the finished chunk is kept
+
+
+# --- Dask: a lost scheduler or no workers ---------------------------------------------------
+
+
+def test_lost_scheduler_is_one_line_exit_1_and_resumable(short_file, tmp_path, capsys, monkeypatch):
+    distributed = pytest.importorskip("distributed")
+    from tetherheli import cli, montecarlo
+
+    cluster = distributed.LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
+    )
+    real = montecarlo._run_chunk
+
+    def then_lose_the_scheduler(*args, **kwargs):
+        rows = real(*args, **kwargs)
+        cluster.close()
+        return rows
+
+    monkeypatch.setattr(montecarlo, "_run_chunk", then_lose_the_scheduler)
+    out = tmp_path / "o"
+    args = ["montecarlo", str(short_file), "--out", str(out), "--chunk-size", "3"]
+    try:
+        code = cli.main(
+            [*args, "--scheduler", cluster.scheduler_address, "--connect-timeout", "1", "--quiet"]
+        )
+    finally:
+        cluster.close()
+    err = capsys.readouterr().err
+    assert code == 1 and len(err.strip().splitlines()) == 1, err
+    assert "Dask scheduler" in err and "run the same command again to resume" in err
+    assert len(_chunks_of(out)) == 1
+    monkeypatch.setattr(montecarlo, "_run_chunk", real)
+    assert cli.main([*args, "--quiet"]) == 0
+    _run(short_file, tmp_path / "full")
+    assert (out / "results.csv").read_bytes() == (tmp_path / "full" / "results.csv").read_bytes()
+
+
+def test_no_workers_is_reported_after_the_timeout(short_file, tmp_path, capsys):
+    distributed = pytest.importorskip("distributed")
+    from tetherheli import cli
+
+    with distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster:
+        args = ["montecarlo", str(short_file), "--out", str(tmp_path / "o"), "--quiet"]
+        code = cli.main(
+            [*args, "--scheduler", cluster.scheduler_address, "--worker-timeout", "0.5"]
+        )
+    err = capsys.readouterr().err
+    assert code == 1 and len(err.strip().splitlines()) == 1
+    assert "no Dask worker" in err and "--worker-timeout" in err

@@ -299,8 +299,9 @@ def test_interrupt_starts_on_a_new_line_after_a_progress_bar(workdir: Path, caps
     from tetherheli import progress
 
     def interrupted(args):
-        progress.show_progress("montecarlo", 3, 10, "draws")
-        raise KeyboardInterrupt
+        with progress.ProgressLine("montecarlo", "draws") as bar:
+            bar.update(3, 10)
+            raise KeyboardInterrupt
 
     import tetherheli.cli as cli
 
@@ -335,3 +336,37 @@ def test_derive_never_overwrites_a_users_file(tmp_path: Path, capsys):
     fresh = tmp_path / "gen.py"
     assert main(["derive", "--output", str(fresh)]) == 0
     assert main(["derive", "--check", "--output", str(fresh)]) == 0
+
+
+MC = (
+    SHORT.format(name="mc", cfg="tethered", duration=0.5)
+    + """
+[montecarlo]
+runs = 2
+seed = 3
+amplitude_std_percent = 10.0
+"""
+)
+
+
+def test_montecarlo_never_overwrites_results_it_did_not_write(workdir: Path, capsys):
+    """montecarlo --out: refused where the others are; a foreign results.csv or figure is
+    never replaced (even with --force); its own finished job re-runs and keeps added files."""
+    (workdir / "mc.toml").write_text(MC)
+    base = ["montecarlo", "mc.toml", "--quiet", "--out"]
+    assert main([*base, "."]) == 2
+    assert "current directory" in capsys.readouterr().err
+    (workdir / "theirs").mkdir()
+    (workdir / "theirs" / "results.csv").write_text("precious\n")
+    assert main([*base, "theirs"]) == 2
+    assert main([*base, "theirs", "--force"]) == 2
+    assert "results.csv exists and was not written by tetherheli" in capsys.readouterr().err
+    assert tree(workdir / "theirs") == {"results.csv": b"precious\n"}  # not even partial/
+    assert main([*base, "mine"]) == 0
+    table = (workdir / "mine" / "results.csv").read_bytes()
+    (workdir / "mine" / "notes.txt").write_text("mine\n")
+    assert main([*base, "mine"]) == 0  # the same job again: resumed, results rewritten
+    assert (workdir / "mine" / "results.csv").read_bytes() == table
+    assert (workdir / "mine" / "notes.txt").read_text() == "mine\n"
+    record = json.loads((workdir / "mine" / OUTPUT_RECORD).read_text())["files"]
+    assert {"results.csv", "summary.json", "peak_q1_hist.png"} <= set(record)

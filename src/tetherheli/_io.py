@@ -1,5 +1,9 @@
-"""Safe output: files are written whole or not at all, and an output directory never loses a
-file that tetherheli did not write (``output_directory``)."""
+"""File input and safe output.
+
+Input files (TOML) are read by ``read_toml``, whose every failure is one line naming the
+path. Output files are written whole or not at all and are on disk (file and directory
+fsync) when the call returns; an output directory never loses a file that tetherheli did not
+write (``output_directory``)."""
 
 from __future__ import annotations
 
@@ -8,12 +12,13 @@ import json
 import os
 import shutil
 import tempfile
+import tomllib
 from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 from typing import IO, Any
 
 from ._version import __version__
-from .errors import TetherheliError
+from .errors import ParameterError, TetherheliError
 
 __all__ = [
     "OUTPUT_RECORD",
@@ -26,9 +31,33 @@ __all__ = [
     "claim_output_directory",
     "foreign_files",
     "output_directory",
+    "read_toml",
     "record_output_file",
     "record_outputs",
 ]
+
+
+def read_toml(path: str | Path, what: str = "TOML file") -> dict[str, Any]:
+    """The parsed TOML file ``path`` (a ``what``).
+
+    Raises
+    ------
+    ParameterError
+        One line naming the path: missing, unreadable (a directory, permissions), not UTF-8,
+        or not valid TOML.
+    """
+    source = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ParameterError("file", source, f"an existing {what}") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise ParameterError("file", source, f"a readable UTF-8 {what} ({reason})") from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ParameterError("file", source, f"valid TOML ({exc})") from None
 
 
 def _umask() -> int:
@@ -37,15 +66,39 @@ def _umask() -> int:
     return mask
 
 
+def _fsync_directory(path: Path) -> None:
+    """Make a rename in ``path`` durable (a no-op where directories cannot be opened)."""
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
+    except OSError:  # pragma: no cover - not POSIX
+        return
+    try:
+        os.fsync(fd)
+    except OSError:  # pragma: no cover - file systems that refuse fsync on directories
+        pass
+    finally:
+        os.close(fd)
+
+
+def _commit(fh: IO, tmp: str, path: Path) -> None:
+    """Flush and fsync the open temporary file ``fh``, close it, and rename it to ``path``;
+    then fsync the folder, so that after a crash ``path`` is the old file or the whole new one."""
+    fh.flush()
+    os.fsync(fh.fileno())
+    fh.close()
+    os.chmod(tmp, 0o666 & ~_umask())  # mkstemp creates 0600; give the usual permissions
+    os.replace(tmp, path)
+    _fsync_directory(path.parent)
+
+
 def atomic_write_bytes(path: Path, data: bytes) -> None:
-    """Write a file whole or not at all (temporary file in the same folder, then rename)."""
+    """Write a file whole or not at all (temporary file in the same folder, fsync, rename)."""
     path = Path(path)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
-        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp creates 0600; give the usual permissions
-        os.replace(tmp, path)
+            _commit(fh, tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
@@ -68,8 +121,7 @@ def atomic_open(path: str | Path, mode: str = "w") -> Iterator[IO]:
         kw = {"encoding": "utf-8", "newline": ""} if mode == "w" else {}
         with os.fdopen(fd, mode, **kw) as fh:
             yield fh
-        os.chmod(tmp, 0o666 & ~_umask())
-        os.replace(tmp, path)
+            _commit(fh, tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
@@ -294,6 +346,7 @@ def output_directory(
         if not target.exists():
             _write_record(tmp, {rel: {**_stamp(tmp / rel), "writer": writer} for rel in new})
             os.replace(tmp, target)
+            _fsync_directory(target.parent)
             return
         record = read_output_record(target)
         clash = [
@@ -311,6 +364,7 @@ def output_directory(
         for rel in new:
             (target / rel).parent.mkdir(parents=True, exist_ok=True)
             os.replace(tmp / rel, target / rel)
+            _fsync_directory((target / rel).parent)
         kept = {}
         for rel, entry in record.items():
             if rel in new or not is_own_file(target, rel, record):

@@ -25,6 +25,8 @@ __all__ = ["main"]
 EXIT_USAGE = 2
 EXIT_INTERNAL = 70  # sysexits' EX_SOFTWARE
 EXIT_INTERRUPTED = 130
+#: ``montecarlo --max-chunks`` stopped before the job was finished (run it again to resume).
+EXIT_STOPPED = 3
 
 
 class _Parser(argparse.ArgumentParser):
@@ -232,17 +234,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"tetherheli: error: {exc.filename}: {exc.strerror or exc}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:
-        print(_open_line_break() + "tetherheli: interrupted", file=sys.stderr)
+        print("tetherheli: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
     except Exception as exc:
         return _internal_error(exc, debug)
-
-
-def _open_line_break() -> str:
-    """A newline when a progress bar left the terminal line open, else ''."""
-    from .progress import line_open
-
-    return "\n" if line_open() else ""
 
 
 def _internal_error(exc: BaseException, debug: bool) -> int:
@@ -251,7 +246,7 @@ def _internal_error(exc: BaseException, debug: bool) -> int:
 
         traceback.print_exception(exc)
     print(
-        f"{_open_line_break()}tetherheli: internal error ({type(exc).__name__}: "
+        f"tetherheli: internal error ({type(exc).__name__}: "
         f"{_first_line(exc)}); this is a bug: please report it with the output of the same "
         "command with --debug",
         file=sys.stderr,
@@ -500,8 +495,9 @@ def _count_arg(name: str, low: int, high: int) -> Callable[[str], int]:
 def _cmd_montecarlo(args: argparse.Namespace) -> int:
     import dataclasses
 
+    from .errors import ClusterError
     from .montecarlo import CONFIGURATIONS, load_montecarlo, run_montecarlo
-    from .sim.batch import connect
+    from .sim.batch import connect, disconnect
 
     base, config = load_montecarlo(args.scenario)
     if args.runs is not None:
@@ -519,22 +515,44 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
             max_chunks=args.max_chunks,
             progress=not args.quiet,
             client=client,
+            worker_timeout_s=args.worker_timeout,
+            inputs=(args.scenario,),
+            force=args.force,
         )
+    except ClusterError as exc:
+        print(
+            f"tetherheli: error: {exc}; the finished chunks are kept in {args.out}/partial, "
+            "run the same command again to resume",
+            file=sys.stderr,
+        )
+        return 1
     finally:
         if client is not None:
-            client.close()
+            disconnect(client)
     if summary is None:
-        print(f"stopped after --max-chunks; run the same command again to resume ({args.out})")
-        return 0
+        print(
+            f"tetherheli: stopped after --max-chunks {args.max_chunks} before the job was "
+            f"finished; run the same command again to resume ({args.out})",
+            file=sys.stderr,
+        )
+        return EXIT_STOPPED
     print(f"wrote {args.out}/ (results.csv, summary.json, peak_q1_hist.png, peak_q1_cdf.png)")
+    failed = 0
     for cfg in CONFIGURATIONS:
         s = summary["statistics"][cfg]
         p = s.get("peak_q1", {})
+        failed += s["failed"]
         print(
             f"  {cfg:<9} completed {s['completed']}/{s['runs']}, peak q1 median "
             f"{p.get('p50', float('nan')):.4f} m, p95 {p.get('p95', float('nan')):.4f} m"
         )
-    return 0
+    if failed:
+        print(
+            f"tetherheli: {failed} run{'s' if failed > 1 else ''} failed (status, message and "
+            f"reason in {args.out}/results.csv; percentiles are over completed runs)",
+            file=sys.stderr,
+        )
+    return 1 if failed and args.strict else 0
 
 
 def _register_animate(sub: argparse._SubParsersAction) -> None:
@@ -578,7 +596,13 @@ def _register_animate(sub: argparse._SubParsersAction) -> None:
     _add_force(p)
     p.set_defaults(func=_cmd_sweep)
 
-    p = sub.add_parser("montecarlo", help="Monte Carlo of a scenario, free against tethered")
+    p = sub.add_parser(
+        "montecarlo",
+        help="Monte Carlo of a scenario, free against tethered",
+        description="Monte Carlo of a scenario, free against tethered. Exit codes: 0 finished "
+        "(failed runs are rows of results.csv), 1 a run failed with --strict or the Dask "
+        "cluster was lost (resumable), 2 bad input, 3 stopped by --max-chunks (resumable).",
+    )
     p.add_argument("scenario", help="scenario TOML file with a [montecarlo] table")
     p.add_argument("--out", required=True, help="output directory (resumable)")
     p.add_argument(
@@ -597,14 +621,28 @@ def _register_animate(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--max-chunks",
         type=_count_arg("--max-chunks", 0, 10_000_000),
-        help="compute at most this many new chunks, then stop (resume by running again)",
+        help="compute at most this many new chunks, then stop with exit code 3 if the job is "
+        "not finished (resume by running the same command again)",
+    )
+    p.add_argument(
+        "--strict",
+        action="store_true",
+        help="exit 1 if any run failed (by default failed runs are rows of the table, exit 0)",
     )
     p.add_argument("--scheduler", help="run on a dask.distributed scheduler, e.g. tcp://host:8786")
     p.add_argument(
         "--connect-timeout",
         type=_positive_float("--connect-timeout"),
         default=10.0,
-        help="seconds to wait for the scheduler (default 10)",
+        help="seconds to wait for the scheduler, at the start and when it stops answering "
+        "(default 10)",
+    )
+    p.add_argument(
+        "--worker-timeout",
+        type=_positive_float("--worker-timeout"),
+        default=60.0,
+        help="with --scheduler: give up (exit 1, resumable) when the cluster has had no worker "
+        "for this many seconds (default 60)",
     )
     p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
     _add_force(p)

@@ -1,5 +1,6 @@
 """Error types. Every user-facing error is a one-line message naming the field, the value and
-what is allowed; the CLI prints it on stderr and exits with code 2."""
+what is allowed; the CLI prints it on stderr and exits with code 2 (``ClusterError``, a failure
+while running rather than bad input, exits 1)."""
 
 from __future__ import annotations
 
@@ -28,3 +29,7 @@ class InfeasibleError(ParameterError):
 
 class SingularConfigurationError(TetherheliError):
     """The state lies on a coordinate singularity (|q5| or |q8| = 90 deg, q9 <= 0)."""
+
+
+class ClusterError(TetherheliError):
+    """The Dask scheduler was lost during a run, or it had no worker for too long."""

@@ -28,17 +28,26 @@ Definitions:
   parameters, ``run_batch(design_params=...)``); the plant is the dispersed one, and the
   trim operating point (initial state, references, trim inputs) is the dispersed plant's own
   hover trim;
-- seeds: ``numpy.random.SeedSequence(seed).spawn(N)``; draw i uses child i only, so a draw
-  does not depend on N, the chunking or the number of workers. The table records the child's
-  entropy and spawn key.
+- seeds: draw i uses child i of ``numpy.random.SeedSequence(seed).spawn(N)`` only, so a draw
+  does not depend on N, the chunking or the number of workers. That child is
+  ``SeedSequence(seed, spawn_key=(i,))``, made per chunk (``draw_seed``): memory before and
+  during the run is O(chunk), not O(N). The table records the child's entropy and spawn key.
 
-Output directory: ``results.csv`` (one row per run and configuration; ``release_time``,
-``release_tension`` record a tether release by the safety device, NaN without one),
-``summary.json`` (configuration, version, N, seed, percentiles, releases per configuration),
-``peak_q1_hist.png``, ``peak_q1_cdf.png``.
-Work is done in chunks written to ``partial/chunk_<first>_<end>.csv``; running the same
-command again skips the finished chunks, and running it with a larger N extends the job
-(the first draws are reused: draw i does not depend on N).
+Failed runs are data: a run that fails in flight (diverges, hits the ground, ...) or whose
+dispersed plant cannot be set up (no hover trim within the actuator limits:
+``engine.STATUS_SETUP``, the error in the ``reason`` column) is a row with its status, and the
+job goes on; percentiles are over the completed runs.
+
+Output directory: ``results.csv`` (one row per run and configuration; ``reason`` says why a
+draw could not be set up; ``release_time``, ``release_tension`` record a tether release by the
+safety device, NaN without one), ``summary.json`` (configuration, version, N, seed,
+percentiles, releases per configuration), ``peak_q1_hist.png``, ``peak_q1_cdf.png``.
+Work is done in chunks written (fsync, then rename) to ``partial/chunk_<first>_<end>.csv``:
+the chunk's rows of ``results.csv`` and a last line ``# tetherheli montecarlo chunk: draws
+a..b, n rows, sha256 <hex of the rows>``. Running the same command again verifies every
+finished chunk against that line (and each row's column count and draw), computes a damaged
+one again after naming it on stderr, and skips the others; running it with a larger N extends
+the job (the first draws are reused: draw i does not depend on N).
 """
 
 from __future__ import annotations
@@ -46,19 +55,28 @@ from __future__ import annotations
 import csv
 import dataclasses
 import functools
+import hashlib
 import io
 import json
 import math
 import operator
-import sys
-import tomllib
+import re
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ._io import atomic_open, atomic_write_bytes, atomic_write_text
+from ._io import (
+    atomic_open,
+    atomic_write_bytes,
+    atomic_write_text,
+    check_output_file,
+    claim_output_directory,
+    read_toml,
+    record_outputs,
+)
 from ._version import __version__
 from .disturbances import (
     ConstantForce,
@@ -70,8 +88,9 @@ from .disturbances import (
     Turbulence,
     WindSum,
 )
-from .errors import ParameterError
+from .errors import ParameterError, TetherheliError
 from .params import Params
+from .progress import ProgressLine
 from .sim import engine
 from .sim.batch import METRIC_NAMES, run_batch
 from .sim.scenario import Scenario, scenario_from_dict
@@ -80,10 +99,14 @@ __all__ = [
     "Draw",
     "MonteCarloConfig",
     "draw",
+    "draw_seed",
     "load_montecarlo",
     "montecarlo_config_from_dict",
     "run_montecarlo",
 ]
+
+#: What a finished job writes beside ``partial/`` (the figures by ``_figures``).
+RESULT_FILES = ("results.csv", "summary.json", "peak_q1_hist.png", "peak_q1_cdf.png")
 
 CONFIGURATIONS = ("free", "tethered")
 MAX_RUNS = 10_000_000
@@ -214,16 +237,8 @@ def load_montecarlo(path: str | Path) -> tuple[Scenario, MonteCarloConfig]:
     (Scenario, MonteCarloConfig)
         The nominal scenario and the dispersions.
     """
-    path = Path(path)
     source = str(path)
-    try:
-        data = tomllib.loads(path.read_text())
-    except FileNotFoundError:
-        raise ParameterError("file", source, "an existing scenario TOML file") from None
-    except (IsADirectoryError, PermissionError, UnicodeDecodeError) as exc:
-        raise ParameterError("file", source, f"a readable TOML file ({exc})") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise ParameterError("file", source, f"valid TOML ({exc})") from None
+    data = read_toml(path, "scenario TOML file")
     if "montecarlo" not in data:
         raise ParameterError("montecarlo", None, "a [montecarlo] table", source=source)
     config = montecarlo_config_from_dict(data.pop("montecarlo"), source=source)
@@ -272,6 +287,23 @@ class Draw:
     start_shift_s: float
     param_factors: tuple[tuple[str, float], ...]
     scenario: Scenario
+
+
+def draw_seed(seed: int, index: int) -> np.random.SeedSequence:
+    """The seed of draw ``index``: child ``index`` of ``SeedSequence(seed).spawn(N)`` for any
+    N > ``index``, made on its own in O(1) (same entropy, spawn key ``(index,)``, pool size)."""
+    return np.random.SeedSequence(seed, spawn_key=(index,))
+
+
+def _chunks(n: int, chunk_size: int) -> Iterator[tuple[int, int]]:
+    """(first draw, end) of every chunk, lazily (no O(N) list)."""
+    for lo in range(0, n, chunk_size):
+        yield lo, min(n, lo + chunk_size)
+
+
+def _chunk_path(part: Path, lo: int, hi: int) -> Path:
+    """The chunk file of draws ``lo`` .. ``hi - 1``."""
+    return part / f"chunk_{lo:09d}_{hi:09d}.csv"
 
 
 def _rot(v: tuple[float, ...], angle: float, scale: float = 1.0) -> tuple[float, float, float]:
@@ -355,7 +387,7 @@ def _columns(config: MonteCarloConfig) -> list[str]:
     cols = ["run", "seed_entropy", "spawn_key", "amplitude_scale", "direction_deg"]
     cols += ["phase_rad", "start_shift_s"]
     cols += [f"factor:{n}" for n, _ in config.params] + [f"value:{n}" for n, _ in config.params]
-    cols += ["configuration", "status", "message", *METRIC_NAMES, *_RELEASE_COLUMNS]
+    cols += ["configuration", "status", "message", "reason", *METRIC_NAMES, *_RELEASE_COLUMNS]
     return cols
 
 
@@ -374,10 +406,18 @@ def _run_chunk(
     start: int,
     workers: int | None,
     client: Any,
+    worker_timeout_s: float = 60.0,
 ) -> str:
     draws = [draw(base, config, ch, start + j) for j, ch in enumerate(children)]
     scenarios = [d.scenario.replace(configuration=cfg) for d in draws for cfg in CONFIGURATIONS]
-    batch = run_batch(scenarios, workers=workers, design_params=base.params, client=client)
+    batch = run_batch(
+        scenarios,
+        workers=workers,
+        design_params=base.params,
+        client=client,
+        record_setup_failures=True,
+        worker_timeout_s=worker_timeout_s,
+    )
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     k = 0
@@ -398,7 +438,9 @@ def _run_chunk(
             m = batch.metrics(k)
             st = int(batch.status[k])
             release = (batch.release_time[k], batch.release_tension[k])
-            row = [*head, cfg, st, batch.message(k), *(m[n] for n in METRIC_NAMES), *release]
+            why = batch.reasons[k]
+            metrics = (m[n] for n in METRIC_NAMES)
+            row = [*head, cfg, st, batch.message(k), why, *metrics, *release]
             w.writerow([_fmt(v) for v in row])
             k += 1
     return buf.getvalue()
@@ -418,16 +460,61 @@ def _fingerprint(base: Scenario, config: MonteCarloConfig, chunk_size: int) -> d
     }
 
 
-def _progress(done: int, total: int) -> None:
-    frac = done / total if total else 1.0
-    bar = "#" * int(30 * frac)
-    end = "\n" if done >= total else ""
-    print(
-        f"\rmontecarlo [{bar:<30}] {done}/{total} draws {100 * frac:5.1f}%",
-        end=end,
-        file=sys.stderr,
-    )
-    sys.stderr.flush()
+_CHUNK_END = re.compile(
+    r"# tetherheli montecarlo chunk: draws (\d+)\.\.(\d+), (\d+) rows, sha256 ([0-9a-f]{64})"
+)
+
+
+def _seal(rows: str, lo: int, hi: int) -> str:
+    """A chunk file's text: its rows (as results.csv gets them) and a last line with the draw
+    range, the row count and the SHA-256 of the rows, checked by ``_chunk_rows``."""
+    digest = hashlib.sha256(rows.encode("utf-8")).hexdigest()
+    n = rows.count("\n")
+    return f"{rows}# tetherheli montecarlo chunk: draws {lo}..{hi - 1}, {n} rows, sha256 {digest}\n"
+
+
+class _BadChunk(Exception):
+    """A chunk file that fails verification; the message says how."""
+
+
+def _chunk_rows(path: Path, lo: int, hi: int, n_columns: int) -> str:
+    """The verified rows of the chunk file of draws ``lo`` .. ``hi - 1``.
+
+    Raises
+    ------
+    _BadChunk
+        Unreadable, empty, truncated, garbled (checksum), rows or draws other than expected.
+    """
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise _BadChunk(f"cannot be read ({exc.strerror or exc})") from None
+    if not data:
+        raise _BadChunk("is empty")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise _BadChunk("is garbled (not UTF-8 text)") from None
+    head, _, last = text.removesuffix("\n").rpartition("\n")
+    end = _CHUNK_END.fullmatch(last) if text.endswith("\n") else None
+    if end is None:
+        raise _BadChunk("has no checksum line (truncated, or written before checksums)")
+    rows = head + "\n" if head else ""
+    first, final, count, digest = end.groups()
+    expected = len(CONFIGURATIONS) * (hi - lo)
+    if (int(first), int(final)) != (lo, hi - 1):
+        raise _BadChunk(f"holds draws {first}..{final}, not {lo}..{hi - 1}")
+    if int(count) != expected:
+        raise _BadChunk(f"says it has {count} rows, not {expected}")
+    if hashlib.sha256(rows.encode("utf-8")).hexdigest() != digest:
+        raise _BadChunk("is garbled (its checksum does not match)")
+    table = list(csv.reader(io.StringIO(rows)))
+    if len(table) != expected:
+        raise _BadChunk(f"has {len(table)} rows, not {expected}")
+    for j, row in enumerate(table):
+        if len(row) != n_columns or row[0] != str(lo + j // len(CONFIGURATIONS)):
+            raise _BadChunk(f"is garbled (row {j + 1})")
+    return rows
 
 
 def run_montecarlo(
@@ -440,8 +527,16 @@ def run_montecarlo(
     max_chunks: int | None = None,
     progress: bool = True,
     client: Any = None,
+    worker_timeout_s: float = 60.0,
+    inputs: tuple[str | Path, ...] = (),
+    force: bool = False,
 ) -> dict[str, Any] | None:
     """Run (or resume) a Monte Carlo and write its outputs to ``out``.
+
+    ``out`` follows the rules of ``_io.output_directory``: not the current, home or root
+    directory nor one holding the ``inputs``; a folder tetherheli did not create must be empty
+    (or ``force``; its files are kept), and ``results.csv``, ``summary.json`` and the figures
+    replace only files this command wrote.
 
     Parameters
     ----------
@@ -462,6 +557,8 @@ def run_montecarlo(
         Progress line on stderr.
     client : distributed.Client, optional
         Run the chunks on this Dask cluster (``sim.batch.connect``); same table as in-process.
+    worker_timeout_s : float
+        With ``client``: how long the cluster may have no worker before ``ClusterError``.
 
     Returns
     -------
@@ -471,7 +568,18 @@ def run_montecarlo(
     Raises
     ------
     ParameterError
-        Bad arguments, or ``out/partial`` belongs to a different job.
+        Bad arguments, ``out/partial`` belongs to a different job, or its ``job.json`` is
+        unreadable.
+    ClusterError
+        With ``client``: the scheduler was lost, or no worker for ``worker_timeout_s``; the
+        finished chunks are kept and the same call resumes the job.
+
+    Notes
+    -----
+    A draw whose plant cannot be set up (no hover trim, actuator limits it cannot hover
+    within) is a failed row (``engine.STATUS_SETUP``, the error in ``reason``); the job goes
+    on. On every call each finished chunk file is verified against its last line (draw range,
+    row count, SHA-256); one that fails is named in one line on stderr and computed again.
     """
     if not isinstance(config, MonteCarloConfig):
         raise TypeError("config must be a MonteCarloConfig")
@@ -483,12 +591,25 @@ def run_montecarlo(
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise ParameterError("out", str(out), "a directory (new, or of the same job)")
+    claim_output_directory(out, inputs=inputs, force=force, own=lambda rel: _is_job_file(out, rel))
+    for name in RESULT_FILES:  # refused now, not after the runs
+        check_output_file(out / name)
     part = out / "partial"
     part.mkdir(parents=True, exist_ok=True)
     fp = _fingerprint(base, config, chunk_size)
     fp_path = part / "job.json"
     if fp_path.exists():
-        if json.loads(fp_path.read_text()) != json.loads(json.dumps(fp)):
+        try:
+            recorded = json.loads(fp_path.read_text(encoding="utf-8"))
+        except (OSError, ValueError) as exc:  # ValueError: not UTF-8, not JSON
+            reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            raise ParameterError(
+                "file",
+                str(fp_path),
+                f"the job record of a Monte Carlo in this folder ({reason}); delete {part} "
+                "to start the job over",
+            ) from None
+        if recorded != json.loads(json.dumps(fp)):
             raise ParameterError(
                 "out",
                 str(out),
@@ -497,31 +618,38 @@ def run_montecarlo(
     else:
         atomic_write_text(fp_path, json.dumps(fp, indent=2))
     n = config.runs
-    children = np.random.SeedSequence(config.seed).spawn(n)
-    n_chunks = -(-n // chunk_size)
-    computed = 0
-    done = 0
-    paths = []
-    for c in range(n_chunks):
-        lo, hi = c * chunk_size, min(n, (c + 1) * chunk_size)
-        path = part / f"chunk_{lo:09d}_{hi:09d}.csv"  # draws lo..hi-1
-        paths.append(path)
-        if not path.exists():
-            if max_chunks is not None and computed >= max_chunks:
-                if progress:
-                    print(file=sys.stderr)
-                return None
-            atomic_write_text(path, _run_chunk(base, config, children[lo:hi], lo, workers, client))
-            computed += 1
-        done = hi
-        if progress:
-            _progress(done, n)
     header = _columns(config)
+    computed = 0
+    with ProgressLine("montecarlo", "draws", enabled=progress) as bar:
+        for lo, hi in _chunks(n, chunk_size):
+            path = _chunk_path(part, lo, hi)
+            if path.exists():
+                try:
+                    _chunk_rows(path, lo, hi, len(header))
+                except _BadChunk as exc:
+                    bar.note(f"tetherheli: {path} {exc}; computing it again")
+                else:
+                    bar.update(hi, n)
+                    continue
+            if max_chunks is not None and computed >= max_chunks:
+                return None
+            children = [draw_seed(config.seed, i) for i in range(lo, hi)]
+            rows = _run_chunk(base, config, children, lo, workers, client, worker_timeout_s)
+            atomic_write_text(path, _seal(rows, lo, hi))
+            computed += 1
+            bar.update(hi, n)
     table = _ColumnReader(header)
     with atomic_open(out / "results.csv") as fh:  # streamed: one chunk in memory at a time
         fh.write(",".join(header) + "\n")
-        for path in paths:
-            text = path.read_text()
+        for lo, hi in _chunks(n, chunk_size):
+            path = _chunk_path(part, lo, hi)
+            try:
+                text = _chunk_rows(path, lo, hi, len(header))
+            except _BadChunk as exc:
+                raise TetherheliError(
+                    f"{path} {exc} after it was verified (changed by another process?); "
+                    "run the same command again"
+                ) from None
             fh.write(text)
             table.add(text)
     columns = table.arrays()
@@ -529,7 +657,13 @@ def run_montecarlo(
     atomic_write_text(out / "summary.json", text)
     summary: dict[str, Any] = json.loads(text)
     _figures(out, columns)
+    record_outputs(out, RESULT_FILES, writer="montecarlo")
     return summary
+
+
+def _is_job_file(out: Path, rel: str) -> bool:
+    """A file of a Monte Carlo job's own ``partial/`` folder (one with its ``job.json``)."""
+    return rel.startswith("partial/") and (out / "partial" / "job.json").is_file()
 
 
 class _ColumnReader:
@@ -617,7 +751,8 @@ def _figures(out: Path, columns: dict[str, np.ndarray]) -> None:
         FigureCanvasAgg(fig)
         ax = fig.add_subplot()
         for cfg, v in data.items():
-            if not v.size:
+            if not v.size:  # every run failed: say so in the legend
+                ax.plot([], [], color=colors[cfg], label=f"{cfg}: {totals[cfg]} runs, all failed")
                 continue
             failed = totals[cfg] - v.size
             label = f"{cfg}: {v.size} runs" + (f", {failed} failed (not shown)" if failed else "")

@@ -10,13 +10,13 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import tomllib
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any, Self
 
 import numpy as np
 
+from ._io import read_toml
 from .errors import InfeasibleError, ParameterError
 
 __all__ = [
@@ -353,14 +353,7 @@ class Params:
     def from_toml(cls, path: str | Path, *, base: Params | None = None) -> Self:
         """Load overrides of the paper's values from a TOML file with tables ``[helicopter]``,
         ``[tether]``, ``[tension_control]``."""
-        path = Path(path)
-        try:
-            data = tomllib.loads(path.read_text())
-        except FileNotFoundError:
-            raise ParameterError("file", str(path), "an existing TOML file") from None
-        except tomllib.TOMLDecodeError as exc:
-            raise ParameterError("file", str(path), f"valid TOML ({exc})") from None
-        return cls.from_mapping(data, base=base, source=str(path))
+        return cls.from_mapping(read_toml(path), base=base, source=str(path))
 
     @classmethod
     def from_mapping(

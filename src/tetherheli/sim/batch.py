@@ -21,7 +21,10 @@ parameters, plant dispersed"); the trim operating point (initial state, referenc
 inputs) stays the run's own plant trim.
 
 A batch of N scenarios gives the numbers of N calls of ``simulate`` (same engine, same
-arithmetic), see ``BatchResult.metrics`` and ``summary_metrics``.
+arithmetic), see ``BatchResult.metrics`` and ``summary_metrics``. A run whose set-up fails (no
+hover trim, actuator limits it cannot hover within) raises, or with
+``record_setup_failures=True`` is recorded as ``engine.STATUS_SETUP`` with the error in
+``BatchResult.reasons`` and the batch goes on (the Monte Carlo's dispersed plants).
 """
 
 from __future__ import annotations
@@ -36,13 +39,20 @@ from typing import Any
 import numpy as np
 
 from .._compile import compiled
-from ..errors import ParameterError
+from ..errors import ClusterError, ParameterError, TetherheliError
 from ..params import Params
 from . import engine
 from .scenario import Scenario
 from .simulate import _engine_setup, check_run_memory, compile_wind
 
-__all__ = ["METRIC_NAMES", "BatchResult", "connect", "run_batch", "summary_metrics"]
+__all__ = [
+    "METRIC_NAMES",
+    "BatchResult",
+    "connect",
+    "disconnect",
+    "run_batch",
+    "summary_metrics",
+]
 
 _N_SUMMARY = len(engine.SUMMARY_FIELDS)
 _I = {name: i for i, name in enumerate(engine.SUMMARY_FIELDS)}
@@ -122,6 +132,8 @@ class BatchResult:
         ``(N,)`` int, ``engine.STATUS_*`` (0: completed).
     samples_done : numpy.ndarray
         ``(N,)`` int, samples recorded before the run ended (``n_samples + 1`` if completed).
+    reasons : tuple of str
+        ``(N,)``: why a run could not be set up (``engine.STATUS_SETUP``), else "".
 
     A run whose tether the safety device released is still ``ok`` (it completed, free); its
     ``release`` and ``message`` say when.
@@ -130,6 +142,11 @@ class BatchResult:
     summaries: np.ndarray
     status: np.ndarray
     samples_done: np.ndarray
+    reasons: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        if not self.reasons:
+            object.__setattr__(self, "reasons", ("",) * len(self))
 
     def __len__(self) -> int:
         return int(self.status.shape[0])
@@ -219,13 +236,92 @@ def connect(address: str, timeout_s: float = 10.0) -> Any:
         ) from None
 
 
+def disconnect(client: Any) -> None:
+    """Close a client of ``connect``. If its scheduler was lost, the close interrupts the
+    client's attempts to reconnect, which distributed logs as tracebacks: the client is gone,
+    so its loggers are silenced first (the reason was reported as one ``ClusterError``)."""
+    if client.status != "running":
+        import logging
+
+        for name in ("distributed", "distributed.client", "distributed.core"):
+            logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+    client.close()
+
+
 def _run_part(
-    scenarios: list[Scenario], design_params: Params | None
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    scenarios: list[Scenario], design_params: Params | None, record_setup_failures: bool = False
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[str, ...]]:
     """One Dask task: a serial batch on the worker (the worker's threads run tasks in parallel;
     the engine releases the GIL)."""
-    r = run_batch(scenarios, workers=1, design_params=design_params)
-    return r.summaries, r.status, r.samples_done
+    r = run_batch(
+        scenarios,
+        workers=1,
+        design_params=design_params,
+        record_setup_failures=record_setup_failures,
+    )
+    return r.summaries, r.status, r.samples_done, r.reasons
+
+
+def _run_on_cluster(
+    client: Any,
+    scenarios: list[Scenario],
+    design_params: Params | None,
+    record_setup_failures: bool,
+    worker_timeout_s: float,
+) -> list[tuple[list[int], tuple]]:
+    """The batch as equal Dask tasks: ``(indices, _run_part result)`` per task. A lost
+    scheduler, or no worker for ``worker_timeout_s`` seconds, raises ``ClusterError`` (one
+    line) instead of tracebacks or waiting forever."""
+    import asyncio
+    import concurrent.futures
+    import time
+
+    from distributed.client import FutureCancelledError, FuturesCancelledError
+
+    where = getattr(getattr(client, "scheduler", None), "address", None) or "the scheduler"
+    lost = (
+        OSError,
+        TimeoutError,
+        asyncio.CancelledError,
+        concurrent.futures.CancelledError,
+        FutureCancelledError,
+        FuturesCancelledError,
+    )
+    try:
+        n = len(scenarios)
+        n_threads = max(1, sum(client.nthreads().values()))
+        size = max(1, -(-n // (4 * n_threads)))
+        parts = [list(range(i, min(n, i + size))) for i in range(0, n, size)]
+        futures = client.map(
+            _run_part,
+            [[scenarios[i] for i in idx] for idx in parts],
+            design_params=design_params,
+            record_setup_failures=record_setup_failures,
+            pure=False,
+        )
+        idle_since = None
+        next_check = time.monotonic()
+        while not all(f.done() for f in futures):
+            time.sleep(0.02)
+            if client.status != "running":
+                raise ClusterError(f"lost the connection to the Dask scheduler {where}")
+            now = time.monotonic()
+            if now < next_check:
+                continue
+            next_check = now + 1.0
+            if client.nthreads():
+                idle_since = None
+            elif idle_since is None:
+                idle_since = now
+            elif now - idle_since > worker_timeout_s:
+                raise ClusterError(
+                    f"no Dask worker connected to {where} for {worker_timeout_s:g} s "
+                    "(start workers: dask worker ADDRESS, or raise --worker-timeout)"
+                )
+        return list(zip(parts, client.gather(futures), strict=True))
+    except lost as exc:
+        reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise ClusterError(f"lost the Dask scheduler {where} ({reason})") from None
 
 
 def run_batch(
@@ -234,6 +330,8 @@ def run_batch(
     workers: int | None = None,
     design_params: Params | None = None,
     client: Any = None,
+    record_setup_failures: bool = False,
+    worker_timeout_s: float = 60.0,
 ) -> BatchResult:
     """Run many scenarios with the compiled engine, keeping per-run summaries only.
 
@@ -250,6 +348,12 @@ def run_batch(
     client : distributed.Client, optional
         Run on this Dask cluster instead (see ``connect``); the runs are split into tasks of
         equal size, and the result is the same as in-process.
+    record_setup_failures : bool
+        A run whose set-up raises a ``TetherheliError`` (no hover trim, actuator limits it
+        cannot hover within) gets ``engine.STATUS_SETUP`` and the error's message in
+        ``reasons`` instead of stopping the batch.
+    worker_timeout_s : float
+        With ``client``: how long the cluster may have no worker before ``ClusterError``.
 
     Returns
     -------
@@ -260,6 +364,8 @@ def run_batch(
     ------
     ParameterError
         ``workers`` < 1 or a custom (non-compilable) disturbance.
+    ClusterError
+        With ``client``: the scheduler was lost, or no worker for ``worker_timeout_s``.
     """
     scenarios = list(scenarios)
     if workers is None:
@@ -268,26 +374,24 @@ def run_batch(
         raise ParameterError("workers", workers, "an integer >= 1")
     n = len(scenarios)
     summaries = np.zeros((n, _N_SUMMARY))
+    # no release event until a run records one (a run that is never set up has none)
+    summaries[:, [engine.SUMMARY_RELEASE_TIME, engine.SUMMARY_RELEASE_TENSION]] = np.nan
     status = np.zeros(n, dtype=np.int64)
     done = np.zeros(n, dtype=np.int64)
+    reasons = [""] * n
     if n == 0:
         return BatchResult(summaries, status, done)
     for s in scenarios:  # fail fast, before any work is sent anywhere
         _check(s)
         check_run_memory(s, record=False, concurrent=min(workers, n))
     if client is not None:
-        n_threads = max(1, sum(client.nthreads().values()))
-        size = max(1, -(-n // (4 * n_threads)))
-        parts = [list(range(i, min(n, i + size))) for i in range(0, n, size)]
-        futures = client.map(
-            _run_part,
-            [[scenarios[i] for i in idx] for idx in parts],
-            design_params=design_params,
-            pure=False,
-        )
-        for idx, (sm, st, dn) in zip(parts, client.gather(futures), strict=True):
+        for idx, (sm, st, dn, why) in _run_on_cluster(
+            client, scenarios, design_params, record_setup_failures, worker_timeout_s
+        ):
             summaries[idx], status[idx], done[idx] = sm, st, dn
-        return BatchResult(summaries, status, done)
+            for i, r in zip(idx, why, strict=True):
+                reasons[i] = r
+        return BatchResult(summaries, status, done, tuple(reasons))
     # group by (params, control, q9) so each group's gain is designed once (paper_gain caches)
     order = sorted(
         range(n),
@@ -295,7 +399,14 @@ def run_batch(
     )
 
     def run_one(i: int) -> None:
-        args = _prepare(scenarios[i], design_params)
+        try:
+            args = _prepare(scenarios[i], design_params)
+        except TetherheliError as exc:
+            if not record_setup_failures:
+                raise
+            status[i] = engine.STATUS_SETUP
+            reasons[i] = str(exc).splitlines()[0]
+            return
         st, k = _run_nogil(args, summaries[i])
         status[i] = st
         done[i] = k
@@ -307,4 +418,4 @@ def run_batch(
         with ThreadPoolExecutor(max_workers=workers) as pool:
             for fut in [pool.submit(run_one, i) for i in order]:
                 fut.result()
-    return BatchResult(summaries, status, done)
+    return BatchResult(summaries, status, done, tuple(reasons))

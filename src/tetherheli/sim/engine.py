@@ -59,6 +59,7 @@ STATUS_GROUND = 2
 STATUS_MAX_TENSION = 3
 STATUS_DIVERGED = 4
 STATUS_SINGULAR = 5
+STATUS_SETUP = 6  # never returned by the engine: run_batch(record_setup_failures=True)
 STATUS_MESSAGES = (
     "completed",
     "the state became non-finite",
@@ -66,6 +67,7 @@ STATUS_MESSAGES = (
     "the tether tension exceeded the configured maximum",
     "the run diverged (deviation or attitude beyond the configured bounds)",
     "the state reached a coordinate singularity (q9 <= 0 or |q5|, |q8| at 90 deg)",
+    "the run could not be set up (no hover trim within the parameters and actuator limits)",
 )
 
 # --- summary metrics computed on line --------------------------------------------------------

@@ -31,11 +31,11 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
+from .._io import read_toml
 from ..disturbances import (
     Disturbance,
     NoWind,
@@ -384,19 +384,7 @@ def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Sc
 
 def load_scenario(path: str | Path) -> Scenario:
     """Load and validate a scenario TOML file (see the module docstring for its keys)."""
-    path = Path(path)
-    source = str(path)
-    try:
-        text = path.read_text()
-    except FileNotFoundError:
-        raise ParameterError("file", source, "an existing scenario TOML file") from None
-    except (IsADirectoryError, PermissionError, UnicodeDecodeError) as exc:
-        raise ParameterError("file", source, f"a readable TOML file ({exc})") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ParameterError("file", source, f"valid TOML ({exc})") from None
-    return scenario_from_dict(data, source=source)
+    return scenario_from_dict(read_toml(path, "scenario TOML file"), source=str(path))
 
 
 def paper_scenario(
