@@ -65,7 +65,6 @@ import gymnasium
 import numpy as np
 from gymnasium import spaces
 
-from .control.paper import CTRL_T_REF, paper_control
 from .disturbances import (
     Disturbance,
     DragModel,
@@ -77,6 +76,7 @@ from .disturbances import (
     check_wind_covers,
 )
 from .errors import ParameterError
+from .layout import CFG_ATTACHED, CFG_GUST_DT, CFG_K_C, CTRL_T_REF
 from .model.kernels import tension_from_state, tethered_outputs
 from .names import FREE_STATE
 from .sensors import N_CHANNELS, measure, noise_table
@@ -234,7 +234,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._ctrl = ctrl.copy()
         self._cfg_base = cfg
         self._cfg = cfg.copy()
-        self._K_C = float(cfg[engine.CFG_K_C])
+        self._K_C = float(cfg[CFG_K_C])
         self._T_ref = float(ctrl[CTRL_T_REF])
         self._x_ref = np.ascontiguousarray(trim.x[:12])
         self._y_ref = trim.y.copy()
@@ -249,8 +249,6 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self.wind_disturbance: Disturbance | None = None
         self._wind: CompiledWind | None = None
         self._x = trim.x.copy()
-        self._z = np.zeros(4)
-        self._winch_integral = np.zeros(1)
         self._y = np.empty(4)
         self._sensors = self.scenario.sensors
         self._source = self._sensors.source_code
@@ -258,13 +256,11 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._noise = np.zeros((0, N_CHANNELS))
         self._x_meas = np.empty(13)
         self._y_meas = np.empty(4)
-        self._y_est = np.empty(4)
         self._tension_meas = 0.0
-        self._inp = np.empty(4)
-        self._ffwd = np.empty(4)
-        self._applied = np.empty(4)
-        self._previous_rate = 0.0
         self._work = np.empty((engine.RK4_WORK_ROWS, 13))
+        self._law = (self._gain, self._x_ref, self._y_ref, self._u0)
+        self._loop = engine.new_loop_state(self._x, self._work)
+        self._inp = self._loop[9]  # the applied rotor inputs of the last step
         self._k = 0
         self._done = True
 
@@ -377,13 +373,14 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self.wind_disturbance = wind
         self._wind = compiled
         self._cfg = self._cfg_base.copy()
-        self._cfg[engine.CFG_GUST_DT] = compiled.gust_dt
+        self._cfg[CFG_GUST_DT] = compiled.gust_dt
         self._ctrl = self._ctrl_base.copy()
-        self._release = np.full(2, np.nan)  # tether release: time [s], tension [N]
-        self._previous_rate = 0.0
         self._x = self.trim.x.copy()
-        self._z = np.zeros(4)
-        self._winch_integral = np.zeros(1)
+        # the per-episode arrays of engine.paper_sample: integrators, winch, held actuator
+        # state, the tether-release event (time [s], tension [N]; NaN: none), scratch
+        self._loop = engine.new_loop_state(self._x, self._work)
+        self._release = self._loop[3]
+        self._inp = self._loop[9]
         self._k = 0
         self._done = False
         if self._sensors.is_perfect:
@@ -426,42 +423,25 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         x, wind = self._x, self._wind
         assert wind is not None
         t = self._k * self.dt
-        tension = self._tension()
-        tension = engine.release_if_broken(
-            tension, t, self._cfg, self._ctrl, self._act, self._release
-        )
-        self._measure(tension)
-        integral_before = self._winch_integral[0]
-        rate = paper_control(
-            self._x_meas,
-            self._tension_meas,
-            self._z,
-            self._winch_integral,
-            self._ctrl,
-            self._c,
-            self._gain,
-            self._x_ref,
-            self._y_ref,
-            self._u0,
-            self._y_est,
-            self._inp,
-            self._ffwd,
-        )
         if self.residual:
-            self._inp += self.action_scale * a
+            mode, command = engine.ACTION_ADD, self.action_scale * a
         else:
-            self._inp[:] = self._u_trim_total + self.action_scale * a
-        # the scenario's actuators, exactly as the engine applies them
-        rate = self._previous_rate = engine.actuate(
-            self._inp,
-            self._applied,
-            rate,
-            self._previous_rate,
+            mode, command = engine.ACTION_REPLACE, self._u_trim_total + self.action_scale * a
+        # the sample as the compiled loop runs it: release check, sensors, the paper's
+        # controller with the action, the scenario's actuators (x itself was checked when
+        # the previous step ended)
+        _, _, rate = engine.paper_sample(
+            x,
+            self._k,
+            self._cfg,
+            self._ctrl,
             self._act,
-            self.dt,
-            self._k == 0,
-            self._winch_integral,
-            integral_before,
+            (self._noise, self._source, self._arm),
+            self._c,
+            self._law,
+            self._loop,
+            command,
+            mode,
         )
         engine.rk4_interval(
             x,
@@ -474,7 +454,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             wind.gust,
             wind.drag,
             self._work,
-            False,
+            True,
         )
         self._k += 1
         tension = self._tension()
@@ -494,7 +474,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
     # ------------------------------------------------------------------ helpers
 
     def _tension(self) -> float:
-        if self._cfg[engine.CFG_ATTACHED] <= 0.5:
+        if self._cfg[CFG_ATTACHED] <= 0.5:
             return 0.0
         return float(tension_from_state(self._x[5], self._x[12], self._K_C))
 

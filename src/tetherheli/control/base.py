@@ -23,10 +23,13 @@ class Measurement:
     state : (13,) [q4..q9, u1..u6, LN] in tethered coordinates (for the free configuration
         q7..q9 locate the attachment point P as a virtual tether would)
     tension : measured tether tension (load cell, T_C^est) [N]
+    attached : False once the tether is removed or released by the safety device (Sec.
+        IV-C): the winch then does nothing and the tether exerts no force
     """
 
     state: np.ndarray
     tension: float
+    attached: bool = True
 
 
 @dataclass(frozen=True)

@@ -10,48 +10,76 @@ from __future__ import annotations
 import numpy as np
 
 from .._compile import compiled
+from ..layout import (
+    CTRL_DT,
+    CTRL_FFWD,
+    CTRL_K_I,
+    CTRL_K_P,
+    CTRL_REEL_ACCEL,
+    CTRL_REEL_RATE_LIMIT,
+    CTRL_SIZE,
+    CTRL_T_REF,
+    CTRL_WINCH,
+    WINCH_INTEGRAL,
+    WINCH_PREVIOUS_RATE,
+    WINCH_SIZE,
+)
 from ..model.kernels import angle_trig, tethered_outputs_sc, tethered_tether_torque_sc
 from .base import Command, Controller, Measurement
-from .tension import tension_pi_step
+from .tension import limit_rate_change, tension_pi_step
 
-__all__ = ["CTRL_SIZE", "PaperController", "paper_control"]
+__all__ = ["CTRL_SIZE", "WINCH_SIZE", "PaperController", "paper_control", "winch_step"]
 
 _jit = compiled(error_model="numpy")
 _jit_inline = compiled(error_model="numpy", inline="always")
 _tension_pi_step = _jit(tension_pi_step)
+limit_rate_change_jit = _jit_inline(limit_rate_change)
 
-# controller settings, packed in one array
-CTRL_DT = 0  # sample time [s]
-CTRL_FFWD = 1  # 1: tether-torque feed-forward on (eq 55)
-CTRL_WINCH = 2  # 1: winch PI loop runs (eq 56)
-CTRL_T_REF = 3  # [N]
-CTRL_K_P = 4
-CTRL_K_I = 5
-CTRL_REEL_RATE_LIMIT = 6  # [m/s] (inf: none)
-CTRL_SIZE = 7
+
+@_jit_inline
+def winch_step(winch, measured_tension, ctrl):
+    """The winch's reel-rate command at one sample: the PI of eq 56 with its rate limit
+    (clamping anti-windup), then the winch's acceleration limit relative to the previous
+    command, the integral held while that limit binds (conditional integration). ``winch``
+    (WINCH_SIZE,) holds I_k and the previous command and is updated in place; returns the
+    reel rate R_C,k [m/s] (eq 37)."""
+    rate, integral = _tension_pi_step(
+        winch[WINCH_INTEGRAL],
+        measured_tension,
+        ctrl[CTRL_K_P],
+        ctrl[CTRL_K_I],
+        ctrl[CTRL_T_REF],
+        ctrl[CTRL_DT],
+        ctrl[CTRL_REEL_RATE_LIMIT],
+    )
+    limited = limit_rate_change_jit(
+        rate, winch[WINCH_PREVIOUS_RATE], ctrl[CTRL_REEL_ACCEL], ctrl[CTRL_DT]
+    )
+    if limited == rate:
+        winch[WINCH_INTEGRAL] = integral
+    winch[WINCH_PREVIOUS_RATE] = limited
+    return limited
 
 
 @_jit
-def paper_control(
-    x, measured_tension, z, winch_integral, ctrl, c, gain, x_ref, y_ref, u0, y, inp, ffwd
-):
+def paper_control(x, measured_tension, z, winch, ctrl, c, gain, x_ref, y_ref, u0, y, inp, ffwd):
     """Eqs 50-56 at one sample; fills inp (4,), ffwd (4,), y (4,) and returns the reel rate.
 
     u = -K [x - x_ref; z] + u0 - C_f-fwd (eq 54), with C_f-fwd from the measured tension and
     the measured angles (eq 55); then z += dt (y_ref - y) (eq 50). The winch rate is
-    RC = KP e + KI I with e = T - Tref, then I += dt e (eq 56). ``z`` (4,) and
-    ``winch_integral`` (1,) are updated in place; x is the (13,) tethered-coordinate state.
+    RC = KP e + KI I with e = T - Tref, then I += dt e (eq 56, ``winch_step``). ``z`` (4,) and
+    ``winch`` (WINCH_SIZE,) are updated in place; x is the (13,) tethered-coordinate state.
     """
     sc = np.empty(10)
     angle_trig(x, sc)
     return paper_control_sc(
-        x, sc, measured_tension, z, winch_integral, ctrl, c, gain, x_ref, y_ref, u0, y, inp, ffwd
+        x, sc, measured_tension, z, winch, ctrl, c, gain, x_ref, y_ref, u0, y, inp, ffwd
     )
 
 
 @_jit_inline
 def paper_control_sc(
-    x, sc, measured_tension, z, winch_integral, ctrl, c, gain, x_ref, y_ref, u0, y, inp, ffwd
+    x, sc, measured_tension, z, winch, ctrl, c, gain, x_ref, y_ref, u0, y, inp, ffwd
 ):
     """``paper_control`` with sc (10,) = sin, cos of x[0..4] given (``kernels.angle_trig``);
     the engine's entry point."""
@@ -75,18 +103,9 @@ def paper_control_sc(
     dt = ctrl[CTRL_DT]
     for j in range(4):
         z[j] += dt * (y_ref[j] - y[j])
-    rate = 0.0
     if ctrl[CTRL_WINCH] > 0.5:
-        rate, winch_integral[0] = _tension_pi_step(
-            winch_integral[0],
-            measured_tension,
-            ctrl[CTRL_K_P],
-            ctrl[CTRL_K_I],
-            ctrl[CTRL_T_REF],
-            dt,
-            ctrl[CTRL_REEL_RATE_LIMIT],
-        )
-    return rate
+        return winch_step(winch, measured_tension, ctrl)
+    return 0.0
 
 
 class PaperController(Controller):
@@ -107,15 +126,19 @@ class PaperController(Controller):
         self.x_ref = np.ascontiguousarray(trim_state[:12], dtype=float)
         self.y_ref = np.ascontiguousarray(trim_output, dtype=float)
         self.u0 = np.ascontiguousarray(trim_input, dtype=float)
-        self.ctrl = np.ascontiguousarray(ctrl, dtype=float)
+        self._settings = np.array(ctrl, dtype=float)
         self.c = np.ascontiguousarray(constants, dtype=float)
         self.reset()
 
     def reset(self) -> None:
+        self.ctrl = self._settings.copy()
         self._z = np.zeros(4)
-        self._winch_integral = np.zeros(1)
+        self._winch = np.zeros(WINCH_SIZE)
 
     def step(self, t: float, measurement: Measurement) -> Command:
+        if not measurement.attached:  # released: no winch, no feed-forward (Sec. IV-C)
+            self.ctrl[CTRL_WINCH] = 0.0
+            self.ctrl[CTRL_FFWD] = 0.0
         y = np.empty(4)
         inp = np.empty(4)
         ffwd = np.empty(4)
@@ -123,7 +146,7 @@ class PaperController(Controller):
             measurement.state,
             measurement.tension,
             self._z,
-            self._winch_integral,
+            self._winch,
             self.ctrl,
             self.c,
             self.gain,

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 from ..errors import ParameterError
 from ..params import TensionControlParams
 
-__all__ = ["TensionPI", "tension_pi_step"]
+__all__ = ["TensionPI", "limit_rate_change", "tension_pi_step"]
 
 
 def tension_pi_step(
@@ -82,6 +82,19 @@ def tension_pi_step(
         rate = command
         new_integral = integral + dt * error
     return rate, new_integral
+
+
+def limit_rate_change(
+    rate: float, previous_rate: float, acceleration_limit: float, dt: float
+) -> float:
+    """``rate`` with its change since ``previous_rate`` bounded by ``acceleration_limit`` dt:
+    the winch motor's acceleration limit [m/s^2] over one sample (``math.inf``: none).
+
+    The winch PI (``control.paper.winch_step``) applies it to its own command and holds its
+    integral while it binds (conditional integration, no windup); the actuator model applies
+    the same bound to any controller's command."""
+    step = acceleration_limit * dt
+    return min(max(rate, previous_rate - step), previous_rate + step)
 
 
 def _real(name: str, value: float) -> float:

@@ -81,9 +81,8 @@ def _run_nogil(engine_args, summary):  # pragma: no cover - compiled
     d4 = np.zeros((1, 4))
     d3 = np.zeros((1, 3))
     d1 = np.zeros(1)
-    return engine.run_closed_loop(
-        *engine_args, False, d13, d4, d4, d1, d1, d3, d4, d4, summary
-    )  # fmt: skip
+    out = (d13, d4, d4, d1, d1, d3, d4, d4)
+    return engine.run_closed_loop(*engine_args, False, out, summary)
 
 
 def summary_metrics(summary: np.ndarray) -> dict[str, float]:

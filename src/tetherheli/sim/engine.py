@@ -1,16 +1,21 @@
 """The compiled closed-loop engine (Numba): plant, paper controller, winch, wind, integrator.
 
-One call runs a whole scenario without returning to Python: at every control sample t_k the
-controller reads the state, computes the inputs (held constant over the sample, zero-order
-hold), and the plant is integrated to t_{k+1} by fixed-step RK4 with ``n_substeps`` steps.
+One control sample is written once, as phases that every loop shares (``sample_step``):
+``sense`` (the safety device's release check, then the sensors), the controller, ``actuate``
+(saturation, lag, the winch's acceleration limit), ``check_state_sc`` (failure checks of the
+sampled state); then the integrator advances the plant to the next sample. The compiled loop
+``run_closed_loop`` and the Gymnasium environment run ``paper_sample`` (the phases around the
+paper's controller) with fixed-step RK4 (``rk4_interval``); ``simulate``'s Python loop runs
+the same phases around any ``Controller`` with RK4 or the adaptive reference.
 
-Wind discontinuities (pulse and step edges) placed on integration-step boundaries are handled
-exactly: an RK4 step over [ta, tb] evaluates the wind at ta as the right limit and at tb as the
-left limit, i.e. it integrates the force on the open interval (ta, tb).
+Inputs are held over a sample (zero-order hold); between samples the plant is integrated by
+fixed-step RK4 with ``n_substeps`` steps. Wind discontinuities (pulse and step edges) placed on
+integration-step boundaries are handled exactly: an RK4 step over [ta, tb] evaluates the wind
+at ta as the right limit and at tb as the left limit, i.e. it integrates the force on the open
+interval (ta, tb).
 
-Everything a run needs is packed into flat float64 arrays with named indices (``CFG_*``), so
-one compiled function serves every scenario and Numba's on-disk cache survives between
-processes.
+The packed arrays (``cfg``, ``ctrl``, ``act``, ``held``, the wind program, the summary) are
+laid out in ``tetherheli.layout``; run statuses are ``tetherheli.status.Status``.
 """
 
 from __future__ import annotations
@@ -20,7 +25,51 @@ import math
 import numpy as np
 
 from .._compile import compiled
-from ..control.paper import CTRL_FFWD, CTRL_WINCH, paper_control_sc
+from ..control.paper import limit_rate_change_jit, paper_control_sc
+from ..layout import (
+    ACT_BREAK,
+    ACT_REEL_ACCEL,
+    ACT_SIZE,
+    ACT_TAU,
+    ACT_U_MAX,
+    ACT_U_MIN,
+    CFG_ATTACHED,
+    CFG_DT,
+    CFG_GUST_DT,
+    CFG_K_C,
+    CFG_MAX_ANGLE,
+    CFG_MAX_DEVIATION,
+    CFG_MAX_TENSION,
+    CFG_N_SUB,
+    CFG_SIZE,
+    CTRL_FFWD,
+    CTRL_WINCH,
+    HELD_INPUTS,
+    HELD_REEL_RATE,
+    HELD_SIZE,
+    SUMMARY_FIELDS,
+    SUMMARY_N_SAMPLES,
+    SUMMARY_PEAK_Q1,
+    SUMMARY_PEAK_Q4,
+    SUMMARY_PEAK_Q5,
+    SUMMARY_RELEASE_TENSION,
+    SUMMARY_RELEASE_TIME,
+    SUMMARY_SUMSQ_Q1,
+    SUMMARY_TENSION_MAX,
+    SUMMARY_TENSION_MIN,
+    WIND_COLUMNS,
+    WIND_CONSTANT,
+    WIND_DIRECTION,
+    WIND_DURATION,
+    WIND_FREQUENCY,
+    WIND_KIND,
+    WIND_MAGNITUDE,
+    WIND_PHASE,
+    WIND_PULSE,
+    WIND_START,
+    WIND_STEP,
+    default_actuators,
+)
 from ..model.kernels import (
     angle_trig,
     angle_trig_from,
@@ -29,107 +78,77 @@ from ..model.kernels import (
     tethered_rhs_sc,
 )
 from ..sensors import measure
+from ..status import Status, release_sentence, status_message
+
+__all__ = [
+    "ACT_SIZE",
+    "CFG_SIZE",
+    "HELD_SIZE",
+    "SUMMARY_FIELDS",
+    "WIND_COLUMNS",
+    "actuate",
+    "check_state",
+    "default_actuators",
+    "paper_sample",
+    "release_sentence",
+    "rk4_interval",
+    "run_closed_loop",
+    "sense",
+    "status_message",
+]
 
 _jit = compiled(error_model="numpy")
 _jit_inline = compiled(error_model="numpy", inline="always")
 
-# --- wind program: one row per built-in profile ----------------------------------------------
-WIND_PULSE, WIND_SINE, WIND_STEP, WIND_CONSTANT = 0, 1, 2, 3
-#: columns: kind, start [s], duration [s], magnitude [N], frequency [Hz], phase [rad], n1, n2, n3
-WIND_COLUMNS = 9
-
-# --- scalar configuration, packed in one array ----------------------------------------------
-CFG_DT = 0  # control sample time [s]
-CFG_N_SUB = 1  # RK4 steps per sample
-CFG_K_C = 2  # tether elasticity [N/m]
-CFG_ATTACHED = 3  # 1: tether attached, 0: removed (free configuration)
-CFG_MAX_TENSION = 4  # [N]; a run stops when exceeded
-CFG_MAX_DEVIATION = 5  # [m]; a run stops as diverged when |y - y_ref| exceeds it
-CFG_MAX_ANGLE = 6  # [rad]; |q4|, |q5|, |q7|, |q8| beyond it: diverged
-CFG_GUST_DT = 7  # gust-table step [s] (0: no gust table)
-CFG_SIZE = 8
-
 #: rows of the scratch array of ``rk4_interval``
 RK4_WORK_ROWS = 8
 
-# --- run status ------------------------------------------------------------------------------
-STATUS_OK = 0
-STATUS_NONFINITE = 1
-STATUS_GROUND = 2
-STATUS_MAX_TENSION = 3
-STATUS_DIVERGED = 4
-STATUS_SINGULAR = 5
-STATUS_SETUP = 6  # never returned by the engine: run_batch(record_setup_failures=True)
-STATUS_MESSAGES = (
-    "completed",
-    "the state became non-finite",
-    "the helicopter hit the ground (q3 < 0 or the attachment point P at ground level)",
-    "the tether tension exceeded the configured maximum",
-    "the run diverged (deviation or attitude beyond the configured bounds)",
-    "the state reached a coordinate singularity (q9 <= 0 or |q5|, |q8| at 90 deg)",
-    "the run could not be set up (no hover trim within the parameters and actuator limits)",
-)
+# the statuses as the integers the compiled code returns (``Status`` says what they mean)
+STATUS_OK = int(Status.OK)
+STATUS_NONFINITE = int(Status.NONFINITE)
+STATUS_GROUND = int(Status.GROUND)
+STATUS_MAX_TENSION = int(Status.MAX_TENSION)
+STATUS_DIVERGED = int(Status.DIVERGED)
+STATUS_SINGULAR = int(Status.SINGULAR)
+STATUS_SETUP = int(Status.SETUP)
+STATUS_MESSAGES = tuple(status.message for status in Status)
 
-# --- summary metrics computed on line --------------------------------------------------------
-SUMMARY_FIELDS = (
-    "peak_q1", "peak_q2", "peak_q3", "peak_q4", "peak_q5",
-    "sumsq_q1", "sumsq_q2", "sumsq_q3", "tension_min", "tension_max", "n_samples",
-    "release_time", "release_tension",
-)  # fmt: skip
-#: summary slots of the tether-release event (``release_if_broken``): the sample time [s] at
-#: which the safety device released the tether and the tension [N] that exceeded the breaking
-#: tension; both NaN when the tether was not released
-SUMMARY_RELEASE_TIME = SUMMARY_FIELDS.index("release_time")
-SUMMARY_RELEASE_TENSION = SUMMARY_FIELDS.index("release_tension")
-assert SUMMARY_RELEASE_TENSION == SUMMARY_RELEASE_TIME + 1  # one (2,) event slice
-
-
-def status_message(status: int, release_time: float | None = None) -> str:
-    """The message of a run's status; a tether release (at ``release_time`` [s], None or NaN:
-    none) is part of it, so a released run is never a plain "completed"."""
-    message = STATUS_MESSAGES[int(status)]
-    if release_time is None or not math.isfinite(release_time):
-        return message
-    if status == STATUS_OK:
-        return f"{message} (tether released at t = {release_time:g} s)"
-    return f"{message} (after the tether was released at t = {release_time:g} s)"
-
-
-def release_sentence(release_time: float, tension: float, breaking_tension: float) -> str:
-    """One line describing a tether release, e.g. "tether released at t = 12.3 s (tension
-    61.2034 N > breaking 60 N); continued free"."""
-    return (
-        f"tether released at t = {release_time:g} s (tension {tension:.6g} N > breaking "
-        f"{breaking_tension:g} N); continued free"
-    )
+#: no command override (``paper_sample``'s ``action_mode``): the paper's controller alone
+ACTION_NONE = 0
+#: the action is added to the paper controller's rotor inputs (a residual policy)
+ACTION_ADD = 1
+#: the action replaces the rotor inputs (the winch stays under the paper's PI)
+ACTION_REPLACE = 2
 
 
 @_jit_inline
 def _wind_program_force(program, t, side, out):
     """Add the built-in profiles' force at time t; side = +1 right limit, -1 left limit."""
     for r in range(program.shape[0]):
-        kind = program[r, 0]
-        start = program[r, 1]
+        kind = program[r, WIND_KIND]
+        start = program[r, WIND_START]
         if kind == WIND_CONSTANT:
             active = True
-            value = program[r, 3]
+            value = program[r, WIND_MAGNITUDE]
         elif kind == WIND_PULSE:
-            end = start + program[r, 2]
+            end = start + program[r, WIND_DURATION]
             if side > 0:
                 active = start <= t < end
             else:
                 active = start < t <= end
-            value = program[r, 3]
+            value = program[r, WIND_MAGNITUDE]
         elif kind == WIND_STEP:
             active = start <= t if side > 0 else start < t
-            value = program[r, 3]
+            value = program[r, WIND_MAGNITUDE]
         else:  # WIND_SINE, absolute time (Sec. VI: 20 sin(2 pi 0.1 t) from t = 30 s)
             active = start <= t if side > 0 else start < t
-            value = program[r, 3] * math.sin(2.0 * math.pi * program[r, 4] * t + program[r, 5])
+            value = program[r, WIND_MAGNITUDE] * math.sin(
+                2.0 * math.pi * program[r, WIND_FREQUENCY] * t + program[r, WIND_PHASE]
+            )
         if active:
-            out[0] += value * program[r, 6]
-            out[1] += value * program[r, 7]
-            out[2] += value * program[r, 8]
+            out[0] += value * program[r, WIND_DIRECTION]
+            out[1] += value * program[r, WIND_DIRECTION + 1]
+            out[2] += value * program[r, WIND_DIRECTION + 2]
 
 
 @_jit_inline
@@ -243,7 +262,7 @@ def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work, trig_
 
 @_jit
 def check_state(x, y, y_ref, tension, cfg):
-    """Status of a sampled state (``STATUS_*``)."""
+    """Status of a sampled state (``Status``)."""
     sc = np.empty(10)
     angle_trig(x, sc)
     return check_state_sc(x, sc, y, y_ref, tension, cfg)
@@ -273,62 +292,48 @@ def check_state_sc(x, sc, y, y_ref, tension, cfg):
 
 
 @_jit
-def _accumulate(summary, x, x_ref, y, y_ref, tension):
-    for a in range(3):
-        dev = y[a] - y_ref[a]
-        if abs(dev) > summary[a]:
-            summary[a] = abs(dev)
-        summary[5 + a] += dev * dev
-    if abs(x[0] - x_ref[0]) > summary[3]:
-        summary[3] = abs(x[0] - x_ref[0])
-    if abs(x[1] - x_ref[1]) > summary[4]:
-        summary[4] = abs(x[1] - x_ref[1])
-    if tension < summary[8]:
-        summary[8] = tension
-    if tension > summary[9]:
-        summary[9] = tension
-    summary[10] += 1.0
-
-
-# --- actuators, packed in one array -----------------------------------------------------------
-ACT_U_MIN = 0  # (4,) lower input limits [N, N m, N m, N]
-ACT_U_MAX = 4  # (4,) upper input limits
-ACT_TAU = 8  # first-order actuator time constant [s] (0: none)
-ACT_BREAK = 9  # tether breaking / release tension [N] (inf: never)
-ACT_REEL_ACCEL = 10  # |d(reel rate)/dt| bound of the winch [m/s^2] (inf: none)
-ACT_SIZE = 11
-
-
-def default_actuators() -> np.ndarray:
-    """Ideal actuators: no limits, no lag, an unbreakable tether."""
-    act = np.zeros(ACT_SIZE)
-    act[ACT_U_MIN : ACT_U_MIN + 4] = -np.inf
-    act[ACT_U_MAX : ACT_U_MAX + 4] = np.inf
-    act[ACT_BREAK] = np.inf
-    act[ACT_REEL_ACCEL] = np.inf
-    return act
+def start_summary(summary):
+    """Empty on-line metrics (``layout.SUMMARY_FIELDS``): no sample, no release."""
+    summary[:] = 0.0
+    summary[SUMMARY_TENSION_MIN] = np.inf
+    summary[SUMMARY_TENSION_MAX] = -np.inf
+    summary[SUMMARY_RELEASE_TIME] = np.nan
+    summary[SUMMARY_RELEASE_TENSION] = np.nan
 
 
 @_jit
-def apply_actuators(inp, applied, act, dt, first):
+def _accumulate(summary, x, x_ref, y, y_ref, tension):
+    for a in range(3):
+        dev = y[a] - y_ref[a]
+        if abs(dev) > summary[SUMMARY_PEAK_Q1 + a]:
+            summary[SUMMARY_PEAK_Q1 + a] = abs(dev)
+        summary[SUMMARY_SUMSQ_Q1 + a] += dev * dev
+    if abs(x[0] - x_ref[0]) > summary[SUMMARY_PEAK_Q4]:
+        summary[SUMMARY_PEAK_Q4] = abs(x[0] - x_ref[0])
+    if abs(x[1] - x_ref[1]) > summary[SUMMARY_PEAK_Q5]:
+        summary[SUMMARY_PEAK_Q5] = abs(x[1] - x_ref[1])
+    if tension < summary[SUMMARY_TENSION_MIN]:
+        summary[SUMMARY_TENSION_MIN] = tension
+    if tension > summary[SUMMARY_TENSION_MAX]:
+        summary[SUMMARY_TENSION_MAX] = tension
+    summary[SUMMARY_N_SAMPLES] += 1.0
+
+
+# --- the phases of one control sample ----------------------------------------------------------
+
+
+@_jit
+def apply_actuators(inp, held, act, dt, first):
     """Saturate the command, then pass it through the first-order lag (step-invariant at the
     sample rate: u_k = u_{k-1} + (1 - e^{-dt/tau}) (sat(cmd_k) - u_{k-1})); inp becomes the
-    applied input and ``applied`` (4,) keeps it for the next sample."""
+    applied input and ``held[HELD_INPUTS:]`` keeps it for the next sample."""
     tau = act[ACT_TAU]
     gain = 1.0 if (first or tau <= 0.0) else 1.0 - math.exp(-dt / tau)
     for i in range(4):
         v = min(max(inp[i], act[ACT_U_MIN + i]), act[ACT_U_MAX + i])
-        v = applied[i] + gain * (v - applied[i]) if not first else v
-        applied[i] = v
+        v = held[HELD_INPUTS + i] + gain * (v - held[HELD_INPUTS + i]) if not first else v
+        held[HELD_INPUTS + i] = v
         inp[i] = v
-
-
-@_jit
-def limit_reel_acceleration(rate, previous_rate, act, dt):
-    """The commanded reel rate with its change since the last sample bounded by
-    act[ACT_REEL_ACCEL] dt (the winch motor's acceleration limit)."""
-    step = act[ACT_REEL_ACCEL] * dt
-    return min(max(rate, previous_rate - step), previous_rate + step)
 
 
 @_jit_inline
@@ -348,16 +353,88 @@ def release_if_broken(tension, t, cfg, ctrl, act, event):
 
 
 @_jit_inline
-def actuate(inp, applied, rate, previous_rate, act, dt, first, winch_integral, integral_before):
-    """The actuators on the paper controller's command: saturation and lag of inp (in place,
-    ``apply_actuators``) and the winch's acceleration limit on the reel rate, the PI's
-    integrator held at ``integral_before`` while the limit binds (conditional integration,
-    no windup). Returns the applied reel rate [m/s]."""
-    apply_actuators(inp, applied, act, dt, first)
-    limited = limit_reel_acceleration(rate, previous_rate, act, dt)
-    if limited != rate:
-        winch_integral[0] = integral_before
-    return limited
+def sense(x, k, t, cfg, ctrl, act, sensors, event, x_meas):
+    """Phase 1 of a sample at t = k dt: the tether's tension (0 when removed), the safety
+    device's release check (``release_if_broken``), then the sensors: x_meas (13,) receives
+    the measured state (``sensors.measure`` with row k of the noise table, or the true state
+    when the table is empty); ``sensors`` is (noise, position-source code, tether arm).
+    Returns (true tension, measured tension) [N]."""
+    noise, source_code, arm = sensors
+    attached = cfg[CFG_ATTACHED] > 0.5
+    tension = tension_from_state(x[5], x[12], cfg[CFG_K_C]) if attached else 0.0
+    tension = release_if_broken(tension, t, cfg, ctrl, act, event)
+    if noise.shape[0] > 0:
+        return tension, measure(x, tension, noise[k], source_code, arm, x_meas)
+    x_meas[:] = x
+    return tension, tension
+
+
+@_jit_inline
+def actuate(inp, held, rate, act, dt, first):
+    """Phase 3: the actuators on a controller's command. Rotor inputs: saturation and lag
+    (``apply_actuators``, in place); reel rate: the winch's acceleration limit relative to the
+    rate applied at the previous sample (the paper's PI already keeps within it and holds its
+    integral meanwhile: ``control.paper.winch_step``). Returns the applied reel rate [m/s]."""
+    apply_actuators(inp, held, act, dt, first)
+    rate = limit_rate_change_jit(rate, held[HELD_REEL_RATE], act[ACT_REEL_ACCEL], dt)
+    held[HELD_REEL_RATE] = rate
+    return rate
+
+
+@_jit_inline
+def paper_sample(x, k, cfg, ctrl, act, sensors, c, law, loop, action, action_mode):
+    """One control sample of the paper's scheme at t = k dt (Fig. 5): ``sense``, the LQI with
+    feed-forward and the winch PI (``control.paper.paper_control_sc``), an optional ``action``
+    on the rotor inputs (``ACTION_*``), ``actuate``, and the failure checks of the sampled
+    state (``check_state_sc``). ``law`` is (gain, x_ref, y_ref, u0); ``loop`` the per-run
+    arrays (z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd), updated in
+    place: inp then holds the applied inputs, y the true outputs, sc_true sin and cos of the
+    true angles. Returns (status, true tension [N], applied reel rate [m/s])."""
+    gain, x_ref, y_ref, u0 = law
+    z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd = loop
+    dt = cfg[CFG_DT]
+    tension, measured = sense(x, k, k * dt, cfg, ctrl, act, sensors, event, x_meas)
+    angle_trig(x_meas, sc_meas)
+    rate = paper_control_sc(
+        x_meas, sc_meas, measured, z, winch, ctrl, c, gain, x_ref, y_ref, u0, y_est, inp, ffwd
+    )
+    if action_mode == ACTION_ADD:
+        for i in range(4):
+            inp[i] += action[i]
+    elif action_mode == ACTION_REPLACE:
+        for i in range(4):
+            inp[i] = action[i]
+    rate = actuate(inp, held, rate, act, dt, k == 0)
+    if sensors[0].shape[0] > 0:
+        tethered_outputs(x, c, y)
+        angle_trig(x, sc_true)
+    else:
+        y[:] = y_est
+        sc_true[:] = sc_meas
+    return check_state_sc(x, sc_true, y, y_ref, tension, cfg), tension, rate
+
+
+def new_loop_state(x_init: np.ndarray, work: np.ndarray) -> tuple:
+    """The per-run arrays of ``paper_sample`` (from Python; the compiled loop builds its own):
+    integrators, winch, held actuator state, release event (NaN: none), scratch."""
+    return _loop_state(x_init, work)
+
+
+@_jit_inline
+def _loop_state(x_init, work):
+    return (
+        np.zeros(4),  # z: the LQI's output-error integral (eq 50)
+        np.zeros(2),  # winch: layout.WINCH_* (the PI's integral, its previous command)
+        np.zeros(HELD_SIZE),  # held: layout.HELD_* (the winch starts at rest)
+        np.full(2, np.nan),  # event: release time [s], tension [N]
+        x_init.copy(),  # x_meas
+        np.empty(10),  # sc_meas
+        work[6, :10],  # sc_true: shared with rk4_interval's first stage
+        np.empty(4),  # y
+        np.empty(4),  # y_est
+        np.empty(4),  # inp
+        np.empty(4),  # ffwd
+    )
 
 
 @_jit
@@ -367,116 +444,59 @@ def run_closed_loop(
     cfg_in,
     ctrl_in,
     c,
-    gain,
-    x_ref,
-    y_ref,
-    u0,
-    program,
-    gust,
-    drag,
+    law,
+    wind,
     act,
-    noise,
-    source_code,
-    arm,
+    sensors,
     record,
-    out_x,
-    out_u,
-    out_ffwd,
-    out_rate,
-    out_tension,
-    out_wind,
-    out_y,
-    out_y_est,
+    out,
     summary,
 ):
     """Run the closed loop for n_samples control samples; returns (status, samples done).
 
-    The controller sees measurements (``sensors.measure`` with the sample's row of ``noise``
-    when ``noise`` has rows, else the true state); its command goes through the actuators
-    (``act``); a tension above act[ACT_BREAK] releases the tether (the run continues free;
-    the release's time and tension go to the summary's ``release_*`` slots, else NaN).
-    With ``record`` the out_* arrays (n_samples + 1 rows) receive the sampled signals: true
-    state, applied inputs (with feed-forward), feed-forward, reel rate, true tension, wind
-    force, true outputs, and the controller's output estimate. ``summary``
-    (len(SUMMARY_FIELDS),) always receives the on-line metrics.
+    Each sample is ``paper_sample`` then ``rk4_interval``. ``law`` is (gain, x_ref, y_ref,
+    u0), ``wind`` (program, gust table, drag), ``sensors`` (noise, source code, arm). With
+    ``record`` the arrays of ``out`` = (x, u, ffwd, rate, tension, wind, y, y_est), n_samples
+    + 1 rows each, receive the sampled signals: true state, applied inputs (with feed-forward),
+    feed-forward, reel rate, true tension, wind force, true outputs, and the controller's
+    output estimate. ``summary`` (len(SUMMARY_FIELDS),) always receives the on-line metrics,
+    the release event in its ``release_*`` slots (NaN without one).
     """
     cfg = cfg_in.copy()
     ctrl = ctrl_in.copy()
     x = x_init.copy()
-    x_meas = x_init.copy()
-    z = np.zeros(4)
-    winch_integral = np.zeros(1)
-    y = np.empty(4)
-    y_est = np.empty(4)
-    inp = np.empty(4)
-    applied = np.empty(4)
-    ffwd = np.empty(4)
-    wind = np.empty(3)
+    program, gust, drag = wind
     work = np.empty((RK4_WORK_ROWS, 13))
-    sc_meas = np.empty(10)
-    sc_true = work[6, :10]  # sin, cos of the true angles: the checks and the first RK4 step
-    previous_rate = 0.0  # the winch starts at rest
-    summary[:] = 0.0
-    summary[8] = np.inf
-    summary[9] = -np.inf
-    summary[SUMMARY_RELEASE_TIME] = np.nan
-    summary[SUMMARY_RELEASE_TENSION] = np.nan
-    release = summary[SUMMARY_RELEASE_TIME : SUMMARY_RELEASE_TIME + 2]
+    loop = _loop_state(x_init, work)
+    event, y, y_est, inp, ffwd = loop[3], loop[7], loop[8], loop[9], loop[10]
+    no_action = np.zeros(4)
+    start_summary(summary)
     dt = cfg[CFG_DT]
-    sensed = noise.shape[0] > 0
+    x_ref, y_ref = law[1], law[2]
     for k in range(n_samples + 1):
         t = k * dt
-        attached = cfg[CFG_ATTACHED] > 0.5
-        tension = tension_from_state(x[5], x[12], cfg[CFG_K_C]) if attached else 0.0
-        tension = release_if_broken(tension, t, cfg, ctrl, act, release)
-        if sensed:
-            measured_tension = measure(x, tension, noise[k], source_code, arm, x_meas)
-        else:
-            x_meas[:] = x
-            measured_tension = tension
-        angle_trig(x_meas, sc_meas)
-        integral_before = winch_integral[0]
-        rate = paper_control_sc(
-            x_meas,
-            sc_meas,
-            measured_tension,
-            z,
-            winch_integral,
-            ctrl,
-            c,
-            gain,
-            x_ref,
-            y_ref,
-            u0,
-            y_est,
-            inp,
-            ffwd,
+        status, tension, rate = paper_sample(
+            x, k, cfg, ctrl, act, sensors, c, law, loop, no_action, ACTION_NONE
         )
-        rate = actuate(
-            inp, applied, rate, previous_rate, act, dt, k == 0, winch_integral, integral_before
-        )
-        previous_rate = rate
-        if sensed:
-            tethered_outputs(x, c, y)
-            angle_trig(x, sc_true)
-        else:
-            y[:] = y_est
-            sc_true[:] = sc_meas
-        status = check_state_sc(x, sc_true, y, y_ref, tension, cfg)
         if status != STATUS_OK:
+            summary[SUMMARY_RELEASE_TIME] = event[0]
+            summary[SUMMARY_RELEASE_TENSION] = event[1]
             return status, k
         _accumulate(summary, x, x_ref, y, y_ref, tension)
         if record:
-            wind_force(program, gust, cfg[CFG_GUST_DT], drag, t, 1, x[6], x[7], x[8], wind)
+            out_x, out_u, out_ffwd, out_rate, out_tension, out_wind, out_y, out_y_est = out
+            wind_force(program, gust, cfg[CFG_GUST_DT], drag, t, 1, x[6], x[7], x[8], work[5])
             out_x[k] = x
             out_u[k] = inp
             out_ffwd[k] = ffwd
             out_rate[k] = rate
             out_tension[k] = tension
-            out_wind[k] = wind
+            out_wind[k] = work[5, :3]
             out_y[k] = y
             out_y_est[k] = y_est
         if k == n_samples:
             break
         rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, work, True)
+    summary[SUMMARY_RELEASE_TIME] = event[0]
+    summary[SUMMARY_RELEASE_TENSION] = event[1]
     return STATUS_OK, n_samples + 1

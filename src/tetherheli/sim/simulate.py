@@ -21,17 +21,7 @@ import numpy as np
 from .._version import __version__
 from ..control.base import Controller, Measurement
 from ..control.lqi import LQIGain, design_lqi
-from ..control.paper import (
-    CTRL_DT,
-    CTRL_FFWD,
-    CTRL_K_I,
-    CTRL_K_P,
-    CTRL_REEL_RATE_LIMIT,
-    CTRL_SIZE,
-    CTRL_T_REF,
-    CTRL_WINCH,
-    PaperController,
-)
+from ..control.paper import PaperController
 from ..disturbances import (
     ConstantForce,
     Disturbance,
@@ -43,12 +33,46 @@ from ..disturbances import (
     WindSum,
 )
 from ..errors import InfeasibleError, ParameterError
+from ..layout import (
+    ACT_BREAK,
+    ACT_REEL_ACCEL,
+    ACT_TAU,
+    ACT_U_MAX,
+    ACT_U_MIN,
+    CFG_ATTACHED,
+    CFG_DT,
+    CFG_GUST_DT,
+    CFG_K_C,
+    CFG_MAX_ANGLE,
+    CFG_MAX_DEVIATION,
+    CFG_MAX_TENSION,
+    CFG_N_SUB,
+    CFG_SIZE,
+    CTRL_DT,
+    CTRL_FFWD,
+    CTRL_K_I,
+    CTRL_K_P,
+    CTRL_REEL_ACCEL,
+    CTRL_REEL_RATE_LIMIT,
+    CTRL_SIZE,
+    CTRL_T_REF,
+    CTRL_WINCH,
+    HELD_SIZE,
+    SUMMARY_FIELDS,
+    SUMMARY_RELEASE_TIME,
+    WIND_COLUMNS,
+    WIND_CONSTANT,
+    WIND_PULSE,
+    WIND_SINE,
+    WIND_STEP,
+    default_actuators,
+)
 from ..model import TetheredHelicopter, TrimPoint, linearize
-from ..model.kernels import angle_trig, angle_trig_from, tension_from_state
+from ..model.kernels import angle_trig, angle_trig_from, tethered_outputs
 from ..names import INPUT, TETHERED_STATE
 from ..params import Params
 from ..resources import check_memory
-from ..sensors import N_CHANNELS, measure, noise_table
+from ..sensors import N_CHANNELS, noise_table
 from . import engine
 from .result import SimulationResult
 from .scenario import Scenario
@@ -85,9 +109,9 @@ class CompiledWind:
         pts = []
         for row in self.program:
             kind, start, duration = int(row[0]), row[1], row[2]
-            if kind in (engine.WIND_PULSE, engine.WIND_STEP, engine.WIND_SINE):
+            if kind in (WIND_PULSE, WIND_STEP, WIND_SINE):
                 pts.append(start)
-            if kind == engine.WIND_PULSE:
+            if kind == WIND_PULSE:
                 pts.append(start + duration)
         arr = np.array(sorted(set(pts)), dtype=float)
         return arr[(arr > 0.0) & (arr < t_end)]
@@ -102,22 +126,20 @@ def compile_wind(wind: Disturbance) -> CompiledWind | None:
         if isinstance(d, NoWind):
             continue
         if isinstance(d, Pulse):
-            rows.append([engine.WIND_PULSE, d.start, d.duration, d.magnitude, 0, 0, *d.direction])
+            rows.append([WIND_PULSE, d.start, d.duration, d.magnitude, 0, 0, *d.direction])
         elif isinstance(d, Step):
-            rows.append([engine.WIND_STEP, d.start, 0, d.magnitude, 0, 0, *d.direction])
+            rows.append([WIND_STEP, d.start, 0, d.magnitude, 0, 0, *d.direction])
         elif isinstance(d, Sine):
-            rows.append(
-                [engine.WIND_SINE, d.start, 0, d.amplitude, d.frequency, d.phase, *d.direction]
-            )
+            rows.append([WIND_SINE, d.start, 0, d.amplitude, d.frequency, d.phase, *d.direction])
         elif isinstance(d, ConstantForce):
-            rows.append([engine.WIND_CONSTANT, 0, 0, 1.0, 0, 0, *d.vector])
+            rows.append([WIND_CONSTANT, 0, 0, 1.0, 0, 0, *d.vector])
         elif isinstance(d, Turbulence):
             gusts.append(d)
         else:
             return None
     if len(gusts) > 1:
         return None
-    program = np.array(rows, dtype=float).reshape(-1, engine.WIND_COLUMNS)
+    program = np.array(rows, dtype=float).reshape(-1, WIND_COLUMNS)
     if gusts:
         g = gusts[0]
         table = np.ascontiguousarray(g.N_v_gust_grid + np.asarray(g.N_v_mean_wind))
@@ -153,27 +175,29 @@ def _setup(scenario: Scenario, design_params: Params | None = None):
     ctrl[CTRL_K_P] = params.tension_control.K_P
     ctrl[CTRL_K_I] = params.tension_control.K_I
     ctrl[CTRL_REEL_RATE_LIMIT] = math.inf
-    cfg = np.zeros(engine.CFG_SIZE)
-    cfg[engine.CFG_DT] = c.dt
-    cfg[engine.CFG_N_SUB] = c.substeps
-    cfg[engine.CFG_K_C] = params.tether.K_C
-    cfg[engine.CFG_ATTACHED] = float(tethered)
-    cfg[engine.CFG_MAX_TENSION] = scenario.limits.max_tension
-    cfg[engine.CFG_MAX_DEVIATION] = scenario.limits.max_deviation
-    cfg[engine.CFG_MAX_ANGLE] = math.radians(scenario.limits.max_angle_deg)
+    ctrl[CTRL_REEL_ACCEL] = math.inf
+    cfg = np.zeros(CFG_SIZE)
+    cfg[CFG_DT] = c.dt
+    cfg[CFG_N_SUB] = c.substeps
+    cfg[CFG_K_C] = params.tether.K_C
+    cfg[CFG_ATTACHED] = float(tethered)
+    cfg[CFG_MAX_TENSION] = scenario.limits.max_tension
+    cfg[CFG_MAX_DEVIATION] = scenario.limits.max_deviation
+    cfg[CFG_MAX_ANGLE] = math.radians(scenario.limits.max_angle_deg)
     return model, trim, gain, ctrl, cfg
 
 
 def _actuators(scenario: Scenario, trim: TrimPoint, ctrl: np.ndarray) -> np.ndarray:
     """The engine's actuator array; rejects limits the hover input does not fit in."""
     a = scenario.actuators
-    act = engine.default_actuators()
-    act[engine.ACT_U_MIN : engine.ACT_U_MIN + 4] = a.u_min
-    act[engine.ACT_U_MAX : engine.ACT_U_MAX + 4] = a.u_max
-    act[engine.ACT_TAU] = a.time_constant
-    act[engine.ACT_BREAK] = a.breaking_tension
-    act[engine.ACT_REEL_ACCEL] = a.reel_acceleration_limit
+    act = default_actuators()
+    act[ACT_U_MIN : ACT_U_MIN + 4] = a.u_min
+    act[ACT_U_MAX : ACT_U_MAX + 4] = a.u_max
+    act[ACT_TAU] = a.time_constant
+    act[ACT_BREAK] = a.breaking_tension
+    act[ACT_REEL_ACCEL] = a.reel_acceleration_limit
     ctrl[CTRL_REEL_RATE_LIMIT] = a.reel_rate_limit
+    ctrl[CTRL_REEL_ACCEL] = a.reel_acceleration_limit
     need = trim.u_total
     for i, name in enumerate(INPUT):
         if not a.u_min[i] < need[i] < a.u_max[i]:
@@ -245,18 +269,26 @@ class _EngineSetup:
             self.cfg,
             self.ctrl,
             self.model.constants,
+            self.law,
+            (self.wind.program, self.wind.gust, self.wind.drag),
+            self.act,
+            self.sensors,
+        )
+
+    @property
+    def law(self) -> tuple:
+        """The paper controller's (gain, x_ref, y_ref, u0) (``engine.paper_sample``)."""
+        return (
             self.gain.K,
             np.ascontiguousarray(self.trim.x[:12]),
             self.trim.y.copy(),
             self.trim.u.copy(),
-            self.wind.program,
-            self.wind.gust,
-            self.wind.drag,
-            self.act,
-            self.noise,
-            self.source,
-            self.arm,
         )
+
+    @property
+    def sensors(self) -> tuple:
+        """(noise table, position-source code, tether arm) (``engine.sense``)."""
+        return (self.noise, self.source, self.arm)
 
 
 def _engine_setup(scenario: Scenario, design_params: Params | None = None) -> _EngineSetup:
@@ -265,7 +297,7 @@ def _engine_setup(scenario: Scenario, design_params: Params | None = None) -> _E
     model, trim, gain, ctrl, cfg = _setup(scenario, design_params)
     wind = compile_wind(scenario.wind)
     if wind is not None:
-        cfg[engine.CFG_GUST_DT] = wind.gust_dt
+        cfg[CFG_GUST_DT] = wind.gust_dt
     act = _actuators(scenario, trim, ctrl)
     return _EngineSetup(
         model,
@@ -317,38 +349,10 @@ def simulate(
         controller = PaperController(setup.gain.K, trim.x, trim.y, trim.u, setup.ctrl, c)
     rec = _Recorder(n)
     if paper and method == "rk4" and wind is not None:
-        summary = np.zeros(len(engine.SUMMARY_FIELDS))
-        status, done = engine.run_closed_loop(
-            *setup.engine_args(n),
-            True,
-            rec.x,
-            rec.u,
-            rec.ffwd,
-            rec.rate,
-            rec.tension,
-            rec.wind,
-            rec.y,
-            rec.y_est,
-            summary,
-        )
-        rec.release[:] = summary[engine.SUMMARY_RELEASE_TIME : engine.SUMMARY_RELEASE_TIME + 2]
+        status, done = engine.run_closed_loop(*setup.engine_args(n), True, rec.signals, rec.summary)
+        rec.release[:] = rec.summary[SUMMARY_RELEASE_TIME : SUMMARY_RELEASE_TIME + 2]
     else:
-        status, done = _python_loop(
-            scenario,
-            controller,
-            method,
-            setup.cfg,
-            c,
-            wind,
-            trim,
-            rec,
-            setup.act,
-            noise,
-            setup.source,
-            setup.arm,
-            rtol=rtol,
-            atol=atol,
-        )
+        status, done = _python_loop(scenario, setup, controller, method, rec, rtol=rtol, atol=atol)
     return rec.result(done, status, scenario, trim, method, sensed=noise.shape[0] > 0)
 
 
@@ -363,6 +367,12 @@ class _Recorder:
         self.y = np.zeros((n + 1, 4))
         self.y_est = np.zeros((n + 1, 4))
         self.release = np.full(2, np.nan)  # tether release: time [s], tension [N]
+        self.summary = np.zeros(len(SUMMARY_FIELDS))
+
+    @property
+    def signals(self) -> tuple:
+        """The recorded arrays in ``engine.run_closed_loop``'s ``out`` order."""
+        return (self.x, self.u, self.ffwd, self.rate, self.tension, self.wind, self.y, self.y_est)
 
     def result(
         self,
@@ -402,54 +412,49 @@ class _Recorder:
         )
 
 
-def _python_loop(
-    scenario, controller, method, cfg, c, wind, trim, rec, act, noise, source, arm, *, rtol, atol
-):
-    """The closed loop driven from Python: any Controller, RK4 or the adaptive reference; the
-    same sensors, actuators and tether release as the compiled loop."""
+def _python_loop(scenario, setup, controller, method, rec, *, rtol, atol):
+    """The closed loop driven from Python: any Controller, RK4 or the adaptive reference.
+
+    Each sample runs the engine's phases (``engine.sense``, the controller, ``engine.actuate``,
+    ``engine.check_state``), as the compiled loop does; only the integrator differs."""
     dt = scenario.control.dt
     n = scenario.n_samples
-    cfg = cfg.copy()
-    K_C = cfg[engine.CFG_K_C]
+    cfg = setup.cfg.copy()
+    c = setup.model.constants
+    trim, wind, act = setup.trim, setup.wind, setup.act
+    sensors = setup.sensors
     x = trim.x.copy()
     x_meas = np.empty(13)
-    applied = np.empty(4)
+    held = np.zeros(HELD_SIZE)
     y = np.empty(4)
     work = np.empty((engine.RK4_WORK_ROWS, 13))
     wind_buf = np.empty(3)
     breaks = wind.breakpoints(n * dt) if wind is not None else np.array([])
     controller.reset()
-    previous_rate = 0.0  # the winch starts at rest
-    # the engine's release switches its own controller settings; a Python controller is told
-    # by the zero tension and the detached configuration (no reel rate) instead
+    # the engine's release switches the compiled controller's settings; a Python controller
+    # is told by Measurement.attached instead (the paper's one then stops its winch and
+    # feed-forward, as the compiled one does)
     ctrl_scratch = np.zeros(CTRL_SIZE)
-    from ..model.kernels import tethered_outputs
 
     for k in range(n + 1):
         t = k * dt
-        attached = cfg[engine.CFG_ATTACHED] > 0.5
-        tension = tension_from_state(x[5], x[12], K_C) if attached else 0.0
-        if attached:
-            tension = engine.release_if_broken(tension, t, cfg, ctrl_scratch, act, rec.release)
-            attached = cfg[engine.CFG_ATTACHED] > 0.5
-        if noise.shape[0]:
-            measured = measure(x, tension, noise[k], source, arm, x_meas)
-        else:
-            x_meas[:], measured = x, tension
-        cmd = controller.step(t, Measurement(state=x_meas.copy(), tension=measured))
+        tension, measured = engine.sense(
+            x, k, t, cfg, ctrl_scratch, act, sensors, rec.release, x_meas
+        )
+        attached = cfg[CFG_ATTACHED] > 0.5
+        measurement = Measurement(state=x_meas.copy(), tension=measured, attached=attached)
+        cmd = controller.step(t, measurement)
         inp = np.array(cmd.inputs, dtype=float)
         if inp.shape != (4,):
             raise ValueError(f"controller command has shape {inp.shape}; allowed: (4,)")
         rate = float(cmd.reel_rate) if attached else 0.0
-        if np.all(np.isfinite(inp)):
-            engine.apply_actuators(inp, applied, act, dt, k == 0)
-        if math.isfinite(rate):
-            rate = engine.limit_reel_acceleration(rate, previous_rate, act, dt)
-            previous_rate = rate
+        finite = bool(np.all(np.isfinite(inp)) and math.isfinite(rate))
+        if finite:
+            rate = engine.actuate(inp, held, rate, act, dt, k == 0)
         tethered_outputs(x_meas, c, rec.y_est[k])
         tethered_outputs(x, c, y)
         status = engine.check_state(x, y, trim.y, tension, cfg)
-        if status == engine.STATUS_OK and not (np.all(np.isfinite(inp)) and math.isfinite(rate)):
+        if status == engine.STATUS_OK and not finite:
             status = engine.STATUS_NONFINITE
         if status != engine.STATUS_OK:
             return status, k
@@ -460,34 +465,43 @@ def _python_loop(
             break
         if method == "rk4":
             if wind is None:
-                _rk4_custom_wind(
-                    x, inp, rate, t, dt, int(cfg[engine.CFG_N_SUB]), cfg, c, scenario.wind
-                )
+                _rk4_custom_wind(x, inp, rate, t, dt, int(cfg[CFG_N_SUB]), cfg, c, scenario.wind)
             else:
                 engine.rk4_interval(
                     x, inp, rate, t, cfg, c, wind.program, wind.gust, wind.drag, work, False
                 )
         else:
-            inside = breaks[(breaks > t) & (breaks < t + dt)]
-            edges = [t, *inside.tolist(), t + dt]
-            for a, b in itertools.pairwise(edges):
-                mid = 0.5 * (a + b)
-
-                def rhs(tt, xx, mid=mid, inp=inp, rate=rate):
-                    out = np.empty(13)
-                    sc = np.empty(10)
-                    angle_trig(xx, sc)  # libm at every evaluation: the accurate reference
-                    side = 1 if tt < mid else -1
-                    _plant(xx, sc, inp, rate, tt, side, cfg, c, scenario.wind, wind, out)
-                    return out
-
-                from scipy.integrate import solve_ivp  # only the adaptive mode needs it
-
-                sol = solve_ivp(rhs, (a, b), x, method="DOP853", rtol=rtol, atol=atol)
-                if not sol.success:
-                    return engine.STATUS_NONFINITE, k + 1
-                x = sol.y[:, -1].copy()
+            x = _adaptive_interval(
+                x, inp, rate, t, dt, breaks, cfg, c, scenario.wind, wind, rtol=rtol, atol=atol
+            )
+            if x is None:
+                return engine.STATUS_NONFINITE, k + 1
     return engine.STATUS_OK, n + 1
+
+
+def _adaptive_interval(x, inp, rate, t, dt, breaks, cfg, c, disturbance, wind, *, rtol, atol):
+    """The adaptive reference integrator over one sample [t, t + dt]: DOP853 restarted at
+    every wind discontinuity inside it; the new state, or None if the solver failed."""
+    from scipy.integrate import solve_ivp  # only the adaptive mode needs it
+
+    inside = breaks[(breaks > t) & (breaks < t + dt)]
+    edges = [t, *inside.tolist(), t + dt]
+    for a, b in itertools.pairwise(edges):
+        mid = 0.5 * (a + b)
+
+        def rhs(tt, xx, mid=mid):
+            out = np.empty(13)
+            sc = np.empty(10)
+            angle_trig(xx, sc)  # libm at every evaluation: the accurate reference
+            side = 1 if tt < mid else -1
+            _plant(xx, sc, inp, rate, tt, side, cfg, c, disturbance, wind, out)
+            return out
+
+        sol = solve_ivp(rhs, (a, b), x, method="DOP853", rtol=rtol, atol=atol)
+        if not sol.success:
+            return None
+        x = sol.y[:, -1].copy()
+    return x
 
 
 def _wind_at(disturbance, wind, cfg, t, side, x, buf):
@@ -495,7 +509,7 @@ def _wind_at(disturbance, wind, cfg, t, side, x, buf):
         engine.wind_force(
             wind.program,
             wind.gust,
-            cfg[engine.CFG_GUST_DT],
+            cfg[CFG_GUST_DT],
             wind.drag,
             t,
             side,
@@ -519,7 +533,7 @@ def _plant(x, sc, inp, rate, t, side, cfg, c, disturbance, wind, out):
     # built-in profiles, so a jump placed on a step boundary acts from that boundary on
     t_eval = t if side > 0 else math.nextafter(t, -math.inf)
     force = np.asarray(disturbance.force_at(t_eval, x[6:9]), dtype=float)
-    program = np.array([[engine.WIND_CONSTANT, 0, 0, 1.0, 0, 0, *force]])
+    program = np.array([[WIND_CONSTANT, 0, 0, 1.0, 0, 0, *force]])
     engine.plant_derivative(
         x, sc, inp, rate, t, side, cfg, c, program, np.zeros((0, 3)), np.zeros(3), np.empty(3), out
     )

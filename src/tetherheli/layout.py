@@ -1,0 +1,105 @@
+"""Every packed float64 array the compiled code passes around, with its named slots.
+
+Compiled functions take flat arrays rather than objects, so that one compiled function serves
+every scenario and Numba's on-disk cache survives between processes. This module is the one
+place that says what each slot holds; code elsewhere addresses slots only by these names.
+Importing it does not import Numba.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = [
+    "ACT_SIZE",
+    "CFG_SIZE",
+    "CTRL_SIZE",
+    "SUMMARY_FIELDS",
+    "WIND_COLUMNS",
+    "default_actuators",
+]
+
+# --- run configuration (``cfg``) ----------------------------------------------------------------
+CFG_DT = 0  # control sample time [s]
+CFG_N_SUB = 1  # RK4 steps per sample
+CFG_K_C = 2  # tether elasticity [N/m]
+CFG_ATTACHED = 3  # 1: tether attached, 0: removed (free configuration) or released
+CFG_MAX_TENSION = 4  # [N]; a run stops when exceeded
+CFG_MAX_DEVIATION = 5  # [m]; a run stops as diverged when |y - y_ref| exceeds it
+CFG_MAX_ANGLE = 6  # [rad]; |q4|, |q5|, |q7|, |q8| beyond it: diverged
+CFG_GUST_DT = 7  # gust-table step [s] (0: no gust table)
+CFG_SIZE = 8
+
+# --- the paper controller's settings (``ctrl``, ``control.paper``) ---------------------------
+CTRL_DT = 0  # sample time [s]
+CTRL_FFWD = 1  # 1: tether-torque feed-forward on (eq 55)
+CTRL_WINCH = 2  # 1: winch PI loop runs (eq 56)
+CTRL_T_REF = 3  # [N]
+CTRL_K_P = 4
+CTRL_K_I = 5
+CTRL_REEL_RATE_LIMIT = 6  # [m/s] (inf: none)
+CTRL_REEL_ACCEL = 7  # |d(reel rate)/dt| the winch allows [m/s^2] (inf: none)
+CTRL_SIZE = 8
+
+# --- the winch PI's state (``winch``, ``control.paper``) ---------------------------------------
+WINCH_INTEGRAL = 0  # I_k of eq 56 [N s]
+WINCH_PREVIOUS_RATE = 1  # the reel rate commanded at the previous sample [m/s]
+WINCH_SIZE = 2
+
+# --- what the actuators hold between samples (``held``, ``sim.engine.actuate``) ---------------
+HELD_INPUTS = 0  # (4,) the rotor inputs applied over the last sample (the lag's state)
+HELD_REEL_RATE = 4  # the reel rate applied over the last sample [m/s] (the winch starts at rest)
+HELD_SIZE = 5
+
+# --- actuators (``act``) ------------------------------------------------------------------------
+ACT_U_MIN = 0  # (4,) lower input limits [N, N m, N m, N]
+ACT_U_MAX = 4  # (4,) upper input limits
+ACT_TAU = 8  # first-order actuator time constant [s] (0: none)
+ACT_BREAK = 9  # tether breaking / release tension [N] (inf: never)
+ACT_REEL_ACCEL = 10  # |d(reel rate)/dt| bound of the winch [m/s^2] (inf: none)
+ACT_SIZE = 11
+
+
+def default_actuators() -> np.ndarray:
+    """Ideal actuators: no limits, no lag, an unbreakable tether."""
+    act = np.zeros(ACT_SIZE)
+    act[ACT_U_MIN : ACT_U_MIN + 4] = -math.inf
+    act[ACT_U_MAX : ACT_U_MAX + 4] = math.inf
+    act[ACT_BREAK] = math.inf
+    act[ACT_REEL_ACCEL] = math.inf
+    return act
+
+
+# --- wind program (``program``): one row per built-in profile --------------------------------
+WIND_PULSE, WIND_SINE, WIND_STEP, WIND_CONSTANT = 0, 1, 2, 3
+#: columns: kind, start [s], duration [s], magnitude [N], frequency [Hz], phase [rad], n1, n2, n3
+WIND_KIND, WIND_START, WIND_DURATION, WIND_MAGNITUDE, WIND_FREQUENCY, WIND_PHASE = range(6)
+WIND_DIRECTION = 6  # (3,) unit direction in N
+WIND_COLUMNS = 9
+
+# --- on-line metrics of a run (``summary``) -----------------------------------------------------
+SUMMARY_FIELDS = (
+    "peak_q1", "peak_q2", "peak_q3", "peak_q4", "peak_q5",
+    "sumsq_q1", "sumsq_q2", "sumsq_q3", "tension_min", "tension_max", "n_samples",
+    "release_time", "release_tension",
+)  # fmt: skip
+SUMMARY_PEAK_Q1 = SUMMARY_FIELDS.index("peak_q1")  # (3,) max |q1..q3 - trim| [m]
+SUMMARY_PEAK_Q4 = SUMMARY_FIELDS.index("peak_q4")  # max |q4 - trim| [rad]
+SUMMARY_PEAK_Q5 = SUMMARY_FIELDS.index("peak_q5")  # max |q5 - trim| [rad]
+SUMMARY_SUMSQ_Q1 = SUMMARY_FIELDS.index("sumsq_q1")  # (3,) sum of (q1..q3 - trim)^2 [m^2]
+SUMMARY_TENSION_MIN = SUMMARY_FIELDS.index("tension_min")  # [N]
+SUMMARY_TENSION_MAX = SUMMARY_FIELDS.index("tension_max")  # [N]
+SUMMARY_N_SAMPLES = SUMMARY_FIELDS.index("n_samples")  # samples accumulated
+#: the tether-release event: the sample time [s] at which the safety device released the
+#: tether and the tension [N] that exceeded the breaking tension; both NaN without a release
+SUMMARY_RELEASE_TIME = SUMMARY_FIELDS.index("release_time")
+SUMMARY_RELEASE_TENSION = SUMMARY_FIELDS.index("release_tension")
+assert SUMMARY_FIELDS[SUMMARY_PEAK_Q1 : SUMMARY_PEAK_Q1 + 3] == ("peak_q1", "peak_q2", "peak_q3")
+assert SUMMARY_FIELDS[SUMMARY_SUMSQ_Q1 : SUMMARY_SUMSQ_Q1 + 3] == (
+    "sumsq_q1",
+    "sumsq_q2",
+    "sumsq_q3",
+)
+assert SUMMARY_RELEASE_TENSION == SUMMARY_RELEASE_TIME + 1  # one (2,) event slice
