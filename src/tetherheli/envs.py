@@ -83,6 +83,7 @@ from .sensors import N_CHANNELS, measure, noise_table
 from .sim import engine
 from .sim.scenario import Scenario
 from .sim.simulate import CompiledWind, _actuators, _setup, compile_wind
+from .status import Status, status_message
 
 __all__ = [
     "ENV_ID",
@@ -390,7 +391,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         tethered_outputs(self._x, self._c, self._y)
         self._measure(self._tension())
         self._inp[:] = np.nan
-        return self._observation(), self._info(engine.STATUS_OK, math.nan)
+        return self._observation(), self._info(Status.OK, math.nan)
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         """Advance one control sample.
@@ -409,7 +410,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         truncated : bool
             ``max_episode_time`` reached.
         info : dict
-            ``time`` [s]; ``status`` (``engine.STATUS_*``) and ``message``; ``outputs``
+            ``time`` [s]; ``status`` (``Status``) and ``message``; ``outputs``
             (4,) float64 [q1, q2, q3, q6] [m, m, m, rad]; ``inputs`` (4,) the rotor inputs
             applied over the step; ``reel_rate`` [m/s] applied over the step; ``tension`` [N];
             ``tether_release``: None, or ``{"time", "tension"}`` [s, N] once the safety device
@@ -460,7 +461,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         tension = self._tension()
         tethered_outputs(x, self._c, self._y)
         status = engine.check_state(x, self._y, self._y_ref, tension, self._cfg)
-        terminated = status != engine.STATUS_OK
+        terminated = status != Status.OK
         truncated = not terminated and self._k >= self.n_max
         if terminated:
             reward = -self.termination_penalty
@@ -508,7 +509,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         return {
             "time": self._k * self.dt,
             "status": int(status),
-            "message": engine.status_message(status, t_release),
+            "message": status_message(status, t_release),
             "tether_release": (
                 {"time": t_release, "tension": tension_release} if released else None
             ),

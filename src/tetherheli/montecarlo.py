@@ -35,7 +35,7 @@ Definitions:
 
 Failed runs are data: a run that fails in flight (diverges, hits the ground, ...) or whose
 dispersed plant cannot be set up (no hover trim within the actuator limits:
-``engine.STATUS_SETUP``, the error in the ``reason`` column) is a row with its status, and the
+``Status.SETUP``, the error in the ``reason`` column) is a row with its status, and the
 job goes on; percentiles are over the completed runs.
 
 Output directory: ``results.csv`` (one row per run and configuration; ``reason`` says why a
@@ -91,9 +91,9 @@ from .disturbances import (
 from .errors import ParameterError, TetherheliError
 from .params import Params
 from .progress import ProgressLine
-from .sim import engine
 from .sim.batch import METRIC_NAMES, run_batch
 from .sim.scenario import Scenario, scenario_from_dict
+from .status import Status
 
 __all__ = [
     "Draw",
@@ -577,7 +577,7 @@ def run_montecarlo(
     Notes
     -----
     A draw whose plant cannot be set up (no hover trim, actuator limits it cannot hover
-    within) is a failed row (``engine.STATUS_SETUP``, the error in ``reason``); the job goes
+    within) is a failed row (``Status.SETUP``, the error in ``reason``); the job goes
     on. On every call each finished chunk file is verified against its last line (draw range,
     row count, SHA-256); one that fails is named in one line on stderr and computed again.
     """
@@ -706,7 +706,7 @@ def _summarize(
     stats: dict[str, Any] = {}
     for cfg in CONFIGURATIONS:
         sel = columns["configuration"] == cfg
-        ok = sel & (columns["status"] == engine.STATUS_OK)
+        ok = sel & (columns["status"] == Status.OK)
         entry: dict[str, Any] = {
             "runs": int(sel.sum()),
             "completed": int(ok.sum()),
@@ -736,7 +736,7 @@ def _figures(out: Path, columns: dict[str, np.ndarray]) -> None:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    ok = columns["status"] == engine.STATUS_OK
+    ok = columns["status"] == Status.OK
     data = {
         cfg: np.sort(columns["peak_q1"][ok & (columns["configuration"] == cfg)])
         for cfg in CONFIGURATIONS

@@ -23,7 +23,7 @@ inputs) stays the run's own plant trim.
 A batch of N scenarios gives the numbers of N calls of ``simulate`` (same engine, same
 arithmetic), see ``BatchResult.metrics`` and ``summary_metrics``. A run whose set-up fails (no
 hover trim, actuator limits it cannot hover within) raises, or with
-``record_setup_failures=True`` is recorded as ``engine.STATUS_SETUP`` with the error in
+``record_setup_failures=True`` is recorded as ``Status.SETUP`` with the error in
 ``BatchResult.reasons`` and the batch goes on (the Monte Carlo's dispersed plants).
 """
 
@@ -41,6 +41,7 @@ import numpy as np
 from .._compile import compiled
 from ..errors import ClusterError, ParameterError, TetherheliError
 from ..params import Params
+from ..status import Status, status_message
 from . import engine
 from .scenario import Scenario
 from .simulate import _engine_setup, check_run_memory, compile_wind
@@ -128,11 +129,11 @@ class BatchResult:
     summaries : numpy.ndarray
         ``(N, len(engine.SUMMARY_FIELDS))``, columns ``engine.SUMMARY_FIELDS``.
     status : numpy.ndarray
-        ``(N,)`` int, ``engine.STATUS_*`` (0: completed).
+        ``(N,)`` int, ``Status`` (0: completed).
     samples_done : numpy.ndarray
         ``(N,)`` int, samples recorded before the run ended (``n_samples + 1`` if completed).
     reasons : tuple of str
-        ``(N,)``: why a run could not be set up (``engine.STATUS_SETUP``), else "".
+        ``(N,)``: why a run could not be set up (``Status.SETUP``), else "".
 
     A run whose tether the safety device released is still ``ok`` (it completed, free); its
     ``release`` and ``message`` say when.
@@ -153,7 +154,7 @@ class BatchResult:
     @property
     def ok(self) -> np.ndarray:
         """``(N,)`` bool: the run completed."""
-        return self.status == engine.STATUS_OK
+        return self.status == Status.OK
 
     @property
     def release_time(self) -> np.ndarray:
@@ -171,8 +172,8 @@ class BatchResult:
         return None if math.isnan(t) else (t, float(self.release_tension[i]))
 
     def message(self, i: int) -> str:
-        """Run ``i``'s status message, with its tether release (``engine.status_message``)."""
-        return engine.status_message(int(self.status[i]), float(self.release_time[i]))
+        """Run ``i``'s status message, with its tether release (``status_message``)."""
+        return status_message(int(self.status[i]), float(self.release_time[i]))
 
     def messages(self) -> list[str]:
         """The status message of every run (a tether release included)."""
@@ -349,7 +350,7 @@ def run_batch(
         equal size, and the result is the same as in-process.
     record_setup_failures : bool
         A run whose set-up raises a ``TetherheliError`` (no hover trim, actuator limits it
-        cannot hover within) gets ``engine.STATUS_SETUP`` and the error's message in
+        cannot hover within) gets ``Status.SETUP`` and the error's message in
         ``reasons`` instead of stopping the batch.
     worker_timeout_s : float
         With ``client``: how long the cluster may have no worker before ``ClusterError``.
@@ -403,7 +404,7 @@ def run_batch(
         except TetherheliError as exc:
             if not record_setup_failures:
                 raise
-            status[i] = engine.STATUS_SETUP
+            status[i] = Status.SETUP
             reasons[i] = str(exc).splitlines()[0]
             return
         st, k = _run_nogil(args, summaries[i])

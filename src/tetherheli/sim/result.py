@@ -20,7 +20,7 @@ from ..names import (
     TETHERED_STATE,
     TETHERED_STATE_UNITS,
 )
-from .engine import STATUS_OK, release_sentence, status_message
+from ..status import Status, release_sentence, status_message
 
 __all__ = ["SimulationResult", "atomic_write_bytes", "atomic_write_text"]
 
@@ -90,7 +90,7 @@ class SimulationResult:
     @property
     def ok(self) -> bool:
         """True when the run completed without hitting a stop condition."""
-        return self.status == STATUS_OK
+        return self.status == Status.OK
 
     @property
     def message(self) -> str:
@@ -129,7 +129,7 @@ class SimulationResult:
         return float(self.configuration.get("actuators", {}).get("breaking_tension", np.inf))
 
     def release_note(self) -> str | None:
-        """One line on the tether release (``engine.release_sentence``), or None."""
+        """One line on the tether release (``status.release_sentence``), or None."""
         info = self.release_info()
         if info is None:
             return None

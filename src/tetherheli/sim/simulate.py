@@ -73,6 +73,7 @@ from ..names import INPUT, TETHERED_STATE
 from ..params import Params
 from ..resources import check_memory
 from ..sensors import N_CHANNELS, noise_table
+from ..status import Status
 from . import engine
 from .result import SimulationResult
 from .scenario import Scenario
@@ -454,9 +455,9 @@ def _python_loop(scenario, setup, controller, method, rec, *, rtol, atol):
         tethered_outputs(x_meas, c, rec.y_est[k])
         tethered_outputs(x, c, y)
         status = engine.check_state(x, y, trim.y, tension, cfg)
-        if status == engine.STATUS_OK and not finite:
-            status = engine.STATUS_NONFINITE
-        if status != engine.STATUS_OK:
+        if status == Status.OK and not finite:
+            status = Status.NONFINITE
+        if status != Status.OK:
             return status, k
         rec.x[k], rec.u[k], rec.ffwd[k] = x, inp, cmd.feedforward
         rec.rate[k], rec.tension[k], rec.y[k] = rate, tension, y
@@ -475,8 +476,8 @@ def _python_loop(scenario, setup, controller, method, rec, *, rtol, atol):
                 x, inp, rate, t, dt, breaks, cfg, c, scenario.wind, wind, rtol=rtol, atol=atol
             )
             if x is None:
-                return engine.STATUS_NONFINITE, k + 1
-    return engine.STATUS_OK, n + 1
+                return Status.NONFINITE, k + 1
+    return Status.OK, n + 1
 
 
 def _adaptive_interval(x, inp, rate, t, dt, breaks, cfg, c, disturbance, wind, *, rtol, atol):
