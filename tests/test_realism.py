@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -11,6 +13,7 @@ from tetherheli.sensors import SensorConfig, hover_error_std
 from tetherheli.sim.scenario import ActuatorSettings, paper_scenario
 
 INF = np.inf
+SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 
 
 def test_defaults_leave_the_paper_unchanged():
@@ -131,7 +134,7 @@ def test_tether_as_sensor_error_matches_prediction():
 def test_sensing_scenarios_shipped():
     """scenarios/sensing_{gps,tether}.toml equal the code's definitions."""
     for source in ("gps", "tether"):
-        assert load_scenario(f"scenarios/sensing_{source}.toml") == sensing_scenario(source)
+        assert load_scenario(SCENARIOS / f"sensing_{source}.toml") == sensing_scenario(source)
 
 
 def test_sensor_noise_reproducible_by_seed():

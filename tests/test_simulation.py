@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+from pathlib import Path
 
 import control
 import numpy as np
@@ -20,6 +21,7 @@ from tetherheli.sim.scenario import paper_scenario
 from tetherheli.sim.simulate import _LQI_STATES, _setup
 
 DT = 0.01
+ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="module")
@@ -266,7 +268,7 @@ def test_paper_scenarios_regression():
 
 
 def test_public_api_names():
-    s = tetherheli.load_scenario("scenarios/paper_sim1_free.toml")
+    s = tetherheli.load_scenario(ROOT / "scenarios" / "paper_sim1_free.toml")
     assert isinstance(s, Scenario)
     assert dataclasses.is_dataclass(s) and s.control == ControlSettings()
 

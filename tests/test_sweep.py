@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,6 +12,8 @@ from tetherheli import ParameterError, Params
 from tetherheli.cli import main
 from tetherheli.sim.scenario import paper_scenario
 from tetherheli.sweep import paper_cyclic_limit, sweep, tension_bound
+
+SIM1_TETHERED = str(Path(__file__).resolve().parents[1] / "scenarios" / "paper_sim1_tethered.toml")
 
 
 def test_eq40_bound_is_twenty_percent_of_hover_lift(paper):
@@ -51,7 +54,7 @@ def test_sweep_cli(tmp_path, capsys):
     out = tmp_path / "sw"
     argv = [
         "sweep",
-        "scenarios/paper_sim1_tethered.toml",
+        SIM1_TETHERED,
         "--param",
         "tension_control.T_ref",
         "--values",
@@ -64,7 +67,7 @@ def test_sweep_cli(tmp_path, capsys):
     assert info["best_value"] == 20.0 and (out / "sweep.png").exists()
     bad = [
         "sweep",
-        "scenarios/paper_sim1_tethered.toml",
+        SIM1_TETHERED,
         "--param",
         "nope",
         "--values",
