@@ -235,17 +235,28 @@ def test_result_signals_and_metrics():
     np.testing.assert_allclose(r.wind[(r.time >= 10) & (r.time < 11), 0], 20.0)
 
 
-#: Regression figures of the paper's four runs (dt = 10 ms, 1 s pulse), measured by
-#: `tetherheli paper`; the tether must cut the disturbance effect (Sec. VI).
-PAPER_FIGURES = {
+#: Our measured figures of the four Sec. VI runs (dt = 10 ms, 1 s pulse: our assumptions),
+#: measured by `tetherheli paper` (the README's table). The paper gives no such numbers: it
+#: only claims a reduction "up to 30%" (``report.PAPER_CLAIM_PERCENT``) without a metric.
+MEASURED_SEC_VI_FIGURES = {
     "sim1_free": {"q1_peak": 2.1432, "q1_rms": 1.0147},
     "sim1_tethered": {"q1_peak": 1.3807, "q1_rms": 0.6772},
     "sim2_free": {"q2_peak": 2.7858, "q2_rms": 1.2944},
+    "sim2_tethered": {"q2_peak": 1.6363, "q2_rms": 0.7830},
+}
+#: Our measured reductions 100 (free - tethered) / free [%] of those runs.
+MEASURED_REDUCTION_PERCENT = {
+    "sim1_q1_peak": 35.6,
+    "sim1_q1_rms": 33.3,
+    "sim2_q2_peak": 41.3,
+    "sim2_q2_rms": 39.5,
 }
 
 
-def test_paper_scenarios_regression():
-    """Sec. VI: measured peak and RMS deviations of the four runs, and the reductions."""
+def test_our_measured_sec_vi_figures_regression():
+    """Sec. VI runs: our measured peak and RMS deviations and reductions (a regression pin,
+    not the paper's numbers); each reduction is 100 (free - tethered) / free of the runs'
+    own metrics (the README's definition, computed here)."""
     from tetherheli.report import paper_summary
 
     results = {
@@ -253,16 +264,18 @@ def test_paper_scenarios_regression():
     }
     summary = paper_summary(results, dt=0.01, pulse_duration=1.0)
     runs = summary["runs"]
-    for key, figs in PAPER_FIGURES.items():
+    group = {"peak": "peak_abs_dev", "rms": "rms_dev"}
+    for key, figs in MEASURED_SEC_VI_FIGURES.items():
         for name, value in figs.items():
             q, kind = name.split("_")
-            group = "peak_abs_dev" if kind == "peak" else "rms_dev"
-            assert runs[key][group][q] == pytest.approx(value, abs=1e-4)
+            assert runs[key][group[kind]][q] == pytest.approx(value, abs=1e-4)
     red = summary["reduction_percent"]
-    assert red["sim1_q1_peak"] == pytest.approx(35.6, abs=0.05)
-    assert red["sim1_q1_rms"] == pytest.approx(33.3, abs=0.05)
-    assert red["sim2_q2_peak"] == pytest.approx(41.3, abs=0.05)
-    assert red["sim2_q2_rms"] == pytest.approx(39.5, abs=0.05)
+    for key, value in MEASURED_REDUCTION_PERCENT.items():
+        sim, q, kind = key.split("_")
+        free = runs[f"{sim}_free"][group[kind]][q]
+        tethered = runs[f"{sim}_tethered"][group[kind]][q]
+        assert red[key] == pytest.approx(100.0 * (free - tethered) / free, rel=1e-12)
+        assert red[key] == pytest.approx(value, abs=0.05)
     for k in ("sim1_tethered", "sim2_tethered"):
         assert 24.5 < runs[k]["tension_min"] <= 25.0 <= runs[k]["tension_max"] < 25.5
 

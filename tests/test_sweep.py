@@ -87,8 +87,9 @@ def test_params_field_docs_cover_sweepable_names():
 
 def test_sweep_actuator_settings_and_batch_equals_simulate():
     """Actuator settings sweep like parameters; the compiled batch gives simulate's metric
-    (to rounding) and the failed runs' statuses. The cyclic limit of eq 40 between 3 and
-    4 N m separates lost from held in paper simulation 1 (bisected: 3.37 N m tethered)."""
+    (to rounding) and the failed runs' statuses. A cyclic limit (eq 40's tmax_MR1,2) between
+    3 and 4 N m separates lost from held in simulation 1 (our measured, bisected limit:
+    3.37 N m tethered; the paper gives none)."""
     from tetherheli import simulate
     from tetherheli.analysis import run_metrics
     from tetherheli.sim.scenario import ActuatorSettings
