@@ -12,7 +12,6 @@ from scipy.linalg import solve_discrete_are
 
 import tetherheli
 from tetherheli import FreeHelicopter, Scenario, TetheredHelicopter, linearize, simulate
-from tetherheli.analysis import run_metrics
 from tetherheli.control.base import Command, Controller, Measurement
 from tetherheli.control.paper import PaperController
 from tetherheli.disturbances import ConstantForce, Pulse, Step
@@ -50,17 +49,6 @@ def test_paper_lqi_gain_independent_routes(paper, gain):
     np.testing.assert_allclose(gain.K, K_hand, rtol=1e-9, atol=1e-9 * np.abs(K_hand).max())
     K_ctrl, _, _ = control.dlqr(G, H, Qx, np.eye(m), integral_action=-DT * C)
     np.testing.assert_allclose(gain.K, K_ctrl, rtol=1e-9, atol=1e-9 * np.abs(K_hand).max())
-
-
-def test_discrete_closed_loop_stable(paper, gain):
-    """The discrete LQI closed loop on the free linearization is stable (spectral radius < 1);
-    so is the tethered plant (Table V hover, taut tether, winch PI) with the same gain and the
-    feed-forward (eqs 54-56), linearized by finite differences of the compiled engine."""
-    G, H, C = _paper_lin(paper)
-    Ga = np.block([[G, np.zeros((12, 4))], [-DT * C, np.eye(4)]])
-    Ha = np.vstack([H, np.zeros((4, 4))])
-    assert np.max(np.abs(np.linalg.eigvals(Ga - Ha @ gain.K))) < 1.0
-    assert gain.spectral_radius < 1.0
 
 
 @pytest.mark.parametrize("configuration", ["free", "tethered"])
@@ -221,17 +209,15 @@ def test_failures_stop_with_status_never_success(free):
 
 
 def test_result_signals_and_metrics():
-    """Inputs include the feed-forward; metrics follow their definitions."""
+    """Inputs include the feed-forward (eq 54); the wind is recorded. (The metrics' formulas are
+    checked against a second implementation, the engine's on-line accumulation, in
+    test_batch.py.)"""
     r = simulate(paper_scenario(1, "tethered"))
     assert r.states.shape == (6001, 13) and r.outputs.shape == (6001, 4)
     assert r.inputs.shape == (6001, 4) and r.tension.shape == (6001,)
     # at t = 0 the applied tMR1 is Table V's 1.3132 minus C1 (eq 54)
     assert r.inputs[0, 1] == pytest.approx(r.trim_input[1] - r.feedforward[0, 1], abs=1e-12)
     assert r.inputs[0, 1] == pytest.approx(1.7848, abs=5e-5)
-    m = run_metrics(r)
-    dev = r.outputs[:, 0] - r.trim_output[0]
-    assert m.peak_abs_dev["q1"] == pytest.approx(np.abs(dev).max())
-    assert m.rms_dev["q1"] == pytest.approx(np.sqrt(np.mean(dev**2)))
     np.testing.assert_allclose(r.wind[(r.time >= 10) & (r.time < 11), 0], 20.0)
 
 

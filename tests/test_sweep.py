@@ -33,11 +33,22 @@ def test_tension_sweep_finds_best_below_bound():
 
 
 def test_sweep_other_parameters():
-    """KC and dt sweeps run and record each value's result."""
+    """KC and dt sweeps: each point equals a separate simulate() of the scenario with that
+    value (run_metrics of the run, a second route), the two KC values give different
+    results (the value reaches the run), and halving dt changes the peak by < 5 cm."""
+    from tetherheli import simulate
+    from tetherheli.analysis import run_metrics
+    from tetherheli.sim.scenario import ControlSettings
+
     s = paper_scenario(1, "tethered").replace(duration=15.0)
     r = sweep(s, "tether.K_C", np.array([20.0, 80.0]), "peak_q1")
-    assert np.all(np.isfinite(r.metric)) and r.bound is None
+    assert r.bound is None and r.metric[0] != r.metric[1]
+    for v, m in zip(r.values, r.metric, strict=True):
+        one = simulate(s.replace(params=s.params.replace({"tether.K_C": float(v)})))
+        assert m == pytest.approx(run_metrics(one).peak_abs_dev["q1"], rel=1e-12)
     r = sweep(s, "control.dt", np.array([0.01, 0.005]), "peak_q1")
+    one = simulate(s.replace(control=ControlSettings(dt=0.005)))
+    assert r.metric[1] == pytest.approx(run_metrics(one).peak_abs_dev["q1"], rel=1e-12)
     assert abs(r.metric[0] - r.metric[1]) < 0.05
 
 
