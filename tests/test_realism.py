@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -11,6 +13,7 @@ from tetherheli.sensors import SensorConfig, hover_error_std
 from tetherheli.sim.scenario import ActuatorSettings, paper_scenario
 
 INF = np.inf
+SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 
 
 def test_defaults_leave_the_paper_unchanged():
@@ -56,18 +59,36 @@ def test_limit_below_hover_need_is_rejected():
 
 
 def test_actuator_lag_is_first_order():
-    """A first-order lag: after a step in the command, the applied input closes
-    1 - e^{-dt/tau} of the gap per sample; the response is slower than without lag."""
-    tau = 0.05
-    s = paper_scenario(1, "tethered").replace(duration=20.0)
-    lagged = simulate(s.replace(actuators=ActuatorSettings(time_constant=tau)))
-    ideal = simulate(s)
-    assert lagged.ok
-    k = np.searchsorted(lagged.time, 10.0) + 2
-    du_lag = np.abs(np.diff(lagged.inputs[k - 5 : k + 5, 1])).max()
-    du_ideal = np.abs(np.diff(ideal.inputs[k - 5 : k + 5, 1])).max()
-    assert du_lag < du_ideal
-    assert not np.array_equal(lagged.outputs, ideal.outputs)
+    """A first-order lag tau u' = cmd - u, exact over a sample with the command held: after a
+    step in the command at sample k0 the gap to it is e^{-(k - k0 + 1) dt / tau} of the step
+    at sample k (analytic solution), on every input; without lag the step is applied at
+    once. A custom controller commands the step, so nothing else moves the inputs."""
+    from tetherheli.control.base import Command, Controller
+
+    class StepCommand(Controller):
+        def __init__(self, u0, du):
+            self.u0, self.du = u0, du
+
+        def reset(self) -> None:
+            pass
+
+        def step(self, t, measurement):
+            return Command(inputs=self.u0 + (self.du if t >= 0.5 - 1e-9 else 0.0))
+
+    tau, dt, k0 = 0.05, 0.01, 50
+    free = paper_scenario(1, "free").replace(duration=1.0)
+    u0 = simulate(free.replace(duration=0.01)).trim_input
+    du = np.array([2.0, 0.2, -0.1, 0.5])
+    lagged = simulate(
+        free.replace(actuators=ActuatorSettings(time_constant=tau)), controller=StepCommand(u0, du)
+    )
+    ideal = simulate(free, controller=StepCommand(u0, du))
+    np.testing.assert_array_equal(ideal.inputs[k0:], np.tile(u0 + du, (51, 1)))
+    np.testing.assert_array_equal(lagged.inputs[:k0], np.tile(u0, (k0, 1)))
+    k = np.arange(k0, 101)
+    gap = (u0 + du) - lagged.inputs[k0:]
+    expected = np.outer(np.exp(-(k - k0 + 1) * dt / tau), du)
+    np.testing.assert_allclose(gap, expected, rtol=1e-9, atol=1e-12)
 
 
 def test_reel_rate_limit():
@@ -131,7 +152,7 @@ def test_tether_as_sensor_error_matches_prediction():
 def test_sensing_scenarios_shipped():
     """scenarios/sensing_{gps,tether}.toml equal the code's definitions."""
     for source in ("gps", "tether"):
-        assert load_scenario(f"scenarios/sensing_{source}.toml") == sensing_scenario(source)
+        assert load_scenario(SCENARIOS / f"sensing_{source}.toml") == sensing_scenario(source)
 
 
 def test_sensor_noise_reproducible_by_seed():

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+from pathlib import Path
 
 import control
 import numpy as np
@@ -11,7 +12,6 @@ from scipy.linalg import solve_discrete_are
 
 import tetherheli
 from tetherheli import FreeHelicopter, Scenario, TetheredHelicopter, linearize, simulate
-from tetherheli.analysis import run_metrics
 from tetherheli.control.base import Command, Controller, Measurement
 from tetherheli.control.paper import PaperController
 from tetherheli.disturbances import ConstantForce, Pulse, Step
@@ -20,6 +20,7 @@ from tetherheli.sim.scenario import paper_scenario
 from tetherheli.sim.simulate import _LQI_STATES, _setup
 
 DT = 0.01
+ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="module")
@@ -48,17 +49,6 @@ def test_paper_lqi_gain_independent_routes(paper, gain):
     np.testing.assert_allclose(gain.K, K_hand, rtol=1e-9, atol=1e-9 * np.abs(K_hand).max())
     K_ctrl, _, _ = control.dlqr(G, H, Qx, np.eye(m), integral_action=-DT * C)
     np.testing.assert_allclose(gain.K, K_ctrl, rtol=1e-9, atol=1e-9 * np.abs(K_hand).max())
-
-
-def test_discrete_closed_loop_stable(paper, gain):
-    """The discrete LQI closed loop on the free linearization is stable (spectral radius < 1);
-    so is the tethered plant (Table V hover, taut tether, winch PI) with the same gain and the
-    feed-forward (eqs 54-56), linearized by finite differences of the compiled engine."""
-    G, H, C = _paper_lin(paper)
-    Ga = np.block([[G, np.zeros((12, 4))], [-DT * C, np.eye(4)]])
-    Ha = np.vstack([H, np.zeros((4, 4))])
-    assert np.max(np.abs(np.linalg.eigvals(Ga - Ha @ gain.K))) < 1.0
-    assert gain.spectral_radius < 1.0
 
 
 @pytest.mark.parametrize("configuration", ["free", "tethered"])
@@ -219,31 +209,40 @@ def test_failures_stop_with_status_never_success(free):
 
 
 def test_result_signals_and_metrics():
-    """Inputs include the feed-forward; metrics follow their definitions."""
+    """Inputs include the feed-forward (eq 54); the wind is recorded. (The metrics' formulas are
+    checked against a second implementation, the engine's on-line accumulation, in
+    test_batch.py.)"""
     r = simulate(paper_scenario(1, "tethered"))
     assert r.states.shape == (6001, 13) and r.outputs.shape == (6001, 4)
     assert r.inputs.shape == (6001, 4) and r.tension.shape == (6001,)
     # at t = 0 the applied tMR1 is Table V's 1.3132 minus C1 (eq 54)
     assert r.inputs[0, 1] == pytest.approx(r.trim_input[1] - r.feedforward[0, 1], abs=1e-12)
     assert r.inputs[0, 1] == pytest.approx(1.7848, abs=5e-5)
-    m = run_metrics(r)
-    dev = r.outputs[:, 0] - r.trim_output[0]
-    assert m.peak_abs_dev["q1"] == pytest.approx(np.abs(dev).max())
-    assert m.rms_dev["q1"] == pytest.approx(np.sqrt(np.mean(dev**2)))
     np.testing.assert_allclose(r.wind[(r.time >= 10) & (r.time < 11), 0], 20.0)
 
 
-#: Regression figures of the paper's four runs (dt = 10 ms, 1 s pulse), measured by
-#: `tetherheli paper`; the tether must cut the disturbance effect (Sec. VI).
-PAPER_FIGURES = {
+#: Our measured figures of the four Sec. VI runs (dt = 10 ms, 1 s pulse: our assumptions),
+#: measured by `tetherheli paper` (the README's table). The paper gives no such numbers: it
+#: only claims a reduction "up to 30%" (``report.PAPER_CLAIM_PERCENT``) without a metric.
+MEASURED_SEC_VI_FIGURES = {
     "sim1_free": {"q1_peak": 2.1432, "q1_rms": 1.0147},
     "sim1_tethered": {"q1_peak": 1.3807, "q1_rms": 0.6772},
     "sim2_free": {"q2_peak": 2.7858, "q2_rms": 1.2944},
+    "sim2_tethered": {"q2_peak": 1.6363, "q2_rms": 0.7830},
+}
+#: Our measured reductions 100 (free - tethered) / free [%] of those runs.
+MEASURED_REDUCTION_PERCENT = {
+    "sim1_q1_peak": 35.6,
+    "sim1_q1_rms": 33.3,
+    "sim2_q2_peak": 41.3,
+    "sim2_q2_rms": 39.5,
 }
 
 
-def test_paper_scenarios_regression():
-    """Sec. VI: measured peak and RMS deviations of the four runs, and the reductions."""
+def test_our_measured_sec_vi_figures_regression():
+    """Sec. VI runs: our measured peak and RMS deviations and reductions (a regression pin,
+    not the paper's numbers); each reduction is 100 (free - tethered) / free of the runs'
+    own metrics (the README's definition, computed here)."""
     from tetherheli.report import paper_summary
 
     results = {
@@ -251,22 +250,24 @@ def test_paper_scenarios_regression():
     }
     summary = paper_summary(results, dt=0.01, pulse_duration=1.0)
     runs = summary["runs"]
-    for key, figs in PAPER_FIGURES.items():
+    group = {"peak": "peak_abs_dev", "rms": "rms_dev"}
+    for key, figs in MEASURED_SEC_VI_FIGURES.items():
         for name, value in figs.items():
             q, kind = name.split("_")
-            group = "peak_abs_dev" if kind == "peak" else "rms_dev"
-            assert runs[key][group][q] == pytest.approx(value, abs=1e-4)
+            assert runs[key][group[kind]][q] == pytest.approx(value, abs=1e-4)
     red = summary["reduction_percent"]
-    assert red["sim1_q1_peak"] == pytest.approx(35.6, abs=0.05)
-    assert red["sim1_q1_rms"] == pytest.approx(33.3, abs=0.05)
-    assert red["sim2_q2_peak"] == pytest.approx(41.3, abs=0.05)
-    assert red["sim2_q2_rms"] == pytest.approx(39.5, abs=0.05)
+    for key, value in MEASURED_REDUCTION_PERCENT.items():
+        sim, q, kind = key.split("_")
+        free = runs[f"{sim}_free"][group[kind]][q]
+        tethered = runs[f"{sim}_tethered"][group[kind]][q]
+        assert red[key] == pytest.approx(100.0 * (free - tethered) / free, rel=1e-12)
+        assert red[key] == pytest.approx(value, abs=0.05)
     for k in ("sim1_tethered", "sim2_tethered"):
         assert 24.5 < runs[k]["tension_min"] <= 25.0 <= runs[k]["tension_max"] < 25.5
 
 
 def test_public_api_names():
-    s = tetherheli.load_scenario("scenarios/paper_sim1_free.toml")
+    s = tetherheli.load_scenario(ROOT / "scenarios" / "paper_sim1_free.toml")
     assert isinstance(s, Scenario)
     assert dataclasses.is_dataclass(s) and s.control == ControlSettings()
 

@@ -136,8 +136,6 @@ def test_anti_windup_holds_integral_in_saturation() -> None:
     assert rate == 0.5 and integral == pytest.approx(100.0 - 0.01)
     rate, integral = pi.step(0.0, 25.2)  # unsaturated
     assert rate == pytest.approx(0.2) and integral == pytest.approx(0.002)
-    # the scalar core is the same function
-    assert tension_pi_step(3.0, 30.0, 1.0, 0.1, 25.0, 0.01, 0.5) == pi.step(3.0, 30.0)
 
 
 def test_anti_windup_prevents_undershoot() -> None:
