@@ -370,3 +370,18 @@ def test_montecarlo_never_overwrites_results_it_did_not_write(workdir: Path, cap
     assert (workdir / "mine" / "notes.txt").read_text() == "mine\n"
     record = json.loads((workdir / "mine" / OUTPUT_RECORD).read_text())["files"]
     assert {"results.csv", "summary.json", "peak_q1_hist.png"} <= set(record)
+
+
+def test_importing_tetherheli_leaves_the_matplotlib_backend_alone():
+    """Library code never switches the process's backend (a notebook keeps its figures)."""
+    code = (
+        "import matplotlib; matplotlib.use('svg'); "
+        "import tetherheli.viz.plots, tetherheli.viz.animation, tetherheli.report, "
+        "tetherheli.sweep, tetherheli.montecarlo; print(matplotlib.get_backend())"
+    )
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "svg"

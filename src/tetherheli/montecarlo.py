@@ -70,7 +70,6 @@ import numpy as np
 
 from ._io import (
     atomic_open,
-    atomic_write_bytes,
     atomic_write_text,
     check_output_file,
     claim_output_directory,
@@ -733,40 +732,13 @@ def _summarize(
 
 
 def _figures(out: Path, columns: dict[str, np.ndarray]) -> None:
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
+    """The histogram and CDF of the completed runs' peak q1 (``viz.plots``)."""
+    from .viz.plots import figure_montecarlo, save_figure
 
     ok = columns["status"] == Status.OK
-    data = {
-        cfg: np.sort(columns["peak_q1"][ok & (columns["configuration"] == cfg)])
-        for cfg in CONFIGURATIONS
+    completed = {
+        cfg: columns["peak_q1"][ok & (columns["configuration"] == cfg)] for cfg in CONFIGURATIONS
     }
     totals = {cfg: int((columns["configuration"] == cfg).sum()) for cfg in CONFIGURATIONS}
-    everything = np.concatenate(list(data.values()))
-    bins = np.linspace(everything.min(), everything.max(), 41) if everything.size else 10
-    colors = {"free": "tab:red", "tethered": "tab:blue"}
-    titles = {"hist": "histogram", "cdf": "empirical CDF"}
     for kind in ("hist", "cdf"):
-        fig = Figure(figsize=(6.4, 4.2))
-        FigureCanvasAgg(fig)
-        ax = fig.add_subplot()
-        for cfg, v in data.items():
-            if not v.size:  # every run failed: say so in the legend
-                ax.plot([], [], color=colors[cfg], label=f"{cfg}: {totals[cfg]} runs, all failed")
-                continue
-            failed = totals[cfg] - v.size
-            label = f"{cfg}: {v.size} runs" + (f", {failed} failed (not shown)" if failed else "")
-            if kind == "hist":
-                ax.hist(v, bins=bins, alpha=0.6, color=colors[cfg], label=label)
-                ax.set_ylabel("runs")
-            else:
-                frac = np.arange(1, v.size + 1) / v.size
-                ax.step(v, frac, where="post", color=colors[cfg], label=label)
-                ax.set_ylabel("fraction of completed runs")
-        ax.set_xlabel("peak |q1 - q1 trim| [m]")
-        ax.set_title(f"Monte Carlo: peak q1 deviation, {titles[kind]}")
-        ax.legend()
-        ax.grid(alpha=0.3)
-        buf = io.BytesIO()
-        fig.savefig(buf, format="png", dpi=100)
-        atomic_write_bytes(out / f"peak_q1_{kind}.png", buf.getvalue())
+        save_figure(figure_montecarlo(completed, totals, kind), out / f"peak_q1_{kind}.png", 100)

@@ -430,10 +430,8 @@ def run_sensing(
     A failed run is recorded, not raised: its row holds its status (``run_status``), its
     RMS figures cover the samples up to the failure (None without samples), and the plot
     draws it up to the failure. The caller decides the exit code (the CLI: 1)."""
-    import matplotlib.pyplot as plt
-
     from .sim import load_scenario
-    from .viz.plots import plottable, save_figure
+    from .viz.plots import figure_sensing, save_figure
 
     claim_output_directory(out_dir, inputs=scenarios or (), force=force)
     if scenarios:
@@ -462,18 +460,7 @@ def run_sensing(
             "estimate_error_rms": rms(err),
             "true_deviation_rms": rms(dev),
         }
-    fig, axes = plt.subplots(2, 1, figsize=(7.5, 6.0), sharex=True, layout="constrained")
-    for name, r in results.items():
-        label = name if r.ok else f"{name} (failed at t = {r.end_time:g} s)"
-        axes[0].plot(r.time, plottable(r.extra["q1_est"] - r.outputs[:, 0])[0], lw=0.6, label=label)
-        axes[1].plot(r.time, plottable(r.outputs[:, 0] - r.trim_output[0])[0], lw=1.0, label=label)
-    axes[0].set_ylabel("q1 estimate error [m]")
-    axes[1].set_ylabel("true q1 deviation [m]")
-    axes[1].set_xlabel("t [s]")
-    for ax in axes:
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
-    fig.suptitle("Position from a GPS against the tether as a sensor (Sec. IV-F)")
+    fig = figure_sensing(results)
     with output_directory(out_dir, writer="sensing", inputs=scenarios or (), force=force) as tmp:
         for name, r in results.items():
             r.save(tmp, name)

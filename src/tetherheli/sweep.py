@@ -234,34 +234,9 @@ def write_sweep(
 ) -> None:
     """Table (CSV), plot (PNG) and summary.json of a sweep, written whole or not at all
     (``_io.output_directory``: the user's files in ``out_dir`` are kept, never replaced)."""
-    import matplotlib.pyplot as plt
+    from .viz.plots import figure_sweep, save_figure
 
-    from .viz.plots import save_figure
-
-    fig, ax = plt.subplots(figsize=(7.0, 4.0), layout="constrained")
-    ax.plot(result.values, result.metric, "o-", color="tab:blue", label=result.metric_name)
-    if result.bound is not None:
-        ax.axvline(
-            result.bound, color="tab:red", ls="--", label=f"eq 40 bound: TC < {result.bound:.1f} N"
-        )
-    if result.best_value is not None:
-        ax.axvline(
-            result.best_value, color="tab:green", ls=":", label=f"best: {result.best_value:g}"
-        )
-    if result.failed:
-        bad = result.values[list(result.failed)]
-        ax.plot(
-            bad,
-            np.full(bad.size, 0.03),
-            "x",
-            color="tab:red",
-            transform=ax.get_xaxis_transform(),
-            label=f"failed or invalid ({bad.size})",
-        )
-    ax.set_xlabel(result.parameter)
-    ax.set_ylabel(result.metric_name)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    fig = figure_sweep(result)
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")  # quotes a status holding a comma
     writer.writerow(["value", "metric", "status"])

@@ -1,19 +1,19 @@
-"""Figures in the style of the paper's Figs. 6-9: free and tethered overlaid.
+"""Every figure of the package: the paper's Figs. 6-9 (free and tethered overlaid), the
+sweep, the Monte Carlo and the sensing figures.
 
-These functions only read ``SimulationResult`` objects and return Matplotlib figures (the
-Agg backend is used; nothing is shown on screen). A failed run is drawn up to its last
+These functions only read results and return Matplotlib ``Figure`` objects built without
+pyplot, so importing them leaves the process's Matplotlib backend alone (notebooks keep their
+inline figures); ``save_figure`` writes one as PNG. A failed run is drawn up to its last
 recorded sample and says so in the legend; samples that cannot be drawn (non-finite, or beyond
 ``PLOT_LIMIT``) are left out as gaps, with a note on the figure.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
+from typing import Any
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
@@ -21,7 +21,16 @@ from .._io import atomic_write_bytes
 from ..names import INPUT, INPUT_UNITS
 from ..sim.result import SimulationResult
 
-__all__ = ["PLOT_LIMIT", "figure_inputs", "figure_outputs", "plottable", "save_figure"]
+__all__ = [
+    "PLOT_LIMIT",
+    "figure_inputs",
+    "figure_montecarlo",
+    "figure_outputs",
+    "figure_sensing",
+    "figure_sweep",
+    "plottable",
+    "save_figure",
+]
 
 _STYLE = {
     "free": dict(color="tab:red", lw=1.1, label="free"),
@@ -67,6 +76,12 @@ class _Plotter:
         ax.plot(t, clean, **style)
 
 
+def _stacked(rows: int, size: tuple[float, float]) -> tuple[Figure, np.ndarray]:
+    """A figure of ``rows`` axes stacked over a shared time axis (no pyplot)."""
+    fig = Figure(figsize=size, layout="constrained")
+    return fig, np.atleast_1d(fig.subplots(rows, 1, sharex=True))
+
+
 def _finish(fig: Figure, axes: np.ndarray, title: str, dropped: int = 0) -> Figure:
     """Shared time axis label, legend, grid and title of the stacked time-series figures;
     a note when samples could not be drawn."""
@@ -90,7 +105,7 @@ def _finish(fig: Figure, axes: np.ndarray, title: str, dropped: int = 0) -> Figu
 
 def figure_outputs(runs: list[SimulationResult], title: str = "") -> Figure:
     """Figs. 6 and 8: wind force, q1, q2, q3 [m] and q4, q5 [deg] against time."""
-    fig, axes = plt.subplots(6, 1, figsize=(7.5, 10.5), sharex=True, layout="constrained")
+    fig, axes = _stacked(6, (7.5, 10.5))
     plot = _Plotter()
     for r in runs:
         st = _style(r)
@@ -111,7 +126,7 @@ def figure_outputs(runs: list[SimulationResult], title: str = "") -> Figure:
 
 def figure_inputs(runs: list[SimulationResult], title: str = "") -> Figure:
     """Figs. 7 and 9: tension TC and inputs fMR3, tMR1, tMR2 (with feed-forward)."""
-    fig, axes = plt.subplots(4, 1, figsize=(7.5, 8.0), sharex=True, layout="constrained")
+    fig, axes = _stacked(4, (7.5, 8.0))
     plot = _Plotter()
     for r in runs:
         st = _style(r)
@@ -125,12 +140,95 @@ def figure_inputs(runs: list[SimulationResult], title: str = "") -> Figure:
     return _finish(fig, axes, title, plot.dropped)
 
 
+def figure_sweep(result: Any) -> Figure:
+    """A sweep's metric against the swept values (``sweep.SweepResult``), with eq 40's tension
+    bound, the best value, and the failed or invalid points marked."""
+    fig = Figure(figsize=(7.0, 4.0), layout="constrained")
+    ax = fig.add_subplot()
+    ax.plot(result.values, result.metric, "o-", color="tab:blue", label=result.metric_name)
+    if result.bound is not None:
+        ax.axvline(
+            result.bound, color="tab:red", ls="--", label=f"eq 40 bound: TC < {result.bound:.1f} N"
+        )
+    if result.best_value is not None:
+        ax.axvline(
+            result.best_value, color="tab:green", ls=":", label=f"best: {result.best_value:g}"
+        )
+    if result.failed:
+        bad = result.values[list(result.failed)]
+        ax.plot(
+            bad,
+            np.full(bad.size, 0.03),
+            "x",
+            color="tab:red",
+            transform=ax.get_xaxis_transform(),
+            label=f"failed or invalid ({bad.size})",
+        )
+    ax.set_xlabel(result.parameter)
+    ax.set_ylabel(result.metric_name)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    return fig
+
+
+_KIND_TITLES = {"hist": "histogram", "cdf": "empirical CDF"}
+
+
+def figure_montecarlo(
+    completed: Mapping[str, np.ndarray], totals: Mapping[str, int], kind: str
+) -> Figure:
+    """The Monte Carlo's peak q1 deviations per configuration: ``kind`` "hist" (histogram) or
+    "cdf" (empirical CDF) of the ``completed`` runs' values [m]; ``totals`` counts every run,
+    so failed runs are named in the legend."""
+    data = {cfg: np.sort(np.asarray(v, dtype=float)) for cfg, v in completed.items()}
+    everything = np.concatenate(list(data.values())) if data else np.zeros(0)
+    bins = np.linspace(everything.min(), everything.max(), 41) if everything.size else 10
+    fig = Figure(figsize=(6.4, 4.2))
+    ax = fig.add_subplot()
+    for cfg, v in data.items():
+        color = _STYLE.get(cfg, {}).get("color")
+        if not v.size:  # every run failed: say so in the legend
+            ax.plot([], [], color=color, label=f"{cfg}: {totals[cfg]} runs, all failed")
+            continue
+        failed = totals[cfg] - v.size
+        label = f"{cfg}: {v.size} runs" + (f", {failed} failed (not shown)" if failed else "")
+        if kind == "hist":
+            ax.hist(v, bins=bins, alpha=0.6, color=color, label=label)
+            ax.set_ylabel("runs")
+        else:
+            frac = np.arange(1, v.size + 1) / v.size
+            ax.step(v, frac, where="post", color=color, label=label)
+            ax.set_ylabel("fraction of completed runs")
+    ax.set_xlabel("peak |q1 - q1 trim| [m]")
+    ax.set_title(f"Monte Carlo: peak q1 deviation, {_KIND_TITLES[kind]}")
+    ax.legend()
+    ax.grid(alpha=0.3)
+    return fig
+
+
+def figure_sensing(results: Mapping[str, SimulationResult]) -> Figure:
+    """Sec. IV-F: the controller's q1 estimate error and the true q1 deviation of runs with
+    different position sources (``extra["q1_est"]``)."""
+    fig, axes = _stacked(2, (7.5, 6.0))
+    for name, r in results.items():
+        label = name if r.ok else f"{name} (failed at t = {r.end_time:g} s)"
+        axes[0].plot(r.time, plottable(r.extra["q1_est"] - r.outputs[:, 0])[0], lw=0.6, label=label)
+        axes[1].plot(r.time, plottable(r.outputs[:, 0] - r.trim_output[0])[0], lw=1.0, label=label)
+    axes[0].set_ylabel("q1 estimate error [m]")
+    axes[1].set_ylabel("true q1 deviation [m]")
+    axes[1].set_xlabel("t [s]")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle("Position from a GPS against the tether as a sensor (Sec. IV-F)")
+    return fig
+
+
 def save_figure(fig: Figure, path: str | Path, dpi: int = 110) -> Path:
-    """Save as PNG atomically and close the figure."""
+    """Save as PNG, atomically."""
     import io
 
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi)
-    plt.close(fig)
     atomic_write_bytes(Path(path), buf.getvalue())
     return Path(path)
