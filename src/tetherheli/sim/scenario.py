@@ -35,7 +35,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
+import numpy as np
+
 from .._io import read_toml
+from ..control import lqi
 from ..disturbances import (
     Disturbance,
     NoWind,
@@ -56,8 +59,10 @@ __all__ = [
     "paper_scenario",
 ]
 
-PAPER_QY = (1.0, 1.0, 1.0, 1.0, 10.0, 10.0, 10.0, 10.0)
-PAPER_RU = (1.0, 1.0, 1.0, 1.0)
+#: The paper's LQI weights (Sec. V-A, after eq 53) as the diagonals the scenario files list;
+#: the one source is ``control.lqi.PAPER_QY`` / ``PAPER_RU``.
+PAPER_QY: tuple[float, ...] = tuple(np.diag(lqi.PAPER_QY).tolist())
+PAPER_RU: tuple[float, ...] = tuple(np.diag(lqi.PAPER_RU).tolist())
 
 
 @dataclass(frozen=True)
