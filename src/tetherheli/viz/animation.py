@@ -25,8 +25,6 @@ import contextlib
 import csv
 import json
 import math
-import os
-import tempfile
 from collections.abc import Sequence
 from dataclasses import dataclass
 from numbers import Real
@@ -45,7 +43,7 @@ from matplotlib.ticker import MaxNLocator
 from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 from PIL import Image
 
-from .._io import check_output_file, record_output_file
+from .._io import atomic_path, check_output_file, record_output_file
 from ..errors import ParameterError
 from ..names import POSITION
 from ..params import HelicopterParams, Params
@@ -851,12 +849,6 @@ def _check_render_memory(n_frames: int, dpi: float, gif: bool) -> None:
     )
 
 
-def _umask() -> int:
-    mask = os.umask(0o022)  # the only portable way to read it is to set it and set it back
-    os.umask(mask)
-    return mask
-
-
 class _PalettePillowWriter(animation.PillowWriter):
     """Matplotlib's PillowWriter, keeping each grabbed frame palettised (1 byte per pixel).
 
@@ -876,20 +868,6 @@ def _writer(suffix: str, fps: float) -> animation.AbstractMovieWriter:
     if suffix == ".gif":
         return _PalettePillowWriter(fps=fps)
     return animation.writers[FORMATS[suffix]](fps=fps)
-
-
-@contextlib.contextmanager
-def _atomic_target(out: Path):
-    """Yield a temporary path beside ``out`` (same suffix); rename it to ``out`` on success."""
-    fd, tmp = tempfile.mkstemp(dir=out.parent, prefix=f".{out.stem}.", suffix=out.suffix)
-    os.close(fd)
-    try:
-        yield tmp
-        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; give the usual permissions
-        os.replace(tmp, out)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 def animate(
@@ -965,7 +943,7 @@ def animate(
         runs, times, rotor_radius=float(rotor_radius), wind_scale=wind_scale, dpi=float(dpi)
     )
     writer = _writer(suffix, playback)
-    with _atomic_target(out) as tmp, mpl.rc_context({"savefig.bbox": None}):
+    with atomic_path(out) as tmp, mpl.rc_context({"savefig.bbox": None}):
         writer.setup(scene.fig, tmp, dpi=float(dpi))  # may round the figure size (ffmpeg)
         try:
             scene.freeze_background()
@@ -1033,7 +1011,7 @@ def render_frame(
         dpi=float(dpi),
     )
     scene.update(0)
-    with _atomic_target(out) as tmp:
+    with atomic_path(out) as tmp:
         scene.fig.savefig(tmp, dpi=float(dpi))
     record_output_file(out, writer="animate")
     return out
