@@ -22,8 +22,6 @@ whole file has been written.
 from __future__ import annotations
 
 import contextlib
-import csv
-import json
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -45,9 +43,9 @@ from PIL import Image
 
 from .._io import atomic_path, check_output_file, record_output_file
 from ..errors import ParameterError
-from ..names import POSITION
 from ..params import HelicopterParams, Params
 from ..resources import check_memory
+from ..sim.result import list_results, load_result
 
 __all__ = [
     "HelicopterPoints",
@@ -60,19 +58,9 @@ __all__ = [
     "render_frame",
 ]
 
-#: Columns every result CSV must hold (``SimulationResult.columns``).
-REQUIRED_COLUMNS: tuple[str, ...] = (
-    "t",
-    *(f"q{i}" for i in range(1, 10)),
-    "TC",
-    "Fw1",
-    "Fw2",
-    "Fw3",
-)
 #: Output formats ``animate`` can write: file suffix -> Matplotlib writer name.
 FORMATS: dict[str, str] = {".gif": "pillow", ".mp4": "ffmpeg"}
 
-_RESULT_HINT = "<stem>.csv + <stem>.json result pairs written by SimulationResult.save"
 _RUN_COLOURS = ("tab:blue", "tab:red", "tab:purple", "tab:brown", "tab:pink", "tab:gray")
 _WIND_COLOUR = "darkorange"
 _TENSION_CMAP = "viridis"
@@ -230,110 +218,13 @@ class RunData:
         return helicopter_points(self.position, self.angles, self.helicopter)
 
 
-def _directory(directory: str | Path) -> Path:
-    path = Path(directory)
-    if not path.is_dir():
-        raise ParameterError(
-            "directory", str(path), f"an existing directory holding {_RESULT_HINT}"
-        )
-    return path
-
-
-def _read_json(path: Path) -> dict[str, Any]:
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise ParameterError(
-            "metadata", path.name, f"readable JSON ({exc})", source=str(path)
-        ) from None
-    if not isinstance(data, dict) or not isinstance(data.get("configuration"), dict):
-        raise ParameterError(
-            "metadata", path.name, "a JSON object with a 'configuration' table", source=str(path)
-        )
-    return data
-
-
-def _is_result(json_path: Path) -> bool:
-    try:
-        _read_json(json_path)
-    except ParameterError:
-        return False
-    return True
-
-
-def list_runs(directory: str | Path) -> list[str]:
-    """Stems of the saved runs in a directory, sorted.
-
-    A run is a ``<stem>.csv`` with a ``<stem>.json`` beside it whose JSON object has a
-    ``configuration`` table (as ``SimulationResult.save`` writes), in the directory or one
-    folder below it (``<name>/<stem>``, as ``tetherheli simulate`` writes several runs);
-    other files are ignored.
-
-    Raises
-    ------
-    ParameterError
-        If the directory does not exist.
-    """
-    path = _directory(directory)
-    stems = []
-    for csv_path in sorted([*path.glob("*.csv"), *path.glob("*/*.csv")]):
-        json_path = csv_path.with_suffix(".json")
-        if json_path.is_file() and _is_result(json_path):
-            stems.append(csv_path.relative_to(path).with_suffix("").as_posix())
-    return stems
-
-
-def _read_csv(path: Path) -> dict[str, np.ndarray]:
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ParameterError(
-            "csv", path.name, f"a readable UTF-8 CSV file ({exc})", source=str(path)
-        ) from None
-    rows = list(csv.reader(text.splitlines()))
-    src = str(path)
-    if not rows:
-        raise ParameterError("csv", "empty file", "a header row and data rows", source=src)
-    header = [h.strip() for h in rows[0]]
-    missing = [c for c in REQUIRED_COLUMNS if c not in header]
-    if missing:
-        raise ParameterError(
-            "csv header", ",".join(missing), f"columns {', '.join(REQUIRED_COLUMNS)}", source=src
-        )
-    body = [r for r in rows[1:] if r]
-    if not body:
-        raise ParameterError("csv", "no data rows", "at least one row of samples", source=src)
-    values = np.empty((len(body), len(header)))
-    for k, row in enumerate(body):
-        if len(row) != len(header):
-            raise ParameterError(
-                f"csv line {k + 2}", f"{len(row)} fields", f"{len(header)} fields", source=src
-            )
-        try:
-            values[k] = [float(v) for v in row]
-        except ValueError:
-            raise ParameterError(
-                f"csv line {k + 2}", ",".join(row)[:60], "numbers", source=src
-            ) from None
-    cols = {name: values[:, j] for j, name in enumerate(header)}
-    for name in REQUIRED_COLUMNS:
-        bad = np.flatnonzero(~np.isfinite(cols[name]))
-        if bad.size:
-            raise ParameterError(
-                f"csv line {bad[0] + 2} column {name}",
-                cols[name][bad[0]],
-                "a finite number",
-                source=src,
-            )
-    if np.any(np.diff(cols["t"]) <= 0.0):
-        raise ParameterError(
-            "csv column t", "not increasing", "strictly increasing times", source=src
-        )
-    return cols
+#: The stems of the runs saved in a directory (``tetherheli.sim.list_results``).
+list_runs = list_results
 
 
 def load_run(directory: str | Path, stem: str | None = None) -> RunData:
-    """Read one run saved by ``SimulationResult.save(directory, stem)``.
+    """Read one run saved by ``SimulationResult.save(directory, stem)``, through
+    ``tetherheli.sim.load_result``, as much of it as the animation draws.
 
     Parameters
     ----------
@@ -348,78 +239,47 @@ def load_run(directory: str | Path, stem: str | None = None) -> RunData:
     ------
     ParameterError
         If the directory is missing or holds no (or, with ``stem=None``, several) runs, or a
-        file is malformed (the message names the file and what is expected).
+        file is malformed or holds no samples (the message names the file and what is
+        expected).
     """
-    path = _directory(directory)
-    if stem is None:
-        stems = list_runs(path)
-        if not stems:
-            raise ParameterError("directory", str(path), f"a directory with {_RESULT_HINT}")
-        if len(stems) > 1:
-            raise ParameterError(
-                "stem", None, f"one of {stems} (the directory holds several)", source=str(path)
-            )
-        stem = stems[0]
-    elif stem not in list_runs(path):  # a name, never a path of the user's choosing
-        raise ParameterError("stem", stem, f"one of {list_runs(path)}", source=str(path))
-    csv_path, json_path = path / f"{stem}.csv", path / f"{stem}.json"
-    meta = _read_json(json_path)
-    cfg = meta["configuration"]
-    kind = cfg.get("configuration")
-    if kind not in ("free", "tethered"):
+    result = load_result(directory, stem)
+    path = Path(directory)
+    stem = stem if stem is not None else list_results(path)[0]
+    if result.time.size == 0:
         raise ParameterError(
-            "configuration.configuration", kind, "'free' or 'tethered'", source=str(json_path)
+            "csv", "no data rows", "at least one row of samples", source=str(path / f"{stem}.csv")
         )
-    params = cfg.get("params")
     helicopter = Params.paper().helicopter
+    params = result.configuration.get("params")
     if isinstance(params, dict) and isinstance(params.get("helicopter"), dict):
         helicopter = Params.from_mapping(
-            {"helicopter": params["helicopter"]}, source=str(json_path)
+            {"helicopter": params["helicopter"]}, source=str(path / f"{stem}.json")
         ).helicopter
-    cols = _read_csv(csv_path)
-    q = np.column_stack([cols[f"q{i}"] for i in range(1, 10)])
-    trim_position = q[0, :3].copy()
-    trim_out = meta.get("trim", {}).get("output") if isinstance(meta.get("trim"), dict) else None
-    if isinstance(trim_out, dict):
-        try:
-            trim_position = np.array([float(trim_out[k]) for k in POSITION])
-        except (KeyError, TypeError, ValueError):
-            raise ParameterError(
-                "trim.output", trim_out, "numbers q1, q2, q3 [m]", source=str(json_path)
-            ) from None
     return RunData(
         stem=stem,
-        name=str(cfg.get("name", stem)),
-        configuration=kind,
-        time=cols["t"],
-        q=q,
-        wind=np.column_stack([cols["Fw1"], cols["Fw2"], cols["Fw3"]]),
-        tension=cols["TC"],
-        trim_position=trim_position,
+        name=str(result.configuration.get("name", stem)),
+        configuration=result.configuration["configuration"],
+        time=result.time,
+        q=np.column_stack([result.outputs[:, :3], result.states[:, :6]]),
+        wind=result.wind,
+        tension=result.tension,
+        trim_position=result.trim_output[:3],
         helicopter=helicopter,
-        status=_status(meta.get("status", 0), json_path),
-        message=str(meta.get("message", "")),
-        version=str(meta.get("tetherheli_version", "unknown")),
+        status=result.status,
+        message=result.message,
+        version=result.version,
     )
 
 
-def _status(value: Any, json_path: Path) -> int:
-    if isinstance(value, bool) or not isinstance(value, int):
-        raise ParameterError("status", value, "an integer status code", source=str(json_path))
-    return value
-
-
 def _load_runs(directory: str | Path, stems: Sequence[str] | None) -> list[RunData]:
-    path = _directory(directory)
+    available = list_results(directory)
     if stems is None:
-        stems = list_runs(path)
-        if not stems:
-            raise ParameterError("directory", str(path), f"a directory with {_RESULT_HINT}")
+        if not available:
+            load_result(directory)  # raises: no runs, naming what a result directory holds
+        stems = available
     elif isinstance(stems, str) or len(stems) == 0:
-        raise ParameterError(
-            "stems", stems, f"a non-empty list of run stems from {list_runs(path)}"
-        )
-    return [load_run(path, s) for s in stems]
+        raise ParameterError("stems", stems, f"a non-empty list of run stems from {available}")
+    return [load_run(directory, s) for s in stems]
 
 
 # --- drawing ------------------------------------------------------------------------------
