@@ -43,6 +43,7 @@ from PIL import Image
 
 from .._io import atomic_path, check_output_file, record_output_file
 from ..errors import ParameterError
+from ..model.kinematics import HelicopterPoints, direction_cosines, helicopter_points
 from ..params import HelicopterParams, Params
 from ..resources import check_memory
 from ..sim.result import list_results, load_result
@@ -68,93 +69,6 @@ _SLACK = 1e-9  # [N] a tension at or below this is drawn as a slack tether
 _WIND_ARROW = 1.0  # [m] drawn length of the largest wind force when auto-scaling
 _ZOOM = 1.15  # the close-up box fills more of its panel than Matplotlib's default
 _MARGIN = 0.3  # [m] free space around the drawn helicopter(s) in the close-up
-
-
-# --- geometry -----------------------------------------------------------------------------
-
-
-def direction_cosines(q4: Any, q5: Any, q6: Any) -> np.ndarray:
-    """Direction cosine matrix of the fuselage frame F in N (paper Table I, body-1-2-3).
-
-    Parameters
-    ----------
-    q4, q5, q6 : float or array of shape (...,)
-        Roll, pitch, yaw Euler angles [rad], broadcast together.
-
-    Returns
-    -------
-    ndarray, shape (..., 3, 3)
-        ``R`` with column j holding f_j in N components, so that a vector with F components
-        ``v_F`` has N components ``R @ v_F``.
-    """
-    q4, q5, q6 = np.broadcast_arrays(*(np.asarray(q, dtype=float) for q in (q4, q5, q6)))
-    s4, c4 = np.sin(q4), np.cos(q4)
-    s5, c5 = np.sin(q5), np.cos(q5)
-    s6, c6 = np.sin(q6), np.cos(q6)
-    rows = (
-        (c5 * c6, -c5 * s6, s5),
-        (c4 * s6 + s4 * s5 * c6, c4 * c6 - s4 * s5 * s6, -s4 * c5),
-        (s4 * s6 - c4 * s5 * c6, s4 * c6 + c4 * s5 * s6, c4 * c5),
-    )
-    return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
-
-
-@dataclass(frozen=True, eq=False)
-class HelicopterPoints:
-    """Positions of the helicopter's named points from NO, in N components [m], each (..., 3).
-
-    Attributes
-    ----------
-    N_p_HO : centre of mass of the whole helicopter (q1, q2, q3)
-    N_p_O : reference point of the fuselage (eq 2)
-    N_p_MRO : main-rotor centre
-    N_p_TRO : tail-rotor centre
-    N_p_P : tether attachment point
-    N_R_F : (..., 3, 3) direction cosine matrix of F in N (column j = f_j), Table I
-    """
-
-    N_p_HO: np.ndarray
-    N_p_O: np.ndarray
-    N_p_MRO: np.ndarray
-    N_p_TRO: np.ndarray
-    N_p_P: np.ndarray
-    N_R_F: np.ndarray
-
-
-def helicopter_points(
-    position: Any, angles: Any, helicopter: HelicopterParams | None = None
-) -> HelicopterPoints:
-    """Where O, MRO, TRO and P are for a helicopter whose centre of mass HO is at ``position``.
-
-    Parameters
-    ----------
-    position : array_like, shape (..., 3)
-        HO in N: (q1, q2, q3) [m] (eq 4; eqs 43-45 for the tethered coordinates).
-    angles : array_like, shape (..., 3)
-        Euler angles (q4, q5, q6) [rad] (Table I).
-    helicopter : HelicopterParams, optional
-        The f-axis offsets dO-HO,3, dO-MRO,3, dO-TRO,1, dO-P,3 (Table II, eqs 2-3). Default:
-        the paper's values.
-
-    Returns
-    -------
-    HelicopterPoints
-        With P = HO + (dO-P,3 - dO-HO,3) f3, which equals q9 c3 for a tethered state (eq 45).
-    """
-    h = helicopter if helicopter is not None else Params.paper().helicopter
-    N_p_HO = np.asarray(position, dtype=float)
-    q = np.asarray(angles, dtype=float)
-    N_R_F = direction_cosines(q[..., 0], q[..., 1], q[..., 2])
-    f1, f3 = N_R_F[..., :, 0], N_R_F[..., :, 2]
-    N_p_O = N_p_HO - h.d_O_HO3 * f3
-    return HelicopterPoints(
-        N_p_HO=N_p_HO,
-        N_p_O=N_p_O,
-        N_p_MRO=N_p_O + h.d_O_MRO3 * f3,
-        N_p_TRO=N_p_O + h.d_O_TRO1 * f1,
-        N_p_P=N_p_O + h.d_O_P3 * f3,
-        N_R_F=N_R_F,
-    )
 
 
 # --- loading ------------------------------------------------------------------------------
