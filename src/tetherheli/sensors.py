@@ -63,6 +63,7 @@ from typing import Any
 import numpy as np
 
 from ._compile import compiled
+from ._validation import check_integer, check_number, check_vector
 from .errors import ParameterError
 from .model.kernels import kinematics_dcm, kinematics_tether_length, kinematics_tethered_HO
 from .model.kinematics import tether_length_from_altitude, tethered_HO_position
@@ -140,39 +141,6 @@ POSITION_SOURCES: Mapping[str, int] = MappingProxyType(
 
 _SECTION = "sensors"
 _DEG = math.pi / 180.0
-
-
-def _is_real(value: object) -> bool:
-    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(
-        value, (bool, np.bool_)
-    )
-
-
-def _scalar(name: str, value: object, *, nonnegative: bool) -> float:
-    allowed = "a finite number >= 0" if nonnegative else "a finite number"
-    if not _is_real(value):
-        raise ParameterError(f"{_SECTION}.{name}", value, allowed)
-    out = float(value)  # type: ignore[arg-type]
-    if not math.isfinite(out) or (nonnegative and out < 0.0):
-        raise ParameterError(f"{_SECTION}.{name}", value, allowed)
-    return out
-
-
-def _triple(name: str, value: object, *, nonnegative: bool) -> tuple[float, float, float]:
-    allowed = "3 finite numbers" + (" >= 0" if nonnegative else "") + " [n1, n2, n3]"
-    if isinstance(value, np.ndarray):
-        value = value.tolist()
-    if not isinstance(value, (list, tuple)) or len(value) != 3:
-        raise ParameterError(f"{_SECTION}.{name}", value, allowed)
-    out = []
-    for item in value:
-        if not _is_real(item):
-            raise ParameterError(f"{_SECTION}.{name}", value, allowed)
-        v = float(item)
-        if not math.isfinite(v) or (nonnegative and v < 0.0):
-            raise ParameterError(f"{_SECTION}.{name}", value, allowed)
-        out.append(v)
-    return (out[0], out[1], out[2])
 
 
 #: field name -> (kind, nonnegative); kind "scalar" or "triple". Drives validation.
@@ -254,11 +222,11 @@ class SensorConfig:
                 f"{_SECTION}.position_source", source, f"one of {sorted(POSITION_SOURCES)}"
             )
         for name, (kind, nonnegative) in _NUMERIC_FIELDS.items():
-            value = getattr(self, name)
+            value, low = getattr(self, name), 0.0 if nonnegative else None
             if kind == "scalar":
-                checked: object = _scalar(name, value, nonnegative=nonnegative)
+                checked: object = check_number(f"{_SECTION}.{name}", value, low=low)
             else:
-                checked = _triple(name, value, nonnegative=nonnegative)
+                checked = check_vector(f"{_SECTION}.{name}", value, 3, low=low, unit="[n1, n2, n3]")
             object.__setattr__(self, name, checked)
 
     # --- presets ------------------------------------------------------------------------------
@@ -461,10 +429,7 @@ def noise_table(config: SensorConfig, n_samples: int, rng: np.random.Generator) 
     """
     if not isinstance(config, SensorConfig):
         raise ParameterError("config", config, "a SensorConfig")
-    if not isinstance(n_samples, (int, np.integer)) or isinstance(n_samples, bool):
-        raise ParameterError("n_samples", n_samples, "an integer >= 0")
-    if n_samples < 0:
-        raise ParameterError("n_samples", n_samples, "an integer >= 0")
+    n_samples = check_integer("n_samples", n_samples, low=0)
     if not isinstance(rng, np.random.Generator):
         raise ParameterError("rng", rng, "a numpy.random.Generator")
     z = rng.standard_normal((int(n_samples) + 1, N_CHANNELS))
@@ -650,10 +615,10 @@ def hover_error_std(
     if not isinstance(config, SensorConfig):
         raise ParameterError("config", config, "a SensorConfig")
     values = {"q9": q9, "arm": arm, "q4": q4, "q5": q5, "q7": q7, "q8": q8}
-    for name, value in values.items():
-        if not _is_real(value) or not math.isfinite(float(value)):
-            raise ParameterError(name, value, "a finite number")
-    q9 = check_tether_length(float(q9), "q9")
+    q4, q5, q7, q8, arm = (
+        check_number(name, values[name]) for name in ("q4", "q5", "q7", "q8", "arm")
+    )
+    q9 = check_tether_length(q9, "q9")
     if math.cos(q7) * math.cos(q8) <= 1e-9:
         raise ParameterError("q7, q8", (q7, q8), "angles with cos q7 cos q8 > 0")
     jac = _tether_estimate_jacobian(q4, q5, q7, q8, q9, arm)

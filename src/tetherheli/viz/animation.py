@@ -25,7 +25,6 @@ import contextlib
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from numbers import Real
 from pathlib import Path
 from typing import Any, Literal
 
@@ -42,6 +41,7 @@ from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 from PIL import Image
 
 from .._io import atomic_path, check_output_file, record_output_file
+from .._validation import check_integer, check_number
 from ..errors import ParameterError
 from ..model.kinematics import HelicopterPoints, direction_cosines, helicopter_points
 from ..params import HelicopterParams, Params
@@ -585,20 +585,25 @@ class _Scene:
 # --- public entry points ------------------------------------------------------------------
 
 
-def _positive(name: str, value: Any, *, integer: bool = False) -> None:
-    ok = not isinstance(value, bool) and isinstance(value, Real) and math.isfinite(value)
-    if integer:
-        ok = ok and float(value).is_integer()
-    if not ok or value <= 0:
-        raise ParameterError(name, value, "a positive integer" if integer else "a number > 0")
-
-
 #: Upper bounds of the rendering options: GIF frame delays are whole centiseconds (100 fps at
 #: most); the frame count and resolution bound the time and memory of a render.
 MAX_FPS = 100.0
 MAX_FRAMES = 20_000
 MAX_DPI = 600.0
 _FIGURE_INCHES = (10.0, 6.0)
+
+
+def _drawing_options(
+    dpi: Any, rotor_radius: Any, wind_scale: Any
+) -> tuple[float, float, float | None]:
+    """The checked dpi, rotor radius [m] and wind scale [m/N] (None: automatic)."""
+    return (
+        check_number("dpi", dpi, low=0.0, low_open=True, high=MAX_DPI),
+        check_number("rotor_radius", rotor_radius, low=0.0, low_open=True),
+        None
+        if wind_scale is None
+        else check_number("wind_scale", wind_scale, low=0.0, low_open=True),
+    )
 
 
 def _output_path(output: str | Path, allowed: str) -> Path:
@@ -684,21 +689,10 @@ def animate(
         For a missing or empty result directory, malformed result files, an unsupported
         output format (or MP4 without ffmpeg), or invalid options.
     """
-    for name, value in (
-        ("fps", fps),
-        ("speed", speed),
-        ("dpi", dpi),
-        ("rotor_radius", rotor_radius),
-    ):
-        _positive(name, value)
-    _positive("max_frames", max_frames, integer=True)
-    for name, value, high in (("fps", fps, MAX_FPS), ("max_frames", max_frames, MAX_FRAMES)):
-        if value > high:
-            raise ParameterError(name, value, f"at most {high:g}")
-    if dpi > MAX_DPI:
-        raise ParameterError("dpi", dpi, f"at most {MAX_DPI:g}")
-    if wind_scale is not None:
-        _positive("wind_scale", wind_scale)
+    fps = check_number("fps", fps, low=0.0, low_open=True, high=MAX_FPS)
+    speed = check_number("speed", speed, low=0.0, low_open=True)
+    max_frames = check_integer("max_frames", max_frames, low=1, high=MAX_FRAMES)
+    dpi, rotor_radius, wind_scale = _drawing_options(dpi, rotor_radius, wind_scale)
     allowed = "'.gif' (Pillow) or '.mp4' (needs ffmpeg)"
     out = _output_path(output, allowed)
     suffix = out.suffix.lower()
@@ -711,14 +705,12 @@ def animate(
             "'.gif' (ffmpeg is not installed, so '.mp4' cannot be written)",
         )
     runs = _load_runs(directory, stems)
-    times, playback = _frame_times(runs, float(fps), float(speed), int(max_frames))
-    _check_render_memory(len(times), float(dpi), gif=suffix == ".gif")
-    scene = _Scene(
-        runs, times, rotor_radius=float(rotor_radius), wind_scale=wind_scale, dpi=float(dpi)
-    )
+    times, playback = _frame_times(runs, fps, speed, max_frames)
+    _check_render_memory(len(times), dpi, gif=suffix == ".gif")
+    scene = _Scene(runs, times, rotor_radius=rotor_radius, wind_scale=wind_scale, dpi=dpi)
     writer = _writer(suffix, playback)
     with atomic_path(out) as tmp, mpl.rc_context({"savefig.bbox": None}):
-        writer.setup(scene.fig, tmp, dpi=float(dpi))  # may round the figure size (ffmpeg)
+        writer.setup(scene.fig, tmp, dpi=dpi)  # may round the figure size (ffmpeg)
         try:
             scene.freeze_background()
             for k in range(len(times)):
@@ -760,12 +752,7 @@ def render_frame(
     ParameterError
         As ``animate``, and for a time outside the runs or an unknown image format.
     """
-    for name, value in (("dpi", dpi), ("rotor_radius", rotor_radius)):
-        _positive(name, value)
-    if dpi > MAX_DPI:
-        raise ParameterError("dpi", dpi, f"at most {MAX_DPI:g}")
-    if wind_scale is not None:
-        _positive("wind_scale", wind_scale)
+    dpi, rotor_radius, wind_scale = _drawing_options(dpi, rotor_radius, wind_scale)
     out = _output_path(output, "an image file such as .png")
     formats = FigureCanvasAgg(Figure()).get_supported_filetypes()
     if out.suffix.lower().lstrip(".") not in formats:
@@ -775,17 +762,12 @@ def render_frame(
     runs = _load_runs(directory, stems)
     t0 = min(float(r.time[0]) for r in runs)
     t1 = max(float(r.time[-1]) for r in runs)
-    if isinstance(time, bool) or not isinstance(time, Real) or not t0 <= time <= t1:
-        raise ParameterError("time", time, f"a time in [{t0:g}, {t1:g}] s")
+    time = check_number("time", time, low=t0, high=t1, unit="s")
     scene = _Scene(
-        runs,
-        np.array([float(time)]),
-        rotor_radius=float(rotor_radius),
-        wind_scale=wind_scale,
-        dpi=float(dpi),
+        runs, np.array([time]), rotor_radius=rotor_radius, wind_scale=wind_scale, dpi=dpi
     )
     scene.update(0)
     with atomic_path(out) as tmp:
-        scene.fig.savefig(tmp, dpi=float(dpi))
+        scene.fig.savefig(tmp, dpi=dpi)
     record_output_file(out, writer="animate")
     return out
