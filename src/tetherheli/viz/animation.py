@@ -2,21 +2,22 @@
 
 The animation only reads results written by ``SimulationResult.save(directory, stem)``: one
 ``<stem>.csv`` (time series, SI units, angles in rad) and one ``<stem>.json`` (configuration,
-trim, version, status) per run. Several runs of one directory are overlaid in one scene, each
-helicopter in its own colour, so that the free and the tethered responses to the same wind
-can be compared as in the paper's Sec. VI.
+trim, version, status) per run, read through ``tetherheli.sim.load_result``. Several runs of
+one directory are overlaid in one scene, each helicopter in its own colour, so that the free
+and the tethered responses to the same wind can be compared as in the paper's Sec. VI.
 
 Geometry (paper Tables I-II, eqs 2-3, 43-45; see ``docs/notation.md``): N is the inertial frame
 (n3 up) with the ground winch at its origin NO; HO, the helicopter's centre of mass, is at
 (q1, q2, q3); the fuselage frame F follows from the body-1-2-3 Euler angles q4, q5, q6. The
 reference point O lies at HO - dO-HO,3 f3; the rotor centre MRO at O + dO-MRO,3 f3, the tail
-rotor TRO at O + dO-TRO,1 f1 and the tether attachment P at O + dO-P,3 f3. Everything is drawn
+rotor TRO at O + dO-TRO,1 f1 and the tether attachment P at O + dO-P,3 f3; these positions
+come from the code generated from the derivation (``model.kinematics``). Everything is drawn
 at true scale; the camera is fixed around the trim point.
 
 Rendering uses Matplotlib's Agg canvas directly (no pyplot, no display, no global backend
 change). GIF files are written with Pillow; MP4 files need ffmpeg. Output files are written
-atomically: a temporary file in the target folder is renamed over the target only when the
-whole file has been written.
+atomically (``_io.atomic_path``): a temporary file in the target folder is renamed over the
+target only when the whole file has been written.
 """
 
 from __future__ import annotations
