@@ -85,7 +85,11 @@ def write_run(
             "duration": duration,
             "params": Params.paper().to_dict(),
         },
-        "trim": {"output": {"q1": 0.0, "q2": -0.0189, "q3": 10.2, "q6": 0.0}},
+        "trim": {
+            "state": dict.fromkeys(COLUMNS[1:14], 0.0),
+            "input": dict.fromkeys(COLUMNS[17:21], 0.0),
+            "output": {"q1": 0.0, "q2": -0.0189, "q3": 10.2, "q6": 0.0},
+        },
     }
     (directory / f"{stem}.json").write_text(json.dumps(meta))
 

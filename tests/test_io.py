@@ -36,8 +36,14 @@ def test_file_synced_before_rename_and_folder_after(tmp_path: Path, events: list
     with _io.atomic_open(tmp_path / "b.csv") as fh:
         fh.write("x\n")
     assert events == ["fsync file", "rename", "fsync dir"]
+    events.clear()
+    with _io.atomic_path(tmp_path / "c.gif") as tmp:  # for writers that take a file name
+        assert tmp.parent == tmp_path and tmp.suffix == ".gif"
+        tmp.write_bytes(b"GIF")
+    assert events == ["fsync file", "rename", "fsync dir"]
     assert (tmp_path / "a.txt").read_text() == "one\n" and (tmp_path / "b.csv").read_text() == "x\n"
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.txt", "b.csv"]
+    assert (tmp_path / "c.gif").read_bytes() == b"GIF"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.txt", "b.csv", "c.gif"]
 
 
 def test_failed_write_leaves_the_old_file(tmp_path: Path, events: list[str]):
@@ -48,3 +54,13 @@ def test_failed_write_leaves_the_old_file(tmp_path: Path, events: list[str]):
         raise RuntimeError("boom")
     assert target.read_text() == "old\n" and events == []
     assert [p.name for p in tmp_path.iterdir()] == ["r.csv"]
+
+
+def test_failed_path_write_leaves_the_old_file(tmp_path: Path, events: list[str]):
+    target = tmp_path / "a.gif"
+    target.write_bytes(b"old")
+    with pytest.raises(RuntimeError), _io.atomic_path(target) as tmp:
+        tmp.write_bytes(b"half")
+        raise RuntimeError("boom")
+    assert target.read_bytes() == b"old" and events == []
+    assert [p.name for p in tmp_path.iterdir()] == ["a.gif"]

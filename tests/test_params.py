@@ -73,7 +73,7 @@ def test_toml_override(tmp_path, paper):
         ("[tether]\nK_C = 0.0\n", "tether.K_C = 0.0"),
         ("[helicopter]\nm_F = -1.0\n", "helicopter.m_F"),
         ("[helicopter]\nI_F11 = 0.0\n", "helicopter.I_F11"),
-        ("[helicopter]\nm_F = 'heavy'\n", "a real number"),
+        ("[helicopter]\nm_F = 'heavy'\n", "a finite number > 0"),
         ("[helicopter]\nm_F = nan\n", "finite"),
         ("[rotor]\nx = 1\n", "rotor"),
         ("helicopter = 3\n", "a table"),

@@ -24,7 +24,7 @@ from .params import HelicopterParams, Params, TensionControlParams, TetherParams
 
 if TYPE_CHECKING:
     from .model import FreeHelicopter, LinearModel, TetheredHelicopter, TrimPoint, linearize
-    from .sim import Scenario, SimulationResult, load_scenario, simulate
+    from .sim import Scenario, SimulationResult, load_result, load_scenario, simulate
 
 _LAZY = {
     "FreeHelicopter": ".model",
@@ -34,6 +34,7 @@ _LAZY = {
     "linearize": ".model",
     "Scenario": ".sim",
     "SimulationResult": ".sim",
+    "load_result": ".sim",
     "load_scenario": ".sim",
     "simulate": ".sim",
 }
@@ -55,6 +56,7 @@ __all__ = [
     "TrimPoint",
     "__version__",
     "linearize",
+    "load_result",
     "load_scenario",
     "simulate",
 ]

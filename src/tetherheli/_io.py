@@ -24,6 +24,7 @@ __all__ = [
     "OUTPUT_RECORD",
     "OutputPathError",
     "atomic_open",
+    "atomic_path",
     "atomic_write_bytes",
     "atomic_write_text",
     "check_output_file",
@@ -86,6 +87,12 @@ def _commit(fh: IO, tmp: str, path: Path) -> None:
     fh.flush()
     os.fsync(fh.fileno())
     fh.close()
+    _rename_into_place(tmp, path)
+
+
+def _rename_into_place(tmp: str, path: Path) -> None:
+    """Give the synced temporary file ``tmp`` the usual permissions, rename it to ``path`` and
+    fsync the folder."""
     os.chmod(tmp, 0o666 & ~_umask())  # mkstemp creates 0600; give the usual permissions
     os.replace(tmp, path)
     _fsync_directory(path.parent)
@@ -122,6 +129,28 @@ def atomic_open(path: str | Path, mode: str = "w") -> Iterator[IO]:
         with os.fdopen(fd, mode, **kw) as fh:
             yield fh
             _commit(fh, tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+@contextlib.contextmanager
+def atomic_path(path: str | Path) -> Iterator[Path]:
+    """A temporary path beside ``path`` (same suffix, so writers that pick a format by suffix
+    work) for a writer that takes a file name; on success the file is fsynced and renamed to
+    ``path`` as by ``atomic_write_bytes``; on any error it is removed and ``path`` is
+    untouched."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=path.suffix)
+    os.close(fd)
+    try:
+        yield Path(tmp)
+        fd = os.open(tmp, os.O_RDONLY)
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+        _rename_into_place(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise

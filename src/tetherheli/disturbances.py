@@ -48,6 +48,7 @@ from typing import Any, ClassVar
 import numpy as np
 import scipy.linalg
 
+from ._validation import check_integer, check_number, check_vector
 from .errors import ParameterError
 
 __all__ = [
@@ -77,59 +78,9 @@ _FT = 0.3048  # metres per foot (exact)
 # --------------------------------------------------------------------------------------------
 
 
-def _is_real(value: object) -> bool:
-    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(
-        value, (bool, np.bool_)
-    )
-
-
-def _real(
-    where: str,
-    value: object,
-    *,
-    minimum: float | None = None,
-    strict: bool = False,
-    maximum: float | None = None,
-    allowed: str | None = None,
-) -> float:
-    """A finite float, optionally bounded below (``strict``: exclusive) and above; ``allowed``
-    replaces the generated description of the range in the error."""
-    if not _is_real(value):
-        raise ParameterError(where, value, "a real number")
-    x = float(value)  # type: ignore[arg-type]
-    if not math.isfinite(x):
-        raise ParameterError(where, value, "a finite number")
-    if minimum is not None:
-        bad = x <= minimum if strict else x < minimum
-        if bad:
-            op = ">" if strict else ">="
-            extra = f" and <= {maximum:g}" if maximum is not None else ""
-            raise ParameterError(
-                where, value, allowed or f"a finite number {op} {minimum:g}{extra}"
-            )
-    if maximum is not None and x > maximum:
-        raise ParameterError(where, value, allowed or f"a finite number <= {maximum:g}")
-    return x
-
-
-def _vec3(where: str, value: object, *, nonzero: bool = False, nonnegative: bool = False) -> Vec3:
-    """Three finite floats (a list, tuple or array of shape (3,))."""
-    seq = value.tolist() if isinstance(value, np.ndarray) else value
-    if not isinstance(seq, (list, tuple)) or len(seq) != 3 or not all(_is_real(v) for v in seq):
-        raise ParameterError(where, value, "a sequence of 3 real numbers")
-    vec = tuple(float(v) for v in seq)
-    if not all(math.isfinite(v) for v in vec):
-        raise ParameterError(where, value, "3 finite numbers")
-    if nonnegative and any(v < 0.0 for v in vec):
-        raise ParameterError(where, value, "3 finite numbers >= 0")
-    if nonzero and not any(vec):
-        raise ParameterError(where, value, "a nonzero vector")
-    return vec  # type: ignore[return-value]
-
-
 def _unit(where: str, value: object) -> Vec3:
     """Normalise a nonzero 3-vector; idempotent (a unit vector is returned unchanged)."""
-    vec = _vec3(where, value, nonzero=True)
+    vec = check_vector(where, value, 3, nonzero=True)
     norm = math.sqrt(sum(v * v for v in vec))
     if abs(norm - 1.0) <= 4.0 * np.finfo(float).eps:
         return vec
@@ -296,9 +247,11 @@ class Pulse(Disturbance):
     direction: Vec3
 
     def __post_init__(self) -> None:
-        _set(self, "start", _real("Pulse.start", self.start, minimum=0.0))
-        _set(self, "duration", _real("Pulse.duration", self.duration, minimum=0.0, strict=True))
-        _set(self, "magnitude", _real("Pulse.magnitude", self.magnitude))
+        _set(self, "start", check_number("Pulse.start", self.start, low=0.0))
+        _set(
+            self, "duration", check_number("Pulse.duration", self.duration, low=0.0, low_open=True)
+        )
+        _set(self, "magnitude", check_number("Pulse.magnitude", self.magnitude))
         _set(self, "direction", _unit("Pulse.direction", self.direction))
 
     def _force(self, t: np.ndarray) -> np.ndarray:
@@ -331,8 +284,8 @@ class Step(Disturbance):
     direction: Vec3
 
     def __post_init__(self) -> None:
-        _set(self, "start", _real("Step.start", self.start, minimum=0.0))
-        _set(self, "magnitude", _real("Step.magnitude", self.magnitude))
+        _set(self, "start", check_number("Step.start", self.start, low=0.0))
+        _set(self, "magnitude", check_number("Step.magnitude", self.magnitude))
         _set(self, "direction", _unit("Step.direction", self.direction))
 
     def _force(self, t: np.ndarray) -> np.ndarray:
@@ -377,11 +330,11 @@ class Sine(Disturbance):
     phase: float = 0.0
 
     def __post_init__(self) -> None:
-        _set(self, "amplitude", _real("Sine.amplitude", self.amplitude))
-        _set(self, "frequency", _real("Sine.frequency", self.frequency, minimum=0.0))
-        _set(self, "start", _real("Sine.start", self.start, minimum=0.0))
+        _set(self, "amplitude", check_number("Sine.amplitude", self.amplitude))
+        _set(self, "frequency", check_number("Sine.frequency", self.frequency, low=0.0))
+        _set(self, "start", check_number("Sine.start", self.start, low=0.0))
         _set(self, "direction", _unit("Sine.direction", self.direction))
-        _set(self, "phase", _real("Sine.phase", self.phase))
+        _set(self, "phase", check_number("Sine.phase", self.phase))
 
     def _force(self, t: np.ndarray) -> np.ndarray:
         value = self.amplitude * np.sin(2.0 * np.pi * self.frequency * t + self.phase)
@@ -407,7 +360,7 @@ class ConstantForce(Disturbance):
     vector: Vec3
 
     def __post_init__(self) -> None:
-        _set(self, "vector", _vec3("ConstantForce.vector", self.vector))
+        _set(self, "vector", check_vector("ConstantForce.vector", self.vector, 3))
 
     def _force(self, t: np.ndarray) -> np.ndarray:
         return np.tile(np.asarray(self.vector), (t.size, 1))
@@ -713,27 +666,27 @@ class DrydenGust(GustModel):
         _set(
             self,
             "altitude_m",
-            _real(
+            check_number(
                 "DrydenGust.altitude_m",
                 self.altitude_m,
-                minimum=10 * _FT,
-                maximum=1000 * _FT,
+                low=10 * _FT,
+                high=1000 * _FT,
                 allowed="3.048 <= h <= 304.8 [m] (10 to 1000 ft, MIL-F-8785C low altitude)",
             ),
         )
         _set(
             self,
             "wind_speed_20ft_mps",
-            _real(
-                "DrydenGust.wind_speed_20ft_mps", self.wind_speed_20ft_mps, minimum=0.0, strict=True
+            check_number(
+                "DrydenGust.wind_speed_20ft_mps", self.wind_speed_20ft_mps, low=0.0, low_open=True
             ),
         )
         _set(
             self,
             "airspeed_mps",
-            _real("DrydenGust.airspeed_mps", self.airspeed_mps, minimum=0.0, strict=True),
+            check_number("DrydenGust.airspeed_mps", self.airspeed_mps, low=0.0, low_open=True),
         )
-        _set(self, "heading_rad", _real("DrydenGust.heading_rad", self.heading_rad))
+        _set(self, "heading_rad", check_number("DrydenGust.heading_rad", self.heading_rad))
 
     @property
     def _h_ft(self) -> float:
@@ -822,10 +775,10 @@ class HoverTurbulence(GustModel):
     pole_rad_s: Vec3 = (0.5, 0.5, 0.5)
 
     def __post_init__(self) -> None:
-        _set(self, "gain", _vec3("HoverTurbulence.gain", self.gain, nonnegative=True))
-        pole = _vec3("HoverTurbulence.pole_rad_s", self.pole_rad_s)
-        if any(a <= 0.0 for a in pole):
-            raise ParameterError("HoverTurbulence.pole_rad_s", self.pole_rad_s, "3 numbers > 0")
+        _set(self, "gain", check_vector("HoverTurbulence.gain", self.gain, 3, low=0.0))
+        pole = check_vector(
+            "HoverTurbulence.pole_rad_s", self.pole_rad_s, 3, low=0.0, low_open=True
+        )
         _set(self, "pole_rad_s", pole)
 
     @property
@@ -862,8 +815,8 @@ class DragModel:
     rho: float = 1.225
 
     def __post_init__(self) -> None:
-        _set(self, "cd_area_m2", _vec3("DragModel.cd_area_m2", self.cd_area_m2, nonnegative=True))
-        _set(self, "rho", _real("DragModel.rho", self.rho, minimum=0.0, strict=True))
+        _set(self, "cd_area_m2", check_vector("DragModel.cd_area_m2", self.cd_area_m2, 3, low=0.0))
+        _set(self, "rho", check_number("DragModel.rho", self.rho, low=0.0, low_open=True))
 
     def force(self, N_v_air: np.ndarray, N_v_HO: np.ndarray | None = None) -> np.ndarray:
         """Drag force on HO.
@@ -940,19 +893,18 @@ class Turbulence(Disturbance):
             raise ParameterError("Turbulence.model", self.model, "a GustModel")
         if not isinstance(self.drag, DragModel):
             raise ParameterError("Turbulence.drag", self.drag, "a DragModel")
-        if not isinstance(self.seed, (int, np.integer)) or isinstance(self.seed, bool):
-            raise ParameterError("Turbulence.seed", self.seed, "an integer >= 0")
-        if self.seed < 0:
-            raise ParameterError("Turbulence.seed", self.seed, "an integer >= 0")
-        _set(self, "seed", int(self.seed))
+        _set(self, "seed", check_integer("Turbulence.seed", self.seed, low=0))
         key = self.spawn_key
-        if not isinstance(key, (list, tuple)) or not all(
-            isinstance(k, (int, np.integer)) and not isinstance(k, bool) and k >= 0 for k in key
-        ):
-            raise ParameterError("Turbulence.spawn_key", key, "a tuple of integers >= 0")
-        _set(self, "spawn_key", tuple(int(k) for k in key))
-        duration = _real("Turbulence.duration", self.duration, minimum=0.0, strict=True)
-        dt = _real("Turbulence.dt", self.dt, minimum=0.0, strict=True, maximum=duration)
+        allowed = "a tuple of integers >= 0"
+        if not isinstance(key, (list, tuple)):
+            raise ParameterError("Turbulence.spawn_key", key, allowed)
+        _set(
+            self,
+            "spawn_key",
+            tuple(check_integer("Turbulence.spawn_key", k, low=0, allowed=allowed) for k in key),
+        )
+        duration = check_number("Turbulence.duration", self.duration, low=0.0, low_open=True)
+        dt = check_number("Turbulence.dt", self.dt, low=0.0, low_open=True, high=duration)
         n = math.ceil(duration / dt - 1e-9)
         if n + 1 > _MAX_SAMPLES:
             raise ParameterError(
@@ -960,7 +912,7 @@ class Turbulence(Disturbance):
             )
         _set(self, "duration", duration)
         _set(self, "dt", dt)
-        _set(self, "N_v_mean_wind", _vec3("Turbulence.N_v_mean_wind", self.N_v_mean_wind))
+        _set(self, "N_v_mean_wind", check_vector("Turbulence.N_v_mean_wind", self.N_v_mean_wind, 3))
         gust = self.model.sample(dt * np.arange(n + 1), self.rng())
         gust.setflags(write=False)
         _set(self, "_gust", gust)
@@ -1052,26 +1004,19 @@ _GUST_MODELS: dict[str, type] = {cls.type_name: cls for cls in (DrydenGust, Hove
 
 
 def _convert(kind: str, value: Any, where: str, source: str | None) -> Any:
+    # types and finiteness here; each class checks its ranges in __post_init__
     if kind == "float":
-        if not _is_real(value):
-            raise ParameterError(where, value, "a real number", source=source)
-        return float(value)
+        return check_number(where, value, source=source)
     if kind == "Vec3":
-        if not isinstance(value, (list, tuple)) or len(value) != 3:
-            raise ParameterError(where, value, "an array of 3 real numbers", source=source)
-        if not all(_is_real(v) for v in value):
-            raise ParameterError(where, value, "an array of 3 real numbers", source=source)
-        return tuple(float(v) for v in value)
+        return check_vector(where, value, 3, source=source)
     if kind == "int":
-        if not isinstance(value, int) or isinstance(value, bool):
-            raise ParameterError(where, value, "an integer", source=source)
-        return value
+        return check_integer(where, value, source=source)
     if kind == "tuple[int, ...]":
-        if not isinstance(value, (list, tuple)) or not all(
-            isinstance(v, int) and not isinstance(v, bool) for v in value
-        ):
+        if not isinstance(value, (list, tuple)):
             raise ParameterError(where, value, "an array of integers", source=source)
-        return tuple(value)
+        return tuple(
+            check_integer(where, v, allowed="an array of integers", source=source) for v in value
+        )
     if kind == "GustModel":
         return _build_typed(value, _GUST_MODELS, where, source)
     if kind == "DragModel":

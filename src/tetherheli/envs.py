@@ -65,6 +65,7 @@ import gymnasium
 import numpy as np
 from gymnasium import spaces
 
+from ._validation import check_bool, check_number, check_vector
 from .disturbances import (
     Disturbance,
     DragModel,
@@ -108,16 +109,6 @@ WIND_KINDS = ("none", "pulse", "sine", "turbulence")
 
 _DEFAULT_ACTION_SCALE = (20.0, 2.0, 2.0, 5.0)
 _DEFAULT_DRAG = DragModel(cd_area_m2=(0.3, 0.3, 0.5))
-
-
-def _positive(name: str, value: object, *, allow_zero: bool = False) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise ParameterError(name, value, "a real number")
-    x = float(value)
-    ok = math.isfinite(x) and (x >= 0.0 if allow_zero else x > 0.0)
-    if not ok:
-        raise ParameterError(name, value, f"a finite number {'>=' if allow_zero else '>'} 0")
-    return x
 
 
 class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
@@ -198,25 +189,22 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             scenario = Scenario()
         if not isinstance(scenario, Scenario):
             raise ParameterError("scenario", scenario, "a tetherheli Scenario or None")
-        max_episode_time = _positive("max_episode_time", max_episode_time)
+        max_episode_time = check_number(
+            "max_episode_time", max_episode_time, low=0.0, low_open=True
+        )
         # validates that the episode is a whole number of samples
         self.scenario = scenario.replace(duration=max_episode_time, wind=NoWind())
         self.max_episode_time = max_episode_time
         self._kinds, self._fixed_wind = self._parse_wind(wind)
-        if not isinstance(residual, bool):
-            raise ParameterError("residual", residual, "True or False")
-        self.residual = residual
-        scale = np.asarray(action_scale, dtype=float)
-        if scale.shape != (4,) or not np.all(np.isfinite(scale)) or np.any(scale <= 0.0):
-            raise ParameterError("action_scale", action_scale, "4 finite numbers > 0")
-        self.action_scale = scale
-        self.max_wind_force = _positive("max_wind_force", max_wind_force, allow_zero=True)
-        self.max_mean_wind = _positive("max_mean_wind", max_mean_wind, allow_zero=True)
-        self.gust_dt = _positive("gust_dt", gust_dt)
-        self.effort_weight = _positive("effort_weight", effort_weight, allow_zero=True)
-        self.termination_penalty = _positive(
-            "termination_penalty", termination_penalty, allow_zero=True
+        self.residual = check_bool("residual", residual)
+        self.action_scale = np.array(
+            check_vector("action_scale", action_scale, 4, low=0.0, low_open=True)
         )
+        self.max_wind_force = check_number("max_wind_force", max_wind_force, low=0.0)
+        self.max_mean_wind = check_number("max_mean_wind", max_mean_wind, low=0.0)
+        self.gust_dt = check_number("gust_dt", gust_dt, low=0.0, low_open=True)
+        self.effort_weight = check_number("effort_weight", effort_weight, low=0.0)
+        self.termination_penalty = check_number("termination_penalty", termination_penalty, low=0.0)
         self.turbulence = HoverTurbulence() if turbulence is None else turbulence
         if not isinstance(self.turbulence, HoverTurbulence):
             raise ParameterError("turbulence", turbulence, "a HoverTurbulence or None")

@@ -76,6 +76,7 @@ from ._io import (
     read_toml,
     record_outputs,
 )
+from ._validation import check_bool, check_integer, check_number
 from ._version import __version__
 from .disturbances import (
     ConstantForce,
@@ -158,23 +159,6 @@ class MonteCarloConfig:
         return d
 
 
-def _num(key: str, value: Any, low: float, high: float, *, high_open: bool = False) -> float:
-    where = f"montecarlo.{key}"
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise ParameterError(where, value, "a finite number")
-    if value < low or (value >= high if high_open else value > high):
-        raise ParameterError(
-            where, value, f"a number in [{low:g}, {high:g}{')' if high_open else ']'}"
-        )
-    return float(value)
-
-
-def _int(key: str, value: Any, low: int, high: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
-        raise ParameterError(key, value, f"an integer in [{low}, {high}]")
-    return int(value)
-
-
 def montecarlo_config_from_dict(data: Any, *, source: str | None = None) -> MonteCarloConfig:
     """Validate a ``[montecarlo]`` table (see the module docstring).
 
@@ -191,23 +175,26 @@ def montecarlo_config_from_dict(data: Any, *, source: str | None = None) -> Mont
                 raise ParameterError(f"montecarlo.{k}", data[k], f"one of {sorted(_MC_KEYS)}")
         kw: dict[str, Any] = {}
         if "runs" in data:
-            kw["runs"] = _int("montecarlo.runs", data["runs"], 1, MAX_RUNS)
+            kw["runs"] = check_integer("montecarlo.runs", data["runs"], low=1, high=MAX_RUNS)
         if "seed" in data:
-            kw["seed"] = _int("montecarlo.seed", data["seed"], 0, 2**63 - 1)
+            kw["seed"] = check_integer("montecarlo.seed", data["seed"], low=0, high=2**63 - 1)
         if "amplitude_std_percent" in data:
-            kw["amplitude_std_percent"] = _num(
-                "amplitude_std_percent", data["amplitude_std_percent"], 0.0, 100.0
+            kw["amplitude_std_percent"] = check_number(
+                "montecarlo.amplitude_std_percent",
+                data["amplitude_std_percent"],
+                low=0.0,
+                high=100.0,
             )
         if "direction_std_deg" in data:
-            kw["direction_std_deg"] = _num("direction_std_deg", data["direction_std_deg"], 0, 180)
+            kw["direction_std_deg"] = check_number(
+                "montecarlo.direction_std_deg", data["direction_std_deg"], low=0.0, high=180.0
+            )
         if "random_phase" in data:
-            if not isinstance(data["random_phase"], bool):
-                raise ParameterError(
-                    "montecarlo.random_phase", data["random_phase"], "true or false"
-                )
-            kw["random_phase"] = data["random_phase"]
+            kw["random_phase"] = check_bool("montecarlo.random_phase", data["random_phase"])
         if "start_jitter_s" in data:
-            kw["start_jitter_s"] = _num("start_jitter_s", data["start_jitter_s"], 0, MAX_JITTER_S)
+            kw["start_jitter_s"] = check_number(
+                "montecarlo.start_jitter_s", data["start_jitter_s"], low=0.0, high=MAX_JITTER_S
+            )
         if "params" in data:
             p = data["params"]
             if not isinstance(p, dict):
@@ -219,7 +206,10 @@ def montecarlo_config_from_dict(data: Any, *, source: str | None = None) -> Mont
                     raise ParameterError(
                         f"montecarlo.params.{name}", pct, f"one of {sorted(known)}"
                     )
-                items.append((name, _num(f"params.{name}", pct, 0.0, 100.0, high_open=True)))
+                pct = check_number(
+                    f"montecarlo.params.{name}", pct, low=0.0, high=100.0, high_open=True
+                )
+                items.append((name, pct))
             kw["params"] = tuple(sorted(items))
         return MonteCarloConfig(**kw)
     except ParameterError as exc:
@@ -582,10 +572,10 @@ def run_montecarlo(
     """
     if not isinstance(config, MonteCarloConfig):
         raise TypeError("config must be a MonteCarloConfig")
-    _int("runs", config.runs, 1, MAX_RUNS)
-    _int("chunk_size", chunk_size, 1, 1_000_000)
+    check_integer("runs", config.runs, low=1, high=MAX_RUNS)
+    chunk_size = check_integer("chunk_size", chunk_size, low=1, high=1_000_000)
     if max_chunks is not None:
-        _int("max_chunks", max_chunks, 0, MAX_RUNS)
+        max_chunks = check_integer("max_chunks", max_chunks, low=0, high=MAX_RUNS)
     _wind_parts(base.wind)
     out = Path(out)
     if out.exists() and not out.is_dir():

@@ -9,7 +9,6 @@ validated.
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any, Self
@@ -17,6 +16,7 @@ from typing import Any, Self
 import numpy as np
 
 from ._io import read_toml
+from ._validation import check_number
 from .errors import InfeasibleError, ParameterError
 
 __all__ = [
@@ -48,14 +48,8 @@ def check_tether_length(value: Any, field: str = "q9", source: str | None = None
     """``value`` as a tether length in ``TETHER_LENGTH_RANGE`` [m], else ParameterError
     naming ``field``."""
     lo, hi = TETHER_LENGTH_RANGE
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, (int, float))
-        or not math.isfinite(value)
-        or not lo <= value <= hi
-    ):
-        raise ParameterError(field, value, f"a tether length in [{lo:g}, {hi:g}] m", source=source)
-    return float(value)
+    allowed = f"a tether length in [{lo:g}, {hi:g}] m"
+    return check_number(field, value, low=lo, high=hi, allowed=allowed, source=source)
 
 
 def _meta(
@@ -78,33 +72,24 @@ def _meta(
 
 
 class _Validated:
-    """Mixin: validate every float field of a frozen dataclass after construction."""
+    """Mixin: validate every float field of a frozen dataclass after construction, from the
+    field's metadata (``_meta``), with the package's one validation style."""
 
     def __post_init__(self) -> None:
         for f in fields(self):  # type: ignore[arg-type]
-            value = getattr(self, f.name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise ParameterError(
-                    f"{self._section}.{f.name}",
-                    value,
-                    "a real number",  # type: ignore[attr-defined]
-                )
-            value = float(value)
-            if not math.isfinite(value):
-                raise ParameterError(f"{self._section}.{f.name}", value, "a finite number")  # type: ignore[attr-defined]
-            if f.metadata.get("positive") and value <= 0.0:
-                raise ParameterError(f"{self._section}.{f.name}", value, "a number > 0")  # type: ignore[attr-defined]
-            if f.metadata.get("nonnegative") and value < 0.0:
-                raise ParameterError(f"{self._section}.{f.name}", value, "a number >= 0")  # type: ignore[attr-defined]
-            if f.metadata.get("nonzero") and value == 0.0:
-                raise ParameterError(f"{self._section}.{f.name}", value, "a nonzero number")  # type: ignore[attr-defined]
-            bounds = f.metadata.get("bounds")
-            if bounds is not None and not bounds[0] <= value <= bounds[1]:
-                raise ParameterError(
-                    f"{self._section}.{f.name}",  # type: ignore[attr-defined]
-                    value,
-                    f"a number in [{bounds[0]:g}, {bounds[1]:g}] (physically sensible range)",
-                )
+            meta = f.metadata
+            low, high = meta.get("bounds") or (None, None)
+            low_open = False
+            if (meta.get("positive") or meta.get("nonnegative")) and (low is None or low <= 0.0):
+                low, low_open = 0.0, bool(meta.get("positive"))
+            value = check_number(
+                f"{self._section}.{f.name}",  # type: ignore[attr-defined]
+                getattr(self, f.name),
+                low=low,
+                high=high,
+                low_open=low_open,
+                nonzero=bool(meta.get("nonzero")),
+            )
             object.__setattr__(self, f.name, value)
 
 

@@ -63,7 +63,10 @@ from typing import Any
 import numpy as np
 
 from ._compile import compiled
+from ._validation import check_integer, check_number, check_vector
 from .errors import ParameterError
+from .model.kernels import kinematics_dcm, kinematics_tether_length, kinematics_tethered_HO
+from .model.kinematics import tether_length_from_altitude, tethered_HO_position
 from .params import check_tether_length
 
 __all__ = [
@@ -138,39 +141,6 @@ POSITION_SOURCES: Mapping[str, int] = MappingProxyType(
 
 _SECTION = "sensors"
 _DEG = math.pi / 180.0
-
-
-def _is_real(value: object) -> bool:
-    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(
-        value, (bool, np.bool_)
-    )
-
-
-def _scalar(name: str, value: object, *, nonnegative: bool) -> float:
-    allowed = "a finite number >= 0" if nonnegative else "a finite number"
-    if not _is_real(value):
-        raise ParameterError(f"{_SECTION}.{name}", value, allowed)
-    out = float(value)  # type: ignore[arg-type]
-    if not math.isfinite(out) or (nonnegative and out < 0.0):
-        raise ParameterError(f"{_SECTION}.{name}", value, allowed)
-    return out
-
-
-def _triple(name: str, value: object, *, nonnegative: bool) -> tuple[float, float, float]:
-    allowed = "3 finite numbers" + (" >= 0" if nonnegative else "") + " [n1, n2, n3]"
-    if isinstance(value, np.ndarray):
-        value = value.tolist()
-    if not isinstance(value, (list, tuple)) or len(value) != 3:
-        raise ParameterError(f"{_SECTION}.{name}", value, allowed)
-    out = []
-    for item in value:
-        if not _is_real(item):
-            raise ParameterError(f"{_SECTION}.{name}", value, allowed)
-        v = float(item)
-        if not math.isfinite(v) or (nonnegative and v < 0.0):
-            raise ParameterError(f"{_SECTION}.{name}", value, allowed)
-        out.append(v)
-    return (out[0], out[1], out[2])
 
 
 #: field name -> (kind, nonnegative); kind "scalar" or "triple". Drives validation.
@@ -252,11 +222,11 @@ class SensorConfig:
                 f"{_SECTION}.position_source", source, f"one of {sorted(POSITION_SOURCES)}"
             )
         for name, (kind, nonnegative) in _NUMERIC_FIELDS.items():
-            value = getattr(self, name)
+            value, low = getattr(self, name), 0.0 if nonnegative else None
             if kind == "scalar":
-                checked: object = _scalar(name, value, nonnegative=nonnegative)
+                checked: object = check_number(f"{_SECTION}.{name}", value, low=low)
             else:
-                checked = _triple(name, value, nonnegative=nonnegative)
+                checked = check_vector(f"{_SECTION}.{name}", value, 3, low=low, unit="[n1, n2, n3]")
             object.__setattr__(self, name, checked)
 
     # --- presets ------------------------------------------------------------------------------
@@ -459,10 +429,7 @@ def noise_table(config: SensorConfig, n_samples: int, rng: np.random.Generator) 
     """
     if not isinstance(config, SensorConfig):
         raise ParameterError("config", config, "a SensorConfig")
-    if not isinstance(n_samples, (int, np.integer)) or isinstance(n_samples, bool):
-        raise ParameterError("n_samples", n_samples, "an integer >= 0")
-    if n_samples < 0:
-        raise ParameterError("n_samples", n_samples, "an integer >= 0")
+    n_samples = check_integer("n_samples", n_samples, low=0)
     if not isinstance(rng, np.random.Generator):
         raise ParameterError("rng", rng, "a numpy.random.Generator")
     z = rng.standard_normal((int(n_samples) + 1, N_CHANNELS))
@@ -509,21 +476,15 @@ def measure(x_true, tension_true, noise_row, source_code, arm, x_est):
         x_est[4] = x_true[4]
         x_est[5] = x_true[5]
     elif source_code == SOURCE_GPS:
-        # true HO from eqs 43-45: HO = q9 c3 - arm f3
-        s4, c4 = math.sin(x_true[0]), math.cos(x_true[0])
-        s5, c5 = math.sin(x_true[1]), math.cos(x_true[1])
-        s7, c7 = math.sin(x_true[3]), math.cos(x_true[3])
-        s8, c8 = math.sin(x_true[4]), math.cos(x_true[4])
-        q9 = x_true[5]
-        h1 = q9 * s8 - arm * s5 + noise_row[CH_GPS]
-        h2 = -q9 * s7 * c8 + arm * s4 * c5 + noise_row[CH_GPS + 1]
-        h3 = q9 * c7 * c8 - arm * c4 * c5 + noise_row[CH_GPS + 2]
-        # P = HO_meas + arm f3(measured attitude)
-        s4m, c4m = math.sin(x_est[0]), math.cos(x_est[0])
-        s5m, c5m = math.sin(x_est[1]), math.cos(x_est[1])
-        p1 = h1 + arm * s5m
-        p2 = h2 - arm * s4m * c5m
-        p3 = h3 + arm * c4m * c5m
+        # the true HO = q9 c3 - arm f3 (eqs 43-45), measured; then P = HO_meas + arm f3 with
+        # f3 the third column of N_R_F at the measured attitude (Table I)
+        HO = np.empty(3)
+        kinematics_tethered_HO(x_true, arm, HO)
+        R = np.empty((3, 3))
+        kinematics_dcm(x_est, R)
+        p1 = HO[0] + noise_row[CH_GPS] + arm * R[0, 2]
+        p2 = HO[1] + noise_row[CH_GPS + 1] + arm * R[1, 2]
+        p3 = HO[2] + noise_row[CH_GPS + 2] + arm * R[2, 2]
         q9m = math.sqrt(p1 * p1 + p2 * p2 + p3 * p3)
         ratio = p1 / q9m
         if ratio > 1.0:
@@ -534,19 +495,13 @@ def measure(x_true, tension_true, noise_row, source_code, arm, x_est):
         x_est[4] = math.asin(ratio)
         x_est[5] = q9m
     elif source_code == SOURCE_TETHER:
-        q7m = x_true[3] + noise_row[CH_ENCODER_Q7]
-        q8m = x_true[4] + noise_row[CH_ENCODER_Q8]
-        # true altitude of HO (eq 45) seen by the altimeter
-        altitude = (
-            x_true[5] * math.cos(x_true[3]) * math.cos(x_true[4])
-            - arm * math.cos(x_true[0]) * math.cos(x_true[1])
-            + noise_row[CH_ALTIMETER]
-        )
-        x_est[3] = q7m
-        x_est[4] = q8m
-        x_est[5] = (altitude + arm * math.cos(x_est[0]) * math.cos(x_est[1])) / (
-            math.cos(q7m) * math.cos(q8m)
-        )
+        # the altimeter sees the true altitude of HO (eq 45); q9 from eq 45 with the encoders'
+        # q7, q8 and the measured attitude
+        HO = np.empty(3)
+        kinematics_tethered_HO(x_true, arm, HO)
+        x_est[3] = x_true[3] + noise_row[CH_ENCODER_Q7]
+        x_est[4] = x_true[4] + noise_row[CH_ENCODER_Q8]
+        x_est[5] = kinematics_tether_length(x_est, HO[2] + noise_row[CH_ALTIMETER], arm)
     else:
         raise ValueError("measure: unknown position source code")
     return tension_true + noise_row[CH_LOAD_CELL]
@@ -593,15 +548,8 @@ def tether_position_estimate(
     q7, q8, h, q4, q5 = (
         np.atleast_1d(np.asarray(a, dtype=float)) for a in (q7, q8, altitude, q4, q5)
     )
-    q7, q8, h, q4, q5 = np.broadcast_arrays(q7, q8, h, q4, q5)
-    c4, c5 = np.cos(q4), np.cos(q5)
-    c7, c8 = np.cos(q7), np.cos(q8)
-    q9 = (h + arm * c4 * c5) / (c7 * c8)
-    out = np.empty((*q9.shape, 3))
-    out[..., 0] = q9 * np.sin(q8) - arm * np.sin(q5)
-    out[..., 1] = -q9 * np.sin(q7) * c8 + arm * np.sin(q4) * c5
-    out[..., 2] = q9 * c7 * c8 - arm * c4 * c5
-    return out
+    q9 = tether_length_from_altitude(h, q4, q5, q7, q8, arm)
+    return tethered_HO_position(q4, q5, q7, q8, q9, arm)
 
 
 def _tether_estimate_jacobian(
@@ -667,10 +615,10 @@ def hover_error_std(
     if not isinstance(config, SensorConfig):
         raise ParameterError("config", config, "a SensorConfig")
     values = {"q9": q9, "arm": arm, "q4": q4, "q5": q5, "q7": q7, "q8": q8}
-    for name, value in values.items():
-        if not _is_real(value) or not math.isfinite(float(value)):
-            raise ParameterError(name, value, "a finite number")
-    q9 = check_tether_length(float(q9), "q9")
+    q4, q5, q7, q8, arm = (
+        check_number(name, values[name]) for name in ("q4", "q5", "q7", "q8", "arm")
+    )
+    q9 = check_tether_length(q9, "q9")
     if math.cos(q7) * math.cos(q8) <= 1e-9:
         raise ParameterError("q7, q8", (q7, q8), "angles with cos q7 cos q8 > 0")
     jac = _tether_estimate_jacobian(q4, q5, q7, q8, q9, arm)

@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..errors import ParameterError
+from .._validation import check_number
 from ..params import TensionControlParams
 
 __all__ = ["TensionPI", "limit_rate_change", "tension_pi_step"]
@@ -97,12 +97,6 @@ def limit_rate_change(
     return min(max(rate, previous_rate - step), previous_rate + step)
 
 
-def _real(name: str, value: float) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ParameterError(name, value, "a real number")
-    return float(value)
-
-
 @dataclass(frozen=True)
 class TensionPI:
     """Configuration of the winch's discrete PI tension controller (eq 56).
@@ -135,17 +129,12 @@ class TensionPI:
 
     def __post_init__(self) -> None:
         for name in ("K_P", "K_I", "T_ref"):
-            value = _real(name, getattr(self, name))
-            if not (math.isfinite(value) and value >= 0.0):
-                raise ParameterError(name, getattr(self, name), "a finite number >= 0")
-            object.__setattr__(self, name, value)
-        dt = _real("dt", self.dt)
-        if not (math.isfinite(dt) and dt > 0.0):
-            raise ParameterError("dt", self.dt, "a finite number > 0 [s]")
+            object.__setattr__(self, name, check_number(name, getattr(self, name), low=0.0))
+        dt = check_number("dt", self.dt, low=0.0, low_open=True, unit="[s]")
         object.__setattr__(self, "dt", dt)
-        limit = _real("rate_limit", self.rate_limit)
-        if math.isnan(limit) or limit <= 0.0:
-            raise ParameterError("rate_limit", self.rate_limit, "a number > 0 [m/s] or inf")
+        limit = check_number(
+            "rate_limit", self.rate_limit, low=0.0, low_open=True, finite=False, unit="[m/s]"
+        )
         object.__setattr__(self, "rate_limit", limit)
 
     @classmethod

@@ -7,6 +7,8 @@ Generated with SymPy 1.14.0.
 # ruff: noqa
 import math
 
+import numpy
+
 SYMPY_VERSION = '1.14.0'
 
 
@@ -1009,3 +1011,75 @@ def tethered_tether_torque_sc(x, sc, tension, c, out):
     t5 = sc[3]*sc[9]
     out[0] = -c[0]*tension*(sc[2]*sc[4]*sc[6] - t2*(sc[1]*t1 + t0) - t5*(sc[1]*t4 - t3))
     out[1] = c[1]*tension*(sc[4]*sc[6]*sc[7] + t2*(-sc[1]*t3 + t4) - t5*(sc[1]*t0 + t1))
+
+
+def kinematics_dcm(q, R):
+    """R (3, 3) = N.dcm(F) at q = [q4, q5, q6]: column j holds f_j in N (Table I)."""
+    t0 = numpy.cos(q[1])
+    t1 = numpy.cos(q[2])
+    t2 = numpy.sin(q[2])
+    t3 = numpy.sin(q[1])
+    t4 = numpy.cos(q[0])
+    t5 = t2*t4
+    t6 = numpy.sin(q[0])
+    t7 = t1*t6
+    t8 = t2*t6
+    R[0, 0] = t0*t1
+    R[0, 1] = -t0*t2
+    R[0, 2] = t3
+    R[1, 0] = t3*t7 + t5
+    R[1, 1] = t1*t4 - t3*t8
+    R[1, 2] = -t0*t6
+    R[2, 0] = -t1*t3*t4 + t8
+    R[2, 1] = t3*t5 + t7
+    R[2, 2] = t0*t4
+
+
+def kinematics_points(q, p, out):
+    """out (5, 3) = HO, O, MRO, TRO, P from NO in N [m] at q = [q1, ..., q6] (eqs 2-4); p the helicopter parameters in PARAM_ORDER."""
+    t0 = numpy.sin(q[4])
+    t1 = (p[1] + p[2])**(-1.0)
+    t2 = t1*(p[1]*p[8] + p[2]*p[9])
+    t3 = q[0] - t0*t2
+    t4 = numpy.sin(q[3])
+    t5 = numpy.cos(q[4])
+    t6 = t2*t5
+    t7 = q[1] + t4*t6
+    t8 = numpy.cos(q[3])
+    t9 = q[2] - t6*t8
+    t10 = p[1]*t1*(p[8] - p[9])
+    t11 = t10*t5
+    t12 = numpy.cos(q[5])
+    t13 = numpy.sin(q[5])
+    t14 = t0*t12
+    t15 = p[11] - t2
+    t16 = t15*t5
+    out[0, 0] = q[0]
+    out[0, 1] = q[1]
+    out[0, 2] = q[2]
+    out[1, 0] = t3
+    out[1, 1] = t7
+    out[1, 2] = t9
+    out[2, 0] = q[0] - t0*t10
+    out[2, 1] = q[1] + t11*t4
+    out[2, 2] = q[2] - t11*t8
+    out[3, 0] = p[10]*t12*t5 + t3
+    out[3, 1] = p[10]*(t13*t8 + t14*t4) + t7
+    out[3, 2] = p[10]*(t13*t4 - t14*t8) + t9
+    out[4, 0] = q[0] + t0*t15
+    out[4, 1] = q[1] - t16*t4
+    out[4, 2] = q[2] + t16*t8
+
+
+def kinematics_tethered_HO(q, arm, out):
+    """out (3,) = HO in N [m] at the tethered coordinates q = [q4, ..., q9] (eqs 27, 43-45); arm = dO-P,3 - dO-HO,3 [m]."""
+    t0 = arm*numpy.cos(q[1])
+    t1 = numpy.cos(q[4])
+    out[0] = -arm*numpy.sin(q[1]) + q[5]*numpy.sin(q[4])
+    out[1] = -q[5]*t1*numpy.sin(q[3]) + t0*numpy.sin(q[0])
+    out[2] = q[5]*t1*numpy.cos(q[3]) - t0*numpy.cos(q[0])
+
+
+def kinematics_tether_length(q, altitude, arm):
+    """q9 [m] from eq 45 given the altitude q3 of HO [m], q = [q4, ..., q9] (q9 unused); arm = dO-P,3 - dO-HO,3 [m] (Sec. IV-F)."""
+    return (altitude + arm*numpy.cos(q[0])*numpy.cos(q[1]))/(numpy.cos(q[3])*numpy.cos(q[4]))

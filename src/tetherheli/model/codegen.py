@@ -16,18 +16,19 @@ from __future__ import annotations
 from pathlib import Path
 
 import sympy as sp
+from sympy.printing.numpy import NumPyPrinter
 from sympy.printing.pycode import PythonCodePrinter
 
 from .._io import atomic_write_text
-from .derive import Derivation, derive
+from .derive import Derivation, Kinematics, derive, kinematics
 
 __all__ = ["GENERATED_PATH", "generate_source", "write_generated"]
 
 GENERATED_PATH = Path(__file__).with_name("_generated.py")
 
 
-class _Printer(PythonCodePrinter):
-    """Print ``math.sin`` etc. and integer powers as products (fast, exact in Numba)."""
+class _ProductPowers:
+    """Print integer powers as products (fast, exact in Numba)."""
 
     def _print_Pow(self, expr, rational=False):
         base, exp = expr.as_base_exp()
@@ -35,6 +36,15 @@ class _Printer(PythonCodePrinter):
             prod = "*".join([f"({self._print(base)})"] * abs(int(exp)))
             return prod if exp > 0 else f"1.0/({prod})"
         return super()._print_Pow(expr, rational=rational)
+
+
+class _Printer(_ProductPowers, PythonCodePrinter):
+    """Print ``math.sin`` etc. and integer powers as products."""
+
+
+class _ArrayPrinter(_ProductPowers, NumPyPrinter):
+    """Print ``numpy.sin`` etc. and integer powers as products: the function runs on floats
+    in Numba and on arrays in NumPy (each q[i] a row of samples)."""
 
 
 class _ConstantPool:
@@ -102,6 +112,10 @@ def _emit(
         lines.append(f"    {sym} = {printer.doprint(expr)}")
     k = 0
     for out_name, mat in outputs:
+        if out_name == "return":  # a scalar result
+            lines.append(f"    return {printer.doprint(reduced[k])}")
+            k += 1
+            continue
         rows, cols = mat.shape
         for i in range(rows):
             for j in range(cols):
@@ -215,6 +229,50 @@ def _model_functions(d: Derivation, printer: _Printer) -> list[str]:
     return [header, constants, *funcs]
 
 
+def _kinematics_functions(kin: Kinematics, printer: _ArrayPrinter) -> list[str]:
+    """The geometry of ``derive.kinematics`` as functions that take floats (Numba) or arrays
+    (NumPy, samples along the last axis). Argument order ``(q, [p | altitude, arm], out)``."""
+    q = kin.q
+    euler = {q[3 + i]: sp.Symbol(f"q[{i}]") for i in range(3)}  # q = [q4, q5, q6]
+    free = {q[i]: sp.Symbol(f"q[{i}]") for i in range(6)}  # q = [q1, ..., q6]
+    tethered = {q[3 + i]: sp.Symbol(f"q[{i}]") for i in range(6)}  # q = [q4, ..., q9]
+    params = {s: sp.Symbol(f"p[{i}]") for i, s in enumerate(kin.params)}
+    specs = [
+        (
+            "kinematics_dcm",
+            "q, R",
+            "R (3, 3) = N.dcm(F) at q = [q4, q5, q6]: column j holds f_j in N (Table I).",
+            [("R", kin.dcm.xreplace(euler))],
+        ),
+        (
+            "kinematics_points",
+            "q, p, out",
+            "out (5, 3) = HO, O, MRO, TRO, P from NO in N [m] at q = [q1, ..., q6] (eqs 2-4); "
+            "p the helicopter parameters in PARAM_ORDER.",
+            [("out", kin.points.xreplace({**free, **params}))],
+        ),
+        (
+            "kinematics_tethered_HO",
+            "q, arm, out",
+            "out (3,) = HO in N [m] at the tethered coordinates q = [q4, ..., q9] (eqs 27, "
+            "43-45); arm = dO-P,3 - dO-HO,3 [m].",
+            [("out", kin.tethered_HO.xreplace(tethered))],
+        ),
+        (
+            "kinematics_tether_length",
+            "q, altitude, arm",
+            "q9 [m] from eq 45 given the altitude q3 of HO [m], q = [q4, ..., q9] (q9 unused); "
+            "arm = dO-P,3 - dO-HO,3 [m] (Sec. IV-F).",
+            [("return", sp.Matrix([kin.tether_length.xreplace(tethered)]))],
+        ),
+    ]
+    subs_symbols = {kin.arm: sp.Symbol("arm"), kin.altitude: sp.Symbol("altitude")}
+    return [
+        _emit(name, args, doc, [(o, m.xreplace(subs_symbols)) for o, m in outs], printer)
+        for name, args, doc, outs in specs
+    ]
+
+
 def generate_source() -> str:
     """Derive both models and return the source text of ``_generated.py``."""
     printer = _Printer({"fully_qualified_modules": True, "standard": "python3"})
@@ -225,11 +283,15 @@ def generate_source() -> str:
         '"""\n\n'
         "# ruff: noqa\n"
         "import math\n\n"
+        "import numpy\n\n"
         f"SYMPY_VERSION = {sp.__version__!r}\n"
     ]
     for kind in ("free", "tethered"):
         for func in _model_functions(derive(kind), printer):
             parts.append("\n\n" + func)
+    array_printer = _ArrayPrinter({"fully_qualified_modules": True})
+    for func in _kinematics_functions(kinematics(), array_printer):
+        parts.append("\n\n" + func)
     return "".join(parts)
 
 

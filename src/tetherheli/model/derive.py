@@ -35,7 +35,7 @@ from sympy.physics.mechanics import (
 from ..names import INPUT
 from ..params import PARAM_ORDER
 
-__all__ = ["Derivation", "ModelKind", "derive", "parameter_symbols"]
+__all__ = ["Derivation", "Kinematics", "ModelKind", "derive", "kinematics", "parameter_symbols"]
 
 ModelKind = Literal["free", "tethered"]
 
@@ -106,8 +106,7 @@ def derive(kind: ModelKind) -> Derivation:
 
     # Frames: N inertial; F by body-fixed 1-2-3 Euler angles (Table I); MR spins about f3.
     N = ReferenceFrame("N")
-    F = ReferenceFrame("F")
-    F.orient_body_fixed(N, (q4, q5, q6), "123")
+    F = _fuselage_frame(N, (q4, q5, q6))
     w_F_from_angles = F.ang_vel_in(N)
     F.set_ang_vel(N, u4 * F.x + u5 * F.y + u6 * F.z)  # eq 8
     MR = ReferenceFrame("MR")
@@ -130,20 +129,11 @@ def derive(kind: ModelKind) -> Derivation:
     else:
         q7, q8, q9 = dynamicsymbols("q7 q8 q9")
         q = (q4, q5, q6, q7, q8, q9)
-        C = ReferenceFrame("C")
-        C.orient_body_fixed(N, (q7, q8, 0), "123")  # about n1, then about the new 2-axis
-        P_from_ground = NO.locatenew("P", q9 * C.z)  # eq 27
-        HO = P_from_ground.locatenew("HO", -(p["d_O_P3"] - d_O_HO3) * F.z)
+        C = _tether_frame(N, (q7, q8))
+        P_from_ground, HO = _tethered_points(NO, C, F, q9, p["d_O_P3"] - d_O_HO3)
         v_P_from_q = P_from_ground.pos_from(NO).dt(N)
     HO.set_vel(N, u1 * N.x + u2 * N.y + u3 * N.z)  # eq 7
-    # FO and MRO relative to HO: with d = dO-FO,3 - dO-MRO,3 they sit at +mMR d / m and
-    # -mF d / m along f3 (eq 3), so mF p_HO->FO + mMR p_HO->MRO = 0 holds term by term.
-    d_FO_MRO = p["d_O_FO3"] - p["d_O_MRO3"]
-    point_O = HO.locatenew("O", -d_O_HO3 * F.z)
-    FO = HO.locatenew("FO", m_MR * d_FO_MRO / (m_F + m_MR) * F.z)
-    MRO = HO.locatenew("MRO", -m_F * d_FO_MRO / (m_F + m_MR) * F.z)
-    TRO = point_O.locatenew("TRO", p["d_O_TRO1"] * F.x)
-    P = point_O.locatenew("P_F", p["d_O_P3"] * F.z)
+    point_O, FO, MRO, TRO, P = _body_points(HO, F, p)
     for point in (point_O, FO, MRO, TRO, P):
         point.v2pt_theory(HO, N, F)
     if kind == "tethered":
@@ -213,6 +203,97 @@ def derive(kind: ModelKind) -> Derivation:
         tension=T_C,
         params=tuple(p[name] for name in PARAM_ORDER),
         dcm=N.dcm(F),
+    )
+
+
+def _fuselage_frame(N: ReferenceFrame, angles: tuple[sp.Expr, ...]) -> ReferenceFrame:
+    """F by the body-fixed 1-2-3 Euler angles (q4, q5, q6) from N (Table I)."""
+    F = ReferenceFrame("F")
+    F.orient_body_fixed(N, angles, "123")
+    return F
+
+
+def _tether_frame(N: ReferenceFrame, angles: tuple[sp.Expr, sp.Expr]) -> ReferenceFrame:
+    """C by q7 about n1, then q8 about the new 2-axis: c3 along the tether (eq 27)."""
+    C = ReferenceFrame("C")
+    C.orient_body_fixed(N, (*angles, 0), "123")
+    return C
+
+
+def _tethered_points(
+    NO: Point, C: ReferenceFrame, F: ReferenceFrame, q9: sp.Expr, arm: sp.Expr
+) -> tuple[Point, Point]:
+    """P = q9 c3 from the winch NO (eq 27) and HO = P - arm f3 with arm = dO-P,3 - dO-HO,3
+    (eqs 43-45)."""
+    P = NO.locatenew("P", q9 * C.z)
+    return P, P.locatenew("HO", -arm * F.z)
+
+
+def _body_points(HO: Point, F: ReferenceFrame, p: dict[str, sp.Symbol]) -> tuple[Point, ...]:
+    """The points of eq 2 located from HO: O, FO, MRO, TRO and the tether attachment P."""
+    m_F, m_MR = p["m_F"], p["m_MR"]
+    d_O_HO3 = (m_F * p["d_O_FO3"] + m_MR * p["d_O_MRO3"]) / (m_F + m_MR)  # eq 3
+    # FO and MRO relative to HO: with d = dO-FO,3 - dO-MRO,3 they sit at +mMR d / m and
+    # -mF d / m along f3 (eq 3), so mF p_HO->FO + mMR p_HO->MRO = 0 holds term by term.
+    d_FO_MRO = p["d_O_FO3"] - p["d_O_MRO3"]
+    point_O = HO.locatenew("O", -d_O_HO3 * F.z)
+    FO = HO.locatenew("FO", m_MR * d_FO_MRO / (m_F + m_MR) * F.z)
+    MRO = HO.locatenew("MRO", -m_F * d_FO_MRO / (m_F + m_MR) * F.z)
+    TRO = point_O.locatenew("TRO", p["d_O_TRO1"] * F.x)
+    P = point_O.locatenew("P_F", p["d_O_P3"] * F.z)
+    return point_O, FO, MRO, TRO, P
+
+
+@dataclass(frozen=True)
+class Kinematics:
+    """The derivation's geometry as functions of plain coordinate symbols (no time).
+
+    Attributes
+    ----------
+    q : (q1, ..., q9), plain real symbols
+    dcm : (3, 3) N.dcm(F) of (q4, q5, q6): column j holds f_j in N components (Table I)
+    points : (5, 3) HO, O, MRO, TRO, P from NO in N components, for HO at (q1, q2, q3)
+        (eqs 2-4), the helicopter parameters as symbols
+    tethered_HO : (3, 1) HO from the tethered coordinates q4, q5, q7, q8, q9 and the lever
+        ``arm`` (eqs 27, 43-45)
+    tether_length : q9 solved from eq 45, the altitude q3 of HO given (Sec. IV-F)
+    arm, altitude : the symbols dO-P,3 - dO-HO,3 [m] and q3 [m]
+    params : parameter symbols in ``PARAM_ORDER``
+    """
+
+    q: tuple[sp.Symbol, ...]
+    dcm: sp.Matrix
+    points: sp.Matrix
+    tethered_HO: sp.Matrix
+    tether_length: sp.Expr
+    arm: sp.Symbol
+    altitude: sp.Symbol
+    params: tuple[sp.Symbol, ...]
+
+
+def kinematics() -> Kinematics:
+    """Positions of the helicopter's points and the rotation N -> F (eqs 2-4, 27, 43-45,
+    Table I), built with the frames and points of ``derive``."""
+    p = parameter_symbols()
+    q = sp.symbols("q1:10", real=True)
+    arm, altitude = sp.symbols("arm altitude", real=True)
+    N = ReferenceFrame("N")
+    F = _fuselage_frame(N, q[3:6])
+    NO = Point("NO")
+    HO = NO.locatenew("HO", q[0] * N.x + q[1] * N.y + q[2] * N.z)  # eq 4
+    points = [HO, *(_body_points(HO, F, p)[i] for i in (0, 2, 3, 4))]  # HO, O, MRO, TRO, P
+    _, HO_tethered = _tethered_points(NO, _tether_frame(N, q[6:8]), F, q[8], arm)
+    r_HO = HO_tethered.pos_from(NO).to_matrix(N)
+    (length,) = sp.solve(sp.Eq(r_HO[2], altitude), q[8])
+    return Kinematics(
+        q=q,
+        dcm=N.dcm(F),
+        points=sp.Matrix([list(pt.pos_from(NO).to_matrix(N)) for pt in points]),
+        tethered_HO=r_HO,
+        tether_length=length,
+        arm=arm,
+        altitude=altitude,
+        params=tuple(p[name] for name in PARAM_ORDER),
     )
 
 

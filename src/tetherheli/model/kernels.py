@@ -23,6 +23,10 @@ from . import _generated as gen
 __all__ = [
     "free_derivative",
     "free_derivative_batch",
+    "kinematics_dcm",
+    "kinematics_points",
+    "kinematics_tether_length",
+    "kinematics_tethered_HO",
     "model_constants",
     "tension_from_state",
     "tethered_derivative",
@@ -48,6 +52,11 @@ tethered_tether_torque = _jit(gen.tethered_tether_torque)
 tethered_rhs_sc = _jit_inline(gen.tethered_rhs_sc)
 tethered_outputs_sc = _jit_inline(gen.tethered_outputs_sc)
 tethered_tether_torque_sc = _jit_inline(gen.tethered_tether_torque_sc)
+# the geometry of eqs 2-4, 27, 43-45 and Table I (``model.kinematics`` for arrays)
+kinematics_dcm = _jit(gen.kinematics_dcm)
+kinematics_points = _jit(gen.kinematics_points)
+kinematics_tethered_HO = _jit(gen.kinematics_tethered_HO)
+kinematics_tether_length = _jit(gen.kinematics_tether_length)
 
 #: Angle steps up to this size [rad] are applied by the angle-addition formulas with the
 #: Taylor series of sin and cos (truncation below 1e-19 relative); larger ones call libm.

@@ -15,7 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import root
 
-from ..errors import InfeasibleError, ParameterError
+from .._validation import check_number
+from ..errors import InfeasibleError
 from ..params import Params, check_tether_length
 from . import kernels
 
@@ -60,13 +61,7 @@ def hover_trim(params: Params, tension: float, q9: float = 10.0) -> TrimPoint:
     for a tension the tether cannot give at that length (``TetherParams.check_tension``) or
     a hover with no trim.
     """
-    if (
-        isinstance(tension, bool)
-        or not isinstance(tension, (int, float))
-        or not math.isfinite(tension)
-        or tension < 0.0
-    ):
-        raise ParameterError("tension", tension, "a finite number >= 0 [N]")
+    tension = check_number("tension", tension, low=0.0, unit="[N]")
     q9 = check_tether_length(q9, "q9")
     params.tether.check_tension(tension, q9, "tension")  # the natural length LN stays sensible
     h = params.helicopter

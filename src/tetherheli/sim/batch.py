@@ -39,6 +39,7 @@ from typing import Any
 import numpy as np
 
 from .._compile import compiled
+from .._validation import check_integer
 from ..errors import ClusterError, ParameterError, TetherheliError
 from ..params import Params
 from ..status import Status, status_message
@@ -370,8 +371,7 @@ def run_batch(
     scenarios = list(scenarios)
     if workers is None:
         workers = _default_workers()
-    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise ParameterError("workers", workers, "an integer >= 1")
+    workers = check_integer("workers", workers, low=1)
     n = len(scenarios)
     summaries = np.zeros((n, _N_SUMMARY))
     # no release event until a run records one (a run that is never set up has none)

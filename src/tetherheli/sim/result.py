@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 
 from .._io import atomic_open, atomic_write_bytes, atomic_write_text
+from ..errors import ParameterError
 from ..names import (
     INPUT,
     INPUT_UNITS,
@@ -22,11 +23,33 @@ from ..names import (
 )
 from ..status import Status, release_sentence, status_message
 
-__all__ = ["SimulationResult", "atomic_write_bytes", "atomic_write_text"]
+__all__ = [
+    "RESULT_COLUMNS",
+    "SimulationResult",
+    "atomic_write_bytes",
+    "atomic_write_text",
+    "list_results",
+    "load_result",
+]
 
 STATE_NAMES, STATE_UNITS = TETHERED_STATE, TETHERED_STATE_UNITS
 INPUT_NAMES, OUTPUT_NAMES = INPUT, OUTPUT
 _CSV_BLOCK_ROWS = 4096
+_FEEDFORWARD = ("C1_ffwd", "C2_ffwd")  # columns 1 and 2 of the feed-forward (eq 55)
+_WIND = ("Fw1", "Fw2", "Fw3")
+#: The columns of every result CSV, in order (``SimulationResult.columns``; extra signals such
+#: as sensor estimates follow them).
+RESULT_COLUMNS: tuple[str, ...] = (
+    "t",
+    *STATE_NAMES,
+    *OUTPUT_NAMES[:3],
+    *INPUT_NAMES,
+    *_FEEDFORWARD,
+    "TC",
+    "RC",
+    *_WIND,
+)
+_RESULT_HINT = "<stem>.csv + <stem>.json result pairs written by SimulationResult.save"
 
 
 @dataclass(frozen=True)
@@ -160,11 +183,11 @@ class SimulationResult:
             cols[n] = self.outputs[:, i]
         for i, n in enumerate(INPUT_NAMES):
             cols[n] = self.inputs[:, i]
-        cols["C1_ffwd"] = self.feedforward[:, 1]
-        cols["C2_ffwd"] = self.feedforward[:, 2]
+        for i, n in enumerate(_FEEDFORWARD, start=1):
+            cols[n] = self.feedforward[:, i]
         cols["TC"] = self.tension
         cols["RC"] = self.reel_rate
-        for i, n in enumerate(("Fw1", "Fw2", "Fw3")):
+        for i, n in enumerate(_WIND):
             cols[n] = self.wind[:, i]
         for n, v in self.extra.items():
             cols[n] = v
@@ -209,10 +232,217 @@ class SimulationResult:
         }
 
     def save(self, directory: str | Path, stem: str | None = None) -> dict[str, Path]:
-        """Write ``<stem>.csv`` and ``<stem>.json`` (configuration + version) into directory."""
+        """Write ``<stem>.csv`` and ``<stem>.json`` (configuration + version) into directory;
+        ``load_result(directory, stem)`` reads them back."""
         directory = Path(directory)
         stem = stem or self.name
         csv_path = self.to_csv(directory / f"{stem}.csv")
         meta_path = directory / f"{stem}.json"
         atomic_write_text(meta_path, json.dumps(self.metadata(), indent=2) + "\n")
         return {"csv": csv_path, "json": meta_path}
+
+
+# --- reading saved results ---------------------------------------------------------------------
+
+
+def _result_directory(directory: str | Path) -> Path:
+    path = Path(directory)
+    if not path.is_dir():
+        raise ParameterError(
+            "directory", str(path), f"an existing directory holding {_RESULT_HINT}"
+        )
+    return path
+
+
+def _read_metadata(path: Path) -> dict[str, Any]:
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise ParameterError(
+            "metadata", path.name, f"readable JSON ({exc})", source=str(path)
+        ) from None
+    if not isinstance(data, dict) or not isinstance(data.get("configuration"), dict):
+        raise ParameterError(
+            "metadata", path.name, "a JSON object with a 'configuration' table", source=str(path)
+        )
+    return data
+
+
+def _is_result(json_path: Path) -> bool:
+    try:
+        _read_metadata(json_path)
+    except ParameterError:
+        return False
+    return True
+
+
+def list_results(directory: str | Path) -> list[str]:
+    """Stems of the saved runs in a directory, sorted.
+
+    A run is a ``<stem>.csv`` with a ``<stem>.json`` beside it whose JSON object has a
+    ``configuration`` table (as ``SimulationResult.save`` writes), in the directory or one
+    folder below it (``<name>/<stem>``, as ``tetherheli simulate`` writes several runs);
+    other files are ignored.
+
+    Raises
+    ------
+    ParameterError
+        If the directory does not exist.
+    """
+    path = _result_directory(directory)
+    stems = []
+    for csv_path in sorted([*path.glob("*.csv"), *path.glob("*/*.csv")]):
+        json_path = csv_path.with_suffix(".json")
+        if json_path.is_file() and _is_result(json_path):
+            stems.append(csv_path.relative_to(path).with_suffix("").as_posix())
+    return stems
+
+
+def _read_columns(path: Path) -> dict[str, np.ndarray]:
+    """The CSV's columns by name: every one of ``RESULT_COLUMNS`` finite, times increasing."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ParameterError(
+            "csv", path.name, f"a readable UTF-8 CSV file ({exc})", source=str(path)
+        ) from None
+    rows = list(csv.reader(text.splitlines()))
+    src = str(path)
+    if not rows:
+        raise ParameterError("csv", "empty file", "a header row and data rows", source=src)
+    header = [h.strip() for h in rows[0]]
+    missing = [c for c in RESULT_COLUMNS if c not in header]
+    if missing:
+        raise ParameterError(
+            "csv header", ",".join(missing), f"columns {', '.join(RESULT_COLUMNS)}", source=src
+        )
+    body = [r for r in rows[1:] if r]
+    values = np.empty((len(body), len(header)))
+    for k, row in enumerate(body):
+        if len(row) != len(header):
+            raise ParameterError(
+                f"csv line {k + 2}", f"{len(row)} fields", f"{len(header)} fields", source=src
+            )
+        try:
+            values[k] = [float(v) for v in row]
+        except ValueError:
+            raise ParameterError(
+                f"csv line {k + 2}", ",".join(row)[:60], "numbers", source=src
+            ) from None
+    cols = {name: values[:, j] for j, name in enumerate(header)}
+    for name in RESULT_COLUMNS:
+        bad = np.flatnonzero(~np.isfinite(cols[name]))
+        if bad.size:
+            raise ParameterError(
+                f"csv line {bad[0] + 2} column {name}",
+                cols[name][bad[0]],
+                "a finite number",
+                source=src,
+            )
+    if np.any(np.diff(cols["t"]) <= 0.0):
+        raise ParameterError(
+            "csv column t", "not increasing", "strictly increasing times", source=src
+        )
+    return cols
+
+
+def _trim(meta: dict[str, Any], part: str, names: tuple[str, ...], source: str) -> np.ndarray:
+    table = meta.get("trim", {}).get(part) if isinstance(meta.get("trim"), dict) else None
+    try:
+        return np.array([float(table[k]) for k in names])  # type: ignore[index]
+    except (KeyError, TypeError, ValueError):
+        raise ParameterError(
+            f"trim.{part}", table, f"a table of numbers {', '.join(names)}", source=source
+        ) from None
+
+
+def _release(meta: dict[str, Any], source: str) -> tuple[float | None, float | None]:
+    info = meta.get("tether_release")
+    if info is None:
+        return None, None
+    try:
+        return float(info["time"]), float(info["tension"])
+    except (KeyError, TypeError, ValueError):
+        raise ParameterError(
+            "tether_release", info, "null or a table with numbers time, tension", source=source
+        ) from None
+
+
+def load_result(directory: str | Path, stem: str | None = None) -> SimulationResult:
+    """Read a run saved by ``SimulationResult.save(directory, stem)``.
+
+    Parameters
+    ----------
+    directory : path of the result directory
+    stem : which run (``list_results``); None when the directory holds exactly one
+
+    Returns
+    -------
+    SimulationResult
+        Equal to the saved one in every array (the CSV holds each float exactly), trim,
+        status, tether release, method, version and configuration. Columns 0 and 3 of
+        ``feedforward`` are not saved and come back as zeros (eq 55's feed-forward acts on
+        tMR,1 and tMR,2 only); CSV columns beyond ``RESULT_COLUMNS`` come back in ``extra``.
+
+    Raises
+    ------
+    ParameterError
+        If the directory is missing or holds no (or, with ``stem=None``, several) runs, or a
+        file is malformed (one line naming the file and what is expected).
+    """
+    path = _result_directory(directory)
+    stems = list_results(path)
+    if stem is None:
+        if not stems:
+            raise ParameterError("directory", str(path), f"a directory with {_RESULT_HINT}")
+        if len(stems) > 1:
+            raise ParameterError(
+                "stem", None, f"one of {stems} (the directory holds several)", source=str(path)
+            )
+        stem = stems[0]
+    elif stem not in stems:  # a name, never a path of the user's choosing
+        raise ParameterError("stem", stem, f"one of {stems}", source=str(path))
+    json_path = path / f"{stem}.json"
+    source = str(json_path)
+    meta = _read_metadata(json_path)
+    configuration = meta["configuration"]
+    kind = configuration.get("configuration")
+    if kind not in ("free", "tethered"):
+        raise ParameterError(
+            "configuration.configuration", kind, "'free' or 'tethered'", source=source
+        )
+    status = meta.get("status", int(Status.OK))
+    if isinstance(status, bool) or not isinstance(status, int):
+        raise ParameterError("status", status, "an integer status code", source=source)
+    trim_state = _trim(meta, "state", STATE_NAMES, source)
+    trim_input = _trim(meta, "input", INPUT_NAMES, source)
+    trim_output = _trim(meta, "output", OUTPUT_NAMES, source)
+    release_time, release_tension = _release(meta, source)
+    cols = _read_columns(path / f"{stem}.csv")
+    n = cols["t"].size
+    cols = {name: np.ascontiguousarray(v) for name, v in cols.items()}
+    states = np.column_stack([cols[name] for name in STATE_NAMES])
+    feedforward = np.zeros((n, 4))
+    for i, name in enumerate(_FEEDFORWARD, start=1):
+        feedforward[:, i] = cols[name]
+    q6 = states[:, STATE_NAMES.index(OUTPUT_NAMES[3])]
+    return SimulationResult(
+        time=cols["t"],
+        states=states,
+        outputs=np.column_stack([*(cols[name] for name in OUTPUT_NAMES[:3]), q6]),
+        inputs=np.column_stack([cols[name] for name in INPUT_NAMES]),
+        feedforward=feedforward,
+        tension=cols["TC"],
+        reel_rate=cols["RC"],
+        wind=np.column_stack([cols[name] for name in _WIND]),
+        trim_state=trim_state,
+        trim_input=trim_input,
+        trim_output=trim_output,
+        status=status,
+        configuration=configuration,
+        version=str(meta.get("tetherheli_version", "unknown")),
+        method=str(meta.get("method", "rk4")),
+        extra={name: v for name, v in cols.items() if name not in RESULT_COLUMNS},
+        release_time=release_time,
+        release_tension=release_tension,
+    )

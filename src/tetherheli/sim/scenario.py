@@ -35,7 +35,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
+import numpy as np
+
 from .._io import read_toml
+from .._validation import check_bool, check_integer, check_number, check_vector
+from ..control import lqi
 from ..disturbances import (
     Disturbance,
     NoWind,
@@ -56,8 +60,10 @@ __all__ = [
     "paper_scenario",
 ]
 
-PAPER_QY = (1.0, 1.0, 1.0, 1.0, 10.0, 10.0, 10.0, 10.0)
-PAPER_RU = (1.0, 1.0, 1.0, 1.0)
+#: The paper's LQI weights (Sec. V-A, after eq 53) as the diagonals the scenario files list;
+#: the one source is ``control.lqi.PAPER_QY`` / ``PAPER_RU``.
+PAPER_QY: tuple[float, ...] = tuple(np.diag(lqi.PAPER_QY).tolist())
+PAPER_RU: tuple[float, ...] = tuple(np.diag(lqi.PAPER_RU).tolist())
 
 
 @dataclass(frozen=True)
@@ -165,22 +171,6 @@ class Scenario:
         }
 
 
-def _number(source, key, value, *, low=None, high=None, low_open=False, integer=False):
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ParameterError(key, value, "an integer" if integer else "a number", source=source)
-    if integer and not float(value).is_integer():
-        raise ParameterError(key, value, "an integer", source=source)
-    if not math.isfinite(value):
-        raise ParameterError(key, value, "a finite number", source=source)
-    if low is not None and (value <= low if low_open else value < low):
-        raise ParameterError(
-            key, value, f"a number {'>' if low_open else '>='} {low}", source=source
-        )
-    if high is not None and value > high:
-        raise ParameterError(key, value, f"a number <= {high}", source=source)
-    return int(value) if integer else float(value)
-
-
 #: A scenario name becomes a file stem and a folder name: letters, digits, '_', '.', '-'.
 _NAME_PATTERN = re.compile(r"[A-Za-z0-9_.-]{1,100}")
 #: The most control samples one run may have (about 12 days at dt = 1 ms, 115 days at 10 ms).
@@ -202,71 +192,90 @@ def check_name(key: str, value: object, *, source: str | None = None) -> str:
 
 
 def _validate(s: Scenario, source: str | None) -> None:
+    """Check every field of ``s`` and store the checked values (Python floats and ints, so a
+    NumPy scalar is accepted and recorded as plain data)."""
     check_name("name", s.name, source=source)
     if s.configuration not in ("free", "tethered"):
         raise ParameterError(
             "configuration", s.configuration, "'free' or 'tethered'", source=source
         )
-    _number(source, "duration", s.duration, low=0.0, low_open=True)
-    check_tether_length(s.q9, "q9", source=source)
+    _set(s, "duration", check_number("duration", s.duration, low=0.0, low_open=True, source=source))
+    _set(s, "q9", check_tether_length(s.q9, "q9", source=source))
     c = s.control
-    _number(source, "control.dt", c.dt, low=0.0, low_open=True)
-    if c.dt > s.duration:
+    dt = check_number("control.dt", c.dt, low=0.0, low_open=True, source=source)
+    if dt > s.duration:
         raise ParameterError(
             "control.dt", c.dt, f"a sample time <= duration ({s.duration} s)", source=source
         )
-    if s.duration / c.dt > MAX_SAMPLES:
+    if s.duration / dt > MAX_SAMPLES:
         raise ParameterError(
             "duration",
             s.duration,
             f"at most {MAX_SAMPLES:.0e} control samples (duration / control.dt; dt = {c.dt} s)",
             source=source,
         )
-    if abs(s.duration / c.dt - round(s.duration / c.dt)) > 1e-9 * s.duration / c.dt:
+    if abs(s.duration / dt - round(s.duration / dt)) > 1e-9 * s.duration / dt:
         raise ParameterError(
             "duration",
             s.duration,
             f"a whole number of control samples (dt = {c.dt} s)",
             source=source,
         )
-    _number(source, "control.substeps", c.substeps, low=1, high=1000, integer=True)
-    if not isinstance(c.feedforward, bool):
-        raise ParameterError("control.feedforward", c.feedforward, "true or false", source=source)
-    for key, vec, n in (("control.Qy", c.Qy, 8), ("control.Ru", c.Ru, 4)):
-        if not isinstance(vec, (list, tuple)) or len(vec) != n:
-            raise ParameterError(key, vec, f"a list of {n} numbers", source=source)
-        for v in vec:
-            _number(source, key, v, low=0.0, low_open=(key == "control.Ru"))
-    lim = s.limits
-    _number(source, "limits.max_tension", lim.max_tension, low=0.0, low_open=True)
-    _number(source, "limits.max_deviation", lim.max_deviation, low=0.0, low_open=True)
-    _number(source, "limits.max_angle_deg", lim.max_angle_deg, low=0.0, high=89.0, low_open=True)
+    control = ControlSettings(
+        dt=dt,
+        substeps=check_integer("control.substeps", c.substeps, low=1, high=1000, source=source),
+        feedforward=check_bool("control.feedforward", c.feedforward, source=source),
+        Qy=check_vector("control.Qy", c.Qy, 8, low=0.0, source=source),
+        Ru=check_vector("control.Ru", c.Ru, 4, low=0.0, low_open=True, source=source),
+    )
+    lim = Limits(
+        **{
+            name: check_number(
+                f"limits.{name}",
+                getattr(s.limits, name),
+                low=0.0,
+                low_open=True,
+                high=89.0 if name == "max_angle_deg" else None,
+                source=source,
+            )
+            for name in ("max_tension", "max_deviation", "max_angle_deg")
+        }
+    )
     a = s.actuators
-    for key, vec in (("actuators.u_min", a.u_min), ("actuators.u_max", a.u_max)):
-        if not isinstance(vec, (list, tuple)) or len(vec) != 4:
-            raise ParameterError(key, vec, "a list of 4 numbers [N, N m, N m, N]", source=source)
-        for v in vec:
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or math.isnan(v):
-                raise ParameterError(key, vec, "a list of 4 numbers (inf allowed)", source=source)
-    if any(lo >= hi for lo, hi in zip(a.u_min, a.u_max, strict=True)):
+    u_limits = {
+        name: check_vector(
+            f"actuators.{name}", getattr(a, name), 4, finite=False, unit="[N, N m, N m, N]",
+            source=source,
+        )
+        for name in ("u_min", "u_max")
+    }  # fmt: skip
+    if any(lo >= hi for lo, hi in zip(u_limits["u_min"], u_limits["u_max"], strict=True)):
         raise ParameterError(
             "actuators.u_min", a.u_min, "limits below actuators.u_max", source=source
         )
-    _number(source, "actuators.time_constant", a.time_constant, low=0.0, high=10.0)
-    for key, v in (
-        ("actuators.reel_rate_limit", a.reel_rate_limit),
-        ("actuators.reel_acceleration_limit", a.reel_acceleration_limit),
-        ("actuators.breaking_tension", a.breaking_tension),
-    ):
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or math.isnan(v) or v <= 0:
-            raise ParameterError(key, v, "a number > 0 (inf: none)", source=source)
+    actuators = ActuatorSettings(
+        **u_limits,
+        time_constant=check_number(
+            "actuators.time_constant", a.time_constant, low=0.0, high=10.0, source=source
+        ),
+        **{
+            name: check_number(
+                f"actuators.{name}", getattr(a, name), low=0.0, low_open=True, finite=False,
+                source=source,
+            )
+            for name in ("reel_rate_limit", "reel_acceleration_limit", "breaking_tension")
+        },
+    )  # fmt: skip
+    _set(s, "control", control)
+    _set(s, "limits", lim)
+    _set(s, "actuators", actuators)
     if not isinstance(s.sensors, SensorConfig):
         raise ParameterError("sensors", s.sensors, "a SensorConfig", source=source)
     try:
         s.sensors.check_configuration(tethered=s.configuration == "tethered")
     except ParameterError as exc:
         raise ParameterError(exc.field, exc.value, exc.allowed, source=source) from None
-    _number(source, "seed", s.seed, low=0, integer=True)
+    _set(s, "seed", check_integer("seed", s.seed, low=0, source=source))
     if not isinstance(s.params, Params):
         raise ParameterError("params", s.params, "a tetherheli.Params", source=source)
     if s.configuration == "tethered" and s.params.tension_control.T_ref >= lim.max_tension:
@@ -283,6 +292,10 @@ def _validate(s: Scenario, source: str | None) -> None:
     if not isinstance(s.wind, Disturbance):
         raise ParameterError("wind", s.wind, "a tetherheli Disturbance", source=source)
     check_wind_covers(s.wind, s.duration, source=source)
+
+
+def _set(s: Scenario, name: str, value: Any) -> None:
+    object.__setattr__(s, name, value)
 
 
 _TOP_KEYS = {
@@ -326,7 +339,7 @@ def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Sc
         kwargs["configuration"] = data["configuration"]
     for k in ("duration", "q9"):
         if k in data:
-            kwargs[k] = _number(source, k, data[k], low=0.0, low_open=True)
+            kwargs[k] = check_number(k, data[k], low=0.0, low_open=True, source=source)
     if "control" in data:
         ctl = dict(_table(source, "control", data["control"], ControlSettings))
         for k in ("Qy", "Ru"):
@@ -335,16 +348,15 @@ def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Sc
                     raise ParameterError(f"control.{k}", ctl[k], "a list of numbers", source=source)
                 ctl[k] = tuple(ctl[k])
         if "dt" in ctl:
-            ctl["dt"] = _number(source, "control.dt", ctl["dt"], low=0.0, low_open=True)
-        if "substeps" in ctl:
-            ctl["substeps"] = _number(
-                source, "control.substeps", ctl["substeps"], low=1, high=1000, integer=True
-            )
+            ctl["dt"] = check_number("control.dt", ctl["dt"], low=0.0, low_open=True, source=source)
         kwargs["control"] = ControlSettings(**ctl)
     if "limits" in data:
         lim = _table(source, "limits", data["limits"], Limits)
         kwargs["limits"] = Limits(
-            **{k: _number(source, f"limits.{k}", v, low=0.0, low_open=True) for k, v in lim.items()}
+            **{
+                k: check_number(f"limits.{k}", v, low=0.0, low_open=True, source=source)
+                for k, v in lim.items()
+            }
         )
     if "actuators" in data:
         act = dict(_table(source, "actuators", data["actuators"], ActuatorSettings))
@@ -361,7 +373,7 @@ def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Sc
             raise ParameterError("sensors", data["sensors"], "a table", source=source)
         kwargs["sensors"] = sensor_config_from_dict(data["sensors"], source=source)
     if "seed" in data:
-        kwargs["seed"] = _number(source, "seed", data["seed"], low=0, integer=True)
+        kwargs["seed"] = data["seed"]  # checked with the rest by _validate
     if "wind" in data:
         kwargs["wind"] = disturbance_from_dict(data["wind"], source=source)
     if "params" in data:

@@ -2,34 +2,30 @@
 
 The animation only reads results written by ``SimulationResult.save(directory, stem)``: one
 ``<stem>.csv`` (time series, SI units, angles in rad) and one ``<stem>.json`` (configuration,
-trim, version, status) per run. Several runs of one directory are overlaid in one scene, each
-helicopter in its own colour, so that the free and the tethered responses to the same wind
-can be compared as in the paper's Sec. VI.
+trim, version, status) per run, read through ``tetherheli.sim.load_result``. Several runs of
+one directory are overlaid in one scene, each helicopter in its own colour, so that the free
+and the tethered responses to the same wind can be compared as in the paper's Sec. VI.
 
 Geometry (paper Tables I-II, eqs 2-3, 43-45; see ``docs/notation.md``): N is the inertial frame
 (n3 up) with the ground winch at its origin NO; HO, the helicopter's centre of mass, is at
 (q1, q2, q3); the fuselage frame F follows from the body-1-2-3 Euler angles q4, q5, q6. The
 reference point O lies at HO - dO-HO,3 f3; the rotor centre MRO at O + dO-MRO,3 f3, the tail
-rotor TRO at O + dO-TRO,1 f1 and the tether attachment P at O + dO-P,3 f3. Everything is drawn
+rotor TRO at O + dO-TRO,1 f1 and the tether attachment P at O + dO-P,3 f3; these positions
+come from the code generated from the derivation (``model.kinematics``). Everything is drawn
 at true scale; the camera is fixed around the trim point.
 
 Rendering uses Matplotlib's Agg canvas directly (no pyplot, no display, no global backend
 change). GIF files are written with Pillow; MP4 files need ffmpeg. Output files are written
-atomically: a temporary file in the target folder is renamed over the target only when the
-whole file has been written.
+atomically (``_io.atomic_path``): a temporary file in the target folder is renamed over the
+target only when the whole file has been written.
 """
 
 from __future__ import annotations
 
 import contextlib
-import csv
-import json
 import math
-import os
-import tempfile
 from collections.abc import Sequence
 from dataclasses import dataclass
-from numbers import Real
 from pathlib import Path
 from typing import Any, Literal
 
@@ -45,11 +41,13 @@ from matplotlib.ticker import MaxNLocator
 from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 from PIL import Image
 
-from .._io import check_output_file, record_output_file
+from .._io import atomic_path, check_output_file, record_output_file
+from .._validation import check_integer, check_number
 from ..errors import ParameterError
-from ..names import POSITION
+from ..model.kinematics import HelicopterPoints, direction_cosines, helicopter_points
 from ..params import HelicopterParams, Params
 from ..resources import check_memory
+from ..sim.result import list_results, load_result
 
 __all__ = [
     "HelicopterPoints",
@@ -62,19 +60,9 @@ __all__ = [
     "render_frame",
 ]
 
-#: Columns every result CSV must hold (``SimulationResult.columns``).
-REQUIRED_COLUMNS: tuple[str, ...] = (
-    "t",
-    *(f"q{i}" for i in range(1, 10)),
-    "TC",
-    "Fw1",
-    "Fw2",
-    "Fw3",
-)
 #: Output formats ``animate`` can write: file suffix -> Matplotlib writer name.
 FORMATS: dict[str, str] = {".gif": "pillow", ".mp4": "ffmpeg"}
 
-_RESULT_HINT = "<stem>.csv + <stem>.json result pairs written by SimulationResult.save"
 _RUN_COLOURS = ("tab:blue", "tab:red", "tab:purple", "tab:brown", "tab:pink", "tab:gray")
 _WIND_COLOUR = "darkorange"
 _TENSION_CMAP = "viridis"
@@ -82,93 +70,6 @@ _SLACK = 1e-9  # [N] a tension at or below this is drawn as a slack tether
 _WIND_ARROW = 1.0  # [m] drawn length of the largest wind force when auto-scaling
 _ZOOM = 1.15  # the close-up box fills more of its panel than Matplotlib's default
 _MARGIN = 0.3  # [m] free space around the drawn helicopter(s) in the close-up
-
-
-# --- geometry -----------------------------------------------------------------------------
-
-
-def direction_cosines(q4: Any, q5: Any, q6: Any) -> np.ndarray:
-    """Direction cosine matrix of the fuselage frame F in N (paper Table I, body-1-2-3).
-
-    Parameters
-    ----------
-    q4, q5, q6 : float or array of shape (...,)
-        Roll, pitch, yaw Euler angles [rad], broadcast together.
-
-    Returns
-    -------
-    ndarray, shape (..., 3, 3)
-        ``R`` with column j holding f_j in N components, so that a vector with F components
-        ``v_F`` has N components ``R @ v_F``.
-    """
-    q4, q5, q6 = np.broadcast_arrays(*(np.asarray(q, dtype=float) for q in (q4, q5, q6)))
-    s4, c4 = np.sin(q4), np.cos(q4)
-    s5, c5 = np.sin(q5), np.cos(q5)
-    s6, c6 = np.sin(q6), np.cos(q6)
-    rows = (
-        (c5 * c6, -c5 * s6, s5),
-        (c4 * s6 + s4 * s5 * c6, c4 * c6 - s4 * s5 * s6, -s4 * c5),
-        (s4 * s6 - c4 * s5 * c6, s4 * c6 + c4 * s5 * s6, c4 * c5),
-    )
-    return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
-
-
-@dataclass(frozen=True, eq=False)
-class HelicopterPoints:
-    """Positions of the helicopter's named points from NO, in N components [m], each (..., 3).
-
-    Attributes
-    ----------
-    N_p_HO : centre of mass of the whole helicopter (q1, q2, q3)
-    N_p_O : reference point of the fuselage (eq 2)
-    N_p_MRO : main-rotor centre
-    N_p_TRO : tail-rotor centre
-    N_p_P : tether attachment point
-    N_R_F : (..., 3, 3) direction cosine matrix of F in N (column j = f_j), Table I
-    """
-
-    N_p_HO: np.ndarray
-    N_p_O: np.ndarray
-    N_p_MRO: np.ndarray
-    N_p_TRO: np.ndarray
-    N_p_P: np.ndarray
-    N_R_F: np.ndarray
-
-
-def helicopter_points(
-    position: Any, angles: Any, helicopter: HelicopterParams | None = None
-) -> HelicopterPoints:
-    """Where O, MRO, TRO and P are for a helicopter whose centre of mass HO is at ``position``.
-
-    Parameters
-    ----------
-    position : array_like, shape (..., 3)
-        HO in N: (q1, q2, q3) [m] (eq 4; eqs 43-45 for the tethered coordinates).
-    angles : array_like, shape (..., 3)
-        Euler angles (q4, q5, q6) [rad] (Table I).
-    helicopter : HelicopterParams, optional
-        The f-axis offsets dO-HO,3, dO-MRO,3, dO-TRO,1, dO-P,3 (Table II, eqs 2-3). Default:
-        the paper's values.
-
-    Returns
-    -------
-    HelicopterPoints
-        With P = HO + (dO-P,3 - dO-HO,3) f3, which equals q9 c3 for a tethered state (eq 45).
-    """
-    h = helicopter if helicopter is not None else Params.paper().helicopter
-    N_p_HO = np.asarray(position, dtype=float)
-    q = np.asarray(angles, dtype=float)
-    N_R_F = direction_cosines(q[..., 0], q[..., 1], q[..., 2])
-    f1, f3 = N_R_F[..., :, 0], N_R_F[..., :, 2]
-    N_p_O = N_p_HO - h.d_O_HO3 * f3
-    return HelicopterPoints(
-        N_p_HO=N_p_HO,
-        N_p_O=N_p_O,
-        N_p_MRO=N_p_O + h.d_O_MRO3 * f3,
-        N_p_TRO=N_p_O + h.d_O_TRO1 * f1,
-        N_p_P=N_p_O + h.d_O_P3 * f3,
-        N_R_F=N_R_F,
-    )
 
 
 # --- loading ------------------------------------------------------------------------------
@@ -232,110 +133,13 @@ class RunData:
         return helicopter_points(self.position, self.angles, self.helicopter)
 
 
-def _directory(directory: str | Path) -> Path:
-    path = Path(directory)
-    if not path.is_dir():
-        raise ParameterError(
-            "directory", str(path), f"an existing directory holding {_RESULT_HINT}"
-        )
-    return path
-
-
-def _read_json(path: Path) -> dict[str, Any]:
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise ParameterError(
-            "metadata", path.name, f"readable JSON ({exc})", source=str(path)
-        ) from None
-    if not isinstance(data, dict) or not isinstance(data.get("configuration"), dict):
-        raise ParameterError(
-            "metadata", path.name, "a JSON object with a 'configuration' table", source=str(path)
-        )
-    return data
-
-
-def _is_result(json_path: Path) -> bool:
-    try:
-        _read_json(json_path)
-    except ParameterError:
-        return False
-    return True
-
-
-def list_runs(directory: str | Path) -> list[str]:
-    """Stems of the saved runs in a directory, sorted.
-
-    A run is a ``<stem>.csv`` with a ``<stem>.json`` beside it whose JSON object has a
-    ``configuration`` table (as ``SimulationResult.save`` writes), in the directory or one
-    folder below it (``<name>/<stem>``, as ``tetherheli simulate`` writes several runs);
-    other files are ignored.
-
-    Raises
-    ------
-    ParameterError
-        If the directory does not exist.
-    """
-    path = _directory(directory)
-    stems = []
-    for csv_path in sorted([*path.glob("*.csv"), *path.glob("*/*.csv")]):
-        json_path = csv_path.with_suffix(".json")
-        if json_path.is_file() and _is_result(json_path):
-            stems.append(csv_path.relative_to(path).with_suffix("").as_posix())
-    return stems
-
-
-def _read_csv(path: Path) -> dict[str, np.ndarray]:
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ParameterError(
-            "csv", path.name, f"a readable UTF-8 CSV file ({exc})", source=str(path)
-        ) from None
-    rows = list(csv.reader(text.splitlines()))
-    src = str(path)
-    if not rows:
-        raise ParameterError("csv", "empty file", "a header row and data rows", source=src)
-    header = [h.strip() for h in rows[0]]
-    missing = [c for c in REQUIRED_COLUMNS if c not in header]
-    if missing:
-        raise ParameterError(
-            "csv header", ",".join(missing), f"columns {', '.join(REQUIRED_COLUMNS)}", source=src
-        )
-    body = [r for r in rows[1:] if r]
-    if not body:
-        raise ParameterError("csv", "no data rows", "at least one row of samples", source=src)
-    values = np.empty((len(body), len(header)))
-    for k, row in enumerate(body):
-        if len(row) != len(header):
-            raise ParameterError(
-                f"csv line {k + 2}", f"{len(row)} fields", f"{len(header)} fields", source=src
-            )
-        try:
-            values[k] = [float(v) for v in row]
-        except ValueError:
-            raise ParameterError(
-                f"csv line {k + 2}", ",".join(row)[:60], "numbers", source=src
-            ) from None
-    cols = {name: values[:, j] for j, name in enumerate(header)}
-    for name in REQUIRED_COLUMNS:
-        bad = np.flatnonzero(~np.isfinite(cols[name]))
-        if bad.size:
-            raise ParameterError(
-                f"csv line {bad[0] + 2} column {name}",
-                cols[name][bad[0]],
-                "a finite number",
-                source=src,
-            )
-    if np.any(np.diff(cols["t"]) <= 0.0):
-        raise ParameterError(
-            "csv column t", "not increasing", "strictly increasing times", source=src
-        )
-    return cols
+#: The stems of the runs saved in a directory (``tetherheli.sim.list_results``).
+list_runs = list_results
 
 
 def load_run(directory: str | Path, stem: str | None = None) -> RunData:
-    """Read one run saved by ``SimulationResult.save(directory, stem)``.
+    """Read one run saved by ``SimulationResult.save(directory, stem)``, through
+    ``tetherheli.sim.load_result``, as much of it as the animation draws.
 
     Parameters
     ----------
@@ -350,78 +154,47 @@ def load_run(directory: str | Path, stem: str | None = None) -> RunData:
     ------
     ParameterError
         If the directory is missing or holds no (or, with ``stem=None``, several) runs, or a
-        file is malformed (the message names the file and what is expected).
+        file is malformed or holds no samples (the message names the file and what is
+        expected).
     """
-    path = _directory(directory)
-    if stem is None:
-        stems = list_runs(path)
-        if not stems:
-            raise ParameterError("directory", str(path), f"a directory with {_RESULT_HINT}")
-        if len(stems) > 1:
-            raise ParameterError(
-                "stem", None, f"one of {stems} (the directory holds several)", source=str(path)
-            )
-        stem = stems[0]
-    elif stem not in list_runs(path):  # a name, never a path of the user's choosing
-        raise ParameterError("stem", stem, f"one of {list_runs(path)}", source=str(path))
-    csv_path, json_path = path / f"{stem}.csv", path / f"{stem}.json"
-    meta = _read_json(json_path)
-    cfg = meta["configuration"]
-    kind = cfg.get("configuration")
-    if kind not in ("free", "tethered"):
+    result = load_result(directory, stem)
+    path = Path(directory)
+    stem = stem if stem is not None else list_results(path)[0]
+    if result.time.size == 0:
         raise ParameterError(
-            "configuration.configuration", kind, "'free' or 'tethered'", source=str(json_path)
+            "csv", "no data rows", "at least one row of samples", source=str(path / f"{stem}.csv")
         )
-    params = cfg.get("params")
     helicopter = Params.paper().helicopter
+    params = result.configuration.get("params")
     if isinstance(params, dict) and isinstance(params.get("helicopter"), dict):
         helicopter = Params.from_mapping(
-            {"helicopter": params["helicopter"]}, source=str(json_path)
+            {"helicopter": params["helicopter"]}, source=str(path / f"{stem}.json")
         ).helicopter
-    cols = _read_csv(csv_path)
-    q = np.column_stack([cols[f"q{i}"] for i in range(1, 10)])
-    trim_position = q[0, :3].copy()
-    trim_out = meta.get("trim", {}).get("output") if isinstance(meta.get("trim"), dict) else None
-    if isinstance(trim_out, dict):
-        try:
-            trim_position = np.array([float(trim_out[k]) for k in POSITION])
-        except (KeyError, TypeError, ValueError):
-            raise ParameterError(
-                "trim.output", trim_out, "numbers q1, q2, q3 [m]", source=str(json_path)
-            ) from None
     return RunData(
         stem=stem,
-        name=str(cfg.get("name", stem)),
-        configuration=kind,
-        time=cols["t"],
-        q=q,
-        wind=np.column_stack([cols["Fw1"], cols["Fw2"], cols["Fw3"]]),
-        tension=cols["TC"],
-        trim_position=trim_position,
+        name=str(result.configuration.get("name", stem)),
+        configuration=result.configuration["configuration"],
+        time=result.time,
+        q=np.column_stack([result.outputs[:, :3], result.states[:, :6]]),
+        wind=result.wind,
+        tension=result.tension,
+        trim_position=result.trim_output[:3],
         helicopter=helicopter,
-        status=_status(meta.get("status", 0), json_path),
-        message=str(meta.get("message", "")),
-        version=str(meta.get("tetherheli_version", "unknown")),
+        status=result.status,
+        message=result.message,
+        version=result.version,
     )
 
 
-def _status(value: Any, json_path: Path) -> int:
-    if isinstance(value, bool) or not isinstance(value, int):
-        raise ParameterError("status", value, "an integer status code", source=str(json_path))
-    return value
-
-
 def _load_runs(directory: str | Path, stems: Sequence[str] | None) -> list[RunData]:
-    path = _directory(directory)
+    available = list_results(directory)
     if stems is None:
-        stems = list_runs(path)
-        if not stems:
-            raise ParameterError("directory", str(path), f"a directory with {_RESULT_HINT}")
+        if not available:
+            load_result(directory)  # raises: no runs, naming what a result directory holds
+        stems = available
     elif isinstance(stems, str) or len(stems) == 0:
-        raise ParameterError(
-            "stems", stems, f"a non-empty list of run stems from {list_runs(path)}"
-        )
-    return [load_run(path, s) for s in stems]
+        raise ParameterError("stems", stems, f"a non-empty list of run stems from {available}")
+    return [load_run(directory, s) for s in stems]
 
 
 # --- drawing ------------------------------------------------------------------------------
@@ -813,20 +586,25 @@ class _Scene:
 # --- public entry points ------------------------------------------------------------------
 
 
-def _positive(name: str, value: Any, *, integer: bool = False) -> None:
-    ok = not isinstance(value, bool) and isinstance(value, Real) and math.isfinite(value)
-    if integer:
-        ok = ok and float(value).is_integer()
-    if not ok or value <= 0:
-        raise ParameterError(name, value, "a positive integer" if integer else "a number > 0")
-
-
 #: Upper bounds of the rendering options: GIF frame delays are whole centiseconds (100 fps at
 #: most); the frame count and resolution bound the time and memory of a render.
 MAX_FPS = 100.0
 MAX_FRAMES = 20_000
 MAX_DPI = 600.0
 _FIGURE_INCHES = (10.0, 6.0)
+
+
+def _drawing_options(
+    dpi: Any, rotor_radius: Any, wind_scale: Any
+) -> tuple[float, float, float | None]:
+    """The checked dpi, rotor radius [m] and wind scale [m/N] (None: automatic)."""
+    return (
+        check_number("dpi", dpi, low=0.0, low_open=True, high=MAX_DPI),
+        check_number("rotor_radius", rotor_radius, low=0.0, low_open=True),
+        None
+        if wind_scale is None
+        else check_number("wind_scale", wind_scale, low=0.0, low_open=True),
+    )
 
 
 def _output_path(output: str | Path, allowed: str) -> Path:
@@ -851,12 +629,6 @@ def _check_render_memory(n_frames: int, dpi: float, gif: bool) -> None:
     )
 
 
-def _umask() -> int:
-    mask = os.umask(0o022)  # the only portable way to read it is to set it and set it back
-    os.umask(mask)
-    return mask
-
-
 class _PalettePillowWriter(animation.PillowWriter):
     """Matplotlib's PillowWriter, keeping each grabbed frame palettised (1 byte per pixel).
 
@@ -876,20 +648,6 @@ def _writer(suffix: str, fps: float) -> animation.AbstractMovieWriter:
     if suffix == ".gif":
         return _PalettePillowWriter(fps=fps)
     return animation.writers[FORMATS[suffix]](fps=fps)
-
-
-@contextlib.contextmanager
-def _atomic_target(out: Path):
-    """Yield a temporary path beside ``out`` (same suffix); rename it to ``out`` on success."""
-    fd, tmp = tempfile.mkstemp(dir=out.parent, prefix=f".{out.stem}.", suffix=out.suffix)
-    os.close(fd)
-    try:
-        yield tmp
-        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; give the usual permissions
-        os.replace(tmp, out)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 def animate(
@@ -932,21 +690,10 @@ def animate(
         For a missing or empty result directory, malformed result files, an unsupported
         output format (or MP4 without ffmpeg), or invalid options.
     """
-    for name, value in (
-        ("fps", fps),
-        ("speed", speed),
-        ("dpi", dpi),
-        ("rotor_radius", rotor_radius),
-    ):
-        _positive(name, value)
-    _positive("max_frames", max_frames, integer=True)
-    for name, value, high in (("fps", fps, MAX_FPS), ("max_frames", max_frames, MAX_FRAMES)):
-        if value > high:
-            raise ParameterError(name, value, f"at most {high:g}")
-    if dpi > MAX_DPI:
-        raise ParameterError("dpi", dpi, f"at most {MAX_DPI:g}")
-    if wind_scale is not None:
-        _positive("wind_scale", wind_scale)
+    fps = check_number("fps", fps, low=0.0, low_open=True, high=MAX_FPS)
+    speed = check_number("speed", speed, low=0.0, low_open=True)
+    max_frames = check_integer("max_frames", max_frames, low=1, high=MAX_FRAMES)
+    dpi, rotor_radius, wind_scale = _drawing_options(dpi, rotor_radius, wind_scale)
     allowed = "'.gif' (Pillow) or '.mp4' (needs ffmpeg)"
     out = _output_path(output, allowed)
     suffix = out.suffix.lower()
@@ -959,14 +706,12 @@ def animate(
             "'.gif' (ffmpeg is not installed, so '.mp4' cannot be written)",
         )
     runs = _load_runs(directory, stems)
-    times, playback = _frame_times(runs, float(fps), float(speed), int(max_frames))
-    _check_render_memory(len(times), float(dpi), gif=suffix == ".gif")
-    scene = _Scene(
-        runs, times, rotor_radius=float(rotor_radius), wind_scale=wind_scale, dpi=float(dpi)
-    )
+    times, playback = _frame_times(runs, fps, speed, max_frames)
+    _check_render_memory(len(times), dpi, gif=suffix == ".gif")
+    scene = _Scene(runs, times, rotor_radius=rotor_radius, wind_scale=wind_scale, dpi=dpi)
     writer = _writer(suffix, playback)
-    with _atomic_target(out) as tmp, mpl.rc_context({"savefig.bbox": None}):
-        writer.setup(scene.fig, tmp, dpi=float(dpi))  # may round the figure size (ffmpeg)
+    with atomic_path(out) as tmp, mpl.rc_context({"savefig.bbox": None}):
+        writer.setup(scene.fig, tmp, dpi=dpi)  # may round the figure size (ffmpeg)
         try:
             scene.freeze_background()
             for k in range(len(times)):
@@ -1008,12 +753,7 @@ def render_frame(
     ParameterError
         As ``animate``, and for a time outside the runs or an unknown image format.
     """
-    for name, value in (("dpi", dpi), ("rotor_radius", rotor_radius)):
-        _positive(name, value)
-    if dpi > MAX_DPI:
-        raise ParameterError("dpi", dpi, f"at most {MAX_DPI:g}")
-    if wind_scale is not None:
-        _positive("wind_scale", wind_scale)
+    dpi, rotor_radius, wind_scale = _drawing_options(dpi, rotor_radius, wind_scale)
     out = _output_path(output, "an image file such as .png")
     formats = FigureCanvasAgg(Figure()).get_supported_filetypes()
     if out.suffix.lower().lstrip(".") not in formats:
@@ -1023,17 +763,12 @@ def render_frame(
     runs = _load_runs(directory, stems)
     t0 = min(float(r.time[0]) for r in runs)
     t1 = max(float(r.time[-1]) for r in runs)
-    if isinstance(time, bool) or not isinstance(time, Real) or not t0 <= time <= t1:
-        raise ParameterError("time", time, f"a time in [{t0:g}, {t1:g}] s")
+    time = check_number("time", time, low=t0, high=t1, unit="s")
     scene = _Scene(
-        runs,
-        np.array([float(time)]),
-        rotor_radius=float(rotor_radius),
-        wind_scale=wind_scale,
-        dpi=float(dpi),
+        runs, np.array([time]), rotor_radius=rotor_radius, wind_scale=wind_scale, dpi=dpi
     )
     scene.update(0)
-    with _atomic_target(out) as tmp:
-        scene.fig.savefig(tmp, dpi=float(dpi))
+    with atomic_path(out) as tmp:
+        scene.fig.savefig(tmp, dpi=dpi)
     record_output_file(out, writer="animate")
     return out
