@@ -5,10 +5,11 @@ Run: python benchmarks/bench_ab.py --baseline SRC_A [--candidate SRC_B] [--round
 where SRC_A, SRC_B are ``src`` folders (the candidate defaults to this checkout's), e.g. a
 ``git worktree add /tmp/base <commit>`` of the baseline commit's ``/tmp/base/src``.
 Each round runs, in a fresh process per tree and alternating their order, (a) the compiled
-engine on the 60 s tethered paper scenario (best of 20, summaries only) and (b) ``run_batch``
-of 400 dispersed paper runs on all cores. Prints each tree's best figures over the rounds and
-the ratio candidate / baseline. Timings vary with the machine and its load; no test asserts
-them.
+engine on the 60 s tethered paper scenario (best of 20, summaries only), (b) the same with
+the tether as the position sensor (``sensing_scenario("tether")``, noisy sensors) and (c)
+``run_batch`` of 400 dispersed paper runs on all cores. Prints each tree's best figures over
+the rounds and the ratio candidate / baseline. Timings vary with the machine and its load;
+no test asserts them.
 """
 
 from __future__ import annotations
@@ -36,6 +37,13 @@ best = min(
     (lambda t0: (_run_nogil(args, summary), time.perf_counter() - t0)[1])(time.perf_counter())
     for _ in range(20)
 )
+from tetherheli.report import sensing_scenario
+sensed = _prepare(sensing_scenario("tether"), None)
+_run_nogil(sensed, summary)
+best_sensed = min(
+    (lambda t0: (_run_nogil(sensed, summary), time.perf_counter() - t0)[1])(time.perf_counter())
+    for _ in range(10)
+)
 rng = np.random.default_rng(1)
 runs = [
     s.replace(wind=Pulse(10.0, 1.0, 20.0 * a, (1.0, 0.0, 0.0)) + Sine(20.0 * a, 0.1, 30.0,
@@ -46,7 +54,9 @@ run_batch(runs[:4])
 t0 = time.perf_counter()
 run_batch(runs)
 rate = len(runs) / (time.perf_counter() - t0)
-print(json.dumps({"engine_ms": best * 1e3, "batch_runs_per_s": rate}))
+print(json.dumps(
+    {"engine_ms": best * 1e3, "sensed_ms": best_sensed * 1e3, "batch_runs_per_s": rate}
+))
 """
 
 
@@ -75,16 +85,21 @@ def main() -> None:
             m = measure(trees[name])
             b = best.setdefault(name, m)
             b["engine_ms"] = min(b["engine_ms"], m["engine_ms"])
+            b["sensed_ms"] = min(b["sensed_ms"], m["sensed_ms"])
             b["batch_runs_per_s"] = max(b["batch_runs_per_s"], m["batch_runs_per_s"])
             print(
-                f"round {r + 1} {name:<9} engine {m['engine_ms']:6.2f} ms/run, "
-                f"batch {m['batch_runs_per_s']:6.0f} runs/s",
+                f"round {r + 1} {name:<9} engine {m['engine_ms']:6.2f} ms/run, sensed "
+                f"{m['sensed_ms']:6.2f} ms/run, batch {m['batch_runs_per_s']:6.0f} runs/s",
                 flush=True,
             )
     a, b = best["baseline"], best["candidate"]
     print(
         f"best engine time per 60 s run: baseline {a['engine_ms']:.2f} ms, candidate "
         f"{b['engine_ms']:.2f} ms, ratio {b['engine_ms'] / a['engine_ms']:.3f}"
+    )
+    print(
+        f"best run with the tether as sensor: baseline {a['sensed_ms']:.2f} ms, candidate "
+        f"{b['sensed_ms']:.2f} ms, ratio {b['sensed_ms'] / a['sensed_ms']:.3f}"
     )
     print(
         f"best batch throughput: baseline {a['batch_runs_per_s']:.0f} runs/s, candidate "
