@@ -243,6 +243,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._source = self._sensors.source_code
         self._arm = model.params.helicopter.tether_arm
         self._noise = np.zeros((0, N_CHANNELS))
+        self._sensor_scratch = np.empty((4, 3))
         self._x_meas = np.empty(13)
         self._y_meas = np.empty(4)
         self._tension_meas = 0.0
@@ -425,7 +426,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             self._cfg,
             self._ctrl,
             self._act,
-            (self._noise, self._source, self._arm),
+            (self._noise, self._source, self._arm, self._sensor_scratch),
             self._c,
             self._law,
             self._loop,

@@ -439,7 +439,14 @@ def noise_table(config: SensorConfig, n_samples: int, rng: np.random.Generator) 
 # --- compiled measurement -----------------------------------------------------------------------
 @_jit
 def measure(x_true, tension_true, noise_row, source_code, arm, x_est):
-    """The controller's state and tension estimate at one sample (compiled).
+    """The controller's state and tension estimate at one sample (compiled); see
+    ``measure_into``, which the closed loop calls with its own scratch array."""
+    return measure_into(x_true, tension_true, noise_row, source_code, arm, x_est, np.empty((4, 3)))
+
+
+@_jit
+def measure_into(x_true, tension_true, noise_row, source_code, arm, x_est, scratch):
+    """The controller's state and tension estimate at one sample (compiled), allocation-free.
 
     Parameters
     ----------
@@ -458,6 +465,8 @@ def measure(x_true, tension_true, noise_row, source_code, arm, x_est):
         noise, u4..u6 = true + gyro noise, LN = true + winch-encoder noise, and q7, q8, q9 from
         the position source (module docstring; the GPS and tether sources use the measured
         attitude).
+    scratch : ndarray, shape (4, 3)
+        Work space: row 0 the true HO, rows 1-3 the rotation N_R_F at the measured attitude.
 
     Returns
     -------
@@ -478,9 +487,8 @@ def measure(x_true, tension_true, noise_row, source_code, arm, x_est):
     elif source_code == SOURCE_GPS:
         # the true HO = q9 c3 - arm f3 (eqs 43-45), measured; then P = HO_meas + arm f3 with
         # f3 the third column of N_R_F at the measured attitude (Table I)
-        HO = np.empty(3)
+        HO, R = scratch[0], scratch[1:]
         kinematics_tethered_HO(x_true, arm, HO)
-        R = np.empty((3, 3))
         kinematics_dcm(x_est, R)
         p1 = HO[0] + noise_row[CH_GPS] + arm * R[0, 2]
         p2 = HO[1] + noise_row[CH_GPS + 1] + arm * R[1, 2]
@@ -497,7 +505,7 @@ def measure(x_true, tension_true, noise_row, source_code, arm, x_est):
     elif source_code == SOURCE_TETHER:
         # the altimeter sees the true altitude of HO (eq 45); q9 from eq 45 with the encoders'
         # q7, q8 and the measured attitude
-        HO = np.empty(3)
+        HO = scratch[0]
         kinematics_tethered_HO(x_true, arm, HO)
         x_est[3] = x_true[3] + noise_row[CH_ENCODER_Q7]
         x_est[4] = x_true[4] + noise_row[CH_ENCODER_Q8]
@@ -511,8 +519,11 @@ def measure(x_true, tension_true, noise_row, source_code, arm, x_est):
 def measure_batch(x_true, tension_true, noise, source_code, arm, x_est, tension_est):
     """Row-wise ``measure``: x_true (n, 13), tension_true (n,), noise (n, N_CHANNELS); fills
     x_est (n, 13) and tension_est (n,) (for Monte Carlo analysis of the estimates)."""
+    scratch = np.empty((4, 3))
     for k in range(x_true.shape[0]):
-        tension_est[k] = measure(x_true[k], tension_true[k], noise[k], source_code, arm, x_est[k])
+        tension_est[k] = measure_into(
+            x_true[k], tension_true[k], noise[k], source_code, arm, x_est[k], scratch
+        )
 
 
 # --- analysis helpers (numpy) -------------------------------------------------------------------

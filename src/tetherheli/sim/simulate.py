@@ -288,8 +288,8 @@ class _EngineSetup:
 
     @property
     def sensors(self) -> tuple:
-        """(noise table, position-source code, tether arm) (``engine.sense``)."""
-        return (self.noise, self.source, self.arm)
+        """(noise table, position-source code, tether arm, scratch) (``engine.sense``)."""
+        return (self.noise, self.source, self.arm, np.empty((4, 3)))
 
 
 def _engine_setup(scenario: Scenario, design_params: Params | None = None) -> _EngineSetup:
