@@ -28,8 +28,8 @@ from scipy.integrate import solve_ivp
 from tetherheli import simulate
 from tetherheli.sim import engine
 from tetherheli.sim.batch import _prepare, _run_nogil
+from tetherheli.sim.closed_loop import _setup
 from tetherheli.sim.scenario import paper_scenario
-from tetherheli.sim.simulate import _setup
 
 
 def scipy_baseline(scenario):

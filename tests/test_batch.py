@@ -99,7 +99,7 @@ def test_summary_metrics_of_no_sample():
 @pytest.mark.parametrize("configuration", ["free", "tethered"])
 def test_design_params_setup_changes_only_the_gain(configuration):
     """``_setup(s, nominal)``: plant, trim and packing of s; the gain of the nominal design."""
-    from tetherheli.sim.simulate import _setup
+    from tetherheli.sim.closed_loop import _setup
 
     s = _short(configuration, 20.0, 0.0, 12.3)
     nominal = paper_scenario(1, configuration).params

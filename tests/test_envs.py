@@ -195,7 +195,7 @@ def test_sensors_feed_controller_and_observation():
 
     from tetherheli.sensors import SensorConfig
 
-    sim_module = sys.modules["tetherheli.sim.simulate"]
+    sim_module = sys.modules["tetherheli.sim.closed_loop"]
     pulse = Pulse(start=0.5, duration=1.0, magnitude=20.0, direction=(0.6, 0.8, 0.0))
     sensors = SensorConfig(position_source="tether", encoder_std=0.002, altimeter_std=0.05)
     scenario = Scenario(duration=2.0, wind=pulse, sensors=sensors, seed=4)

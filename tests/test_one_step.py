@@ -12,8 +12,8 @@ import pytest
 from tetherheli.control.paper import PaperController
 from tetherheli.disturbances import Pulse, Step
 from tetherheli.sim import Scenario, simulate
+from tetherheli.sim.closed_loop import _engine_setup
 from tetherheli.sim.scenario import ActuatorSettings
-from tetherheli.sim.simulate import _engine_setup
 from tetherheli.status import Status, status_message
 
 # every actuator effect at once: saturation that binds during the pulse, a lag, the winch's

@@ -16,8 +16,8 @@ from tetherheli.control.base import Command, Controller, Measurement
 from tetherheli.control.paper import PaperController
 from tetherheli.disturbances import ConstantForce, Pulse, Step
 from tetherheli.sim import ControlSettings, Limits, paper_gain
+from tetherheli.sim.closed_loop import _LQI_STATES, _setup
 from tetherheli.sim.scenario import paper_scenario
-from tetherheli.sim.simulate import _LQI_STATES, _setup
 
 DT = 0.01
 ROOT = Path(__file__).resolve().parents[1]

@@ -82,7 +82,7 @@ def test_release_in_python_rk4_loop_equals_engine():
     """A custom controller runs the Python loop; wrapping the paper's controller there must
     record the release exactly as the compiled engine does."""
     from tetherheli.control.paper import PaperController
-    from tetherheli.sim.simulate import _engine_setup
+    from tetherheli.sim.closed_loop import _engine_setup
 
     s = _releasing()
     setup = _engine_setup(s)

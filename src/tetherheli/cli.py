@@ -297,7 +297,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from ._io import claim_output_directory
     from .report import write_comparison, write_run
     from .sim import load_scenario, simulate
-    from .sim.simulate import check_run_memory
+    from .sim.closed_loop import check_run_memory
 
     scenarios = [load_scenario(path) for path in args.scenario]  # all validated first
     names = [s.name for s in scenarios]

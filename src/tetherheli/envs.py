@@ -82,8 +82,8 @@ from .model.kernels import tension_from_state, tethered_outputs
 from .names import FREE_STATE
 from .sensors import N_CHANNELS, measure, noise_table
 from .sim import engine
+from .sim.closed_loop import CompiledWind, _actuators, _setup, compile_wind
 from .sim.scenario import Scenario
-from .sim.simulate import CompiledWind, _actuators, _setup, compile_wind
 from .status import Status, status_message
 
 __all__ = [

@@ -28,7 +28,7 @@ from .names import POSITION
 from .params import Params
 from .sim import Scenario, simulate
 from .sim.batch import run_batch
-from .sim.simulate import compile_wind
+from .sim.closed_loop import compile_wind
 
 __all__ = ["METRICS", "SweepResult", "paper_cyclic_limit", "sweep", "tension_bound"]
 
@@ -140,7 +140,7 @@ def _prepare_points(
 def _run_batch_feasible(scenarios: list[Scenario | None], reasons: list[str]):
     """``run_batch`` over the valid points; a point whose set-up the physics cannot meet
     (no trim, a hover outside the actuator limits) becomes invalid, the others still run."""
-    from .sim.simulate import _engine_setup
+    from .sim.closed_loop import _engine_setup
 
     idx = [i for i, s in enumerate(scenarios) if s is not None]
     try:

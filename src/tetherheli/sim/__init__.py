@@ -1,8 +1,8 @@
 """Closed-loop simulation: scenarios, the compiled engine, results."""
 
+from .closed_loop import compile_wind, paper_gain, simulate
 from .result import SimulationResult, list_results, load_result
 from .scenario import ControlSettings, Limits, Scenario, load_scenario
-from .simulate import compile_wind, paper_gain, simulate
 
 __all__ = [
     "ControlSettings",

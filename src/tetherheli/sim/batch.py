@@ -44,8 +44,8 @@ from ..errors import ClusterError, ParameterError, TetherheliError
 from ..params import Params
 from ..status import Status, status_message
 from . import engine
+from .closed_loop import _engine_setup, check_run_memory, compile_wind
 from .scenario import Scenario
-from .simulate import _engine_setup, check_run_memory, compile_wind
 
 __all__ = [
     "METRIC_NAMES",
