@@ -66,7 +66,17 @@ import numpy as np
 from gymnasium import spaces
 
 from ._validation import check_bool, check_number, check_vector
-from .disturbances import (
+from .errors import ParameterError
+from .layout import CFG_ATTACHED, CFG_GUST_DT, CFG_K_C, CTRL_T_REF
+from .model.kernels import tension_from_state, tethered_outputs
+from .names import FREE_STATE
+from .sensors import N_CHANNELS, measure, noise_table
+from .sim import engine
+from .sim.closed_loop import _actuators, _setup
+from .sim.scenario import Scenario
+from .status import Status, status_message
+from .wind import (
+    CompiledWind,
     Disturbance,
     DragModel,
     HoverTurbulence,
@@ -75,16 +85,8 @@ from .disturbances import (
     Sine,
     Turbulence,
     check_wind_covers,
+    compile_wind,
 )
-from .errors import ParameterError
-from .layout import CFG_ATTACHED, CFG_GUST_DT, CFG_K_C, CTRL_T_REF
-from .model.kernels import tension_from_state, tethered_outputs
-from .names import FREE_STATE
-from .sensors import N_CHANNELS, measure, noise_table
-from .sim import engine
-from .sim.closed_loop import CompiledWind, _actuators, _setup, compile_wind
-from .sim.scenario import Scenario
-from .status import Status, status_message
 
 __all__ = [
     "ENV_ID",

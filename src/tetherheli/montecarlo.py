@@ -78,7 +78,13 @@ from ._io import (
 )
 from ._validation import check_bool, check_integer, check_number
 from ._version import __version__
-from .disturbances import (
+from .errors import ParameterError, TetherheliError
+from .params import Params
+from .progress import ProgressLine
+from .sim.batch import METRIC_NAMES, run_batch
+from .sim.scenario import Scenario, scenario_from_dict
+from .status import Status
+from .wind import (
     ConstantForce,
     Disturbance,
     NoWind,
@@ -88,12 +94,6 @@ from .disturbances import (
     Turbulence,
     WindSum,
 )
-from .errors import ParameterError, TetherheliError
-from .params import Params
-from .progress import ProgressLine
-from .sim.batch import METRIC_NAMES, run_batch
-from .sim.scenario import Scenario, scenario_from_dict
-from .status import Status
 
 __all__ = [
     "Draw",

@@ -28,7 +28,7 @@ from .names import POSITION
 from .params import Params
 from .sim import Scenario, simulate
 from .sim.batch import run_batch
-from .sim.closed_loop import compile_wind
+from .wind import compile_wind
 
 __all__ = ["METRICS", "SweepResult", "paper_cyclic_limit", "sweep", "tension_bound"]
 

@@ -1,6 +1,7 @@
 """Closed-loop simulation: scenarios, the compiled engine, results."""
 
-from .closed_loop import compile_wind, paper_gain, simulate
+from ..wind import compile_wind
+from .closed_loop import paper_gain, simulate
 from .result import SimulationResult, list_results, load_result
 from .scenario import ControlSettings, Limits, Scenario, load_scenario
 

@@ -43,8 +43,9 @@ from .._validation import check_integer
 from ..errors import ClusterError, ParameterError, TetherheliError
 from ..params import Params
 from ..status import Status, status_message
+from ..wind import compile_wind
 from . import engine
-from .closed_loop import _engine_setup, check_run_memory, compile_wind
+from .closed_loop import _engine_setup, check_run_memory
 from .scenario import Scenario
 
 __all__ = [

@@ -22,16 +22,6 @@ from .._version import __version__
 from ..control.base import Controller, Measurement
 from ..control.lqi import LQIGain, design_lqi
 from ..control.paper import PaperController
-from ..disturbances import (
-    ConstantForce,
-    Disturbance,
-    NoWind,
-    Pulse,
-    Sine,
-    Step,
-    Turbulence,
-    WindSum,
-)
 from ..errors import InfeasibleError, ParameterError
 from ..layout import (
     ACT_BREAK,
@@ -60,11 +50,7 @@ from ..layout import (
     HELD_SIZE,
     SUMMARY_FIELDS,
     SUMMARY_RELEASE_TIME,
-    WIND_COLUMNS,
     WIND_CONSTANT,
-    WIND_PULSE,
-    WIND_SINE,
-    WIND_STEP,
     default_actuators,
 )
 from ..model import TetheredHelicopter, TrimPoint, linearize
@@ -74,11 +60,12 @@ from ..params import Params
 from ..resources import check_memory
 from ..sensors import N_CHANNELS, noise_table
 from ..status import Status
+from ..wind import CompiledWind, compile_wind
 from . import engine
 from .result import SimulationResult
 from .scenario import Scenario
 
-__all__ = ["CompiledWind", "compile_wind", "paper_gain", "simulate"]
+__all__ = ["paper_gain", "simulate"]
 
 Method = Literal["rk4", "adaptive"]
 _LQI_STATES = TETHERED_STATE[:12]
@@ -94,59 +81,6 @@ def paper_gain(
     lin = linearize(model, model.trim(0.0, q9)).select(_LQI_STATES)
     G, H = lin.discretize(dt)
     return design_lqi(G, H, lin.C, dt, Qy=np.diag(Qy), Ru=np.diag(Ru))
-
-
-@dataclass(frozen=True)
-class CompiledWind:
-    """A disturbance in the engine's form: profile rows, a gust table and drag coefficients."""
-
-    program: np.ndarray  # (k, WIND_COLUMNS)
-    gust: np.ndarray  # (m, 3) gust + mean wind velocity on a grid [m/s]
-    gust_dt: float  # grid step [s] (0: none)
-    drag: np.ndarray  # (3,) 0.5 rho CdA per axis [kg/m]
-
-    def breakpoints(self, t_end: float) -> np.ndarray:
-        """Times in (0, t_end) where a profile switches (pulse and step edges, sine starts)."""
-        pts = []
-        for row in self.program:
-            kind, start, duration = int(row[0]), row[1], row[2]
-            if kind in (WIND_PULSE, WIND_STEP, WIND_SINE):
-                pts.append(start)
-            if kind == WIND_PULSE:
-                pts.append(start + duration)
-        arr = np.array(sorted(set(pts)), dtype=float)
-        return arr[(arr > 0.0) & (arr < t_end)]
-
-
-def compile_wind(wind: Disturbance) -> CompiledWind | None:
-    """The engine form of built-in disturbances, or None for a custom one."""
-    rows: list[list[float]] = []
-    gusts: list[Turbulence] = []
-    parts = wind.components if isinstance(wind, WindSum) else (wind,)
-    for d in parts:
-        if isinstance(d, NoWind):
-            continue
-        if isinstance(d, Pulse):
-            rows.append([WIND_PULSE, d.start, d.duration, d.magnitude, 0, 0, *d.direction])
-        elif isinstance(d, Step):
-            rows.append([WIND_STEP, d.start, 0, d.magnitude, 0, 0, *d.direction])
-        elif isinstance(d, Sine):
-            rows.append([WIND_SINE, d.start, 0, d.amplitude, d.frequency, d.phase, *d.direction])
-        elif isinstance(d, ConstantForce):
-            rows.append([WIND_CONSTANT, 0, 0, 1.0, 0, 0, *d.vector])
-        elif isinstance(d, Turbulence):
-            gusts.append(d)
-        else:
-            return None
-    if len(gusts) > 1:
-        return None
-    program = np.array(rows, dtype=float).reshape(-1, WIND_COLUMNS)
-    if gusts:
-        g = gusts[0]
-        table = np.ascontiguousarray(g.N_v_gust_grid + np.asarray(g.N_v_mean_wind))
-        drag = 0.5 * g.drag.rho * np.asarray(g.drag.cd_area_m2, dtype=float)
-        return CompiledWind(program, table, float(g.dt), drag)
-    return CompiledWind(program, np.zeros((0, 3)), 0.0, np.zeros(3))
 
 
 def _setup(scenario: Scenario, design_params: Params | None = None):
