@@ -75,8 +75,8 @@ def monte_carlo(n_draws: int) -> tuple[float, float]:
     process for the same draws)."""
     from pathlib import Path
 
-    from tetherheli.montecarlo import CONFIGURATIONS, draw, load_montecarlo
     from tetherheli.sim.batch import run_batch
+    from tetherheli.studies.montecarlo import CONFIGURATIONS, draw, load_montecarlo
 
     path = Path(__file__).resolve().parents[1] / "scenarios" / "montecarlo_paper_sim1.toml"
     base, config = load_montecarlo(path)
