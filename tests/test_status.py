@@ -82,10 +82,10 @@ def test_release_in_python_rk4_loop_equals_engine():
     """A custom controller runs the Python loop; wrapping the paper's controller there must
     record the release exactly as the compiled engine does."""
     from tetherheli.control.paper import PaperController
-    from tetherheli.sim.closed_loop import _engine_setup
+    from tetherheli.sim.setup import engine_setup
 
     s = _releasing()
-    setup = _engine_setup(s)
+    setup = engine_setup(s)
     ctl = PaperController(
         setup.gain.K, setup.trim.x, setup.trim.y, setup.trim.u, setup.ctrl, setup.model.constants
     )

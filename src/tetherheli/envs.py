@@ -72,8 +72,8 @@ from .model.kernels import tension_from_state, tethered_outputs
 from .names import FREE_STATE
 from .sensors import N_CHANNELS, measure, noise_table
 from .sim import engine
-from .sim.closed_loop import _actuators, _setup
 from .sim.scenario import Scenario
+from .sim.setup import actuator_array, run_setup
 from .status import Status, status_message
 from .wind import (
     CompiledWind,
@@ -214,8 +214,8 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         if not isinstance(self.drag, DragModel):
             raise ParameterError("drag", drag, "a DragModel or None")
 
-        model, trim, gain, ctrl, cfg = _setup(self.scenario)
-        self._act = _actuators(self.scenario, trim, ctrl)  # rejects limits below hover need
+        model, trim, gain, ctrl, cfg = run_setup(self.scenario)
+        self._act = actuator_array(self.scenario, trim, ctrl)  # rejects limits below hover need
         self.trim = trim
         self.dt = self.scenario.control.dt
         self.n_max = self.scenario.n_samples

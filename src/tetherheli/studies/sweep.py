@@ -140,7 +140,7 @@ def _prepare_points(
 def _run_batch_feasible(scenarios: list[Scenario | None], reasons: list[str]):
     """``run_batch`` over the valid points; a point whose set-up the physics cannot meet
     (no trim, a hover outside the actuator limits) becomes invalid, the others still run."""
-    from ..sim.closed_loop import _engine_setup
+    from ..sim.setup import engine_setup
 
     idx = [i for i, s in enumerate(scenarios) if s is not None]
     try:
@@ -148,7 +148,7 @@ def _run_batch_feasible(scenarios: list[Scenario | None], reasons: list[str]):
     except InfeasibleError:
         for i in idx:  # rare: find the points that cannot be set up, then run the rest
             try:
-                _engine_setup(scenarios[i])  # type: ignore[arg-type]
+                engine_setup(scenarios[i])  # type: ignore[arg-type]
             except InfeasibleError as exc:
                 scenarios[i] = None
                 reasons[i] = _INVALID + str(exc)
