@@ -47,7 +47,7 @@ Wind
     Drawn at every ``reset`` from the environment's ``np_random`` (seeded by
     ``reset(seed=...)``): a kind among ``wind`` (``"pulse"``, ``"sine"``, ``"turbulence"``,
     ``"none"``), then its parameters (see :meth:`TetheredHoverEnv.draw_wind`). A fixed
-    :class:`~tetherheli.disturbances.Disturbance` may be passed instead, and
+    :class:`~tetherheli.wind.Disturbance` may be passed instead, and
     ``reset(options={"wind": disturbance})`` overrides the wind of one episode.
 
 The environment is not registered on import: call :func:`register_envs` once, then
