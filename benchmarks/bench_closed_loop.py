@@ -27,15 +27,15 @@ from scipy.integrate import solve_ivp
 
 from tetherheli import simulate
 from tetherheli.sim import engine
-from tetherheli.sim.batch import _prepare, _run_nogil
+from tetherheli.sim.batch import run_unrecorded
 from tetherheli.sim.scenario import paper_scenario
-from tetherheli.sim.simulate import _setup
+from tetherheli.sim.setup import engine_setup, run_setup
 
 
 def scipy_baseline(scenario):
     """The paper's closed loop in plain NumPy/SciPy: eqs 28, 30-35 via the model's Python
     method, LQI + feed-forward + PI at every sample, solve_ivp (RK45) between samples."""
-    model, trim, gain, _, _ = _setup(scenario)
+    model, trim, gain, _, _ = run_setup(scenario)
     dt = scenario.control.dt
     K, x_ref, y_ref, u0 = gain.K, trim.x[:12], trim.y, trim.u
     T_ref = scenario.params.tension_control.T_ref
@@ -75,8 +75,8 @@ def monte_carlo(n_draws: int) -> tuple[float, float]:
     process for the same draws)."""
     from pathlib import Path
 
-    from tetherheli.montecarlo import CONFIGURATIONS, draw, load_montecarlo
     from tetherheli.sim.batch import run_batch
+    from tetherheli.studies.montecarlo import CONFIGURATIONS, draw, load_montecarlo
 
     path = Path(__file__).resolve().parents[1] / "scenarios" / "montecarlo_paper_sim1.toml"
     base, config = load_montecarlo(path)
@@ -115,13 +115,13 @@ def main() -> None:
         times.append(time.perf_counter() - t0)
     t_sim = min(times)
 
-    args = _prepare(s, None)
+    args = engine_setup(s).engine_args(s.n_samples)
     summary = np.zeros(len(engine.SUMMARY_FIELDS))
-    _run_nogil(args, summary)
+    run_unrecorded(args, summary)
     engine_times = []
     for _ in range(opts.repeat):
         t0 = time.perf_counter()
-        _run_nogil(args, summary)
+        run_unrecorded(args, summary)
         engine_times.append(time.perf_counter() - t0)
     t_engine = min(engine_times)
 

@@ -98,18 +98,18 @@ def test_summary_metrics_of_no_sample():
 
 @pytest.mark.parametrize("configuration", ["free", "tethered"])
 def test_design_params_setup_changes_only_the_gain(configuration):
-    """``_setup(s, nominal)``: plant, trim and packing of s; the gain of the nominal design."""
-    from tetherheli.sim.simulate import _setup
+    """``run_setup(s, nominal)``: plant, trim and packing of s; the gain of the nominal design."""
+    from tetherheli.sim.setup import run_setup
 
     s = _short(configuration, 20.0, 0.0, 12.3)
     nominal = paper_scenario(1, configuration).params
-    model, trim, gain, ctrl, cfg = _setup(s, nominal)
-    m2, t2, g2, c2, f2 = _setup(s)
+    model, trim, gain, ctrl, cfg = run_setup(s, nominal)
+    m2, t2, g2, c2, f2 = run_setup(s)
     np.testing.assert_array_equal(ctrl, c2)
     np.testing.assert_array_equal(cfg, f2)
     np.testing.assert_array_equal(trim.x, t2.x)
     np.testing.assert_array_equal(model.constants, m2.constants)
-    _, _, g_nominal, _, _ = _setup(s.replace(params=nominal))
+    _, _, g_nominal, _, _ = run_setup(s.replace(params=nominal))
     np.testing.assert_array_equal(gain.K, g_nominal.K)
     assert not np.array_equal(gain.K, g2.K)
 

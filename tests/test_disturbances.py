@@ -1,4 +1,4 @@
-"""Tests of tetherheli.disturbances: the paper's wind profiles (Sec. VI), the strict loader,
+"""Tests of tetherheli.wind: the paper's wind profiles (Sec. VI), the strict loader,
 and the turbulence models against the MIL-F-8785C Dryden spectra and first-order filters."""
 
 from __future__ import annotations
@@ -13,7 +13,8 @@ from scipy.integrate import quad, quad_vec
 from scipy.linalg import expm, solve_continuous_lyapunov
 from scipy.signal import welch
 
-from tetherheli.disturbances import (
+from tetherheli.errors import ParameterError
+from tetherheli.wind import (
     ConstantForce,
     Disturbance,
     DragModel,
@@ -25,11 +26,10 @@ from tetherheli.disturbances import (
     Step,
     Turbulence,
     WindSum,
-    _discretize,
     disturbance_from_dict,
     paper_wind,
 )
-from tetherheli.errors import ParameterError
+from tetherheli.wind.turbulence import _discretize
 
 FT = 0.3048  # m per ft
 KT = 1852.0 / 3600.0  # m/s per knot
@@ -610,3 +610,13 @@ def test_turbulence_force_interpolates_and_uses_relative_velocity():
     for bad in (-0.1, 10.5):
         with pytest.raises(ParameterError, match="turbulence grid"):
             turb.force(bad)
+
+
+def test_disturbances_module_is_the_wind_package():
+    """``tetherheli.disturbances`` (kept for compatibility) gives the wind package's objects."""
+    import tetherheli.disturbances
+    import tetherheli.wind
+
+    names = tetherheli.disturbances.__all__
+    assert set(names) <= set(tetherheli.wind.__all__)
+    assert all(getattr(tetherheli.disturbances, n) is getattr(tetherheli.wind, n) for n in names)

@@ -191,18 +191,16 @@ def test_sensors_feed_controller_and_observation():
     """With the scenario's sensors the paper's controller and the observation see
     measurements: a zero residual with the episode's noise table equals ``simulate`` with the
     same table; equal seeds give equal noisy episodes; the reward uses the true position."""
-    import sys
-
     from tetherheli.sensors import SensorConfig
+    from tetherheli.sim.setup import sensor_noise
 
-    sim_module = sys.modules["tetherheli.sim.simulate"]
     pulse = Pulse(start=0.5, duration=1.0, magnitude=20.0, direction=(0.6, 0.8, 0.0))
     sensors = SensorConfig(position_source="tether", encoder_std=0.002, altimeter_std=0.05)
     scenario = Scenario(duration=2.0, wind=pulse, sensors=sensors, seed=4)
     result = simulate(scenario)
     env = TetheredHoverEnv(scenario, wind=pulse, max_episode_time=2.0)
     obs0, _ = env.reset(seed=0)
-    env._noise = sim_module._noise(scenario)  # the run's table, to compare with simulate
+    env._noise = sensor_noise(scenario)  # the run's table, to compare with simulate
     env._measure(env._tension())
     states, truncated = [env.state], False
     while not truncated:

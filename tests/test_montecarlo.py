@@ -11,13 +11,13 @@ import numpy as np
 import pytest
 
 from tetherheli.errors import ParameterError
-from tetherheli.montecarlo import (
+from tetherheli.sim import simulate
+from tetherheli.sim.batch import run_batch
+from tetherheli.studies.montecarlo import (
     load_montecarlo,
     montecarlo_config_from_dict,
     run_montecarlo,
 )
-from tetherheli.sim import simulate
-from tetherheli.sim.batch import run_batch
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -104,7 +104,7 @@ def test_outputs_and_equal_seeds_equal_tables(short_file, tmp_path):
 
 def test_row_equals_a_single_simulation(short_file, tmp_path):
     """Row 3 (draw 1, tethered) is the dispersed scenario run alone with the nominal gain."""
-    from tetherheli.montecarlo import draw
+    from tetherheli.studies.montecarlo import draw
 
     base, config = load_montecarlo(short_file)
     _run(short_file, tmp_path / "a")
@@ -256,7 +256,7 @@ def test_turbulence_gets_a_fresh_series_per_draw(tmp_path):
     """Gust statistics: draw i flies gusts from SeedSequence(seed) with spawn key (i, 0),
     its mean wind rotated by the direction draw; rows equal the drawn scenarios run alone."""
     from tetherheli.disturbances import Turbulence
-    from tetherheli.montecarlo import draw
+    from tetherheli.studies.montecarlo import draw
 
     f = tmp_path / "t.toml"
     f.write_text(TURBULENT)
@@ -296,7 +296,7 @@ SHORT_DRAWS_BEFORE = """\
 
 @pytest.mark.parametrize("seed", [0, 7, 20261122, 2**63 - 1])
 def test_draw_seed_is_the_spawned_child(seed):
-    from tetherheli.montecarlo import draw_seed
+    from tetherheli.studies.montecarlo import draw_seed
 
     children = np.random.SeedSequence(seed).spawn(40)
     for i in (0, 1, 17, 39):
@@ -315,7 +315,7 @@ def test_results_equal_the_spawn_everything_code(short_file, tmp_path):
     """Seeds made per chunk give today's table: the dispersions equal those written when all N
     seeds were spawned up front, and every chunk's rows equal ``_run_chunk`` of the spawned
     children (the old code path)."""
-    from tetherheli.montecarlo import _run_chunk
+    from tetherheli.studies.montecarlo.runner import _run_chunk
 
     _run(short_file, tmp_path / "a")
     lines = (tmp_path / "a" / "results.csv").read_text().splitlines()[1:]
@@ -528,9 +528,10 @@ def test_cli_non_utf8_scenario_and_params_name_their_path(tmp_path, capsys):
 
 
 def test_interrupt_message_starts_a_new_line(short_file, tmp_path, capsys, monkeypatch):
-    from tetherheli import cli, montecarlo
+    from tetherheli import cli
+    from tetherheli.studies.montecarlo import runner
 
-    real, calls = montecarlo._run_chunk, []
+    real, calls = runner._run_chunk, []
 
     def interrupted(*args, **kwargs):
         calls.append(1)
@@ -538,7 +539,7 @@ def test_interrupt_message_starts_a_new_line(short_file, tmp_path, capsys, monke
             raise KeyboardInterrupt
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(montecarlo, "_run_chunk", interrupted)
+    monkeypatch.setattr(runner, "_run_chunk", interrupted)
     out = tmp_path / "o"
     assert cli.main(["montecarlo", str(short_file), "--out", str(out), "--chunk-size", "3"]) == 130
     err = capsys.readouterr().err
@@ -551,19 +552,20 @@ def test_interrupt_message_starts_a_new_line(short_file, tmp_path, capsys, monke
 
 def test_lost_scheduler_is_one_line_exit_1_and_resumable(short_file, tmp_path, capsys, monkeypatch):
     distributed = pytest.importorskip("distributed")
-    from tetherheli import cli, montecarlo
+    from tetherheli import cli
+    from tetherheli.studies.montecarlo import runner
 
     cluster = distributed.LocalCluster(
         n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
     )
-    real = montecarlo._run_chunk
+    real = runner._run_chunk
 
     def then_lose_the_scheduler(*args, **kwargs):
         rows = real(*args, **kwargs)
         cluster.close()
         return rows
 
-    monkeypatch.setattr(montecarlo, "_run_chunk", then_lose_the_scheduler)
+    monkeypatch.setattr(runner, "_run_chunk", then_lose_the_scheduler)
     out = tmp_path / "o"
     args = ["montecarlo", str(short_file), "--out", str(out), "--chunk-size", "3"]
     try:
@@ -576,7 +578,7 @@ def test_lost_scheduler_is_one_line_exit_1_and_resumable(short_file, tmp_path, c
     assert code == 1 and len(err.strip().splitlines()) == 1, err
     assert "Dask scheduler" in err and "run the same command again to resume" in err
     assert len(_chunks_of(out)) == 1
-    monkeypatch.setattr(montecarlo, "_run_chunk", real)
+    monkeypatch.setattr(runner, "_run_chunk", real)
     assert cli.main([*args, "--quiet"]) == 0
     _run(short_file, tmp_path / "full")
     assert (out / "results.csv").read_bytes() == (tmp_path / "full" / "results.csv").read_bytes()

@@ -26,9 +26,9 @@ from tetherheli.disturbances import (
     Step,
     Turbulence,
 )
-from tetherheli.montecarlo import MonteCarloConfig, draw, draw_seed
 from tetherheli.sim.batch import METRIC_NAMES
 from tetherheli.sim.scenario import Scenario
+from tetherheli.studies.montecarlo import MonteCarloConfig, draw, draw_seed
 
 #: Nominal profiles. Their starts (>= 2 s) lie beyond four standard deviations of the 0.5 s
 #: jitter, so no draw below is clipped at t = 0 and the delay is exact.
@@ -250,8 +250,8 @@ def test_percentiles_are_over_completed_runs_only():
     whose metrics are finite and huge, a set-up failure with NaN) are counted as failed and
     left out of every statistic. Expected percentiles by hand (linear interpolation at
     rank p (n - 1) / 100): p1 1.04, p5 1.2, p25 2, p50 3, p75 4, p95 4.8, p99 4.96."""
-    from tetherheli.montecarlo import _summarize
     from tetherheli.sim import engine
+    from tetherheli.studies.montecarlo.runner import _summarize
 
     nan = math.nan
     rows = [

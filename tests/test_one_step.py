@@ -13,7 +13,7 @@ from tetherheli.control.paper import PaperController
 from tetherheli.disturbances import Pulse, Step
 from tetherheli.sim import Scenario, simulate
 from tetherheli.sim.scenario import ActuatorSettings
-from tetherheli.sim.simulate import _engine_setup
+from tetherheli.sim.setup import engine_setup
 from tetherheli.status import Status, status_message
 
 # every actuator effect at once: saturation that binds during the pulse, a lag, the winch's
@@ -62,7 +62,7 @@ def test_python_controller_loop_equals_the_compiled_loop(fixed_and_adaptive):
     gives the compiled loop's run to rounding, actuators and release included: the winch PI
     owns its anti-windup, and a release reaches the controller as Measurement.attached."""
     rk4, _ = fixed_and_adaptive
-    setup = _engine_setup(ALL_ACTUATORS)
+    setup = engine_setup(ALL_ACTUATORS)
     controller = PaperController(
         setup.gain.K, setup.trim.x, setup.trim.y, setup.trim.u, setup.ctrl, setup.model.constants
     )

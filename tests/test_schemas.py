@@ -95,7 +95,7 @@ def test_run_csv_with_sensors_appends_the_estimate(tmp_path):
 
 
 def test_sweep_csv_columns(tmp_path):
-    from tetherheli.sweep import sweep, write_sweep
+    from tetherheli.studies.sweep import sweep, write_sweep
 
     s = Scenario(duration=0.2)
     r = sweep(s, "tether.K_C", np.array([30.0, 40.0]), "peak_q1")
@@ -109,7 +109,7 @@ def test_sweep_csv_columns(tmp_path):
 
 
 def test_montecarlo_results_csv_columns(tmp_path):
-    from tetherheli.montecarlo import MonteCarloConfig, run_montecarlo
+    from tetherheli.studies.montecarlo import MonteCarloConfig, run_montecarlo
 
     config = MonteCarloConfig(
         runs=1,

@@ -17,7 +17,7 @@ from tetherheli.control.paper import PaperController
 from tetherheli.disturbances import ConstantForce, Pulse, Step
 from tetherheli.sim import ControlSettings, Limits, paper_gain
 from tetherheli.sim.scenario import paper_scenario
-from tetherheli.sim.simulate import _LQI_STATES, _setup
+from tetherheli.sim.setup import LQI_STATES, run_setup
 
 DT = 0.01
 ROOT = Path(__file__).resolve().parents[1]
@@ -30,7 +30,7 @@ def gain(paper):
 
 def _paper_lin(paper):
     model = TetheredHelicopter(paper)
-    lin = linearize(model, model.trim(0.0)).select(_LQI_STATES)
+    lin = linearize(model, model.trim(0.0)).select(LQI_STATES)
     G, H = lin.discretize(DT)
     return G, H, lin.C
 
@@ -103,7 +103,7 @@ def test_free_configuration_equals_free_model(paper):
     the Cartesian free model (eqs 9-18) under the same controller, integrated here by hand."""
     s = paper_scenario(2, "free")
     ours = simulate(s)
-    _, trim, gain, ctrl, _ = _setup(s)
+    _, trim, gain, ctrl, _ = run_setup(s)
     p = TetheredHelicopter(paper).constants
     ctl = PaperController(gain.K, trim.x, trim.y, trim.u, ctrl, p)
     free = FreeHelicopter(paper)
@@ -153,7 +153,7 @@ def test_python_loop_equals_compiled_loop():
     numbers exactly when it is the paper's controller."""
     s = paper_scenario(1, "tethered").replace(duration=20.0)
     compiled = simulate(s)
-    model, trim, gain, ctrl, _ = _setup(s)
+    model, trim, gain, ctrl, _ = run_setup(s)
     ctl = PaperController(gain.K, trim.x, trim.y, trim.u, ctrl, model.constants)
     python = simulate(s, controller=ctl)
     np.testing.assert_array_equal(compiled.states, python.states)

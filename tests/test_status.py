@@ -82,10 +82,10 @@ def test_release_in_python_rk4_loop_equals_engine():
     """A custom controller runs the Python loop; wrapping the paper's controller there must
     record the release exactly as the compiled engine does."""
     from tetherheli.control.paper import PaperController
-    from tetherheli.sim.simulate import _engine_setup
+    from tetherheli.sim.setup import engine_setup
 
     s = _releasing()
-    setup = _engine_setup(s)
+    setup = engine_setup(s)
     ctl = PaperController(
         setup.gain.K, setup.trim.x, setup.trim.y, setup.trim.u, setup.ctrl, setup.model.constants
     )
@@ -153,7 +153,7 @@ def test_comparison_reports_release(tmp_path, capsys):
 def test_montecarlo_rows_record_release(tmp_path):
     """Monte Carlo rows carry the release time and tension (NaN for a run that kept its
     tether, e.g. every free run) and the summary counts the releases per configuration."""
-    from tetherheli.montecarlo import load_montecarlo, run_montecarlo
+    from tetherheli.studies.montecarlo import load_montecarlo, run_montecarlo
 
     path = tmp_path / "mc.toml"
     path.write_text(RELEASING + "[montecarlo]\nruns = 2\nseed = 3\n")
@@ -309,7 +309,7 @@ def test_sweep_records_impossible_and_failed_points():
     reason, metric NaN) and still runs the others; a cyclic limit below the hover need is
     invalid, one that loses the helicopter failed; neither is reported as completed."""
     from tetherheli.sim.scenario import paper_scenario
-    from tetherheli.sweep import sweep
+    from tetherheli.studies.sweep import sweep
 
     s = paper_scenario(1, "tethered").replace(duration=12.0)
     r = sweep(s, "tension_control.T_ref", np.array([20.0, 199.0, 201.0, 450.0]), "rms_q1")

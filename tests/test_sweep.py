@@ -11,7 +11,7 @@ import pytest
 from tetherheli import ParameterError, Params
 from tetherheli.cli import main
 from tetherheli.sim.scenario import paper_scenario
-from tetherheli.sweep import paper_cyclic_limit, sweep, tension_bound
+from tetherheli.studies.sweep import paper_cyclic_limit, sweep, tension_bound
 
 SIM1_TETHERED = str(Path(__file__).resolve().parents[1] / "scenarios" / "paper_sim1_tethered.toml")
 
@@ -116,3 +116,18 @@ def test_sweep_actuator_settings_and_batch_equals_simulate():
     assert lag.metric[0] != lag.metric[1]
     with pytest.raises(ParameterError, match=r"actuators\.cyclic_limit"):
         sweep(s, "actuators.cyclic_limit", np.array([-1.0]))
+
+
+def test_compatibility_modules_give_the_studies_objects():
+    """``tetherheli.sweep`` and ``tetherheli.montecarlo`` (kept for compatibility) give the
+    objects of ``tetherheli.studies``."""
+    import tetherheli.montecarlo
+    import tetherheli.studies.montecarlo
+    import tetherheli.studies.sweep
+    import tetherheli.sweep
+
+    for old, new in (
+        (tetherheli.sweep, tetherheli.studies.sweep),
+        (tetherheli.montecarlo, tetherheli.studies.montecarlo),
+    ):
+        assert all(getattr(old, n) is getattr(new, n) for n in old.__all__)

@@ -18,10 +18,10 @@ from tetherheli import ParameterError, Params, TetherParams
 from tetherheli._validation import check_number, check_vector, describe
 from tetherheli.disturbances import DragModel, HoverTurbulence, Pulse, Turbulence
 from tetherheli.envs import TetheredHoverEnv
-from tetherheli.montecarlo import montecarlo_config_from_dict
 from tetherheli.sensors import SensorConfig, hover_error_std, noise_table
 from tetherheli.sim import ControlSettings, Limits, Scenario
 from tetherheli.sim.scenario import ActuatorSettings
+from tetherheli.studies.montecarlo import montecarlo_config_from_dict
 from tetherheli.viz.animation import animate, render_frame
 
 MISSING = Path("no-such-result-directory")

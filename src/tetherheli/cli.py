@@ -297,7 +297,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from ._io import claim_output_directory
     from .report import write_comparison, write_run
     from .sim import load_scenario, simulate
-    from .sim.simulate import check_run_memory
+    from .sim.closed_loop import check_run_memory
 
     scenarios = [load_scenario(path) for path in args.scenario]  # all validated first
     names = [s.name for s in scenarios]
@@ -444,7 +444,7 @@ def _values_arg(text: str) -> list[float]:
 def _cmd_sweep(args: argparse.Namespace) -> int:
     from ._io import claim_output_directory
     from .sim import load_scenario
-    from .sweep import sweep, write_sweep
+    from .studies.sweep import sweep, write_sweep
 
     scenario = load_scenario(args.scenario)
     inputs = (args.scenario,)
@@ -496,8 +496,8 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
     import dataclasses
 
     from .errors import ClusterError
-    from .montecarlo import CONFIGURATIONS, load_montecarlo, run_montecarlo
     from .sim.batch import connect, disconnect
+    from .studies.montecarlo import CONFIGURATIONS, load_montecarlo, run_montecarlo
 
     base, config = load_montecarlo(args.scenario)
     if args.runs is not None:

@@ -47,7 +47,7 @@ Wind
     Drawn at every ``reset`` from the environment's ``np_random`` (seeded by
     ``reset(seed=...)``): a kind among ``wind`` (``"pulse"``, ``"sine"``, ``"turbulence"``,
     ``"none"``), then its parameters (see :meth:`TetheredHoverEnv.draw_wind`). A fixed
-    :class:`~tetherheli.disturbances.Disturbance` may be passed instead, and
+    :class:`~tetherheli.wind.Disturbance` may be passed instead, and
     ``reset(options={"wind": disturbance})`` overrides the wind of one episode.
 
 The environment is not registered on import: call :func:`register_envs` once, then
@@ -66,7 +66,17 @@ import numpy as np
 from gymnasium import spaces
 
 from ._validation import check_bool, check_number, check_vector
-from .disturbances import (
+from .errors import ParameterError
+from .layout import CFG_ATTACHED, CFG_GUST_DT, CFG_K_C, CTRL_T_REF
+from .model.kernels import tension_from_state, tethered_outputs
+from .names import FREE_STATE
+from .sensors import N_CHANNELS, measure, noise_table
+from .sim import engine
+from .sim.scenario import Scenario
+from .sim.setup import actuator_array, run_setup
+from .status import Status, status_message
+from .wind import (
+    CompiledWind,
     Disturbance,
     DragModel,
     HoverTurbulence,
@@ -75,16 +85,8 @@ from .disturbances import (
     Sine,
     Turbulence,
     check_wind_covers,
+    compile_wind,
 )
-from .errors import ParameterError
-from .layout import CFG_ATTACHED, CFG_GUST_DT, CFG_K_C, CTRL_T_REF
-from .model.kernels import tension_from_state, tethered_outputs
-from .names import FREE_STATE
-from .sensors import N_CHANNELS, measure, noise_table
-from .sim import engine
-from .sim.scenario import Scenario
-from .sim.simulate import CompiledWind, _actuators, _setup, compile_wind
-from .status import Status, status_message
 
 __all__ = [
     "ENV_ID",
@@ -212,8 +214,8 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         if not isinstance(self.drag, DragModel):
             raise ParameterError("drag", drag, "a DragModel or None")
 
-        model, trim, gain, ctrl, cfg = _setup(self.scenario)
-        self._act = _actuators(self.scenario, trim, ctrl)  # rejects limits below hover need
+        model, trim, gain, ctrl, cfg = run_setup(self.scenario)
+        self._act = actuator_array(self.scenario, trim, ctrl)  # rejects limits below hover need
         self.trim = trim
         self.dt = self.scenario.control.dt
         self.n_max = self.scenario.n_samples

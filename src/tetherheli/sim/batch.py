@@ -5,9 +5,9 @@
 dummy output arrays) and keeps, per run, the on-line summary of ``engine.SUMMARY_FIELDS``
 (peaks, sums of squares, tension range, number of samples) and the status: memory is
 O(N + workers x samples), never O(N x samples). Each run is packed by the same set-up as
-``simulate`` (``simulate._engine_setup``: trim, gain, wind, actuators, sensor noise).
+``simulate`` (``setup.engine_setup``: trim, gain, wind, actuators, sensor noise).
 
-Runs are spread over threads. The engine is compiled without ``nogil``; ``_run_nogil`` below
+Runs are spread over threads. The engine is compiled without ``nogil``; ``run_unrecorded`` below
 is a ``njit(nogil=True)`` wrapper that calls it from compiled code, so the GIL is released
 for the whole run and two threads run two runs in parallel (measured on an otherwise idle
 2-core machine: 8.1 ms -> 4.5 ms per 60 s paper run). The Python side of a run (trim,
@@ -43,9 +43,11 @@ from .._validation import check_integer
 from ..errors import ClusterError, ParameterError, TetherheliError
 from ..params import Params
 from ..status import Status, status_message
+from ..wind import compile_wind
 from . import engine
+from .closed_loop import check_run_memory
 from .scenario import Scenario
-from .simulate import _engine_setup, check_run_memory, compile_wind
+from .setup import engine_setup
 
 __all__ = [
     "METRIC_NAMES",
@@ -53,6 +55,7 @@ __all__ = [
     "connect",
     "disconnect",
     "run_batch",
+    "run_unrecorded",
     "summary_metrics",
 ]
 
@@ -76,9 +79,9 @@ METRIC_NAMES = (
 
 
 @compiled(nogil=True)
-def _run_nogil(engine_args, summary):  # pragma: no cover - compiled
+def run_unrecorded(engine_args, summary):  # pragma: no cover - compiled
     """``engine.run_closed_loop(*engine_args, ...)`` without recording (1-row dummy outputs),
-    GIL released; ``engine_args`` is ``_EngineSetup.engine_args``."""
+    GIL released; ``engine_args`` is ``EngineSetup.engine_args``."""
     d13 = np.zeros((1, 13))
     d4 = np.zeros((1, 4))
     d3 = np.zeros((1, 3))
@@ -203,12 +206,6 @@ def _check(scenario: Scenario) -> None:
             type(scenario.wind).__name__,
             "built-in disturbances only (run_batch uses the compiled engine)",
         )
-
-
-def _prepare(scenario: Scenario, design_params: Params | None) -> tuple:
-    """Engine arguments of one run (Python side: trim, gain lookup, packed arrays); the
-    scenario was checked by ``run_batch`` (``_check``)."""
-    return _engine_setup(scenario, design_params).engine_args(scenario.n_samples)
 
 
 def connect(address: str, timeout_s: float = 10.0) -> Any:
@@ -400,14 +397,16 @@ def run_batch(
 
     def run_one(i: int) -> None:
         try:
-            args = _prepare(scenarios[i], design_params)
+            # the scenario was checked by ``run_batch`` (``_check``)
+            s = scenarios[i]
+            args = engine_setup(s, design_params).engine_args(s.n_samples)
         except TetherheliError as exc:
             if not record_setup_failures:
                 raise
             status[i] = Status.SETUP
             reasons[i] = str(exc).splitlines()[0]
             return
-        st, k = _run_nogil(args, summaries[i])
+        st, k = run_unrecorded(args, summaries[i])
         status[i] = st
         done[i] = k
 

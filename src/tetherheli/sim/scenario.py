@@ -16,7 +16,7 @@ A scenario file::
     max_tension = 500.0               # [N]
     max_deviation = 100.0             # [m]
     max_angle_deg = 80.0              # [deg]
-    [[wind]]                          # force profiles on HO, see tetherheli.disturbances
+    [[wind]]                          # force profiles on HO, see tetherheli.wind
     type = "pulse"
     ...
     [params.tether]                   # overrides of the paper's parameters
@@ -40,16 +40,16 @@ import numpy as np
 from .._io import read_toml
 from .._validation import check_bool, check_integer, check_number, check_vector
 from ..control import lqi
-from ..disturbances import (
+from ..errors import ParameterError
+from ..params import Params, check_tether_length
+from ..sensors import SensorConfig, sensor_config_from_dict
+from ..wind import (
     Disturbance,
     NoWind,
     check_wind_covers,
     disturbance_from_dict,
     paper_wind,
 )
-from ..errors import ParameterError
-from ..params import Params, check_tether_length
-from ..sensors import SensorConfig, sensor_config_from_dict
 
 __all__ = [
     "ActuatorSettings",

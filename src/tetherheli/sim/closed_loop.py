@@ -12,203 +12,37 @@ from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import dataclass
-from functools import lru_cache
 from typing import Literal
 
 import numpy as np
 
 from .._version import __version__
 from ..control.base import Controller, Measurement
-from ..control.lqi import LQIGain, design_lqi
 from ..control.paper import PaperController
-from ..disturbances import (
-    ConstantForce,
-    Disturbance,
-    NoWind,
-    Pulse,
-    Sine,
-    Step,
-    Turbulence,
-    WindSum,
-)
-from ..errors import InfeasibleError, ParameterError
+from ..errors import ParameterError
 from ..layout import (
-    ACT_BREAK,
-    ACT_REEL_ACCEL,
-    ACT_TAU,
-    ACT_U_MAX,
-    ACT_U_MIN,
     CFG_ATTACHED,
-    CFG_DT,
     CFG_GUST_DT,
-    CFG_K_C,
-    CFG_MAX_ANGLE,
-    CFG_MAX_DEVIATION,
-    CFG_MAX_TENSION,
     CFG_N_SUB,
-    CFG_SIZE,
-    CTRL_DT,
-    CTRL_FFWD,
-    CTRL_K_I,
-    CTRL_K_P,
-    CTRL_REEL_ACCEL,
-    CTRL_REEL_RATE_LIMIT,
     CTRL_SIZE,
-    CTRL_T_REF,
-    CTRL_WINCH,
     HELD_SIZE,
     SUMMARY_FIELDS,
     SUMMARY_RELEASE_TIME,
-    WIND_COLUMNS,
     WIND_CONSTANT,
-    WIND_PULSE,
-    WIND_SINE,
-    WIND_STEP,
-    default_actuators,
 )
-from ..model import TetheredHelicopter, TrimPoint, linearize
+from ..model import TrimPoint
 from ..model.kernels import angle_trig, angle_trig_from, tethered_outputs
-from ..names import INPUT, TETHERED_STATE
-from ..params import Params
 from ..resources import check_memory
-from ..sensors import N_CHANNELS, noise_table
+from ..sensors import N_CHANNELS
 from ..status import Status
 from . import engine
 from .result import SimulationResult
 from .scenario import Scenario
+from .setup import engine_setup
 
-__all__ = ["CompiledWind", "compile_wind", "paper_gain", "simulate"]
+__all__ = ["check_run_memory", "simulate"]
 
 Method = Literal["rk4", "adaptive"]
-_LQI_STATES = TETHERED_STATE[:12]
-
-
-@lru_cache(maxsize=64)
-def paper_gain(
-    params: Params, dt: float, Qy: tuple[float, ...], Ru: tuple[float, ...], q9: float = 10.0
-) -> LQIGain:
-    """K_LQI|F: the LQI gain designed on the linearized tethered equations at TC = 0 (the free
-    helicopter) about Table IV's hover (Sec. V-A, eqs 46-53), for sample time dt."""
-    model = TetheredHelicopter(params)
-    lin = linearize(model, model.trim(0.0, q9)).select(_LQI_STATES)
-    G, H = lin.discretize(dt)
-    return design_lqi(G, H, lin.C, dt, Qy=np.diag(Qy), Ru=np.diag(Ru))
-
-
-@dataclass(frozen=True)
-class CompiledWind:
-    """A disturbance in the engine's form: profile rows, a gust table and drag coefficients."""
-
-    program: np.ndarray  # (k, WIND_COLUMNS)
-    gust: np.ndarray  # (m, 3) gust + mean wind velocity on a grid [m/s]
-    gust_dt: float  # grid step [s] (0: none)
-    drag: np.ndarray  # (3,) 0.5 rho CdA per axis [kg/m]
-
-    def breakpoints(self, t_end: float) -> np.ndarray:
-        """Times in (0, t_end) where a profile switches (pulse and step edges, sine starts)."""
-        pts = []
-        for row in self.program:
-            kind, start, duration = int(row[0]), row[1], row[2]
-            if kind in (WIND_PULSE, WIND_STEP, WIND_SINE):
-                pts.append(start)
-            if kind == WIND_PULSE:
-                pts.append(start + duration)
-        arr = np.array(sorted(set(pts)), dtype=float)
-        return arr[(arr > 0.0) & (arr < t_end)]
-
-
-def compile_wind(wind: Disturbance) -> CompiledWind | None:
-    """The engine form of built-in disturbances, or None for a custom one."""
-    rows: list[list[float]] = []
-    gusts: list[Turbulence] = []
-    parts = wind.components if isinstance(wind, WindSum) else (wind,)
-    for d in parts:
-        if isinstance(d, NoWind):
-            continue
-        if isinstance(d, Pulse):
-            rows.append([WIND_PULSE, d.start, d.duration, d.magnitude, 0, 0, *d.direction])
-        elif isinstance(d, Step):
-            rows.append([WIND_STEP, d.start, 0, d.magnitude, 0, 0, *d.direction])
-        elif isinstance(d, Sine):
-            rows.append([WIND_SINE, d.start, 0, d.amplitude, d.frequency, d.phase, *d.direction])
-        elif isinstance(d, ConstantForce):
-            rows.append([WIND_CONSTANT, 0, 0, 1.0, 0, 0, *d.vector])
-        elif isinstance(d, Turbulence):
-            gusts.append(d)
-        else:
-            return None
-    if len(gusts) > 1:
-        return None
-    program = np.array(rows, dtype=float).reshape(-1, WIND_COLUMNS)
-    if gusts:
-        g = gusts[0]
-        table = np.ascontiguousarray(g.N_v_gust_grid + np.asarray(g.N_v_mean_wind))
-        drag = 0.5 * g.drag.rho * np.asarray(g.drag.cd_area_m2, dtype=float)
-        return CompiledWind(program, table, float(g.dt), drag)
-    return CompiledWind(program, np.zeros((0, 3)), 0.0, np.zeros(3))
-
-
-def _setup(scenario: Scenario, design_params: Params | None = None):
-    """Model, trim, LQI gain and packed engine arrays of one run.
-
-    The gain is designed on ``design_params`` (default: the scenario's own parameters; a
-    Monte Carlo passes the nominal ones); plant, trim and winch use the scenario's.
-    """
-    params = scenario.params
-    model = TetheredHelicopter(params)
-    tethered = scenario.configuration == "tethered"
-    T_ref = params.tension_control.T_ref if tethered else 0.0
-    trim: TrimPoint = model.trim(T_ref, scenario.q9)
-    c = scenario.control
-    gain = paper_gain(
-        params if design_params is None else design_params,
-        c.dt,
-        tuple(c.Qy),
-        tuple(c.Ru),
-        scenario.q9,
-    )
-    ctrl = np.zeros(CTRL_SIZE)
-    ctrl[CTRL_DT] = c.dt
-    ctrl[CTRL_FFWD] = float(tethered and c.feedforward)
-    ctrl[CTRL_WINCH] = float(tethered)
-    ctrl[CTRL_T_REF] = T_ref
-    ctrl[CTRL_K_P] = params.tension_control.K_P
-    ctrl[CTRL_K_I] = params.tension_control.K_I
-    ctrl[CTRL_REEL_RATE_LIMIT] = math.inf
-    ctrl[CTRL_REEL_ACCEL] = math.inf
-    cfg = np.zeros(CFG_SIZE)
-    cfg[CFG_DT] = c.dt
-    cfg[CFG_N_SUB] = c.substeps
-    cfg[CFG_K_C] = params.tether.K_C
-    cfg[CFG_ATTACHED] = float(tethered)
-    cfg[CFG_MAX_TENSION] = scenario.limits.max_tension
-    cfg[CFG_MAX_DEVIATION] = scenario.limits.max_deviation
-    cfg[CFG_MAX_ANGLE] = math.radians(scenario.limits.max_angle_deg)
-    return model, trim, gain, ctrl, cfg
-
-
-def _actuators(scenario: Scenario, trim: TrimPoint, ctrl: np.ndarray) -> np.ndarray:
-    """The engine's actuator array; rejects limits the hover input does not fit in."""
-    a = scenario.actuators
-    act = default_actuators()
-    act[ACT_U_MIN : ACT_U_MIN + 4] = a.u_min
-    act[ACT_U_MAX : ACT_U_MAX + 4] = a.u_max
-    act[ACT_TAU] = a.time_constant
-    act[ACT_BREAK] = a.breaking_tension
-    act[ACT_REEL_ACCEL] = a.reel_acceleration_limit
-    ctrl[CTRL_REEL_RATE_LIMIT] = a.reel_rate_limit
-    ctrl[CTRL_REEL_ACCEL] = a.reel_acceleration_limit
-    need = trim.u_total
-    for i, name in enumerate(INPUT):
-        if not a.u_min[i] < need[i] < a.u_max[i]:
-            raise InfeasibleError(
-                "actuators.u_min/u_max",
-                f"{name} in [{a.u_min[i]:g}, {a.u_max[i]:g}]",
-                f"limits around the hover need {name} = {need[i]:.4g} (the helicopter "
-                "cannot hover otherwise)",
-            )
-    return act
 
 
 #: Floats recorded per control sample: state 13, inputs 4, feed-forward 4, reel rate 1,
@@ -238,82 +72,6 @@ def check_run_memory(scenario: Scenario, *, record: bool = True, concurrent: int
     return needed
 
 
-def _noise(scenario: Scenario) -> np.ndarray:
-    """Per-sample sensor noise rows, drawn from the scenario's seed (none when perfect)."""
-    if scenario.sensors.is_perfect:
-        return np.zeros((0, N_CHANNELS))
-    rng = np.random.default_rng(np.random.SeedSequence(scenario.seed))
-    return noise_table(scenario.sensors, scenario.n_samples, rng)
-
-
-@dataclass(frozen=True)
-class _EngineSetup:
-    """Everything one run needs, packed for the compiled engine."""
-
-    model: TetheredHelicopter
-    trim: TrimPoint
-    gain: LQIGain
-    ctrl: np.ndarray
-    cfg: np.ndarray
-    wind: CompiledWind | None
-    act: np.ndarray
-    noise: np.ndarray
-    source: int
-    arm: float
-
-    def engine_args(self, n_samples: int) -> tuple:
-        """The leading arguments of ``engine.run_closed_loop`` (built-in winds only)."""
-        assert self.wind is not None
-        return (
-            self.trim.x.copy(),
-            n_samples,
-            self.cfg,
-            self.ctrl,
-            self.model.constants,
-            self.law,
-            (self.wind.program, self.wind.gust, self.wind.drag),
-            self.act,
-            self.sensors,
-        )
-
-    @property
-    def law(self) -> tuple:
-        """The paper controller's (gain, x_ref, y_ref, u0) (``engine.paper_sample``)."""
-        return (
-            self.gain.K,
-            np.ascontiguousarray(self.trim.x[:12]),
-            self.trim.y.copy(),
-            self.trim.u.copy(),
-        )
-
-    @property
-    def sensors(self) -> tuple:
-        """(noise table, position-source code, tether arm, scratch) (``engine.sense``)."""
-        return (self.noise, self.source, self.arm, np.empty((4, 3)))
-
-
-def _engine_setup(scenario: Scenario, design_params: Params | None = None) -> _EngineSetup:
-    """Set-up, trim, gain (designed on ``design_params``, default the scenario's), wind,
-    actuators and sensor noise of one run."""
-    model, trim, gain, ctrl, cfg = _setup(scenario, design_params)
-    wind = compile_wind(scenario.wind)
-    if wind is not None:
-        cfg[CFG_GUST_DT] = wind.gust_dt
-    act = _actuators(scenario, trim, ctrl)
-    return _EngineSetup(
-        model,
-        trim,
-        gain,
-        ctrl,
-        cfg,
-        wind,
-        act,
-        _noise(scenario),
-        scenario.sensors.source_code,
-        model.params.helicopter.tether_arm,
-    )
-
-
 def simulate(
     scenario: Scenario,
     *,
@@ -341,7 +99,7 @@ def simulate(
     if method not in ("rk4", "adaptive"):
         raise ParameterError("method", method, "'rk4' or 'adaptive'")
     check_run_memory(scenario)
-    setup = _engine_setup(scenario)
+    setup = engine_setup(scenario)
     trim, wind, noise = setup.trim, setup.wind, setup.noise
     n = scenario.n_samples
     c = setup.model.constants

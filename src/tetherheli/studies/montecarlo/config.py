@@ -1,0 +1,175 @@
+"""The dispersions of a Monte Carlo: ``MonteCarloConfig``, the strict loading and validation
+of the ``[montecarlo]`` table (its keys: see ``tetherheli.studies.montecarlo``)."""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from ..._io import (
+    read_toml,
+)
+from ..._validation import check_bool, check_integer, check_number
+from ...errors import ParameterError
+from ...params import Params
+from ...sim.scenario import Scenario, scenario_from_dict
+from ...wind import (
+    ConstantForce,
+    Disturbance,
+    NoWind,
+    Pulse,
+    Sine,
+    Step,
+    Turbulence,
+    WindSum,
+)
+
+__all__ = [
+    "CONFIGURATIONS",
+    "MAX_RUNS",
+    "MonteCarloConfig",
+    "load_montecarlo",
+    "montecarlo_config_from_dict",
+]
+
+CONFIGURATIONS = ("free", "tethered")
+MAX_RUNS = 10_000_000
+MAX_JITTER_S = 3600.0
+_MC_KEYS = {
+    "runs",
+    "seed",
+    "amplitude_std_percent",
+    "direction_std_deg",
+    "random_phase",
+    "start_jitter_s",
+    "params",
+}
+
+
+@dataclass(frozen=True)
+class MonteCarloConfig:
+    """The dispersions of a Monte Carlo (the ``[montecarlo]`` table), validated.
+
+    Attributes
+    ----------
+    runs : int
+        Number of draws N (each run free and tethered).
+    seed : int
+        Root seed of ``numpy.random.SeedSequence``.
+    amplitude_std_percent : float
+        Standard deviation of the wind magnitude scale [%], in [0, 100].
+    direction_std_deg : float
+        Standard deviation of the wind direction's rotation about n3 [deg], in [0, 180].
+    random_phase : bool
+        Draw sine phases uniformly in [0, 2 pi).
+    start_jitter_s : float
+        Standard deviation of the wind profile's time shift [s], in [0, 3600].
+    params : tuple of (str, float)
+        ``("section.field", p)``: uniform uncertainty of +-p% (0 <= p < 100), sorted by name.
+    """
+
+    runs: int = 100
+    seed: int = 0
+    amplitude_std_percent: float = 0.0
+    direction_std_deg: float = 0.0
+    random_phase: bool = False
+    start_jitter_s: float = 0.0
+    params: tuple[tuple[str, float], ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data (recorded in summary.json)."""
+        d = dataclasses.asdict(self)
+        d["params"] = dict(self.params)
+        return d
+
+
+def montecarlo_config_from_dict(data: Any, *, source: str | None = None) -> MonteCarloConfig:
+    """Validate a ``[montecarlo]`` table (see the module docstring).
+
+    Raises
+    ------
+    ParameterError
+        Unknown keys, wrong types, negative or absurd dispersions, unknown parameter names.
+    """
+    try:
+        if not isinstance(data, dict):
+            raise ParameterError("montecarlo", data, "a table")
+        for k in data:
+            if k not in _MC_KEYS:
+                raise ParameterError(f"montecarlo.{k}", data[k], f"one of {sorted(_MC_KEYS)}")
+        kw: dict[str, Any] = {}
+        if "runs" in data:
+            kw["runs"] = check_integer("montecarlo.runs", data["runs"], low=1, high=MAX_RUNS)
+        if "seed" in data:
+            kw["seed"] = check_integer("montecarlo.seed", data["seed"], low=0, high=2**63 - 1)
+        if "amplitude_std_percent" in data:
+            kw["amplitude_std_percent"] = check_number(
+                "montecarlo.amplitude_std_percent",
+                data["amplitude_std_percent"],
+                low=0.0,
+                high=100.0,
+            )
+        if "direction_std_deg" in data:
+            kw["direction_std_deg"] = check_number(
+                "montecarlo.direction_std_deg", data["direction_std_deg"], low=0.0, high=180.0
+            )
+        if "random_phase" in data:
+            kw["random_phase"] = check_bool("montecarlo.random_phase", data["random_phase"])
+        if "start_jitter_s" in data:
+            kw["start_jitter_s"] = check_number(
+                "montecarlo.start_jitter_s", data["start_jitter_s"], low=0.0, high=MAX_JITTER_S
+            )
+        if "params" in data:
+            p = data["params"]
+            if not isinstance(p, dict):
+                raise ParameterError("montecarlo.params", p, 'a table {"section.field" = percent}')
+            known = Params.field_docs()
+            items = []
+            for name, pct in p.items():
+                if name not in known:
+                    raise ParameterError(
+                        f"montecarlo.params.{name}", pct, f"one of {sorted(known)}"
+                    )
+                pct = check_number(
+                    f"montecarlo.params.{name}", pct, low=0.0, high=100.0, high_open=True
+                )
+                items.append((name, pct))
+            kw["params"] = tuple(sorted(items))
+        return MonteCarloConfig(**kw)
+    except ParameterError as exc:
+        if source is None:
+            raise
+        raise ParameterError(exc.field, exc.value, exc.allowed, source=source) from None
+
+
+def load_montecarlo(path: str | Path) -> tuple[Scenario, MonteCarloConfig]:
+    """Load a scenario TOML file with a ``[montecarlo]`` table.
+
+    Returns
+    -------
+    (Scenario, MonteCarloConfig)
+        The nominal scenario and the dispersions.
+    """
+    source = str(path)
+    data = read_toml(path, "scenario TOML file")
+    if "montecarlo" not in data:
+        raise ParameterError("montecarlo", None, "a [montecarlo] table", source=source)
+    config = montecarlo_config_from_dict(data.pop("montecarlo"), source=source)
+    scenario = scenario_from_dict(data, source=source)
+    _wind_parts(scenario.wind, source)
+    return scenario, config
+
+
+def _wind_parts(wind: Disturbance, source: str | None = None) -> tuple[Disturbance, ...]:
+    parts = wind.components if isinstance(wind, WindSum) else (wind,)
+    for d in parts:
+        if not isinstance(d, (Pulse, Step, Sine, ConstantForce, NoWind, Turbulence)):
+            raise ParameterError(
+                "wind",
+                getattr(d, "type_name", type(d).__name__),
+                "pulse, step, sine, constant or turbulence profiles in a Monte Carlo",
+                source=source,
+            )
+    return tuple(parts)

@@ -1,0 +1,139 @@
+"""The draws of a Monte Carlo: the seed of draw i and its dispersions (wind time shift,
+rotation, scale and phase, parameter factors) applied to the base scenario."""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+import operator
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...params import Params
+from ...sim.scenario import Scenario
+from ...wind import (
+    ConstantForce,
+    Disturbance,
+    NoWind,
+    Pulse,
+    Sine,
+    Step,
+    Turbulence,
+)
+from .config import MonteCarloConfig, _wind_parts
+
+__all__ = ["Draw", "draw", "draw_seed"]
+
+
+@dataclass(frozen=True)
+class Draw:
+    """One dispersed draw (shared by its free and tethered runs).
+
+    Attributes
+    ----------
+    index : int
+        Spawn index i of the child ``SeedSequence``.
+    entropy : int
+        The root entropy; ``spawn_key`` is ``(index,)``.
+    amplitude_scale, direction_deg, phase_rad, start_shift_s : float
+        Wind dispersions (``phase_rad`` NaN when phases are not drawn).
+    param_factors : tuple of (str, float)
+        Multiplicative factor of every dispersed parameter.
+    scenario : Scenario
+        The dispersed scenario (configuration "tethered").
+    """
+
+    index: int
+    entropy: int
+    spawn_key: tuple[int, ...]
+    amplitude_scale: float
+    direction_deg: float
+    phase_rad: float
+    start_shift_s: float
+    param_factors: tuple[tuple[str, float], ...]
+    scenario: Scenario
+
+
+def draw_seed(seed: int, index: int) -> np.random.SeedSequence:
+    """The seed of draw ``index``: child ``index`` of ``SeedSequence(seed).spawn(N)`` for any
+    N > ``index``, made on its own in O(1) (same entropy, spawn key ``(index,)``, pool size)."""
+    return np.random.SeedSequence(seed, spawn_key=(index,))
+
+
+def _rot(v: tuple[float, ...], angle: float, scale: float = 1.0) -> tuple[float, float, float]:
+    c, s = math.cos(angle), math.sin(angle)
+    return (scale * (c * v[0] - s * v[1]), scale * (s * v[0] + c * v[1]), scale * v[2])
+
+
+def draw(
+    base: Scenario, config: MonteCarloConfig, child: np.random.SeedSequence, index: int
+) -> Draw:
+    """Disperse ``base`` with the random stream of ``child`` (see the package docstring)."""
+    rng = np.random.default_rng(child)
+    # fixed draw order: amplitude, direction, phase, time shift, parameters (sorted)
+    scale = max(0.0, 1.0 + config.amplitude_std_percent / 100.0 * rng.standard_normal())
+    angle_deg = config.direction_std_deg * rng.standard_normal()
+    phase_u = rng.uniform(0.0, 2.0 * math.pi)
+    shift = config.start_jitter_s * rng.standard_normal()
+    factors = tuple(
+        (name, 1.0 + pct / 100.0 * rng.uniform(-1.0, 1.0)) for name, pct in config.params
+    )
+    phase = phase_u if config.random_phase else math.nan
+    a = math.radians(angle_deg)
+    parts = []
+    for d in _wind_parts(base.wind):
+        if isinstance(d, Pulse):
+            parts.append(
+                Pulse(
+                    max(0.0, d.start + shift), d.duration, d.magnitude * scale, _rot(d.direction, a)
+                )
+            )
+        elif isinstance(d, Step):
+            parts.append(Step(max(0.0, d.start + shift), d.magnitude * scale, _rot(d.direction, a)))
+        elif isinstance(d, Sine):
+            p0 = phase if config.random_phase else d.phase
+            parts.append(
+                Sine(
+                    d.amplitude * scale,
+                    d.frequency,
+                    max(0.0, d.start + shift),
+                    _rot(d.direction, a),
+                    p0 - 2.0 * math.pi * d.frequency * shift,
+                )
+            )
+        elif isinstance(d, ConstantForce):
+            parts.append(ConstantForce(_rot(d.vector, a, scale)))
+        elif isinstance(d, Turbulence):  # a fresh gust series per draw, mean wind rotated
+            parts.append(
+                dataclasses.replace(
+                    d,
+                    seed=int(child.entropy),  # type: ignore[arg-type]
+                    spawn_key=(*child.spawn_key, 0),
+                    N_v_mean_wind=_rot(d.N_v_mean_wind, a),
+                )
+            )
+    wind: Disturbance = functools.reduce(operator.add, parts) if parts else NoWind()
+    params = base.params
+    if factors:
+        params = params.replace({name: _param(params, name) * f for name, f in factors})
+    scenario = base.replace(
+        name=f"{base.name}_mc{index}", configuration="tethered", wind=wind, params=params
+    )
+    return Draw(
+        index=index,
+        entropy=int(child.entropy),  # type: ignore[arg-type]
+        spawn_key=tuple(int(k) for k in child.spawn_key),
+        amplitude_scale=scale,
+        direction_deg=angle_deg,
+        phase_rad=phase,
+        start_shift_s=shift,
+        param_factors=factors,
+        scenario=scenario,
+    )
+
+
+def _param(params: Params, name: str) -> float:
+    section, _, key = name.partition(".")
+    return float(getattr(getattr(params, section), key))

@@ -1,0 +1,410 @@
+"""Running a Monte Carlo: chunks of draws written and verified on disk (resumable), the
+results table, the summary statistics over completed runs and the figures."""
+
+from __future__ import annotations
+
+import csv
+import hashlib
+import io
+import json
+import re
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..._io import (
+    atomic_open,
+    atomic_write_text,
+    check_output_file,
+    claim_output_directory,
+    record_outputs,
+)
+from ..._validation import check_integer
+from ..._version import __version__
+from ...errors import ParameterError, TetherheliError
+from ...progress import ProgressLine
+from ...sim.batch import METRIC_NAMES, run_batch
+from ...sim.scenario import Scenario
+from ...status import Status
+from .config import CONFIGURATIONS, MAX_RUNS, MonteCarloConfig, _wind_parts
+from .draws import _param, draw, draw_seed
+
+__all__ = ["RESULT_FILES", "run_montecarlo"]
+
+#: What a finished job writes beside ``partial/`` (the figures by ``_figures``).
+RESULT_FILES = ("results.csv", "summary.json", "peak_q1_hist.png", "peak_q1_cdf.png")
+
+
+def _chunks(n: int, chunk_size: int) -> Iterator[tuple[int, int]]:
+    """(first draw, end) of every chunk, lazily (no O(N) list)."""
+    for lo in range(0, n, chunk_size):
+        yield lo, min(n, lo + chunk_size)
+
+
+def _chunk_path(part: Path, lo: int, hi: int) -> Path:
+    """The chunk file of draws ``lo`` .. ``hi - 1``."""
+    return part / f"chunk_{lo:09d}_{hi:09d}.csv"
+
+
+def _columns(config: MonteCarloConfig) -> list[str]:
+    cols = ["run", "seed_entropy", "spawn_key", "amplitude_scale", "direction_deg"]
+    cols += ["phase_rad", "start_shift_s"]
+    cols += [f"factor:{n}" for n, _ in config.params] + [f"value:{n}" for n, _ in config.params]
+    cols += ["configuration", "status", "message", "reason", *METRIC_NAMES, *_RELEASE_COLUMNS]
+    return cols
+
+
+#: the tether release of a run (``BatchResult.release``): time [s], tension [N]; NaN if none
+_RELEASE_COLUMNS = ("release_time", "release_tension")
+
+
+def _fmt(v: object) -> str:
+    return repr(float(v)) if isinstance(v, (float, np.floating)) else str(v)
+
+
+def _run_chunk(
+    base: Scenario,
+    config: MonteCarloConfig,
+    children: list,
+    start: int,
+    workers: int | None,
+    client: Any,
+    worker_timeout_s: float = 60.0,
+) -> str:
+    draws = [draw(base, config, ch, start + j) for j, ch in enumerate(children)]
+    scenarios = [d.scenario.replace(configuration=cfg) for d in draws for cfg in CONFIGURATIONS]
+    batch = run_batch(
+        scenarios,
+        workers=workers,
+        design_params=base.params,
+        client=client,
+        record_setup_failures=True,
+        worker_timeout_s=worker_timeout_s,
+    )
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    k = 0
+    for d in draws:
+        values = [_param(d.scenario.params, n) for n, _ in config.params]
+        head = [
+            d.index,
+            d.entropy,
+            ":".join(str(s) for s in d.spawn_key),
+            d.amplitude_scale,
+            d.direction_deg,
+            d.phase_rad,
+            d.start_shift_s,
+            *(f for _, f in d.param_factors),
+            *values,
+        ]
+        for cfg in CONFIGURATIONS:
+            m = batch.metrics(k)
+            st = int(batch.status[k])
+            release = (batch.release_time[k], batch.release_tension[k])
+            why = batch.reasons[k]
+            metrics = (m[n] for n in METRIC_NAMES)
+            row = [*head, cfg, st, batch.message(k), why, *metrics, *release]
+            w.writerow([_fmt(v) for v in row])
+            k += 1
+    return buf.getvalue()
+
+
+def _fingerprint(base: Scenario, config: MonteCarloConfig, chunk_size: int) -> dict[str, Any]:
+    """What a chunk's rows depend on: not N (draw i does not depend on it), so a finished
+    job can be extended with more runs in the same directory."""
+    mc = config.to_dict()
+    del mc["runs"]
+    return {
+        "scenario": base.to_dict(),
+        "montecarlo": mc,
+        "chunk_size": chunk_size,
+        "columns": _columns(config),  # chunks of another table layout are not reused
+        "version": __version__,
+    }
+
+
+_CHUNK_END = re.compile(
+    r"# tetherheli montecarlo chunk: draws (\d+)\.\.(\d+), (\d+) rows, sha256 ([0-9a-f]{64})"
+)
+
+
+def _seal(rows: str, lo: int, hi: int) -> str:
+    """A chunk file's text: its rows (as results.csv gets them) and a last line with the draw
+    range, the row count and the SHA-256 of the rows, checked by ``_chunk_rows``."""
+    digest = hashlib.sha256(rows.encode("utf-8")).hexdigest()
+    n = rows.count("\n")
+    return f"{rows}# tetherheli montecarlo chunk: draws {lo}..{hi - 1}, {n} rows, sha256 {digest}\n"
+
+
+class _BadChunk(Exception):
+    """A chunk file that fails verification; the message says how."""
+
+
+def _chunk_rows(path: Path, lo: int, hi: int, n_columns: int) -> str:
+    """The verified rows of the chunk file of draws ``lo`` .. ``hi - 1``.
+
+    Raises
+    ------
+    _BadChunk
+        Unreadable, empty, truncated, garbled (checksum), rows or draws other than expected.
+    """
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise _BadChunk(f"cannot be read ({exc.strerror or exc})") from None
+    if not data:
+        raise _BadChunk("is empty")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise _BadChunk("is garbled (not UTF-8 text)") from None
+    head, _, last = text.removesuffix("\n").rpartition("\n")
+    end = _CHUNK_END.fullmatch(last) if text.endswith("\n") else None
+    if end is None:
+        raise _BadChunk("has no checksum line (truncated, or written before checksums)")
+    rows = head + "\n" if head else ""
+    first, final, count, digest = end.groups()
+    expected = len(CONFIGURATIONS) * (hi - lo)
+    if (int(first), int(final)) != (lo, hi - 1):
+        raise _BadChunk(f"holds draws {first}..{final}, not {lo}..{hi - 1}")
+    if int(count) != expected:
+        raise _BadChunk(f"says it has {count} rows, not {expected}")
+    if hashlib.sha256(rows.encode("utf-8")).hexdigest() != digest:
+        raise _BadChunk("is garbled (its checksum does not match)")
+    table = list(csv.reader(io.StringIO(rows)))
+    if len(table) != expected:
+        raise _BadChunk(f"has {len(table)} rows, not {expected}")
+    for j, row in enumerate(table):
+        if len(row) != n_columns or row[0] != str(lo + j // len(CONFIGURATIONS)):
+            raise _BadChunk(f"is garbled (row {j + 1})")
+    return rows
+
+
+def run_montecarlo(
+    base: Scenario,
+    config: MonteCarloConfig,
+    out: str | Path,
+    *,
+    chunk_size: int = 50,
+    workers: int | None = None,
+    max_chunks: int | None = None,
+    progress: bool = True,
+    client: Any = None,
+    worker_timeout_s: float = 60.0,
+    inputs: tuple[str | Path, ...] = (),
+    force: bool = False,
+) -> dict[str, Any] | None:
+    """Run (or resume) a Monte Carlo and write its outputs to ``out``.
+
+    ``out`` follows the rules of ``_io.output_directory``: not the current, home or root
+    directory nor one holding the ``inputs``; a folder tetherheli did not create must be empty
+    (or ``force``; its files are kept), and ``results.csv``, ``summary.json`` and the figures
+    replace only files this command wrote.
+
+    Parameters
+    ----------
+    base : Scenario
+        The nominal scenario (its configuration is ignored: every draw runs free and tethered).
+    config : MonteCarloConfig
+        Dispersions, N and seed.
+    out : path
+        Output directory; ``out/partial/`` holds finished chunks and is reused on a re-run
+        with the same scenario, dispersions and chunk size.
+    chunk_size : int
+        Draws per chunk file.
+    workers : int, optional
+        Threads of ``run_batch``.
+    max_chunks : int, optional
+        Compute at most this many new chunks, then return None (the job stays resumable).
+    progress : bool
+        Progress line on stderr.
+    client : distributed.Client, optional
+        Run the chunks on this Dask cluster (``sim.batch.connect``); same table as in-process.
+    worker_timeout_s : float
+        With ``client``: how long the cluster may have no worker before ``ClusterError``.
+
+    Returns
+    -------
+    dict or None
+        The summary (also written to ``summary.json``), or None if stopped by ``max_chunks``.
+
+    Raises
+    ------
+    ParameterError
+        Bad arguments, ``out/partial`` belongs to a different job, or its ``job.json`` is
+        unreadable.
+    ClusterError
+        With ``client``: the scheduler was lost, or no worker for ``worker_timeout_s``; the
+        finished chunks are kept and the same call resumes the job.
+
+    Notes
+    -----
+    A draw whose plant cannot be set up (no hover trim, actuator limits it cannot hover
+    within) is a failed row (``Status.SETUP``, the error in ``reason``); the job goes
+    on. On every call each finished chunk file is verified against its last line (draw range,
+    row count, SHA-256); one that fails is named in one line on stderr and computed again.
+    """
+    if not isinstance(config, MonteCarloConfig):
+        raise TypeError("config must be a MonteCarloConfig")
+    check_integer("runs", config.runs, low=1, high=MAX_RUNS)
+    chunk_size = check_integer("chunk_size", chunk_size, low=1, high=1_000_000)
+    if max_chunks is not None:
+        max_chunks = check_integer("max_chunks", max_chunks, low=0, high=MAX_RUNS)
+    _wind_parts(base.wind)
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise ParameterError("out", str(out), "a directory (new, or of the same job)")
+    claim_output_directory(out, inputs=inputs, force=force, own=lambda rel: _is_job_file(out, rel))
+    for name in RESULT_FILES:  # refused now, not after the runs
+        check_output_file(out / name)
+    part = out / "partial"
+    part.mkdir(parents=True, exist_ok=True)
+    fp = _fingerprint(base, config, chunk_size)
+    fp_path = part / "job.json"
+    if fp_path.exists():
+        try:
+            recorded = json.loads(fp_path.read_text(encoding="utf-8"))
+        except (OSError, ValueError) as exc:  # ValueError: not UTF-8, not JSON
+            reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            raise ParameterError(
+                "file",
+                str(fp_path),
+                f"the job record of a Monte Carlo in this folder ({reason}); delete {part} "
+                "to start the job over",
+            ) from None
+        if recorded != json.loads(json.dumps(fp)):
+            raise ParameterError(
+                "out",
+                str(out),
+                "a new directory, or one of the same job (partial/job.json differs)",
+            )
+    else:
+        atomic_write_text(fp_path, json.dumps(fp, indent=2))
+    n = config.runs
+    header = _columns(config)
+    computed = 0
+    with ProgressLine("montecarlo", "draws", enabled=progress) as bar:
+        for lo, hi in _chunks(n, chunk_size):
+            path = _chunk_path(part, lo, hi)
+            if path.exists():
+                try:
+                    _chunk_rows(path, lo, hi, len(header))
+                except _BadChunk as exc:
+                    bar.note(f"tetherheli: {path} {exc}; computing it again")
+                else:
+                    bar.update(hi, n)
+                    continue
+            if max_chunks is not None and computed >= max_chunks:
+                return None
+            children = [draw_seed(config.seed, i) for i in range(lo, hi)]
+            rows = _run_chunk(base, config, children, lo, workers, client, worker_timeout_s)
+            atomic_write_text(path, _seal(rows, lo, hi))
+            computed += 1
+            bar.update(hi, n)
+    table = _ColumnReader(header)
+    with atomic_open(out / "results.csv") as fh:  # streamed: one chunk in memory at a time
+        fh.write(",".join(header) + "\n")
+        for lo, hi in _chunks(n, chunk_size):
+            path = _chunk_path(part, lo, hi)
+            try:
+                text = _chunk_rows(path, lo, hi, len(header))
+            except _BadChunk as exc:
+                raise TetherheliError(
+                    f"{path} {exc} after it was verified (changed by another process?); "
+                    "run the same command again"
+                ) from None
+            fh.write(text)
+            table.add(text)
+    columns = table.arrays()
+    text = json.dumps(_summarize(base, config, columns), indent=2) + "\n"
+    atomic_write_text(out / "summary.json", text)
+    summary: dict[str, Any] = json.loads(text)
+    _figures(out, columns)
+    record_outputs(out, RESULT_FILES, writer="montecarlo")
+    return summary
+
+
+def _is_job_file(out: Path, rel: str) -> bool:
+    """A file of a Monte Carlo job's own ``partial/`` folder (one with its ``job.json``)."""
+    return rel.startswith("partial/") and (out / "partial" / "job.json").is_file()
+
+
+class _ColumnReader:
+    """The configuration, status and metric columns of the results table, collected while it
+    is written (O(rows) floats, not O(rows) dicts of strings; the table is not read back)."""
+
+    _NUMERIC = ("status", *METRIC_NAMES, "release_time")
+
+    def __init__(self, header: list[str]) -> None:
+        self._where = {k: header.index(k) for k in ("configuration", *self._NUMERIC)}
+        self._cols: dict[str, list] = {k: [] for k in self._where}
+
+    def add(self, chunk_text: str) -> None:
+        for row in csv.reader(io.StringIO(chunk_text)):
+            self._cols["configuration"].append(row[self._where["configuration"]])
+            for k in self._NUMERIC:
+                self._cols[k].append(float(row[self._where[k]]))
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        out = {k: np.asarray(self._cols[k], dtype=float) for k in self._NUMERIC}
+        out["configuration"] = np.asarray(self._cols["configuration"])
+        return out
+
+
+_PCTS = (1, 5, 25, 50, 75, 95, 99)
+_SUMMARY_METRICS = (
+    "peak_q1",
+    "peak_q2",
+    "peak_q3",
+    "rms_q1",
+    "rms_q2",
+    "tension_min",
+    "tension_max",
+)
+
+
+def _summarize(
+    base: Scenario, config: MonteCarloConfig, columns: dict[str, np.ndarray]
+) -> dict[str, Any]:
+    stats: dict[str, Any] = {}
+    for cfg in CONFIGURATIONS:
+        sel = columns["configuration"] == cfg
+        ok = sel & (columns["status"] == Status.OK)
+        entry: dict[str, Any] = {
+            "runs": int(sel.sum()),
+            "completed": int(ok.sum()),
+            "failed": int(sel.sum() - ok.sum()),
+            "tether_released": int((sel & np.isfinite(columns["release_time"])).sum()),
+        }
+        for m in _SUMMARY_METRICS:
+            v = columns[m][ok]
+            if v.size:
+                entry[m] = {"mean": float(v.mean()), "max": float(v.max())} | {
+                    f"p{p}": float(np.percentile(v, p)) for p in _PCTS
+                }
+        stats[cfg] = entry
+    return {
+        "description": "Monte Carlo: per-configuration percentiles over completed runs",
+        "version": __version__,
+        "N": config.runs,
+        "seed": config.seed,
+        "montecarlo": config.to_dict(),
+        "scenario": base.to_dict(),
+        "controller": "LQI gain designed on the nominal parameters; plant dispersed",
+        "statistics": stats,
+    }
+
+
+def _figures(out: Path, columns: dict[str, np.ndarray]) -> None:
+    """The histogram and CDF of the completed runs' peak q1 (``viz.plots``)."""
+    from ...viz.plots import figure_montecarlo, save_figure
+
+    ok = columns["status"] == Status.OK
+    completed = {
+        cfg: columns["peak_q1"][ok & (columns["configuration"] == cfg)] for cfg in CONFIGURATIONS
+    }
+    totals = {cfg: int((columns["configuration"] == cfg).sum()) for cfg in CONFIGURATIONS}
+    for kind in ("hist", "cdf"):
+        save_figure(figure_montecarlo(completed, totals, kind), out / f"peak_q1_{kind}.png", 100)

@@ -1,0 +1,41 @@
+"""Wind disturbances: a force on the helicopter's centre of mass HO, in the inertial frame N.
+
+``profiles``
+    the ``Disturbance`` contract and the deterministic profiles (``Pulse``, ``Step``,
+    ``Sine``, ``ConstantForce``, ``NoWind``, their sum ``WindSum``, ``paper_wind``);
+``turbulence``
+    gust models (``DrydenGust``, ``HoverTurbulence``) and ``Turbulence``, a gust series turned
+    into a drag force;
+``drag``
+    ``DragModel``, the air-relative velocity turned into a force;
+``compiled``
+    ``compile_wind``: the built-in disturbances in the compiled engine's packed form;
+``loader``
+    ``disturbance_from_dict``, the strict loader of TOML-style tables.
+"""
+
+from .compiled import CompiledWind, compile_wind
+from .drag import DragModel
+from .loader import disturbance_from_dict
+from .profiles import ConstantForce, Disturbance, NoWind, Pulse, Sine, Step, WindSum, paper_wind
+from .turbulence import DrydenGust, GustModel, HoverTurbulence, Turbulence, check_wind_covers
+
+__all__ = [
+    "CompiledWind",
+    "ConstantForce",
+    "Disturbance",
+    "DragModel",
+    "DrydenGust",
+    "GustModel",
+    "HoverTurbulence",
+    "NoWind",
+    "Pulse",
+    "Sine",
+    "Step",
+    "Turbulence",
+    "WindSum",
+    "check_wind_covers",
+    "compile_wind",
+    "disturbance_from_dict",
+    "paper_wind",
+]

@@ -1,0 +1,66 @@
+"""Quadratic drag: the air-relative velocity at HO turned into a force."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .._validation import check_number, check_vector
+from ..errors import ParameterError
+from ._common import Vec3, _plain_dict, _set
+
+__all__ = ["DragModel"]
+
+
+@dataclass(frozen=True)
+class DragModel:
+    """Quadratic drag of the helicopter, per N axis:
+    F_i = 0.5 rho CdA_i |v_rel,i| v_rel,i, v_rel = air velocity - velocity of HO.
+
+    A deliberately simple model: the areas are along the N axes (not rotated with the
+    fuselage, which is near level in hover) and the axes do not couple.
+
+    Parameters
+    ----------
+    cd_area_m2 : sequence of 3 floats
+        Drag coefficient times reference area along n1, n2, n3 [m^2], >= 0. For a helicopter
+        of the paper's size (12.7 kg) a few tenths of a square metre sideways; vertically the
+        rotor disc dominates.
+    rho : float, optional
+        Air density [kg/m^3], > 0 (default 1.225, ISA sea level).
+    """
+
+    cd_area_m2: Vec3
+    rho: float = 1.225
+
+    def __post_init__(self) -> None:
+        _set(self, "cd_area_m2", check_vector("DragModel.cd_area_m2", self.cd_area_m2, 3, low=0.0))
+        _set(self, "rho", check_number("DragModel.rho", self.rho, low=0.0, low_open=True))
+
+    def force(self, N_v_air: np.ndarray, N_v_HO: np.ndarray | None = None) -> np.ndarray:
+        """Drag force on HO.
+
+        Parameters
+        ----------
+        N_v_air : ndarray, shape (3,) or (n, 3)
+            Air velocity at HO (mean wind plus gust) in N [m/s].
+        N_v_HO : ndarray, shape (3,) or (n, 3), optional
+            Velocity of HO in N [m/s] (default: at rest). Broadcasts against ``N_v_air``.
+
+        Returns
+        -------
+        ndarray, shape of the broadcast inputs
+            Force along n1, n2, n3 [N].
+        """
+        v_rel = np.asarray(N_v_air, dtype=float)
+        if N_v_HO is not None:
+            v_rel = v_rel - np.asarray(N_v_HO, dtype=float)
+        if v_rel.shape[-1:] != (3,) or v_rel.ndim > 2:
+            raise ParameterError("N_v_air", N_v_air, "an array of shape (3,) or (n, 3) [m/s]")
+        return 0.5 * self.rho * np.asarray(self.cd_area_m2) * np.abs(v_rel) * v_rel
+
+    def to_dict(self) -> dict[str, Any]:
+        """A TOML-friendly table of the fields."""
+        return _plain_dict(self)
