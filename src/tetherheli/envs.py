@@ -67,7 +67,7 @@ from gymnasium import spaces
 
 from ._validation import check_bool, check_number, check_vector
 from .errors import ParameterError
-from .layout import CFG_ATTACHED, CFG_GUST_DT, CFG_K_C, CTRL_T_REF
+from .layout import CFG_ATTACHED, CFG_GUST_DT, CFG_K_C, CTRL_T_REF, LOOP_EVENT, LOOP_INPUTS
 from .model.kernels import tension_from_state, tethered_outputs
 from .names import FREE_STATE
 from .sensors import N_CHANNELS, measure, noise_table
@@ -252,7 +252,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._work = np.empty((engine.RK4_WORK_ROWS, 13))
         self._law = (self._gain, self._x_ref, self._y_ref, self._u0)
         self._loop = engine.new_loop_state(self._x, self._work)
-        self._inp = self._loop[9]  # the applied rotor inputs of the last step
+        self._inp = self._loop[LOOP_INPUTS]  # the applied rotor inputs of the last step
         self._k = 0
         self._done = True
 
@@ -371,8 +371,8 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         # the per-episode arrays of engine.paper_sample: integrators, winch, held actuator
         # state, the tether-release event (time [s], tension [N]; NaN: none), scratch
         self._loop = engine.new_loop_state(self._x, self._work)
-        self._release = self._loop[3]
-        self._inp = self._loop[9]
+        self._release = self._loop[LOOP_EVENT]
+        self._inp = self._loop[LOOP_INPUTS]
         self._k = 0
         self._done = False
         if self._sensors.is_perfect:

@@ -53,6 +53,20 @@ HELD_INPUTS = 0  # (4,) the rotor inputs applied over the last sample (the lag's
 HELD_REEL_RATE = 4  # the reel rate applied over the last sample [m/s] (the winch starts at rest)
 HELD_SIZE = 5
 
+# --- one run's loop state (``sim.engine.new_loop_state``): a tuple of arrays -------------------
+LOOP_Z = 0  # (4,) the LQI's output-error integral (eq 50)
+LOOP_WINCH = 1  # (WINCH_SIZE,) the winch PI's state
+LOOP_HELD = 2  # (HELD_SIZE,) what the actuators hold between samples
+LOOP_EVENT = 3  # (2,) the tether release: time [s], tension [N]; NaN without one
+LOOP_X_MEAS = 4  # (13,) the measured state
+LOOP_SC_MEAS = 5  # (10,) sin, cos of the measured angles
+LOOP_SC_TRUE = 6  # (10,) sin, cos of the true angles (rk4_interval's first stage reads them)
+LOOP_Y = 7  # (4,) the true outputs q1, q2, q3, q6
+LOOP_Y_EST = 8  # (4,) the controller's output estimate
+LOOP_INPUTS = 9  # (4,) the applied rotor inputs
+LOOP_FFWD = 10  # (4,) the feed-forward part of the inputs (eq 55)
+LOOP_SIZE = 11
+
 # --- actuators (``act``) ------------------------------------------------------------------------
 ACT_U_MIN = 0  # (4,) lower input limits [N, N m, N m, N]
 ACT_U_MAX = 4  # (4,) upper input limits

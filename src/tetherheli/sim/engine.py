@@ -47,6 +47,11 @@ from ..layout import (
     HELD_INPUTS,
     HELD_REEL_RATE,
     HELD_SIZE,
+    LOOP_EVENT,
+    LOOP_FFWD,
+    LOOP_INPUTS,
+    LOOP_Y,
+    LOOP_Y_EST,
     SUMMARY_FIELDS,
     SUMMARY_N_SAMPLES,
     SUMMARY_PEAK_Q1,
@@ -388,7 +393,8 @@ def paper_sample(x, k, cfg, ctrl, act, sensors, c, law, loop, action, action_mod
     feed-forward and the winch PI (``control.paper.paper_control_sc``), an optional ``action``
     on the rotor inputs (``ACTION_*``), ``actuate``, and the failure checks of the sampled
     state (``check_state_sc``). ``law`` is (gain, x_ref, y_ref, u0); ``loop`` the per-run
-    arrays (z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd), updated in
+    arrays in the order of ``layout.LOOP_*`` (z, winch, held, event, x_meas, sc_meas, sc_true,
+    y, y_est, inp, ffwd), updated in
     place: inp then holds the applied inputs, y the true outputs, sc_true sin and cos of the
     true angles. Returns (status, true tension [N], applied reel rate [m/s])."""
     gain, x_ref, y_ref, u0 = law
@@ -423,6 +429,7 @@ def new_loop_state(x_init: np.ndarray, work: np.ndarray) -> tuple:
 
 @_jit_inline
 def _loop_state(x_init, work):
+    # in the order of layout.LOOP_*
     return (
         np.zeros(4),  # z: the LQI's output-error integral (eq 50)
         np.zeros(2),  # winch: layout.WINCH_* (the PI's integral, its previous command)
@@ -469,7 +476,8 @@ def run_closed_loop(
     program, gust, drag = wind
     work = np.empty((RK4_WORK_ROWS, 13))
     loop = _loop_state(x_init, work)
-    event, y, y_est, inp, ffwd = loop[3], loop[7], loop[8], loop[9], loop[10]
+    event, y, y_est = loop[LOOP_EVENT], loop[LOOP_Y], loop[LOOP_Y_EST]
+    inp, ffwd = loop[LOOP_INPUTS], loop[LOOP_FFWD]
     no_action = np.zeros(4)
     start_summary(summary)
     dt = cfg[CFG_DT]
