@@ -33,23 +33,31 @@ s = paper_scenario(1, "tethered")
 try:
     from tetherheli.sim.batch import run_unrecorded
     from tetherheli.sim.setup import engine_setup
-    args = engine_setup(s).engine_args(s.n_samples)
+
+    def prepare(scenario):
+        return engine_setup(scenario).engine_args(scenario.n_samples)
 except ImportError:  # a baseline tree from before the set-up was public (0ac3184 and older)
     from tetherheli.sim.batch import _prepare, _run_nogil as run_unrecorded
-    args = _prepare(s, None)
-summary = np.zeros(len(engine.SUMMARY_FIELDS))
-run_unrecorded(args, summary)
-best = min(
-    (lambda t0: (run_unrecorded(args, summary), time.perf_counter() - t0)[1])(time.perf_counter())
-    for _ in range(20)
-)
+
+    def prepare(scenario):
+        return _prepare(scenario, None)
 from tetherheli.report import sensing_scenario
-sensed = _prepare(sensing_scenario("tether"), None)
-_run_nogil(sensed, summary)
-best_sensed = min(
-    (lambda t0: (_run_nogil(sensed, summary), time.perf_counter() - t0)[1])(time.perf_counter())
-    for _ in range(10)
-)
+
+summary = np.zeros(len(engine.SUMMARY_FIELDS))
+
+
+def best_of(args, repeat):
+    run_unrecorded(args, summary)
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        run_unrecorded(args, summary)
+        times.append(time.perf_counter() - t0)
+    return min(times)
+
+
+best = best_of(prepare(s), 20)
+best_sensed = best_of(prepare(sensing_scenario("tether")), 10)
 rng = np.random.default_rng(1)
 runs = [
     s.replace(wind=Pulse(10.0, 1.0, 20.0 * a, (1.0, 0.0, 0.0)) + Sine(20.0 * a, 0.1, 30.0,
