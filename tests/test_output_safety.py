@@ -385,3 +385,20 @@ def test_importing_tetherheli_leaves_the_matplotlib_backend_alone():
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "svg"
+
+
+def test_montecarlo_chunk_that_cannot_fit_is_refused_before_any_draw(workdir: Path, capsys):
+    """A chunk holds its draws' scenarios and gust series at once: --chunk-size 1000000 of a
+    turbulence job (75 kB a draw) is refused before any draw is made, naming the option."""
+    shipped = Path(__file__).resolve().parents[1] / "scenarios" / "montecarlo_turbulence.toml"
+    argv = ["montecarlo", str(shipped), "--quiet", "--runs", "1000000", "--out", "mc"]
+    tracemalloc.start()
+    try:
+        assert main([*argv, "--chunk-size", "1000000"]) == 2
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    err = capsys.readouterr().err
+    assert "a Monte Carlo chunk of 1000000 draws needs about" in err and "--chunk-size" in err
+    assert peak < 50e6
+    assert not (workdir / "mc").exists()

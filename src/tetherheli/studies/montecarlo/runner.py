@@ -8,6 +8,7 @@ import hashlib
 import io
 import json
 import re
+from array import array
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -25,9 +26,11 @@ from ..._validation import check_integer
 from ..._version import __version__
 from ...errors import ParameterError, TetherheliError
 from ...progress import ProgressLine
+from ...resources import check_memory
 from ...sim.batch import METRIC_NAMES, run_batch
 from ...sim.scenario import Scenario
 from ...status import Status
+from ...wind import Turbulence
 from .config import CONFIGURATIONS, MAX_RUNS, MonteCarloConfig, _wind_parts
 from .draws import _param, draw, draw_seed
 
@@ -35,6 +38,23 @@ __all__ = ["RESULT_FILES", "run_montecarlo"]
 
 #: What a finished job writes beside ``partial/`` (the figures by ``_figures``).
 RESULT_FILES = ("results.csv", "summary.json", "peak_q1_hist.png", "peak_q1_cdf.png")
+
+
+#: Memory of one draw's two scenarios besides their gust series (objects, parameters, wind
+#: profiles), measured with tracemalloc on the shipped paper Monte Carlo: about 5 kB; margin kept.
+_DRAW_BASE_BYTES = 16_384
+
+
+def check_chunk_memory(base: Scenario, draws: int) -> int:
+    """Estimate the bytes a chunk of ``draws`` draws holds at once (each draw's scenarios and
+    its own gust series) and refuse it above the memory budget (``tetherheli.resources``);
+    returns the estimate."""
+    gusts = sum(d.N_v_gust_grid.nbytes for d in _wind_parts(base.wind) if isinstance(d, Turbulence))
+    needed = draws * (_DRAW_BASE_BYTES + gusts)
+    check_memory(
+        f"a Monte Carlo chunk of {draws} draws", needed, hint="lower --chunk-size (default 50)"
+    )
+    return needed
 
 
 def _chunks(n: int, chunk_size: int) -> Iterator[tuple[int, int]]:
@@ -252,7 +272,12 @@ def run_montecarlo(
     chunk_size = check_integer("chunk_size", chunk_size, low=1, high=1_000_000)
     if max_chunks is not None:
         max_chunks = check_integer("max_chunks", max_chunks, low=0, high=MAX_RUNS)
-    _wind_parts(base.wind)
+    check_chunk_memory(base, min(chunk_size, config.runs))
+    check_memory(  # the statistics hold the table's numeric columns at the end
+        f"the results table of {config.runs} draws",
+        2 * config.runs * _ColumnReader.ROW_BYTES,
+        hint="run fewer draws",
+    )
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise ParameterError("out", str(out), "a directory (new, or of the same job)")
@@ -333,23 +358,29 @@ def _is_job_file(out: Path, rel: str) -> bool:
 
 class _ColumnReader:
     """The configuration, status and metric columns of the results table, collected while it
-    is written (O(rows) floats, not O(rows) dicts of strings; the table is not read back)."""
+    is written: 8 bytes a number and 1 a configuration (``ROW_BYTES`` a row with the final
+    arrays), not Python objects; the table is not read back."""
 
     _NUMERIC = ("status", *METRIC_NAMES, "release_time")
+    #: bytes a row of the table holds here: the numbers, the configuration code, and the
+    #: configuration names of ``arrays`` (numpy '<U8', 32 bytes)
+    ROW_BYTES = 8 * len(_NUMERIC) + 1 + 32
 
     def __init__(self, header: list[str]) -> None:
         self._where = {k: header.index(k) for k in ("configuration", *self._NUMERIC)}
-        self._cols: dict[str, list] = {k: [] for k in self._where}
+        self._cols = {k: array("d") for k in self._NUMERIC}
+        self._configuration = array("b")
 
     def add(self, chunk_text: str) -> None:
         for row in csv.reader(io.StringIO(chunk_text)):
-            self._cols["configuration"].append(row[self._where["configuration"]])
+            self._configuration.append(CONFIGURATIONS.index(row[self._where["configuration"]]))
             for k in self._NUMERIC:
                 self._cols[k].append(float(row[self._where[k]]))
 
     def arrays(self) -> dict[str, np.ndarray]:
-        out = {k: np.asarray(self._cols[k], dtype=float) for k in self._NUMERIC}
-        out["configuration"] = np.asarray(self._cols["configuration"])
+        out = {k: np.frombuffer(self._cols[k], dtype=float) for k in self._NUMERIC}
+        codes = np.frombuffer(self._configuration, dtype=np.int8)
+        out["configuration"] = np.array(CONFIGURATIONS)[codes]
         return out
 
 
