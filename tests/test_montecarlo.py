@@ -10,9 +10,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tetherheli.cli import main
 from tetherheli.errors import ParameterError
 from tetherheli.sim import simulate
 from tetherheli.sim.batch import run_batch
+from tetherheli.status import Status
 from tetherheli.studies.montecarlo import (
     load_montecarlo,
     montecarlo_config_from_dict,
@@ -596,3 +598,37 @@ def test_no_workers_is_reported_after_the_timeout(short_file, tmp_path, capsys):
     err = capsys.readouterr().err
     assert code == 1 and len(err.strip().splitlines()) == 1
     assert "no Dask worker" in err and "--worker-timeout" in err
+
+
+IMPOSSIBLE_DRAWS = """
+name = "mc_impossible"
+duration = 0.5
+[params.tension_control]
+T_ref = 150.0
+[montecarlo]
+runs = 12
+seed = 5
+params = { "tether.K_C" = 50.0 }
+"""
+
+
+def test_a_draw_with_impossible_dispersed_values_is_a_failed_row(tmp_path, capsys):
+    """A dispersed K_C below 2 T_ref / q9 (here 30 N/m, factor < 0.75) cannot give the
+    reference tension: that draw's rows say so (status 6 with the reason) and the job goes on;
+    --strict turns the failed rows into exit 1."""
+    path = tmp_path / "mc.toml"
+    path.write_text(IMPOSSIBLE_DRAWS)
+    out = tmp_path / "out"
+    assert main(["montecarlo", str(path), "--quiet", "--out", str(out)]) == 0
+    rows = _rows(out)
+    assert len(rows) == 24
+    for r in rows:
+        k_c = float(r["value:tether.K_C"])
+        if k_c * 10.0 / 2.0 < 150.0:  # the most this tether gives at q9 = 10 m
+            assert int(r["status"]) == Status.SETUP and "T_ref" in r["reason"]
+            assert math.isnan(float(r["peak_q1"]))
+        else:
+            assert int(r["status"]) == Status.OK
+    assert {int(r["status"]) for r in rows} == {int(Status.OK), int(Status.SETUP)}
+    assert "failed" in capsys.readouterr().err
+    assert main(["montecarlo", str(path), "--quiet", "--strict", "--out", str(out)]) == 1

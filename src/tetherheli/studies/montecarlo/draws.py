@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...errors import TetherheliError
 from ...params import Params
 from ...sim.scenario import Scenario
 from ...wind import (
@@ -41,8 +42,12 @@ class Draw:
         Wind dispersions (``phase_rad`` NaN when phases are not drawn).
     param_factors : tuple of (str, float)
         Multiplicative factor of every dispersed parameter.
-    scenario : Scenario
-        The dispersed scenario (configuration "tethered").
+    param_values : tuple of float
+        The dispersed parameters' values (nominal times factor).
+    scenario : Scenario or None
+        The dispersed scenario (configuration "tethered"); None when the dispersed values
+        are physically impossible (e.g. a tension the dispersed tether cannot give), and
+        ``reason`` says why: the draw is then a failed row, not an error of the job.
     """
 
     index: int
@@ -53,7 +58,9 @@ class Draw:
     phase_rad: float
     start_shift_s: float
     param_factors: tuple[tuple[str, float], ...]
-    scenario: Scenario
+    param_values: tuple[float, ...]
+    scenario: Scenario | None
+    reason: str = ""
 
 
 def draw_seed(seed: int, index: int) -> np.random.SeedSequence:
@@ -115,12 +122,16 @@ def draw(
                 )
             )
     wind: Disturbance = functools.reduce(operator.add, parts) if parts else NoWind()
-    params = base.params
-    if factors:
-        params = params.replace({name: _param(params, name) * f for name, f in factors})
-    scenario = base.replace(
-        name=f"{base.name}_mc{index}", configuration="tethered", wind=wind, params=params
-    )
+    values = {name: _param(base.params, name) * f for name, f in factors}
+    scenario: Scenario | None = None
+    reason = ""
+    try:
+        params = base.params.replace(values) if values else base.params
+        scenario = base.replace(
+            name=f"{base.name}_mc{index}", configuration="tethered", wind=wind, params=params
+        )
+    except TetherheliError as exc:  # impossible dispersed values: a failed draw, with why
+        reason = str(exc).splitlines()[0]
     return Draw(
         index=index,
         entropy=int(child.entropy),  # type: ignore[arg-type]
@@ -130,7 +141,9 @@ def draw(
         phase_rad=phase,
         start_shift_s=shift,
         param_factors=factors,
+        param_values=tuple(values.values()),
         scenario=scenario,
+        reason=reason,
     )
 
 

@@ -7,6 +7,7 @@ import csv
 import hashlib
 import io
 import json
+import math
 import re
 from array import array
 from collections.abc import Iterator
@@ -32,7 +33,7 @@ from ...sim.scenario import Scenario
 from ...status import Status
 from ...wind import Turbulence
 from .config import CONFIGURATIONS, MAX_RUNS, MonteCarloConfig, _wind_parts
-from .draws import _param, draw, draw_seed
+from .draws import draw, draw_seed
 
 __all__ = ["RESULT_FILES", "run_montecarlo"]
 
@@ -94,7 +95,12 @@ def _run_chunk(
     worker_timeout_s: float = 60.0,
 ) -> str:
     draws = [draw(base, config, ch, start + j) for j, ch in enumerate(children)]
-    scenarios = [d.scenario.replace(configuration=cfg) for d in draws for cfg in CONFIGURATIONS]
+    scenarios = [
+        d.scenario.replace(configuration=cfg)
+        for d in draws
+        if d.scenario is not None
+        for cfg in CONFIGURATIONS
+    ]
     batch = run_batch(
         scenarios,
         workers=workers,
@@ -103,11 +109,11 @@ def _run_chunk(
         record_setup_failures=True,
         worker_timeout_s=worker_timeout_s,
     )
+    no_metrics = [math.nan] * (len(METRIC_NAMES) + 2)  # metrics and release of a failed draw
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     k = 0
     for d in draws:
-        values = [_param(d.scenario.params, n) for n, _ in config.params]
         head = [
             d.index,
             d.entropy,
@@ -117,17 +123,19 @@ def _run_chunk(
             d.phase_rad,
             d.start_shift_s,
             *(f for _, f in d.param_factors),
-            *values,
+            *d.param_values,
         ]
         for cfg in CONFIGURATIONS:
-            m = batch.metrics(k)
-            st = int(batch.status[k])
-            release = (batch.release_time[k], batch.release_tension[k])
-            why = batch.reasons[k]
-            metrics = (m[n] for n in METRIC_NAMES)
-            row = [*head, cfg, st, batch.message(k), why, *metrics, *release]
+            if d.scenario is None:  # impossible dispersed values: the draw's rows say why
+                row = [*head, cfg, int(Status.SETUP), Status.SETUP.message, d.reason, *no_metrics]
+            else:
+                m = batch.metrics(k)
+                release = (batch.release_time[k], batch.release_tension[k])
+                metrics = (m[n] for n in METRIC_NAMES)
+                st = int(batch.status[k])
+                row = [*head, cfg, st, batch.message(k), batch.reasons[k], *metrics, *release]
+                k += 1
             w.writerow([_fmt(v) for v in row])
-            k += 1
     return buf.getvalue()
 
 
