@@ -575,14 +575,50 @@ def test_seeds_reproduce_and_differ():
     np.testing.assert_array_equal(r1, r2)
 
 
-def test_drag_model_formula():
-    """F_i = 0.5 rho CdA_i |v_rel,i| v_rel,i with v_rel = air velocity - velocity of HO."""
+def test_drag_model_is_the_bluff_body_law():
+    """F_i = 0.5 rho CdA_i |v_rel| v_rel,i, |v_rel| the norm of the whole relative velocity
+    (issue 11: the per-axis |v_rel,i| made a sideways gust in a mean wind act as v^2)."""
     drag = DragModel((0.2, 0.3, 0.4), rho=1.2)
-    np.testing.assert_allclose(drag.force([2.0, -1.0, 0.0]), [0.48, -0.18, 0.0], rtol=1e-14)
+    root5 = math.sqrt(5.0)  # |(2, -1, 0)|
+    expected = [0.6 * 0.2 * root5 * 2.0, 0.6 * 0.3 * root5 * -1.0, 0.0]
+    np.testing.assert_allclose(drag.force([2.0, -1.0, 0.0]), expected, rtol=1e-14)
     np.testing.assert_allclose(drag.force([2.0, -1.0, 0.0], [2.0, -1.0, 0.0]), 0.0)
     np.testing.assert_allclose(drag.force([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]), [0.0, 0.0, -0.24])
     v = np.array([[1.0, 2.0, 3.0], [-1.0, 0.5, 0.0]])
     np.testing.assert_allclose(drag.force(v), np.array([drag.force(row) for row in v]))
+
+
+def test_small_gust_in_a_mean_wind_acts_linearly():
+    """Linearization of the bluff-body law about a mean wind U: dF_i = 0.5 rho CdA_i
+    (|U| v_perp,i + 2 |U| v_par,i), i.e. a gust across the wind acts with |U| v, along it with
+    2 |U| v (the per-axis law gave ~v^2 across the wind)."""
+    drag = DragModel((0.4, 0.5, 0.8), rho=1.225)
+    U = np.array([5.0, 0.0, 0.0])
+    half_rho_cda = 0.5 * 1.225 * np.array([0.4, 0.5, 0.8])
+    for gust in (np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0]), np.array([0.3, -0.7, 0.5])):
+        eps = 1e-5
+        dF = (drag.force(U + eps * gust) - drag.force(U - eps * gust)) / (2.0 * eps)
+        par = gust @ U / (U @ U) * U
+        perp = gust - par
+        linear = half_rho_cda * (np.linalg.norm(U) * perp + 2.0 * np.linalg.norm(U) * par)
+        np.testing.assert_allclose(dF, linear, rtol=1e-8, atol=1e-9)
+
+
+def test_compiled_wind_force_equals_the_python_drag_model():
+    """The engine's compiled drag (engine.wind_force, used by RK4) and DragModel.force (the
+    Python path) are one law: equal to rounding, on and between gust-grid points."""
+    from tetherheli.layout import WIND_COLUMNS
+    from tetherheli.sim import engine
+
+    drag = DragModel((0.4, 0.5, 0.8), rho=1.1)
+    gust = np.array([[5.0, 1.0, -0.5], [4.0, -2.0, 0.7], [6.0, 0.3, 0.1]])
+    half_rho_cda = 0.5 * drag.rho * np.asarray(drag.cd_area_m2)
+    program = np.zeros((0, WIND_COLUMNS))
+    out = np.empty(3)
+    v = np.array([0.3, -0.2, 0.1])
+    for t, air in ((0.0, gust[0]), (0.5, gust[1]), (0.25, 0.5 * (gust[0] + gust[1]))):
+        engine.wind_force(program, gust, 0.5, half_rho_cda, t, 1, *v, out)
+        np.testing.assert_allclose(out, drag.force(air, v), rtol=1e-13, atol=1e-15)
 
 
 def test_turbulence_force_interpolates_and_uses_relative_velocity():

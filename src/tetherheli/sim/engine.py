@@ -158,8 +158,9 @@ def _wind_program_force(program, t, side, out):
 
 @_jit_inline
 def wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out):
-    """Wind force on HO in N [N]: the profiles plus the drag of the gust velocity relative to
-    HO, 0.5 rho CdA |v_rel| v_rel per axis (drag[i] = 0.5 rho CdA_i)."""
+    """Wind force on HO in N [N]: the profiles plus the bluff-body drag of the air velocity
+    relative to HO, F_i = 0.5 rho CdA_i |v_rel| v_rel,i with |v_rel| the norm of the whole
+    relative velocity (drag[i] = 0.5 rho CdA_i; ``wind.drag.DragModel``)."""
     out[0] = 0.0
     out[1] = 0.0
     out[2] = 0.0
@@ -173,10 +174,16 @@ def wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out):
             i, w = gust.shape[0] - 1, 0.0
         else:
             w = s - i
-        for a in range(3):
-            g = gust[i, a] if w == 0.0 else gust[i, a] * (1.0 - w) + gust[i + 1, a] * w
-            rel = g - (v1 if a == 0 else (v2 if a == 1 else v3))
-            out[a] += drag[a] * abs(rel) * rel
+        if w == 0.0:
+            r1, r2, r3 = gust[i, 0] - v1, gust[i, 1] - v2, gust[i, 2] - v3
+        else:
+            r1 = gust[i, 0] * (1.0 - w) + gust[i + 1, 0] * w - v1
+            r2 = gust[i, 1] * (1.0 - w) + gust[i + 1, 1] * w - v2
+            r3 = gust[i, 2] * (1.0 - w) + gust[i + 1, 2] * w - v3
+        speed = math.sqrt(r1 * r1 + r2 * r2 + r3 * r3)
+        out[0] += drag[0] * speed * r1
+        out[1] += drag[1] * speed * r2
+        out[2] += drag[2] * speed * r3
 
 
 @_jit_inline

@@ -1,4 +1,4 @@
-"""Quadratic drag: the air-relative velocity at HO turned into a force."""
+"""Bluff-body quadratic drag: the air-relative velocity at HO turned into a force."""
 
 from __future__ import annotations
 
@@ -16,11 +16,15 @@ __all__ = ["DragModel"]
 
 @dataclass(frozen=True)
 class DragModel:
-    """Quadratic drag of the helicopter, per N axis:
-    F_i = 0.5 rho CdA_i |v_rel,i| v_rel,i, v_rel = air velocity - velocity of HO.
+    """Bluff-body quadratic drag of the helicopter:
+    F_i = 0.5 rho CdA_i |v_rel| v_rel,i, v_rel = air velocity - velocity of HO, with |v_rel|
+    the norm of the whole relative velocity (the dynamic pressure 0.5 rho |v_rel|^2 acts on
+    each axis's area along the flow's direction cosine v_rel,i / |v_rel|).
 
-    A deliberately simple model: the areas are along the N axes (not rotated with the
-    fuselage, which is near level in hover) and the axes do not couple.
+    In a mean wind U a small gust v gives, to first order, dF = 0.5 rho CdA (|U| v_perp +
+    2 |U| v_par) (v_par along U, v_perp across it): a sideways or vertical gust in a mean wind
+    acts linearly, not quadratically. The areas are along the N axes (not rotated with the
+    fuselage, which is near level in hover).
 
     Parameters
     ----------
@@ -59,7 +63,8 @@ class DragModel:
             v_rel = v_rel - np.asarray(N_v_HO, dtype=float)
         if v_rel.shape[-1:] != (3,) or v_rel.ndim > 2:
             raise ParameterError("N_v_air", N_v_air, "an array of shape (3,) or (n, 3) [m/s]")
-        return 0.5 * self.rho * np.asarray(self.cd_area_m2) * np.abs(v_rel) * v_rel
+        speed = np.linalg.norm(v_rel, axis=-1, keepdims=True)
+        return 0.5 * self.rho * np.asarray(self.cd_area_m2) * speed * v_rel
 
     def to_dict(self) -> dict[str, Any]:
         """A TOML-friendly table of the fields."""
