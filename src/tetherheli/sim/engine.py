@@ -62,6 +62,7 @@ from ..layout import (
     SUMMARY_SUMSQ_Q1,
     SUMMARY_TENSION_MAX,
     SUMMARY_TENSION_MIN,
+    WINCH_SIZE,
     WIND_COLUMNS,
     WIND_CONSTANT,
     WIND_DIRECTION,
@@ -439,7 +440,7 @@ def _loop_state(x_init, work):
     # in the order of layout.LOOP_*
     return (
         np.zeros(4),  # z: the LQI's output-error integral (eq 50)
-        np.zeros(2),  # winch: layout.WINCH_* (the PI's integral, its previous command)
+        np.zeros(WINCH_SIZE),  # winch: layout.WINCH_* (the PI's integral, its last command)
         np.zeros(HELD_SIZE),  # held: layout.HELD_* (the winch starts at rest)
         np.full(2, np.nan),  # event: release time [s], tension [N]
         x_init.copy(),  # x_meas
@@ -489,15 +490,15 @@ def run_closed_loop(
     start_summary(summary)
     dt = cfg[CFG_DT]
     x_ref, y_ref = law[1], law[2]
+    status, done = STATUS_OK, n_samples + 1
     for k in range(n_samples + 1):
         t = k * dt
-        status, tension, rate = paper_sample(
+        sample_status, tension, rate = paper_sample(
             x, k, cfg, ctrl, act, sensors, c, law, loop, no_action, ACTION_NONE
         )
-        if status != STATUS_OK:
-            summary[SUMMARY_RELEASE_TIME] = event[0]
-            summary[SUMMARY_RELEASE_TENSION] = event[1]
-            return status, k
+        if sample_status != STATUS_OK:
+            status, done = sample_status, k
+            break
         _accumulate(summary, x, x_ref, y, y_ref, tension)
         if record:
             out_x, out_u, out_ffwd, out_rate, out_tension, out_wind, out_y, out_y_est = out
@@ -515,4 +516,4 @@ def run_closed_loop(
         rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, work, True)
     summary[SUMMARY_RELEASE_TIME] = event[0]
     summary[SUMMARY_RELEASE_TENSION] = event[1]
-    return STATUS_OK, n_samples + 1
+    return status, done
