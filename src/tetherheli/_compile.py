@@ -10,6 +10,13 @@ step. The folder is ``$NUMBA_CACHE_DIR`` (else ``$XDG_CACHE_HOME``, else ``~/.ca
 ``/tetherheli-numba/<fingerprint>``; folders of other fingerprints unused for
 ``STALE_AFTER_DAYS`` are removed. Where no cache folder can be written, functions compile
 in memory (never from a stale cache).
+
+Importing this module raises two of LLVM's loop-vectoriser thresholds for the process
+(``VECTORIZER_OPTIONS``): a loop over the lanes of a block of runs reads and writes a few dozen
+rows of separate arrays, and LLVM vectorises it only after checking at run time that none of
+them overlap; its default budget of 8 such checks leaves the lane loops scalar. The options
+only let more loops vectorise; they never change the arithmetic of a lane (the lane engine's
+test compares lanes bit for bit with single runs).
 """
 
 from __future__ import annotations
@@ -25,6 +32,7 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
+import llvmlite.binding as llvm
 import numba
 from numba import njit
 
@@ -34,11 +42,20 @@ PACKAGE_ROOT = Path(__file__).resolve().parent
 STALE_AFTER_DAYS = 14
 _CACHE_PARENT = "tetherheli-numba"
 
+#: LLVM options set at import: the number of run-time alias checks the loop vectoriser may
+#: emit (defaults 8 and 128); see the module docstring
+VECTORIZER_OPTIONS = (
+    "-runtime-memory-check-threshold=1024",
+    "-vectorize-memory-check-threshold=1024",
+)
+for _option in VECTORIZER_OPTIONS:
+    llvm.set_option("", _option)
+
 
 def source_fingerprint(root: Path = PACKAGE_ROOT) -> str:
     """sha256 (16 hex digits) of every ``*.py`` below ``root`` (paths and contents), with
-    the Numba and Python versions."""
-    digest = hashlib.sha256(f"{numba.__version__} {sys.version}".encode())
+    the Numba and Python versions and the LLVM options."""
+    digest = hashlib.sha256(f"{numba.__version__} {sys.version} {VECTORIZER_OPTIONS}".encode())
     for path in sorted(root.rglob("*.py")):
         digest.update(path.relative_to(root).as_posix().encode() + b"\0")
         digest.update(path.read_bytes() + b"\0")

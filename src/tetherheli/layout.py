@@ -16,10 +16,18 @@ __all__ = [
     "ACT_SIZE",
     "CFG_SIZE",
     "CTRL_SIZE",
+    "LANES",
     "SUMMARY_FIELDS",
     "WIND_COLUMNS",
     "default_actuators",
 ]
+
+# --- the lane engine (``sim.engine.run_lanes``) ---------------------------------------------
+#: runs advanced together in one block; the lane arrays are flat, element (variable i, lane j)
+#: at i * LANES + j. A compile-time constant of the compiled code (chosen by
+#: ``benchmarks/bench_lanes.py``: large enough to fill the vector units, small enough that a
+#: block's arrays stay in the first-level cache)
+LANES = 16
 
 # --- run configuration (``cfg``) ----------------------------------------------------------------
 CFG_DT = 0  # control sample time [s]

@@ -9,6 +9,8 @@ import math
 
 import numpy
 
+from ..layout import LANES
+
 SYMPY_VERSION = '1.14.0'
 
 
@@ -1011,6 +1013,47 @@ def tethered_tether_torque_sc(x, sc, tension, c, out):
     t5 = sc[3]*sc[9]
     out[0] = -c[0]*tension*(sc[2]*sc[4]*sc[6] - t2*(sc[1]*t1 + t0) - t5*(sc[1]*t4 - t3))
     out[1] = c[1]*tension*(sc[4]*sc[6]*sc[7] + t2*(-sc[1]*t3 + t4) - t5*(sc[1]*t0 + t1))
+
+
+def tethered_rhs_lanes(x, sc, inp, wind, tension, c, out):
+    """tethered_rhs_sc for every lane j of flat (variable, lane) arrays, element (i, j) at i * LANES + j: x (13 LANES,), sc (10 LANES,), inp (4 LANES,), wind (3 LANES,), tension (LANES,), c (n_c LANES,), out (13 LANES,) (rows 0-11 written)."""
+    for j in range(LANES):
+        t0 = 1/sc[6 * LANES + j]
+        t1 = sc[2 * LANES + j]*x[10 * LANES + j]
+        t2 = sc[7 * LANES + j]*x[9 * LANES + j]
+        t3 = 1/x[5 * LANES + j]
+        t4 = sc[2 * LANES + j]*sc[5 * LANES + j]
+        t5 = sc[0 * LANES + j]*sc[7 * LANES + j]
+        t6 = sc[1 * LANES + j]*t5 + t4
+        t7 = sc[0 * LANES + j]*sc[2 * LANES + j]
+        t8 = sc[5 * LANES + j]*sc[7 * LANES + j]
+        t9 = -sc[1 * LANES + j]*t8 + t7
+        t10 = sc[1 * LANES + j]*t4
+        t11 = t10 + t5
+        t12 = sc[1 * LANES + j]*t7
+        t13 = t12 - t8
+        t14 = sc[3 * LANES + j]*sc[4 * LANES + j]
+        t15 = sc[4 * LANES + j]*sc[8 * LANES + j]
+        t16 = sc[6 * LANES + j]*sc[9 * LANES + j]
+        t17 = c[0 * LANES + j]*x[10 * LANES + j]
+        t18 = c[1 * LANES + j]*x[9 * LANES + j]
+        t19 = sc[8 * LANES + j]*sc[9 * LANES + j]
+        t20 = sc[3 * LANES + j]*sc[9 * LANES + j]
+        t21 = sc[4 * LANES + j]*sc[6 * LANES + j]*sc[7 * LANES + j] + t19*t9 - t20*t6
+        t22 = sc[2 * LANES + j]*sc[4 * LANES + j]*sc[6 * LANES + j] - t11*t19 - t13*t20
+        t23 = inp[0 * LANES + j]*sc[6 * LANES + j]
+        out[0 * LANES + j] = -t0*(t1 - t2)
+        out[1 * LANES + j] = sc[2 * LANES + j]*x[9 * LANES + j] + sc[7 * LANES + j]*x[10 * LANES + j]
+        out[2 * LANES + j] = t0*(sc[1 * LANES + j]*t1 - sc[1 * LANES + j]*t2 + sc[6 * LANES + j]*x[11 * LANES + j])
+        out[3 * LANES + j] = t3*(c[0 * LANES + j]*x[9 * LANES + j]*(sc[3 * LANES + j]*t11 - sc[8 * LANES + j]*t13) + c[1 * LANES + j]*x[10 * LANES + j]*(sc[3 * LANES + j]*t9 + sc[8 * LANES + j]*t6) - sc[3 * LANES + j]*x[8 * LANES + j] - sc[8 * LANES + j]*x[7 * LANES + j])/sc[9 * LANES + j]
+        out[4 * LANES + j] = t3*(sc[9 * LANES + j]*x[6 * LANES + j] + t14*x[7 * LANES + j] - t15*x[8 * LANES + j] + t17*(sc[7 * LANES + j]*t16 + t14*t6 - t15*t9) - t18*(sc[2 * LANES + j]*t16 + t11*t15 + t13*t14))
+        out[5 * LANES + j] = sc[4 * LANES + j]*x[6 * LANES + j] + t17*t21 - t18*t22 + t19*x[8 * LANES + j] - t20*x[7 * LANES + j]
+        out[6 * LANES + j] = c[2 * LANES + j]*(inp[0 * LANES + j]*sc[1 * LANES + j] - inp[3 * LANES + j]*sc[2 * LANES + j]*sc[6 * LANES + j] - sc[4 * LANES + j]*tension[j] + wind[0 * LANES + j])
+        out[7 * LANES + j] = c[2 * LANES + j]*(-inp[3 * LANES + j]*t12 + inp[3 * LANES + j]*t8 - sc[0 * LANES + j]*t23 + t20*tension[j] + wind[1 * LANES + j])
+        out[8 * LANES + j] = c[2 * LANES + j]*(c[3 * LANES + j] + inp[3 * LANES + j]*t10 + inp[3 * LANES + j]*t5 + sc[5 * LANES + j]*t23 - t19*tension[j] + wind[2 * LANES + j])
+        out[9 * LANES + j] = c[7 * LANES + j]*(-c[0 * LANES + j]*t22*tension[j] + c[4 * LANES + j]*x[10 * LANES + j]*x[11 * LANES + j] + c[5 * LANES + j]*x[10 * LANES + j] + c[6 * LANES + j]*inp[3 * LANES + j] + inp[1 * LANES + j])
+        out[10 * LANES + j] = c[11 * LANES + j]*(c[10 * LANES + j]*x[9 * LANES + j] + c[1 * LANES + j]*t21*tension[j] + c[8 * LANES + j] + c[9 * LANES + j]*x[11 * LANES + j]*x[9 * LANES + j] + inp[2 * LANES + j])
+        out[11 * LANES + j] = c[15 * LANES + j]*(c[12 * LANES + j]*inp[0 * LANES + j] + c[13 * LANES + j]*inp[3 * LANES + j] + c[14 * LANES + j]*x[10 * LANES + j]*x[9 * LANES + j])
 
 
 def kinematics_dcm(q, R):

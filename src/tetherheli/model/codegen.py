@@ -13,6 +13,7 @@ p (14,) in ``params.PARAM_ORDER``.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import sympy as sp
@@ -101,27 +102,57 @@ class _ConstantPool:
         return [(sym, expr) for expr, sym in self.index.items()]
 
 
+_ELEMENT = re.compile(r"\b(x|sc|inp|wind|c)\[(\d+)\]|\btension\b")
+
+
+def _lane_element(match: re.Match) -> str:
+    """``x[3]`` -> ``x[3 * LANES + j]``, ``tension`` -> ``tension[j]``: the lane form's
+    indexing of flat (variable, lane) arrays."""
+    if match.group(1) is None:
+        return "tension[j]"
+    return f"{match.group(1)}[{match.group(2)} * LANES + j]"
+
+
 def _emit(
-    name: str, args: str, doc: str, outputs: list[tuple[str, sp.Matrix]], printer: _Printer
+    name: str,
+    args: str,
+    doc: str,
+    outputs: list[tuple[str, sp.Matrix]],
+    printer: _Printer,
+    *,
+    lanes: bool = False,
 ) -> str:
-    """One generated function: CSE over all outputs, then element assignments."""
+    """One generated function: CSE over all outputs, then element assignments.
+
+    With ``lanes`` the same statements run for every lane j of flat arrays laid out
+    (variable, lane), element (i, j) at i * LANES + j (``tension`` becomes an array), in one
+    loop over the lanes with no branch and no call. LANES (``layout.LANES``) is a constant of
+    the compiled code, so every offset is known to the compiler: it proves the arrays' rows
+    apart and vectorises the loop with a handful of run-time alias checks.
+    """
     flat = [e for _, mat in outputs for e in mat]
     replacements, reduced = sp.cse(flat, symbols=sp.numbered_symbols("t"), optimizations="basic")
-    lines = [f"def {name}({args}):", f'    """{doc}"""']
-    for sym, expr in replacements:
-        lines.append(f"    {sym} = {printer.doprint(expr)}")
+    body = [f"{sym} = {printer.doprint(expr)}" for sym, expr in replacements]
     k = 0
     for out_name, mat in outputs:
         if out_name == "return":  # a scalar result
-            lines.append(f"    return {printer.doprint(reduced[k])}")
+            body.append(f"return {printer.doprint(reduced[k])}")
             k += 1
             continue
         rows, cols = mat.shape
         for i in range(rows):
             for j in range(cols):
                 index = f"{i}" if cols == 1 else f"{i}, {j}"
-                lines.append(f"    {out_name}[{index}] = {printer.doprint(reduced[k])}")
+                if lanes:
+                    index = f"{index} * LANES + j"
+                body.append(f"{out_name}[{index}] = {printer.doprint(reduced[k])}")
                 k += 1
+    lines = [f"def {name}({args}):", f'    """{doc}"""']
+    if lanes:
+        lines.append("    for j in range(LANES):")
+        lines.extend("        " + _ELEMENT.sub(_lane_element, line) for line in body)
+    else:
+        lines.extend("    " + line for line in body)
     return "\n".join(lines) + "\n"
 
 
@@ -215,6 +246,22 @@ def _model_functions(d: Derivation, printer: _Printer) -> list[str]:
                     printer,
                 )
             )
+        # the right-hand side once more in the lane form (``_emit(lanes=True)``): arrays laid
+        # out (variable, lane), sc given; the lane engine advances a block of runs with it
+        name, fargs, _, outs = specs[0]
+        funcs.append(
+            _emit(
+                "tethered_rhs_lanes",
+                fargs.replace("x, ", "x, sc, ", 1),
+                "tethered_rhs_sc for every lane j of flat (variable, lane) arrays, element "
+                "(i, j) at i * LANES + j: x (13 LANES,), sc (10 LANES,), inp (4 LANES,), "
+                "wind (3 LANES,), tension (LANES,), c (n_c LANES,), out (13 LANES,) "
+                "(rows 0-11 written).",
+                [(o, prepared(m).xreplace(trig)) for o, m in outs],
+                printer,
+                lanes=True,
+            )
+        )
     defs = pool.definitions()
     constants = _emit(
         f"{k}_constants",
@@ -284,6 +331,7 @@ def generate_source() -> str:
         "# ruff: noqa\n"
         "import math\n\n"
         "import numpy\n\n"
+        "from ..layout import LANES\n\n"
         f"SYMPY_VERSION = {sp.__version__!r}\n"
     ]
     for kind in ("free", "tethered"):

@@ -17,6 +17,7 @@ import math
 import numpy as np
 
 from .._compile import compiled
+from ..layout import LANES
 from ..params import HelicopterParams
 from . import _generated as gen
 
@@ -52,6 +53,7 @@ tethered_tether_torque = _jit(gen.tethered_tether_torque)
 tethered_rhs_sc = _jit_inline(gen.tethered_rhs_sc)
 tethered_outputs_sc = _jit_inline(gen.tethered_outputs_sc)
 tethered_tether_torque_sc = _jit_inline(gen.tethered_tether_torque_sc)
+tethered_rhs_lanes = _jit_inline(gen.tethered_rhs_lanes)
 # the geometry of eqs 2-4, 27, 43-45 and Table I (``model.kinematics`` for arrays)
 kinematics_dcm = _jit(gen.kinematics_dcm)
 kinematics_points = _jit(gen.kinematics_points)
@@ -78,12 +80,63 @@ def angle_trig(x, sc):
 
 
 @_jit_inline
+def rotate_trig(s, c, d):
+    """(sin(a + d), cos(a + d)) from s = sin a, c = cos a by the angle-addition formulas with
+    the Taylor series of sin d, cos d (to d^9, d^10; exact to 1e-19 relative for
+    |d| <= TRIG_STEP_MAX). No branch, no call: it vectorises over lanes."""
+    d2 = d * d
+    sin_d = d + d * d2 * (_S3 + d2 * (_S5 + d2 * (_S7 + d2 * _S9)))
+    cos_d = 1.0 + d2 * (_C2 + d2 * (_C4 + d2 * (_C6 + d2 * _C8)))
+    return s * cos_d + c * sin_d, c * cos_d - s * sin_d
+
+
+# sin and cos on [-pi/4, pi/4]: the minimax polynomials of fdlibm's __kernel_sin and
+# __kernel_cos (Sun Microsystems, 1993), and pi/2 in three parts for Cody-Waite reduction
+_K_S1 = -1.66666666666666324348e-01
+_K_S2 = 8.33333333332248946124e-03
+_K_S3 = -1.98412698298579493134e-04
+_K_S4 = 2.75573137070700676789e-06
+_K_S5 = -2.50507602534068634195e-08
+_K_S6 = 1.58969099521155010221e-10
+_K_C1 = 4.16666666666666019037e-02
+_K_C2 = -1.38888888888741095749e-03
+_K_C3 = 2.48015872894767294178e-05
+_K_C4 = -2.75573143513906633035e-07
+_K_C5 = 2.08757232129817482790e-09
+_K_C6 = -1.13596475577881948265e-11
+_PIO2_1 = 1.57079632673412561417e00  # the first 33 bits of pi/2
+_PIO2_2 = 6.07710050630396597660e-11  # the next 33 bits
+_PIO2_3 = 2.02226624879595063154e-21  # pi/2 - _PIO2_1 - _PIO2_2
+_TWO_OVER_PI = 0.63661977236758134308
+#: |x| up to which ``sin_branchless`` is within a few ulp of libm (Cody-Waite reduction)
+SIN_BRANCHLESS_MAX_ARG = 1.0e5
+
+
+@_jit_inline
+def sin_branchless(x):
+    """sin x with no branch and no call (Cody-Waite reduction by pi/2, then fdlibm's kernel
+    polynomials), so a loop over lanes that uses it vectorises. Agrees with libm to a few
+    units in the last place for |x| <= SIN_BRANCHLESS_MAX_ARG (a test checks it)."""
+    k = math.floor(x * _TWO_OVER_PI + 0.5)
+    r = ((x - k * _PIO2_1) - k * _PIO2_2) - k * _PIO2_3
+    z = r * r
+    sin_r = r + r * z * (_K_S1 + z * (_K_S2 + z * (_K_S3 + z * (_K_S4 + z * (_K_S5 + z * _K_S6)))))
+    cos_r = (
+        1.0
+        - 0.5 * z
+        + z * z * (_K_C1 + z * (_K_C2 + z * (_K_C3 + z * (_K_C4 + z * (_K_C5 + z * _K_C6)))))
+    )
+    quadrant = k - 4.0 * math.floor(0.25 * k)  # k mod 4, in {0, 1, 2, 3}
+    value = cos_r if (quadrant == 1.0 or quadrant == 3.0) else sin_r
+    return -value if quadrant >= 2.0 else value
+
+
+@_jit_inline
 def angle_trig_from(x, x_base, sc_base, sc):
-    """``angle_trig(x, sc)`` from the values sc_base at a nearby x_base, without libm:
-    sin(a + d) = sin a cos d + cos a sin d with d = x - x_base and the Taylor series of
-    sin d, cos d (to d^9, d^10). Agrees with libm to a few units in the last place; steps
-    larger than TRIG_STEP_MAX fall back to libm. The RK4 stages use it: sin and cos are
-    half of a derivative's cost."""
+    """``angle_trig(x, sc)`` from the values sc_base at a nearby x_base, without libm
+    (``rotate_trig`` with d = x - x_base). Agrees with libm to a few units in the last place;
+    steps larger than TRIG_STEP_MAX fall back to libm. The RK4 stages use it: sin and cos
+    are half of a derivative's cost."""
     for i in range(5):
         d = x[i] - x_base[i]
         if abs(d) > TRIG_STEP_MAX:
@@ -93,12 +146,33 @@ def angle_trig_from(x, x_base, sc_base, sc):
             sc[i] = s
             sc[5 + i] = c
             continue
-        d2 = d * d
-        sin_d = d + d * d2 * (_S3 + d2 * (_S5 + d2 * (_S7 + d2 * _S9)))
-        cos_d = 1.0 + d2 * (_C2 + d2 * (_C4 + d2 * (_C6 + d2 * _C8)))
-        s, c = sc_base[i], sc_base[5 + i]
-        sc[i] = s * cos_d + c * sin_d
-        sc[5 + i] = c * cos_d - s * sin_d
+        sc[i], sc[5 + i] = rotate_trig(sc_base[i], sc_base[5 + i], d)
+
+
+@_jit_inline
+def angle_trig_from_lanes(x, x_base, sc_base, sc):
+    """``angle_trig_from`` for every lane of flat (variable, lane) arrays (``layout.LANES``):
+    x, x_base (13 LANES,), sc_base, sc (10 LANES,). One branch-free pass over the lanes
+    (vectorised), then libm for the entries whose step exceeds TRIG_STEP_MAX, so every lane
+    equals ``angle_trig_from`` bit for bit."""
+    big = False
+    n_lanes = x.shape[0] // 13  # LANES, at run time: the loop vectorises, not unrolls
+    for i in range(5):
+        for j in range(n_lanes):
+            d = x[i * LANES + j] - x_base[i * LANES + j]
+            s, c = rotate_trig(sc_base[i * LANES + j], sc_base[(5 + i) * LANES + j], d)
+            sc[i * LANES + j] = s
+            sc[(5 + i) * LANES + j] = c
+            big |= abs(d) > TRIG_STEP_MAX
+    if big:
+        for i in range(5):
+            for j in range(LANES):
+                a = x[i * LANES + j]
+                if abs(a - x_base[i * LANES + j]) > TRIG_STEP_MAX:
+                    s = math.sin(a)
+                    c = math.cos(a)
+                    sc[i * LANES + j] = s
+                    sc[(5 + i) * LANES + j] = c
 
 
 def model_constants(kind: str, helicopter: HelicopterParams) -> np.ndarray:

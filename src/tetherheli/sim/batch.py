@@ -1,18 +1,24 @@
 """Many closed-loop runs at once, keeping only per-run summaries (memory-bounded).
 
-``run_batch(scenarios)`` runs every scenario with the compiled engine
-(``engine.run_closed_loop``, the engine ``simulate`` uses, with ``record=False`` and 1-row
-dummy output arrays) and keeps, per run, the on-line summary of ``engine.SUMMARY_FIELDS``
-(peaks, sums of squares, tension range, number of samples) and the status: memory is
-O(N + workers x samples), never O(N x samples). Each run is packed by the same set-up as
-``simulate`` (``setup.engine_setup``: trim, gain, wind, actuators, sensor noise).
+``run_batch(scenarios)`` runs every scenario with the compiled engine and keeps, per run, the
+on-line summary of ``engine.SUMMARY_FIELDS`` (peaks, sums of squares, tension range, number
+of samples) and the status: memory is O(N + workers x LANES x samples of sensor noise),
+never O(N x samples). Each run is packed by the same set-up as ``simulate``
+(``setup.engine_setup``: trim, gain, wind, actuators, sensor noise).
 
-Runs are spread over threads. The engine is compiled without ``nogil``; ``run_unrecorded`` below
-is a ``njit(nogil=True)`` wrapper that calls it from compiled code, so the GIL is released
-for the whole run and two threads run two runs in parallel (measured on an otherwise idle
-2-core machine: 8.1 ms -> 4.5 ms per 60 s paper run). The Python side of a run (trim,
-packing, about 0.15 ms) holds the GIL. With a ``dask.distributed`` client the runs are
-split into equal tasks and run on the cluster's workers instead (``connect``).
+By default the runs go in blocks of ``layout.LANES`` through the lane engine
+(``engine.run_lanes``): each sample runs every lane's controller, sensors and checks with the
+function a single run uses (``engine.paper_sample``), then integrates all lanes at once with
+vectorised arithmetic (``engine.rk4_lanes``). A lane performs the operations of a single run
+in the same order, so a batch's numbers equal ``simulate``'s bit for bit (a test checks it
+over dispersed runs with actuators, sensors, turbulence, releases and failures). With
+``lanes=False`` every run goes alone through ``engine.run_closed_loop``.
+
+Blocks (or single runs) are spread over threads; ``run_block`` and ``run_unrecorded`` are
+``njit(nogil=True)`` wrappers, so the GIL is released for the whole block and two threads run
+in parallel. The Python side of a run (trim, packing, about 0.15 ms) holds the GIL. With a
+``dask.distributed`` client the runs are split into equal tasks and run on the cluster's
+workers instead (``connect``).
 
 Runs are sorted by (parameters, control settings, q9), and the LQI gain (``paper_gain``,
 cached) is designed once per distinct set. With ``design_params`` every run's gain is
@@ -41,13 +47,14 @@ import numpy as np
 from .._compile import compiled
 from .._validation import check_integer
 from ..errors import ClusterError, ParameterError, TetherheliError
+from ..layout import LANES
 from ..params import Params
 from ..status import Status, status_message
 from ..wind import compile_wind
 from . import engine
 from .closed_loop import check_run_memory
 from .scenario import Scenario
-from .setup import engine_setup
+from .setup import EngineSetup, engine_setup, lane_block
 
 __all__ = [
     "METRIC_NAMES",
@@ -55,6 +62,7 @@ __all__ = [
     "connect",
     "disconnect",
     "run_batch",
+    "run_block",
     "run_unrecorded",
     "summary_metrics",
 ]
@@ -88,6 +96,13 @@ def run_unrecorded(engine_args, summary):  # pragma: no cover - compiled
     d1 = np.zeros(1)
     out = (d13, d4, d4, d1, d1, d3, d4, d4)
     return engine.run_closed_loop(*engine_args, False, out, summary)
+
+
+@compiled(nogil=True)
+def run_block(block_args, summary, status, done):  # pragma: no cover - compiled
+    """``engine.run_lanes(*block_args, summary, status, done)`` with the GIL released;
+    ``block_args`` is ``setup.lane_block``'s."""
+    engine.run_lanes(*block_args, summary, status, done)
 
 
 def summary_metrics(summary: np.ndarray) -> dict[str, float]:
@@ -247,7 +262,10 @@ def disconnect(client: Any) -> None:
 
 
 def _run_part(
-    scenarios: list[Scenario], design_params: Params | None, record_setup_failures: bool = False
+    scenarios: list[Scenario],
+    design_params: Params | None,
+    record_setup_failures: bool = False,
+    lanes: bool = True,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[str, ...]]:
     """One Dask task: a serial batch on the worker (the worker's threads run tasks in parallel;
     the engine releases the GIL)."""
@@ -256,6 +274,7 @@ def _run_part(
         workers=1,
         design_params=design_params,
         record_setup_failures=record_setup_failures,
+        lanes=lanes,
     )
     return r.summaries, r.status, r.samples_done, r.reasons
 
@@ -266,6 +285,7 @@ def _run_on_cluster(
     design_params: Params | None,
     record_setup_failures: bool,
     worker_timeout_s: float,
+    lanes: bool,
 ) -> list[tuple[list[int], tuple]]:
     """The batch as equal Dask tasks: ``(indices, _run_part result)`` per task. A lost
     scheduler, or no worker for ``worker_timeout_s`` seconds, raises ``ClusterError`` (one
@@ -295,6 +315,7 @@ def _run_on_cluster(
             [[scenarios[i] for i in idx] for idx in parts],
             design_params=design_params,
             record_setup_failures=record_setup_failures,
+            lanes=lanes,
             pure=False,
         )
         idle_since = None
@@ -330,6 +351,7 @@ def run_batch(
     client: Any = None,
     record_setup_failures: bool = False,
     worker_timeout_s: float = 60.0,
+    lanes: bool = True,
 ) -> BatchResult:
     """Run many scenarios with the compiled engine, keeping per-run summaries only.
 
@@ -352,6 +374,10 @@ def run_batch(
         ``reasons`` instead of stopping the batch.
     worker_timeout_s : float
         With ``client``: how long the cluster may have no worker before ``ClusterError``.
+    lanes : bool
+        Advance the runs in blocks of ``layout.LANES`` (``engine.run_lanes``, the default);
+        False runs them one at a time (``engine.run_closed_loop``). Both give the same
+        numbers bit for bit.
 
     Returns
     -------
@@ -383,7 +409,7 @@ def run_batch(
         check_run_memory(s, record=False, concurrent=min(workers, n))
     if client is not None:
         for idx, (sm, st, dn, why) in _run_on_cluster(
-            client, scenarios, design_params, record_setup_failures, worker_timeout_s
+            client, scenarios, design_params, record_setup_failures, worker_timeout_s, lanes
         ):
             summaries[idx], status[idx], done[idx] = sm, st, dn
             for i, r in zip(idx, why, strict=True):
@@ -395,26 +421,60 @@ def run_batch(
         key=lambda i: hash((scenarios[i].params, scenarios[i].control, scenarios[i].q9)),
     )
 
-    def run_one(i: int) -> None:
+    def set_up(i: int) -> EngineSetup | None:
+        """Run i's set-up, or None with its failure recorded (``record_setup_failures``)."""
         try:
-            # the scenario was checked by ``run_batch`` (``_check``)
-            s = scenarios[i]
-            args = engine_setup(s, design_params).engine_args(s.n_samples)
+            return engine_setup(scenarios[i], design_params)  # checked by ``_check``
         except TetherheliError as exc:
             if not record_setup_failures:
                 raise
             status[i] = Status.SETUP
             reasons[i] = str(exc).splitlines()[0]
-            return
-        st, k = run_unrecorded(args, summaries[i])
-        status[i] = st
-        done[i] = k
+            return None
 
-    if workers == 1 or n == 1:
+    def run_one(i: int) -> None:
+        setup = set_up(i)
+        if setup is not None:
+            st, k = run_unrecorded(setup.engine_args(scenarios[i].n_samples), summaries[i])
+            status[i] = st
+            done[i] = k
+
+    def run_lane_block(block: list[int]) -> None:
+        ready = [(i, s) for i in block if (s := set_up(i)) is not None]
+        if not ready:
+            return
+        index = [i for i, _ in ready]
+        args = lane_block([s for _, s in ready], [scenarios[i].n_samples for i in index])
+        block_summary = np.empty((LANES, _N_SUMMARY))
+        block_status = np.empty(LANES, dtype=np.int64)
+        block_done = np.empty(LANES, dtype=np.int64)
+        run_block(args, block_summary, block_status, block_done)
+        m = len(index)
+        summaries[index], status[index], done[index] = (
+            block_summary[:m],
+            block_status[:m],
+            block_done[:m],
+        )
+
+    if lanes:
+        # a block's runs share the RK4 steps per sample; runs of equal length finish together
+        order.sort(key=lambda i: (scenarios[i].control.substeps, scenarios[i].n_samples))
+        blocks: list[list[int]] = []
         for i in order:
-            run_one(i)
+            last = blocks[-1] if blocks else None
+            same = last and scenarios[last[0]].control.substeps == scenarios[i].control.substeps
+            if same and len(last) < LANES:
+                last.append(i)
+            else:
+                blocks.append([i])
+        tasks, task = blocks, run_lane_block
+    else:
+        tasks, task = order, run_one
+    if workers == 1 or len(tasks) == 1:
+        for t in tasks:
+            task(t)
     else:
         with ThreadPoolExecutor(max_workers=workers) as pool:
-            for fut in [pool.submit(run_one, i) for i in order]:
+            for fut in [pool.submit(task, t) for t in tasks]:
                 fut.result()
     return BatchResult(summaries, status, done, tuple(reasons))

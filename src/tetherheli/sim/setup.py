@@ -7,6 +7,7 @@ Gymnasium environment all start a run here.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import NamedTuple
@@ -39,6 +40,10 @@ from ..layout import (
     CTRL_SIZE,
     CTRL_T_REF,
     CTRL_WINCH,
+    LANES,
+    WIND_COLUMNS,
+    WIND_CONSTANT,
+    WIND_KIND,
     default_actuators,
 )
 from ..model import TetheredHelicopter, TrimPoint, linearize
@@ -54,6 +59,7 @@ __all__ = [
     "RunSetup",
     "actuator_array",
     "engine_setup",
+    "lane_block",
     "paper_gain",
     "run_setup",
     "sensor_noise",
@@ -220,4 +226,55 @@ def engine_setup(scenario: Scenario, design_params: Params | None = None) -> Eng
         sensor_noise(scenario),
         scenario.sensors.source_code,
         model.params.helicopter.tether_arm,
+    )
+
+
+def _stack(arrays: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """Arrays (rows, ...) of different row counts stacked along a new lane axis, zero-padded
+    to the longest; returns (stacked (B, rows_max, ...), rows in use (B,))."""
+    rows = np.array([a.shape[0] for a in arrays], dtype=np.int64)
+    stacked = np.zeros((len(arrays), max(1, int(rows.max())), *arrays[0].shape[1:]))
+    for j, a in enumerate(arrays):
+        stacked[j, : a.shape[0]] = a
+    return stacked, rows
+
+
+def lane_block(setups: Sequence[EngineSetup], n_samples: Sequence[int]) -> tuple:
+    """The leading arguments of ``engine.run_lanes`` for a block of up to ``LANES`` runs,
+    lane j packed from ``setups[j]`` as ``EngineSetup.engine_args`` packs a single run
+    (built-in winds only; every run must take the same RK4 steps per sample). Lanes beyond
+    the runs are padding: copies of the first run with n_samples = -1 (never run). Wind
+    programs are padded with rows of zero force and laid out flat (row, column, lane)."""
+    if not 0 < len(setups) <= LANES or len(n_samples) != len(setups):
+        raise ValueError(f"lane_block: 1 to {LANES} runs, each with its n_samples")
+    pad = LANES - len(setups)
+    setups = [*setups, *([setups[0]] * pad)]
+    counts = np.array([*n_samples, *([-1] * pad)], dtype=np.int64)
+    winds = [s.wind for s in setups]
+    if any(w is None for w in winds):
+        raise ValueError("lane_block: a run's wind is not a built-in disturbance")
+    n_rows = max(w.program.shape[0] for w in winds)
+    programs = np.zeros((n_rows, WIND_COLUMNS, LANES))
+    programs[:, WIND_KIND, :] = WIND_CONSTANT  # padding rows: a constant of zero force
+    for j, w in enumerate(winds):
+        programs[: w.program.shape[0], :, j] = w.program
+    gusts, gust_rows = _stack([np.asarray(w.gust, dtype=float).reshape(-1, 3) for w in winds])
+    noise, noise_rows = _stack([s.noise for s in setups])
+    laws = [s.law for s in setups]
+    return (
+        np.stack([s.trim.x for s in setups]),
+        counts,
+        np.stack([s.cfg for s in setups]),
+        np.stack([s.ctrl for s in setups]),
+        np.stack([s.model.constants for s in setups]),
+        tuple(np.ascontiguousarray(np.stack([law[i] for law in laws])) for i in range(4)),
+        (programs.ravel(), n_rows, gusts, gust_rows, np.stack([w.drag for w in winds])),
+        np.stack([s.act for s in setups]),
+        (
+            noise,
+            noise_rows,
+            np.array([s.source for s in setups], dtype=np.int64),
+            np.array([s.arm for s in setups], dtype=float),
+            np.zeros((LANES, 4, 3)),
+        ),
     )
