@@ -26,6 +26,7 @@ __all__ = [
     "figure_inputs",
     "figure_montecarlo",
     "figure_outputs",
+    "figure_release",
     "figure_sensing",
     "figure_sweep",
     "plottable",
@@ -168,6 +169,31 @@ def figure_sweep(result: Any) -> Figure:
     ax.set_ylabel(result.metric_name)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
+    return fig
+
+
+def figure_release(comparison: Any) -> Figure:
+    """The transient after a tether release (``studies.release.ReleaseComparison``): altitude
+    deviation q3 - q3_trim, collective fMR3 and tension, with the controller switched to the
+    free trim (u0|F) against one that keeps the tethered trim input (u0|T)."""
+    fig, axes = _stacked(3, (8.0, 6.5))
+    plot = _Plotter()
+    runs = (
+        (comparison.kept, dict(color="tab:gray", lw=1.1, label="u0|T kept (before)")),
+        (comparison.switched, dict(color="tab:blue", lw=1.1, label="switched to u0|F")),
+    )
+    for r, st in runs:
+        plot(axes[0], r.time, r.outputs[:, 2] - r.trim_output[2], **st)
+        plot(axes[1], r.time, r.inputs[:, 0], **st)
+        plot(axes[2], r.time, r.tension, **st)
+    t_rel = comparison.switched.release_time
+    for ax in axes:
+        ax.axvline(t_rel, color="tab:red", ls=":", lw=1.0)
+    axes[0].set_ylabel("q3 - trim [m]")
+    axes[1].set_ylabel("fMR3 [N]")
+    axes[2].set_ylabel("TC [N]")
+    _finish(fig, axes, "After the tether release (Sec. IV-C)", plot.dropped)
+    axes[0].legend(fontsize=8, title=f"tether released at t = {t_rel:g} s", title_fontsize=8)
     return fig
 
 
