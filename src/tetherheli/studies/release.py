@@ -42,7 +42,7 @@ class ReleaseComparison:
         return [
             ("tether released at [s]", f"{k.release_time:g}", f"{s.release_time:g}"),
             (
-                "altitude excursion after the release, max |q3 - q3_trim| [m]",
+                "altitude excursion after the release, max abs(q3 - q3_trim) [m]",
                 f"{altitude_excursion(k):.3f}",
                 f"{altitude_excursion(s):.3f}",
             ),
