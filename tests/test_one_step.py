@@ -64,7 +64,13 @@ def test_python_controller_loop_equals_the_compiled_loop(fixed_and_adaptive):
     rk4, _ = fixed_and_adaptive
     setup = engine_setup(ALL_ACTUATORS)
     controller = PaperController(
-        setup.gain.K, setup.trim.x, setup.trim.y, setup.trim.u, setup.ctrl, setup.model.constants
+        setup.gain.K,
+        setup.trim.x,
+        setup.trim.y,
+        setup.trim.u,
+        setup.ctrl,
+        setup.model.constants,
+        free_trim_input=setup.u0_free,  # after the release, as the engine (paper_sample)
     )
     python = simulate(ALL_ACTUATORS, controller=controller)
     assert python.release_time == rk4.release_time

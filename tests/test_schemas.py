@@ -35,7 +35,10 @@ RUN_COLUMNS = [
 SENSED_COLUMNS = [*RUN_COLUMNS, "q1_est", "q2_est", "q3_est"]
 
 #: ``tetherheli sweep``'s sweep.csv.
-SWEEP_COLUMNS = ["value", "metric", "status"]
+SWEEP_COLUMNS = [
+    "value", "metric", "status",
+    "peak_tether_moment_Nm", "peak_tether_angle_deg", "eq40_worst_case_moment_Nm",
+]  # fmt: skip
 
 #: Monte Carlo results.csv with ``params = {"helicopter.m_F" = ..., "tether.K_C" = ...}``.
 MONTECARLO_COLUMNS = [

@@ -6,7 +6,9 @@ Definitions (used by the report and summary.json):
   of q4, q5: Euler angle minus its trim value, reported in degrees;
 - peak_abs_dev: max over all samples of |deviation|; rms_dev: sqrt(mean(deviation^2)) over all
   samples of the whole run (t = 0 .. duration, every control sample);
-- reduction_percent = 100 (free - tethered) / free, positive when the tether helps.
+- reduction_percent = 100 (free - tethered) / free, positive when the tether helps;
+- tether_moment: the tether's moment about HO on f1, f2 at every sample (the C1, C2 of eqs
+  33-34 and 55), from the recorded state and tension, against eq 40's worst case |arm| TC.
 """
 
 from __future__ import annotations
@@ -17,9 +19,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .names import POSITION
+from .params import Params
 from .sim.result import SimulationResult
 
-__all__ = ["RunMetrics", "reduction_percent", "run_metrics"]
+__all__ = ["RunMetrics", "TetherMoment", "reduction_percent", "run_metrics", "tether_moment"]
 
 
 @dataclass(frozen=True)
@@ -57,3 +60,60 @@ def reduction_percent(free: float, tethered: float) -> float:
     if not (math.isfinite(free) and free > 0.0 and math.isfinite(tethered)):
         raise ValueError(f"free = {free!r}, tethered = {tethered!r}; allowed: finite, free > 0")
     return 100.0 * (free - tethered) / free
+
+
+@dataclass(frozen=True)
+class TetherMoment:
+    """The tether's moment about HO over a run (``tether_moment``).
+
+    moment : (n, 2) about f1, f2 [N m]: what the cyclic torques tMR1, tMR2 must balance
+    worst_case : (n,) eq 40's |dO-P,3 - dO-HO,3| TC [N m] (tether perpendicular to the shaft)
+    angle_deg : (n,) angle between the tether and the shaft f3 [deg] (NaN while slack):
+        |moment| = worst_case sin(angle)
+    """
+
+    moment: np.ndarray
+    worst_case: np.ndarray
+    angle_deg: np.ndarray
+
+    @property
+    def peak(self) -> float:
+        """max over the run and both axes of |C1|, |C2| [N m] (compare with the per-axis
+        cyclic limit tmax_MR1,2 of eq 40)."""
+        return float(np.max(np.abs(self.moment))) if self.moment.size else math.nan
+
+    @property
+    def peak_per_axis(self) -> tuple[float, float]:
+        """(max |C1|, max |C2|) [N m]."""
+        a = np.max(np.abs(self.moment), axis=0)
+        return float(a[0]), float(a[1])
+
+    @property
+    def peak_angle_deg(self) -> float:
+        """The largest tether-to-shaft angle while taut [deg] (NaN if never taut)."""
+        taut = self.angle_deg[np.isfinite(self.angle_deg)]
+        return float(taut.max()) if taut.size else math.nan
+
+    @property
+    def peak_worst_case(self) -> float:
+        """max of eq 40's |arm| TC over the run [N m]."""
+        return float(self.worst_case.max()) if self.worst_case.size else math.nan
+
+
+def tether_moment(result: SimulationResult, params: Params) -> TetherMoment:
+    """The tether's moment about HO at every recorded sample of a tethered-coordinate run,
+    from the recorded state and tension through the model's tether-torque function (generated
+    from eqs 33-34: C1, C2 of eq 55); ``params`` are the run's parameters (Table II)."""
+    from .model import kernels  # compiled code: imported when needed
+
+    c = kernels.model_constants("tethered", params.helicopter)
+    x = np.ascontiguousarray(result.states, dtype=float)
+    tension = np.asarray(result.tension, dtype=float)
+    moment = np.empty((x.shape[0], 2))
+    for k in range(x.shape[0]):
+        kernels.tethered_tether_torque(x[k], float(tension[k]), c, moment[k])
+    worst = abs(params.helicopter.tether_arm) * tension
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = np.hypot(moment[:, 0], moment[:, 1]) / worst
+    angle = np.where(tension > 0.0, np.degrees(np.arcsin(np.clip(ratio, 0.0, 1.0))), np.nan)
+    return TetherMoment(moment, worst, angle)

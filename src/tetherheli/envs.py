@@ -73,7 +73,7 @@ from .names import FREE_STATE
 from .sensors import N_CHANNELS, measure, noise_table
 from .sim import engine
 from .sim.scenario import Scenario
-from .sim.setup import actuator_array, run_setup
+from .sim.setup import actuator_array, free_trim_input, paper_law, run_setup
 from .status import Status, status_message
 from .wind import (
     CompiledWind,
@@ -220,16 +220,13 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self.dt = self.scenario.control.dt
         self.n_max = self.scenario.n_samples
         self._c = np.ascontiguousarray(model.constants)
-        self._gain = np.ascontiguousarray(gain.K)
         self._ctrl_base = ctrl
         self._ctrl = ctrl.copy()
         self._cfg_base = cfg
         self._cfg = cfg.copy()
         self._K_C = float(cfg[CFG_K_C])
         self._T_ref = float(ctrl[CTRL_T_REF])
-        self._x_ref = np.ascontiguousarray(trim.x[:12])
         self._y_ref = trim.y.copy()
-        self._u0 = trim.u.copy()
         self._u_trim_total = np.asarray(trim.u_total, dtype=float).copy()
 
         self.action_space = spaces.Box(-1.0, 1.0, shape=(4,), dtype=np.float32)
@@ -250,7 +247,8 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._y_meas = np.empty(4)
         self._tension_meas = 0.0
         self._work = np.empty((engine.RK4_WORK_ROWS, 13))
-        self._law = (self._gain, self._x_ref, self._y_ref, self._u0)
+        # the law of the compiled loop, with u0|F after a tether release (``setup.paper_law``)
+        self._law = paper_law(gain, trim, free_trim_input(self.scenario, model, trim))
         self._loop = engine.new_loop_state(self._x, self._work)
         self._inp = self._loop[LOOP_INPUTS]  # the applied rotor inputs of the last step
         self._k = 0

@@ -75,6 +75,14 @@ LOOP_INPUTS = 9  # (4,) the applied rotor inputs
 LOOP_FFWD = 10  # (4,) the feed-forward part of the inputs (eq 55)
 LOOP_SIZE = 11
 
+# --- the paper controller's law (``law``, ``sim.engine.paper_sample``): a tuple of arrays ------
+LAW_GAIN = 0  # (4, 16) K_LQI|F (eqs 47-53)
+LAW_X_REF = 1  # (12,) the trim state q4..u6 (the same for the free and the tethered trim)
+LAW_Y_REF = 2  # (4,) the trim outputs q1, q2, q3, q6
+LAW_U0 = 3  # (4,) the configuration's trim input u0 (u0|T tethered, u0|F free; eq 54)
+LAW_U0_FREE = 4  # (4,) u0|F: used once the tether is released or removed
+LAW_SIZE = 5
+
 # --- actuators (``act``) ------------------------------------------------------------------------
 ACT_U_MIN = 0  # (4,) lower input limits [N, N m, N m, N]
 ACT_U_MAX = 4  # (4,) upper input limits

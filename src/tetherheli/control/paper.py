@@ -119,13 +119,30 @@ class PaperController(Controller):
     trim_input : (4,) u0|F or u0|T (Tables IV, V)
     ctrl : (CTRL_SIZE,) settings, see the CTRL_* indices
     constants : the tethered model's constants, ``kernels.model_constants("tethered", h)``
+    free_trim_input : (4,) u0|F, used once the tether is released (``sim.setup.free_trim_input``);
+        default ``trim_input``
+
+    After a release (``Measurement.attached`` false) the winch and the feed-forward stop and
+    the LQI works about u0|F, as the compiled engine does (``engine.paper_sample``).
     """
 
-    def __init__(self, gain, trim_state, trim_output, trim_input, ctrl, constants) -> None:
+    def __init__(
+        self,
+        gain,
+        trim_state,
+        trim_output,
+        trim_input,
+        ctrl,
+        constants,
+        *,
+        free_trim_input=None,
+    ) -> None:
         self.gain = np.ascontiguousarray(gain, dtype=float)
         self.x_ref = np.ascontiguousarray(trim_state[:12], dtype=float)
         self.y_ref = np.ascontiguousarray(trim_output, dtype=float)
         self.u0 = np.ascontiguousarray(trim_input, dtype=float)
+        free = trim_input if free_trim_input is None else free_trim_input
+        self.u0_free = np.ascontiguousarray(free, dtype=float)
         self._settings = np.array(ctrl, dtype=float)
         self.c = np.ascontiguousarray(constants, dtype=float)
         self.reset()
@@ -139,6 +156,7 @@ class PaperController(Controller):
         if not measurement.attached:  # released: no winch, no feed-forward (Sec. IV-C)
             self.ctrl[CTRL_WINCH] = 0.0
             self.ctrl[CTRL_FFWD] = 0.0
+        u0 = self.u0 if measurement.attached else self.u0_free
         y = np.empty(4)
         inp = np.empty(4)
         ffwd = np.empty(4)
@@ -152,7 +170,7 @@ class PaperController(Controller):
             self.gain,
             self.x_ref,
             self.y_ref,
-            self.u0,
+            u0,
             y,
             inp,
             ffwd,

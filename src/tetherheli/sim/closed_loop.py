@@ -105,7 +105,9 @@ def simulate(
     c = setup.model.constants
     paper = controller is None
     if paper:
-        controller = PaperController(setup.gain.K, trim.x, trim.y, trim.u, setup.ctrl, c)
+        controller = PaperController(
+            setup.gain.K, trim.x, trim.y, trim.u, setup.ctrl, c, free_trim_input=setup.u0_free
+        )
     rec = _Recorder(n)
     if paper and method == "rk4" and wind is not None:
         status, done = engine.run_closed_loop(*setup.engine_args(n), True, rec.signals, rec.summary)

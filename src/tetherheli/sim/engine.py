@@ -47,7 +47,12 @@ from ..layout import (
     HELD_INPUTS,
     HELD_REEL_RATE,
     HELD_SIZE,
+<<<<<<< HEAD
     LANES,
+=======
+    LAW_X_REF,
+    LAW_Y_REF,
+>>>>>>> main
     LOOP_EVENT,
     LOOP_FFWD,
     LOOP_INPUTS,
@@ -416,15 +421,18 @@ def paper_sample(x, k, cfg, ctrl, act, sensors, c, law, loop, action, action_mod
     """One control sample of the paper's scheme at t = k dt (Fig. 5): ``sense``, the LQI with
     feed-forward and the winch PI (``control.paper.paper_control_sc``), an optional ``action``
     on the rotor inputs (``ACTION_*``), ``actuate``, and the failure checks of the sampled
-    state (``check_state_sc``). ``law`` is (gain, x_ref, y_ref, u0); ``loop`` the per-run
+    state (``check_state_sc``). ``law`` is (gain, x_ref, y_ref, u0, u0_free)
+    (``layout.LAW_*``): once the tether is released (or in the free configuration) the LQI
+    works about the free trim's input u0_free; ``loop`` the per-run
     arrays in the order of ``layout.LOOP_*`` (z, winch, held, event, x_meas, sc_meas, sc_true,
     y, y_est, inp, ffwd), updated in
     place: inp then holds the applied inputs, y the true outputs, sc_true sin and cos of the
     true angles. Returns (status, true tension [N], applied reel rate [m/s])."""
-    gain, x_ref, y_ref, u0 = law
+    gain, x_ref, y_ref, u0_tethered, u0_free = law
     z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd = loop
     dt = cfg[CFG_DT]
     tension, measured = sense(x, k, k * dt, cfg, ctrl, act, sensors, event, x_meas)
+    u0 = u0_tethered if cfg[CFG_ATTACHED] > 0.5 else u0_free
     angle_trig(x_meas, sc_meas)
     rate = paper_control_sc(
         x_meas, sc_meas, measured, z, winch, ctrl, c, gain, x_ref, y_ref, u0, y_est, inp, ffwd
@@ -487,7 +495,8 @@ def run_closed_loop(
     """Run the closed loop for n_samples control samples; returns (status, samples done).
 
     Each sample is ``paper_sample`` then ``rk4_interval``. ``law`` is (gain, x_ref, y_ref,
-    u0), ``wind`` (program, gust table, drag), ``sensors`` (noise, source code, arm, scratch). With
+    u0, u0_free) (``layout.LAW_*``), ``wind`` (program, gust table, drag), ``sensors`` (noise,
+    source code, arm, scratch). With
     ``record`` the arrays of ``out`` = (x, u, ffwd, rate, tension, wind, y, y_est), n_samples
     + 1 rows each, receive the sampled signals: true state, applied inputs (with feed-forward),
     feed-forward, reel rate, true tension, wind force, true outputs, and the controller's
@@ -505,7 +514,7 @@ def run_closed_loop(
     no_action = np.zeros(4)
     start_summary(summary)
     dt = cfg[CFG_DT]
-    x_ref, y_ref = law[1], law[2]
+    x_ref, y_ref = law[LAW_X_REF], law[LAW_Y_REF]
     status, done = STATUS_OK, n_samples + 1
     for k in range(n_samples + 1):
         t = k * dt
@@ -690,8 +699,8 @@ def run_lanes(
     samples, none where n_samples[j] < 0 (padding).
 
     The arguments of ``run_closed_loop`` with a leading lane axis of length LANES, packed by
-    ``setup.lane_block``: x_init (LANES, 13), cfg_in, ctrl_in, c (LANES, n_c), law = (gain
-    (LANES, 4, 16), x_ref, y_ref, u0), act, sensors = (noise (LANES, N, N_CHANNELS), noise rows
+    ``setup.lane_block``: x_init (LANES, 13), cfg_in, ctrl_in, c (LANES, n_c), law (each part
+    of ``layout.LAW_*`` with the lane axis in front), act, sensors = (noise (LANES, N, N_CHANNELS), noise rows
     in use (LANES,), source codes, arms, scratch (LANES, 4, 3)); wind = (programs flat
     (R WIND_COLUMNS LANES,), R, gusts (LANES, G, 3), gust rows in use, drag (LANES, 3)).
     summary (LANES, len(SUMMARY_FIELDS)), status and done (LANES,) receive each lane's on-line
@@ -705,7 +714,7 @@ def run_lanes(
     """
     cfg = cfg_in.copy()
     ctrl = ctrl_in.copy()
-    gain, x_ref, y_ref, u0 = law
+    gain, x_ref, y_ref, u0, u0_free = law
     programs, n_rows, gusts, gust_rows, drag = wind
     noise, noise_rows, source, arm, sensor_scratch = sensors
     n_sub = int(cfg[0, CFG_N_SUB])
@@ -772,7 +781,7 @@ def run_lanes(
                     y[j], y_est[j], inp[j], ffwd[j],
                 )  # fmt: skip
                 lane_sensors = (noise[j, : noise_rows[j]], source[j], arm[j], sensor_scratch[j])
-                lane_law = (gain[j], x_ref[j], y_ref[j], u0[j])
+                lane_law = (gain[j], x_ref[j], y_ref[j], u0[j], u0_free[j])
                 sample_status, tension, rate_j = paper_sample(
                     xj, k, cfg[j], ctrl[j], act[j], lane_sensors, c[j], lane_law, loop,
                     no_action, ACTION_NONE,

@@ -41,6 +41,7 @@ from ..layout import (
     CTRL_T_REF,
     CTRL_WINCH,
     LANES,
+    LAW_SIZE,
     WIND_COLUMNS,
     WIND_CONSTANT,
     WIND_KIND,
@@ -59,8 +60,10 @@ __all__ = [
     "RunSetup",
     "actuator_array",
     "engine_setup",
+    "free_trim_input",
     "lane_block",
     "paper_gain",
+    "paper_law",
     "run_setup",
     "sensor_noise",
 ]
@@ -129,6 +132,27 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
     return RunSetup(model, trim, gain, ctrl, cfg)
 
 
+def free_trim_input(scenario: Scenario, model: TetheredHelicopter, trim: TrimPoint) -> np.ndarray:
+    """u0|F (4,): the free hover's trim input (Table IV) at the scenario's q9, which the paper
+    controller uses once the safety device has released the tether (``engine.paper_sample``).
+    The free trim's state q4..u6 and outputs equal the tethered trim's (the tension acts along
+    the shaft at hover), so only u0 changes; the free configuration's is its own trim input."""
+    if scenario.configuration != "tethered":
+        return trim.u.copy()
+    return model.trim(0.0, scenario.q9).u.copy()
+
+
+def paper_law(gain: LQIGain, trim: TrimPoint, u0_free: np.ndarray) -> tuple:
+    """The paper controller's law (gain, x_ref, y_ref, u0, u0_free) (``layout.LAW_*``)."""
+    return (
+        np.ascontiguousarray(gain.K),
+        np.ascontiguousarray(trim.x[:12]),
+        trim.y.copy(),
+        trim.u.copy(),
+        np.ascontiguousarray(u0_free, dtype=float),
+    )
+
+
 def actuator_array(scenario: Scenario, trim: TrimPoint, ctrl: np.ndarray) -> np.ndarray:
     """The engine's actuator array (``layout.ACT_*``); also sets the winch limits in ``ctrl``.
     Rejects limits the hover input does not fit in (``InfeasibleError``)."""
@@ -175,6 +199,7 @@ class EngineSetup:
     noise: np.ndarray
     source: int
     arm: float
+    u0_free: np.ndarray  # u0|F, the trim input after a release (``free_trim_input``)
 
     def engine_args(self, n_samples: int) -> tuple:
         """The leading arguments of ``engine.run_closed_loop`` (built-in winds only)."""
@@ -193,13 +218,8 @@ class EngineSetup:
 
     @property
     def law(self) -> tuple:
-        """The paper controller's (gain, x_ref, y_ref, u0) (``engine.paper_sample``)."""
-        return (
-            self.gain.K,
-            np.ascontiguousarray(self.trim.x[:12]),
-            self.trim.y.copy(),
-            self.trim.u.copy(),
-        )
+        """The paper controller's (gain, x_ref, y_ref, u0, u0_free) (``paper_law``)."""
+        return paper_law(self.gain, self.trim, self.u0_free)
 
     @property
     def sensors(self) -> tuple:
@@ -226,6 +246,7 @@ def engine_setup(scenario: Scenario, design_params: Params | None = None) -> Eng
         sensor_noise(scenario),
         scenario.sensors.source_code,
         model.params.helicopter.tether_arm,
+        free_trim_input(scenario, model, trim),
     )
 
 
@@ -267,7 +288,7 @@ def lane_block(setups: Sequence[EngineSetup], n_samples: Sequence[int]) -> tuple
         np.stack([s.cfg for s in setups]),
         np.stack([s.ctrl for s in setups]),
         np.stack([s.model.constants for s in setups]),
-        tuple(np.ascontiguousarray(np.stack([law[i] for law in laws])) for i in range(4)),
+        tuple(np.ascontiguousarray(np.stack([law[i] for law in laws])) for i in range(LAW_SIZE)),
         (programs.ravel(), n_rows, gusts, gust_rows, np.stack([w.drag for w in winds])),
         np.stack([s.act for s in setups]),
         (

@@ -4,7 +4,17 @@ the sample time dt.
 
 The tension bound of eq 40: the tether moment |dO-P,3 - dO-HO,3| TC must stay below the cyclic
 saturation torque tmax_MR1,2, so TC < tmax / |arm|. The paper sizes it as 20% of the hover
-lift, tmax = 0.2 fMR3,hover |arm| (``paper_cyclic_limit``).
+lift, tmax = 0.2 fMR3,hover |arm| (``paper_cyclic_limit``). |arm| TC is a worst case: it is
+the moment of a tether perpendicular to the shaft. A sweep of a tethered scenario therefore
+also records the moment the tether really exerts (``analysis.tether_moment``) next to it.
+
+The cyclic authority of a sweep is one fact: the limit passed as ``cyclic_limit`` (applied to
+every run), else the scenario's own ``[actuators]`` limits on tMR1, tMR2 (applied, as always),
+else the paper's 20% rule, which then only sizes the bound: the runs are not saturated
+(``SweepResult.limit_applied`` says which).
+
+``minimum_cyclic_limit`` finds the smallest cyclic limit that keeps a metric (the peak
+deviation) within a fraction of the unlimited run's, as an interval (``LimitSearch``).
 """
 
 from __future__ import annotations
@@ -22,7 +32,7 @@ import numpy as np
 
 from .._io import atomic_write_text, output_directory
 from .._version import __version__
-from ..analysis import run_metrics
+from ..analysis import run_metrics, tether_moment
 from ..errors import InfeasibleError, ParameterError
 from ..names import POSITION
 from ..params import Params
@@ -30,7 +40,15 @@ from ..sim import Scenario, simulate
 from ..sim.batch import run_batch
 from ..wind import compile_wind
 
-__all__ = ["METRICS", "SweepResult", "paper_cyclic_limit", "sweep", "tension_bound", "write_sweep"]
+__all__ = [
+    "METRICS",
+    "SweepResult",
+    "paper_cyclic_limit",
+    "scenario_cyclic_limit",
+    "sweep",
+    "tension_bound",
+    "write_sweep",
+]
 
 #: metric name -> (group, key) of ``RunMetrics``
 METRICS = {
@@ -56,10 +74,23 @@ def paper_cyclic_limit(params: Params) -> float:
     return 0.2 * lift * abs(params.helicopter.tether_arm)
 
 
+def scenario_cyclic_limit(scenario: Scenario) -> float | None:
+    """The cyclic authority of a scenario's ``[actuators]``: the smallest magnitude among the
+    limits of tMR1 and tMR2 (u_min, u_max) [N m]; None when they are unlimited."""
+    a = scenario.actuators
+    limit = min(abs(a.u_min[1]), abs(a.u_min[2]), abs(a.u_max[1]), abs(a.u_max[2]))
+    return float(limit) if math.isfinite(limit) else None
+
+
+def _check_cyclic_limit(name: str, value: float) -> float:
+    if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+        raise ParameterError(name, value, "a torque > 0 [N m]")
+    return float(value)
+
+
 def tension_bound(params: Params, cyclic_limit: float) -> float:
     """Eq 40: the largest tension whose moment about HO the cyclic can still balance [N]."""
-    if not (math.isfinite(cyclic_limit) and cyclic_limit > 0):
-        raise ParameterError("cyclic_limit", cyclic_limit, "a torque > 0 [N m]")
+    cyclic_limit = _check_cyclic_limit("cyclic_limit", cyclic_limit)
     return cyclic_limit / abs(params.helicopter.tether_arm)
 
 
@@ -69,7 +100,7 @@ def _with(scenario: Scenario, parameter: str, value: float) -> Scenario:
     if parameter == "control.dt":
         return scenario.replace(control=dataclasses.replace(scenario.control, dt=value))
     if parameter == "actuators.cyclic_limit":
-        if not (math.isfinite(value) and value > 0):
+        if not (value == math.inf or (math.isfinite(value) and value > 0)):
             raise ParameterError(parameter, value, "a torque > 0 [N m]")
         a = scenario.actuators
         u_min = (a.u_min[0], -value, -value, a.u_min[3])
@@ -85,8 +116,16 @@ def _with(scenario: Scenario, parameter: str, value: float) -> Scenario:
 class SweepResult:
     """values (n,), metric (n,) (NaN where the run failed or the point was invalid),
     statuses (n,), completed (n,) (the run completed; a tether release counts as completed),
-    and the best value among the completed runs (below the eq-40 bound when sweeping T_ref
-    with a bound). An invalid point's status is "invalid: <why>"."""
+    and the best value among the completed runs.
+
+    ``cyclic_limit`` is the sweep's cyclic authority tmax_MR1,2 [N m] and ``limit_applied``
+    whether the runs were saturated at it (False: the paper's 20% rule, used only for the
+    bound). ``bound`` is eq 40's tension bound from it (T_ref sweeps), ``best_within_bound``
+    the best value at or below the bound. For a tethered scenario ``peak_tether_moment`` (n,)
+    is each completed run's largest tether moment about HO on f1 or f2 [N m]
+    (``analysis.tether_moment``), ``peak_tether_angle_deg`` (n,) the largest tether-to-shaft
+    angle and ``peak_worst_case_moment`` (n,) eq 40's |arm| max TC; NaN otherwise. An invalid
+    point's status is "invalid: <why>"."""
 
     parameter: str
     metric_name: str
@@ -96,23 +135,50 @@ class SweepResult:
     bound: float | None
     best_value: float | None
     completed: tuple[bool, ...] = ()
+    cyclic_limit: float | None = None
+    limit_applied: bool = False
+    best_within_bound: float | None = None
+    peak_tether_moment: np.ndarray | None = None
+    peak_tether_angle_deg: np.ndarray | None = None
+    peak_worst_case_moment: np.ndarray | None = None
 
     @property
     def failed(self) -> tuple[int, ...]:
         """Indices of the points whose run failed or that were invalid."""
         return tuple(i for i, ok in enumerate(self.completed) if not ok)
 
+    @property
+    def limit_source(self) -> str:
+        """Where the cyclic authority comes from, in words."""
+        if self.cyclic_limit is None:
+            return "none"
+        if self.limit_applied:
+            return "applied to every run (scenario actuators or cyclic_limit)"
+        return "the paper's 20% rule, not applied: the runs are not saturated"
+
     def as_dict(self) -> dict[str, Any]:
+        def floats(a: np.ndarray | None) -> list[float | None] | None:
+            if a is None:
+                return None
+            return [None if not np.isfinite(m) else float(m) for m in a]
+
         return {
             "parameter": self.parameter,
             "metric": self.metric_name,
             "values": self.values.tolist(),
-            "metric_values": [None if not np.isfinite(m) else float(m) for m in self.metric],
+            "metric_values": floats(self.metric),
             "statuses": list(self.statuses),
             "completed": list(self.completed),
             "failed": len(self.failed),
+            "cyclic_limit_Nm": self.cyclic_limit,
+            "cyclic_limit_applied": self.limit_applied,
+            "cyclic_limit_source": self.limit_source,
             "tension_bound_eq40": self.bound,
             "best_value": self.best_value,
+            "best_value_within_bound": self.best_within_bound,
+            "peak_tether_moment_Nm": floats(self.peak_tether_moment),
+            "peak_tether_angle_deg": floats(self.peak_tether_angle_deg),
+            "eq40_worst_case_moment_Nm": floats(self.peak_worst_case_moment),
         }
 
 
@@ -156,6 +222,41 @@ def _run_batch_feasible(scenarios: list[Scenario | None], reasons: list[str]):
         return idx, run_batch([scenarios[i] for i in idx])  # type: ignore[misc]
 
 
+def _evaluate(
+    scenarios: list[Scenario | None], statuses: list[str], metric: str
+) -> tuple[np.ndarray, list[bool]]:
+    """Run every valid point; the metric (NaN unless completed) and whether each completed.
+    ``statuses`` receives each run's message (or "invalid: <why>")."""
+    out = np.full(len(scenarios), np.nan)
+    completed = [False] * len(scenarios)
+    wind = next((s.wind for s in scenarios if s is not None), None)
+    if wind is not None and compile_wind(wind) is not None:
+        # built-in winds (the sweep does not change the wind): the compiled batch on all
+        # cores (per-run summaries, the numbers of simulate); its metric names are METRICS'
+        idx, batch = _run_batch_feasible(scenarios, statuses)
+        for j, i in enumerate(idx):
+            statuses[i] = batch.message(j)
+            completed[i] = bool(batch.ok[j])
+            if completed[i]:
+                out[i] = batch.metrics(j)[metric]
+        return out, completed
+    group, key = METRICS[metric]
+    for i, s in enumerate(scenarios):
+        if s is None:
+            continue
+        try:
+            r = simulate(s)
+        except InfeasibleError as exc:
+            statuses[i] = _INVALID + str(exc)
+            continue
+        statuses[i] = r.message
+        completed[i] = r.ok
+        if r.ok:
+            m = run_metrics(r)
+            out[i] = getattr(m, group)[key] if key else getattr(m, group)
+    return out, completed
+
+
 def sweep(
     scenario: Scenario,
     parameter: str,
@@ -163,6 +264,7 @@ def sweep(
     metric: str = "rms_q1",
     *,
     cyclic_limit: float | None = None,
+    moments: bool = True,
 ) -> SweepResult:
     """Simulate ``scenario`` once per value of ``parameter`` and collect ``metric`` (see
     ``METRICS``).
@@ -172,6 +274,13 @@ def sweep(
     "actuators.time_constant", "actuators.reel_rate_limit",
     "actuators.reel_acceleration_limit", "actuators.breaking_tension". Built-in winds run as
     one compiled batch on all cores (``sim.batch.run_batch``, the numbers of ``simulate``).
+
+    ``cyclic_limit`` [N m], when given, saturates tMR1 and tMR2 of every run at +-cyclic_limit
+    (not with ``parameter`` "actuators.cyclic_limit"); without it the scenario's own limits act
+    and set the eq-40 bound, or, if it has none, the paper's 20% rule sets the bound alone
+    (``SweepResult.limit_applied`` False). With ``moments`` (tethered scenarios) every
+    completed point is also simulated with its signals recorded to measure the tether's peak
+    moment about HO (``analysis.tether_moment``).
 
     A value the physics cannot meet (``InfeasibleError``: a T_ref above what the tether gives
     at its length, a hover outside the actuator limits, no trim) is recorded as an invalid
@@ -186,41 +295,51 @@ def sweep(
     values = np.asarray(values, dtype=float)
     if values.ndim != 1 or values.size == 0 or not np.all(np.isfinite(values)):
         raise ParameterError("values", values.tolist(), "a non-empty list of finite numbers")
+    limit_applied = True
+    if cyclic_limit is not None:
+        cyclic_limit = _check_cyclic_limit("cyclic_limit", cyclic_limit)
+        if parameter == "actuators.cyclic_limit":
+            raise ParameterError(
+                "cyclic_limit", cyclic_limit, "None when sweeping actuators.cyclic_limit itself"
+            )
+        scenario = _with(scenario, "actuators.cyclic_limit", cyclic_limit)
+    elif parameter != "actuators.cyclic_limit":
+        cyclic_limit = scenario_cyclic_limit(scenario)
+        if cyclic_limit is None:
+            cyclic_limit, limit_applied = paper_cyclic_limit(scenario.params), False
     scenarios, statuses = _prepare_points(scenario, parameter, values)  # validates each
-    out = np.full(values.size, np.nan)
-    completed = [False] * values.size
-    if compile_wind(scenario.wind) is not None:
-        # built-in winds (the sweep does not change the wind): the compiled batch on all
-        # cores (per-run summaries, the numbers of simulate); its metric names are METRICS'
-        idx, batch = _run_batch_feasible(scenarios, statuses)
-        for j, i in enumerate(idx):
-            statuses[i] = batch.message(j)
-            completed[i] = bool(batch.ok[j])
-            if completed[i]:
-                out[i] = batch.metrics(j)[metric]
-    else:
-        group, key = METRICS[metric]
+    out, completed = _evaluate(scenarios, statuses, metric)
+    peaks = angles = worst = None
+    if moments and scenario.configuration == "tethered":
+        peaks, angles, worst = (np.full(values.size, np.nan) for _ in range(3))
         for i, s in enumerate(scenarios):
-            if s is None:
-                continue
-            try:
-                r = simulate(s)
-            except InfeasibleError as exc:
-                statuses[i] = _INVALID + str(exc)
-                continue
-            statuses[i] = r.message
-            completed[i] = r.ok
-            if r.ok:
-                m = run_metrics(r)
-                out[i] = getattr(m, group)[key] if key else getattr(m, group)
+            if s is not None and completed[i]:
+                tm = tether_moment(simulate(s), s.params)
+                peaks[i], angles[i], worst[i] = tm.peak, tm.peak_angle_deg, tm.peak_worst_case
     bound = None
-    if parameter == "tension_control.T_ref":
-        limit = cyclic_limit if cyclic_limit is not None else paper_cyclic_limit(scenario.params)
-        bound = tension_bound(scenario.params, limit)
-    ok = np.isfinite(out) & (values <= bound if bound is not None else True)
+    if parameter == "tension_control.T_ref" and cyclic_limit is not None:
+        bound = tension_bound(scenario.params, cyclic_limit)
+    ok = np.isfinite(out)
     best = float(values[ok][np.argmin(out[ok])]) if np.any(ok) else None
+    best_within = None
+    if bound is not None:
+        inside = ok & (values <= bound)
+        best_within = float(values[inside][np.argmin(out[inside])]) if np.any(inside) else None
     return SweepResult(
-        parameter, metric, values, out, tuple(statuses), bound, best, tuple(completed)
+        parameter,
+        metric,
+        values,
+        out,
+        tuple(statuses),
+        bound,
+        best,
+        tuple(completed),
+        cyclic_limit=cyclic_limit,
+        limit_applied=limit_applied and cyclic_limit is not None,
+        best_within_bound=best_within,
+        peak_tether_moment=peaks,
+        peak_tether_angle_deg=angles,
+        peak_worst_case_moment=worst,
     )
 
 
@@ -239,11 +358,30 @@ def write_sweep(
     fig = figure_sweep(result)
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")  # quotes a status holding a comma
-    writer.writerow(["value", "metric", "status"])
-    for v, m, s in zip(
-        result.values.tolist(), result.metric.tolist(), result.statuses, strict=True
+    nan = np.full(result.values.size, np.nan)
+    moment = nan if result.peak_tether_moment is None else result.peak_tether_moment
+    angle = nan if result.peak_tether_angle_deg is None else result.peak_tether_angle_deg
+    worst = nan if result.peak_worst_case_moment is None else result.peak_worst_case_moment
+    writer.writerow(
+        [
+            "value",
+            "metric",
+            "status",
+            "peak_tether_moment_Nm",
+            "peak_tether_angle_deg",
+            "eq40_worst_case_moment_Nm",
+        ]
+    )
+    for row in zip(
+        result.values.tolist(),
+        result.metric.tolist(),
+        result.statuses,
+        moment.tolist(),
+        angle.tolist(),
+        worst.tolist(),
+        strict=True,
     ):
-        writer.writerow([repr(v), repr(m), s])
+        writer.writerow([repr(row[0]), repr(row[1]), row[2], *(repr(v) for v in row[3:])])
     with output_directory(out_dir, writer="sweep", inputs=inputs, force=force) as tmp:
         save_figure(fig, tmp / "sweep.png")
         atomic_write_text(tmp / "sweep.csv", buf.getvalue())

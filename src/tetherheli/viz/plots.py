@@ -24,8 +24,10 @@ from ..sim.result import SimulationResult
 __all__ = [
     "PLOT_LIMIT",
     "figure_inputs",
+    "figure_limit_search",
     "figure_montecarlo",
     "figure_outputs",
+    "figure_release",
     "figure_sensing",
     "figure_sweep",
     "plottable",
@@ -142,13 +144,23 @@ def figure_inputs(runs: list[SimulationResult], title: str = "") -> Figure:
 
 def figure_sweep(result: Any) -> Figure:
     """A sweep's metric against the swept values (``sweep.SweepResult``), with eq 40's tension
-    bound, the best value, and the failed or invalid points marked."""
-    fig = Figure(figsize=(7.0, 4.0), layout="constrained")
-    ax = fig.add_subplot()
+    bound, the best value, and the failed or invalid points marked. For a tethered sweep a
+    second panel compares the tether's measured peak moment about HO with the cyclic authority
+    and eq 40's worst case |arm| TC."""
+    moments = result.peak_tether_moment is not None and np.any(
+        np.isfinite(result.peak_tether_moment)
+    )
+    fig = Figure(figsize=(7.0, 6.5 if moments else 4.0), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(2 if moments else 1, 1, sharex=True))
+    ax = axes[0]
     ax.plot(result.values, result.metric, "o-", color="tab:blue", label=result.metric_name)
     if result.bound is not None:
+        how = "" if result.limit_applied else ", 20% rule, runs unsaturated"
         ax.axvline(
-            result.bound, color="tab:red", ls="--", label=f"eq 40 bound: TC < {result.bound:.1f} N"
+            result.bound,
+            color="tab:red",
+            ls="--",
+            label=f"eq 40 bound: TC < {result.bound:.2f} N{how}",
         )
     if result.best_value is not None:
         ax.axvline(
@@ -164,10 +176,97 @@ def figure_sweep(result: Any) -> Figure:
             transform=ax.get_xaxis_transform(),
             label=f"failed or invalid ({bad.size})",
         )
-    ax.set_xlabel(result.parameter)
     ax.set_ylabel(result.metric_name)
-    ax.grid(alpha=0.3)
+    if moments:
+        m = axes[1]
+        m.plot(
+            result.values,
+            result.peak_tether_moment,
+            "o-",
+            color="tab:blue",
+            label="peak tether moment about HO (measured, f1 or f2)",
+        )
+        m.plot(
+            result.values,
+            result.peak_worst_case_moment,
+            "s--",
+            color="tab:gray",
+            label="eq 40 worst case |arm| max TC",
+        )
+        if result.cyclic_limit is not None:
+            applied = "applied" if result.limit_applied else "20% rule, not applied"
+            m.axhline(
+                result.cyclic_limit,
+                color="tab:red",
+                ls="--",
+                label=f"cyclic authority {result.cyclic_limit:.3f} N m ({applied})",
+            )
+        m.set_ylabel("moment [N m]")
+    axes[-1].set_xlabel(result.parameter)
+    for a in axes:
+        a.grid(alpha=0.3)
+        a.legend(fontsize=8)
+    return fig
+
+
+def figure_limit_search(search: Any) -> Figure:
+    """A minimum-cyclic-limit search (``studies.cyclic_limit.LimitSearch``): the metric of
+    every limited run against the limit, the threshold (1 + within) x the unlimited run's, the
+    interval found, and the runs that did not complete."""
+    fig = Figure(figsize=(7.0, 4.0), layout="constrained")
+    ax = fig.add_subplot()
+    order = np.argsort(search.values)
+    v, mtr, meets = search.values[order], search.metric[order], search.meets[order]
+    ax.semilogy(v, mtr, ".-", color="tab:blue", lw=0.8, label=search.metric_name)
+    ax.semilogy(v[meets], mtr[meets], "o", color="tab:green", ms=4, label="meets the criterion")
+    ax.axhline(
+        search.threshold,
+        color="tab:red",
+        ls="--",
+        label=f"{1 + search.within:g} x unlimited ({search.reference:.3f})",
+    )
+    failed = ~np.isfinite(mtr)
+    if np.any(failed):
+        ax.plot(
+            v[failed],
+            np.full(int(failed.sum()), 0.03),
+            "x",
+            color="tab:red",
+            transform=ax.get_xaxis_transform(),
+            label=f"did not complete ({int(failed.sum())})",
+        )
+    if search.hi is not None:
+        ax.axvline(search.hi, color="tab:green", ls=":", label=f"minimum: {search.interval_text()}")
+    ax.set_xlabel("cyclic limit tmax_MR1,2 [N m]")
+    ax.set_ylabel(search.metric_name)
+    ax.set_title(search.scenario_name, fontsize=9)
+    ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=8)
+    return fig
+
+
+def figure_release(comparison: Any) -> Figure:
+    """The transient after a tether release (``studies.release.ReleaseComparison``): altitude
+    deviation q3 - q3_trim, collective fMR3 and tension, with the controller switched to the
+    free trim (u0|F) against one that keeps the tethered trim input (u0|T)."""
+    fig, axes = _stacked(3, (8.0, 6.5))
+    plot = _Plotter()
+    runs = (
+        (comparison.kept, dict(color="tab:gray", lw=1.1, label="u0|T kept (before)")),
+        (comparison.switched, dict(color="tab:blue", lw=1.1, label="switched to u0|F")),
+    )
+    for r, st in runs:
+        plot(axes[0], r.time, r.outputs[:, 2] - r.trim_output[2], **st)
+        plot(axes[1], r.time, r.inputs[:, 0], **st)
+        plot(axes[2], r.time, r.tension, **st)
+    t_rel = comparison.switched.release_time
+    for ax in axes:
+        ax.axvline(t_rel, color="tab:red", ls=":", lw=1.0)
+    axes[0].set_ylabel("q3 - trim [m]")
+    axes[1].set_ylabel("fMR3 [N]")
+    axes[2].set_ylabel("TC [N]")
+    _finish(fig, axes, "After the tether release (Sec. IV-C)", plot.dropped)
+    axes[0].legend(fontsize=8, title=f"tether released at t = {t_rel:g} s", title_fontsize=8)
     return fig
 
 

@@ -1,0 +1,238 @@
+"""The smallest cyclic authority a design needs: the smallest symmetric limit tmax_MR1,2 on
+the cyclic torques tMR1, tMR2 (eq 40) that keeps a metric, by default the peak position
+deviation, within a fraction of the unlimited run's (``minimum_cyclic_limit``).
+
+"The run completes" is no design criterion: just above the limit at which the saturated
+attitude loop loses the helicopter a run may complete with a 20 m excursion, and the set of
+limits that complete is not an interval (free simulation 1 completes at 4.31-4.325 N m, fails
+at 4.33-4.34, completes from 4.345). The criterion here is "completes and metric <= (1 +
+within) x the unlimited run's metric", searched robustly:
+
+1. a grid scan of the limits (one compiled batch);
+2. the bracket is the last grid interval [g_(i-1), g_i] such that the criterion holds at g_i
+   and at every larger grid value, and fails at g_(i-1) (``bracket_from_above``);
+3. bisection inside it to the tolerance (``bisect_criterion``), keeping the criterion false
+   at lo and true at hi.
+
+The answer is the interval [lo, hi]: the criterion fails at lo, holds at hi and at every grid
+value above hi. A failure between grid values above hi is not seen: the grid's spacing is the
+resolution of that statement, the tolerance that of the interval.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .._io import atomic_write_text, output_directory
+from .._version import __version__
+from ..errors import InfeasibleError, ParameterError
+from ..sim import Scenario
+from .sweep import METRICS, _evaluate, _prepare_points, _with
+
+__all__ = [
+    "LimitSearch",
+    "bisect_criterion",
+    "bracket_from_above",
+    "minimum_cyclic_limit",
+    "write_limit_search",
+]
+
+PARAMETER = "actuators.cyclic_limit"
+
+
+def bracket_from_above(meets: np.ndarray) -> int | None:
+    """The smallest index i such that ``meets[i:]`` all hold (grid ascending); None when the
+    last one fails. i == 0: the criterion holds at every grid value."""
+    meets = np.asarray(meets, dtype=bool)
+    if meets.size == 0 or not meets[-1]:
+        return None
+    failing = np.flatnonzero(~meets)
+    return 0 if failing.size == 0 else int(failing[-1]) + 1
+
+
+def bisect_criterion(
+    lo: float, hi: float, criterion: Callable[[float], bool], tol: float
+) -> tuple[float, float, list[tuple[float, bool]]]:
+    """Bisection of [lo, hi] (criterion false at lo, true at hi) until hi - lo <= tol; the
+    final (lo, hi), still false at lo and true at hi, and every (value, result) evaluated."""
+    if not (math.isfinite(tol) and tol > 0):
+        raise ParameterError("tol", tol, "a tolerance > 0")
+    evaluated: list[tuple[float, bool]] = []
+    while hi - lo > tol:
+        mid = 0.5 * (lo + hi)
+        ok = bool(criterion(mid))
+        evaluated.append((mid, ok))
+        if ok:
+            hi = mid
+        else:
+            lo = mid
+    return lo, hi, evaluated
+
+
+@dataclass(frozen=True)
+class LimitSearch:
+    """The result of ``minimum_cyclic_limit``.
+
+    reference : the metric of the run without cyclic limits; threshold = (1 + within) x it
+    lo, hi : the interval [N m]: the criterion fails at lo and holds at hi and at every grid
+        value above; lo None: it holds at every grid value (the minimum is below the grid);
+        hi None: it fails at the largest grid value (no answer within the grid)
+    values, metric, statuses, meets : every limited run in the order run (grid first, then
+        the bisection), its metric (NaN if it did not complete), message and criterion
+    """
+
+    scenario_name: str
+    metric_name: str
+    within: float
+    tolerance: float
+    reference: float
+    threshold: float
+    lo: float | None
+    hi: float | None
+    values: np.ndarray
+    metric: np.ndarray
+    statuses: tuple[str, ...]
+    meets: np.ndarray
+    n_grid: int
+
+    def interval_text(self) -> str:
+        """The answer in words, e.g. "4.375-4.380 N m"."""
+        if self.hi is None:
+            return f"none up to {self.values[: self.n_grid].max():g} N m"
+        if self.lo is None:
+            return f"<= {self.hi:g} N m (below the grid)"
+        return f"{self.lo:.3f}-{self.hi:.3f} N m"
+
+    def as_dict(self) -> dict[str, Any]:
+        return {
+            "scenario": self.scenario_name,
+            "parameter": PARAMETER,
+            "metric": self.metric_name,
+            "within": self.within,
+            "tolerance": self.tolerance,
+            "reference_metric": self.reference,
+            "threshold": self.threshold,
+            "lo": self.lo,
+            "hi": self.hi,
+            "interval": self.interval_text(),
+            "grid": self.values[: self.n_grid].tolist(),
+            "values": self.values.tolist(),
+            "metric_values": [None if not np.isfinite(m) else float(m) for m in self.metric],
+            "statuses": list(self.statuses),
+            "meets": [bool(m) for m in self.meets],
+        }
+
+
+def minimum_cyclic_limit(
+    scenario: Scenario,
+    grid: np.ndarray,
+    *,
+    within: float = 0.10,
+    metric: str = "peak_q1",
+    tol: float = 1e-3,
+) -> LimitSearch:
+    """The smallest symmetric cyclic limit tmax_MR1,2 [N m] (eq 40) with which ``scenario``
+    completes and its ``metric`` (``sweep.METRICS``) stays within (1 + ``within``) times the
+    run without cyclic limits, as an interval found by a grid scan and bisection (see the
+    module docstring). ``grid``: limits > 0 [N m], at least 2; ``tol``: the interval's width.
+    """
+    if metric not in METRICS:
+        raise ParameterError("metric", metric, f"one of {sorted(METRICS)}")
+    if not (math.isfinite(within) and within >= 0):
+        raise ParameterError("within", within, "a fraction >= 0")
+    if not (math.isfinite(tol) and tol > 0):
+        raise ParameterError("tol", tol, "a tolerance > 0 [N m]")
+    grid = np.unique(np.asarray(grid, dtype=float))
+    if grid.size < 2 or not np.all(np.isfinite(grid)) or grid[0] <= 0:
+        raise ParameterError("grid", grid.tolist(), "at least 2 distinct finite limits > 0")
+
+    reference_scenario = _with(scenario, PARAMETER, math.inf)
+    ref_status = [""]
+    ref, ref_ok = _evaluate([reference_scenario], ref_status, metric)
+    if not ref_ok[0]:
+        raise InfeasibleError(
+            "scenario",
+            scenario.name,
+            f"a run that completes without cyclic limits (it ends: {ref_status[0]})",
+        )
+    reference = float(ref[0])
+    threshold = (1.0 + within) * reference
+
+    values: list[float] = []
+    metrics: list[float] = []
+    statuses: list[str] = []
+    meets: list[bool] = []
+
+    def run(points: np.ndarray) -> np.ndarray:
+        scenarios, st = _prepare_points(scenario, PARAMETER, points)
+        out, completed = _evaluate(scenarios, st, metric)
+        ok = np.array(completed) & (out <= threshold)
+        values.extend(points.tolist())
+        metrics.extend(out.tolist())
+        statuses.extend(st)
+        meets.extend(ok.tolist())
+        return ok
+
+    grid_ok = run(grid)
+    i = bracket_from_above(grid_ok)
+    lo: float | None
+    hi: float | None
+    if i is None:
+        lo, hi = float(grid[-1]), None
+    elif i == 0:
+        lo, hi = None, float(grid[0])
+    else:
+        lo, hi, _ = bisect_criterion(
+            float(grid[i - 1]), float(grid[i]), lambda v: bool(run(np.array([v]))[0]), tol
+        )
+    return LimitSearch(
+        scenario.name,
+        metric,
+        within,
+        tol,
+        reference,
+        threshold,
+        lo,
+        hi,
+        np.array(values),
+        np.array(metrics),
+        tuple(statuses),
+        np.array(meets, dtype=bool),
+        int(grid.size),
+    )
+
+
+def write_limit_search(
+    result: LimitSearch,
+    out_dir: str | Path,
+    *,
+    command: str,
+    inputs: tuple[str | Path, ...] = (),
+    force: bool = False,
+) -> None:
+    """Table (CSV: every run), plot (PNG) and summary.json of a search, written whole or not
+    at all (``_io.output_directory``)."""
+    from ..viz.plots import figure_limit_search, save_figure
+
+    fig = figure_limit_search(result)
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    writer.writerow(["cyclic_limit_Nm", "metric", "meets", "status"])
+    for v, m, ok, s in zip(
+        result.values.tolist(), result.metric.tolist(), result.meets, result.statuses, strict=True
+    ):
+        writer.writerow([repr(v), repr(m), int(ok), s])
+    with output_directory(out_dir, writer="sweep", inputs=inputs, force=force) as tmp:
+        save_figure(fig, tmp / "sweep.png")
+        atomic_write_text(tmp / "sweep.csv", buf.getvalue())
+        info = {**result.as_dict(), "tetherheli_version": __version__, "command": command}
+        atomic_write_text(tmp / "summary.json", json.dumps(info, indent=2) + "\n")

@@ -1,0 +1,79 @@
+"""After the tether lets go: the paper controller's transient when the safety device (Sec.
+IV-C) releases the tether, with the switch to the free trim (``engine.paper_sample``) against
+the controller that keeps the tethered trim input u0|T (the behaviour before the switch).
+
+On release the winch and the feed-forward (eq 55) stop and the LQI works about the free hover's
+input u0|F (Table IV); kept at u0|T (Table V) the collective is about 25 N too high and the
+helicopter climbs until the integrator (eq 50) has unwound the difference.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..control.paper import PaperController
+from ..errors import ParameterError
+from ..sim import Scenario, simulate
+from ..sim.result import SimulationResult
+from ..sim.setup import engine_setup
+
+__all__ = ["ReleaseComparison", "altitude_excursion", "release_comparison"]
+
+
+def altitude_excursion(result: SimulationResult) -> float:
+    """max |q3 - q3_trim| [m] from the release on (the whole run without a release)."""
+    k = 0 if result.release_time is None else int(np.searchsorted(result.time, result.release_time))
+    return float(np.max(np.abs(result.outputs[k:, 2] - result.trim_output[2])))
+
+
+@dataclass(frozen=True)
+class ReleaseComparison:
+    """``switched``: the run as simulated (u0|F after the release); ``kept``: the same run
+    with the tethered trim input kept after the release (Python loop, same phases)."""
+
+    switched: SimulationResult
+    kept: SimulationResult
+
+    def rows(self) -> list[tuple[str, str, str]]:
+        """(quantity, kept u0|T, switched to u0|F) for a table."""
+        k, s = self.kept, self.switched
+        return [
+            ("tether released at [s]", f"{k.release_time:g}", f"{s.release_time:g}"),
+            (
+                "altitude excursion after the release, max abs(q3 - q3_trim) [m]",
+                f"{altitude_excursion(k):.3f}",
+                f"{altitude_excursion(s):.3f}",
+            ),
+            (
+                "fMR3 one sample after the release [N]",
+                *(f"{_after_release(r, 1)[0]:.1f}" for r in (k, s)),
+            ),
+        ]
+
+
+def _after_release(result: SimulationResult, samples: int) -> np.ndarray:
+    k = int(np.searchsorted(result.time, result.release_time)) + samples
+    return result.inputs[k]
+
+
+def release_comparison(scenario: Scenario) -> ReleaseComparison:
+    """Simulate a tethered ``scenario`` whose tether is released (finite
+    ``actuators.breaking_tension``), switched to the free trim and with u0|T kept."""
+    if scenario.configuration != "tethered":
+        raise ParameterError("configuration", scenario.configuration, "'tethered'")
+    switched = simulate(scenario)
+    if switched.release_time is None:
+        raise ParameterError(
+            "actuators.breaking_tension",
+            scenario.actuators.breaking_tension,
+            "a tension the run exceeds (the tether is never released)",
+        )
+    setup = engine_setup(scenario)
+    t = setup.trim
+    kept_controller = PaperController(
+        setup.gain.K, t.x, t.y, t.u, setup.ctrl, setup.model.constants, free_trim_input=t.u
+    )
+    kept = simulate(scenario, controller=kept_controller)
+    return ReleaseComparison(switched, kept)
