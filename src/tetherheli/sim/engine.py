@@ -47,12 +47,9 @@ from ..layout import (
     HELD_INPUTS,
     HELD_REEL_RATE,
     HELD_SIZE,
-<<<<<<< HEAD
     LANES,
-=======
     LAW_X_REF,
     LAW_Y_REF,
->>>>>>> main
     LOOP_EVENT,
     LOOP_FFWD,
     LOOP_INPUTS,
@@ -700,9 +697,10 @@ def run_lanes(
 
     The arguments of ``run_closed_loop`` with a leading lane axis of length LANES, packed by
     ``setup.lane_block``: x_init (LANES, 13), cfg_in, ctrl_in, c (LANES, n_c), law (each part
-    of ``layout.LAW_*`` with the lane axis in front), act, sensors = (noise (LANES, N, N_CHANNELS), noise rows
-    in use (LANES,), source codes, arms, scratch (LANES, 4, 3)); wind = (programs flat
-    (R WIND_COLUMNS LANES,), R, gusts (LANES, G, 3), gust rows in use, drag (LANES, 3)).
+    of ``layout.LAW_*`` with the lane axis in front), act, sensors = (noise (LANES, N,
+    N_CHANNELS), noise rows in use (LANES,), source codes, arms, scratch (LANES, 4, 3));
+    wind = (programs flat (R WIND_COLUMNS LANES,), R, gusts (LANES, G, 3), gust rows in use,
+    drag (LANES, 3)).
     summary (LANES, len(SUMMARY_FIELDS)), status and done (LANES,) receive each lane's on-line
     metrics, status and samples done, as ``run_closed_loop`` returns them for a single run.
     Lanes may differ in every number but the RK4 steps per sample (cfg[:, CFG_N_SUB]).
