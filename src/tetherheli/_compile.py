@@ -54,8 +54,11 @@ for _option in VECTORIZER_OPTIONS:
 
 def source_fingerprint(root: Path = PACKAGE_ROOT) -> str:
     """sha256 (16 hex digits) of every ``*.py`` below ``root`` (paths and contents), with
-    the Numba and Python versions and the LLVM options."""
-    digest = hashlib.sha256(f"{numba.__version__} {sys.version} {VECTORIZER_OPTIONS}".encode())
+    the Numba and Python versions, the LLVM options and a ``TETHERHELI_LANES`` override."""
+    lanes = os.environ.get("TETHERHELI_LANES", "")  # ``layout.LANES``: a compiled constant
+    digest = hashlib.sha256(
+        f"{numba.__version__} {sys.version} {VECTORIZER_OPTIONS} {lanes}".encode()
+    )
     for path in sorted(root.rglob("*.py")):
         digest.update(path.relative_to(root).as_posix().encode() + b"\0")
         digest.update(path.read_bytes() + b"\0")

@@ -9,6 +9,7 @@ Importing it does not import Numba.
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 
@@ -24,10 +25,14 @@ __all__ = [
 
 # --- the lane engine (``sim.engine.run_lanes``) ---------------------------------------------
 #: runs advanced together in one block; the lane arrays are flat, element (variable i, lane j)
-#: at i * LANES + j. A compile-time constant of the compiled code (chosen by
-#: ``benchmarks/bench_lanes.py``: large enough to fill the vector units, small enough that a
-#: block's arrays stay in the first-level cache)
-LANES = 16
+#: at i * LANES + j. A constant of the compiled code, chosen by ``benchmarks/bench_lanes.py``
+#: (large enough to fill the vector units, small enough that a block's arrays stay in the
+#: first-level cache and few lanes idle as padding); ``TETHERHELI_LANES`` overrides it for
+#: such measurements (the compile cache keys on it).
+DEFAULT_LANES = 16
+LANES = int(os.environ.get("TETHERHELI_LANES", DEFAULT_LANES))
+if not 1 <= LANES <= 256:
+    raise ValueError(f"TETHERHELI_LANES = {LANES}: allowed 1 to 256")
 
 # --- run configuration (``cfg``) ----------------------------------------------------------------
 CFG_DT = 0  # control sample time [s]
