@@ -9,7 +9,7 @@ import math
 
 import numpy
 
-from ..layout import LANES
+from tetherheli.layout import LANES
 
 SYMPY_VERSION = '1.14.0'
 

@@ -331,7 +331,7 @@ def generate_source() -> str:
         "# ruff: noqa\n"
         "import math\n\n"
         "import numpy\n\n"
-        "from ..layout import LANES\n\n"
+        "from tetherheli.layout import LANES\n\n"
         f"SYMPY_VERSION = {sp.__version__!r}\n"
     ]
     for kind in ("free", "tethered"):
