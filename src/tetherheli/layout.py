@@ -30,7 +30,8 @@ CFG_MAX_TENSION = 4  # [N]; a run stops when exceeded
 CFG_MAX_DEVIATION = 5  # [m]; a run stops as diverged when |y - y_ref| exceeds it
 CFG_MAX_ANGLE = 6  # [rad]; |q4|, |q5|, |q7|, |q8| beyond it: diverged
 CFG_GUST_DT = 7  # gust-table step [s] (0: no gust table)
-CFG_SIZE = 8
+CFG_METRICS_FROM = 8  # first control sample k the on-line metrics cover (Scenario.metrics_start)
+CFG_SIZE = 9
 
 # --- the paper controller's settings (``ctrl``, ``control.paper``) ---------------------------
 CTRL_DT = 0  # sample time [s]

@@ -119,20 +119,25 @@ class PaperController(Controller):
     trim_input : (4,) u0|F or u0|T (Tables IV, V)
     ctrl : (CTRL_SIZE,) settings, see the CTRL_* indices
     constants : the tethered model's constants, ``kernels.model_constants("tethered", h)``
+    z_init : (4,) the integrators' state at the start and after ``reset`` (default zero;
+        ``sim.setup.start_point`` gives the one that holds the trim in a steady wind)
     """
 
-    def __init__(self, gain, trim_state, trim_output, trim_input, ctrl, constants) -> None:
+    def __init__(
+        self, gain, trim_state, trim_output, trim_input, ctrl, constants, z_init=None
+    ) -> None:
         self.gain = np.ascontiguousarray(gain, dtype=float)
         self.x_ref = np.ascontiguousarray(trim_state[:12], dtype=float)
         self.y_ref = np.ascontiguousarray(trim_output, dtype=float)
         self.u0 = np.ascontiguousarray(trim_input, dtype=float)
         self._settings = np.array(ctrl, dtype=float)
         self.c = np.ascontiguousarray(constants, dtype=float)
+        self._z_init = np.zeros(4) if z_init is None else np.array(z_init, dtype=float)
         self.reset()
 
     def reset(self) -> None:
         self.ctrl = self._settings.copy()
-        self._z = np.zeros(4)
+        self._z = self._z_init.copy()
         self._winch = np.zeros(WINCH_SIZE)
 
     def step(self, t: float, measurement: Measurement) -> Command:
