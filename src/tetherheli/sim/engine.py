@@ -474,13 +474,12 @@ def run_closed_loop(
 
     Each sample is ``paper_sample`` then ``rk4_interval``. ``law`` is (gain, x_ref, y_ref,
     u0, z0), ``wind`` (program, gust table, drag), ``sensors`` (noise, source code, arm,
-    scratch). With
-    ``record`` the arrays of ``out`` = (x, u, ffwd, rate, tension, wind, y, y_est), n_samples
-    + 1 rows each, receive the sampled signals: true state, applied inputs (with feed-forward),
-    feed-forward, reel rate, true tension, wind force, true outputs, and the controller's
-    output estimate. ``summary`` (len(SUMMARY_FIELDS),) always receives the on-line metrics
-    of the samples k >= cfg[CFG_METRICS_FROM], the release event in its ``release_*`` slots
-    (NaN without one).
+    scratch). With ``record`` the arrays of ``out`` = (x, u, ffwd, rate, tension, wind, y,
+    y_est), n_samples + 1 rows each, receive the sampled signals: true state, applied inputs
+    (with feed-forward), feed-forward, reel rate, true tension, wind force, true outputs, and
+    the controller's output estimate. ``summary`` (len(SUMMARY_FIELDS),) always receives the
+    on-line metrics of the samples k >= cfg[CFG_METRICS_FROM], the release event in its
+    ``release_*`` slots (NaN without one).
     """
     cfg = cfg_in.copy()
     ctrl = ctrl_in.copy()
