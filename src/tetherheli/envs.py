@@ -67,19 +67,28 @@ from gymnasium import spaces
 
 from ._validation import check_bool, check_number, check_vector
 from .errors import ParameterError
-from .layout import CFG_ATTACHED, CFG_GUST_DT, CFG_K_C, CTRL_T_REF, LOOP_EVENT, LOOP_INPUTS
+from .layout import (
+    CFG_ATTACHED,
+    CFG_GUST_DT,
+    CFG_K_C,
+    CTRL_T_REF,
+    LAW_Z0,
+    LOOP_EVENT,
+    LOOP_INPUTS,
+)
 from .model.kernels import tension_from_state, tethered_outputs
 from .names import FREE_STATE
 from .sensors import N_CHANNELS, measure, noise_table
 from .sim import engine
 from .sim.scenario import Scenario
-from .sim.setup import actuator_array, free_trim_input, paper_law, run_setup
+from .sim.setup import actuator_array, free_trim_input, paper_law, run_setup, start_point
 from .status import Status, status_message
 from .wind import (
+    CalibratedGaussMarkovTurbulence,
     CompiledWind,
     Disturbance,
     DragModel,
-    HoverTurbulence,
+    GaussMarkovTurbulence,
     NoWind,
     Pulse,
     Sine,
@@ -144,8 +153,9 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         Largest pulse magnitude and sine amplitude drawn [N], >= 0 (default 20, the paper's).
     max_mean_wind : float, optional
         Largest horizontal mean wind of a turbulence draw [m/s], >= 0 (default 3).
-    turbulence : HoverTurbulence, optional
-        Gust model of turbulence draws (default ``HoverTurbulence()``).
+    turbulence : GaussMarkovTurbulence, optional
+        Gust model of turbulence draws (default ``GaussMarkovTurbulence()``; a calibrated one
+        is refused, since the drawn mean wind's speed and direction vary per episode).
     drag : DragModel, optional
         Drag of turbulence draws (default CdA = (0.3, 0.3, 0.5) m^2, an assumption).
     gust_dt : float, optional
@@ -177,7 +187,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         max_episode_time: float = 30.0,
         max_wind_force: float = 20.0,
         max_mean_wind: float = 3.0,
-        turbulence: HoverTurbulence | None = None,
+        turbulence: GaussMarkovTurbulence | None = None,
         drag: DragModel | None = None,
         gust_dt: float = 0.05,
         effort_weight: float = 0.01,
@@ -207,14 +217,19 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self.gust_dt = check_number("gust_dt", gust_dt, low=0.0, low_open=True)
         self.effort_weight = check_number("effort_weight", effort_weight, low=0.0)
         self.termination_penalty = check_number("termination_penalty", termination_penalty, low=0.0)
-        self.turbulence = HoverTurbulence() if turbulence is None else turbulence
-        if not isinstance(self.turbulence, HoverTurbulence):
-            raise ParameterError("turbulence", turbulence, "a HoverTurbulence or None")
+        self.turbulence = GaussMarkovTurbulence() if turbulence is None else turbulence
+        if not isinstance(self.turbulence, GaussMarkovTurbulence) or isinstance(
+            self.turbulence, CalibratedGaussMarkovTurbulence
+        ):
+            raise ParameterError(
+                "turbulence", turbulence, "an uncalibrated GaussMarkovTurbulence or None"
+            )
         self.drag = _DEFAULT_DRAG if drag is None else drag
         if not isinstance(self.drag, DragModel):
             raise ParameterError("drag", drag, "a DragModel or None")
 
         model, trim, gain, ctrl, cfg = run_setup(self.scenario)
+        self._model, self._lqi = model, gain
         self._act = actuator_array(self.scenario, trim, ctrl)  # rejects limits below hover need
         self.trim = trim
         self.dt = self.scenario.control.dt
@@ -248,8 +263,9 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._tension_meas = 0.0
         self._work = np.empty((engine.RK4_WORK_ROWS, 13))
         # the law of the compiled loop, with u0|F after a tether release (``setup.paper_law``)
-        self._law = paper_law(gain, trim, free_trim_input(self.scenario, model, trim))
-        self._loop = engine.new_loop_state(self._x, self._work)
+        # and the integrators' start z0 (set per episode in ``reset``: ``setup.start_point``)
+        self._law = paper_law(gain, trim, free_trim_input(self.scenario, model, trim), np.zeros(4))
+        self._loop = engine.new_loop_state(self._x, self._law[LAW_Z0], self._work)
         self._inp = self._loop[LOOP_INPUTS]  # the applied rotor inputs of the last step
         self._k = 0
         self._done = True
@@ -332,7 +348,9 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
-        """Start an episode at the hover trim with a new wind.
+        """Start an episode with a new wind, at rest in the hover trim of its air at t = 0
+        (``sim.setup.start_point``: a turbulence's mean wind plus its first gust; the
+        windless trim for the force profiles).
 
         Parameters
         ----------
@@ -345,7 +363,8 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         Returns
         -------
         observation : ndarray, shape (13,), float32
-            Zero up to the trim's rounding (see the module docstring for the order).
+            Zero up to the trim's rounding without turbulence; in one, the trim's steady tilt
+            (see the module docstring for the order).
         info : dict
             As for :meth:`step`; ``inputs`` (no input applied yet) and ``reel_rate`` are NaN.
         """
@@ -365,10 +384,13 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._cfg = self._cfg_base.copy()
         self._cfg[CFG_GUST_DT] = compiled.gust_dt
         self._ctrl = self._ctrl_base.copy()
-        self._x = self.trim.x.copy()
+        # at rest in the equilibrium of the episode's air at t = 0 (sim.setup.start_point)
+        start = start_point(self._model, self.trim, self._lqi, self._ctrl, wind, self.scenario.q9)
+        self._x = start.x.copy()
+        self._law = (*self._law[:LAW_Z0], start.z.copy())
         # the per-episode arrays of engine.paper_sample: integrators, winch, held actuator
         # state, the tether-release event (time [s], tension [N]; NaN: none), scratch
-        self._loop = engine.new_loop_state(self._x, self._work)
+        self._loop = engine.new_loop_state(self._x, self._law[LAW_Z0], self._work)
         self._release = self._loop[LOOP_EVENT]
         self._inp = self._loop[LOOP_INPUTS]
         self._k = 0

@@ -16,7 +16,7 @@ import numpy as np
 
 from ._io import atomic_write_text, claim_output_directory, output_directory
 from ._version import __version__
-from .analysis import reduction_percent, run_metrics
+from .analysis import metric_samples, reduction_percent, run_metrics
 from .errors import ParameterError
 from .names import POSITION
 from .sim import SimulationResult, simulate
@@ -49,8 +49,9 @@ def run_status(result: SimulationResult) -> dict[str, Any]:
 
 
 def _metrics_or_none(result: SimulationResult) -> dict[str, Any] | None:
-    """``run_metrics`` over the recorded samples (up to a failure), None without samples."""
-    return run_metrics(result).as_dict() if result.time.size else None
+    """``run_metrics`` over the recorded samples (up to a failure), None without samples in
+    the metrics' window."""
+    return run_metrics(result).as_dict() if metric_samples(result) else None
 
 
 #: summary.json's reductions: key -> (simulation, output, metric group of ``RunMetrics``)
@@ -311,7 +312,7 @@ def _write_run_files(result: SimulationResult, directory: Path, command: str) ->
     from .viz.plots import figure_inputs, figure_outputs, save_figure
 
     directory.mkdir(exist_ok=True)
-    metrics = run_metrics(result).as_dict() if result.time.size else {}
+    metrics = run_metrics(result).as_dict() if metric_samples(result) else {}
     info = {
         "name": result.name,
         "status": result.status,

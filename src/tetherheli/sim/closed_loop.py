@@ -18,7 +18,6 @@ import numpy as np
 
 from .._version import __version__
 from ..control.base import Controller, Measurement
-from ..control.paper import PaperController
 from ..errors import ParameterError
 from ..layout import (
     CFG_ATTACHED,
@@ -102,12 +101,9 @@ def simulate(
     setup = engine_setup(scenario)
     trim, wind, noise = setup.trim, setup.wind, setup.noise
     n = scenario.n_samples
-    c = setup.model.constants
     paper = controller is None
     if paper:
-        controller = PaperController(
-            setup.gain.K, trim.x, trim.y, trim.u, setup.ctrl, c, free_trim_input=setup.u0_free
-        )
+        controller = setup.paper_controller()
     rec = _Recorder(n)
     if paper and method == "rk4" and wind is not None:
         status, done = engine.run_closed_loop(*setup.engine_args(n), True, rec.signals, rec.summary)
@@ -184,7 +180,7 @@ def _python_loop(scenario, setup, controller, method, rec, *, rtol, atol):
     c = setup.model.constants
     trim, wind, act = setup.trim, setup.wind, setup.act
     sensors = setup.sensors
-    x = trim.x.copy()
+    x = setup.start.x.copy()  # the trim in the air at t = 0 (``setup.start_point``)
     x_meas = np.empty(13)
     held = np.zeros(HELD_SIZE)
     y = np.empty(4)
