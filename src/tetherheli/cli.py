@@ -426,8 +426,8 @@ def _cmd_sensing(args: argparse.Namespace) -> int:
         outage = row["kalman_error_rms_outage"] or {}
         for fusion, values in row["kalman_error_rms"].items():
             during = f"  (outage {triple(outage.get(fusion))})" if outage else ""
-            sigma = triple(row["kalman_predicted_std"][fusion])
-            print(f"  Kalman IMU + {fusion:<12} {triple(values)}{during}  [its sigma {sigma}]")
+            sigma = triple(row["kalman_final_std"][fusion])
+            print(f"  Kalman IMU + {fusion:<12} {triple(values)}{during}  [final sigma {sigma}]")
     return _report_failures(table, args.out)
 
 

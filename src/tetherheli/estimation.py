@@ -19,8 +19,8 @@ sigma_a = accel_density / sqrt(dt)). Exact discretisation of the simulated proce
 with Var w_b = accel_random_walk^2 dt, phi = exp(-dt / tau), Var w_e = sigma^2 (1 - phi^2)
 (``sensors.random_walk``, ``sensors.gauss_markov``), and Q = sigma_a^2 B B' + diag(0, 0,
 Var w_b, Var w_e), B = [dt^2/2, dt, 0, 0]. Fixes: GNSS z = p + e + white (R = gps_std^2);
-tether z = p + white (R from ``sensors.hover_error_std``, plus the altimeter's Gauss-Markov
-variance along n3, which the filter treats as white).
+tether z = p + white (R from ``sensors.hover_error_std``): n1, n2 at the encoders' samples,
+n3 at the altimeter's own (plus its Gauss-Markov variance, which the filter treats as white).
 
 Latency: a fix taken at sample j reaches the filter at j + L. The filter then goes back to
 sample j, applies the fix there, and re-runs the prediction (and the fixes of other sensors
@@ -79,7 +79,7 @@ class Fixes(NamedTuple):
     values : (m, 3), the fix [m] along n1, n2, n3
     latency : int, samples from taking a fix to its arrival (j + latency)
     H : (ns,), the fix's row of the measurement matrix (the same on every axis)
-    R : (3,), the fix's white-noise variance per axis [m^2]
+    R : (3,), the fix's white-noise variance per axis [m^2]; inf on an axis it does not fix
     """
 
     times: np.ndarray
@@ -190,9 +190,10 @@ def run_filter(
             K = PH / S[:, None]
             x += K * (fx.values[r] - x @ H)[:, None]
             IKH = np.eye(ns)[None] - K[:, :, None] * H[None, None, :]
+            R_used = np.where(np.isfinite(fx.R), fx.R, 0.0)  # K = 0 where R = inf
             P[:] = (
                 IKH @ P @ IKH.transpose(0, 2, 1)
-                + K[:, :, None] * K[:, None, :] * fx.R[:, None, None]
+                + K[:, :, None] * K[:, None, :] * R_used[:, None, None]
             )
 
     x0 = np.zeros((axes, ns))
@@ -301,9 +302,16 @@ def estimate_run(result: Any, scenario: Any, fusion: str) -> EstimateResult:
             arm,
         )
         std = hover_error_std(config, scenario.q9, arm, float(result.trim_state[0]))
-        R = std**2 + np.array([0.0, 0.0, config.altimeter_markov_sigma**2])
         H = np.zeros(ns)
         H[0] = 1.0
+        # horizontal from the encoders' samples; the altitude from the altimeter's own
+        # samples, at the time each was taken (an infinite variance leaves an axis alone)
+        R = np.array([std[0] ** 2, std[1] ** 2, math.inf])
+        fixes.append(Fixes(j, values, lag, H, np.maximum(R, 1e-12)))
+        j, lag = group_samples(config, dt, n - 1, "altimeter")
+        values = np.zeros((j.size, 3))
+        values[:, 2] = m[j + lag, CH_ALTIMETER]
+        R = np.array([math.inf, math.inf, std[2] ** 2 + config.altimeter_markov_sigma**2])
         fixes.append(Fixes(j, values, lag, H, np.maximum(R, 1e-12)))
     position, _, position_std = run_filter(model, accel, fixes, result.trim_output[:3])
     return EstimateResult(fusion, result.time.copy(), position, position_std, truth.copy())

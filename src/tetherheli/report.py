@@ -483,8 +483,8 @@ def run_sensing(
             "estimate_error_rms": rms(err),
             "true_deviation_rms": rms(dev),
             "kalman_error_rms": {f: e.error_rms() for f, e in estimates[s.name].items()},
-            # the filter's own 1-sigma, RMS over the run: what it expects its error to be
-            "kalman_predicted_std": {f: rms(e.position_std) for f, e in estimates[s.name].items()},
+            # the filter's own 1-sigma at the last sample: what it expects its error to be
+            "kalman_final_std": {f: rms(e.position_std[-1:]) for f, e in estimates[s.name].items()},
             "kalman_error_rms_outage": (
                 {f: e.error_rms(outage) for f, e in estimates[s.name].items()} if outage else None
             ),
