@@ -78,10 +78,18 @@ from .layout import (
 )
 from .model.kernels import tension_from_state, tethered_outputs
 from .names import FREE_STATE
-from .sensors import N_CHANNELS, measure, noise_table
+from .sensors import N_CHANNELS, measure_sampled, noise_table
 from .sim import engine
 from .sim.scenario import Scenario
-from .sim.setup import actuator_array, free_trim_input, paper_law, run_setup, start_point
+from .sim.setup import (
+    actuator_array,
+    free_trim_input,
+    paper_law,
+    run_setup,
+    sensor_schedule,
+    sensor_tuple,
+    start_point,
+)
 from .status import Status, status_message
 from .wind import (
     CalibratedGaussMarkovTurbulence,
@@ -257,7 +265,9 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._source = self._sensors.source_code
         self._arm = model.params.helicopter.tether_arm
         self._noise = np.zeros((0, N_CHANNELS))
-        self._sensor_scratch = np.empty((4, 3))
+        self._sensor_args = sensor_tuple(
+            self._noise, self._source, self._arm, sensor_schedule(self._sensors, self.dt, 0)
+        )
         self._x_meas = np.empty(13)
         self._y_meas = np.empty(4)
         self._tension_meas = 0.0
@@ -398,7 +408,14 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         if self._sensors.is_perfect:
             self._noise = np.zeros((0, N_CHANNELS))
         else:  # the episode's sensor noise, from the environment's seeded generator
-            self._noise = noise_table(self._sensors, self.n_max, self.np_random)
+            self._noise = noise_table(self._sensors, self.n_max, self.np_random, dt=self.dt)
+        # the engine's sensors for this episode (fresh history ring), as simulate builds them
+        self._sensor_args = sensor_tuple(
+            self._noise,
+            self._source,
+            self._arm,
+            sensor_schedule(self._sensors, self.dt, self.n_max),
+        )
         tethered_outputs(self._x, self._c, self._y)
         self._measure(self._tension())
         self._inp[:] = np.nan
@@ -448,7 +465,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             self._cfg,
             self._ctrl,
             self._act,
-            (self._noise, self._source, self._arm, self._sensor_scratch),
+            self._engine_sensors,
             self._c,
             self._law,
             self._loop,
@@ -485,6 +502,12 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
 
     # ------------------------------------------------------------------ helpers
 
+    @property
+    def _engine_sensors(self) -> tuple:
+        """The episode's ``sim.setup.sensor_tuple`` with its current noise table (``_noise``;
+        the schedule and history ring are the episode's own)."""
+        return (self._noise, *self._sensor_args[1:])
+
     def _tension(self) -> float:
         if self._cfg[CFG_ATTACHED] <= 0.5:
             return 0.0
@@ -498,9 +521,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             self._tension_meas = tension
         else:
             self._tension_meas = float(
-                measure(
-                    self._x, tension, self._noise[self._k], self._source, self._arm, self._x_meas
-                )
+                measure_sampled(self._x, tension, self._k, self._engine_sensors, self._x_meas)
             )
         tethered_outputs(self._x_meas, self._c, self._y_meas)
 

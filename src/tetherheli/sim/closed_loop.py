@@ -32,7 +32,7 @@ from ..layout import (
 from ..model import TrimPoint
 from ..model.kernels import angle_trig, angle_trig_from, tethered_outputs
 from ..resources import check_memory
-from ..sensors import N_CHANNELS
+from ..sensors import N_CHANNELS, N_GROUPS
 from ..status import Status
 from . import engine
 from .result import SimulationResult
@@ -57,7 +57,10 @@ def check_run_memory(scenario: Scenario, *, record: bool = True, concurrent: int
     sensor-noise table, ``concurrent`` runs at once) and refuse it (``ResourceLimitError``,
     before anything is allocated) above the memory budget (``tetherheli.resources``)."""
     rows = scenario.n_samples + 1
+    # the noise table, and for timed sensors the schedule (sensors.sample_schedule) and ring
     per_run = 0 if scenario.sensors.is_perfect else rows * N_CHANNELS * 8
+    if scenario.sensors.is_timed and not scenario.sensors.is_perfect:
+        per_run += rows * (N_GROUPS + N_CHANNELS) * 8
     if record:
         per_run += rows * _RECORDED_FLOATS * 8 * _RECORDED_PEAK_FACTOR
     needed = per_run * concurrent

@@ -87,7 +87,7 @@ from ..model.kernels import (
     tethered_outputs,
     tethered_rhs_sc,
 )
-from ..sensors import measure_into
+from ..sensors import measure_sampled
 from ..status import Status, release_sentence, status_message
 
 __all__ = [
@@ -373,16 +373,15 @@ def release_if_broken(tension, t, cfg, ctrl, act, event):
 def sense(x, k, t, cfg, ctrl, act, sensors, event, x_meas):
     """Phase 1 of a sample at t = k dt: the tether's tension (0 when removed), the safety
     device's release check (``release_if_broken``), then the sensors: x_meas (13,) receives
-    the measured state (``sensors.measure`` with row k of the noise table, or the true state
-    when the table is empty); ``sensors`` is (noise, position-source code, tether arm, a (4, 3)
-    scratch array).
+    the measured state (``sensors.measure_sampled``: each sensor at its rate and latency,
+    with the noise table's rows, or the true state when the table is empty); ``sensors`` is
+    ``sim.setup.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history ring).
     Returns (true tension, measured tension) [N]."""
-    noise, source_code, arm, scratch = sensors
     attached = cfg[CFG_ATTACHED] > 0.5
     tension = tension_from_state(x[5], x[12], cfg[CFG_K_C]) if attached else 0.0
     tension = release_if_broken(tension, t, cfg, ctrl, act, event)
-    if noise.shape[0] > 0:
-        return tension, measure_into(x, tension, noise[k], source_code, arm, x_meas, scratch)
+    if sensors[0].shape[0] > 0:
+        return tension, measure_sampled(x, tension, k, sensors, x_meas)
     x_meas[:] = x
     return tension, tension
 
@@ -479,8 +478,8 @@ def run_closed_loop(
     """Run the closed loop for n_samples control samples; returns (status, samples done).
 
     Each sample is ``paper_sample`` then ``rk4_interval``. ``law`` is (gain, x_ref, y_ref, u0,
-    u0_free, z0) (``layout.LAW_*``), ``wind`` (program, gust table, drag), ``sensors`` (noise,
-    source code, arm, scratch). With ``record`` the arrays of ``out`` = (x, u, ffwd, rate,
+    u0_free, z0) (``layout.LAW_*``), ``wind`` (program, gust table, drag), ``sensors``
+    (``sim.setup.sensor_tuple``). With ``record`` the arrays of ``out`` = (x, u, ffwd, rate,
     tension, wind, y, y_est), n_samples + 1 rows each, receive the sampled signals: true state,
     applied inputs (with feed-forward), feed-forward, reel rate, true tension, wind force, true
     outputs, and the controller's output estimate. ``summary`` (len(SUMMARY_FIELDS),) always

@@ -298,6 +298,7 @@ def _validate(s: Scenario, source: str | None) -> None:
         raise ParameterError("sensors", s.sensors, "a SensorConfig", source=source)
     try:
         s.sensors.check_configuration(tethered=s.configuration == "tethered")
+        s.sensors.group_timing(s.control.dt)  # rates and latencies on the control grid
     except ParameterError as exc:
         raise ParameterError(exc.field, exc.value, exc.allowed, source=source) from None
     _set(s, "seed", check_integer("seed", s.seed, low=0, source=source))

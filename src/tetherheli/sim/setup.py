@@ -53,7 +53,7 @@ from ..layout import (
 from ..model import TetheredHelicopter, TrimPoint, linearize
 from ..names import INPUT, TETHERED_STATE
 from ..params import Params
-from ..sensors import N_CHANNELS, noise_table
+from ..sensors import N_CHANNELS, SensorConfig, noise_table, ring_rows, sample_schedule
 from ..wind import CompiledWind, compile_wind, initial_wind_force
 from ..wind.profiles import Disturbance
 from .scenario import Scenario
@@ -70,6 +70,8 @@ __all__ = [
     "paper_law",
     "run_setup",
     "sensor_noise",
+    "sensor_schedule",
+    "sensor_tuple",
     "start_point",
 ]
 
@@ -257,7 +259,23 @@ def sensor_noise(scenario: Scenario) -> np.ndarray:
     if scenario.sensors.is_perfect:
         return np.zeros((0, N_CHANNELS))
     rng = np.random.default_rng(np.random.SeedSequence(scenario.seed))
-    return noise_table(scenario.sensors, scenario.n_samples, rng)
+    return noise_table(scenario.sensors, scenario.n_samples, rng, dt=scenario.control.dt)
+
+
+def sensor_schedule(config: SensorConfig, dt: float, n_samples: int) -> np.ndarray:
+    """``sensors.sample_schedule`` of a run, empty for perfect sensors (no measurement)."""
+    if config.is_perfect:
+        return sample_schedule(SensorConfig(), dt, n_samples)
+    return sample_schedule(config, dt, n_samples)
+
+
+def sensor_tuple(noise: np.ndarray, source: int, arm: float, schedule: np.ndarray) -> tuple:
+    """The ``sensors`` argument of the engine's ``sense`` (``sensors.measure_sampled``), for
+    every loop (compiled, Python, Gymnasium): (noise table, position-source code, tether arm,
+    a (4, 3) scratch, schedule, a fresh history ring of ``sensors.ring_rows(schedule) + 1``
+    rows)."""
+    ring = np.zeros((ring_rows(schedule) + 1, N_CHANNELS))
+    return (noise, source, arm, np.empty((4, 3)), schedule, ring)
 
 
 @dataclass(frozen=True)
@@ -274,6 +292,7 @@ class EngineSetup:
     noise: np.ndarray
     source: int
     arm: float
+    schedule: np.ndarray
     u0_free: np.ndarray  # u0|F, the trim input after a release (``free_trim_input``)
     start: StartPoint
 
@@ -308,8 +327,8 @@ class EngineSetup:
 
     @property
     def sensors(self) -> tuple:
-        """(noise table, position-source code, tether arm, scratch) (``engine.sense``)."""
-        return (self.noise, self.source, self.arm, np.empty((4, 3)))
+        """``sensor_tuple`` of this run (``engine.sense``); fresh work arrays per call."""
+        return sensor_tuple(self.noise, self.source, self.arm, self.schedule)
 
 
 def engine_setup(scenario: Scenario, design_params: Params | None = None) -> EngineSetup:
@@ -332,6 +351,7 @@ def engine_setup(scenario: Scenario, design_params: Params | None = None) -> Eng
         sensor_noise(scenario),
         scenario.sensors.source_code,
         model.params.helicopter.tether_arm,
+        sensor_schedule(scenario.sensors, scenario.control.dt, scenario.n_samples),
         free_trim_input(scenario, model, trim),
         start,
     )
