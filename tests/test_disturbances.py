@@ -19,7 +19,7 @@ from tetherheli.wind import (
     Disturbance,
     DragModel,
     DrydenGust,
-    HoverTurbulence,
+    GaussMarkovTurbulence,
     NoWind,
     Pulse,
     Sine,
@@ -227,17 +227,23 @@ def test_turbulence_parameters_are_validated():
         (lambda: DrydenGust(400.0, 5.0, 10.0), "DrydenGust.altitude_m"),
         (lambda: DrydenGust(50.0, 0.0, 10.0), "DrydenGust.wind_speed_20ft_mps"),
         (lambda: DrydenGust(50.0, 5.0, 0.0), "DrydenGust.airspeed_mps"),
-        (lambda: HoverTurbulence(pole_rad_s=(0.5, 0.0, 0.5)), "HoverTurbulence.pole_rad_s"),
-        (lambda: HoverTurbulence(gain=(0.3, -0.3, 0.2)), "HoverTurbulence.gain"),
+        (
+            lambda: GaussMarkovTurbulence(pole_rad_s=(0.5, 0.0, 0.5)),
+            "GaussMarkovTurbulence.pole_rad_s",
+        ),
+        (lambda: GaussMarkovTurbulence(gain=(0.3, -0.3, 0.2)), "GaussMarkovTurbulence.gain"),
         (lambda: DragModel((0.1, 0.1, 0.1), rho=0.0), "DragModel.rho"),
         (lambda: DragModel((0.1, -0.1, 0.1)), "DragModel.cd_area_m2"),
-        (lambda: Turbulence(HoverTurbulence(), DragModel((1, 1, 1)), 1, 1.0, 2.0), "Turbulence.dt"),
         (
-            lambda: Turbulence(HoverTurbulence(), DragModel((1, 1, 1)), -1, 1.0, 0.1),
+            lambda: Turbulence(GaussMarkovTurbulence(), DragModel((1, 1, 1)), 1, 1.0, 2.0),
+            "Turbulence.dt",
+        ),
+        (
+            lambda: Turbulence(GaussMarkovTurbulence(), DragModel((1, 1, 1)), -1, 1.0, 0.1),
             "Turbulence.seed",
         ),
         (
-            lambda: Turbulence(HoverTurbulence(), DragModel((1, 1, 1)), True, 1.0, 0.1),
+            lambda: Turbulence(GaussMarkovTurbulence(), DragModel((1, 1, 1)), True, 1.0, 0.1),
             "Turbulence.seed",
         ),
     ]
@@ -247,7 +253,7 @@ def test_turbulence_parameters_are_validated():
         assert exc.value.field == field
     with pytest.raises(ParameterError, match="1000 ft"):
         DrydenGust(305.0, 5.0, 10.0)
-    model = HoverTurbulence()
+    model = GaussMarkovTurbulence()
     with pytest.raises(ParameterError, match="t_grid"):
         model.sample(np.array([0.0, 0.1, 0.3]), np.random.default_rng(0))
     with pytest.raises(ParameterError, match="rng"):
@@ -266,7 +272,7 @@ _ALL = [
     NoWind(),
     paper_wind(1),
     WindSum((paper_wind(2), WindSum((NoWind(), Step(1.0, 1.0, N3))))),
-    Turbulence(HoverTurbulence(), DragModel((0.2, 0.2, 0.5)), 7, 5.0, 0.01),
+    Turbulence(GaussMarkovTurbulence(), DragModel((0.2, 0.2, 0.5)), 7, 5.0, 0.01),
     Turbulence(
         DrydenGust(30.0, 7.0, 5.0, heading_rad=0.3),
         DragModel((0.2, 0.25, 0.5), rho=1.1),
@@ -449,7 +455,7 @@ def test_model_psd_matches_mil_spectra_and_integrates_to_variance():
     _, _, psd_hz = _mil_dryden(100.0, 15.0, 10.0)
     f = np.logspace(-4, 2, 200)
     np.testing.assert_allclose(d.psd(f), psd_hz(f), rtol=1e-10)
-    h = HoverTurbulence(gain=(0.3, 0.4, 0.2), pole_rad_s=(0.5, 1.0, 2.0))
+    h = GaussMarkovTurbulence(gain=(0.3, 0.4, 0.2), pole_rad_s=(0.5, 1.0, 2.0))
     np.testing.assert_allclose(h.variance, [0.09 / 1.0, 0.16 / 2.0, 0.04 / 4.0], rtol=1e-12)
     np.testing.assert_allclose(h.std, np.sqrt(h.variance), rtol=1e-12)
     for model in (d, h):
@@ -460,8 +466,8 @@ def test_model_psd_matches_mil_spectra_and_integrates_to_variance():
 
 @pytest.mark.parametrize(
     "model",
-    [DrydenGust(100 * FT, 15 * KT, 10.0), HoverTurbulence()],
-    ids=["dryden", "hover"],
+    [DrydenGust(100 * FT, 15 * KT, 10.0), GaussMarkovTurbulence()],
+    ids=["dryden", "gauss_markov"],
 )
 def test_long_series_variance_matches_analytic(model):
     """The variance of 2e5 samples is within 4 % of the analytic one (MIL-F-8785C sigma^2 for
@@ -476,8 +482,8 @@ def test_long_series_variance_matches_analytic(model):
 
 @pytest.mark.parametrize(
     "model",
-    [DrydenGust(100 * FT, 15 * KT, 10.0), HoverTurbulence()],
-    ids=["dryden", "hover"],
+    [DrydenGust(100 * FT, 15 * KT, 10.0), GaussMarkovTurbulence()],
+    ids=["dryden", "gauss_markov"],
 )
 def test_welch_psd_matches_analytic(model):
     """Welch's estimate (scipy.signal.welch) of a 2^18-sample series at 20 Hz fits the
@@ -501,7 +507,7 @@ def test_exact_discretisation_autocorrelation():
         x = x - x.mean(axis=0)
         return np.sum(x[1:] * x[:-1], axis=0) / np.sum(x * x, axis=0)
 
-    h = HoverTurbulence()
+    h = GaussMarkovTurbulence()
     dt = 1.0
     rho = lag1(h.sample(dt * np.arange(200_000), np.random.default_rng(3)))
     np.testing.assert_allclose(rho, np.exp(-0.5 * dt), atol=0.01)
@@ -570,8 +576,8 @@ def test_seeds_reproduce_and_differ():
     )
     np.testing.assert_array_equal(child.N_v_gust_grid, expected)
     assert not np.allclose(child.N_v_gust_grid, a.N_v_gust_grid)
-    r1 = HoverTurbulence().sample(np.arange(100.0), np.random.default_rng(9))
-    r2 = HoverTurbulence().sample(np.arange(100.0), np.random.default_rng(9))
+    r1 = GaussMarkovTurbulence().sample(np.arange(100.0), np.random.default_rng(9))
+    r2 = GaussMarkovTurbulence().sample(np.arange(100.0), np.random.default_rng(9))
     np.testing.assert_array_equal(r1, r2)
 
 
@@ -627,7 +633,7 @@ def test_turbulence_force_interpolates_and_uses_relative_velocity():
     outside the grid are errors."""
     drag = DragModel((0.2, 0.3, 0.5))
     turb = Turbulence(
-        HoverTurbulence(), drag, seed=3, duration=10.0, dt=0.1, N_v_mean_wind=(2.0, 0.0, 0.0)
+        GaussMarkovTurbulence(), drag, seed=3, duration=10.0, dt=0.1, N_v_mean_wind=(2.0, 0.0, 0.0)
     )
     grid, gust = turb.t_grid, turb.N_v_gust_grid
     assert grid[0] == 0.0 and grid[-1] >= 10.0 and gust.shape == (grid.size, 3)

@@ -243,7 +243,7 @@ duration = 5.0
 dt = 0.01
 N_v_mean_wind = [5.0, 0.0, 0.0]
 [wind.model]
-type = "hover"
+type = "gauss_markov"
 gain = [1.5, 1.5, 0.7]
 [wind.drag]
 cd_area_m2 = [0.4, 0.4, 0.8]

@@ -20,7 +20,7 @@ import pytest
 from tetherheli.disturbances import (
     ConstantForce,
     DragModel,
-    HoverTurbulence,
+    GaussMarkovTurbulence,
     Pulse,
     Sine,
     Step,
@@ -200,11 +200,12 @@ def test_amplitude_scale_is_clipped_at_zero():
 
 def test_turbulence_gets_rotation_and_a_fresh_series_but_no_scale_or_shift():
     """The module's documented rule for turbulence: its mean wind is rotated by the draw's
-    direction (n3 kept), its gusts are a fresh series (seed = root entropy, spawn key (i, 0)),
-    and neither the amplitude scale nor the time shift applies (gust statistics): every
-    other field is the nominal one."""
+    direction (n3 kept), and the gust model's axes with it (heading + the draw's angle), its
+    gusts are a fresh series (seed = root entropy, spawn key (i, 0)), and neither the
+    amplitude scale nor the time shift applies (gust statistics): every other field is the
+    nominal one."""
     turbulence = Turbulence(
-        HoverTurbulence(),
+        GaussMarkovTurbulence(),
         DragModel(cd_area_m2=(0.4, 0.4, 0.8)),
         seed=1,
         duration=2.0,
@@ -219,8 +220,14 @@ def test_turbulence_gets_rotation_and_a_fresh_series_but_no_scale_or_shift():
         mean = _rz(d.direction_deg) @ np.array(turbulence.N_v_mean_wind)
         assert got.N_v_mean_wind == pytest.approx(tuple(mean), abs=1e-15)
         assert got.N_v_mean_wind[2] == 0.5
+        model = dataclasses.replace(turbulence.model, heading_rad=math.radians(d.direction_deg))
+        np.testing.assert_allclose(got.model.axes @ [1.0, 0.0, 0.0], _rz(d.direction_deg)[:, 0])
         want = dataclasses.replace(
-            turbulence, seed=config.seed, spawn_key=(i, 0), N_v_mean_wind=got.N_v_mean_wind
+            turbulence,
+            model=model,
+            seed=config.seed,
+            spawn_key=(i, 0),
+            N_v_mean_wind=got.N_v_mean_wind,
         )
         assert got == want  # model, drag, duration, grid: nominal
         fresh = want.rng().standard_normal(3)

@@ -422,13 +422,13 @@ def test_short_gust_grid_refused_in_every_path(tmp_path, capsys):
     from tetherheli import ParameterError
     from tetherheli.disturbances import (
         DragModel,
-        HoverTurbulence,
+        GaussMarkovTurbulence,
         Turbulence,
         check_wind_covers,
     )
 
     drag = DragModel(cd_area_m2=(0.4, 0.4, 0.8))
-    turb = Turbulence(HoverTurbulence(), drag, seed=1, duration=2.0, dt=0.1)
+    turb = Turbulence(GaussMarkovTurbulence(), drag, seed=1, duration=2.0, dt=0.1)
     with pytest.raises(ParameterError, match=r"wind\.duration = 2\.0 .*run's duration \(3 s"):
         Scenario(duration=3.0, wind=turb)
     with pytest.raises(ParameterError, match=r"wind\[1\]\.duration"):

@@ -16,7 +16,7 @@ import pytest
 
 from tetherheli import ParameterError, Params, TetherParams
 from tetherheli._validation import check_number, check_vector, describe
-from tetherheli.disturbances import DragModel, HoverTurbulence, Pulse, Turbulence
+from tetherheli.disturbances import DragModel, GaussMarkovTurbulence, Pulse, Turbulence
 from tetherheli.envs import TetheredHoverEnv
 from tetherheli.sensors import SensorConfig, hover_error_std, noise_table
 from tetherheli.sim import ControlSettings, Limits, Scenario
@@ -57,7 +57,7 @@ INTEGER_ENTRY_POINTS: dict[str, Callable[[Any], object]] = {
     "control.substeps": lambda v: Scenario(control=ControlSettings(substeps=v)),
     "montecarlo.runs": lambda v: montecarlo_config_from_dict({"runs": v}),
     "n_samples": lambda v: noise_table(SensorConfig(), v, np.random.default_rng(0)),
-    "Turbulence.seed": lambda v: Turbulence(HoverTurbulence(), DRAG, v, 1.0, 0.1),
+    "Turbulence.seed": lambda v: Turbulence(GaussMarkovTurbulence(), DRAG, v, 1.0, 0.1),
     "max_frames": lambda v: animate(MISSING, "a.gif", max_frames=v),
 }
 

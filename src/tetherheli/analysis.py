@@ -4,8 +4,9 @@ reduction the tether brings (Sec. VI's "up to 30%").
 Definitions (used by the report and summary.json):
 - deviation of q1, q2, q3: output minus the trim output of the same run [m];
   of q4, q5: Euler angle minus its trim value, reported in degrees;
-- peak_abs_dev: max over all samples of |deviation|; rms_dev: sqrt(mean(deviation^2)) over all
-  samples of the whole run (t = 0 .. duration, every control sample);
+- peak_abs_dev: max over the samples of |deviation|; rms_dev: sqrt(mean(deviation^2)) over
+  the samples; the tension range over the samples. "The samples" are every control sample
+  from the scenario's ``metrics_start`` (default 0: the whole run, t = 0 .. duration) on;
 - reduction_percent = 100 (free - tethered) / free, positive when the tether helps;
 - tether_moment: the tether's moment about HO on f1, f2 at every sample (the C1, C2 of eqs
   33-34 and 55), from the recorded state and tension, against eq 40's worst case |arm| TC.
@@ -21,8 +22,16 @@ import numpy as np
 from .names import POSITION
 from .params import Params
 from .sim.result import SimulationResult
+from .sim.scenario import metrics_first_sample
 
-__all__ = ["RunMetrics", "TetherMoment", "reduction_percent", "run_metrics", "tether_moment"]
+__all__ = [
+    "RunMetrics",
+    "TetherMoment",
+    "metric_samples",
+    "reduction_percent",
+    "run_metrics",
+    "tether_moment",
+]
 
 
 @dataclass(frozen=True)
@@ -43,16 +52,33 @@ class RunMetrics:
         }
 
 
+def _first_sample(result: SimulationResult) -> int:
+    config = result.configuration
+    return metrics_first_sample(config.get("metrics_start", 0.0), config["control"]["dt"])
+
+
+def metric_samples(result: SimulationResult) -> int:
+    """How many recorded samples the metrics cover (0: none, e.g. a run that failed before
+    ``metrics_start``)."""
+    return max(0, result.time.size - _first_sample(result))
+
+
 def run_metrics(result: SimulationResult) -> RunMetrics:
-    """Metrics of ``result`` over the whole run (see the module docstring)."""
-    if result.time.size == 0:
-        raise ValueError("result has no samples; allowed: a run with at least one sample")
-    dev = result.deviations()
+    """Metrics of ``result`` over its samples from the recorded ``metrics_start`` on (see the
+    module docstring)."""
+    k0 = _first_sample(result)
+    if result.time.size <= k0:
+        raise ValueError(
+            f"result has {result.time.size} samples; allowed: a run with a sample at or after "
+            f"metrics_start (sample {k0})"
+        )
+    dev = {k: v[k0:] for k, v in result.deviations().items()}
     peak = {k: float(np.max(np.abs(dev[k]))) for k in POSITION}
     peak["q4_deg"] = math.degrees(float(np.max(np.abs(dev["q4"]))))
     peak["q5_deg"] = math.degrees(float(np.max(np.abs(dev["q5"]))))
     rms = {k: float(np.sqrt(np.mean(dev[k] ** 2))) for k in POSITION}
-    return RunMetrics(peak, rms, float(result.tension.min()), float(result.tension.max()))
+    tension = result.tension[k0:]
+    return RunMetrics(peak, rms, float(tension.min()), float(tension.max()))
 
 
 def reduction_percent(free: float, tethered: float) -> float:

@@ -412,15 +412,22 @@ def _cmd_sensing(args: argparse.Namespace) -> int:
 
     table = run_sensing(args.out, scenarios=tuple(args.scenario) or None, force=args.force)
     print(f"wrote {args.out}/ (sensing.png, summary.json, time series)")
-    print(f"{'run':<18} {'source':<8} {'estimate error RMS q1/q2/q3 [m]':<34} true deviation RMS")
+    print("RMS q1/q2/q3 [m]: the controller's estimate error, the true deviation from trim,")
+    print("and the Kalman filter's error fusing the IMU with each source (over the GNSS outage)")
 
     def triple(values: dict | None) -> str:
-        return "/".join(f"{v:.3f}" for v in values.values()) if values else "n/a"
+        return "/".join(f"{v:.4g}" for v in values.values()) if values else "n/a"
 
     for name, row in table.items():
-        e, d = triple(row["estimate_error_rms"]), triple(row["true_deviation_rms"])
         note = "" if row["completed"] else f"  (failed at t = {row['end_time']:g} s)"
-        print(f"{name:<18} {row['position_source']:<8} {e:<34} {d}{note}")
+        print(f"{name} (position from {row['position_source']}){note}")
+        print(f"  controller estimate error {triple(row['estimate_error_rms'])}")
+        print(f"  true deviation            {triple(row['true_deviation_rms'])}")
+        outage = row["kalman_error_rms_outage"] or {}
+        for fusion, values in row["kalman_error_rms"].items():
+            during = f"  (outage {triple(outage.get(fusion))})" if outage else ""
+            sigma = triple(row["kalman_final_std"][fusion])
+            print(f"  Kalman IMU + {fusion:<12} {triple(values)}{during}  [final sigma {sigma}]")
     return _report_failures(table, args.out)
 
 
@@ -726,7 +733,7 @@ def _register_animate(sub: argparse._SubParsersAction) -> None:
         "--scenario",
         action="append",
         default=[],
-        help="scenario with [sensors] (repeatable; default: the shipped pair)",
+        help="scenario with [sensors] (repeatable; default: the shipped sensing_*.toml)",
     )
     _add_force(p)
     p.set_defaults(func=_cmd_sensing)

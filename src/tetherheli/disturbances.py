@@ -7,8 +7,8 @@ from .wind import (
     Disturbance,
     DragModel,
     DrydenGust,
+    GaussMarkovTurbulence,
     GustModel,
-    HoverTurbulence,
     NoWind,
     Pulse,
     Sine,
@@ -25,8 +25,8 @@ __all__ = [
     "Disturbance",
     "DragModel",
     "DrydenGust",
+    "GaussMarkovTurbulence",
     "GustModel",
-    "HoverTurbulence",
     "NoWind",
     "Pulse",
     "Sine",
@@ -37,3 +37,11 @@ __all__ = [
     "disturbance_from_dict",
     "paper_wind",
 ]
+
+
+def __getattr__(name: str) -> object:
+    if name == "HoverTurbulence":  # deprecated name, with its warning
+        from .wind import turbulence
+
+        return turbulence.HoverTurbulence
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -67,19 +67,36 @@ from gymnasium import spaces
 
 from ._validation import check_bool, check_number, check_vector
 from .errors import ParameterError
-from .layout import CFG_ATTACHED, CFG_GUST_DT, CFG_K_C, CTRL_T_REF, LOOP_EVENT, LOOP_INPUTS
+from .layout import (
+    CFG_ATTACHED,
+    CFG_GUST_DT,
+    CFG_K_C,
+    CTRL_T_REF,
+    LAW_Z0,
+    LOOP_EVENT,
+    LOOP_INPUTS,
+)
 from .model.kernels import tension_from_state, tethered_outputs
 from .names import FREE_STATE
-from .sensors import N_CHANNELS, measure, noise_table
+from .sensors import N_CHANNELS, measure_sampled, noise_table
 from .sim import engine
 from .sim.scenario import Scenario
-from .sim.setup import actuator_array, free_trim_input, paper_law, run_setup
+from .sim.setup import (
+    actuator_array,
+    free_trim_input,
+    paper_law,
+    run_setup,
+    sensor_schedule,
+    sensor_tuple,
+    start_point,
+)
 from .status import Status, status_message
 from .wind import (
+    CalibratedGaussMarkovTurbulence,
     CompiledWind,
     Disturbance,
     DragModel,
-    HoverTurbulence,
+    GaussMarkovTurbulence,
     NoWind,
     Pulse,
     Sine,
@@ -144,8 +161,9 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         Largest pulse magnitude and sine amplitude drawn [N], >= 0 (default 20, the paper's).
     max_mean_wind : float, optional
         Largest horizontal mean wind of a turbulence draw [m/s], >= 0 (default 3).
-    turbulence : HoverTurbulence, optional
-        Gust model of turbulence draws (default ``HoverTurbulence()``).
+    turbulence : GaussMarkovTurbulence, optional
+        Gust model of turbulence draws (default ``GaussMarkovTurbulence()``; a calibrated one
+        is refused, since the drawn mean wind's speed and direction vary per episode).
     drag : DragModel, optional
         Drag of turbulence draws (default CdA = (0.3, 0.3, 0.5) m^2, an assumption).
     gust_dt : float, optional
@@ -177,7 +195,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         max_episode_time: float = 30.0,
         max_wind_force: float = 20.0,
         max_mean_wind: float = 3.0,
-        turbulence: HoverTurbulence | None = None,
+        turbulence: GaussMarkovTurbulence | None = None,
         drag: DragModel | None = None,
         gust_dt: float = 0.05,
         effort_weight: float = 0.01,
@@ -207,14 +225,19 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self.gust_dt = check_number("gust_dt", gust_dt, low=0.0, low_open=True)
         self.effort_weight = check_number("effort_weight", effort_weight, low=0.0)
         self.termination_penalty = check_number("termination_penalty", termination_penalty, low=0.0)
-        self.turbulence = HoverTurbulence() if turbulence is None else turbulence
-        if not isinstance(self.turbulence, HoverTurbulence):
-            raise ParameterError("turbulence", turbulence, "a HoverTurbulence or None")
+        self.turbulence = GaussMarkovTurbulence() if turbulence is None else turbulence
+        if not isinstance(self.turbulence, GaussMarkovTurbulence) or isinstance(
+            self.turbulence, CalibratedGaussMarkovTurbulence
+        ):
+            raise ParameterError(
+                "turbulence", turbulence, "an uncalibrated GaussMarkovTurbulence or None"
+            )
         self.drag = _DEFAULT_DRAG if drag is None else drag
         if not isinstance(self.drag, DragModel):
             raise ParameterError("drag", drag, "a DragModel or None")
 
         model, trim, gain, ctrl, cfg = run_setup(self.scenario)
+        self._model, self._lqi = model, gain
         self._act = actuator_array(self.scenario, trim, ctrl)  # rejects limits below hover need
         self.trim = trim
         self.dt = self.scenario.control.dt
@@ -242,14 +265,17 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._source = self._sensors.source_code
         self._arm = model.params.helicopter.tether_arm
         self._noise = np.zeros((0, N_CHANNELS))
-        self._sensor_scratch = np.empty((4, 3))
+        self._sensor_args = sensor_tuple(
+            self._noise, self._source, self._arm, sensor_schedule(self._sensors, self.dt, 0)
+        )
         self._x_meas = np.empty(13)
         self._y_meas = np.empty(4)
         self._tension_meas = 0.0
         self._work = np.empty((engine.RK4_WORK_ROWS, 13))
         # the law of the compiled loop, with u0|F after a tether release (``setup.paper_law``)
-        self._law = paper_law(gain, trim, free_trim_input(self.scenario, model, trim))
-        self._loop = engine.new_loop_state(self._x, self._work)
+        # and the integrators' start z0 (set per episode in ``reset``: ``setup.start_point``)
+        self._law = paper_law(gain, trim, free_trim_input(self.scenario, model, trim), np.zeros(4))
+        self._loop = engine.new_loop_state(self._x, self._law[LAW_Z0], self._work)
         self._inp = self._loop[LOOP_INPUTS]  # the applied rotor inputs of the last step
         self._k = 0
         self._done = True
@@ -332,7 +358,9 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
-        """Start an episode at the hover trim with a new wind.
+        """Start an episode with a new wind, at rest in the hover trim of its air at t = 0
+        (``sim.setup.start_point``: a turbulence's mean wind plus its first gust; the
+        windless trim for the force profiles).
 
         Parameters
         ----------
@@ -345,7 +373,8 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         Returns
         -------
         observation : ndarray, shape (13,), float32
-            Zero up to the trim's rounding (see the module docstring for the order).
+            Zero up to the trim's rounding without turbulence; in one, the trim's steady tilt
+            (see the module docstring for the order).
         info : dict
             As for :meth:`step`; ``inputs`` (no input applied yet) and ``reel_rate`` are NaN.
         """
@@ -365,10 +394,13 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._cfg = self._cfg_base.copy()
         self._cfg[CFG_GUST_DT] = compiled.gust_dt
         self._ctrl = self._ctrl_base.copy()
-        self._x = self.trim.x.copy()
+        # at rest in the equilibrium of the episode's air at t = 0 (sim.setup.start_point)
+        start = start_point(self._model, self.trim, self._lqi, self._ctrl, wind, self.scenario.q9)
+        self._x = start.x.copy()
+        self._law = (*self._law[:LAW_Z0], start.z.copy())
         # the per-episode arrays of engine.paper_sample: integrators, winch, held actuator
         # state, the tether-release event (time [s], tension [N]; NaN: none), scratch
-        self._loop = engine.new_loop_state(self._x, self._work)
+        self._loop = engine.new_loop_state(self._x, self._law[LAW_Z0], self._work)
         self._release = self._loop[LOOP_EVENT]
         self._inp = self._loop[LOOP_INPUTS]
         self._k = 0
@@ -376,7 +408,14 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         if self._sensors.is_perfect:
             self._noise = np.zeros((0, N_CHANNELS))
         else:  # the episode's sensor noise, from the environment's seeded generator
-            self._noise = noise_table(self._sensors, self.n_max, self.np_random)
+            self._noise = noise_table(self._sensors, self.n_max, self.np_random, dt=self.dt)
+        # the engine's sensors for this episode (fresh history ring), as simulate builds them
+        self._sensor_args = sensor_tuple(
+            self._noise,
+            self._source,
+            self._arm,
+            sensor_schedule(self._sensors, self.dt, self.n_max),
+        )
         tethered_outputs(self._x, self._c, self._y)
         self._measure(self._tension())
         self._inp[:] = np.nan
@@ -426,7 +465,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             self._cfg,
             self._ctrl,
             self._act,
-            (self._noise, self._source, self._arm, self._sensor_scratch),
+            self._engine_sensors,
             self._c,
             self._law,
             self._loop,
@@ -463,6 +502,12 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
 
     # ------------------------------------------------------------------ helpers
 
+    @property
+    def _engine_sensors(self) -> tuple:
+        """The episode's ``sim.setup.sensor_tuple`` with its current noise table (``_noise``;
+        the schedule and history ring are the episode's own)."""
+        return (self._noise, *self._sensor_args[1:])
+
     def _tension(self) -> float:
         if self._cfg[CFG_ATTACHED] <= 0.5:
             return 0.0
@@ -476,9 +521,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             self._tension_meas = tension
         else:
             self._tension_meas = float(
-                measure(
-                    self._x, tension, self._noise[self._k], self._source, self._arm, self._x_meas
-                )
+                measure_sampled(self._x, tension, self._k, self._engine_sensors, self._x_meas)
             )
         tethered_outputs(self._x_meas, self._c, self._y_meas)
 

@@ -43,7 +43,8 @@ CFG_MAX_TENSION = 4  # [N]; a run stops when exceeded
 CFG_MAX_DEVIATION = 5  # [m]; a run stops as diverged when |y - y_ref| exceeds it
 CFG_MAX_ANGLE = 6  # [rad]; |q4|, |q5|, |q7|, |q8| beyond it: diverged
 CFG_GUST_DT = 7  # gust-table step [s] (0: no gust table)
-CFG_SIZE = 8
+CFG_METRICS_FROM = 8  # first control sample k the on-line metrics cover (Scenario.metrics_start)
+CFG_SIZE = 9
 
 # --- the paper controller's settings (``ctrl``, ``control.paper``) ---------------------------
 CTRL_DT = 0  # sample time [s]
@@ -86,7 +87,8 @@ LAW_X_REF = 1  # (12,) the trim state q4..u6 (the same for the free and the teth
 LAW_Y_REF = 2  # (4,) the trim outputs q1, q2, q3, q6
 LAW_U0 = 3  # (4,) the configuration's trim input u0 (u0|T tethered, u0|F free; eq 54)
 LAW_U0_FREE = 4  # (4,) u0|F: used once the tether is released or removed
-LAW_SIZE = 5
+LAW_Z0 = 5  # (4,) the LQI integrators' state at the start (``sim.setup.start_point``)
+LAW_SIZE = 6
 
 # --- actuators (``act``) ------------------------------------------------------------------------
 ACT_U_MIN = 0  # (4,) lower input limits [N, N m, N m, N]

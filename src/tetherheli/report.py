@@ -16,7 +16,7 @@ import numpy as np
 
 from ._io import atomic_write_text, claim_output_directory, output_directory
 from ._version import __version__
-from .analysis import reduction_percent, run_metrics
+from .analysis import metric_samples, reduction_percent, run_metrics
 from .errors import ParameterError
 from .names import POSITION
 from .sim import SimulationResult, simulate
@@ -49,8 +49,9 @@ def run_status(result: SimulationResult) -> dict[str, Any]:
 
 
 def _metrics_or_none(result: SimulationResult) -> dict[str, Any] | None:
-    """``run_metrics`` over the recorded samples (up to a failure), None without samples."""
-    return run_metrics(result).as_dict() if result.time.size else None
+    """``run_metrics`` over the recorded samples (up to a failure), None without samples in
+    the metrics' window."""
+    return run_metrics(result).as_dict() if metric_samples(result) else None
 
 
 #: summary.json's reductions: key -> (simulation, output, metric group of ``RunMetrics``)
@@ -311,7 +312,7 @@ def _write_run_files(result: SimulationResult, directory: Path, command: str) ->
     from .viz.plots import figure_inputs, figure_outputs, save_figure
 
     directory.mkdir(exist_ok=True)
-    metrics = run_metrics(result).as_dict() if result.time.size else {}
+    metrics = run_metrics(result).as_dict() if metric_samples(result) else {}
     info = {
         "name": result.name,
         "status": result.status,
@@ -394,25 +395,39 @@ def write_comparison(
     return summary
 
 
+#: the GNSS outage of the shipped sensing runs with one [s]: 20 s in the sine phase
+SENSING_OUTAGE = (30.0, 50.0)
+#: the shipped sensing runs: name suffix -> (controller's position source, GNSS outage)
+SENSING_RUNS = {
+    "gps": ("gps", ()),
+    "tether": ("tether", ()),
+    "gps_outage": ("gps", SENSING_OUTAGE),
+    "tether_outage": ("tether", SENSING_OUTAGE),
+}
+
+
 def sensing_scenario(source: str) -> Scenario:
-    """Paper simulation 1, tethered, with the controller's position from a consumer GPS
-    ("gps") or from the tether (encoders + altimeter + IMU, "tether"); seed 1."""
+    """Paper simulation 1, tethered, seed 1, with the sensors as they are flown
+    (``SensorConfig.flown``: consumer GNSS, MEMS IMU, laser altimeter, joint encoders, load
+    cell) and the controller's position from the GNSS or the tether; ``source`` is a key of
+    ``SENSING_RUNS`` ("gps", "tether", and both with a 20 s GNSS outage)."""
     from .sensors import SensorConfig
 
-    sensors = {"gps": SensorConfig.typical_gps, "tether": SensorConfig.typical_tether}
-    if source not in sensors:
-        raise ParameterError("source", source, "'gps' or 'tether'")
+    if source not in SENSING_RUNS:
+        raise ParameterError("source", source, f"one of {sorted(SENSING_RUNS)}")
+    position, outage = SENSING_RUNS[source]
     base = paper_scenario(1, "tethered")
     label = (
-        "a consumer GPS"
-        if source == "gps"
-        else ("the tether (encoders + altimeter + IMU, Sec. IV-F)")
+        "a consumer GNSS"
+        if position == "gps"
+        else "the tether (encoders + altimeter + IMU, Sec. IV-F)"
     )
+    lost = f", GNSS lost {outage[0]:g}-{outage[1]:g} s" if outage else ""
     return base.replace(
         name=f"sensing_{source}",
-        sensors=sensors[source](),
+        sensors=SensorConfig.flown(position, gps_outage=outage),
         seed=1,
-        description=f"Paper simulation 1, tethered, position from {label}.",
+        description=f"Paper simulation 1, tethered, position from {label}{lost}.",
     )
 
 
@@ -424,24 +439,28 @@ def run_sensing(
     force: bool = False,
 ) -> dict[str, Any]:
     """The tether as a GPS-free position sensor (Sec. IV-F): fly the shipped
-    ``sensing_gps`` and ``sensing_tether`` scenarios (or the given ones), compare the
-    controller's position-estimate error and the true deviation from trim, and plot both.
+    ``sensing_*`` scenarios (``SENSING_RUNS``, or the given ones), compare the controller's
+    position-estimate error and the true deviation from trim, and run the Kalman filter
+    (``estimation.estimate_run``) fusing the IMU with the GNSS, the tether or both on each
+    run's recorded sensors (its error RMS over the run and, with a GNSS outage, over it).
 
     A failed run is recorded, not raised: its row holds its status (``run_status``), its
     RMS figures cover the samples up to the failure (None without samples), and the plot
     draws it up to the failure. The caller decides the exit code (the CLI: 1)."""
+    from .estimation import FUSIONS, estimate_run
     from .sim import load_scenario
     from .viz.plots import figure_sensing, save_figure
 
     claim_output_directory(out_dir, inputs=scenarios or (), force=force)
     if scenarios:
         runs = [load_scenario(p) for p in scenarios]
-    else:  # the shipped scenarios/sensing_{gps,tether}.toml, built here (a test checks equality)
-        runs = [sensing_scenario("gps"), sensing_scenario("tether")]
+    else:  # the shipped scenarios/sensing_*.toml, built here (a test checks equality)
+        runs = [sensing_scenario(key) for key in SENSING_RUNS]
     for s in runs:
         if s.sensors.is_perfect:
             raise ParameterError("sensors", s.name, "a scenario with noisy sensors ([sensors])")
     results = {s.name: simulate(s) for s in runs}
+    estimates: dict[str, dict[str, Any]] = {}
     table: dict[str, Any] = {}
 
     def rms(a: np.ndarray) -> dict[str, float] | None:
@@ -449,18 +468,29 @@ def run_sensing(
             return None
         return dict(zip(POSITION, np.sqrt(np.mean(a**2, axis=0)).tolist(), strict=True))
 
-    for name, r in results.items():
+    for s in runs:
+        r = results[s.name]
         est = np.column_stack([r.extra[f"q{i}_est"] for i in (1, 2, 3)])
         err = est - r.outputs[:, :3]
         dev = r.outputs[:, :3] - r.trim_output[:3]
-        table[name] = {
-            "position_source": r.configuration["sensors"]["position_source"],
+        outage = list(s.sensors.gps_outage) or None
+        fusions = FUSIONS if s.configuration == "tethered" else ("gnss",)
+        estimates[s.name] = {f: estimate_run(r, s, f) for f in fusions} if r.time.size else {}
+        table[s.name] = {
+            "position_source": s.sensors.position_source,
             **run_status(r),
+            "gps_outage": outage,
             # over the recorded samples: up to the failure for a failed run
             "estimate_error_rms": rms(err),
             "true_deviation_rms": rms(dev),
+            "kalman_error_rms": {f: e.error_rms() for f, e in estimates[s.name].items()},
+            # the filter's own 1-sigma at the last sample: what it expects its error to be
+            "kalman_final_std": {f: rms(e.position_std[-1:]) for f, e in estimates[s.name].items()},
+            "kalman_error_rms_outage": (
+                {f: e.error_rms(outage) for f, e in estimates[s.name].items()} if outage else None
+            ),
         }
-    fig = figure_sensing(results)
+    fig = figure_sensing(results, estimates)
     with output_directory(out_dir, writer="sensing", inputs=scenarios or (), force=force) as tmp:
         for name, r in results.items():
             r.save(tmp, name)

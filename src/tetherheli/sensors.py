@@ -48,6 +48,30 @@ col   constant            unit    what
 row per sample and runs are reproducible from a seed); ``measure`` is the compiled measurement
 function the engine calls at every sample.
 
+Flown sensors
+-------------
+With every field below at 0 (the default) a sensor is white noise plus a constant bias at
+every control sample, without delay: the legacy model (``SensorConfig.is_white``), bit for
+bit. Otherwise, per sensor group (``SENSOR_GROUPS``, a group shares rate and latency):
+
+- ``<group>_rate`` [Hz], ``<group>_latency`` [s]: the sensor samples every P control samples
+  and each sample arrives L samples later; in between the controller holds the newest
+  arrived one (``sample_schedule``; rule and refusals in ``SensorConfig.group_timing``). The
+  engine keeps a small history ring of true channel values for this (``measure_sampled``).
+- ``gps_outage = [t_start, t_end]`` [s]: GNSS samples taken in it are lost (the last one
+  before it is held).
+- ``gyro_density`` [rad/s/sqrt(Hz)]: white noise given as a density instead of ``gyro_std``
+  (``SensorConfig.white_std``); ``gyro_random_walk`` [rad/s/sqrt(s)]: a bias random walk.
+- ``gps_markov_sigma`` (3,) [m], ``gps_markov_tau`` [s]; ``altimeter_markov_sigma`` [m],
+  ``altimeter_markov_tau`` [s]: first-order Gauss-Markov errors (``gauss_markov``).
+- ``accel_density``, ``accel_random_walk``, ``accel_bias``: the accelerometer, which only the
+  state estimator reads (``accelerometer_errors``, ``tetherheli.estimation``).
+
+Every additive error is drawn up front into the noise table, discretised exactly at the
+control step; a slow sensor reads row j of its sample j. ``SENSOR_PRESETS`` holds
+datasheet-class sensors (consumer and RTK GNSS, MEMS IMU, barometric and laser altimeters,
+joint encoders, load cell), ``SensorConfig.flown`` a full suite of them.
+
 Analysis helpers: ``tether_position_estimate`` (vectorised Sec. IV-F position estimate) and
 ``hover_error_std`` (first-order predicted std of that estimate, to compare with a GPS's std).
 """
@@ -70,6 +94,7 @@ from .model.kinematics import tether_length_from_altitude, tethered_HO_position
 from .params import check_tether_length
 
 __all__ = [
+    "CHANNEL_GROUP",
     "CHANNEL_NAMES",
     "CH_ALTIMETER",
     "CH_ATTITUDE",
@@ -81,20 +106,33 @@ __all__ = [
     "CH_VELOCITY",
     "CH_WINCH_ENCODER",
     "N_CHANNELS",
+    "N_GROUPS",
     "POSITION_SOURCES",
+    "SENSOR_GROUPS",
+    "SENSOR_PRESETS",
     "SOURCE_GPS",
     "SOURCE_TETHER",
     "SOURCE_TRUE",
     "SensorConfig",
+    "accelerometer_errors",
+    "gauss_markov",
+    "group_samples",
     "hover_error_std",
     "measure",
     "measure_batch",
+    "measure_sampled",
+    "measured_channels",
     "noise_table",
+    "random_walk",
+    "ring_rows",
+    "sample_schedule",
     "sensor_config_from_dict",
     "tether_position_estimate",
+    "true_channels_into",
 ]
 
 _jit = compiled(error_model="numpy")
+_jit_inline = compiled(error_model="numpy", inline="always")
 
 # --- noise channels: columns of a noise row ---------------------------------------------------
 CH_LOAD_CELL = 0  # [N]
@@ -157,7 +195,42 @@ _NUMERIC_FIELDS: dict[str, tuple[str, bool]] = {
     "gps_std": ("triple", True),
     "gps_bias": ("triple", False),
     "winch_encoder_std": ("scalar", True),
+    # time-correlated and density-specified errors (``flown`` sensors; all 0: white only)
+    "gyro_density": ("scalar", True),
+    "gyro_random_walk": ("scalar", True),
+    "gps_markov_sigma": ("triple", True),
+    "gps_markov_tau": ("scalar", True),
+    "altimeter_markov_sigma": ("scalar", True),
+    "altimeter_markov_tau": ("scalar", True),
+    "accel_density": ("scalar", True),
+    "accel_random_walk": ("scalar", True),
+    "accel_bias": ("triple", False),
 }
+
+#: The sensors, each a group of noise channels sharing one sample rate and latency; the
+#: ``<group>_rate`` [Hz] and ``<group>_latency`` [s] fields of ``SensorConfig`` time them.
+SENSOR_GROUPS: tuple[str, ...] = (
+    "load_cell",
+    "encoder",
+    "altimeter",
+    "attitude",
+    "gyro",
+    "velocity",
+    "gps",
+    "winch_encoder",
+)
+N_GROUPS = len(SENSOR_GROUPS)
+#: the group of every noise channel (``CH_*`` order)
+CHANNEL_GROUP = np.array([0, 1, 1, 2, 3, 3, 3, 4, 4, 4, 5, 5, 5, 6, 6, 6, 7], dtype=np.int64)
+G_GPS = SENSOR_GROUPS.index("gps")
+G_ENCODER = SENSOR_GROUPS.index("encoder")
+for _g in SENSOR_GROUPS:
+    _NUMERIC_FIELDS[f"{_g}_rate"] = ("scalar", True)
+    _NUMERIC_FIELDS[f"{_g}_latency"] = ("scalar", True)
+#: fields whose nonzero value leaves the legacy model (white noise at every control sample)
+_FLOWN_FIELDS = tuple(name for name in _NUMERIC_FIELDS if not name.endswith(("_std", "_bias")))
+#: timing rounding tolerance: a period or latency within this many samples of an integer
+_GRID_TOL = 1e-6
 
 
 @dataclass(frozen=True)
@@ -193,6 +266,11 @@ class SensorConfig:
         GPS position of HO along n1, n2, n3 [m] (used by ``position_source="gps"``).
     winch_encoder_std : float
         Drum encoder of the winch, natural length LN [m].
+    gyro_density, gyro_random_walk, gps_markov_sigma, gps_markov_tau, altimeter_markov_sigma,
+    altimeter_markov_tau, accel_density, accel_random_walk, accel_bias, gps_outage,
+    <group>_rate, <group>_latency
+        Sensors as they are flown; see the module docstring "Flown sensors". All 0 / empty
+        by default (the legacy white model).
 
     Raises
     ------
@@ -214,6 +292,33 @@ class SensorConfig:
     gps_std: tuple[float, float, float] = (0.0, 0.0, 0.0)
     gps_bias: tuple[float, float, float] = (0.0, 0.0, 0.0)
     winch_encoder_std: float = 0.0
+    # --- sensors as they are flown (module docstring "Flown sensors"); 0: off -------------
+    gyro_density: float = 0.0
+    gyro_random_walk: float = 0.0
+    gps_markov_sigma: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    gps_markov_tau: float = 0.0
+    altimeter_markov_sigma: float = 0.0
+    altimeter_markov_tau: float = 0.0
+    accel_density: float = 0.0
+    accel_random_walk: float = 0.0
+    accel_bias: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    gps_outage: tuple[float, ...] = ()
+    load_cell_rate: float = 0.0
+    load_cell_latency: float = 0.0
+    encoder_rate: float = 0.0
+    encoder_latency: float = 0.0
+    altimeter_rate: float = 0.0
+    altimeter_latency: float = 0.0
+    attitude_rate: float = 0.0
+    attitude_latency: float = 0.0
+    gyro_rate: float = 0.0
+    gyro_latency: float = 0.0
+    velocity_rate: float = 0.0
+    velocity_latency: float = 0.0
+    gps_rate: float = 0.0
+    gps_latency: float = 0.0
+    winch_encoder_rate: float = 0.0
+    winch_encoder_latency: float = 0.0
 
     def __post_init__(self) -> None:
         source = self.position_source
@@ -228,6 +333,29 @@ class SensorConfig:
             else:
                 checked = check_vector(f"{_SECTION}.{name}", value, 3, low=low, unit="[n1, n2, n3]")
             object.__setattr__(self, name, checked)
+        if self.gyro_std > 0.0 and self.gyro_density > 0.0:
+            raise ParameterError(
+                f"{_SECTION}.gyro_density",
+                self.gyro_density,
+                "0 when gyro_std is set (one or the other)",
+            )
+        for name in ("gps", "altimeter"):
+            sigma, tau = getattr(self, f"{name}_markov_sigma"), getattr(self, f"{name}_markov_tau")
+            if np.any(np.asarray(sigma) > 0.0) and not tau > 0.0:
+                raise ParameterError(
+                    f"{_SECTION}.{name}_markov_tau", tau, f"> 0 s when {name}_markov_sigma is set"
+                )
+        outage = self.gps_outage
+        allowed = "[] or [t_start, t_end] with 0 <= t_start < t_end [s]"
+        if isinstance(outage, (str, bytes)) or not hasattr(outage, "__len__"):
+            raise ParameterError(f"{_SECTION}.gps_outage", outage, allowed)
+        if len(outage) != 0:
+            values = check_vector(f"{_SECTION}.gps_outage", outage, 2, low=0.0, unit="[s]")
+            if not values[0] < values[1]:
+                raise ParameterError(f"{_SECTION}.gps_outage", list(outage), allowed)
+            object.__setattr__(self, "gps_outage", tuple(values))
+        else:
+            object.__setattr__(self, "gps_outage", ())
 
     # --- presets ------------------------------------------------------------------------------
     @classmethod
@@ -309,6 +437,48 @@ class SensorConfig:
             winch_encoder_std=1e-3,
         )
 
+    @classmethod
+    def from_presets(cls, *names: str, **fields_: Any) -> SensorConfig:
+        """The sensors of ``SENSOR_PRESETS`` ``names`` (later ones win on shared fields), then
+        ``fields_`` (e.g. ``position_source``, ``gps_outage``) on top."""
+        merged: dict[str, Any] = {}
+        for name in names:
+            if name not in SENSOR_PRESETS:
+                raise ParameterError(
+                    f"{_SECTION}.presets", name, f"one of {sorted(SENSOR_PRESETS)}"
+                )
+            merged.update(SENSOR_PRESETS[name])
+        merged.update(fields_)
+        return cls(**merged)
+
+    @classmethod
+    def flown(
+        cls,
+        position_source: str = "gps",
+        *,
+        gnss: str = "consumer",
+        altimeter: str = "laser",
+        gps_outage: tuple[float, ...] = (),
+    ) -> SensorConfig:
+        """A full suite of sensors as they are flown (``SENSOR_PRESETS``): a GNSS receiver
+        (``gnss`` "consumer" or "rtk"), the MEMS IMU, an altimeter (``altimeter`` "laser" or
+        "barometric"), the ground-joint encoders, the load cell and the winch encoder; the
+        controller's position from ``position_source``."""
+        if gnss not in ("consumer", "rtk"):
+            raise ParameterError("gnss", gnss, "'consumer' or 'rtk'")
+        if altimeter not in ("laser", "barometric"):
+            raise ParameterError("altimeter", altimeter, "'laser' or 'barometric'")
+        return cls.from_presets(
+            f"{gnss}_gnss",
+            "mems_imu",
+            f"{altimeter}_altimeter",
+            "joint_encoders",
+            "load_cell",
+            "winch_encoder",
+            position_source=position_source,
+            gps_outage=gps_outage,
+        )
+
     # --- derived ------------------------------------------------------------------------------
     @property
     def source_code(self) -> int:
@@ -317,13 +487,81 @@ class SensorConfig:
 
     @property
     def is_perfect(self) -> bool:
-        """True when every std and bias is zero and the position source is ``"true"``: the
-        measurement equals the true state and tension, so an engine may skip ``measure``."""
+        """True when every std and bias is zero, no sensor is timed, correlated or out, and
+        the position source is ``"true"``: the measurement equals the true state and tension,
+        so an engine may skip ``measure``."""
         return (
             self.position_source == "true"
             and not np.any(self.channel_std())
             and not np.any(self.channel_bias())
+            and self.is_white
         )
+
+    @property
+    def is_white(self) -> bool:
+        """True for the legacy model: white noise plus constant bias at every control sample,
+        no delay (every ``Flown sensors`` field of the module docstring at 0, no outage)."""
+        return not self.gps_outage and not any(
+            np.any(np.asarray(getattr(self, name))) for name in _FLOWN_FIELDS
+        )
+
+    @property
+    def is_timed(self) -> bool:
+        """True when a sensor has its own rate or latency, or the GNSS an outage (the engine
+        then holds and delays samples: ``sample_schedule``)."""
+        return bool(self.gps_outage) or any(
+            getattr(self, f"{g}_{what}") > 0.0
+            for g in SENSOR_GROUPS
+            for what in ("rate", "latency")
+        )
+
+    def group_timing(self, dt: float) -> tuple[np.ndarray, np.ndarray]:
+        """Sample period and latency of every sensor group (``SENSOR_GROUPS``) in control
+        samples of ``dt`` [s], shape (N_GROUPS,) each, integers.
+
+        Rule: a rate of 0 or at least the control rate 1/dt gives period 1 (the controller
+        reads the newest sample at every control sample); a slower rate r must divide it,
+        1/(r dt) an integer (e.g. 50, 25, 20, 10, 5, 1 Hz at dt = 0.01 s); a latency must be
+        a multiple of dt. Anything else is refused (``ParameterError`` naming the field), so
+        a scenario never means a timing it does not get.
+        """
+        dt = check_number("control.dt", dt, low=0.0, low_open=True)
+        period = np.ones(N_GROUPS, dtype=np.int64)
+        latency = np.zeros(N_GROUPS, dtype=np.int64)
+        for i, g in enumerate(SENSOR_GROUPS):
+            rate, lag = getattr(self, f"{g}_rate"), getattr(self, f"{g}_latency")
+            if rate > 0.0 and rate * dt < 1.0 - _GRID_TOL:
+                p = 1.0 / (rate * dt)
+                if abs(p - round(p)) > _GRID_TOL * p:
+                    raise ParameterError(
+                        f"{_SECTION}.{g}_rate",
+                        rate,
+                        f"0, >= 1/dt = {1.0 / dt:g} Hz, or a rate r with 1/(r dt) an integer "
+                        f"(dt = {dt:g} s)",
+                    )
+                period[i] = round(p)
+            n_lag = lag / dt
+            if abs(n_lag - round(n_lag)) > _GRID_TOL * max(1.0, n_lag):
+                raise ParameterError(
+                    f"{_SECTION}.{g}_latency", lag, f"a multiple of control.dt = {dt:g} s"
+                )
+            latency[i] = round(n_lag)
+        return period, latency
+
+    def white_std(self, dt: float | None = None) -> np.ndarray:
+        """Per-sample std of the white noise of every channel, shape (N_CHANNELS,):
+        ``channel_std`` with the gyro's from ``gyro_density`` when that is set (needs
+        ``dt``): sigma = N sqrt(f) with f the gyro's sample rate, min(gyro_rate, 1/dt) (the
+        average over one sample of continuous white noise of density N, IEEE Std 952's
+        angle-random-walk convention; a datasheet quoting N sqrt(bandwidth) with the
+        bandwidth f/2 gives a std smaller by sqrt(2))."""
+        std = self.channel_std()
+        if self.gyro_density > 0.0:
+            if dt is None:
+                raise ParameterError("dt", dt, "the control sample time [s] (gyro_density is set)")
+            period = self.group_timing(dt)[0][SENSOR_GROUPS.index("gyro")]
+            std[CH_GYRO : CH_GYRO + 3] = self.gyro_density / math.sqrt(period * dt)
+        return std
 
     def channel_std(self) -> np.ndarray:
         """Noise standard deviation of every channel, shape (N_CHANNELS,), units per channel
@@ -372,6 +610,83 @@ class SensorConfig:
         return out
 
 
+_RAD_PER_DEG_S = _DEG  # [rad/s] per [deg/s]
+_G0 = 9.80665  # standard gravity [m/s^2], for datasheet figures in g
+
+#: Datasheet-class sensors, each the ``SensorConfig`` fields it sets (``from_presets``,
+#: ``flown``; a scenario's ``[sensors] presets = [...]``). 1-sigma numbers; the kind of
+#: source each comes from is given beside it.
+SENSOR_PRESETS: Mapping[str, Mapping[str, Any]] = MappingProxyType(
+    {
+        # single-frequency consumer GNSS, u-blox M8 datasheet class: 2.5 m CEP horizontal
+        # (CEP = 1.18 sigma per axis: ~2.1 m), vertical about twice, Doppler velocity
+        # 0.05 m/s, navigation rate up to 10 Hz, ~0.1-0.2 s from measurement to output. The
+        # position error is mostly slow (satellite geometry, ionosphere, multipath):
+        # Gauss-Markov 1.5 m (3 m vertical) with a 100 s correlation time, plus 0.2 m
+        # (0.4 m) white receiver noise. The velocity is the IMU-aided navigation solution's
+        # (0.05 m/s, at the control rate, no delay): with the raw 5 Hz, 0.15 s Doppler
+        # velocity the paper's LQI loses simulation 1 (tests/test_sensors_flown.py).
+        "consumer_gnss": {
+            "gps_std": (0.2, 0.2, 0.4),
+            "gps_markov_sigma": (1.5, 1.5, 3.0),
+            "gps_markov_tau": 100.0,
+            "gps_rate": 5.0,
+            "gps_latency": 0.15,
+            "velocity_std": 0.05,
+        },
+        # RTK GNSS (fixed solution), u-blox F9 datasheet class: 0.01 m + 1 ppm CEP
+        # horizontal, about twice vertical, up to 20 Hz: Gauss-Markov 1 cm (2 cm) over 60 s
+        # plus 5 mm (1 cm) white; velocity 0.02 m/s; 10 Hz, 50 ms latency.
+        "rtk_gnss": {
+            "gps_std": (0.005, 0.005, 0.01),
+            "gps_markov_sigma": (0.01, 0.01, 0.02),
+            "gps_markov_tau": 60.0,
+            "gps_rate": 10.0,
+            "gps_latency": 0.05,
+            "velocity_std": 0.02,
+        },
+        # MEMS IMU, Bosch BMI088 datasheet class: gyro noise density 0.014 deg/s/sqrt(Hz),
+        # accelerometer 175 ug/sqrt(Hz). Bias instability (Allan minimum, consumer MEMS,
+        # a few deg/h and ~50 ug near 100 s) as a bias random walk K = B / sqrt(tau / 3):
+        # 2e-6 rad/s/sqrt(s) and 1e-4 m/s^2/sqrt(s). Sampled at or above the control rate.
+        # The attitude is the AHRS's output, 0.5 deg per axis (roll/pitch specification
+        # of MEMS AHRS modules).
+        "mems_imu": {
+            "gyro_density": 0.014 * _RAD_PER_DEG_S,
+            "gyro_random_walk": 2e-6,
+            "accel_density": 175e-6 * _G0,
+            "accel_random_walk": 1e-4,
+            "attitude_std": 0.5 * _DEG,
+        },
+        # barometric altimeter, Bosch BMP388 datasheet class: relative accuracy +-0.08 hPa
+        # (+-0.66 m) as a slow drift (Gauss-Markov 0.5 m over 300 s), 0.1 m white noise in
+        # flight (rotor wash), 25 Hz, 40 ms filter delay.
+        "barometric_altimeter": {
+            "altimeter_std": 0.1,
+            "altimeter_markov_sigma": 0.5,
+            "altimeter_markov_tau": 300.0,
+            "altimeter_rate": 25.0,
+            "altimeter_latency": 0.04,
+        },
+        # laser altimeter over flat ground, Garmin LIDAR-Lite v3 datasheet class: +-2.5 cm
+        # above 1 m; 50 Hz, 20 ms delay.
+        "laser_altimeter": {
+            "altimeter_std": 0.025,
+            "altimeter_rate": 50.0,
+            "altimeter_latency": 0.02,
+        },
+        # ground-joint encoders: 14-bit absolute optical encoders, quantisation
+        # 2 pi / 2^14 rad, std LSB / sqrt(12) = 1.1e-4 rad; read at the control rate.
+        "joint_encoders": {"encoder_std": 2.0 * math.pi / 2**14 / math.sqrt(12.0)},
+        # load cell of 100 N range, accuracy class C3 (OIML R 60: 3000 verification
+        # intervals): 100 N / 3000 = 0.033 N.
+        "load_cell": {"load_cell_std": 100.0 / 3000.0},
+        # winch drum encoder: about 1 mm of tether per count
+        "winch_encoder": {"winch_encoder_std": 1e-3},
+    }
+)
+
+
 def sensor_config_from_dict(d: Mapping[str, Any], *, source: str | None = None) -> SensorConfig:
     """Build a ``SensorConfig`` from a table, strictly.
 
@@ -379,7 +694,9 @@ def sensor_config_from_dict(d: Mapping[str, Any], *, source: str | None = None) 
     ----------
     d : mapping
         ``field = value`` pairs of ``SensorConfig`` (missing fields keep their defaults),
-        e.g. ``{"position_source": "tether", "encoder_std": 1.7e-3}``.
+        e.g. ``{"position_source": "tether", "encoder_std": 1.7e-3}``, and optionally
+        ``presets``, a list of ``SENSOR_PRESETS`` names applied first (the other keys
+        override them), e.g. ``{"presets": ["consumer_gnss", "mems_imu"]}``.
     source : str, optional
         Where the table came from (a file name), put in front of error messages.
 
@@ -397,22 +714,38 @@ def sensor_config_from_dict(d: Mapping[str, Any], *, source: str | None = None) 
         raise ParameterError(_SECTION, d, "a table of field = value", source=source)
     known = [f.name for f in fields(SensorConfig)]
     for key in d:
-        if key not in known:
-            raise ParameterError(f"{_SECTION}.{key}", d[key], f"one of {known}", source=source)
+        if key not in known and key != "presets":
+            raise ParameterError(
+                f"{_SECTION}.{key}", d[key], f"'presets' or one of {known}", source=source
+            )
+    table = dict(d)
+    presets = table.pop("presets", [])
+    if isinstance(presets, str) or not isinstance(presets, (list, tuple)):
+        raise ParameterError(
+            f"{_SECTION}.presets", presets, f"a list of {sorted(SENSOR_PRESETS)}", source=source
+        )
     try:
-        return SensorConfig(**dict(d))
+        return SensorConfig.from_presets(*presets, **table)
     except ParameterError as exc:
         raise ParameterError(exc.field, exc.value, exc.allowed, source=source) from None
 
 
-def noise_table(config: SensorConfig, n_samples: int, rng: np.random.Generator) -> np.ndarray:
+def noise_table(
+    config: SensorConfig, n_samples: int, rng: np.random.Generator, *, dt: float | None = None
+) -> np.ndarray:
     """Noise plus bias of every channel for a run of ``n_samples`` control samples.
 
     The draw order is fixed: one ``rng.standard_normal((n_samples + 1, N_CHANNELS))`` call,
     filled row by row (sample 0 channels 0..16, then sample 1, ...), then scaled column-wise
-    by ``config.channel_std()`` and shifted by ``config.channel_bias()``. Channels with zero
+    by ``config.white_std(dt)`` and shifted by ``config.channel_bias()``. Channels with zero
     std consume their draws too, so equal seeds give equal tables, and switching one sensor's
     noise on or off leaves the other channels' noise unchanged (common random numbers).
+
+    Flown sensors (``config.is_white`` False) add their time-correlated errors, discretised
+    exactly at the control step ``dt`` from a second block of the same shape drawn next:
+    the GNSS and altimeter Gauss-Markov errors (``gauss_markov``, stationary from sample 0)
+    and the gyro bias random walk (``random_walk``, 0 at sample 0). A sensor slower than the
+    control holds row j of its sample j, so every row is a sample of the continuous process.
 
     Parameters
     ----------
@@ -433,7 +766,126 @@ def noise_table(config: SensorConfig, n_samples: int, rng: np.random.Generator) 
     if not isinstance(rng, np.random.Generator):
         raise ParameterError("rng", rng, "a numpy.random.Generator")
     z = rng.standard_normal((int(n_samples) + 1, N_CHANNELS))
-    return np.ascontiguousarray(z * config.channel_std() + config.channel_bias())
+    if config.is_white:
+        return np.ascontiguousarray(z * config.channel_std() + config.channel_bias())
+    if dt is None:
+        raise ParameterError("dt", dt, "the control sample time [s] (flown sensors are set)")
+    table = z * config.white_std(dt) + config.channel_bias()
+    w = rng.standard_normal(z.shape)
+    gps = slice(CH_GPS, CH_GPS + 3)
+    if np.any(np.asarray(config.gps_markov_sigma) > 0.0):
+        table[:, gps] += gauss_markov(config.gps_markov_sigma, config.gps_markov_tau, dt, w[:, gps])
+    if config.altimeter_markov_sigma > 0.0:
+        alt = slice(CH_ALTIMETER, CH_ALTIMETER + 1)
+        table[:, alt] += gauss_markov(
+            config.altimeter_markov_sigma, config.altimeter_markov_tau, dt, w[:, alt]
+        )
+    if config.gyro_random_walk > 0.0:
+        gyro = slice(CH_GYRO, CH_GYRO + 3)
+        table[:, gyro] += random_walk(config.gyro_random_walk, dt, w[:, gyro])
+    return np.ascontiguousarray(table)
+
+
+def gauss_markov(sigma: Any, tau: float, dt: float, w: np.ndarray) -> np.ndarray:
+    """A first-order Gauss-Markov process sampled at dt, exactly: e_0 = sigma w_0,
+    e_k = phi e_{k-1} + sigma sqrt(1 - phi^2) w_k with phi = exp(-dt / tau).
+
+    It is the sampled solution of de/dt = -e / tau + noise of intensity 2 sigma^2 / tau:
+    stationary, variance sigma^2, autocorrelation sigma^2 exp(-|lag| / tau) (Gelb, *Applied
+    Optimal Estimation*, Table 3.4-1). ``w`` (n, m) standard normal; ``sigma`` scalar or (m,).
+    Returns (n, m) in the unit of sigma.
+    """
+    from scipy.signal import lfilter
+
+    phi = math.exp(-dt / tau)
+    sigma = np.broadcast_to(np.asarray(sigma, dtype=float), (w.shape[1],))
+    e = np.empty_like(w)
+    e[0] = sigma * w[0]
+    if w.shape[0] > 1:
+        drive = w[1:] * (sigma * math.sqrt(1.0 - phi * phi))
+        e[1:] = lfilter([1.0], [1.0, -phi], drive, axis=0, zi=(phi * e[0])[None, :])[0]
+    return e
+
+
+def random_walk(density: float, dt: float, w: np.ndarray) -> np.ndarray:
+    """A random walk sampled at dt: b_0 = 0, b_k = b_{k-1} + density sqrt(dt) w_k, i.e. white
+    noise of density ``density`` integrated (a rate random walk for a gyro, rad/s/sqrt(s));
+    variance density^2 k dt at sample k. ``w`` (n, m) standard normal; returns (n, m)."""
+    b = np.cumsum(w * (density * math.sqrt(dt)), axis=0)
+    b -= b[0]
+    return b
+
+
+def accelerometer_errors(
+    config: SensorConfig, n_samples: int, rng: np.random.Generator, dt: float
+) -> np.ndarray:
+    """The accelerometer's errors along n1, n2, n3 for the state estimator, shape
+    (n_samples + 1, 3) [m/s^2]: white noise of density ``accel_density`` at the control rate
+    (sigma = N / sqrt(dt), as ``white_std``), a bias random walk ``accel_random_walk``
+    (``random_walk``) and the constant ``accel_bias``. Drawn as one (n + 1, 6) block."""
+    n_samples = check_integer("n_samples", n_samples, low=0)
+    w = rng.standard_normal((n_samples + 1, 6))
+    out = w[:, :3] * (config.accel_density / math.sqrt(dt)) + np.asarray(config.accel_bias)
+    if config.accel_random_walk > 0.0:
+        out += random_walk(config.accel_random_walk, dt, w[:, 3:])
+    return out
+
+
+def sample_schedule(config: SensorConfig, dt: float, n_samples: int) -> np.ndarray:
+    """Which sample every sensor group reports at every control sample, shape
+    (n_samples + 1, N_GROUPS), int64; (0, N_GROUPS) for untimed sensors (``is_timed``).
+
+    Sensor group g samples at the control samples j = 0, P, 2P, ... (period P, ``group_timing``),
+    except GNSS samples with j dt in ``gps_outage`` = [t_start, t_end), which are lost; sample
+    j arrives L samples later (latency L). At control sample k the sensor reports its newest
+    arrived sample (zero-order hold): the largest valid j <= k - L. Before the first one
+    arrives (k < L) it reports sample 0, as a sensor that has been reading the trim since
+    before t = 0. The measurement at k is then the true value of sample j plus row j of the
+    noise table.
+    """
+    n_samples = check_integer("n_samples", n_samples, low=0)
+    if not config.is_timed:
+        return np.zeros((0, N_GROUPS), dtype=np.int64)
+    period, latency = config.group_timing(dt)
+    k = np.arange(n_samples + 1)
+    out = np.empty((n_samples + 1, N_GROUPS), dtype=np.int64)
+    for g in range(N_GROUPS):
+        newest = np.maximum.accumulate(np.where(_valid_samples(config, dt, k, g, period[g]), k, 0))
+        out[:, g] = newest[np.maximum(k - latency[g], 0)]
+    return out
+
+
+def _valid_samples(
+    config: SensorConfig, dt: float, k: np.ndarray, g: int, period: int
+) -> np.ndarray:
+    valid = k % period == 0
+    if g == G_GPS and config.gps_outage:
+        t0, t1 = config.gps_outage
+        lo, hi = math.ceil(t0 / dt - _GRID_TOL), math.ceil(t1 / dt - _GRID_TOL)
+        valid &= (k < lo) | (k >= hi)
+    return valid
+
+
+def group_samples(
+    config: SensorConfig, dt: float, n_samples: int, group: str
+) -> tuple[np.ndarray, int]:
+    """The samples a sensor group delivers in a run: (sample indices j, latency L in samples);
+    sample j reaches the user at j + L (only those with j + L <= n_samples are returned).
+    Same rule as ``sample_schedule``."""
+    if group not in SENSOR_GROUPS:
+        raise ParameterError("group", group, f"one of {SENSOR_GROUPS}")
+    g = SENSOR_GROUPS.index(group)
+    period, latency = config.group_timing(dt)
+    k = np.arange(n_samples + 1 - latency[g])
+    return k[_valid_samples(config, dt, k, g, period[g])], int(latency[g])
+
+
+def ring_rows(schedule: np.ndarray) -> int:
+    """Rows of the history ring ``measure_sampled`` needs for ``schedule``: the oldest sample
+    ever reported, counted back from the current one, plus one (1 for an empty schedule)."""
+    if schedule.shape[0] == 0:
+        return 1
+    return int((np.arange(schedule.shape[0])[:, None] - schedule).max()) + 1
 
 
 # --- compiled measurement -----------------------------------------------------------------------
@@ -485,23 +937,17 @@ def measure_into(x_true, tension_true, noise_row, source_code, arm, x_est, scrat
         x_est[4] = x_true[4]
         x_est[5] = x_true[5]
     elif source_code == SOURCE_GPS:
-        # the true HO = q9 c3 - arm f3 (eqs 43-45), measured; then P = HO_meas + arm f3 with
-        # f3 the third column of N_R_F at the measured attitude (Table I)
-        HO, R = scratch[0], scratch[1:]
+        # the true HO = q9 c3 - arm f3 (eqs 43-45), measured
+        HO = scratch[0]
         kinematics_tethered_HO(x_true, arm, HO)
-        kinematics_dcm(x_est, R)
-        p1 = HO[0] + noise_row[CH_GPS] + arm * R[0, 2]
-        p2 = HO[1] + noise_row[CH_GPS + 1] + arm * R[1, 2]
-        p3 = HO[2] + noise_row[CH_GPS + 2] + arm * R[2, 2]
-        q9m = math.sqrt(p1 * p1 + p2 * p2 + p3 * p3)
-        ratio = p1 / q9m
-        if ratio > 1.0:
-            ratio = 1.0
-        elif ratio < -1.0:
-            ratio = -1.0
-        x_est[3] = math.atan2(-p2, p3)
-        x_est[4] = math.asin(ratio)
-        x_est[5] = q9m
+        _tether_from_gps(
+            HO[0] + noise_row[CH_GPS],
+            HO[1] + noise_row[CH_GPS + 1],
+            HO[2] + noise_row[CH_GPS + 2],
+            arm,
+            x_est,
+            scratch[1:],
+        )
     elif source_code == SOURCE_TETHER:
         # the altimeter sees the true altitude of HO (eq 45); q9 from eq 45 with the encoders'
         # q7, q8 and the measured attitude
@@ -513,6 +959,116 @@ def measure_into(x_true, tension_true, noise_row, source_code, arm, x_est, scrat
     else:
         raise ValueError("measure: unknown position source code")
     return tension_true + noise_row[CH_LOAD_CELL]
+
+
+@_jit_inline
+def _tether_from_gps(h1, h2, h3, arm, x_est, R):
+    """q7, q8, q9 of x_est from a measured HO (h1, h2, h3) and the measured attitude in
+    x_est: P = HO + arm f3, f3 the third column of N_R_F (Table I, into R (3, 3)), then the
+    inverse of c3 = [s8, -s7 c8, c7 c8] (eqs 43-45)."""
+    kinematics_dcm(x_est, R)
+    p1 = h1 + arm * R[0, 2]
+    p2 = h2 + arm * R[1, 2]
+    p3 = h3 + arm * R[2, 2]
+    q9m = math.sqrt(p1 * p1 + p2 * p2 + p3 * p3)
+    ratio = p1 / q9m
+    if ratio > 1.0:
+        ratio = 1.0
+    elif ratio < -1.0:
+        ratio = -1.0
+    x_est[3] = math.atan2(-p2, p3)
+    x_est[4] = math.asin(ratio)
+    x_est[5] = q9m
+
+
+@_jit
+def true_channels_into(x_true, tension_true, arm, HO, out):
+    """The true value of every noise channel (``CH_*`` order) into out (N_CHANNELS,): TC,
+    q7, q8, altitude of HO, q4..q6, u4..u6, u1..u3, HO in N (eqs 43-45, into HO (3,)), LN."""
+    kinematics_tethered_HO(x_true, arm, HO)
+    out[CH_LOAD_CELL] = tension_true
+    out[CH_ENCODER_Q7] = x_true[3]
+    out[CH_ENCODER_Q8] = x_true[4]
+    out[CH_ALTIMETER] = HO[2]
+    for i in range(3):
+        out[CH_ATTITUDE + i] = x_true[i]
+        out[CH_GYRO + i] = x_true[9 + i]
+        out[CH_VELOCITY + i] = x_true[6 + i]
+        out[CH_GPS + i] = HO[i]
+    out[CH_WINCH_ENCODER] = x_true[12]
+
+
+@_jit
+def measure_sampled(x_true, tension_true, k, sensors, x_est):
+    """The controller's state and tension estimate at control sample k with every sensor at
+    its own rate and latency (compiled); ``sensors`` is ``sim.setup.sensor_tuple``'s
+    (noise table, source code, arm, scratch (4, 3), schedule, ring).
+
+    With an empty schedule this is ``measure_into`` with noise row k (white sensors, no
+    delay: the legacy model, bit for bit). Otherwise the true channels of this sample are
+    stored in row k mod H of the history ring (H = rows - 1; its last row is scratch) and
+    channel c reads sample j = schedule[k, group of c] (``sample_schedule``): the true value
+    stored at j plus noise row j. The position source then converts as ``measure_into``.
+    Returns the measured tension [N].
+    """
+    noise, source_code, arm, scratch, schedule, ring = sensors
+    if schedule.shape[0] == 0:
+        return measure_into(x_true, tension_true, noise[k], source_code, arm, x_est, scratch)
+    h = ring.shape[0] - 1
+    true_channels_into(x_true, tension_true, arm, scratch[0], ring[k % h])
+    m = ring[h]
+    for c in range(N_CHANNELS):
+        j = schedule[k, CHANNEL_GROUP[c]]
+        m[c] = ring[j % h, c] + noise[j, c]
+    for i in range(3):
+        x_est[i] = m[CH_ATTITUDE + i]
+        x_est[6 + i] = m[CH_VELOCITY + i]
+        x_est[9 + i] = m[CH_GYRO + i]
+    x_est[12] = m[CH_WINCH_ENCODER]
+    if source_code == SOURCE_TRUE:
+        x_est[3] = x_true[3]
+        x_est[4] = x_true[4]
+        x_est[5] = x_true[5]
+    elif source_code == SOURCE_GPS:
+        _tether_from_gps(m[CH_GPS], m[CH_GPS + 1], m[CH_GPS + 2], arm, x_est, scratch[1:])
+    elif source_code == SOURCE_TETHER:
+        x_est[3] = m[CH_ENCODER_Q7]
+        x_est[4] = m[CH_ENCODER_Q8]
+        x_est[5] = kinematics_tether_length(x_est, m[CH_ALTIMETER], arm)
+    else:
+        raise ValueError("measure: unknown position source code")
+    return m[CH_LOAD_CELL]
+
+
+def measured_channels(
+    x_true: np.ndarray,
+    tension_true: np.ndarray,
+    noise: np.ndarray,
+    schedule: np.ndarray,
+    arm: float,
+) -> np.ndarray:
+    """What every channel read at every sample of a recorded run, shape (n, N_CHANNELS): the
+    replay of ``measure_sampled`` in NumPy (true values from the recorded states (n, 13) and
+    tension (n,), noise rows and schedule as the run used; an empty schedule reads sample k
+    at k). Used to feed a state estimator after a run (``tetherheli.estimation``)."""
+    n = x_true.shape[0]
+    q4, q5, q7, q8, q9 = (x_true[:, i] for i in (0, 1, 3, 4, 5))
+    HO = tethered_HO_position(q4, q5, q7, q8, q9, arm)
+    raw = np.empty((n, N_CHANNELS))
+    raw[:, CH_LOAD_CELL] = tension_true
+    raw[:, CH_ENCODER_Q7], raw[:, CH_ENCODER_Q8] = q7, q8
+    raw[:, CH_ALTIMETER] = HO[:, 2]
+    raw[:, CH_ATTITUDE : CH_ATTITUDE + 3] = x_true[:, 0:3]
+    raw[:, CH_GYRO : CH_GYRO + 3] = x_true[:, 9:12]
+    raw[:, CH_VELOCITY : CH_VELOCITY + 3] = x_true[:, 6:9]
+    raw[:, CH_GPS : CH_GPS + 3] = HO
+    raw[:, CH_WINCH_ENCODER] = x_true[:, 12]
+    if schedule.shape[0] == 0:
+        j = np.broadcast_to(np.arange(n)[:, None], (n, N_CHANNELS))
+    else:
+        j = schedule[:n][:, CHANNEL_GROUP]
+    cols = np.arange(N_CHANNELS)[None, :]
+    return raw[j, cols] + noise[j, cols]
 
 
 @_jit

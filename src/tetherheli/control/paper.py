@@ -124,6 +124,8 @@ class PaperController(Controller):
 
     After a release (``Measurement.attached`` false) the winch and the feed-forward stop and
     the LQI works about u0|F, as the compiled engine does (``engine.paper_sample``).
+    z_init : (4,) the integrators' state at the start and after ``reset`` (default zero;
+        ``sim.setup.start_point`` gives the one that holds the trim in a steady wind)
     """
 
     def __init__(
@@ -136,6 +138,7 @@ class PaperController(Controller):
         constants,
         *,
         free_trim_input=None,
+        z_init=None,
     ) -> None:
         self.gain = np.ascontiguousarray(gain, dtype=float)
         self.x_ref = np.ascontiguousarray(trim_state[:12], dtype=float)
@@ -145,11 +148,12 @@ class PaperController(Controller):
         self.u0_free = np.ascontiguousarray(free, dtype=float)
         self._settings = np.array(ctrl, dtype=float)
         self.c = np.ascontiguousarray(constants, dtype=float)
+        self._z_init = np.zeros(4) if z_init is None else np.array(z_init, dtype=float)
         self.reset()
 
     def reset(self) -> None:
         self.ctrl = self._settings.copy()
-        self._z = np.zeros(4)
+        self._z = self._z_init.copy()
         self._winch = np.zeros(WINCH_SIZE)
 
     def step(self, t: float, measurement: Measurement) -> Command:

@@ -184,9 +184,10 @@ class TetheredHelicopter(_Helicopter):
         kernels.tethered_tether_torque(x, t, self._c, out)
         return out
 
-    def trim(self, tension: float, q9: float = 10.0) -> TrimPoint:
-        """Hover trim with tension [N] and tether length q9 [m] (Tables IV, V)."""
-        return hover_trim(self.params, tension, q9)
+    def trim(self, tension: float, q9: float = 10.0, *, N_F_wind: object = None) -> TrimPoint:
+        """Hover trim with tension [N] and tether length q9 [m] (Tables IV, V); with
+        ``N_F_wind`` (3,) [N], in that steady wind force (``model.trim.hover_trim``)."""
+        return hover_trim(self.params, tension, q9, N_F_wind=N_F_wind)
 
 
 class FreeHelicopter(_Helicopter):

@@ -5,6 +5,11 @@ natural length is LN = q9 - TC / KC (eq 28). The unknowns [q4, q5, fMR3, tMR1, t
 solve u' = 0 (eqs 30-35) with the inputs of eq 54 at trim: the hover input u0|T plus minus the
 feed-forward C_f-fwd (eq 55) that cancels the tether torque. Table V's inputs therefore exclude
 the tether moment; the torque the rotor must actually produce about f1 is u0|T's tMR1 - C1.
+
+In a steady wind force (``hover_trim(..., N_F_wind=F)``) the helicopter tilts and, tethered,
+the tether leans: the outputs [q1, q2, q3, q6] are held where the windless trim puts them (the
+controller's references, which its integral action restores), and q4, q5, q7, q8, q9 and the
+four inputs solve the six dynamic equations and the three position equations.
 """
 
 from __future__ import annotations
@@ -15,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import root
 
-from .._validation import check_number
+from .._validation import check_number, check_vector
 from ..errors import InfeasibleError
 from ..params import Params, check_tether_length
 from . import kernels
@@ -54,8 +59,15 @@ class TrimPoint:
         return float(self.u_total[1])
 
 
-def hover_trim(params: Params, tension: float, q9: float = 10.0) -> TrimPoint:
+def hover_trim(
+    params: Params, tension: float, q9: float = 10.0, *, N_F_wind: object = None
+) -> TrimPoint:
     """Hover trim with tether tension ``tension`` [N] and tether length ``q9`` [m].
+
+    With ``N_F_wind`` (3,) [N], a constant wind force on HO in N, the trim in that wind: the
+    outputs [q1, q2, q3, q6] equal the windless trim's (with the same ``tension``; ``q9`` is
+    then the windless length, and the returned ``x`` holds the leaning tether's q7, q8, q9 and
+    LN = q9 - tension / KC). None or a zero force gives the windless trim itself.
 
     Raises ParameterError for a q9 outside ``params.TETHER_LENGTH_RANGE`` and InfeasibleError
     for a tension the tether cannot give at that length (``TetherParams.check_tension``) or
@@ -102,4 +114,58 @@ def hover_trim(params: Params, tension: float, q9: float = 10.0) -> TrimPoint:
     xs, u0, ffwd = assemble(sol.x)
     y = np.empty(4)
     kernels.tethered_outputs(xs, p, y)
-    return TrimPoint(x=xs, u=u0, y=y, tension=float(tension), feedforward=ffwd)
+    point = TrimPoint(x=xs, u=u0, y=y, tension=float(tension), feedforward=ffwd)
+    if N_F_wind is None:
+        return point
+    force = np.array(check_vector("N_F_wind", N_F_wind, 3))
+    if not np.any(force):
+        return point
+    return _trim_in_wind(params, point, force, p)
+
+
+def _trim_in_wind(params: Params, base: TrimPoint, force: np.ndarray, p: np.ndarray) -> TrimPoint:
+    """The trim in the constant wind force ``force`` [N] with ``base``'s outputs and tension;
+    unknowns [q4, q5, q7, q8, q9, fMR3, tMR1, tMR2, fTR2]."""
+    h = params.helicopter
+    tension = base.tension
+    out = np.empty(13)
+    torque = np.empty(2)
+    y = np.empty(4)
+    # dynamic residuals in N and N m; position residuals in m, weighted by the weight [N/m]
+    scale = np.array([h.m, h.m, h.m, h.K4p4, h.K5p5, h.K6p6])
+    weight = h.m * h.g
+
+    def assemble(z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        xs = base.x.copy()
+        xs[0], xs[1], xs[3], xs[4], xs[5] = z[0], z[1], z[2], z[3], z[4]
+        xs[12] = params.tether.natural_length(z[4], tension)
+        kernels.tethered_tether_torque(xs, tension, p, torque)
+        return xs, z[5:9].copy(), np.array([0.0, torque[0], torque[1], 0.0])
+
+    def residual(z: np.ndarray) -> np.ndarray:
+        xs, u0, ffwd = assemble(z)
+        kernels.tethered_rhs(xs, u0 - ffwd, force, tension, p, out)
+        kernels.tethered_outputs(xs, p, y)
+        return np.concatenate([out[6:12] * scale, weight * (y[:3] - base.y[:3])])
+
+    x0 = base.x
+    z0 = np.array([x0[0], x0[1], x0[3], x0[4], x0[5], *base.u])
+    # the windless q5, q7, q8, tMR2 are zero up to the solver's dust (e.g. 1e-42): zero them,
+    # else MINPACK's finite-difference step, relative to |z|, underflows to a zero column
+    z0[np.abs(z0) < 1e-12] = 0.0
+
+    def solved(z: np.ndarray) -> bool:
+        return bool(np.all(np.isfinite(z)) and np.max(np.abs(residual(z))) <= 1e-9 * weight)
+
+    sol = root(residual, z0, method="hybr", options={"xtol": 1e-15})
+    if not solved(sol.x):  # Powell's hybrid method can stall at this start; Levenberg-Marquardt
+        sol = root(residual, z0, method="lm", options={"xtol": 1e-15, "ftol": 1e-15})
+    if not solved(sol.x):
+        raise InfeasibleError(
+            "N_F_wind",
+            f"{force.tolist()}",
+            "a steady wind force the helicopter can hover in (no trim found)",
+        )
+    xs, u0, ffwd = assemble(sol.x)
+    kernels.tethered_outputs(xs, p, y)
+    return TrimPoint(x=xs, u=u0, y=y.copy(), tension=tension, feedforward=ffwd)

@@ -18,7 +18,6 @@ import numpy as np
 
 from .._version import __version__
 from ..control.base import Controller, Measurement
-from ..control.paper import PaperController
 from ..errors import ParameterError
 from ..layout import (
     CFG_ATTACHED,
@@ -33,7 +32,7 @@ from ..layout import (
 from ..model import TrimPoint
 from ..model.kernels import angle_trig, angle_trig_from, tethered_outputs
 from ..resources import check_memory
-from ..sensors import N_CHANNELS
+from ..sensors import N_CHANNELS, N_GROUPS
 from ..status import Status
 from . import engine
 from .result import SimulationResult
@@ -58,7 +57,10 @@ def check_run_memory(scenario: Scenario, *, record: bool = True, concurrent: int
     sensor-noise table, ``concurrent`` runs at once) and refuse it (``ResourceLimitError``,
     before anything is allocated) above the memory budget (``tetherheli.resources``)."""
     rows = scenario.n_samples + 1
+    # the noise table, and for timed sensors the schedule (sensors.sample_schedule) and ring
     per_run = 0 if scenario.sensors.is_perfect else rows * N_CHANNELS * 8
+    if scenario.sensors.is_timed and not scenario.sensors.is_perfect:
+        per_run += rows * (N_GROUPS + N_CHANNELS) * 8
     if record:
         per_run += rows * _RECORDED_FLOATS * 8 * _RECORDED_PEAK_FACTOR
     needed = per_run * concurrent
@@ -102,12 +104,9 @@ def simulate(
     setup = engine_setup(scenario)
     trim, wind, noise = setup.trim, setup.wind, setup.noise
     n = scenario.n_samples
-    c = setup.model.constants
     paper = controller is None
     if paper:
-        controller = PaperController(
-            setup.gain.K, trim.x, trim.y, trim.u, setup.ctrl, c, free_trim_input=setup.u0_free
-        )
+        controller = setup.paper_controller()
     rec = _Recorder(n)
     if paper and method == "rk4" and wind is not None:
         status, done = engine.run_closed_loop(*setup.engine_args(n), True, rec.signals, rec.summary)
@@ -184,7 +183,7 @@ def _python_loop(scenario, setup, controller, method, rec, *, rtol, atol):
     c = setup.model.constants
     trim, wind, act = setup.trim, setup.wind, setup.act
     sensors = setup.sensors
-    x = trim.x.copy()
+    x = setup.start.x.copy()  # the trim in the air at t = 0 (``setup.start_point``)
     x_meas = np.empty(13)
     held = np.zeros(HELD_SIZE)
     y = np.empty(4)

@@ -40,6 +40,7 @@ from ..layout import (
     CFG_MAX_ANGLE,
     CFG_MAX_DEVIATION,
     CFG_MAX_TENSION,
+    CFG_METRICS_FROM,
     CFG_N_SUB,
     CFG_SIZE,
     CTRL_FFWD,
@@ -50,6 +51,7 @@ from ..layout import (
     LANES,
     LAW_X_REF,
     LAW_Y_REF,
+    LAW_Z0,
     LOOP_EVENT,
     LOOP_FFWD,
     LOOP_INPUTS,
@@ -89,7 +91,7 @@ from ..model.kernels import (
     tethered_rhs_lanes,
     tethered_rhs_sc,
 )
-from ..sensors import measure_into
+from ..sensors import measure_sampled
 from ..status import Status, release_sentence, status_message
 
 __all__ = [
@@ -387,16 +389,15 @@ def release_if_broken(tension, t, cfg, ctrl, act, event):
 def sense(x, k, t, cfg, ctrl, act, sensors, event, x_meas):
     """Phase 1 of a sample at t = k dt: the tether's tension (0 when removed), the safety
     device's release check (``release_if_broken``), then the sensors: x_meas (13,) receives
-    the measured state (``sensors.measure`` with row k of the noise table, or the true state
-    when the table is empty); ``sensors`` is (noise, position-source code, tether arm, a (4, 3)
-    scratch array).
+    the measured state (``sensors.measure_sampled``: each sensor at its rate and latency,
+    with the noise table's rows, or the true state when the table is empty); ``sensors`` is
+    ``sim.setup.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history ring).
     Returns (true tension, measured tension) [N]."""
-    noise, source_code, arm, scratch = sensors
     attached = cfg[CFG_ATTACHED] > 0.5
     tension = tension_from_state(x[5], x[12], cfg[CFG_K_C]) if attached else 0.0
     tension = release_if_broken(tension, t, cfg, ctrl, act, event)
-    if noise.shape[0] > 0:
-        return tension, measure_into(x, tension, noise[k], source_code, arm, x_meas, scratch)
+    if sensors[0].shape[0] > 0:
+        return tension, measure_sampled(x, tension, k, sensors, x_meas)
     x_meas[:] = x
     return tension, tension
 
@@ -418,14 +419,14 @@ def paper_sample(x, k, cfg, ctrl, act, sensors, c, law, loop, action, action_mod
     """One control sample of the paper's scheme at t = k dt (Fig. 5): ``sense``, the LQI with
     feed-forward and the winch PI (``control.paper.paper_control_sc``), an optional ``action``
     on the rotor inputs (``ACTION_*``), ``actuate``, and the failure checks of the sampled
-    state (``check_state_sc``). ``law`` is (gain, x_ref, y_ref, u0, u0_free)
+    state (``check_state_sc``). ``law`` is (gain, x_ref, y_ref, u0, u0_free, z0)
     (``layout.LAW_*``): once the tether is released (or in the free configuration) the LQI
-    works about the free trim's input u0_free; ``loop`` the per-run
+    works about the free trim's input u0_free; z0 is the integrators' start; ``loop`` the per-run
     arrays in the order of ``layout.LOOP_*`` (z, winch, held, event, x_meas, sc_meas, sc_true,
     y, y_est, inp, ffwd), updated in
     place: inp then holds the applied inputs, y the true outputs, sc_true sin and cos of the
     true angles. Returns (status, true tension [N], applied reel rate [m/s])."""
-    gain, x_ref, y_ref, u0_tethered, u0_free = law
+    gain, x_ref, y_ref, u0_tethered, u0_free, _z0 = law
     z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd = loop
     dt = cfg[CFG_DT]
     tension, measured = sense(x, k, k * dt, cfg, ctrl, act, sensors, event, x_meas)
@@ -450,17 +451,18 @@ def paper_sample(x, k, cfg, ctrl, act, sensors, c, law, loop, action, action_mod
     return check_state_sc(x, sc_true, y, y_ref, tension, cfg), tension, rate
 
 
-def new_loop_state(x_init: np.ndarray, work: np.ndarray) -> tuple:
+def new_loop_state(x_init: np.ndarray, z_init: np.ndarray, work: np.ndarray) -> tuple:
     """The per-run arrays of ``paper_sample`` (from Python; the compiled loop builds its own):
-    integrators, winch, held actuator state, release event (NaN: none), scratch."""
-    return _loop_state(x_init, work)
+    integrators (starting at z_init, ``law[LAW_Z0]``), winch, held actuator state, release event
+    (NaN: none), scratch."""
+    return _loop_state(x_init, z_init, work)
 
 
 @_jit_inline
-def _loop_state(x_init, work):
+def _loop_state(x_init, z_init, work):
     # in the order of layout.LOOP_*
     return (
-        np.zeros(4),  # z: the LQI's output-error integral (eq 50)
+        z_init.copy(),  # z: the LQI's output-error integral (eq 50), from sim.setup.start_point
         np.zeros(WINCH_SIZE),  # winch: layout.WINCH_* (the PI's integral, its last command)
         np.zeros(HELD_SIZE),  # held: layout.HELD_* (the winch starts at rest)
         np.full(2, np.nan),  # event: release time [s], tension [N]
@@ -491,21 +493,21 @@ def run_closed_loop(
 ):
     """Run the closed loop for n_samples control samples; returns (status, samples done).
 
-    Each sample is ``paper_sample`` then ``rk4_interval``. ``law`` is (gain, x_ref, y_ref,
-    u0, u0_free) (``layout.LAW_*``), ``wind`` (program, gust table, drag), ``sensors`` (noise,
-    source code, arm, scratch). With
-    ``record`` the arrays of ``out`` = (x, u, ffwd, rate, tension, wind, y, y_est), n_samples
-    + 1 rows each, receive the sampled signals: true state, applied inputs (with feed-forward),
-    feed-forward, reel rate, true tension, wind force, true outputs, and the controller's
-    output estimate. ``summary`` (len(SUMMARY_FIELDS),) always receives the on-line metrics,
-    the release event in its ``release_*`` slots (NaN without one).
+    Each sample is ``paper_sample`` then ``rk4_interval``. ``law`` is (gain, x_ref, y_ref, u0,
+    u0_free, z0) (``layout.LAW_*``), ``wind`` (program, gust table, drag), ``sensors``
+    (``sim.setup.sensor_tuple``). With ``record`` the arrays of ``out`` = (x, u, ffwd, rate,
+    tension, wind, y, y_est), n_samples + 1 rows each, receive the sampled signals: true state,
+    applied inputs (with feed-forward), feed-forward, reel rate, true tension, wind force, true
+    outputs, and the controller's output estimate. ``summary`` (len(SUMMARY_FIELDS),) always
+    receives the on-line metrics of the samples k >= cfg[CFG_METRICS_FROM], the release event in
+    its ``release_*`` slots (NaN without one).
     """
     cfg = cfg_in.copy()
     ctrl = ctrl_in.copy()
     x = x_init.copy()
     program, gust, drag = wind
     work = np.empty((RK4_WORK_ROWS, 13))
-    loop = _loop_state(x_init, work)
+    loop = _loop_state(x_init, law[LAW_Z0], work)
     event, y, y_est = loop[LOOP_EVENT], loop[LOOP_Y], loop[LOOP_Y_EST]
     inp, ffwd = loop[LOOP_INPUTS], loop[LOOP_FFWD]
     no_action = np.zeros(4)
@@ -521,7 +523,8 @@ def run_closed_loop(
         if sample_status != STATUS_OK:
             status, done = sample_status, k
             break
-        _accumulate(summary, x, x_ref, y, y_ref, tension)
+        if k >= cfg[CFG_METRICS_FROM]:  # the metrics' window (Scenario.metrics_start)
+            _accumulate(summary, x, x_ref, y, y_ref, tension)
         if record:
             out_x, out_u, out_ffwd, out_rate, out_tension, out_wind, out_y, out_y_est = out
             wind_force(program, gust, cfg[CFG_GUST_DT], drag, t, 1, x[6], x[7], x[8], work[5])

@@ -5,6 +5,7 @@ A scenario file::
     name = "paper_sim1_tethered"
     configuration = "tethered"        # or "free" (the tether removed, Sec. VI)
     duration = 60.0                   # [s]
+    metrics_start = 0.0               # [s] metrics over t >= this (default 0: the whole run)
     q9 = 10.0                         # tether length at trim [m]
     [control]
     dt = 0.01                         # controller sample time [s] (not given by the paper)
@@ -57,6 +58,7 @@ __all__ = [
     "Limits",
     "Scenario",
     "load_scenario",
+    "metrics_first_sample",
     "paper_scenario",
 ]
 
@@ -140,6 +142,9 @@ class Scenario:
     actuators: ActuatorSettings = field(default_factory=ActuatorSettings)
     sensors: SensorConfig = field(default_factory=SensorConfig)
     seed: int = 0
+    #: [s] the peak, RMS and tension metrics cover t >= metrics_start only (a settling time
+    #: excluded; default 0: the whole run); 0 <= metrics_start < duration
+    metrics_start: float = 0.0
 
     def __post_init__(self) -> None:
         _validate(self, source=None)
@@ -148,6 +153,11 @@ class Scenario:
     def n_samples(self) -> int:
         """Number of control intervals in the run."""
         return round(self.duration / self.control.dt)
+
+    @property
+    def metrics_first_sample(self) -> int:
+        """The first control sample the metrics cover (``metrics_first_sample``)."""
+        return metrics_first_sample(self.metrics_start, self.control.dt)
 
     def replace(self, **changes: Any) -> Scenario:
         """A copy with fields replaced (validated)."""
@@ -168,6 +178,7 @@ class Scenario:
             "actuators": dataclasses.asdict(self.actuators),
             "sensors": self.sensors.to_dict(),
             "seed": self.seed,
+            "metrics_start": self.metrics_start,
         }
 
 
@@ -175,6 +186,12 @@ class Scenario:
 _NAME_PATTERN = re.compile(r"[A-Za-z0-9_.-]{1,100}")
 #: The most control samples one run may have (about 12 days at dt = 1 ms, 115 days at 10 ms).
 MAX_SAMPLES = 1_000_000_000
+
+
+def metrics_first_sample(metrics_start: float, dt: float) -> int:
+    """The first control sample k (time k dt) at or after ``metrics_start`` [s]: the metrics
+    (peak, RMS, tension range) cover samples k >= this one."""
+    return math.ceil(metrics_start / dt - 1e-9)
 
 
 def check_name(key: str, value: object, *, source: str | None = None) -> str:
@@ -201,6 +218,14 @@ def _validate(s: Scenario, source: str | None) -> None:
         )
     _set(s, "duration", check_number("duration", s.duration, low=0.0, low_open=True, source=source))
     _set(s, "q9", check_tether_length(s.q9, "q9", source=source))
+    _set(
+        s,
+        "metrics_start",
+        check_number(
+            "metrics_start", s.metrics_start, low=0.0, high=s.duration, high_open=True,
+            unit="[s]", source=source,
+        ),
+    )  # fmt: skip
     c = s.control
     dt = check_number("control.dt", c.dt, low=0.0, low_open=True, source=source)
     if dt > s.duration:
@@ -273,6 +298,7 @@ def _validate(s: Scenario, source: str | None) -> None:
         raise ParameterError("sensors", s.sensors, "a SensorConfig", source=source)
     try:
         s.sensors.check_configuration(tethered=s.configuration == "tethered")
+        s.sensors.group_timing(s.control.dt)  # rates and latencies on the control grid
     except ParameterError as exc:
         raise ParameterError(exc.field, exc.value, exc.allowed, source=source) from None
     _set(s, "seed", check_integer("seed", s.seed, low=0, source=source))
@@ -311,6 +337,7 @@ _TOP_KEYS = {
     "actuators",
     "sensors",
     "seed",
+    "metrics_start",
 }
 
 
@@ -340,6 +367,8 @@ def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Sc
     for k in ("duration", "q9"):
         if k in data:
             kwargs[k] = check_number(k, data[k], low=0.0, low_open=True, source=source)
+    if "metrics_start" in data:
+        kwargs["metrics_start"] = data["metrics_start"]  # checked with the rest by _validate
     if "control" in data:
         ctl = dict(_table(source, "control", data["control"], ControlSettings))
         for k in ("Qy", "Ru"):

@@ -2,6 +2,13 @@
 compiled engine takes (``layout``: run configuration, controller settings, actuators), the
 compiled wind and the sensor-noise table. ``simulate``, ``run_batch``, sweeps and the
 Gymnasium environment all start a run here.
+
+A run starts at rest in the equilibrium of the air it meets at t = 0 (``start_point``): in a
+turbulence that is the trim in the drag of its mean wind plus the gust drawn for t = 0 (the
+gusts start from their stationary distribution), with the LQI's integrators z0 at the values
+that make the paper controller command exactly that trim's inputs, as if the loop had been
+flying in that air for a long time. Otherwise it is the windless trim with z0 = 0 (the
+paper's runs: their force profiles arrive as they come).
 """
 
 from __future__ import annotations
@@ -15,6 +22,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..control.lqi import LQIGain, design_lqi
+from ..control.paper import PaperController
 from ..errors import InfeasibleError
 from ..layout import (
     ACT_BREAK,
@@ -29,6 +37,7 @@ from ..layout import (
     CFG_MAX_ANGLE,
     CFG_MAX_DEVIATION,
     CFG_MAX_TENSION,
+    CFG_METRICS_FROM,
     CFG_N_SUB,
     CFG_SIZE,
     CTRL_DT,
@@ -50,14 +59,16 @@ from ..layout import (
 from ..model import TetheredHelicopter, TrimPoint, linearize
 from ..names import INPUT, TETHERED_STATE
 from ..params import Params
-from ..sensors import N_CHANNELS, noise_table
-from ..wind import CompiledWind, compile_wind
+from ..sensors import N_CHANNELS, SensorConfig, noise_table, ring_rows, sample_schedule
+from ..wind import CompiledWind, compile_wind, initial_wind_force
+from ..wind.profiles import Disturbance
 from .scenario import Scenario
 
 __all__ = [
     "LQI_STATES",
     "EngineSetup",
     "RunSetup",
+    "StartPoint",
     "actuator_array",
     "engine_setup",
     "free_trim_input",
@@ -66,6 +77,9 @@ __all__ = [
     "paper_law",
     "run_setup",
     "sensor_noise",
+    "sensor_schedule",
+    "sensor_tuple",
+    "start_point",
 ]
 
 LQI_STATES = TETHERED_STATE[:12]
@@ -129,6 +143,7 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
     cfg[CFG_MAX_TENSION] = scenario.limits.max_tension
     cfg[CFG_MAX_DEVIATION] = scenario.limits.max_deviation
     cfg[CFG_MAX_ANGLE] = math.radians(scenario.limits.max_angle_deg)
+    cfg[CFG_METRICS_FROM] = scenario.metrics_first_sample
     return RunSetup(model, trim, gain, ctrl, cfg)
 
 
@@ -142,15 +157,84 @@ def free_trim_input(scenario: Scenario, model: TetheredHelicopter, trim: TrimPoi
     return model.trim(0.0, scenario.q9).u.copy()
 
 
-def paper_law(gain: LQIGain, trim: TrimPoint, u0_free: np.ndarray) -> tuple:
-    """The paper controller's law (gain, x_ref, y_ref, u0, u0_free) (``layout.LAW_*``)."""
+def paper_law(gain: LQIGain, trim: TrimPoint, u0_free: np.ndarray, z0: np.ndarray) -> tuple:
+    """The paper controller's law (gain, x_ref, y_ref, u0, u0_free, z0) (``layout.LAW_*``):
+    ``trim`` is the windless trim (its state and outputs are the references), z0 the
+    integrators' start (``start_point``)."""
     return (
         np.ascontiguousarray(gain.K),
         np.ascontiguousarray(trim.x[:12]),
         trim.y.copy(),
         trim.u.copy(),
         np.ascontiguousarray(u0_free, dtype=float),
+        np.array(z0, dtype=float),
     )
+
+
+class StartPoint(NamedTuple):
+    """Where a run starts (``start_point``): the trim in the steady wind and the LQI's
+    integrator state z0 [m s, m s, m s, rad s] that holds it."""
+
+    trim: TrimPoint
+    z: np.ndarray  # (4,)
+
+    @property
+    def x(self) -> np.ndarray:
+        """The initial state (13,)."""
+        return self.trim.x
+
+
+#: the largest condition number of the LQI's integrator block K_z accepted by ``start_point``
+MAX_KZ_CONDITION = 1e10
+
+
+def start_point(
+    model: TetheredHelicopter,
+    trim: TrimPoint,
+    gain: LQIGain,
+    ctrl: np.ndarray,
+    wind: Disturbance,
+    q9: float,
+) -> StartPoint:
+    """The equilibrium a run starts from in the air of ``wind`` at t = 0: the drag F of the
+    turbulence's mean wind plus its gust at t = 0 (``wind.initial_wind_force``).
+
+    The trim in F (``hover_trim(..., N_F_wind=F)``) keeps the windless
+    trim's outputs, which stay the controller's references. The paper law (eq 54),
+    u = u0 - K_x (x - x_ref) - K_z z - C_f-fwd, gives that trim's rotor inputs when
+    K_z z0 = u0 - K_x (x_w - x_ref) - u_cmd, with u_cmd the trim's u0|T (feed-forward on) or
+    its total input (off). K_z, the gain's 4 x 4 integrator block, must be invertible
+    (condition number below ``MAX_KZ_CONDITION``). Without turbulence: ``trim`` and z0 = 0.
+
+    Parameters
+    ----------
+    model, trim, gain, ctrl : as returned by ``run_setup`` (``trim`` is the windless one)
+    wind : the run's disturbance
+    q9 : the tether length of the windless trim [m]
+
+    Raises
+    ------
+    InfeasibleError
+        No trim in that wind (naming ``N_F_wind``).
+        Or K_z is singular (naming ``control.Qy/Ru``).
+    """
+    force = initial_wind_force(wind)
+    if not np.any(force):
+        return StartPoint(trim, np.zeros(4))
+    windy = model.trim(trim.tension, q9, N_F_wind=force)
+    K = np.asarray(gain.K)
+    K_x, K_z = K[:, :12], K[:, 12:16]
+    cond = np.linalg.cond(K_z)
+    if not cond < MAX_KZ_CONDITION:
+        raise InfeasibleError(
+            "control.Qy/Ru",
+            f"an LQI gain whose integrator block K_z has condition number {cond:.3g}",
+            f"weights giving an invertible K_z (condition < {MAX_KZ_CONDITION:g}), so that an "
+            "integrator state holds the trim in the wind at t = 0",
+        )
+    u_cmd = windy.u if ctrl[CTRL_FFWD] > 0.5 else windy.u_total
+    rhs = trim.u - K_x @ (windy.x[:12] - trim.x[:12]) - u_cmd
+    return StartPoint(windy, np.linalg.solve(K_z, rhs))
 
 
 def actuator_array(scenario: Scenario, trim: TrimPoint, ctrl: np.ndarray) -> np.ndarray:
@@ -182,7 +266,23 @@ def sensor_noise(scenario: Scenario) -> np.ndarray:
     if scenario.sensors.is_perfect:
         return np.zeros((0, N_CHANNELS))
     rng = np.random.default_rng(np.random.SeedSequence(scenario.seed))
-    return noise_table(scenario.sensors, scenario.n_samples, rng)
+    return noise_table(scenario.sensors, scenario.n_samples, rng, dt=scenario.control.dt)
+
+
+def sensor_schedule(config: SensorConfig, dt: float, n_samples: int) -> np.ndarray:
+    """``sensors.sample_schedule`` of a run, empty for perfect sensors (no measurement)."""
+    if config.is_perfect:
+        return sample_schedule(SensorConfig(), dt, n_samples)
+    return sample_schedule(config, dt, n_samples)
+
+
+def sensor_tuple(noise: np.ndarray, source: int, arm: float, schedule: np.ndarray) -> tuple:
+    """The ``sensors`` argument of the engine's ``sense`` (``sensors.measure_sampled``), for
+    every loop (compiled, Python, Gymnasium): (noise table, position-source code, tether arm,
+    a (4, 3) scratch, schedule, a fresh history ring of ``sensors.ring_rows(schedule) + 1``
+    rows)."""
+    ring = np.zeros((ring_rows(schedule) + 1, N_CHANNELS))
+    return (noise, source, arm, np.empty((4, 3)), schedule, ring)
 
 
 @dataclass(frozen=True)
@@ -199,13 +299,15 @@ class EngineSetup:
     noise: np.ndarray
     source: int
     arm: float
+    schedule: np.ndarray
     u0_free: np.ndarray  # u0|F, the trim input after a release (``free_trim_input``)
+    start: StartPoint
 
     def engine_args(self, n_samples: int) -> tuple:
         """The leading arguments of ``engine.run_closed_loop`` (built-in winds only)."""
         assert self.wind is not None
         return (
-            self.trim.x.copy(),
+            self.start.x.copy(),
             n_samples,
             self.cfg,
             self.ctrl,
@@ -218,13 +320,22 @@ class EngineSetup:
 
     @property
     def law(self) -> tuple:
-        """The paper controller's (gain, x_ref, y_ref, u0, u0_free) (``paper_law``)."""
-        return paper_law(self.gain, self.trim, self.u0_free)
+        """The paper controller's (gain, x_ref, y_ref, u0, u0_free, z0) (``paper_law``); z0 is
+        the integrators' initial state (``start_point``)."""
+        return paper_law(self.gain, self.trim, self.u0_free, self.start.z)
+
+    def paper_controller(self) -> PaperController:
+        """The paper's controller as a Python ``Controller``, on the same law and start."""
+        K, x_ref, y_ref, u0, u0_free, z0 = self.law
+        return PaperController(
+            K, x_ref, y_ref, u0, self.ctrl, self.model.constants,
+            free_trim_input=u0_free, z_init=z0,
+        )  # fmt: skip
 
     @property
     def sensors(self) -> tuple:
-        """(noise table, position-source code, tether arm, scratch) (``engine.sense``)."""
-        return (self.noise, self.source, self.arm, np.empty((4, 3)))
+        """``sensor_tuple`` of this run (``engine.sense``); fresh work arrays per call."""
+        return sensor_tuple(self.noise, self.source, self.arm, self.schedule)
 
 
 def engine_setup(scenario: Scenario, design_params: Params | None = None) -> EngineSetup:
@@ -234,7 +345,8 @@ def engine_setup(scenario: Scenario, design_params: Params | None = None) -> Eng
     wind = compile_wind(scenario.wind)
     if wind is not None:
         cfg[CFG_GUST_DT] = wind.gust_dt
-    act = actuator_array(scenario, trim, ctrl)
+    start = start_point(model, trim, gain, ctrl, scenario.wind, scenario.q9)
+    act = actuator_array(scenario, start.trim, ctrl)
     return EngineSetup(
         model,
         trim,
@@ -246,7 +358,9 @@ def engine_setup(scenario: Scenario, design_params: Params | None = None) -> Eng
         sensor_noise(scenario),
         scenario.sensors.source_code,
         model.params.helicopter.tether_arm,
+        sensor_schedule(scenario.sensors, scenario.control.dt, scenario.n_samples),
         free_trim_input(scenario, model, trim),
+        start,
     )
 
 

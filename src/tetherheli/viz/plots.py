@@ -305,21 +305,45 @@ def figure_montecarlo(
     return fig
 
 
-def figure_sensing(results: Mapping[str, SimulationResult]) -> Figure:
+def figure_sensing(
+    results: Mapping[str, SimulationResult],
+    estimates: Mapping[str, Mapping[str, Any]] | None = None,
+) -> Figure:
     """Sec. IV-F: the controller's q1 estimate error and the true q1 deviation of runs with
-    different position sources (``extra["q1_est"]``)."""
-    fig, axes = _stacked(2, (7.5, 6.0))
+    different position sources (``extra["q1_est"]``); with ``estimates`` (run name ->
+    fusion -> ``estimation.EstimateResult``) a middle panel with the Kalman filter's q1
+    error for each fusion on the first run with a GNSS outage (else the first run), the
+    outage shaded."""
+    panels = 3 if estimates else 2
+    fig, axes = _stacked(panels, (7.5, 3.0 * panels))
     for name, r in results.items():
         label = name if r.ok else f"{name} (failed at t = {r.end_time:g} s)"
         axes[0].plot(r.time, plottable(r.extra["q1_est"] - r.outputs[:, 0])[0], lw=0.6, label=label)
-        axes[1].plot(r.time, plottable(r.outputs[:, 0] - r.trim_output[0])[0], lw=1.0, label=label)
-    axes[0].set_ylabel("q1 estimate error [m]")
-    axes[1].set_ylabel("true q1 deviation [m]")
-    axes[1].set_xlabel("t [s]")
+        axes[-1].plot(r.time, plottable(r.outputs[:, 0] - r.trim_output[0])[0], lw=1.0, label=label)
+    axes[0].set_ylabel("controller's q1\nestimate error [m]")
+    axes[-1].set_ylabel("true q1 deviation [m]")
+    axes[-1].set_xlabel("t [s]")
+    if estimates:
+
+        def outage_of(name: str) -> list[float]:
+            return list(results[name].configuration["sensors"].get("gps_outage", []))
+
+        shown = [n for n in estimates if estimates[n] and outage_of(n)]
+        shown = shown or [n for n in estimates if estimates[n]]
+        if shown:
+            name = shown[0]
+            for fusion, e in estimates[name].items():
+                axes[1].plot(e.time, e.error[:, 0], lw=0.8, label=f"IMU + {fusion}")
+            axes[1].set_title(f"Kalman filter on {name}", fontsize=9)
+            window = outage_of(name)
+            if window:
+                for ax in axes:
+                    ax.axvspan(*window, color="0.85", zorder=0)
+        axes[1].set_ylabel("Kalman filter q1\nestimate error [m]")
     for ax in axes:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
-    fig.suptitle("Position from a GPS against the tether as a sensor (Sec. IV-F)")
+    fig.suptitle("Position from a GNSS against the tether as a sensor (Sec. IV-F)")
     return fig
 
 

@@ -4,8 +4,8 @@
     the ``Disturbance`` contract and the deterministic profiles (``Pulse``, ``Step``,
     ``Sine``, ``ConstantForce``, ``NoWind``, their sum ``WindSum``, ``paper_wind``);
 ``turbulence``
-    gust models (``DrydenGust``, ``HoverTurbulence``) and ``Turbulence``, a gust series turned
-    into a drag force;
+    gust models (``DrydenGust``, ``GaussMarkovTurbulence``, ``CalibratedGaussMarkovTurbulence``
+    with ``gust_calibration``) and ``Turbulence``, a gust series turned into a drag force;
 ``drag``
     ``DragModel``, the air-relative velocity turned into a force;
 ``compiled``
@@ -18,16 +18,30 @@ from .compiled import CompiledWind, compile_wind
 from .drag import DragModel
 from .loader import disturbance_from_dict
 from .profiles import ConstantForce, Disturbance, NoWind, Pulse, Sine, Step, WindSum, paper_wind
-from .turbulence import DrydenGust, GustModel, HoverTurbulence, Turbulence, check_wind_covers
+from .turbulence import (
+    CALIBRATIONS,
+    CalibratedGaussMarkovTurbulence,
+    DrydenGust,
+    GaussMarkovTurbulence,
+    GustCalibration,
+    GustModel,
+    Turbulence,
+    check_wind_covers,
+    gust_calibration,
+    initial_wind_force,
+)
 
 __all__ = [
+    "CALIBRATIONS",
+    "CalibratedGaussMarkovTurbulence",
     "CompiledWind",
     "ConstantForce",
     "Disturbance",
     "DragModel",
     "DrydenGust",
+    "GaussMarkovTurbulence",
+    "GustCalibration",
     "GustModel",
-    "HoverTurbulence",
     "NoWind",
     "Pulse",
     "Sine",
@@ -37,5 +51,15 @@ __all__ = [
     "check_wind_covers",
     "compile_wind",
     "disturbance_from_dict",
+    "gust_calibration",
+    "initial_wind_force",
     "paper_wind",
 ]
+
+
+def __getattr__(name: str) -> object:
+    if name == "HoverTurbulence":  # deprecated name, with its warning
+        from . import turbulence
+
+        return turbulence.HoverTurbulence
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -3,6 +3,7 @@ and on the field annotations."""
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import MISSING, fields
 from typing import Any
@@ -11,7 +12,12 @@ from .._validation import check_integer, check_number, check_vector
 from ..errors import ParameterError
 from .drag import DragModel
 from .profiles import ConstantForce, Disturbance, NoWind, Pulse, Sine, Step, WindSum
-from .turbulence import DrydenGust, HoverTurbulence, Turbulence
+from .turbulence import (
+    CalibratedGaussMarkovTurbulence,
+    DrydenGust,
+    GaussMarkovTurbulence,
+    Turbulence,
+)
 
 __all__ = ["disturbance_from_dict"]
 
@@ -26,12 +32,20 @@ _MISSING_VALUE = _Missing()
 _DISTURBANCES: dict[str, type] = {
     cls.type_name: cls for cls in (Pulse, Step, Sine, ConstantForce, NoWind, WindSum, Turbulence)
 }
-_GUST_MODELS: dict[str, type] = {cls.type_name: cls for cls in (DrydenGust, HoverTurbulence)}
+_GUST_MODELS: dict[str, type] = {cls.type_name: cls for cls in (DrydenGust, GaussMarkovTurbulence)}
+#: deprecated gust-model type names and the names that replace them
+_GUST_ALIASES = {"hover": "gauss_markov"}
 
 
 def _convert(kind: str, value: Any, where: str, source: str | None) -> Any:
     # types and finiteness here; each class checks its ranges in __post_init__
     if kind == "float":
+        return check_number(where, value, source=source)
+    if kind == "str":
+        if not isinstance(value, str):
+            raise ParameterError(where, value, "a string", source=source)
+        return value
+    if kind == "float | None":
         return check_number(where, value, source=source)
     if kind == "Vec3":
         return check_vector(where, value, 3, source=source)
@@ -87,9 +101,21 @@ def _build_typed(spec: Any, registry: dict[str, type], where: str, source: str |
     if not isinstance(spec, Mapping):
         raise ParameterError(where, spec, "a table with a 'type' key", source=source)
     kind = spec.get("type", _MISSING_VALUE)
+    if registry is _GUST_MODELS and kind in _GUST_ALIASES:
+        new = _GUST_ALIASES[kind]
+        warnings.warn(
+            f"{source + ': ' if source else ''}{where}.type = {kind!r} is deprecated: use "
+            f"{new!r} (the same first-order Gauss-Markov gust model)",
+            FutureWarning,
+            stacklevel=2,
+        )
+        kind = new
     if kind not in registry:
         raise ParameterError(f"{where}.type", kind, f"one of {sorted(registry)}", source=source)
-    return _build(registry[kind], spec, where, source, typed=True)
+    cls = registry[kind]
+    if cls is GaussMarkovTurbulence and "calibration" in spec:
+        cls = CalibratedGaussMarkovTurbulence
+    return _build(cls, spec, where, source, typed=True)
 
 
 def disturbance_from_dict(
@@ -107,8 +133,10 @@ def disturbance_from_dict(
         ``"none"``, ``"sum"``, ``"turbulence"``) and the class's fields, e.g.
         ``{"type": "pulse", "start": 10.0, "duration": 1.0, "magnitude": 20.0,
         "direction": [1, 0, 0]}``; a list of tables gives their ``WindSum``. A turbulence
-        table holds a ``model`` table (``type`` ``"dryden"`` or ``"hover"``) and a ``drag``
-        table. ``Disturbance.to_dict()`` gives tables of this form.
+        table holds a ``model`` table (``type`` ``"dryden"`` or ``"gauss_markov"``, the latter
+        with ``gain`` and ``pole_rad_s`` or with a ``calibration`` and its inputs; the old
+        name ``"hover"`` still loads, with a ``FutureWarning``) and a ``drag`` table.
+        ``Disturbance.to_dict()`` gives tables of this form.
     source : str, optional
         Where the table came from (a file name), passed to the errors.
     name : str, optional

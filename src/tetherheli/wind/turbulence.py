@@ -2,8 +2,9 @@
 ``Turbulence``, the disturbance that turns a gust series into a drag force on HO.
 
 Turbulence: ``DrydenGust`` (MIL-F-8785C low-altitude Dryden model; it assumes forward flight)
-and ``HoverTurbulence`` (first-order filtered white noise, in the spirit of the CETI models
-used for hovering helicopters) generate gust *velocities*; ``DragModel`` turns the
+and ``GaussMarkovTurbulence`` (first-order Gauss-Markov gusts: white noise through K/(s + a)
+per axis; ``CalibratedGaussMarkovTurbulence`` takes K and a from MIL-HDBK-1797 or IEC 61400-1,
+``gust_calibration``) generate gust *velocities*; ``DragModel`` turns the
 air-relative velocity into a force; ``Turbulence`` ties a gust model, a drag model, a seed and
 a time grid into a ``Disturbance``.
 """
@@ -11,6 +12,7 @@ a time grid into a ``Disturbance``.
 from __future__ import annotations
 
 import math
+import warnings
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
@@ -24,7 +26,19 @@ from ._common import Vec3, _plain_dict, _set, _times
 from .drag import DragModel
 from .profiles import Disturbance, WindSum
 
-__all__ = ["DrydenGust", "GustModel", "HoverTurbulence", "Turbulence", "check_wind_covers"]
+__all__ = [
+    "CALIBRATIONS",
+    "CalibratedGaussMarkovTurbulence",
+    "DrydenGust",
+    "GaussMarkovTurbulence",
+    "GustCalibration",
+    "GustModel",
+    "Turbulence",
+    "check_wind_covers",
+    "gust_calibration",
+    "heading_axes",
+    "initial_wind_force",
+]
 
 _FT = 0.3048  # metres per foot (exact)
 
@@ -218,8 +232,9 @@ class DrydenGust(GustModel):
 
     Dryden (like von Karman) uses Taylor's frozen-field hypothesis and is valid in forward
     flight only: the airspeed must be positive, and the spectra move to zero frequency as it
-    goes to zero. For a hovering helicopter use ``HoverTurbulence``. For a helicopter hovering
-    in a mean wind, the airspeed is the mean wind speed and ``heading_rad`` its direction.
+    goes to zero. For a hovering helicopter use ``CalibratedGaussMarkovTurbulence``. For a
+    helicopter hovering in a mean wind, the airspeed is the mean wind speed and
+    ``heading_rad`` its direction.
 
     Parameters
     ----------
@@ -305,10 +320,8 @@ class DrydenGust(GustModel):
 
     @property
     def axes(self) -> np.ndarray:
-        """Gust axes (u, v, w) in N, shape (3, 3), columns: u horizontal at ``heading_rad``,
-        v horizontal to its left, w = n3."""
-        c, s = math.cos(self.heading_rad), math.sin(self.heading_rad)
-        return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        """Gust axes (u, v, w) in N, shape (3, 3) (``heading_axes``)."""
+        return heading_axes(self.heading_rad)
 
     def _filters(self) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], ...]:
         V = self.airspeed_mps
@@ -332,46 +345,283 @@ def _dryden_2nd(sigma: float, L: float, V: float) -> tuple[np.ndarray, np.ndarra
 
 
 @dataclass(frozen=True)
-class HoverTurbulence(GustModel):
-    """Turbulence for hover and low speed: on each N axis, unit-intensity white noise through
-    a first-order filter K / (s + a).
+class GaussMarkovTurbulence(GustModel):
+    """First-order Gauss-Markov gusts: on each gust axis, unit-intensity white noise through
+    K / (s + a).
 
-    This is the structure of the CETI (control equivalent turbulence input) models identified
-    for hovering helicopters, applied here to the gust velocity itself. Each component is a
-    stationary Ornstein-Uhlenbeck process with variance sigma^2 = K^2 / (2 a), correlation
-    time 1/a and one-sided spectrum G(f) = 2 K^2 / ((2 pi f)^2 + a^2) [(m/s)^2/Hz].
+    Each component is a stationary Ornstein-Uhlenbeck process with variance
+    sigma^2 = K^2 / (2 a), correlation time 1/a and one-sided spectrum
+    G(f) = 2 K^2 / ((2 pi f)^2 + a^2) [(m/s)^2/Hz]. The gust axes are u along ``heading_rad``,
+    v horizontal to its left and w = n3 (with the default heading 0: n1, n2, n3).
+
+    This is a model of the gust *velocity*. It is not a CETI (control equivalent turbulence
+    input) model: CETI models put filtered noise on the control inputs, with gains and poles
+    identified from flight data of a given helicopter; tetherheli offers none, since no
+    published coefficients exist for the paper's 12.7 kg helicopter. For K and a from a
+    published turbulence model (MIL-HDBK-1797 or IEC 61400-1), use
+    ``CalibratedGaussMarkovTurbulence``.
 
     Parameters
     ----------
     gain : sequence of 3 floats, optional
-        K per N axis [m s^-3/2], >= 0. Default (0.3, 0.3, 0.2).
+        K per gust axis [m s^-3/2], >= 0. Default (0.3, 0.3, 0.2).
     pole_rad_s : sequence of 3 floats, optional
-        a per N axis [rad/s], > 0. Default (0.5, 0.5, 0.5): a 2 s correlation time, so the
+        a per gust axis [rad/s], > 0. Default (0.5, 0.5, 0.5): a 2 s correlation time, so the
         default standard deviations are (0.3, 0.3, 0.2) m/s.
+    heading_rad : float, optional
+        Azimuth of the gust axis u in N, from n1 towards n2 [rad] (default 0).
     """
 
-    type_name: ClassVar[str] = "hover"
+    type_name: ClassVar[str] = "gauss_markov"
 
     gain: Vec3 = (0.3, 0.3, 0.2)
     pole_rad_s: Vec3 = (0.5, 0.5, 0.5)
+    heading_rad: float = 0.0
 
     def __post_init__(self) -> None:
-        _set(self, "gain", check_vector("HoverTurbulence.gain", self.gain, 3, low=0.0))
-        pole = check_vector(
-            "HoverTurbulence.pole_rad_s", self.pole_rad_s, 3, low=0.0, low_open=True
-        )
+        name = type(self).__name__
+        _set(self, "gain", check_vector(f"{name}.gain", self.gain, 3, low=0.0))
+        pole = check_vector(f"{name}.pole_rad_s", self.pole_rad_s, 3, low=0.0, low_open=True)
         _set(self, "pole_rad_s", pole)
+        _set(self, "heading_rad", check_number(f"{name}.heading_rad", self.heading_rad))
 
     @property
     def std(self) -> np.ndarray:
-        """Standard deviation K / sqrt(2 a) per N axis, shape (3,) [m/s]."""
+        """Standard deviation K / sqrt(2 a) per gust axis (u, v, w), shape (3,) [m/s]."""
         return np.array(self.gain) / np.sqrt(2.0 * np.array(self.pole_rad_s))
+
+    @property
+    def correlation_time_s(self) -> np.ndarray:
+        """Correlation time 1 / a per gust axis (u, v, w), shape (3,) [s]."""
+        return 1.0 / np.array(self.pole_rad_s)
+
+    @property
+    def axes(self) -> np.ndarray:
+        """Gust axes (u, v, w) in N, shape (3, 3) (``heading_axes``)."""
+        return heading_axes(self.heading_rad)
 
     def _filters(self) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], ...]:
         return tuple(
             (np.array([[-a]]), np.array([[K]]), np.array([[1.0]]))
             for K, a in zip(self.gain, self.pole_rad_s, strict=True)
         )
+
+
+#: the calibrations ``gust_calibration`` knows
+CALIBRATIONS = ("iec_61400_1", "mil_hdbk_1797_low_altitude")
+#: Taylor's frozen-turbulence conversion (time = length / mean wind) is refused above this
+#: turbulence intensity sigma_u / V: a common rule of thumb for its validity
+TAYLOR_MAX_INTENSITY = 0.5
+_KNOT = 1852.0 / 3600.0  # m/s per knot (exact)
+
+
+@dataclass(frozen=True)
+class GustCalibration:
+    """Standard deviations, length scales and correlation times of the gust axes (u, v, w)
+    that a published turbulence model gives (``gust_calibration``).
+
+    Attributes
+    ----------
+    sigma_m_s : (3,) standard deviations [m/s]
+    length_scale_m : (3,) the model's length scales [m]
+    correlation_time_s : (3,) the Gauss-Markov correlation time 1/a of each axis [s]: the
+        integral time scale of the model's spectrum at the convection speed (its value at
+        zero frequency divided by 4 sigma^2)
+    """
+
+    sigma_m_s: tuple[float, float, float]
+    length_scale_m: tuple[float, float, float]
+    correlation_time_s: tuple[float, float, float]
+
+    @property
+    def pole_rad_s(self) -> tuple[float, float, float]:
+        """a = 1 / correlation time per axis [rad/s]."""
+        return tuple(1.0 / T for T in self.correlation_time_s)  # type: ignore[return-value]
+
+    @property
+    def gain(self) -> tuple[float, float, float]:
+        """K = sigma sqrt(2 a) per axis [m s^-3/2]."""
+        return tuple(  # type: ignore[return-value]
+            s * math.sqrt(2.0 * a) for s, a in zip(self.sigma_m_s, self.pole_rad_s, strict=True)
+        )
+
+
+def gust_calibration(
+    calibration: str,
+    *,
+    height_m: float,
+    mean_wind_m_s: float,
+    wind_speed_20ft_m_s: float | None = None,
+    i_ref: float | None = None,
+    prefix: str = "",
+) -> GustCalibration:
+    """Gust standard deviations and correlation times from quantities a user knows.
+
+    Both models give spatial statistics; the mean wind V convects them past the hovering
+    helicopter (Taylor's frozen-turbulence hypothesis), so a length L becomes a time L / V.
+    That conversion means nothing as V goes to zero, and it is refused (one-line
+    ``ParameterError`` naming ``mean_wind_m_s``) when the intensity sigma_u / V exceeds
+    ``TAYLOR_MAX_INTENSITY`` = 0.5.
+
+    ``"mil_hdbk_1797_low_altitude"`` (MIL-F-8785C / MIL-HDBK-1797 low-altitude Dryden model;
+    the formulas are ``DrydenGust``'s): with h in ft (10 ft <= h <= 1000 ft) and W20 the wind
+    at 20 ft, sigma_w = 0.1 W20, sigma_u = sigma_v = sigma_w / (0.177 + 0.000823 h)^0.4,
+    L_u = L_v = h / (0.177 + 0.000823 h)^1.2, L_w = h. The longitudinal Dryden spectrum is
+    first-order, so T_u = L_u / V reproduces it exactly. The lateral and vertical Dryden
+    spectra are second-order with autocorrelation sigma^2 e^(-x/L) (1 - x / (2 L)), whose
+    integral scale is L / 2: T_v = L_v / (2 V), T_w = L_w / (2 V), which keeps each axis's
+    variance and low-frequency spectral level 4 sigma^2 T.
+
+    ``"iec_61400_1"`` (IEC 61400-1 ed. 3, 2005: normal turbulence model eq. 11, Sec. 6.3, and
+    the Kaimal model of Annex B, Table B.1): sigma_1 = I_ref (0.75 V + 5.6 m/s),
+    sigma_2 = 0.8 sigma_1, sigma_3 = 0.5 sigma_1; Lambda_1 = 0.7 z for z <= 60 m (42 m above);
+    Kaimal lengths L = 8.1, 2.7, 0.66 Lambda_1. The Kaimal spectrum
+    S(f) = 4 sigma^2 (L / V) / (1 + 6 f L / V)^(5/3) has integral time scale L / V, so
+    T = L / V per axis. I_ref is 0.16 for turbulence class A, 0.14 for B, 0.12 for C. The
+    standard is written for wind-turbine hub heights; at a few metres it is an extrapolation.
+
+    Parameters
+    ----------
+    calibration : str
+        One of ``CALIBRATIONS``.
+    height_m : float
+        Height above ground [m]: MIL h in [3.048, 304.8] m (10 to 1000 ft); IEC z > 0.
+    mean_wind_m_s : float
+        Mean wind speed at that height [m/s], > 0: the convection speed V (IEC: V_hub).
+    wind_speed_20ft_m_s : float, optional
+        MIL only, required there: W20, the wind speed at 20 ft [m/s], > 0 (MIL-F-8785C:
+        15 kt light, 30 kt moderate, 45 kt severe turbulence).
+    i_ref : float, optional
+        IEC only, required there: the reference turbulence intensity I_ref in (0, 1].
+    prefix : str, optional
+        Prefix of the field names in error messages (e.g. ``"wind.model."``).
+
+    Returns
+    -------
+    GustCalibration
+    """
+    allowed = f"one of {list(CALIBRATIONS)}"
+    if calibration not in CALIBRATIONS:
+        raise ParameterError(f"{prefix}calibration", calibration, allowed)
+    mil = calibration == "mil_hdbk_1797_low_altitude"
+    unused = ("i_ref", i_ref) if mil else ("wind_speed_20ft_m_s", wind_speed_20ft_m_s)
+    needed = ("wind_speed_20ft_m_s", wind_speed_20ft_m_s) if mil else ("i_ref", i_ref)
+    if unused[1] is not None:
+        raise ParameterError(f"{prefix}{unused[0]}", unused[1], f"absent with {calibration}")
+    if needed[1] is None:
+        raise ParameterError(f"{prefix}{needed[0]}", None, f"a required key with {calibration}")
+    V = check_number(f"{prefix}mean_wind_m_s", mean_wind_m_s, low=0.0, low_open=True, unit="[m/s]")
+    if mil:
+        h = check_number(
+            f"{prefix}height_m",
+            height_m,
+            low=10 * _FT,
+            high=1000 * _FT,
+            allowed="3.048 <= h <= 304.8 [m] (10 to 1000 ft, MIL-F-8785C low altitude)",
+        )
+        w20 = check_number(
+            f"{prefix}wind_speed_20ft_m_s", wind_speed_20ft_m_s, low=0.0, low_open=True
+        )
+        d = DrydenGust(h, w20, V)
+        sigma = (d.sigma_u, d.sigma_v, d.sigma_w)
+        length = (d.L_u, d.L_v, d.L_w)
+        times = (d.L_u / V, d.L_v / (2.0 * V), d.L_w / (2.0 * V))
+    else:
+        z = check_number(f"{prefix}height_m", height_m, low=0.0, low_open=True, unit="[m]")
+        iref = check_number(f"{prefix}i_ref", i_ref, low=0.0, high=1.0, low_open=True)
+        s1 = iref * (0.75 * V + 5.6)
+        lam = 0.7 * min(z, 60.0)
+        sigma = (s1, 0.8 * s1, 0.5 * s1)
+        length = (8.1 * lam, 2.7 * lam, 0.66 * lam)
+        times = tuple(L / V for L in length)
+    if sigma[0] > TAYLOR_MAX_INTENSITY * V:
+        raise ParameterError(
+            f"{prefix}mean_wind_m_s",
+            V,
+            f"a mean wind at which sigma_u / V <= {TAYLOR_MAX_INTENSITY:g} (here sigma_u = "
+            f"{sigma[0]:.3g} m/s): the frozen-turbulence time L/V means nothing in near-calm air",
+        )
+    return GustCalibration(sigma, length, times)  # type: ignore[arg-type]
+
+
+@dataclass(frozen=True, kw_only=True)
+class CalibratedGaussMarkovTurbulence(GaussMarkovTurbulence):
+    """``GaussMarkovTurbulence`` with K and a from a published turbulence model
+    (``gust_calibration``): a = 1 / T and K = sigma sqrt(2 a) per gust axis (u, v, w).
+
+    In a scenario: ``[wind.model] type = "gauss_markov"`` with ``calibration`` and the
+    calibration's inputs instead of ``gain`` and ``pole_rad_s``. A ``Turbulence`` checks that
+    ``mean_wind_m_s`` is the speed of its mean wind and ``heading_rad`` its direction.
+
+    Parameters
+    ----------
+    calibration : str
+        ``"iec_61400_1"`` or ``"mil_hdbk_1797_low_altitude"``.
+    height_m, mean_wind_m_s, wind_speed_20ft_m_s, i_ref : float
+        As for ``gust_calibration``.
+    heading_rad : float, optional
+        Azimuth of the gust axis u (along the mean wind) in N [rad] (default 0).
+    """
+
+    gain: Vec3 = field(init=False, default=(0.0, 0.0, 0.0))
+    pole_rad_s: Vec3 = field(init=False, default=(1.0, 1.0, 1.0))
+    calibration: str
+    height_m: float
+    mean_wind_m_s: float
+    wind_speed_20ft_m_s: float | None = None
+    i_ref: float | None = None
+
+    def __post_init__(self) -> None:
+        cal = gust_calibration(
+            self.calibration,
+            height_m=self.height_m,
+            mean_wind_m_s=self.mean_wind_m_s,
+            wind_speed_20ft_m_s=self.wind_speed_20ft_m_s,
+            i_ref=self.i_ref,
+            prefix="CalibratedGaussMarkovTurbulence.",
+        )
+        _set(self, "height_m", float(self.height_m))
+        _set(self, "mean_wind_m_s", float(self.mean_wind_m_s))
+        for name in ("wind_speed_20ft_m_s", "i_ref"):
+            if getattr(self, name) is not None:
+                _set(self, name, float(getattr(self, name)))
+        _set(self, "gain", cal.gain)
+        _set(self, "pole_rad_s", cal.pole_rad_s)
+        super().__post_init__()
+
+    @property
+    def calibrated(self) -> GustCalibration:
+        """The calibration's sigma, length scales and correlation times."""
+        return gust_calibration(
+            self.calibration,
+            height_m=self.height_m,
+            mean_wind_m_s=self.mean_wind_m_s,
+            wind_speed_20ft_m_s=self.wind_speed_20ft_m_s,
+            i_ref=self.i_ref,
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        """The calibration's inputs (absent optional ones left out); K and a follow."""
+        return {k: v for k, v in _plain_dict(self).items() if v is not None}
+
+
+def heading_axes(heading_rad: float) -> np.ndarray:
+    """Gust axes (u, v, w) in N, shape (3, 3), columns: u horizontal at azimuth
+    ``heading_rad`` (from n1 towards n2), v horizontal to its left, w = n3."""
+    c, s = math.cos(heading_rad), math.sin(heading_rad)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def __getattr__(name: str) -> Any:
+    if name == "HoverTurbulence":  # the old name (type "hover"), kept for old code
+        warnings.warn(
+            "HoverTurbulence is deprecated: it is GaussMarkovTurbulence (a first-order "
+            "Gauss-Markov gust model)",
+            FutureWarning,
+            stacklevel=2,
+        )
+        return GaussMarkovTurbulence
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 _MAX_SAMPLES = 20_000_000
@@ -390,7 +640,7 @@ class Turbulence(Disturbance):
     Parameters
     ----------
     model : GustModel
-        ``DrydenGust`` or ``HoverTurbulence`` (or a custom ``GustModel``).
+        ``DrydenGust`` or ``GaussMarkovTurbulence`` (or a custom ``GustModel``).
     drag : DragModel
         Turns the air-relative velocity into a force.
     seed : int
@@ -442,6 +692,8 @@ class Turbulence(Disturbance):
         _set(self, "duration", duration)
         _set(self, "dt", dt)
         _set(self, "N_v_mean_wind", check_vector("Turbulence.N_v_mean_wind", self.N_v_mean_wind, 3))
+        if isinstance(self.model, CalibratedGaussMarkovTurbulence):
+            _check_calibrated_mean_wind(self.model, self.N_v_mean_wind)
         gust = self.model.sample(dt * np.arange(n + 1), self.rng())
         gust.setflags(write=False)
         _set(self, "_gust", gust)
@@ -506,12 +758,53 @@ class Turbulence(Disturbance):
     def _force_at(self, t: np.ndarray, N_v_HO: np.ndarray) -> np.ndarray:
         return self.drag.force(self._interp(t) + np.asarray(self.N_v_mean_wind), N_v_HO)
 
+    @property
+    def initial_force(self) -> np.ndarray:
+        """Drag on HO at rest of the air at t = 0, the mean wind plus the gust drawn for
+        t = 0, shape (3,) [N]: the force the run's initial trim balances
+        (``initial_wind_force``)."""
+        return self.drag.force(np.asarray(self.N_v_mean_wind, dtype=float) + self._gust[0])
+
     def to_dict(self) -> dict[str, Any]:
         """See ``Disturbance.to_dict``; the gusts themselves are regenerated from the seed."""
         out = _plain_dict(self)
         out["model"] = self.model.to_dict()
         out["drag"] = self.drag.to_dict()
         return out
+
+
+def _check_calibrated_mean_wind(model: CalibratedGaussMarkovTurbulence, N_v_mean: Vec3) -> None:
+    """The calibration's convection speed and gust axis u must be the mean wind's."""
+    v = np.asarray(N_v_mean, dtype=float)
+    speed = float(np.linalg.norm(v))
+    if abs(model.mean_wind_m_s - speed) > 1e-9 * max(speed, 1.0):
+        raise ParameterError(
+            "Turbulence.model.mean_wind_m_s",
+            model.mean_wind_m_s,
+            f"the speed of N_v_mean_wind ({speed:g} m/s), the calibration's convection speed",
+        )
+    if math.hypot(v[0], v[1]) > 1e-9 * speed:
+        azimuth = math.atan2(v[1], v[0])
+        off = math.remainder(model.heading_rad - azimuth, 2.0 * math.pi)
+        if abs(off) > 1e-9:
+            raise ParameterError(
+                "Turbulence.model.heading_rad",
+                model.heading_rad,
+                f"the azimuth of N_v_mean_wind ({azimuth:.9g} rad): gust axis u along the wind",
+            )
+
+
+def initial_wind_force(wind: Disturbance) -> np.ndarray:
+    """The force of the air on HO at rest at t = 0, shape (3,) [N]: the drag of the mean wind
+    plus the gust at t = 0 of every ``Turbulence`` in ``wind`` (``Turbulence.initial_force``);
+    zero for the force profiles (pulse, step, sine, constant), which a run meets as they
+    come. A run starts in the trim that balances it (``sim.setup.start_point``)."""
+    if isinstance(wind, WindSum):
+        parts = [initial_wind_force(part) for part in wind.components]
+        return np.sum(parts, axis=0) + np.zeros(3)
+    if isinstance(wind, Turbulence):
+        return wind.initial_force
+    return np.zeros(3)
 
 
 def check_wind_covers(

@@ -113,9 +113,13 @@ def draw(
         elif isinstance(d, ConstantForce):
             parts.append(ConstantForce(_rot(d.vector, a, scale)))
         elif isinstance(d, Turbulence):  # a fresh gust series per draw, mean wind rotated
+            model = d.model  # its gust axis u turns with the mean wind
+            if hasattr(model, "heading_rad"):
+                model = dataclasses.replace(model, heading_rad=model.heading_rad + a)
             parts.append(
                 dataclasses.replace(
                     d,
+                    model=model,
                     seed=int(child.entropy),  # type: ignore[arg-type]
                     spawn_key=(*child.spawn_key, 0),
                     N_v_mean_wind=_rot(d.N_v_mean_wind, a),

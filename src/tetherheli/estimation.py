@@ -1,0 +1,317 @@
+"""A position estimator a practitioner would fly: a linear Kalman filter per axis of N that
+fuses the IMU's acceleration with position fixes from a GNSS receiver, the tether
+(Sec. IV-F: encoders + altimeter + attitude) or both, each at its own rate and latency.
+
+The filter runs after a closed-loop run, on what the run's sensors recorded
+(``estimate_run``): the controller itself flies on its ``position_source`` as before, so the
+estimate is evaluated, not flown. It is linear and per axis because, in hover, the IMU's
+acceleration in N drives position and velocity linearly and the axes decouple.
+
+Model (per axis i of N, sample time dt)
+---------------------------------------
+State s = [p, v, b] (position of HO [m], velocity [m/s], accelerometer bias [m/s^2]), plus
+e, the GNSS receiver's Gauss-Markov position error [m], when the GNSS is fused and has one.
+Input: the accelerometer, a_m = a + b + w, held over the sample (w white, std
+sigma_a = accel_density / sqrt(dt)). Exact discretisation of the simulated processes:
+
+    p+ = p + dt v + dt^2/2 (a_m - b),  v+ = v + dt (a_m - b),  b+ = b + w_b,  e+ = phi e + w_e
+
+with Var w_b = accel_random_walk^2 dt, phi = exp(-dt / tau), Var w_e = sigma^2 (1 - phi^2)
+(``sensors.random_walk``, ``sensors.gauss_markov``), and Q = sigma_a^2 B B' + diag(0, 0,
+Var w_b, Var w_e), B = [dt^2/2, dt, 0, 0]. Fixes: GNSS z = p + e + white (R = gps_std^2);
+tether z = p + white (R from ``sensors.hover_error_std``): n1, n2 at the encoders' samples,
+n3 at the altimeter's own (plus its Gauss-Markov variance, which the filter treats as white).
+
+Latency: a fix taken at sample j reaches the filter at j + L. The filter then goes back to
+sample j, applies the fix there, and re-runs the prediction (and the fixes of other sensors
+already received) up to the present sample: the estimate at k uses exactly the data that has
+arrived by k, as a filter with a state history does on board.
+
+The IMU's acceleration here is HO's acceleration in N (the recorded velocity's change over
+each sample, as a delta-velocity IMU output, rotated with the true attitude) plus the
+accelerometer's errors (``sensors.accelerometer_errors``); the error the attitude estimate
+adds by projecting gravity is not modelled (it acts as a slowly varying bias, which the bias
+state absorbs while fixes arrive).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from .errors import ParameterError
+from .sensors import (
+    CH_ALTIMETER,
+    CH_ATTITUDE,
+    CH_ENCODER_Q7,
+    CH_ENCODER_Q8,
+    CH_GPS,
+    SensorConfig,
+    accelerometer_errors,
+    group_samples,
+    hover_error_std,
+    measured_channels,
+    tether_position_estimate,
+)
+
+__all__ = [
+    "FUSIONS",
+    "EstimateResult",
+    "Fixes",
+    "PositionFilter",
+    "estimate_run",
+    "position_filter",
+    "run_filter",
+]
+
+#: the position sources a filter can fuse with the IMU
+FUSIONS = ("gnss", "tether", "both")
+
+
+class Fixes(NamedTuple):
+    """One position sensor's fixes for ``run_filter``.
+
+    times : (m,) int, the sample j each fix was taken at (increasing)
+    values : (m, 3), the fix [m] along n1, n2, n3
+    latency : int, samples from taking a fix to its arrival (j + latency)
+    H : (ns,), the fix's row of the measurement matrix (the same on every axis)
+    R : (3,), the fix's white-noise variance per axis [m^2]; inf on an axis it does not fix
+    """
+
+    times: np.ndarray
+    values: np.ndarray
+    latency: int
+    H: np.ndarray
+    R: np.ndarray
+
+
+@dataclass(frozen=True)
+class PositionFilter:
+    """The per-axis model of the module docstring: F (ns, ns), B (ns,), Q (3, ns, ns) per
+    axis, the initial state covariance P0 (3, ns, ns), and ``gm`` (the GNSS Gauss-Markov
+    error is the state's 4th entry)."""
+
+    dt: float
+    F: np.ndarray
+    B: np.ndarray
+    Q: np.ndarray
+    P0: np.ndarray
+    gm: bool
+
+    @property
+    def n_states(self) -> int:
+        return self.F.shape[0]
+
+
+def position_filter(config: SensorConfig, dt: float, *, gnss: bool) -> PositionFilter:
+    """The filter model of ``config``'s IMU (and GNSS Gauss-Markov error, when ``gnss``).
+
+    P0: 1 m (position, or the GNSS Gauss-Markov sigma when larger), 0.1 m/s, the bias's
+    random walk over 100 s plus the constant ``accel_bias`` (at least 1e-3 m/s^2), and the
+    Gauss-Markov variance: the filter starts at the trim's hover point, at rest.
+    """
+    dt = float(dt)
+    sig_gm = np.asarray(config.gps_markov_sigma, dtype=float)
+    gm = bool(gnss and np.any(sig_gm > 0.0))
+    ns = 4 if gm else 3
+    F = np.eye(ns)
+    F[0, 1], F[0, 2], F[1, 2] = dt, -0.5 * dt * dt, -dt
+    B = np.zeros(ns)
+    B[0], B[1] = 0.5 * dt * dt, dt
+    sigma_a2 = config.accel_density**2 / dt
+    Q = np.repeat((sigma_a2 * np.outer(B, B))[None], 3, axis=0)
+    Q[:, 2, 2] += config.accel_random_walk**2 * dt
+    bias0 = np.maximum(
+        np.abs(config.accel_bias), max(1e-3, config.accel_random_walk * math.sqrt(100.0))
+    )
+    P0 = np.zeros((3, ns, ns))
+    P0[:, 0, 0] = 1.0
+    P0[:, 1, 1] = 0.01
+    P0[:, 2, 2] = bias0**2
+    if gm:
+        phi = math.exp(-dt / config.gps_markov_tau)
+        F[3, 3] = phi
+        Q[:, 3, 3] = sig_gm**2 * (1.0 - phi * phi)
+        P0[:, 0, 0] = np.maximum(1.0, sig_gm**2)
+        P0[:, 3, 3] = sig_gm**2
+    return PositionFilter(dt, F, B, Q, P0, gm)
+
+
+def run_filter(
+    model: PositionFilter,
+    accel: np.ndarray,
+    fixes: Sequence[Fixes],
+    p0: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Run the filter over n samples with the accelerometer ``accel`` (n, 3) [m/s^2] (sample
+    k's reading drives the prediction from k to k + 1) and the fixes, each arriving
+    ``latency`` samples after it was taken (module docstring); the state starts at
+    [p0, 0, 0(, 0)] with covariance P0. (Any number m of independent axes runs alike: Q and
+    P0 (m, ns, ns), accel and fix values (., m), R (m,); the results are then (n, m).)
+
+    Returns
+    -------
+    position : (n, 3), the estimate of HO at every sample from the data arrived by then [m]
+    velocity : (n, 3) [m/s]
+    position_std : (n, 3), the filter's own 1-sigma of the position estimate [m]
+    """
+    n, ns, axes = accel.shape[0], model.n_states, model.Q.shape[0]
+    F, B, Q = model.F, model.B, model.Q
+    FT = F.T
+    prior_x = np.empty((n, axes, ns))
+    prior_P = np.empty((n, axes, ns, ns))
+    post_x = np.empty((n, axes, ns))
+    post_P = np.empty((n, axes, ns, ns))
+    out_x = np.empty((n, axes, 2))
+    out_var = np.empty((n, axes))
+    # per sample: the fixes taken there (index into fixes, row), and arrivals per sample
+    taken: dict[int, list[tuple[int, int]]] = {}
+    arriving: dict[int, int] = {}  # arrival sample -> earliest fix time arriving then
+    for f, fx in enumerate(fixes):
+        for r, j in enumerate(np.asarray(fx.times, dtype=int).tolist()):
+            if j + fx.latency >= n:
+                continue
+            taken.setdefault(j, []).append((f, r))
+            a = j + fx.latency
+            arriving[a] = min(arriving.get(a, a), j)
+
+    def correct(m: int, now: int, x: np.ndarray, P: np.ndarray) -> None:
+        for f, r in taken.get(m, ()):
+            fx = fixes[f]
+            if m + fx.latency > now:
+                continue  # not arrived yet
+            H = fx.H
+            PH = P @ H  # (3, ns)
+            S = PH @ H + fx.R  # (3,)
+            K = PH / S[:, None]
+            x += K * (fx.values[r] - x @ H)[:, None]
+            IKH = np.eye(ns)[None] - K[:, :, None] * H[None, None, :]
+            R_used = np.where(np.isfinite(fx.R), fx.R, 0.0)  # K = 0 where R = inf
+            P[:] = (
+                IKH @ P @ IKH.transpose(0, 2, 1)
+                + K[:, :, None] * K[:, None, :] * R_used[:, None, None]
+            )
+
+    x0 = np.zeros((axes, ns))
+    x0[:, 0] = p0
+    for k in range(n):
+        start = min(k, arriving.get(k, k))
+        for m in range(start, k + 1):
+            if m == 0:
+                x, P = x0.copy(), model.P0.copy()
+            elif m == start and start < k:  # a late fix: back to its sample's prior
+                x, P = prior_x[m].copy(), prior_P[m].copy()
+            else:
+                x = post_x[m - 1] @ FT + (accel[m - 1][:, None] * B[None, :])
+                P = F @ post_P[m - 1] @ FT + Q
+            prior_x[m], prior_P[m] = x, P
+            correct(m, k, x, P)
+            post_x[m], post_P[m] = x, P
+        # the estimate at k is the one made at k (a later fix rewrites the history only)
+        out_x[k], out_var[k] = post_x[k, :, :2], post_P[k, :, 0, 0]
+    return out_x[:, :, 0], out_x[:, :, 1], np.sqrt(out_var)
+
+
+@dataclass(frozen=True)
+class EstimateResult:
+    """A filter's estimate over a recorded run (``estimate_run``): time (n,) [s], the
+    estimate, its predicted 1-sigma and the truth, (n, 3) each [m] (HO along n1, n2, n3)."""
+
+    fusion: str
+    time: np.ndarray
+    position: np.ndarray
+    position_std: np.ndarray
+    truth: np.ndarray
+
+    @property
+    def error(self) -> np.ndarray:
+        """Estimate minus truth, (n, 3) [m]."""
+        return self.position - self.truth
+
+    def error_rms(self, window: Sequence[float] | None = None) -> dict[str, float] | None:
+        """RMS of the estimate error per axis {"q1", "q2", "q3"} [m], over the run or over
+        the samples with t in [t_start, t_end) of ``window`` (None without samples)."""
+        err = self.error
+        if window:
+            err = err[(self.time >= window[0]) & (self.time < window[1])]
+        if not err.shape[0]:
+            return None
+        rms = np.sqrt(np.mean(err**2, axis=0))
+        return {f"q{i + 1}": float(v) for i, v in enumerate(rms)}
+
+
+def estimate_run(result: Any, scenario: Any, fusion: str) -> EstimateResult:
+    """The position filter fusing the IMU with ``fusion`` ("gnss", "tether" or "both") over a
+    recorded run of ``scenario`` (a ``SimulationResult`` of ``simulate(scenario)``).
+
+    The sensors' readings are replayed from the run's true states and tension with the
+    run's own noise table and schedule (``sensors.measured_channels``: what the controller
+    read); the accelerometer's errors come from the scenario's seed's first spawned
+    generator. The filter's noise figures are the scenario's ``[sensors]``.
+    """
+    from .sim.setup import sensor_noise, sensor_schedule
+
+    if fusion not in FUSIONS:
+        raise ParameterError("fusion", fusion, f"one of {FUSIONS}")
+    config: SensorConfig = scenario.sensors
+    if config.is_perfect:
+        raise ParameterError("sensors", scenario.name, "a scenario with sensors ([sensors])")
+    if fusion != "gnss" and scenario.configuration != "tethered":
+        raise ParameterError("fusion", fusion, "'gnss' for the free configuration")
+    dt = scenario.control.dt
+    n = result.time.shape[0]
+    states = result.states
+    arm = scenario.params.helicopter.tether_arm
+    noise = sensor_noise(scenario)
+    schedule = sensor_schedule(config, dt, scenario.n_samples)
+    m = measured_channels(states, result.tension, noise, schedule, arm)
+    truth = result.outputs[:, :3]
+    # the IMU: HO's velocity change over each sample plus the accelerometer's errors
+    accel = np.zeros((n, 3))
+    if n > 1:
+        accel[:-1] = np.diff(states[:, 6:9], axis=0) / dt
+        accel[-1] = accel[-2]
+    child = np.random.SeedSequence(scenario.seed).spawn(1)[0]
+    accel += accelerometer_errors(config, n - 1, np.random.default_rng(child), dt)
+
+    use_gnss, use_tether = fusion in ("gnss", "both"), fusion in ("tether", "both")
+    model = position_filter(config, dt, gnss=use_gnss)
+    ns = model.n_states
+    fixes = []
+    if use_gnss:
+        j, lag = group_samples(config, dt, n - 1, "gps")
+        H = np.zeros(ns)
+        H[0] = 1.0
+        if model.gm:
+            H[3] = 1.0
+        R = np.maximum(np.asarray(config.gps_std) ** 2, 1e-12)
+        fixes.append(Fixes(j, m[j + lag, CH_GPS : CH_GPS + 3], lag, H, R))
+    if use_tether:
+        j, lag = group_samples(config, dt, n - 1, "encoder")
+        a = m[j + lag]
+        values = tether_position_estimate(
+            a[:, CH_ENCODER_Q7],
+            a[:, CH_ENCODER_Q8],
+            a[:, CH_ALTIMETER],
+            a[:, CH_ATTITUDE],
+            a[:, CH_ATTITUDE + 1],
+            arm,
+        )
+        std = hover_error_std(config, scenario.q9, arm, float(result.trim_state[0]))
+        H = np.zeros(ns)
+        H[0] = 1.0
+        # horizontal from the encoders' samples; the altitude from the altimeter's own
+        # samples, at the time each was taken (an infinite variance leaves an axis alone)
+        R = np.array([std[0] ** 2, std[1] ** 2, math.inf])
+        fixes.append(Fixes(j, values, lag, H, np.maximum(R, 1e-12)))
+        j, lag = group_samples(config, dt, n - 1, "altimeter")
+        values = np.zeros((j.size, 3))
+        values[:, 2] = m[j + lag, CH_ALTIMETER]
+        R = np.array([math.inf, math.inf, std[2] ** 2 + config.altimeter_markov_sigma**2])
+        fixes.append(Fixes(j, values, lag, H, np.maximum(R, 1e-12)))
+    position, _, position_std = run_filter(model, accel, fixes, result.trim_output[:3])
+    return EstimateResult(fusion, result.time.copy(), position, position_std, truth.copy())
