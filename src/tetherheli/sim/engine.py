@@ -701,7 +701,9 @@ def run_lanes(
     The arguments of ``run_closed_loop`` with a leading lane axis of length LANES, packed by
     ``setup.lane_block``: x_init (LANES, 13), cfg_in, ctrl_in, c (LANES, n_c), law (each part
     of ``layout.LAW_*`` with the lane axis in front), act, sensors = (noise (LANES, N,
-    N_CHANNELS), noise rows in use (LANES,), source codes, arms, scratch (LANES, 4, 3));
+    N_CHANNELS), noise rows in use (LANES,), source codes, arms, scratch (LANES, 4, 3),
+    schedules (LANES, S, N_GROUPS) int, their rows in use, history rings (LANES, H,
+    N_CHANNELS), their rows in use) (``sim.setup.sensor_tuple`` per lane);
     wind = (programs flat (R WIND_COLUMNS LANES,), R, gusts (LANES, G, 3), gust rows in use,
     drag (LANES, 3)).
     summary (LANES, len(SUMMARY_FIELDS)), status and done (LANES,) receive each lane's on-line
@@ -715,9 +717,11 @@ def run_lanes(
     """
     cfg = cfg_in.copy()
     ctrl = ctrl_in.copy()
-    gain, x_ref, y_ref, u0, u0_free = law
+    gain, x_ref, y_ref, u0, u0_free, z0 = law
     programs, n_rows, gusts, gust_rows, drag = wind
-    noise, noise_rows, source, arm, sensor_scratch = sensors
+    noise, noise_rows, source, arm, sensor_scratch, schedule, schedule_rows, ring, ring_rows = (
+        sensors
+    )
     n_sub = int(cfg[0, CFG_N_SUB])
     for j in range(LANES):
         if int(cfg[j, CFG_N_SUB]) != n_sub:
@@ -745,7 +749,7 @@ def run_lanes(
     sc_init = np.empty((LANES, 10))
     x_lane = x_init.copy()  # each lane's state for its control phases
     # the per-lane loop state, in the order of layout.LOOP_*
-    z = np.zeros((LANES, 4))
+    z = z0.copy()
     winch = np.zeros((LANES, WINCH_SIZE))
     held = np.zeros((LANES, HELD_SIZE))
     event = np.full((LANES, 2), np.nan)
@@ -781,8 +785,11 @@ def run_lanes(
                     z[j], winch[j], held[j], event[j], x_meas[j], sc_meas[j], sc_true[j],
                     y[j], y_est[j], inp[j], ffwd[j],
                 )  # fmt: skip
-                lane_sensors = (noise[j, : noise_rows[j]], source[j], arm[j], sensor_scratch[j])
-                lane_law = (gain[j], x_ref[j], y_ref[j], u0[j], u0_free[j])
+                lane_sensors = (
+                    noise[j, : noise_rows[j]], source[j], arm[j], sensor_scratch[j],
+                    schedule[j, : schedule_rows[j]], ring[j, : ring_rows[j]],
+                )  # fmt: skip
+                lane_law = (gain[j], x_ref[j], y_ref[j], u0[j], u0_free[j], z0[j])
                 sample_status, tension, rate_j = paper_sample(
                     xj, k, cfg[j], ctrl[j], act[j], lane_sensors, c[j], lane_law, loop,
                     no_action, ACTION_NONE,
@@ -792,7 +799,8 @@ def run_lanes(
                     active[j] = False
                     n_active -= 1
                 else:
-                    _accumulate(summary[j], xj, x_ref[j], y[j], y_ref[j], tension)
+                    if k >= cfg[j, CFG_METRICS_FROM]:  # the metrics' window
+                        _accumulate(summary[j], xj, x_ref[j], y[j], y_ref[j], tension)
                     if k == n_samples[j]:
                         active[j] = False
                         n_active -= 1

@@ -50,7 +50,6 @@ from ..layout import (
     CTRL_T_REF,
     CTRL_WINCH,
     LANES,
-    LAW_SIZE,
     WIND_COLUMNS,
     WIND_CONSTANT,
     WIND_KIND,
@@ -366,50 +365,51 @@ def engine_setup(scenario: Scenario, design_params: Params | None = None) -> Eng
 
 def _stack(arrays: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     """Arrays (rows, ...) of different row counts stacked along a new lane axis, zero-padded
-    to the longest; returns (stacked (B, rows_max, ...), rows in use (B,))."""
+    to the longest (their dtype kept); returns (stacked (B, rows_max, ...), rows in use (B,))."""
     rows = np.array([a.shape[0] for a in arrays], dtype=np.int64)
-    stacked = np.zeros((len(arrays), max(1, int(rows.max())), *arrays[0].shape[1:]))
+    shape = (len(arrays), max(1, int(rows.max())), *arrays[0].shape[1:])
+    stacked = np.zeros(shape, dtype=arrays[0].dtype)
     for j, a in enumerate(arrays):
         stacked[j, : a.shape[0]] = a
     return stacked, rows
 
 
 def lane_block(setups: Sequence[EngineSetup], n_samples: Sequence[int]) -> tuple:
-    """The leading arguments of ``engine.run_lanes`` for a block of up to ``LANES`` runs,
-    lane j packed from ``setups[j]`` as ``EngineSetup.engine_args`` packs a single run
-    (built-in winds only; every run must take the same RK4 steps per sample). Lanes beyond
-    the runs are padding: copies of the first run with n_samples = -1 (never run). Wind
-    programs are padded with rows of zero force and laid out flat (row, column, lane)."""
+    """The leading arguments of ``engine.run_lanes`` for a block of up to ``LANES`` runs:
+    lane j holds ``setups[j].engine_args(n_samples[j])``, the single run's own packing, with
+    a lane axis in front (built-in winds only; every run must take the same RK4 steps per
+    sample). Lanes beyond the runs are padding: copies of the first run with n_samples = -1
+    (never run). Wind programs are padded with rows of zero force and laid out flat (row,
+    column, lane); tables of other lengths are zero-padded with their rows in use."""
     if not 0 < len(setups) <= LANES or len(n_samples) != len(setups):
         raise ValueError(f"lane_block: 1 to {LANES} runs, each with its n_samples")
     pad = LANES - len(setups)
-    setups = [*setups, *([setups[0]] * pad)]
+    runs = [s.engine_args(n) for s, n in zip(setups, n_samples, strict=True)]
+    runs += [runs[0]] * pad
     counts = np.array([*n_samples, *([-1] * pad)], dtype=np.int64)
-    winds = [s.wind for s in setups]
-    if any(w is None for w in winds):
-        raise ValueError("lane_block: a run's wind is not a built-in disturbance")
-    n_rows = max(w.program.shape[0] for w in winds)
+    x_init, _, cfg, ctrl, c, law, wind, act, sensors = zip(*runs, strict=True)
+    program, gust, drag = zip(*wind, strict=True)
+    n_rows = max(p.shape[0] for p in program)
     programs = np.zeros((n_rows, WIND_COLUMNS, LANES))
     programs[:, WIND_KIND, :] = WIND_CONSTANT  # padding rows: a constant of zero force
-    for j, w in enumerate(winds):
-        programs[: w.program.shape[0], :, j] = w.program
-    gusts, gust_rows = _stack([np.asarray(w.gust, dtype=float).reshape(-1, 3) for w in winds])
-    noise, noise_rows = _stack([s.noise for s in setups])
-    laws = [s.law for s in setups]
+    for j, p in enumerate(program):
+        programs[: p.shape[0], :, j] = p
+    noise, source, arm, scratch, schedule, ring = zip(*sensors, strict=True)
     return (
-        np.stack([s.trim.x for s in setups]),
+        np.stack(x_init),
         counts,
-        np.stack([s.cfg for s in setups]),
-        np.stack([s.ctrl for s in setups]),
-        np.stack([s.model.constants for s in setups]),
-        tuple(np.ascontiguousarray(np.stack([law[i] for law in laws])) for i in range(LAW_SIZE)),
-        (programs.ravel(), n_rows, gusts, gust_rows, np.stack([w.drag for w in winds])),
-        np.stack([s.act for s in setups]),
+        np.stack(cfg),
+        np.stack(ctrl),
+        np.stack(c),
+        tuple(np.ascontiguousarray(np.stack(part)) for part in zip(*law, strict=True)),
+        (programs.ravel(), n_rows, *_stack(list(gust)), np.stack(drag)),
+        np.stack(act),
         (
-            noise,
-            noise_rows,
-            np.array([s.source for s in setups], dtype=np.int64),
-            np.array([s.arm for s in setups], dtype=float),
-            np.zeros((LANES, 4, 3)),
+            *_stack(list(noise)),
+            np.array(source, dtype=np.int64),
+            np.array(arm, dtype=float),
+            np.stack(scratch),
+            *_stack(list(schedule)),
+            *_stack(list(ring)),
         ),
     )
