@@ -20,7 +20,7 @@ from tetherheli.sim.batch import run_batch
 from tetherheli.sim.scenario import ActuatorSettings, load_scenario, paper_scenario
 from tetherheli.sim.setup import engine_setup, lane_block
 from tetherheli.status import Status
-from tetherheli.wind import DragModel, HoverTurbulence, Turbulence
+from tetherheli.wind import DragModel, GaussMarkovTurbulence, Turbulence
 
 
 def _dispersed_runs() -> list:
@@ -64,7 +64,7 @@ def _dispersed_runs() -> list:
             s = s.replace(sensors=sensors, seed=100 + i)
         if i % 6 == 5:
             gusts = Turbulence(
-                HoverTurbulence(gain=(1.5, 1.5, 0.7), pole_rad_s=(0.5, 0.5, 0.5)),
+                GaussMarkovTurbulence(gain=(1.5, 1.5, 0.7), pole_rad_s=(0.5, 0.5, 0.5)),
                 DragModel(cd_area_m2=(0.4, 0.4, 0.8)),
                 seed=i,
                 duration=6.0,
@@ -180,14 +180,16 @@ def test_sin_branchless_agrees_with_libm():
 
 
 def test_scenario_files_run_in_lanes():
-    """The shipped turbulence pair flies the same air in one block as alone."""
-    pair = [
-        load_scenario(f"scenarios/turbulence_hover_{c}.toml").replace(duration=3.0)
-        for c in ("free", "tethered")
-    ]
-    np.testing.assert_array_equal(
-        run_batch(pair, workers=1).summaries, run_batch(pair, workers=1, lanes=False).summaries
-    )
+    """Shipped scenarios with every sensor at its own rate and latency (the flown GNSS and
+    tether suites) and the turbulence pair in the trim of their wind give the same numbers in
+    one block as alone."""
+    names = ("sensing_gps", "sensing_tether", "turbulence_hover_free", "turbulence_hover_tethered")
+    runs = [load_scenario(f"scenarios/{name}.toml").replace(duration=3.0) for name in names]
+    assert any(s.sensors.is_timed for s in runs)
+    lanes = run_batch(runs, workers=1)
+    alone = run_batch(runs, workers=1, lanes=False)
+    assert lanes.ok.all()
+    np.testing.assert_array_equal(lanes.summaries, alone.summaries)
 
 
 def _dummy_out():
