@@ -205,7 +205,7 @@ def figure_sweep(result: Any) -> Figure:
     axes[-1].set_xlabel(result.parameter)
     for a in axes:
         a.grid(alpha=0.3)
-        a.legend(fontsize=8)
+        a.legend(loc="upper right", fontsize=8)
     return fig
 
 
@@ -241,7 +241,7 @@ def figure_limit_search(search: Any) -> Figure:
     ax.set_ylabel(search.metric_name)
     ax.set_title(search.scenario_name, fontsize=9)
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8)
+    ax.legend(loc="upper right", fontsize=8)
     return fig
 
 
@@ -266,7 +266,9 @@ def figure_release(comparison: Any) -> Figure:
     axes[1].set_ylabel("fMR3 [N]")
     axes[2].set_ylabel("TC [N]")
     _finish(fig, axes, "After the tether release (Sec. IV-C)", plot.dropped)
-    axes[0].legend(fontsize=8, title=f"tether released at t = {t_rel:g} s", title_fontsize=8)
+    axes[0].legend(
+        loc="upper right", fontsize=8, title=f"tether released at t = {t_rel:g} s", title_fontsize=8
+    )
     return fig
 
 
@@ -300,7 +302,7 @@ def figure_montecarlo(
             ax.set_ylabel("fraction of completed runs")
     ax.set_xlabel("peak |q1 - q1 trim| [m]")
     ax.set_title(f"Monte Carlo: peak q1 deviation, {_KIND_TITLES[kind]}")
-    ax.legend()
+    ax.legend(loc="upper right")  # "best" searches the data: slow, and warns so
     ax.grid(alpha=0.3)
     return fig
 
@@ -342,7 +344,7 @@ def figure_sensing(
         axes[1].set_ylabel("Kalman filter q1\nestimate error [m]")
     for ax in axes:
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
+        ax.legend(loc="upper right", fontsize=8)
     fig.suptitle("Position from a GNSS against the tether as a sensor (Sec. IV-F)")
     return fig
 
