@@ -59,7 +59,7 @@ def compare(n_draws: int, rounds: int) -> dict:
             results[name] = run_batch(runs, design_params=nominal, lanes=name == "lanes")
             rate = len(runs) / (time.perf_counter() - t0)
             best[f"{name}_rate"] = max(best[f"{name}_rate"], rate)
-    same = np.array_equal(results["lanes"].summaries, results["single"].summaries)
+    same = np.array_equal(results["lanes"].summaries, results["single"].summaries, equal_nan=True)
     return {"block": LANES, "runs": len(runs), **best, "bit_identical": bool(same)}
 
 

@@ -136,18 +136,19 @@ ACTION_REPLACE = 2
 
 
 @_jit_inline
-def profile_value(kind, start, duration, magnitude, frequency, phase, t, side):
+def profile_value(kind, start, duration, magnitude, frequency, phase, t, side, any_sine):
     """The force magnitude [N] of one built-in wind profile (a program row's columns) at t,
     zero while the profile is off; side = +1 right limit, -1 left limit. Branch-free (selects
     and ``sin_branchless``), so the lane engine evaluates it for a block of runs in one
-    vectorised pass; every loop uses it, so lanes and single runs agree bit for bit."""
+    vectorised pass; every loop uses it, so lanes and single runs agree bit for bit.
+    ``any_sine`` False skips the sine where no profile evaluated together is one."""
     end = start + duration
     right = side > 0
     started = (start <= t) if right else (start < t)
     before_end = (t < end) if right else (t <= end)
     # pulse: [start, end); step and sine: from start (absolute time, Sec. VI); constant: always
     active = kind == WIND_CONSTANT or (started and (kind != WIND_PULSE or before_end))
-    wave = sin_branchless(2.0 * math.pi * frequency * t + phase)
+    wave = sin_branchless(2.0 * math.pi * frequency * t + phase) if any_sine else 1.0
     value = magnitude * (wave if kind == WIND_SINE else 1.0)
     return value if active else 0.0
 
@@ -159,7 +160,7 @@ def _wind_program_force(program, t, side, out):
         row = program[r]
         value = profile_value(
             row[WIND_KIND], row[WIND_START], row[WIND_DURATION], row[WIND_MAGNITUDE],
-            row[WIND_FREQUENCY], row[WIND_PHASE], t, side,
+            row[WIND_FREQUENCY], row[WIND_PHASE], t, side, row[WIND_KIND] == WIND_SINE,
         )  # fmt: skip
         out[0] += value * row[WIND_DIRECTION]
         out[1] += value * row[WIND_DIRECTION + 1]
@@ -561,6 +562,9 @@ def _lanes_program_force(programs, n_rows, t, side, out):
     n_lanes = t.shape[0]  # = LANES, read at run time: the loop stays a loop and vectorises
     for r in range(n_rows):
         base = r * WIND_COLUMNS * LANES
+        any_sine = False  # loop-invariant below: the compiler makes a loop with, one without
+        for j in range(n_lanes):
+            any_sine |= programs[base + WIND_KIND * LANES + j] == WIND_SINE
         for j in range(n_lanes):
             value = profile_value(
                 programs[base + WIND_KIND * LANES + j],
@@ -571,6 +575,7 @@ def _lanes_program_force(programs, n_rows, t, side, out):
                 programs[base + WIND_PHASE * LANES + j],
                 t[j],
                 side,
+                any_sine,
             )
             for a in range(3):
                 out[a * LANES + j] += value * programs[base + (WIND_DIRECTION + a) * LANES + j]

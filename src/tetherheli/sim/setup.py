@@ -58,7 +58,7 @@ from ..layout import (
 from ..model import TetheredHelicopter, TrimPoint, linearize
 from ..names import INPUT, TETHERED_STATE
 from ..params import Params
-from ..sensors import N_CHANNELS, SensorConfig, noise_table, ring_rows, sample_schedule
+from ..sensors import N_CHANNELS, N_GROUPS, SensorConfig, noise_table, ring_rows, sample_schedule
 from ..wind import CompiledWind, compile_wind, initial_wind_force
 from ..wind.profiles import Disturbance
 from .scenario import Scenario
@@ -153,7 +153,16 @@ def free_trim_input(scenario: Scenario, model: TetheredHelicopter, trim: TrimPoi
     the shaft at hover), so only u0 changes; the free configuration's is its own trim input."""
     if scenario.configuration != "tethered":
         return trim.u.copy()
-    return model.trim(0.0, scenario.q9).u.copy()
+    return _free_trim_input(model.params, scenario.q9).copy()
+
+
+@lru_cache(maxsize=256)
+def _free_trim_input(params: Params, q9: float) -> np.ndarray:
+    """``free_trim_input`` of a tethered run, once per (parameters, q9): a batch's runs share
+    it (read-only)."""
+    u = TetheredHelicopter(params).trim(0.0, q9).u.copy()
+    u.setflags(write=False)
+    return u
 
 
 def paper_law(gain: LQIGain, trim: TrimPoint, u0_free: np.ndarray, z0: np.ndarray) -> tuple:
@@ -269,9 +278,10 @@ def sensor_noise(scenario: Scenario) -> np.ndarray:
 
 
 def sensor_schedule(config: SensorConfig, dt: float, n_samples: int) -> np.ndarray:
-    """``sensors.sample_schedule`` of a run, empty for perfect sensors (no measurement)."""
+    """``sensors.sample_schedule`` of a run, empty, (0, N_GROUPS), for perfect sensors (no
+    measurement)."""
     if config.is_perfect:
-        return sample_schedule(SensorConfig(), dt, n_samples)
+        return np.zeros((0, N_GROUPS), dtype=np.int64)
     return sample_schedule(config, dt, n_samples)
 
 
