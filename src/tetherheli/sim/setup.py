@@ -62,6 +62,7 @@ __all__ = [
     "engine_setup",
     "free_trim_input",
     "lane_block",
+    "lane_program_into",
     "paper_gain",
     "paper_law",
     "run_setup",
@@ -260,6 +261,15 @@ def _stack(arrays: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     return stacked, rows
 
 
+def lane_program_into(programs: np.ndarray, j: int, program: np.ndarray) -> None:
+    """Lane j of a block's wind programs ``programs`` (rows, WIND_COLUMNS, LANES): the run's
+    profile rows ``program`` (k, WIND_COLUMNS), k <= rows, then padding rows of zero force (a
+    constant of magnitude 0, which adds +0 to the force)."""
+    programs[:, :, j] = 0.0
+    programs[:, WIND_KIND, j] = WIND_CONSTANT
+    programs[: program.shape[0], :, j] = program
+
+
 def lane_block(setups: Sequence[EngineSetup], n_samples: Sequence[int]) -> tuple:
     """The leading arguments of ``engine.run_lanes`` for a block of up to ``LANES`` runs,
     lane j packed from ``setups[j]`` as ``EngineSetup.engine_args`` packs a single run
@@ -275,10 +285,9 @@ def lane_block(setups: Sequence[EngineSetup], n_samples: Sequence[int]) -> tuple
     if any(w is None for w in winds):
         raise ValueError("lane_block: a run's wind is not a built-in disturbance")
     n_rows = max(w.program.shape[0] for w in winds)
-    programs = np.zeros((n_rows, WIND_COLUMNS, LANES))
-    programs[:, WIND_KIND, :] = WIND_CONSTANT  # padding rows: a constant of zero force
+    programs = np.empty((n_rows, WIND_COLUMNS, LANES))
     for j, w in enumerate(winds):
-        programs[: w.program.shape[0], :, j] = w.program
+        lane_program_into(programs, j, w.program)
     gusts, gust_rows = _stack([np.asarray(w.gust, dtype=float).reshape(-1, 3) for w in winds])
     noise, noise_rows = _stack([s.noise for s in setups])
     laws = [s.law for s in setups]
