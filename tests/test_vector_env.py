@@ -1,7 +1,8 @@
 """The vectorised environment ``TetheredHoverVectorEnv`` (issue 15, item 3): copy i is a
-``TetheredHoverEnv`` seeded with seed + i, bit for bit, through Gymnasium's own vector
-reference (``gymnasium.vector.SyncVectorEnv`` of the single environment, next-step autoreset);
-spaces batched as Gymnasium batches them; registration through ``make_vec``."""
+``TetheredHoverEnv`` seeded with seed + i, bit for bit, with Gymnasium's next-step autoreset
+(against single environments stepped as ``SyncVectorEnv`` steps them, and against
+``gymnasium.vector.SyncVectorEnv`` itself); spaces batched as Gymnasium batches them;
+registration through ``make_vec``. Gymnasium has no ``check_env`` for vector environments."""
 
 from __future__ import annotations
 

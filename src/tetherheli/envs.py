@@ -286,7 +286,6 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._ctrl = ctrl.copy()
         self._cfg_base = cfg
         self._cfg = cfg.copy()
-        self._K_C = float(cfg[CFG_K_C])
         self._T_ref = float(ctrl[CTRL_T_REF])
         self._y_ref = trim.y.copy()
         self._u_trim_total = np.asarray(trim.u_total, dtype=float).copy()
@@ -590,7 +589,9 @@ def register_envs() -> None:
     """Register ``ENV_ID`` ("tetherheli/TetheredHover-v0") with Gymnasium (idempotent).
 
     The environment truncates itself at ``max_episode_time``, so no ``TimeLimit`` wrapper is
-    added; keyword arguments of ``gymnasium.make`` go to :class:`TetheredHoverEnv`.
+    added; keyword arguments of ``gymnasium.make`` go to :class:`TetheredHoverEnv`. The
+    vector entry point is :class:`tetherheli.vector_env.TetheredHoverVectorEnv`
+    (``gymnasium.make_vec(ENV_ID, num_envs=N, vectorization_mode="vector_entry_point")``).
     """
     if ENV_ID not in gymnasium.registry:
         gymnasium.register(

@@ -27,7 +27,13 @@ Info
     Each key of the single environment's info as an array over the copies (``time``,
     ``status``, ``outputs`` (N, 4), ``inputs`` (N, 4), ``reel_rate``, ``tension``; ``message``
     and ``tether_release`` as object arrays), each with its ``_key`` mask (all True), as
-    ``SyncVectorEnv`` gathers them.
+    ``SyncVectorEnv`` gathers them. ``tether_release`` holds None or the single environment's
+    dict per copy (``SyncVectorEnv`` itself fails to gather it once one copy has a dict and
+    another None).
+
+Every copy takes the same scenario, so the copies share the lane engine's constants (model,
+gains, sample time); a copy's episode draws (wind, sensor noise) are its own. Noisy sensors
+keep a noise table per copy, (n_samples + 1) x 17 doubles.
 
 ``reset(options={"wind": disturbance})`` uses that built-in disturbance in every copy for the
 episode that starts.
