@@ -201,7 +201,7 @@ def test_sensors_feed_controller_and_observation():
     env = TetheredHoverEnv(scenario, wind=pulse, max_episode_time=2.0)
     obs0, _ = env.reset(seed=0)
     env._noise = sensor_noise(scenario)  # the run's table, to compare with simulate
-    env._measure(env._tension())
+    env._observe(env._tension())
     states, truncated = [env.state], False
     while not truncated:
         _, reward, terminated, truncated, info = env.step(np.zeros(4, dtype=np.float32))

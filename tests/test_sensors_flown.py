@@ -250,7 +250,7 @@ def test_python_loop_and_environment_share_the_sensors(flown_runs):
     env = TetheredHoverEnv(s, wind=s.wind, max_episode_time=s.duration)
     env.reset(seed=0)
     env._noise = sensor_noise(s)
-    env._measure(env._tension())
+    env._observe(env._tension())
     states, truncated = [env.state], False
     while not truncated:
         _, _, terminated, truncated, _ = env.step(np.zeros(4, dtype=np.float32))

@@ -51,8 +51,11 @@ Wind
     ``reset(options={"wind": disturbance})`` overrides the wind of one episode.
 
 The environment is not registered on import: call :func:`register_envs` once, then
-``gymnasium.make("tetherheli/TetheredHover-v0", ...)``. Requires the ``gymnasium`` package
-(``pip install "tetherheli[rl]"``).
+``gymnasium.make("tetherheli/TetheredHover-v0", ...)``, or ``gymnasium.make_vec(...,
+num_envs=N, vectorization_mode="vector_entry_point")`` for N copies stepped in one compiled
+call (:class:`tetherheli.vector_env.TetheredHoverVectorEnv`). The observation (``observe_into``)
+and the step's reward and failure check (``finish_step``) are compiled functions that both
+environments run. Requires the ``gymnasium`` package (``pip install "tetherheli[rl]"``).
 """
 
 from __future__ import annotations
@@ -65,6 +68,7 @@ import gymnasium
 import numpy as np
 from gymnasium import spaces
 
+from ._compile import compiled
 from ._validation import check_bool, check_number, check_vector
 from .errors import ParameterError
 from .layout import (
@@ -82,6 +86,7 @@ from .sensors import N_CHANNELS, measure_sampled, noise_table
 from .sim import engine
 from .sim.scenario import Scenario
 from .sim.setup import (
+    StartPoint,
     actuator_array,
     free_trim_input,
     paper_law,
@@ -111,7 +116,10 @@ __all__ = [
     "OBS_LIMIT",
     "WIND_KINDS",
     "TetheredHoverEnv",
+    "finish_step",
+    "observe_into",
     "register_envs",
+    "tether_tension",
 ]
 
 #: Gymnasium id under which :func:`register_envs` registers :class:`TetheredHoverEnv`.
@@ -128,6 +136,61 @@ WIND_KINDS = ("none", "pulse", "sine", "turbulence")
 
 _DEFAULT_ACTION_SCALE = (20.0, 2.0, 2.0, 5.0)
 _DEFAULT_DRAG = DragModel(cd_area_m2=(0.3, 0.3, 0.5))
+
+_jit = compiled(error_model="numpy")
+
+
+@_jit
+def tether_tension(x, cfg):
+    """The tether tension of state x [N] (eq 28), 0 when the tether is removed or released."""
+    if cfg[CFG_ATTACHED] <= 0.5:
+        return 0.0
+    return tension_from_state(x[5], x[12], cfg[CFG_K_C])
+
+
+@_jit
+def finish_step(x, a, cfg, c, y, y_ref, effort_weight, penalty):
+    """The end of a step at the sampled state x (13,): y (4,) receives the true outputs
+    q1, q2, q3, q6 (eqs 43-45); returns (status of ``engine.check_state``, reward, true
+    tension [N]). Reward: -(|q_1..3 - q_ref|^2 + effort_weight |a|^2) with the clipped action
+    a (4,), or -penalty when the state failed."""
+    tension = tether_tension(x, cfg)
+    tethered_outputs(x, c, y)
+    status = engine.check_state(x, y, y_ref, tension, cfg)
+    if status != engine.STATUS_OK:
+        return status, -penalty, tension
+    e0, e1, e2 = y[0] - y_ref[0], y[1] - y_ref[1], y[2] - y_ref[2]
+    effort = a[0] * a[0] + a[1] * a[1] + a[2] * a[2] + a[3] * a[3]
+    return status, -((e0 * e0 + e1 * e1 + e2 * e2) + effort_weight * effort), tension
+
+
+@_jit
+def observe_into(x, tension, k, sensors, c, x0, y_ref, t_ref, x_meas, y_meas, obs):
+    """The observation (float32 (13,) ``obs``, order ``OBSERVATION_NAMES``) at sample k: what
+    the sensors read (``sensors.measure_sampled``: each sensor at its rate and latency, the
+    true state and tension when the noise table is empty; ``sensors`` is
+    ``sim.setup.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history ring),
+    as for ``engine.sense``) as deviations from the trim x0, y_ref, t_ref; NaN reads 0, values
+    are clipped to +-OBS_LIMIT. x_meas (13,), y_meas (4,) are scratch."""
+    if sensors[0].shape[0] == 0:
+        for i in range(13):
+            x_meas[i] = x[i]
+        measured = tension
+    else:
+        measured = measure_sampled(x, tension, k, sensors, x_meas)
+    tethered_outputs(x_meas, c, y_meas)
+    for i in range(13):
+        if i < 3:
+            v = y_meas[i] - y_ref[i]
+        elif i < 6:
+            v = x_meas[i - 3] - x0[i - 3]
+        elif i < 12:
+            v = x_meas[i] - x0[i]
+        else:
+            v = measured - t_ref
+        if math.isnan(v):
+            v = 0.0
+        obs[i] = min(max(v, -OBS_LIMIT), OBS_LIMIT)
 
 
 class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
@@ -247,7 +310,6 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._ctrl = ctrl.copy()
         self._cfg_base = cfg
         self._cfg = cfg.copy()
-        self._K_C = float(cfg[CFG_K_C])
         self._T_ref = float(ctrl[CTRL_T_REF])
         self._y_ref = trim.y.copy()
         self._u_trim_total = np.asarray(trim.u_total, dtype=float).copy()
@@ -265,12 +327,12 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._source = self._sensors.source_code
         self._arm = model.params.helicopter.tether_arm
         self._noise = np.zeros((0, N_CHANNELS))
-        self._sensor_args = sensor_tuple(
-            self._noise, self._source, self._arm, sensor_schedule(self._sensors, self.dt, 0)
-        )
+        # the sensors' sampling schedule of an episode (the scenario's, the same every
+        # episode; empty for perfect or untimed sensors)
+        self._schedule = sensor_schedule(self._sensors, self.dt, self.n_max)
+        self._episode_sensors = sensor_tuple(self._noise, self._source, self._arm, self._schedule)
         self._x_meas = np.empty(13)
         self._y_meas = np.empty(4)
-        self._tension_meas = 0.0
         self._work = np.empty((engine.RK4_WORK_ROWS, 13))
         # the law of the compiled loop, with u0|F after a tether release (``setup.paper_law``)
         # and the integrators' start z0 (set per episode in ``reset``: ``setup.start_point``)
@@ -296,12 +358,13 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             raise ParameterError("wind", wind, allowed)
         return kinds, None
 
-    def _horizontal(self) -> tuple[float, float, float]:
-        angle = float(self.np_random.uniform(0.0, 2.0 * math.pi))
+    @staticmethod
+    def _horizontal(rng: np.random.Generator) -> tuple[float, float, float]:
+        angle = float(rng.uniform(0.0, 2.0 * math.pi))
         return (math.cos(angle), math.sin(angle), 0.0)
 
-    def draw_wind(self, kind: str) -> Disturbance:
-        """Draw one episode's wind of the given kind from ``np_random``.
+    def draw_wind(self, kind: str, rng: np.random.Generator | None = None) -> Disturbance:
+        """Draw one episode's wind of the given kind from ``rng`` (default ``np_random``).
 
         Parameters
         ----------
@@ -319,12 +382,15 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
               speed U(0, max_mean_wind) m/s.
 
             T is ``max_episode_time``.
+        rng : numpy.random.Generator, optional
+            The generator to draw from (default the environment's ``np_random``).
 
         Returns
         -------
         Disturbance
         """
-        rng = self.np_random
+        if rng is None:
+            rng = self.np_random
         T, dt = self.max_episode_time, self.dt
         if kind == "none":
             return NoWind()
@@ -332,17 +398,17 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             magnitude = float(rng.uniform(0.0, self.max_wind_force))
             start = dt * round(float(rng.uniform(0.0, 0.5 * T)) / dt)
             duration = max(dt, dt * round(float(rng.uniform(0.5, 2.0)) / dt))
-            return Pulse(start, duration, magnitude, self._horizontal())
+            return Pulse(start, duration, magnitude, self._horizontal(rng))
         if kind == "sine":
             amplitude = float(rng.uniform(0.0, self.max_wind_force))
             frequency = float(rng.uniform(0.05, 0.5))
             start = dt * round(float(rng.uniform(0.0, 0.5 * T)) / dt)
             phase = -2.0 * math.pi * frequency * start
-            return Sine(amplitude, frequency, start, self._horizontal(), phase)
+            return Sine(amplitude, frequency, start, self._horizontal(rng), phase)
         if kind == "turbulence":
             seed = int(rng.integers(0, 2**63 - 1))
             speed = float(rng.uniform(0.0, self.max_mean_wind))
-            mean = tuple(speed * v for v in self._horizontal())
+            mean = tuple(speed * v for v in self._horizontal(rng))
             return Turbulence(
                 self.turbulence,
                 self.drag,
@@ -352,6 +418,48 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
                 N_v_mean_wind=mean,  # type: ignore[arg-type]
             )
         raise ParameterError("kind", kind, f"one of {WIND_KINDS}")
+
+    def draw_episode(
+        self, rng: np.random.Generator, wind: Any = None
+    ) -> tuple[Disturbance, CompiledWind, StartPoint, np.ndarray]:
+        """What ``reset`` draws for an episode, in its order: the wind (``wind`` if given,
+        else the fixed wind, else a kind drawn uniformly and ``draw_wind``), the start at
+        rest in the trim of its air at t = 0 (``sim.setup.start_point``, no draw), then the
+        sensor noise table (``sensors.noise_table``; empty with perfect sensors).
+
+        Returns
+        -------
+        (Disturbance, CompiledWind, StartPoint, ndarray (n_samples + 1, N_CHANNELS) or
+        (0, N_CHANNELS))
+        """
+        if wind is None:
+            if self._fixed_wind is not None:
+                wind = self._fixed_wind
+            else:
+                wind = self.draw_wind(self._kinds[int(rng.integers(len(self._kinds)))], rng)
+        compiled = compile_wind(wind) if isinstance(wind, Disturbance) else None
+        if compiled is None:
+            raise ParameterError("options['wind']", wind, "a built-in Disturbance")
+        check_wind_covers(wind, self.max_episode_time)  # a gust grid as long as the episode
+        start = start_point(
+            self._model, self.trim, self._lqi, self._ctrl_base, wind, self.scenario.q9
+        )
+        if self._sensors.is_perfect:
+            noise = np.zeros((0, N_CHANNELS))
+        else:  # the episode's sensor noise, from the seeded generator
+            noise = noise_table(self._sensors, self.n_max, rng, dt=self.dt)
+        return wind, compiled, start, noise
+
+    def action_command(self, action: Any, shape: tuple[int, ...] = (4,)) -> tuple:
+        """(clipped action a, rotor command, ``engine.ACTION_*`` mode) of an action of the
+        given shape (..., 4): a = clip(action, -1, 1); the command is ``action_scale`` a
+        (residual) or ``trim.u_total + action_scale a`` (replace)."""
+        a = np.clip(np.asarray(action, dtype=float).reshape(shape), -1.0, 1.0)
+        if not np.all(np.isfinite(a)):
+            raise ParameterError("action", action, f"finite numbers of shape {shape}")
+        if self.residual:
+            return a, self.action_scale * a, engine.ACTION_ADD
+        return a, self._u_trim_total + self.action_scale * a, engine.ACTION_REPLACE
 
     # ------------------------------------------------------------------ gymnasium API
 
@@ -379,23 +487,14 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             As for :meth:`step`; ``inputs`` (no input applied yet) and ``reel_rate`` are NaN.
         """
         super().reset(seed=seed)
-        wind = (options or {}).get("wind")
-        if wind is None:
-            if self._fixed_wind is not None:
-                wind = self._fixed_wind
-            else:
-                wind = self.draw_wind(self._kinds[int(self.np_random.integers(len(self._kinds)))])
-        compiled = compile_wind(wind) if isinstance(wind, Disturbance) else None
-        if compiled is None:
-            raise ParameterError("options['wind']", wind, "a built-in Disturbance")
-        check_wind_covers(wind, self.max_episode_time)  # a gust grid as long as the episode
+        options_wind = (options or {}).get("wind")
+        wind, compiled, start, noise = self.draw_episode(self.np_random, options_wind)
         self.wind_disturbance = wind
         self._wind = compiled
         self._cfg = self._cfg_base.copy()
         self._cfg[CFG_GUST_DT] = compiled.gust_dt
         self._ctrl = self._ctrl_base.copy()
         # at rest in the equilibrium of the episode's air at t = 0 (sim.setup.start_point)
-        start = start_point(self._model, self.trim, self._lqi, self._ctrl, wind, self.scenario.q9)
         self._x = start.x.copy()
         self._law = (*self._law[:LAW_Z0], start.z.copy())
         # the per-episode arrays of engine.paper_sample: integrators, winch, held actuator
@@ -405,21 +504,12 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._inp = self._loop[LOOP_INPUTS]
         self._k = 0
         self._done = False
-        if self._sensors.is_perfect:
-            self._noise = np.zeros((0, N_CHANNELS))
-        else:  # the episode's sensor noise, from the environment's seeded generator
-            self._noise = noise_table(self._sensors, self.n_max, self.np_random, dt=self.dt)
+        self._noise = noise
         # the engine's sensors for this episode (fresh history ring), as simulate builds them
-        self._sensor_args = sensor_tuple(
-            self._noise,
-            self._source,
-            self._arm,
-            sensor_schedule(self._sensors, self.dt, self.n_max),
-        )
+        self._episode_sensors = sensor_tuple(noise, self._source, self._arm, self._schedule)
         tethered_outputs(self._x, self._c, self._y)
-        self._measure(self._tension())
         self._inp[:] = np.nan
-        return self._observation(), self._info(Status.OK, math.nan)
+        return self._observe(self._tension()), self._info(Status.OK, math.nan)
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         """Advance one control sample.
@@ -446,16 +536,10 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         """
         if self._done:
             raise RuntimeError("the episode has ended (or not started): call reset() first")
-        a = np.clip(np.asarray(action, dtype=float).reshape(4), -1.0, 1.0)
-        if not np.all(np.isfinite(a)):
-            raise ParameterError("action", action, "4 finite numbers")
+        a, command, mode = self.action_command(action)
         x, wind = self._x, self._wind
         assert wind is not None
         t = self._k * self.dt
-        if self.residual:
-            mode, command = engine.ACTION_ADD, self.action_scale * a
-        else:
-            mode, command = engine.ACTION_REPLACE, self._u_trim_total + self.action_scale * a
         # the sample as the compiled loop runs it: release check, sensors, the paper's
         # controller with the action, the scenario's actuators (x itself was checked when
         # the previous step ended)
@@ -465,7 +549,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             self._cfg,
             self._ctrl,
             self._act,
-            self._engine_sensors,
+            self._sensor_args,
             self._c,
             self._law,
             self._loop,
@@ -486,54 +570,36 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             True,
         )
         self._k += 1
-        tension = self._tension()
-        tethered_outputs(x, self._c, self._y)
-        status = engine.check_state(x, self._y, self._y_ref, tension, self._cfg)
+        status, reward, tension = finish_step(
+            x, a, self._cfg, self._c, self._y, self._y_ref, self.effort_weight,
+            self.termination_penalty,
+        )  # fmt: skip
         terminated = status != Status.OK
         truncated = not terminated and self._k >= self.n_max
-        if terminated:
-            reward = -self.termination_penalty
-        else:
-            e = self._y[:3] - self._y_ref[:3]
-            reward = -(float(e @ e) + self.effort_weight * float(a @ a))
         self._done = terminated or truncated
-        self._measure(tension)  # the next observation: what the sensors read now
-        return self._observation(), reward, terminated, truncated, self._info(status, rate)
+        observation = self._observe(tension)  # what the sensors read now
+        return observation, float(reward), terminated, truncated, self._info(status, rate)
 
     # ------------------------------------------------------------------ helpers
 
     @property
-    def _engine_sensors(self) -> tuple:
-        """The episode's ``sim.setup.sensor_tuple`` with its current noise table (``_noise``;
-        the schedule and history ring are the episode's own)."""
-        return (self._noise, *self._sensor_args[1:])
+    def _sensor_args(self) -> tuple:
+        """The episode's ``sim.setup.sensor_tuple`` (for ``engine.sense`` and ``observe_into``)
+        with its current noise table ``_noise``; the schedule and history ring are the
+        episode's own."""
+        return (self._noise, *self._episode_sensors[1:])
 
     def _tension(self) -> float:
-        if self._cfg[CFG_ATTACHED] <= 0.5:
-            return 0.0
-        return float(tension_from_state(self._x[5], self._x[12], self._K_C))
+        return float(tether_tension(self._x, self._cfg))
 
-    def _measure(self, tension: float) -> None:
-        """What the sensors read at the current sample (the scenario's ``[sensors]``; the
-        true state when they are perfect): fills _x_meas, _y_meas, _tension_meas."""
-        if self._noise.shape[0] == 0:
-            self._x_meas[:] = self._x
-            self._tension_meas = tension
-        else:
-            self._tension_meas = float(
-                measure_sampled(self._x, tension, self._k, self._engine_sensors, self._x_meas)
-            )
-        tethered_outputs(self._x_meas, self._c, self._y_meas)
-
-    def _observation(self) -> np.ndarray:
-        x, x0 = self._x_meas, self.trim.x
-        obs = np.empty(len(OBSERVATION_NAMES))
-        obs[0:3] = self._y_meas[:3] - self._y_ref[:3]
-        obs[3:6] = x[0:3] - x0[0:3]
-        obs[6:12] = x[6:12] - x0[6:12]
-        obs[12] = self._tension_meas - self._T_ref
-        obs = np.clip(np.nan_to_num(obs, nan=0.0), -OBS_LIMIT, OBS_LIMIT)
-        return obs.astype(np.float32)
+    def _observe(self, tension: float) -> np.ndarray:
+        """The observation at the current sample (``observe_into``)."""
+        obs = np.empty(len(OBSERVATION_NAMES), dtype=np.float32)
+        observe_into(
+            self._x, tension, self._k, self._sensor_args, self._c, self.trim.x, self._y_ref,
+            self._T_ref, self._x_meas, self._y_meas, obs,
+        )  # fmt: skip
+        return obs
 
     def _info(self, status: int, rate: float) -> dict[str, Any]:
         t_release, tension_release = (float(v) for v in self._release)
@@ -566,7 +632,13 @@ def register_envs() -> None:
     """Register ``ENV_ID`` ("tetherheli/TetheredHover-v0") with Gymnasium (idempotent).
 
     The environment truncates itself at ``max_episode_time``, so no ``TimeLimit`` wrapper is
-    added; keyword arguments of ``gymnasium.make`` go to :class:`TetheredHoverEnv`.
+    added; keyword arguments of ``gymnasium.make`` go to :class:`TetheredHoverEnv`. The
+    vector entry point is :class:`tetherheli.vector_env.TetheredHoverVectorEnv`
+    (``gymnasium.make_vec(ENV_ID, num_envs=N, vectorization_mode="vector_entry_point")``).
     """
     if ENV_ID not in gymnasium.registry:
-        gymnasium.register(id=ENV_ID, entry_point="tetherheli.envs:TetheredHoverEnv")
+        gymnasium.register(
+            id=ENV_ID,
+            entry_point="tetherheli.envs:TetheredHoverEnv",
+            vector_entry_point="tetherheli.vector_env:TetheredHoverVectorEnv",
+        )

@@ -72,6 +72,7 @@ __all__ = [
     "engine_setup",
     "free_trim_input",
     "lane_block",
+    "lane_program_into",
     "paper_gain",
     "paper_law",
     "run_setup",
@@ -384,6 +385,15 @@ def _stack(arrays: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     return stacked, rows
 
 
+def lane_program_into(programs: np.ndarray, j: int, program: np.ndarray) -> None:
+    """Lane j of a block's wind programs ``programs`` (rows, WIND_COLUMNS, LANES): the run's
+    profile rows ``program`` (k, WIND_COLUMNS), k <= rows, then padding rows of zero force (a
+    constant of magnitude 0, which adds +0 to the force)."""
+    programs[:, :, j] = 0.0
+    programs[:, WIND_KIND, j] = WIND_CONSTANT
+    programs[: program.shape[0], :, j] = program
+
+
 def lane_block(setups: Sequence[EngineSetup], n_samples: Sequence[int]) -> tuple:
     """The leading arguments of ``engine.run_lanes`` for a block of up to ``LANES`` runs:
     lane j holds ``setups[j].engine_args(n_samples[j])``, the single run's own packing, with
@@ -400,10 +410,9 @@ def lane_block(setups: Sequence[EngineSetup], n_samples: Sequence[int]) -> tuple
     x_init, _, cfg, ctrl, c, law, wind, act, sensors = zip(*runs, strict=True)
     program, gust, drag = zip(*wind, strict=True)
     n_rows = max(p.shape[0] for p in program)
-    programs = np.zeros((n_rows, WIND_COLUMNS, LANES))
-    programs[:, WIND_KIND, :] = WIND_CONSTANT  # padding rows: a constant of zero force
+    programs = np.empty((n_rows, WIND_COLUMNS, LANES))
     for j, p in enumerate(program):
-        programs[: p.shape[0], :, j] = p
+        lane_program_into(programs, j, p)
     noise, source, arm, scratch, schedule, ring = zip(*sensors, strict=True)
     return (
         np.stack(x_init),

@@ -1,0 +1,445 @@
+"""Vectorised Gymnasium environment: N copies of ``TetheredHoverEnv`` stepped in one compiled call.
+
+``TetheredHoverVectorEnv`` is a :class:`gymnasium.vector.VectorEnv` whose copy i behaves as a
+:class:`tetherheli.envs.TetheredHoverEnv` of the same arguments: same spaces, observation,
+reward, termination, truncation and info, the same draws (the wind, then the sensor noise)
+from the copy's own generator at each reset. One ``step`` is one compiled call
+(``vector_step``): per copy, the environment's control sample (``engine.paper_sample`` with
+the action added to or replacing the paper controller's command); then the plant of all
+copies advanced over the sample by the lane engine (``engine.rk4_lanes``) in blocks of
+``layout.LANES`` copies (N rounded up to whole blocks, the extra lanes parked at the trim);
+then per copy the reward, the failure checks (``envs.finish_step``) and the observation
+(``envs.observe_into``). Each copy's arithmetic is that of the single environment, so copy i
+equals a ``TetheredHoverEnv`` reset with the same seed bit for bit
+(``tests/test_vector_env.py``).
+
+Seeds
+    ``reset(seed=s)`` seeds copy i with ``s + i`` (as ``gymnasium.vector.SyncVectorEnv``
+    does); a list gives each copy its seed; ``None`` keeps each copy's generator (fresh
+    entropy on the first reset).
+
+Autoreset
+    Gymnasium's next-step mode (``metadata["autoreset_mode"] = AutoresetMode.NEXT_STEP``): the
+    step after a copy's episode ended ignores its action, resets it (a new draw from its
+    generator) and returns its first observation with reward 0 and both flags False.
+
+Info
+    Each key of the single environment's info as an array over the copies (``time``,
+    ``status``, ``outputs`` (N, 4), ``inputs`` (N, 4), ``reel_rate``, ``tension``; ``message``
+    and ``tether_release`` as object arrays), each with its ``_key`` mask (all True), as
+    ``SyncVectorEnv`` gathers them. ``tether_release`` holds None or the single environment's
+    dict per copy (``SyncVectorEnv`` itself fails to gather it once one copy has a dict and
+    another None).
+
+Every copy takes the same scenario, so the copies share the lane engine's constants (model,
+gains, sample time) and the sensors' sampling schedule (``setup.sensor_schedule``, a function
+of the scenario alone); a copy's episode draws (wind, sensor noise), its start at rest in the
+trim of its wind at t = 0 (state and LQI integrators, ``setup.start_point``) and its sensor
+history ring are its own. Noisy sensors keep a noise table per copy, (n_samples + 1) x 17
+doubles.
+
+``reset(options={"wind": disturbance})`` uses that built-in disturbance in every copy for the
+episode that starts.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, ClassVar
+
+import numpy as np
+from gymnasium.utils import seeding
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
+
+from ._compile import compiled
+from ._validation import check_integer
+from .envs import OBSERVATION_NAMES, TetheredHoverEnv, finish_step, observe_into, tether_tension
+from .errors import ParameterError
+from .layout import (
+    CFG_ATTACHED,
+    CFG_DT,
+    CFG_GUST_DT,
+    CFG_K_C,
+    CFG_N_SUB,
+    HELD_SIZE,
+    LANES,
+    LAW_U0,
+    LAW_Y_REF,
+    WINCH_SIZE,
+    WIND_COLUMNS,
+)
+from .model.kernels import angle_trig, tethered_outputs
+from .sensors import N_CHANNELS
+from .sim import engine
+from .sim.setup import lane_program_into, sensor_tuple
+from .status import Status, status_message
+
+__all__ = ["TetheredHoverVectorEnv", "vector_step"]
+
+_jit = compiled(error_model="numpy")
+
+
+@_jit
+def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
+    """One step of every copy (the arrays are laid out by ``TetheredHoverVectorEnv``).
+
+    reset (N,) bool: copies that start an episode (their state is set to their episode's
+    start, ``setup.start_point``'s x and integrators z0, with a fresh sensor history ring;
+    their action is ignored); the others run ``engine.paper_sample`` with their row of ``command``
+    (``mode`` an ``engine.ACTION_*``), then the lane engine advances them over the sample,
+    then ``envs.finish_step`` with their clipped action row of ``a``. Every copy's
+    observation is written by ``envs.observe_into``. ``copies`` holds the per-copy state
+    (rows: copies, padded to whole blocks), ``shared`` what all copies share, ``lanes`` the
+    lane engine's block arrays, ``wind`` the copies' winds in lane form; ``out`` = (obs,
+    reward, status, tension, rate, y) receives the step's results.
+    """
+    (x, k, cfg, ctrl, z, winch, held, event, x_meas, sc_meas, sc_true, y_loop, y_est, inp,
+     ffwd, noise, noise_rows, ring, x_start, z_start) = copies  # fmt: skip
+    (x_trim, cfg0, ctrl0, act, c, law, source, arm, scratch, schedule, t_ref, weight, penalty,
+     x_scr, y_scr) = shared  # fmt: skip
+    x_l, sc_l, inp_l, rate_l, t0_l, h_l, attached_l, k_c_l, c_l, sc_park, work = lanes
+    programs, n_rows, gusts, gust_rows, gust_dt, drag = wind
+    obs, reward, status, tension, rate, y = out
+    y_ref, u0 = law[LAW_Y_REF], law[LAW_U0]
+    n = reset.shape[0]
+    for i in range(n):
+        if reset[i]:  # TetheredHoverEnv.reset: the episode's start, a fresh loop state
+            k[i] = 0
+            x[i] = x_start[i]
+            x_meas[i] = x_start[i]
+            cfg[i] = cfg0
+            cfg[i, CFG_GUST_DT] = gust_dt[i]
+            ctrl[i] = ctrl0
+            z[i] = z_start[i]
+            ring[i] = 0.0
+            winch[i] = 0.0
+            held[i] = 0.0
+            event[i] = np.nan
+            inp[i] = np.nan
+            rate[i] = np.nan
+            reward[i] = 0.0
+            status[i] = engine.STATUS_OK
+        else:
+            sensors = (noise[i, : noise_rows[i]], source, arm, scratch, schedule, ring[i])
+            loop = (
+                z[i], winch[i], held[i], event[i], x_meas[i], sc_meas[i], sc_true[i],
+                y_loop[i], y_est[i], inp[i], ffwd[i],
+            )  # fmt: skip
+            _, _, rate[i] = engine.paper_sample(
+                x[i], k[i], cfg[i], ctrl[i], act, sensors, c, law, loop, command[i], mode
+            )
+    n_sub = int(cfg0[CFG_N_SUB])
+    for b in range(x_l.shape[0]):
+        xb, scb, inpb = x_l[b], sc_l[b], inp_l[b]
+        busy = False
+        for j in range(LANES):
+            i = b * LANES + j
+            if i < n and not reset[i]:
+                busy = True
+                for v in range(13):
+                    xb[v * LANES + j] = x[i, v]
+                for v in range(10):
+                    scb[v * LANES + j] = sc_true[i, v]
+                for v in range(4):
+                    inpb[v * LANES + j] = inp[i, v]
+                rate_l[j] = rate[i]
+                t0_l[j] = k[i] * cfg[i, CFG_DT]
+                attached_l[j] = cfg[i, CFG_ATTACHED]
+            else:  # parked at the trim (finite arithmetic, result unused)
+                for v in range(13):
+                    xb[v * LANES + j] = x_trim[v]
+                for v in range(10):
+                    scb[v * LANES + j] = sc_park[v]
+                for v in range(4):
+                    inpb[v * LANES + j] = u0[v]
+                rate_l[j] = 0.0
+                t0_l[j] = 0.0
+                attached_l[j] = 0.0
+        if not busy:
+            continue
+        lo, hi = b * LANES, (b + 1) * LANES
+        lane_wind = (programs[b], n_rows, gusts[lo:hi], gust_rows[lo:hi], gust_dt[lo:hi], drag[b])
+        engine.rk4_lanes(
+            xb, scb, inpb, rate_l, t0_l, h_l, n_sub, attached_l, k_c_l, c_l, lane_wind, work
+        )
+        for j in range(LANES):
+            i = b * LANES + j
+            if i < n and not reset[i]:
+                for v in range(13):
+                    x[i, v] = xb[v * LANES + j]
+    for i in range(n):
+        if reset[i]:
+            tension[i] = tether_tension(x[i], cfg[i])
+            tethered_outputs(x[i], c, y[i])
+        else:
+            k[i] += 1
+            status[i], reward[i], tension[i] = finish_step(
+                x[i], a[i], cfg[i], c, y[i], y_ref, weight, penalty
+            )
+        sensors = (noise[i, : noise_rows[i]], source, arm, scratch, schedule, ring[i])
+        observe_into(x[i], tension[i], k[i], sensors, c, x_trim, y_ref, t_ref, x_scr, y_scr, obs[i])
+
+
+class TetheredHoverVectorEnv(VectorEnv):
+    """``num_envs`` copies of :class:`~tetherheli.envs.TetheredHoverEnv` stepped together
+    (see the module docstring).
+
+    Parameters
+    ----------
+    num_envs : int
+        Number of copies, >= 1.
+    scenario, **kwargs
+        As for :class:`~tetherheli.envs.TetheredHoverEnv` (validated by it): every copy has
+        the same configuration and draws its own episodes.
+
+    Attributes
+    ----------
+    env : TetheredHoverEnv
+        The configuration the copies share (spaces, trim, set-up, episode draws); not stepped.
+    wind_disturbances : list of Disturbance or None
+        Each copy's current episode wind.
+    """
+
+    metadata: ClassVar[dict[str, Any]] = {
+        "render_modes": [],
+        "autoreset_mode": AutoresetMode.NEXT_STEP,
+    }
+
+    def __init__(self, num_envs: int = 1, scenario: Any = None, **kwargs: Any) -> None:
+        self.num_envs = n = check_integer("num_envs", num_envs, low=1)
+        self.env = env = TetheredHoverEnv(scenario, **kwargs)
+        self.render_mode = None
+        self.single_observation_space = env.observation_space
+        self.single_action_space = env.action_space
+        self.observation_space = batch_space(env.observation_space, n)
+        self.action_space = batch_space(env.action_space, n)
+        n_blocks = -(-n // LANES)
+        n_pad = n_blocks * LANES
+        cfg0, ctrl0, x_trim = env._cfg_base, env._ctrl_base, np.ascontiguousarray(env.trim.x)
+        noise_rows = 0 if env.scenario.sensors.is_perfect else env.n_max + 1
+
+        def rows(width: int, fill: float = 0.0) -> np.ndarray:
+            return np.full((n_pad, width), fill)
+
+        self._x = np.tile(x_trim, (n_pad, 1))
+        self._k = np.zeros(n_pad, dtype=np.int64)
+        self._cfg = np.tile(cfg0, (n_pad, 1))
+        self._ctrl = np.tile(ctrl0, (n_pad, 1))
+        self._event = rows(2, np.nan)
+        self._inp = rows(4, np.nan)
+        self._noise = np.zeros((n_pad, noise_rows, N_CHANNELS))
+        self._noise_rows = np.zeros(n_pad, dtype=np.int64)
+        # each copy's sensor history ring (``setup.sensor_tuple``'s size for the scenario's
+        # schedule, which all copies share) and episode start (``setup.start_point``)
+        ring = sensor_tuple(env._noise, env._source, env._arm, env._schedule)[-1]
+        self._ring = np.zeros((n_pad, *ring.shape))
+        self._x_start = np.tile(x_trim, (n_pad, 1))
+        self._z_start = np.zeros((n_pad, 4))
+        # per copy, in the order of layout.LOOP_* where paper_sample takes them
+        self._copies = (
+            self._x, self._k, self._cfg, self._ctrl,
+            rows(4), rows(WINCH_SIZE), rows(HELD_SIZE), self._event, self._x.copy(),
+            rows(10), rows(10), rows(4), rows(4), self._inp, rows(4),
+            self._noise, self._noise_rows, self._ring, self._x_start, self._z_start,
+        )  # fmt: skip
+        self._shared = (
+            x_trim, cfg0, ctrl0, env._act, env._c, env._law, env._source, env._arm,
+            np.zeros((4, 3)), env._schedule, env._T_ref, env.effort_weight, env.termination_penalty,
+            np.empty(13), np.empty(4),
+        )  # fmt: skip
+        n_sub = int(cfg0[CFG_N_SUB])
+        sc_park = np.empty(10)
+        angle_trig(x_trim, sc_park)
+        self._lanes = (
+            np.empty((n_blocks, 13 * LANES)),
+            np.empty((n_blocks, 10 * LANES)),
+            np.empty((n_blocks, 4 * LANES)),
+            np.zeros(LANES),
+            np.zeros(LANES),
+            np.full(LANES, cfg0[CFG_DT] / n_sub),
+            np.zeros(LANES),
+            np.full(LANES, cfg0[CFG_K_C]),
+            np.repeat(env._c, LANES),  # (constant, lane) flat
+            sc_park,
+            engine._lane_work(),
+        )
+        # the winds in lane form; profile rows and gust rows grow as episodes need them
+        self._programs = np.empty((n_blocks, 0, WIND_COLUMNS, LANES))
+        self._gusts = np.zeros((n_pad, 0, 3))
+        self._gust_rows = np.zeros(n_pad, dtype=np.int64)
+        self._gust_dt = np.zeros(n_pad)
+        self._drag = np.zeros((n_blocks, 3 * LANES))
+        self._obs = np.zeros((n, len(OBSERVATION_NAMES)), dtype=np.float32)
+        self._reward = np.zeros(n)
+        self._status = np.zeros(n, dtype=np.int64)
+        self._tension = np.zeros(n)
+        self._rate = np.full(n, np.nan)
+        self._y = np.zeros((n, 4))
+        self._out = (self._obs, self._reward, self._status, self._tension, self._rate, self._y)
+        self._rngs: list[np.random.Generator | None] = [None] * n
+        self._autoreset = np.zeros(n, dtype=bool)
+        self._started = False
+        # the infos of copies without news (copied at every step)
+        self._ok_messages = np.full(n, status_message(Status.OK, math.nan), dtype=object)
+        self._no_release = np.full(n, None, dtype=object)
+        self._mask = np.ones(n, dtype=bool)
+        self._wind: tuple | None = None
+        self.wind_disturbances: list[Any] = [None] * n
+
+    # ------------------------------------------------------------------ episodes
+
+    def _start_episode(self, i: int, wind: Any) -> None:
+        """Copy i's draws for a new episode (``TetheredHoverEnv.draw_episode``), packed."""
+        rng = self._rngs[i]
+        if rng is None:  # as gymnasium.Env.np_random: fresh entropy
+            rng, _ = seeding.np_random()
+            self._rngs[i] = rng
+        wind, compiled_wind, start, noise = self.env.draw_episode(rng, wind)
+        self.wind_disturbances[i] = wind
+        self._x_start[i] = start.x
+        self._z_start[i] = start.z
+        self._wind = None  # repack (the arrays may grow)
+        self._noise[i, : noise.shape[0]] = noise
+        self._noise_rows[i] = noise.shape[0]
+        b, j = divmod(i, LANES)
+        program = compiled_wind.program
+        if program.shape[0] > self._programs.shape[1]:  # more profile rows: grow every lane
+            old = self._programs
+            self._programs = np.empty((old.shape[0], program.shape[0], WIND_COLUMNS, LANES))
+            for bb in range(old.shape[0]):
+                for jj in range(LANES):
+                    lane_program_into(self._programs[bb], jj, old[bb, :, :, jj])
+        lane_program_into(self._programs[b], j, program)
+        gust = np.asarray(compiled_wind.gust, dtype=float).reshape(-1, 3)
+        if gust.shape[0] > self._gusts.shape[1]:
+            grown = np.zeros((self._gusts.shape[0], gust.shape[0], 3))
+            grown[:, : self._gusts.shape[1]] = self._gusts
+            self._gusts = grown
+        self._gusts[i, : gust.shape[0]] = gust
+        self._gust_rows[i] = gust.shape[0]
+        self._gust_dt[i] = compiled_wind.gust_dt
+        self._drag[b, j::LANES] = compiled_wind.drag
+
+    def _lane_wind(self) -> tuple:
+        """The winds as ``vector_step`` takes them (programs flat per block)."""
+        programs = self._programs
+        return (
+            programs.reshape(programs.shape[0], programs[0].size),
+            programs.shape[1],
+            self._gusts,
+            self._gust_rows,
+            self._gust_dt,
+            self._drag,
+        )
+
+    def _run(self, restart: np.ndarray, a: np.ndarray, command: np.ndarray, mode: int) -> None:
+        if self._wind is None:
+            self._wind = self._lane_wind()
+        vector_step(
+            restart, a, command, mode, self._copies, self._shared, self._lanes, self._wind,
+            self._out,
+        )  # fmt: skip
+
+    def _infos(self) -> dict[str, Any]:
+        """The single environment's info keys as arrays over the copies, with masks."""
+        n = self.num_envs
+        event = self._event[:n]
+        released = ~np.isnan(event[:, 0])
+        status = self._status.copy()
+        message = self._ok_messages.copy()
+        release = self._no_release.copy()
+        for i in np.flatnonzero(released | (status != engine.STATUS_OK)):
+            t_release = float(event[i, 0])
+            message[i] = status_message(int(status[i]), t_release)
+            if released[i]:
+                release[i] = {"time": t_release, "tension": float(event[i, 1])}
+        info: dict[str, Any] = {
+            "time": self._k[:n] * self.env.dt,
+            "status": status,
+            "message": message,
+            "tether_release": release,
+            "outputs": self._y.copy(),
+            "inputs": self._inp[:n].copy(),
+            "reel_rate": self._rate.copy(),
+            "tension": self._tension.copy(),
+        }
+        for key in list(info):
+            info[f"_{key}"] = self._mask.copy()
+        return info
+
+    # ------------------------------------------------------------------ gymnasium API
+
+    def reset(
+        self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        """Start an episode in every copy.
+
+        Parameters
+        ----------
+        seed : int, list of int or None, optional
+            An int s seeds copy i with s + i; a list gives one seed (or None) per copy; None
+            keeps each copy's generator.
+        options : dict, optional
+            ``{"wind": Disturbance}``: that built-in disturbance in every copy this episode.
+
+        Returns
+        -------
+        observations : ndarray (num_envs, 13) float32
+        infos : dict
+        """
+        n = self.num_envs
+        if seed is None:
+            seeds: list[int | None] = [None] * n
+        elif isinstance(seed, (int, np.integer)):
+            seeds = [int(seed) + i for i in range(n)]
+        elif isinstance(seed, (list, tuple)) and len(seed) == n:
+            seeds = list(seed)
+        else:
+            raise ParameterError("seed", seed, f"an int, None, or a list of {n} ints or None")
+        for i, s in enumerate(seeds):
+            if s is not None:
+                self._rngs[i], _ = seeding.np_random(s)
+        wind = (options or {}).get("wind")
+        for i in range(n):
+            self._start_episode(i, wind)
+        zeros = np.zeros((n, 4))
+        self._run(np.ones(n, dtype=bool), zeros, zeros, engine.ACTION_NONE)
+        self._autoreset[:] = False
+        self._started = True
+        return self._obs.copy(), self._infos()
+
+    def step(
+        self, actions: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+        """Advance every copy one control sample (copies whose episode ended at the previous
+        step are reset instead; see the module docstring).
+
+        Parameters
+        ----------
+        actions : array_like, shape (num_envs, 4)
+            In [-1, 1] (clipped), as for ``TetheredHoverEnv.step``.
+
+        Returns
+        -------
+        observations (num_envs, 13) float32, rewards (num_envs,), terminated (num_envs,) bool,
+        truncated (num_envs,) bool, infos (dict of arrays over the copies)
+        """
+        if not self._started:
+            raise RuntimeError("call reset() before step()")
+        n = self.num_envs
+        a, command, mode = self.env.action_command(actions, (n, 4))
+        restart = self._autoreset
+        if restart.any():
+            for i in np.flatnonzero(restart):
+                self._start_episode(int(i), None)
+        self._run(restart, np.ascontiguousarray(a), np.ascontiguousarray(command), mode)
+        terminated = (self._status != engine.STATUS_OK) & ~restart
+        truncated = ~terminated & ~restart & (self._k[:n] >= self.env.n_max)
+        self._autoreset = terminated | truncated
+        return self._obs.copy(), self._reward.copy(), terminated, truncated, self._infos()
+
+    @property
+    def states(self) -> np.ndarray:
+        """A copy of every copy's plant state (num_envs, 13) (``TetheredHoverEnv.state``)."""
+        return self._x[: self.num_envs].copy()
