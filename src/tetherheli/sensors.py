@@ -81,6 +81,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, fields, replace
+from functools import cached_property
 from types import MappingProxyType
 from typing import Any
 
@@ -485,7 +486,7 @@ class SensorConfig:
         """The integer code of ``position_source`` (``SOURCE_*``) for ``measure``."""
         return POSITION_SOURCES[self.position_source]
 
-    @property
+    @cached_property  # the config is frozen; a batch asks for it per run
     def is_perfect(self) -> bool:
         """True when every std and bias is zero, no sensor is timed, correlated or out, and
         the position source is ``"true"``: the measurement equals the true state and tension,
@@ -497,7 +498,7 @@ class SensorConfig:
             and self.is_white
         )
 
-    @property
+    @cached_property  # the config is frozen; a batch asks for it per run
     def is_white(self) -> bool:
         """True for the legacy model: white noise plus constant bias at every control sample,
         no delay (every ``Flown sensors`` field of the module docstring at 0, no outage)."""
@@ -505,7 +506,7 @@ class SensorConfig:
             np.any(np.asarray(getattr(self, name))) for name in _FLOWN_FIELDS
         )
 
-    @property
+    @cached_property  # the config is frozen; a batch asks for it per run
     def is_timed(self) -> bool:
         """True when a sensor has its own rate or latency, or the GNSS an outage (the engine
         then holds and delays samples: ``sample_schedule``)."""
