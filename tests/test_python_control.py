@@ -109,7 +109,7 @@ def test_tethered_export_is_stabilisable_only_with_the_reel_rate(taut) -> None:
 
 
 def test_bad_inputs_are_named(taut, free) -> None:
-    with pytest.raises(ParameterError, match="inputs = .*'wind'.*allowed: names from"):
+    with pytest.raises(ParameterError, match=r"inputs = .*'wind'.*allowed: names from"):
         taut.to_statespace(inputs=("fMR3", "wind"))
     with pytest.raises(ParameterError, match="at most once"):
         taut.to_statespace(inputs=("fMR3", "fMR3"))
