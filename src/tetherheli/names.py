@@ -11,8 +11,13 @@ __all__ = [
     "OUTPUT",
     "OUTPUT_UNITS",
     "POSITION",
+    "REEL_RATE",
+    "REEL_RATE_UNITS",
     "TETHERED_STATE",
     "TETHERED_STATE_UNITS",
+    "UNITS",
+    "WIND",
+    "WIND_UNITS",
 ]
 
 #: Tethered state (13,): q4..q6 body-123 Euler angles [rad], q7, q8 tether angles at the ground
@@ -31,3 +36,17 @@ OUTPUT = ("q1", "q2", "q3", "q6")
 OUTPUT_UNITS = ("m", "m", "m", "rad")
 #: The position outputs, whose deviations the metrics report.
 POSITION = OUTPUT[:3]
+#: The winch input of the tethered model: the reel rate RC = dLN/dt [m/s] (eq 37).
+REEL_RATE = "RC"
+REEL_RATE_UNITS = "m/s"
+#: The disturbance inputs: the wind force on HO, N components [N] (Sec. VI).
+WIND = ("Fw1", "Fw2", "Fw3")
+WIND_UNITS = ("N",) * 3
+#: Unit of every name above (name -> unit).
+UNITS: dict[str, str] = {
+    **dict(zip(TETHERED_STATE, TETHERED_STATE_UNITS, strict=True)),
+    **dict(zip(FREE_STATE, FREE_STATE_UNITS, strict=True)),
+    **dict(zip(INPUT, INPUT_UNITS, strict=True)),
+    REEL_RATE: REEL_RATE_UNITS,
+    **dict(zip(WIND, WIND_UNITS, strict=True)),
+}

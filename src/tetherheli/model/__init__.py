@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from .dynamics import INPUT, OUTPUT, FreeHelicopter, TetheredHelicopter, state_index
-    from .linearize import LinearModel, discretize_zoh, linearize
+    from .linearize import EXPORT_INPUTS, LinearModel, discretize_zoh, linearize
     from .trim import TrimPoint, hover_trim
 
 _LAZY = {
@@ -20,6 +20,7 @@ _LAZY = {
     "FreeHelicopter": ".dynamics",
     "TetheredHelicopter": ".dynamics",
     "state_index": ".dynamics",
+    "EXPORT_INPUTS": ".linearize",
     "LinearModel": ".linearize",
     "discretize_zoh": ".linearize",
     "linearize": ".linearize",
@@ -28,6 +29,7 @@ _LAZY = {
 }
 
 __all__ = [
+    "EXPORT_INPUTS",
     "INPUT",
     "OUTPUT",
     "FreeHelicopter",
@@ -45,6 +47,10 @@ def __getattr__(name: str) -> Any:
     module = _LAZY.get(name)
     if module is None:
         raise AttributeError(f"module 'tetherheli.model' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module, __name__), name)
-    globals()[name] = value
-    return value
+    mod = importlib.import_module(module, __name__)
+    # bind every name of that module at once: importing ``.linearize`` sets this package's
+    # attribute ``linearize`` to the submodule, which would shadow the function of that name
+    for other, where in _LAZY.items():
+        if where == module:
+            globals()[other] = getattr(mod, other)
+    return globals()[name]

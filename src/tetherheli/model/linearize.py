@@ -13,6 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._linalg import discretize_zoh
+from ..errors import ParameterError
+from ..names import INPUT, OUTPUT, REEL_RATE, WIND
 from .dynamics import FreeHelicopter, TetheredHelicopter
 from .kernels import (
     free_jacobian,
@@ -22,7 +24,12 @@ from .kernels import (
 )
 from .trim import TrimPoint
 
-__all__ = ["LinearModel", "discretize_zoh", "linearize"]
+__all__ = ["EXPORT_INPUTS", "LinearModel", "discretize_zoh", "linearize"]
+
+#: The input names ``LinearModel.to_statespace(inputs=...)`` accepts: the four rotor inputs
+#: (columns of B), the reel rate RC (``B_reel``, tethered model only) and the wind force on HO
+#: (columns of ``E_wind``).
+EXPORT_INPUTS: tuple[str, ...] = (*INPUT, REEL_RATE, *WIND)
 
 
 @dataclass(frozen=True)
@@ -58,12 +65,110 @@ class LinearModel:
             trim=self.trim,
         )
 
-    def to_statespace(self, dt: float | None = None):
-        """The system as a python-control ``StateSpace`` (continuous, or ZOH-discrete with dt)."""
+    @property
+    def tethered(self) -> bool:
+        """True for the tethered model (its state ends with the tether's natural length LN)."""
+        return "LN" in self.state_names
+
+    def input_matrix(self, inputs: tuple[str, ...] = INPUT) -> np.ndarray:
+        """The continuous input columns (n, len(inputs)) of the named inputs, taken from
+        ``EXPORT_INPUTS``: rotor inputs from B, RC from ``B_reel``, Fw1..Fw3 from ``E_wind``."""
+        inputs = tuple(inputs)
+        if not inputs:
+            raise ParameterError("inputs", inputs, f"one or more of {EXPORT_INPUTS}")
+        cols = []
+        for name in inputs:
+            if name in INPUT:
+                cols.append(self.B[:, INPUT.index(name)])
+            elif name == REEL_RATE:
+                if not self.tethered:
+                    raise ParameterError(
+                        "inputs", inputs, f"{REEL_RATE!r} only on a model whose state has LN"
+                    )
+                cols.append(self.B_reel)
+            elif name in WIND:
+                cols.append(self.E_wind[:, WIND.index(name)])
+            else:
+                raise ParameterError("inputs", inputs, f"names from {EXPORT_INPUTS}")
+        if len(set(inputs)) != len(inputs):
+            raise ParameterError("inputs", inputs, "each name at most once")
+        return np.column_stack(cols)
+
+    def uncontrollable_modes(
+        self, inputs: tuple[str, ...] = INPUT
+    ) -> tuple[tuple[complex, str], ...]:
+        """The modes that make (A, B[inputs]) not stabilisable (PBH test, Hautus 1969): each
+        eigenvalue s of A with Re s >= 0 and rank [A - sI, B] < n, with the state that
+        dominates its uncontrollable left eigenvector. Empty when the pair is stabilisable."""
+        A = self.A
+        B = self.input_matrix(inputs)
+        n = A.shape[0]
+        found: list[tuple[complex, str]] = []
+        scale = max(1.0, float(np.linalg.norm(A, 2)), float(np.linalg.norm(B, 2)))
+        tol = 1e-9 * scale
+        distinct: list[complex] = []
+        for s in np.linalg.eigvals(A):
+            if s.real >= -tol and all(abs(s - d) > 1e-6 * scale for d in distinct):
+                distinct.append(complex(s))
+        for s in distinct:
+            u, sv, _ = np.linalg.svd(np.hstack([A - s * np.eye(n), B]))
+            # each singular value ~ 0 is one uncontrollable direction w (w' [A - sI, B] ~ 0)
+            for k in np.flatnonzero(sv <= tol):
+                found.append((s, self.state_names[int(np.argmax(np.abs(u[:, k])))]))
+        return tuple(found)
+
+    def to_statespace(
+        self,
+        dt: float | None = None,
+        *,
+        inputs: tuple[str, ...] = INPUT,
+        name: str | None = None,
+        require_stabilisable: bool = False,
+    ):
+        """The system as a python-control ``StateSpace``, labelled with our names.
+
+        States are ``state_names``, inputs the chosen ``inputs`` (from ``EXPORT_INPUTS``,
+        default the four rotor inputs), outputs ``names.OUTPUT``; the units of every label are
+        ``names.UNITS[label]`` (python-control labels carry no units). With ``dt`` [s] the
+        system is ZOH-discretised by ``discretize`` (eq 46), so A, B equal our G, H exactly.
+
+        Without ``"RC"`` the tethered model is not stabilisable: LN changes only through the
+        reel rate (eq 37, dLN/dt = RC), so its row of A and B is zero and LN is an
+        uncontrollable integrator at s = 0 (python-control's ``lqr``/``dlqr`` then fail on
+        the full 13-state system). Include ``"RC"`` (or ``select`` the first 12 states, as
+        the paper's LQI design does) to get a stabilisable pair. ``require_stabilisable``
+        raises ``ParameterError`` naming the offending modes (see ``uncontrollable_modes``).
+        """
         import control
 
-        sys = control.ss(self.A, self.B, self.C, np.zeros((self.C.shape[0], self.B.shape[1])))
-        return sys if dt is None else control.c2d(sys, dt, method="zoh")
+        inputs = tuple(inputs)
+        B = self.input_matrix(inputs)
+        if require_stabilisable:
+            bad = self.uncontrollable_modes(inputs)
+            if bad:
+                modes = ", ".join(f"s = {s.real:.4g}{s.imag:+.4g}j (mostly {st})" for s, st in bad)
+                why = (
+                    f"; LN changes only through the reel rate (eq 37): add {REEL_RATE!r}"
+                    if any(st == "LN" for _, st in bad) and REEL_RATE not in inputs
+                    else ""
+                )
+                raise ParameterError(
+                    "inputs",
+                    inputs,
+                    f"inputs from which (A, B) is stabilisable; uncontrollable and not stable "
+                    f"(PBH): {modes}{why}",
+                )
+        D = np.zeros((self.C.shape[0], B.shape[1]))
+        labels = {
+            "states": list(self.state_names),
+            "inputs": list(inputs),
+            "outputs": list(OUTPUT),
+            "name": name or ("tethered" if self.tethered else "free"),
+        }
+        if dt is None:
+            return control.ss(self.A, B, self.C, D, **labels)
+        G, H = discretize_zoh(self.A, B, dt)
+        return control.ss(G, H, self.C, D, dt, **labels)
 
 
 def linearize(model: TetheredHelicopter | FreeHelicopter, trim: TrimPoint) -> LinearModel:

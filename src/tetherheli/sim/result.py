@@ -20,6 +20,7 @@ from ..names import (
     POSITION,
     TETHERED_STATE,
     TETHERED_STATE_UNITS,
+    WIND,
 )
 from ..status import Status, release_sentence, status_message
 
@@ -36,7 +37,7 @@ STATE_NAMES, STATE_UNITS = TETHERED_STATE, TETHERED_STATE_UNITS
 INPUT_NAMES, OUTPUT_NAMES = INPUT, OUTPUT
 _CSV_BLOCK_ROWS = 4096
 _FEEDFORWARD = ("C1_ffwd", "C2_ffwd")  # columns 1 and 2 of the feed-forward (eq 55)
-_WIND = ("Fw1", "Fw2", "Fw3")
+_WIND = WIND
 #: The columns of every result CSV, in order (``SimulationResult.columns``; extra signals such
 #: as sensor estimates follow them).
 RESULT_COLUMNS: tuple[str, ...] = (
