@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from ._io import atomic_write_text, claim_output_directory, output_directory
-from ._version import __version__
+from ._version import __version__, dependency_versions, git_commit
 from .analysis import metric_samples, reduction_percent, run_metrics
 from .errors import ParameterError
 from .names import POSITION
@@ -100,6 +100,8 @@ def _manifest(command: str, scenarios: dict[str, Scenario]) -> dict[str, Any]:
         "command": command,
         "python": sys.version.split()[0],
         "numpy": np.__version__,
+        "versions": dependency_versions(),
+        "git_commit": git_commit(),
         "platform": platform.platform(),
         "scenarios": {k: s.to_dict() for k, s in scenarios.items()},
     }
