@@ -15,12 +15,12 @@ from typing import Any
 import numpy as np
 
 from ._io import atomic_write_text, claim_output_directory, output_directory
-from ._version import __version__
+from ._version import __version__, dependency_versions, git_commit
 from .analysis import metric_samples, reduction_percent, run_metrics
 from .errors import ParameterError
 from .names import POSITION
 from .sim import SimulationResult, simulate
-from .sim.scenario import Scenario, paper_scenario
+from .sim.scenario import Scenario, paper_scenario, scenario_toml
 
 __all__ = [
     "PAPER_CLAIM_PERCENT",
@@ -33,6 +33,9 @@ __all__ = [
 #: Sec. VI: "the disturbance effect ... is reduced up to a 30% from the response of the free
 #: system".
 PAPER_CLAIM_PERCENT = 30.0
+#: Written beside every run ``simulate`` writes: its scenario, for ``tetherheli simulate``
+#: (``load_scenario``) to run it again.
+SCENARIO_FILE = "scenario.toml"
 RUN_KEYS = ("sim1_free", "sim1_tethered", "sim2_free", "sim2_tethered")
 
 
@@ -97,6 +100,8 @@ def _manifest(command: str, scenarios: dict[str, Scenario]) -> dict[str, Any]:
         "command": command,
         "python": sys.version.split()[0],
         "numpy": np.__version__,
+        "versions": dependency_versions(),
+        "git_commit": git_commit(),
         "platform": platform.platform(),
         "scenarios": {k: s.to_dict() for k, s in scenarios.items()},
     }
@@ -323,6 +328,8 @@ def _write_run_files(result: SimulationResult, directory: Path, command: str) ->
         "command": command,
     }
     result.save(directory, result.name)
+    if result.configuration.get("wind", {}).get("type") != "custom":  # else not re-runnable
+        atomic_write_text(directory / SCENARIO_FILE, scenario_toml(result.configuration))
     if result.time.size > 1:
         save_figure(figure_outputs([result], result.name), directory / "outputs.png")
         save_figure(figure_inputs([result], result.name), directory / "inputs.png")

@@ -26,6 +26,7 @@ from ..status import Status, release_sentence, status_message
 
 __all__ = [
     "RESULT_COLUMNS",
+    "RESULT_UNITS",
     "SimulationResult",
     "atomic_write_bytes",
     "atomic_write_text",
@@ -50,6 +51,20 @@ RESULT_COLUMNS: tuple[str, ...] = (
     "RC",
     *_WIND,
 )
+#: The unit of every column of ``RESULT_COLUMNS`` (from ``names``; the feed-forward columns are
+#: torques about F1, F2 like tMR1, tMR2 (eq 55), the wind columns a force on HO).
+RESULT_UNITS: dict[str, str] = {
+    "t": "s",
+    **dict(zip(STATE_NAMES, STATE_UNITS, strict=True)),
+    **dict(zip(OUTPUT_NAMES, OUTPUT_UNITS, strict=True)),
+    **dict(zip(INPUT_NAMES, INPUT_UNITS, strict=True)),
+    **dict(zip(_FEEDFORWARD, INPUT_UNITS[1:3], strict=True)),
+    "TC": "N",
+    "RC": "m/s",
+    **dict.fromkeys(_WIND, "N"),
+}
+#: Extra columns named ``<output>_est`` (the controller's estimate) carry the output's unit.
+_ESTIMATE_SUFFIX = "_est"
 _RESULT_HINT = "<stem>.csv + <stem>.json result pairs written by SimulationResult.save"
 
 
@@ -194,6 +209,53 @@ class SimulationResult:
             cols[n] = v
         return cols
 
+    def column_units(self) -> dict[str, str]:
+        """The unit of each of ``columns()`` (``RESULT_UNITS``; an estimate ``<name>_est``
+        has its signal's unit; "" for an extra column of unknown unit)."""
+        units = {}
+        for name in self.columns():
+            base = name.removesuffix(_ESTIMATE_SUFFIX)
+            units[name] = RESULT_UNITS.get(name, RESULT_UNITS.get(base, ""))
+        return units
+
+    def to_dataframe(self) -> Any:
+        """The sampled signals as a ``pandas.DataFrame``: index ``t`` [s], one column per
+        ``columns()`` entry after t (the run CSV's columns, in order), units in
+        ``df.attrs["units"]``, and ``attrs`` ``scenario`` (name), ``tetherheli_version``,
+        ``status``, ``method``. Needs pandas (``pip install tetherheli[data]``)."""
+        pd = _optional("pandas")
+        cols = self.columns()
+        index = pd.Index(np.array(cols.pop("t")), name="t")
+        df = pd.DataFrame({n: np.array(v) for n, v in cols.items()}, index=index)
+        df.attrs.update(self._attrs())
+        return df
+
+    def to_xarray(self) -> Any:
+        """The sampled signals as an ``xarray.Dataset``: dimension ``t`` [s], one variable per
+        column of ``columns()`` after t, each with its ``units`` attribute, and the same
+        dataset attributes as ``to_dataframe`` (units aside). Needs xarray
+        (``pip install tetherheli[data]``)."""
+        xr = _optional("xarray")
+        cols = self.columns()
+        units = self.column_units()
+        t = np.array(cols.pop("t"))
+        attrs = self._attrs()
+        attrs.pop("units")
+        return xr.Dataset(
+            {n: ("t", np.array(v), {"units": units[n]}) for n, v in cols.items()},
+            coords={"t": ("t", t, {"units": units["t"]})},
+            attrs=attrs,
+        )
+
+    def _attrs(self) -> dict[str, Any]:
+        return {
+            "units": self.column_units(),
+            "scenario": self.name,
+            "tetherheli_version": self.version,
+            "status": int(self.status),
+            "method": self.method,
+        }
+
     def to_csv(self, path: str | Path) -> Path:
         """Write the time series as CSV (SI units; header row), atomically, streamed in blocks
         of rows (a long run is not held a second time as text)."""
@@ -241,6 +303,19 @@ class SimulationResult:
         meta_path = directory / f"{stem}.json"
         atomic_write_text(meta_path, json.dumps(self.metadata(), indent=2) + "\n")
         return {"csv": csv_path, "json": meta_path}
+
+
+def _optional(module: str) -> Any:
+    """Import an optional dependency, or raise a one-line error naming the package."""
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        raise ImportError(
+            f"{module} is needed for this export and is not installed: "
+            f"pip install {module} (or tetherheli[data])"
+        ) from None
 
 
 # --- reading saved results ---------------------------------------------------------------------

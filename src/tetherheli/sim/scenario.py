@@ -38,7 +38,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from .._io import read_toml
+from .._io import dumps_toml, read_toml
 from .._validation import check_bool, check_integer, check_number, check_vector
 from ..control import lqi
 from ..errors import ParameterError
@@ -60,6 +60,7 @@ __all__ = [
     "load_scenario",
     "metrics_first_sample",
     "paper_scenario",
+    "scenario_toml",
 ]
 
 #: The paper's LQI weights (Sec. V-A, after eq 53) as the diagonals the scenario files list;
@@ -181,11 +182,27 @@ class Scenario:
             "metrics_start": self.metrics_start,
         }
 
+    def to_toml(self) -> str:
+        """The scenario as a TOML document that ``load_scenario`` reads back to an equal
+        Scenario (every key written, defaults included; ``scenario_toml``). A custom
+        disturbance without ``to_dict`` cannot be written: ``ParameterError`` naming it."""
+        return scenario_toml(self.to_dict())
+
 
 #: A scenario name becomes a file stem and a folder name: letters, digits, '_', '.', '-'.
 _NAME_PATTERN = re.compile(r"[A-Za-z0-9_.-]{1,100}")
 #: The most control samples one run may have (about 12 days at dt = 1 ms, 115 days at 10 ms).
 MAX_SAMPLES = 1_000_000_000
+
+
+def scenario_toml(configuration: dict[str, Any]) -> str:
+    """A scenario's plain data (``Scenario.to_dict``, as a result records it) as a TOML
+    document ``load_scenario`` reads back; a custom disturbance (recorded by class and repr
+    only) cannot be: ``ParameterError`` naming it."""
+    wind = configuration.get("wind", {})
+    if wind.get("type") == "custom":
+        raise ParameterError("wind", wind.get("class"), "a disturbance with to_dict (TOML)")
+    return dumps_toml(configuration)
 
 
 def metrics_first_sample(metrics_start: float, dt: float) -> int:
