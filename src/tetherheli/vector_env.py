@@ -135,27 +135,13 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
         busy = False
         for j in range(LANES):
             i = b * LANES + j
+            lane_in = (xb, scb, inpb, rate_l, t0_l, attached_l)
             if i < n and not reset[i]:
                 busy = True
-                for v in range(13):
-                    xb[v * LANES + j] = x[i, v]
-                for v in range(10):
-                    scb[v * LANES + j] = sc_true[i, v]
-                for v in range(4):
-                    inpb[v * LANES + j] = inp[i, v]
-                rate_l[j] = rate[i]
-                t0_l[j] = k[i] * cfg[i, CFG_DT]
-                attached_l[j] = cfg[i, CFG_ATTACHED]
+                engine.set_lane(lane_in, j, x[i], sc_true[i], inp[i], rate[i],
+                                k[i] * cfg[i, CFG_DT], cfg[i, CFG_ATTACHED])  # fmt: skip
             else:  # parked at the trim (finite arithmetic, result unused)
-                for v in range(13):
-                    xb[v * LANES + j] = x_trim[v]
-                for v in range(10):
-                    scb[v * LANES + j] = sc_park[v]
-                for v in range(4):
-                    inpb[v * LANES + j] = u0[v]
-                rate_l[j] = 0.0
-                t0_l[j] = 0.0
-                attached_l[j] = 0.0
+                engine.park_lane(lane_in, j, x_trim, sc_park, u0)
         if not busy:
             continue
         lo, hi = b * LANES, (b + 1) * LANES

@@ -696,6 +696,31 @@ def rk4_lanes(x, sc0, inp, rate, t0, h, n_sub, attached, k_c, c, wind, work):
                     sc0[i] = sc[i]
 
 
+@_jit_inline
+def set_lane(lane_in, j, x_j, sc_j, inp_j, rate_j, t0_j, attached_j):
+    """Lane j of ``rk4_lanes``'s inputs lane_in = (x, sc0, inp, rate, t0, attached) from one
+    run's state x_j (13,), sin/cos of its angles sc_j (10,), held inputs inp_j (4,), reel
+    rate, sample start [s] and tether state."""
+    x, sc0, inp, rate, t0, attached = lane_in
+    for i in range(13):
+        x[i * LANES + j] = x_j[i]
+    for i in range(10):
+        sc0[i * LANES + j] = sc_j[i]
+    for i in range(4):
+        inp[i * LANES + j] = inp_j[i]
+    rate[j] = rate_j
+    t0[j] = t0_j
+    attached[j] = attached_j
+
+
+@_jit_inline
+def park_lane(lane_in, j, x_park, sc_park, u_park):
+    """Lane j of ``rk4_lanes``'s inputs set to a hover (x_park, its sin/cos sc_park, trim
+    inputs u_park) with no tether: a lane that runs nothing keeps finite, cheap arithmetic and
+    its result is not used."""
+    set_lane(lane_in, j, x_park, sc_park, u_park, 0.0, 0.0, 0.0)
+
+
 @_jit
 def run_lanes(
     x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, summary, status, done
@@ -810,24 +835,12 @@ def run_lanes(
                         active[j] = False
                         n_active -= 1
                     else:
-                        for i in range(4):
-                            held_inp[i * LANES + j] = inp[j, i]
-                        for i in range(10):
-                            sc0[i * LANES + j] = sc_true[j, i]
-                        rate[j] = rate_j
-                        t0[j] = k * cfg[j, CFG_DT]
-                        attached[j] = cfg[j, CFG_ATTACHED]
+                        lane_in = (x, sc0, held_inp, rate, t0, attached)
+                        set_lane(lane_in, j, xj, sc_true[j], inp[j], rate_j, k * cfg[j, CFG_DT],
+                                 cfg[j, CFG_ATTACHED])  # fmt: skip
                         continue
             # a finished or padding lane is parked at its initial state (finite arithmetic)
-            for i in range(13):
-                x[i * LANES + j] = x_init[j, i]
-            for i in range(10):
-                sc0[i * LANES + j] = sc_init[j, i]
-            for i in range(4):
-                held_inp[i * LANES + j] = u0[j, i]
-            rate[j] = 0.0
-            t0[j] = 0.0
-            attached[j] = 0.0
+            park_lane((x, sc0, held_inp, rate, t0, attached), j, x_init[j], sc_init[j], u0[j])
         if n_active == 0:
             break
         rk4_lanes(x, sc0, held_inp, rate, t0, h, n_sub, attached, k_c, c_lanes, lane_wind, work)
