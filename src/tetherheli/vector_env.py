@@ -248,7 +248,7 @@ class TetheredHoverVectorEnv(VectorEnv):
             np.full(LANES, cfg0[CFG_K_C]),
             np.repeat(env._c, LANES),  # (constant, lane) flat
             sc_park,
-            engine._lane_work(),
+            engine.lane_work(),
         )
         # the winds in lane form; profile rows and gust rows grow as episodes need them
         self._programs = np.empty((n_blocks, 0, WIND_COLUMNS, LANES))

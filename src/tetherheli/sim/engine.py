@@ -614,7 +614,9 @@ def _lanes_axpy(out, x, a, h, k):
 
 
 @_jit_inline
-def _lane_work():
+def lane_work():
+    """The scratch arrays of ``rk4_lanes`` (k1..k4, stage state, its sin/cos, wind force and
+    tension, profile forces, gust air, stage times), for the lane engine and the vector env."""
     return (
         np.empty(13 * LANES),  # k1
         np.empty(13 * LANES),  # k2
@@ -645,7 +647,7 @@ def rk4_lanes(x, sc0, inp, rate, t0, h, n_sub, attached, k_c, c, wind, work):
     (overwritten), inp (4 LANES,) the held rotor inputs, c (n_c LANES,) the model constants;
     rate, t0, h, attached (1/0), k_c (LANES,). wind = (programs (R WIND_COLUMNS LANES,), R,
     gusts (LANES, G, 3), gust rows in use (LANES,), gust_dt (LANES,), drag (3 LANES,));
-    work = ``_lane_work()``. The gust tables are read per lane; everything else runs in
+    work = ``lane_work()``. The gust tables are read per lane; everything else runs in
     branch-free passes over the lanes. Each lane performs the operations of ``rk4_interval``
     in the same order, so it equals a single run bit for bit.
     """
@@ -768,7 +770,7 @@ def run_lanes(
             drag_lanes[i * LANES + j] = drag[j, i]
     gust_dt = np.empty(LANES)
     lane_wind = (programs, n_rows, gusts, gust_rows, gust_dt, drag_lanes)
-    work = _lane_work()
+    work = lane_work()
     sc0 = np.empty(10 * LANES)
     held_inp = np.empty(4 * LANES)
     rate = np.zeros(LANES)
