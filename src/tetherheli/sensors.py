@@ -22,7 +22,7 @@ Position sources (``SensorConfig.position_source``)
     (``SensorConfig.check_configuration``).
 
 Here arm = dO-P,3 - dO-HO,3 (``HelicopterParams.tether_arm``, -0.2046 m for Table II), and
-c3, f3 are the tether direction and the fuselage axis in N (SPEC "Frames, points,
+c3, f3 are the tether direction and the fuselage axis in N (docs/paper.md, "Frames, points,
 coordinates").
 
 Noise channels
