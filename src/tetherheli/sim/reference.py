@@ -54,8 +54,18 @@ def _value(value: Any) -> str:
     return str(value)
 
 
+_CODE = re.compile(r"(`+)(.+?)\1")
+
+
 def _cell(text: str) -> str:
-    return text.replace("|", "\\|").replace("[", "\\[").replace("\n", " ")
+    """``text`` for a table cell: pipes escaped, and brackets outside code spans (a "[m]"
+    would otherwise be read as a reference link)."""
+    out, last = [], 0
+    for m in _CODE.finditer(text):
+        out += [text[last : m.start()].replace("[", "\\["), m.group(0)]
+        last = m.end()
+    out.append(text[last:].replace("[", "\\["))
+    return "".join(out).replace("|", "\\|").replace("\n", " ")
 
 
 def _key_rows(prefix: str, cls: type, defaults: Any) -> list[str]:
@@ -105,7 +115,9 @@ def _sensor_rows() -> list[str]:
             allowed = _sensor_key(name).allowed()
         bracket = re.search(r"\[([^\]]+)\]", doc)
         unit = "Hz" if name.endswith("_rate") else "s" if name.endswith("_latency") else "-"
-        if unit == "-" and bracket and docs.get(name):
+        if name == "gps_outage":
+            unit = "s"
+        elif unit == "-" and bracket and docs.get(name):
             unit = bracket.group(1)
         rows.append(
             f"| `sensors.{name}` | {_cell(doc)} | {unit} | "
