@@ -143,6 +143,7 @@ API = {
     "tetherheli.sim.result": ["SimulationResult", "load_result", "list_results"],
     "tetherheli.sim.reference": ["scenario_reference"],
     "tetherheli._validation": ["Key"],
+    "tetherheli.errors": ["ParameterError", "InfeasibleError"],
 }  # fmt: skip
 
 
