@@ -181,7 +181,10 @@ def _missing_sections(obj) -> list[str]:
     return problems
 
 
-@pytest.mark.parametrize("name, obj", list(_public_callables()), ids=lambda v: str(v)[:60])
+_CALLABLES = list(_public_callables())
+
+
+@pytest.mark.parametrize("name, obj", _CALLABLES, ids=[name for name, _ in _CALLABLES])
 def test_public_api_has_numpydoc_sections(name, obj):
     assert _missing_sections(obj) == [], name
 
