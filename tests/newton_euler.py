@@ -1,7 +1,7 @@
 """An independent Newton-Euler formulation of the helicopter, for tests only.
 
 Cartesian position of HO, the rotation matrix typed from the paper's Table I, the inertia J
-and rotor momentum h of SPEC.md (J w' + w x (J w + h) = torque about HO), and the tether force
+and rotor momentum h of docs/paper.md (J w' + w x (J w + h) = torque about HO), and the tether force
 computed from the Cartesian position of P. Shares no code with the package's derivation.
 """
 

@@ -133,7 +133,7 @@ def test_rotor_dyadic_identity():
 
 
 def test_tethered_outputs_eqs_43_45(tethered_d):
-    """Eqs 43-45 with the eq-43 typo fixed (s5, SPEC.md)."""
+    """Eqs 43-45 with the eq-43 typo fixed (s5, docs/paper.md)."""
     p = parameter_symbols()
     q4, q5, _q6, q7, q8, q9 = tethered_d.q
     m = p["m_F"] + p["m_MR"]

@@ -27,7 +27,7 @@ def _random_tethered_state(rng, taut: bool) -> np.ndarray:
 
 @pytest.mark.parametrize("taut", [True, False])
 def test_tethered_equals_newton_euler(tethered, paper, rng, taut):
-    """Eqs 10-12, 28-37 against Newton-Euler (SPEC.md's J, h; tether force from P's Cartesian
+    """Eqs 10-12, 28-37 against Newton-Euler (docs/paper.md's J, h; tether force from P's Cartesian
     position): agreement to 1e-12 relative at random states, taut and slack."""
     ne = NewtonEuler(paper)
     for _ in range(50):
@@ -79,7 +79,8 @@ def test_slack_tethered_equals_free_trajectory(tethered, free):
 
 def test_energy_conserved_taut_no_gravity(paper):
     """No gravity, no inputs, LN fixed, taut tether: 1/2 m v^2 + 1/2 w.J.w + 1/2 KC (q9-LN)^2
-    is constant (the rotor's spin is prescribed, SPEC.md's J), to the integrator's tolerance."""
+    is constant (the rotor's spin is prescribed, docs/paper.md's J), to the integrator's
+    tolerance."""
     params = paper.replace(helicopter={"g": 0.0, "rotor_drag_arm": 1e-9})
     model = TetheredHelicopter(params)
     ne = NewtonEuler(params)

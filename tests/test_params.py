@@ -15,7 +15,7 @@ def test_eq3_centre_of_mass(paper):
 
 
 def test_eqs_19_26_match_euler_inertia(paper):
-    """Eqs 19-26 equal the J, h of SPEC.md: K4p4 = J1, K456 = J2 - J3, K45 = -h, ..."""
+    """Eqs 19-26 equal the J, h of docs/paper.md: K4p4 = J1, K456 = J2 - J3, K45 = -h, ..."""
     h = paper.helicopter
     mu = h.m_F * h.m_MR / (h.m_F + h.m_MR)
     d2 = (h.d_O_FO3 - h.d_O_MRO3) ** 2
@@ -31,7 +31,7 @@ def test_eqs_19_26_match_euler_inertia(paper):
 
 
 def test_table_ii_iii_values(paper):
-    """Tables II and III as printed (KC in N/m, SPEC.md)."""
+    """Tables II and III as printed (KC in N/m, docs/paper.md)."""
     h, t = paper.helicopter, paper.tether
     assert (h.g, h.m_F, h.m_MR, h.I_F11, h.I_F22, h.I_F33, h.I_MR11) == (
         9.81,

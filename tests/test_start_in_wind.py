@@ -34,7 +34,7 @@ def _still_air(duration: float, mean=WIND) -> Turbulence:
 def test_trim_in_wind_balances_the_forces(tension):
     """A second formulation of the equilibrium: the sum of the external forces on the
     helicopter, fMR3 f3 + fTR2 f2 - m g n3 + F_wind - TC c3 (Table I's f2, f3 with q6 = 0,
-    c3 = [s8, -s7 c8, c7 c8] from SPEC), is zero; the outputs are the windless trim's and
+    c3 = [s8, -s7 c8, c7 c8] from docs/paper.md), is zero; the outputs are the windless trim's and
     the dynamic equations vanish; the tether keeps its tension (q9 - LN = TC / KC)."""
     params = Params.paper()
     model = th.TetheredHelicopter(params)

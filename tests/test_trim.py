@@ -50,7 +50,7 @@ def test_trim_is_equilibrium(tethered, free):
 
 
 def test_rotor_drag_consistency(tethered):
-    """SPEC.md: tMR3 = 0.1 m x fMR3 balances the tail rotor: 1.08 fTR2 = 0.1 fMR3."""
+    """docs/paper.md: tMR3 = 0.1 m x fMR3 balances the tail rotor: 1.08 fTR2 = 0.1 fMR3."""
     for tension in (0.0, 25.0):
         u = tethered.trim(tension).u
         assert 1.08 * u[3] == pytest.approx(0.1 * u[0], rel=1e-12)

@@ -10,6 +10,7 @@ allowed text is the same whichever check failed (type, finiteness or range).
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -17,6 +18,7 @@ import numpy as np
 from .errors import ParameterError
 
 __all__ = [
+    "Key",
     "check_bool",
     "check_integer",
     "check_number",
@@ -185,3 +187,131 @@ def check_bool(field: str, value: Any, *, source: str | None = None) -> bool:
     if not isinstance(value, (bool, np.bool_)):
         raise ParameterError(field, value, "true or false", source=source)
     return bool(value)
+
+
+@dataclass(frozen=True)
+class Key:
+    """One configuration key described once: its documentation, unit and allowed values.
+
+    The validation checks a value with ``check`` and the scenario reference
+    (``docs/scenario_reference.md``, written by ``tetherheli.sim.reference``) prints ``doc``,
+    ``unit`` and ``allowed()``, so the documented range is the checked one.
+
+    Parameters
+    ----------
+    doc : str
+        What the key means (with the paper's equation or section where it has one).
+    unit : str, optional
+        The unit, e.g. ``"s"``, ``"N m"`` (empty: dimensionless or not a number).
+    kind : {"number", "integer", "bool", "vector", "text"}, optional
+        The value's type; ``"vector"`` is ``length`` numbers.
+    low, high : float, optional
+        Bounds of a number, an integer or each entry of a vector (None: unbounded).
+    low_open, high_open : bool, optional
+        Whether the bounds are excluded.
+    finite : bool, optional
+        False: +-inf is allowed (NaN never).
+    nonzero : bool, optional
+        True: 0 is refused (a number).
+    length : int, optional
+        The number of entries of a vector.
+    choices : tuple of str, optional
+        The allowed values of a text key (empty: any string).
+    note : str, optional
+        A rule the range alone does not state (a bound set by another key), shown in the
+        reference after the range.
+    """
+
+    doc: str
+    unit: str = ""
+    kind: str = "number"
+    low: float | None = None
+    high: float | None = None
+    low_open: bool = False
+    high_open: bool = False
+    finite: bool = True
+    nonzero: bool = False
+    length: int = 0
+    choices: tuple[str, ...] = ()
+    note: str = ""
+
+    def _unit(self) -> str:
+        return f"[{self.unit}]" if self.unit else ""
+
+    def allowed(self) -> str:
+        """The allowed values as the error messages state them, e.g. ``"a finite number
+        > 0 [s]"``.
+
+        Returns
+        -------
+        str
+        """
+        if self.kind == "bool":
+            return "true or false"
+        if self.kind == "text":
+            return "one of " + ", ".join(map(repr, self.choices)) if self.choices else "a string"
+        if self.kind == "vector":
+            numbers = "finite numbers" if self.finite else "numbers"
+            return (
+                f"{self.length} {numbers}"
+                + _range(self.low, self.high, self.low_open, self.high_open, self._unit())
+                + ("" if self.finite else " (inf allowed)")
+            )
+        return describe(
+            integer=self.kind == "integer",
+            finite=self.finite,
+            nonzero=self.nonzero,
+            low=self.low,
+            high=self.high,
+            low_open=self.low_open,
+            high_open=self.high_open,
+            unit=self._unit(),
+        )
+
+    def check(self, field: str, value: Any, *, source: str | None = None, **bounds: Any) -> Any:
+        """``value`` checked against this key (``check_number``, ``check_integer``,
+        ``check_vector`` or ``check_bool`` by ``kind``).
+
+        Parameters
+        ----------
+        field : str
+            The key's dotted name, put in the error message.
+        value : object
+            The value to check.
+        source : str, optional
+            Where the value came from (a file name), put in front of the message.
+        **bounds
+            Overrides of ``low``, ``high``, ``low_open``, ``high_open`` for a bound that
+            depends on another key (``note``).
+
+        Returns
+        -------
+        float, int, bool, str or tuple of float
+            The checked value as plain Python data.
+
+        Raises
+        ------
+        ParameterError
+            The value is of the wrong type or outside the allowed range.
+        """
+        low = bounds.get("low", self.low)
+        high = bounds.get("high", self.high)
+        low_open = bounds.get("low_open", self.low_open)
+        high_open = bounds.get("high_open", self.high_open)
+        if self.kind == "bool":
+            return check_bool(field, value, source=source)
+        if self.kind == "text":
+            if not isinstance(value, str) or (self.choices and value not in self.choices):
+                raise ParameterError(field, value, self.allowed(), source=source)
+            return value
+        if self.kind == "integer":
+            return check_integer(field, value, low=low, high=high, source=source)
+        if self.kind == "vector":
+            return check_vector(
+                field, value, self.length, low=low, high=high, low_open=low_open,
+                finite=self.finite, unit=self._unit(), source=source,
+            )  # fmt: skip
+        return check_number(
+            field, value, low=low, high=high, low_open=low_open, high_open=high_open,
+            finite=self.finite, nonzero=self.nonzero, unit=self._unit(), source=source,
+        )  # fmt: skip

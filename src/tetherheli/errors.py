@@ -10,7 +10,21 @@ class TetherheliError(ValueError):
 
 
 class ParameterError(TetherheliError):
-    """An invalid parameter, scenario value or configuration field."""
+    """An invalid parameter, scenario value or configuration field.
+
+    The message is one line, ``"[source: ]field = value is invalid; allowed: allowed"``.
+
+    Parameters
+    ----------
+    field : str
+        The field's dotted name, e.g. ``"control.dt"``.
+    value : object
+        The value refused.
+    allowed : str
+        What is allowed, e.g. ``"a finite number > 0 [s]"``.
+    source : str, optional
+        Where the value came from (a file name).
+    """
 
     def __init__(self, field: str, value: object, allowed: str, *, source: str | None = None):
         self.field = field
@@ -24,7 +38,13 @@ class ParameterError(TetherheliError):
 class InfeasibleError(ParameterError):
     """A well-formed value that the physics cannot meet: a tension the tether cannot give at
     its length, a hover outside the actuator limits, a trim that does not exist. A sweep
-    records such a point as invalid (with this message) instead of stopping."""
+    records such a point as invalid (with this message) instead of stopping.
+
+    Parameters
+    ----------
+    field, value, allowed, source
+        As for ``ParameterError``.
+    """
 
 
 class SingularConfigurationError(TetherheliError):

@@ -9,6 +9,7 @@ validated.
 from __future__ import annotations
 
 import dataclasses
+import re
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any, Self
@@ -16,7 +17,7 @@ from typing import Any, Self
 import numpy as np
 
 from ._io import read_toml
-from ._validation import check_number
+from ._validation import Key, check_number
 from .errors import InfeasibleError, ParameterError
 
 __all__ = [
@@ -45,8 +46,26 @@ MAX_TETHER_STRAIN = 1.0
 
 
 def check_tether_length(value: Any, field: str = "q9", source: str | None = None) -> float:
-    """``value`` as a tether length in ``TETHER_LENGTH_RANGE`` [m], else ParameterError
-    naming ``field``."""
+    """A tether length checked against ``TETHER_LENGTH_RANGE``.
+
+    Parameters
+    ----------
+    value : object
+        The value to check (m).
+    field : str, optional
+        The name put in the error message (default ``"q9"``).
+    source : str, optional
+        Where the value came from (a file name), put in front of the message.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ParameterError
+        A value that is not a number in ``TETHER_LENGTH_RANGE``.
+    """
     lo, hi = TETHER_LENGTH_RANGE
     allowed = f"a tether length in [{lo:g}, {hi:g}] m"
     return check_number(field, value, low=lo, high=hi, allowed=allowed, source=source)
@@ -60,42 +79,47 @@ def _meta(
     nonnegative: bool = False,
     bounds: tuple[float, float] | None = None,
 ):
-    return field(
-        metadata={
-            "doc": doc,
-            "positive": positive,
-            "nonzero": nonzero,
-            "nonnegative": nonnegative,
-            "bounds": bounds,
-        }
-    )
+    """A parameter field: its documentation (unit in brackets) and its ``Key``, the one
+    description the validation (``_Validated``) and the scenario reference use."""
+    low, high = bounds or (None, None)
+    low_open = False
+    if (positive or nonnegative) and (low is None or low <= 0.0):
+        low, low_open = 0.0, positive
+    unit = re.search(r"\[([^\]]+)\]", doc)
+    key = Key(
+        doc, unit.group(1) if unit else "", low=low, high=high, low_open=low_open,
+        nonzero=nonzero,
+    )  # fmt: skip
+    return field(metadata={"doc": doc, "key": key})
 
 
 class _Validated:
     """Mixin: validate every float field of a frozen dataclass after construction, from the
-    field's metadata (``_meta``), with the package's one validation style."""
+    field's ``Key`` (``_meta``), with the package's one validation style."""
 
     def __post_init__(self) -> None:
         for f in fields(self):  # type: ignore[arg-type]
-            meta = f.metadata
-            low, high = meta.get("bounds") or (None, None)
-            low_open = False
-            if (meta.get("positive") or meta.get("nonnegative")) and (low is None or low <= 0.0):
-                low, low_open = 0.0, bool(meta.get("positive"))
-            value = check_number(
+            value = f.metadata["key"].check(
                 f"{self._section}.{f.name}",  # type: ignore[attr-defined]
                 getattr(self, f.name),
-                low=low,
-                high=high,
-                low_open=low_open,
-                nonzero=bool(meta.get("nonzero")),
             )
             object.__setattr__(self, f.name, value)
 
 
 @dataclass(frozen=True)
 class HelicopterParams(_Validated):
-    """Mechanical parameters of the helicopter (paper Table II, eqs 1-2, Sec. II-D)."""
+    """Mechanical parameters of the helicopter (paper Table II, eqs 1-2, Sec. II-D).
+
+    Parameters
+    ----------
+    g, m_F, m_MR, I_F11, I_F22, I_F33, I_MR11, omega_MR, d_O_FO3, d_O_MRO3, d_O_TRO1, d_O_P3
+        Table II's values (``Params.paper()``).
+        Each field's documentation and allowed range is its ``Key`` (``_meta``), printed
+        in the scenario TOML reference (``docs/scenario_reference.md``).
+    rotor_drag_arm, t_TR2
+        The rotor drag torque per unit lift and the tail rotor's torque, implied by
+        Tables IV-V and Sec. II-D (see docs/paper.md).
+    """
 
     _section = "helicopter"
 
@@ -126,7 +150,7 @@ class HelicopterParams(_Validated):
     )
     rotor_drag_arm: float = _meta(
         "main-rotor drag torque per unit lift, tMR,3 = rotor_drag_arm * fMR,3 [m] "
-        "(implied by Tables IV-V, see SPEC.md)",
+        "(implied by Tables IV-V, see docs/paper.md)",
         positive=True,
         bounds=OFFSET_RANGE,
     )
@@ -198,7 +222,12 @@ class HelicopterParams(_Validated):
         return self.d_O_P3 - self.d_O_HO3
 
     def as_array(self) -> np.ndarray:
-        """The parameters in the fixed order of the generated code (``PARAM_ORDER``)."""
+        """The parameters in the fixed order of the generated code.
+
+        Returns
+        -------
+        numpy.ndarray, shape (len(PARAM_ORDER),)
+        """
         return np.array([getattr(self, n) for n in PARAM_ORDER], dtype=np.float64)
 
 
@@ -208,7 +237,15 @@ PARAM_ORDER: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(Helicopt
 
 @dataclass(frozen=True)
 class TetherParams(_Validated):
-    """Elastic tether and ground winch (paper Table III, eqs 28, 36-37)."""
+    """Elastic tether and ground winch (paper Table III, eqs 28, 36-37).
+
+    Parameters
+    ----------
+    L_N0, K_C
+        Table III's values.
+        Each field's documentation and allowed range is its ``Key`` (``_meta``), printed
+        in the scenario TOML reference (``docs/scenario_reference.md``).
+    """
 
     _section = "tether"
 
@@ -218,24 +255,63 @@ class TetherParams(_Validated):
         bounds=TETHER_LENGTH_RANGE,
     )
     K_C: float = _meta(
-        "tether elasticity constant KC [N/m] (Table III; printed 'Nm', see SPEC.md)", positive=True
+        "tether elasticity constant KC [N/m] (Table III; printed 'Nm', see docs/paper.md)",
+        positive=True,
     )
 
     def natural_length(self, q9: float, tension: float) -> float:
-        """Eq 28 at a taut tether: the natural length LN = q9 - TC / KC [m] giving tension
-        ``tension`` [N] at length ``q9`` [m]."""
+        """Eq 28 at a taut tether: the natural length LN = q9 - TC / KC.
+
+        Parameters
+        ----------
+        q9 : float
+            Tether length (m).
+        tension : float
+            Tension TC (N).
+
+        Returns
+        -------
+        float
+            The natural length LN (m) giving that tension at that length.
+        """
         return q9 - tension / self.K_C
 
     def max_tension(self, q9: float) -> float:
-        """The largest tension [N] the tether gives at length ``q9`` [m] within
-        ``MAX_TETHER_STRAIN``: KC (q9 - LN) with LN = q9 / (1 + MAX_TETHER_STRAIN)."""
+        """The largest tension the tether gives at a length within ``MAX_TETHER_STRAIN``.
+
+        Parameters
+        ----------
+        q9 : float
+            Tether length (m).
+
+        Returns
+        -------
+        float
+            KC (q9 - LN) with LN = q9 / (1 + MAX_TETHER_STRAIN) (N).
+        """
         return self.K_C * q9 * MAX_TETHER_STRAIN / (1.0 + MAX_TETHER_STRAIN)
 
     def check_tension(
         self, tension: float, q9: float, field: str, source: str | None = None
     ) -> None:
-        """Refuse a hover tension the tether cannot give at length q9 (``max_tension``):
-        InfeasibleError naming ``field`` with the largest allowed value."""
+        """Refuse a hover tension the tether cannot give at length q9 (``max_tension``).
+
+        Parameters
+        ----------
+        tension : float
+            The hover tension (N).
+        q9 : float
+            Tether length (m).
+        field : str
+            The name put in the error message.
+        source : str, optional
+            Where the value came from (a file name), put in front of the message.
+
+        Raises
+        ------
+        InfeasibleError
+            Naming ``field``, with the largest allowed value.
+        """
         limit = self.max_tension(q9)
         if tension > limit:
             raise InfeasibleError(
@@ -251,7 +327,15 @@ class TetherParams(_Validated):
 
 @dataclass(frozen=True)
 class TensionControlParams(_Validated):
-    """Ground-winch tension PI controller (eq 56) and its reference (eq 40, Sec. VI)."""
+    """Ground-winch tension PI controller (eq 56) and its reference (eq 40, Sec. VI).
+
+    Parameters
+    ----------
+    T_ref, K_P, K_I
+        The reference tension and the PI gains.
+        Each field's documentation and allowed range is its ``Key`` (``_meta``), printed
+        in the scenario TOML reference (``docs/scenario_reference.md``).
+    """
 
     _section = "tension_control"
 
@@ -282,7 +366,17 @@ _PAPER_TENSION_CONTROL = dict(T_ref=25.0, K_P=1.0, K_I=0.1)
 
 @dataclass(frozen=True)
 class Params:
-    """The full parameter set: helicopter (Table II), tether (Table III), tension control."""
+    """The full parameter set: helicopter (Table II), tether (Table III), tension control.
+
+    Parameters
+    ----------
+    helicopter : HelicopterParams
+        Mechanical parameters (Table II).
+    tether : TetherParams
+        Tether and winch (Table III).
+    tension_control : TensionControlParams
+        The winch's PI controller and reference tension (eq 56).
+    """
 
     helicopter: HelicopterParams
     tether: TetherParams
@@ -290,7 +384,12 @@ class Params:
 
     @classmethod
     def paper(cls) -> Self:
-        """The paper's values (Tables II-III, KP = 1, KI = 0.1, TrefC = 25 N)."""
+        """The paper's values (Tables II-III, KP = 1, KI = 0.1, TrefC = 25 N).
+
+        Returns
+        -------
+        Params
+        """
         return cls(
             helicopter=HelicopterParams(**_PAPER_HELICOPTER),
             tether=TetherParams(**_PAPER_TETHER),
@@ -299,7 +398,24 @@ class Params:
 
     def replace(self, overrides: dict[str, Any] | None = None, **sections: dict[str, Any]) -> Self:
         """A copy with overridden fields, e.g. ``replace(tether={"K_C": 60.0})`` or
-        ``replace({"tether.K_C": 60.0})``. Unknown sections or keys raise ParameterError."""
+        ``replace({"tether.K_C": 60.0})``.
+
+        Parameters
+        ----------
+        overrides : dict, optional
+            ``"section.field"`` -> value.
+        **sections : dict
+            Section name -> ``{field: value}``.
+
+        Returns
+        -------
+        Params
+
+        Raises
+        ------
+        ParameterError
+            An unknown section or key, or an invalid value.
+        """
         merged: dict[str, dict[str, Any]] = {}
         for dotted, value in (overrides or {}).items():
             section, _, key = dotted.partition(".")
@@ -336,15 +452,40 @@ class Params:
 
     @classmethod
     def from_toml(cls, path: str | Path, *, base: Params | None = None) -> Self:
-        """Load overrides of the paper's values from a TOML file with tables ``[helicopter]``,
-        ``[tether]``, ``[tension_control]``."""
+        """Load overrides of the paper's values from a TOML file.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            A TOML file with tables ``[helicopter]``, ``[tether]``, ``[tension_control]``.
+        base : Params, optional
+            The values to override (default ``Params.paper()``).
+
+        Returns
+        -------
+        Params
+        """
         return cls.from_mapping(read_toml(path), base=base, source=str(path))
 
     @classmethod
     def from_mapping(
         cls, data: dict[str, Any], *, base: Params | None = None, source: str | None = None
     ) -> Self:
-        """Overrides from a nested mapping (the parsed form of the TOML file)."""
+        """Overrides from a nested mapping (the parsed form of the TOML file).
+
+        Parameters
+        ----------
+        data : dict
+            Section name -> ``{field: value}``.
+        base : Params, optional
+            The values to override (default ``Params.paper()``).
+        source : str, optional
+            Where the data came from (a file name), put in front of error messages.
+
+        Returns
+        -------
+        Params
+        """
         base = base if base is not None else cls.paper()
         merged: dict[str, dict[str, Any]] = {}
         for section, values in data.items():
@@ -354,12 +495,23 @@ class Params:
         return base._with(merged, source=source)  # type: ignore[return-value]
 
     def to_dict(self) -> dict[str, dict[str, float]]:
-        """Plain nested dict (for recording a run's configuration)."""
+        """Plain nested dict (for recording a run's configuration).
+
+        Returns
+        -------
+        dict of str to dict of str to float
+        """
         return dataclasses.asdict(self)
 
     @staticmethod
     def field_docs() -> dict[str, str]:
-        """``section.field`` -> the field's documentation (units and source)."""
+        """The documentation of every parameter.
+
+        Returns
+        -------
+        dict of str to str
+            ``section.field`` -> the field's documentation (units and source).
+        """
         out = {}
         for section_cls, section in (
             (HelicopterParams, "helicopter"),

@@ -22,7 +22,7 @@ Position sources (``SensorConfig.position_source``)
     (``SensorConfig.check_configuration``).
 
 Here arm = dO-P,3 - dO-HO,3 (``HelicopterParams.tether_arm``, -0.2046 m for Table II), and
-c3, f3 are the tether direction and the fuselage axis in N (SPEC "Frames, points,
+c3, f3 are the tether direction and the fuselage axis in N (docs/paper.md, "Frames, points,
 coordinates").
 
 Noise channels
@@ -267,11 +267,34 @@ class SensorConfig:
         GPS position of HO along n1, n2, n3 [m] (used by ``position_source="gps"``).
     winch_encoder_std : float
         Drum encoder of the winch, natural length LN [m].
-    gyro_density, gyro_random_walk, gps_markov_sigma, gps_markov_tau, altimeter_markov_sigma,
-    altimeter_markov_tau, accel_density, accel_random_walk, accel_bias, gps_outage,
-    <group>_rate, <group>_latency
-        Sensors as they are flown; see the module docstring "Flown sensors". All 0 / empty
-        by default (the legacy white model).
+    gyro_density : float
+        Gyro white noise as a density instead of ``gyro_std`` [rad/s/sqrt(Hz)]
+        (``white_std``).
+    gyro_random_walk : float
+        Gyro bias random walk [rad/s/sqrt(s)].
+    gps_markov_sigma : tuple of 3 floats
+        Standard deviation of the GNSS's first-order Gauss-Markov error along n1, n2, n3 [m].
+    gps_markov_tau : float
+        Correlation time of that error [s]; > 0 when ``gps_markov_sigma`` is set.
+    altimeter_markov_sigma : float
+        Standard deviation of the altimeter's Gauss-Markov error [m].
+    altimeter_markov_tau : float
+        Correlation time of that error [s]; > 0 when ``altimeter_markov_sigma`` is set.
+    accel_density : float
+        Accelerometer white noise density [m/s^2/sqrt(Hz)] (read by the state estimator
+        only, ``accelerometer_errors``).
+    accel_random_walk : float
+        Accelerometer bias random walk [m/s^2/sqrt(s)].
+    accel_bias : tuple of 3 floats
+        Constant accelerometer bias along n1, n2, n3 [m/s^2].
+    gps_outage : sequence of 2 floats
+        ``[t_start, t_end]`` [s]: GNSS samples taken in it are lost (the last one before it
+        is held); empty: none.
+    <group>_rate, <group>_latency : float
+        Sample rate [Hz] and latency [s] of each sensor group of ``SENSOR_GROUPS`` (0: every
+        control sample, no delay); see the module docstring "Flown sensors".
+
+    All the fields from ``gyro_density`` on are 0 / empty by default: the legacy white model.
 
     Raises
     ------

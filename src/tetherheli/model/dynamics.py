@@ -90,8 +90,18 @@ class _Helicopter:
         return arr
 
     def outputs(self, x: object) -> np.ndarray:
-        """Outputs [q1, q2, q3, q6] [m, m, m, rad] (eqs 4, 43-45 with the eq-43 s5 fix), (4,)
-        or (n, 4)."""
+        """The controlled outputs y = (q1, q2, q3, q6) (eqs 4, 43-45, eq 43 with sin q5).
+
+        Parameters
+        ----------
+        x : array_like, shape (n_state,) or (n, n_state)
+            One state or a batch, in the order of ``STATE``.
+
+        Returns
+        -------
+        numpy.ndarray, shape (4,) or (n, 4)
+            Position of HO in N (m) and yaw angle (rad).
+        """
         x = self._check_state(x)
         rows = np.atleast_2d(x)
         y = np.empty((rows.shape[0], 4))
@@ -106,10 +116,15 @@ class _Helicopter:
 class TetheredHelicopter(_Helicopter):
     """The tethered helicopter (Sec. III): spherical coordinates, elastic tether, ground winch.
 
-    State ``STATE`` (13,): q4, q5, q6 body-123 Euler angles [rad]; q7, q8 tether angles at the
-    ground [rad]; q9 tether length [m]; u1..u3 velocity of HO in N [m/s]; u4..u6 angular
-    velocity of F in F [rad/s]; LN the tether's natural length [m].
-    Inputs ``INPUT`` (4,): fMR3 [N], tMR1 [N m], tMR2 [N m], fTR2 [N].
+    State ``STATE`` (13,): q4, q5, q6 body-123 Euler angles (rad); q7, q8 tether angles at
+    the ground (rad); q9 tether length (m); u1..u3 velocity of HO in N (m/s); u4..u6 angular
+    velocity of F in F (rad/s); LN the tether's natural length (m).
+    Inputs ``INPUT`` (4,): fMR3 (N), tMR1 (N m), tMR2 (N m), fTR2 (N).
+
+    Parameters
+    ----------
+    params : Params, optional
+        The parameter set (default ``Params.paper()``, Tables II and III).
     """
 
     STATE: ClassVar[tuple[str, ...]] = TETHERED_STATE
@@ -137,10 +152,19 @@ class TetheredHelicopter(_Helicopter):
 
         Parameters
         ----------
-        x : (13,) or (n, 13) state, see ``STATE``
-        u : (4,) or (n, 4) inputs [fMR3, tMR1, tMR2, fTR2] [N, N m, N m, N]
-        wind : (3,) or (n, 3) wind force on HO, N components [N]
-        reel_rate : dLN/dt = RC [m/s] (eq 37), scalar or (n,)
+        x : array_like, shape (13,) or (n, 13)
+            State, in the order of ``STATE``.
+        u : array_like, shape (4,) or (n, 4)
+            Inputs fMR3, tMR1, tMR2, fTR2 (N, N m, N m, N).
+        wind : array_like, shape (3,) or (n, 3), optional
+            Wind force on HO, N components (N); default zero.
+        reel_rate : float or array_like of shape (n,), optional
+            dLN/dt = RC (m/s, eq 37); default 0.
+
+        Returns
+        -------
+        numpy.ndarray, shape of ``x``
+            The time derivative of the state.
         """
         x = self._check_state(x)
         u = self._broadcast(x, "u", u, 4)
@@ -168,14 +192,38 @@ class TetheredHelicopter(_Helicopter):
         return out
 
     def tension(self, x: object) -> np.ndarray | float:
-        """Tether tension TC = KC max(q9 - LN, 0) [N] (eq 28); float or (n,)."""
+        """Tether tension TC = KC max(q9 - LN, 0) (eq 28).
+
+        Parameters
+        ----------
+        x : array_like, shape (13,) or (n, 13)
+            One state or a batch.
+
+        Returns
+        -------
+        float or numpy.ndarray of shape (n,)
+            The tension (N); zero where the tether is slack.
+        """
         x = self._check_state(x)
         stretch = np.atleast_2d(x)[:, 5] - np.atleast_2d(x)[:, 12]
         t = self.params.tether.K_C * np.maximum(stretch, 0.0)
         return float(t[0]) if x.ndim == 1 else t
 
     def tether_torque(self, x: object, tension: float | None = None) -> np.ndarray:
-        """Tether torque about HO on [f1, f2] [N m] (eqs 33-34; eq 55's C1, C2 with TC)."""
+        """Tether torque about HO on f1 and f2 (eqs 33-34; eq 55's C1, C2 with TC).
+
+        Parameters
+        ----------
+        x : array_like, shape (13,)
+            One state.
+        tension : float, optional
+            The tension TC (N) to use; default: the state's own (``tension``).
+
+        Returns
+        -------
+        numpy.ndarray, shape (2,)
+            The torque's f1 and f2 components (N m).
+        """
         x = self._check_state(x)
         if x.ndim != 1:
             raise ValueError(f"x has shape {x.shape}; allowed: (13,)")
@@ -185,8 +233,22 @@ class TetheredHelicopter(_Helicopter):
         return out
 
     def trim(self, tension: float, q9: float = 10.0, *, N_F_wind: object = None) -> TrimPoint:
-        """Hover trim with tension [N] and tether length q9 [m] (Tables IV, V); with
-        ``N_F_wind`` (3,) [N], in that steady wind force (``model.trim.hover_trim``)."""
+        """Hover trim at a tether tension and length (Tables IV, V; ``model.trim.hover_trim``).
+
+        Parameters
+        ----------
+        tension : float
+            Tether tension TC at hover (N); 25 N gives Table V, 0 N Table IV.
+        q9 : float, optional
+            Tether length (m); default 10 m, the paper's.
+        N_F_wind : array_like, shape (3,), optional
+            A steady wind force on HO, N components (N), to trim in; default none.
+
+        Returns
+        -------
+        TrimPoint
+            The trim state, input and feed-forward.
+        """
         return hover_trim(self.params, tension, q9, N_F_wind=N_F_wind)
 
 
@@ -195,6 +257,11 @@ class FreeHelicopter(_Helicopter):
 
     State ``STATE`` (12,): q1..q3 position of HO in N [m]; q4..q6 Euler angles [rad];
     u1..u6 as for ``TetheredHelicopter``. Inputs as for ``TetheredHelicopter``.
+
+    Parameters
+    ----------
+    params : Params, optional
+        The parameter set (default ``Params.paper()``, Table II).
     """
 
     STATE: ClassVar[tuple[str, ...]] = FREE_STATE
@@ -202,8 +269,22 @@ class FreeHelicopter(_Helicopter):
     _outputs_kernel = staticmethod(kernels.free_outputs)
 
     def derivative(self, x: object, u: object, wind: object = (0.0, 0.0, 0.0)) -> np.ndarray:
-        """dx/dt (eqs 9-18) for one state (12,) or a batch (n, 12); see
-        ``TetheredHelicopter.derivative`` for the arguments."""
+        """dx/dt (eqs 9-18) for one state (12,) or a batch (n, 12).
+
+        Parameters
+        ----------
+        x : array_like, shape (12,) or (n, 12)
+            State, in the order of ``STATE``.
+        u : array_like, shape (4,) or (n, 4)
+            Inputs fMR3, tMR1, tMR2, fTR2 (N, N m, N m, N).
+        wind : array_like, shape (3,) or (n, 3), optional
+            Wind force on HO, N components (N); default zero.
+
+        Returns
+        -------
+        numpy.ndarray, shape of ``x``
+            The time derivative of the state.
+        """
         x = self._check_state(x)
         u = self._broadcast(x, "u", u, 4)
         wind = self._broadcast(x, "wind", wind, 3)
@@ -223,9 +304,16 @@ class FreeHelicopter(_Helicopter):
     def trim(self, position: Sequence[float] | None = None) -> TrimPoint:
         """Hover trim of the free helicopter (Table IV).
 
-        ``position`` is HO's [q1, q2, q3] [m]; None places it where Table IV does: above the
-        ground point with a 10 m vertical tether (q1 = 0, q2 = -0.0189, q3 = 10.2037 m).
-        The returned ``x`` is the free state (12,).
+        Parameters
+        ----------
+        position : sequence of 3 floats, optional
+            HO's position q1, q2, q3 (m). None places it where Table IV does: above the
+            ground point with a 10 m vertical tether (q1 = 0, q2 = -0.0189, q3 = 10.2037 m).
+
+        Returns
+        -------
+        TrimPoint
+            Its ``x`` is the free state (12,).
         """
         tethered = hover_trim(self.params, 0.0, 10.0)
         y = tethered.y.copy()

@@ -36,8 +36,22 @@ EXPORT_INPUTS: tuple[str, ...] = (*INPUT, REEL_RATE, *WIND)
 class LinearModel:
     """x' = A dx + B du + E dwind, dy = C dx, about ``trim`` (deviations from trim).
 
-    ``state_names`` label the rows of A; ``B_reel`` (n,) is the reel-rate input column of the
-    tethered model (zeros for the free one).
+    Parameters
+    ----------
+    A : numpy.ndarray, shape (n, n)
+        State matrix (n = 13 tethered, 12 free).
+    B : numpy.ndarray, shape (n, 4)
+        Columns of the rotor inputs fMR3, tMR1, tMR2, fTR2.
+    C : numpy.ndarray, shape (4, n)
+        Output matrix of q1, q2, q3, q6 (eqs 43-45).
+    E_wind : numpy.ndarray, shape (n, 3)
+        Columns of the wind force on HO, N components.
+    B_reel : numpy.ndarray, shape (n,)
+        Column of the reel rate RC (tethered; zeros for the free model).
+    state_names : tuple of str
+        The names of the states, labelling the rows of A.
+    trim : TrimPoint
+        The hover the model is linearized about.
     """
 
     A: np.ndarray
@@ -49,11 +63,32 @@ class LinearModel:
     trim: TrimPoint
 
     def discretize(self, dt: float) -> tuple[np.ndarray, np.ndarray]:
-        """(G, H) of eq 46 for sample time dt [s] (zero-order hold)."""
+        """The zero-order-hold discretization of eq 46.
+
+        Parameters
+        ----------
+        dt : float
+            Sample time (s), > 0.
+
+        Returns
+        -------
+        G, H : numpy.ndarray
+            The discrete state and input matrices, shapes (n, n) and (n, 4).
+        """
         return discretize_zoh(self.A, self.B, dt)
 
     def select(self, names: tuple[str, ...]) -> LinearModel:
-        """The sub-model on the named states (rows and columns of A, rows of B, columns of C)."""
+        """The sub-model on the named states (rows and columns of A, rows of B, columns of C).
+
+        Parameters
+        ----------
+        names : tuple of str
+            States to keep, among ``state_names``, in the order wanted.
+
+        Returns
+        -------
+        LinearModel
+        """
         idx = [self.state_names.index(n) for n in names]
         return LinearModel(
             A=self.A[np.ix_(idx, idx)],
@@ -71,8 +106,18 @@ class LinearModel:
         return "LN" in self.state_names
 
     def input_matrix(self, inputs: tuple[str, ...] = INPUT) -> np.ndarray:
-        """The continuous input columns (n, len(inputs)) of the named inputs, taken from
-        ``EXPORT_INPUTS``: rotor inputs from B, RC from ``B_reel``, Fw1..Fw3 from ``E_wind``."""
+        """The continuous input columns of the named inputs.
+
+        Parameters
+        ----------
+        inputs : tuple of str, optional
+            Names among ``EXPORT_INPUTS``: rotor inputs (from B, the default), ``"RC"`` (from
+            ``B_reel``), ``"Fw1"``, ``"Fw2"``, ``"Fw3"`` (from ``E_wind``).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n, len(inputs))
+        """
         inputs = tuple(inputs)
         if not inputs:
             raise ParameterError("inputs", inputs, f"one or more of {EXPORT_INPUTS}")
@@ -97,9 +142,20 @@ class LinearModel:
     def uncontrollable_modes(
         self, inputs: tuple[str, ...] = INPUT
     ) -> tuple[tuple[complex, str], ...]:
-        """The modes that make (A, B[inputs]) not stabilisable (PBH test, Hautus 1969): each
-        eigenvalue s of A with Re s >= 0 and rank [A - sI, B] < n, with the state that
-        dominates its uncontrollable left eigenvector. Empty when the pair is stabilisable."""
+        """The modes that make (A, B[inputs]) not stabilisable (PBH test, Hautus 1969).
+
+        Parameters
+        ----------
+        inputs : tuple of str, optional
+            The inputs, as for ``input_matrix`` (default the rotor inputs).
+
+        Returns
+        -------
+        tuple of (complex, str)
+            Each eigenvalue s of A with Re s >= 0 and rank [A - sI, B] < n, with the state
+            that dominates its uncontrollable left eigenvector. Empty when the pair is
+            stabilisable.
+        """
         A = self.A
         B = self.input_matrix(inputs)
         n = A.shape[0]
@@ -138,6 +194,21 @@ class LinearModel:
         the full 13-state system). Include ``"RC"`` (or ``select`` the first 12 states, as
         the paper's LQI design does) to get a stabilisable pair. ``require_stabilisable``
         raises ``ParameterError`` naming the offending modes (see ``uncontrollable_modes``).
+
+        Parameters
+        ----------
+        dt : float, optional
+            Sample time (s) for a discrete system; None (default): continuous.
+        inputs : tuple of str, optional
+            The inputs, as for ``input_matrix`` (default the rotor inputs).
+        name : str, optional
+            The system's name in python-control.
+        require_stabilisable : bool, optional
+            Raise instead of returning a system that is not stabilisable.
+
+        Returns
+        -------
+        control.StateSpace
         """
         import control
 
@@ -176,6 +247,17 @@ def linearize(model: TetheredHelicopter | FreeHelicopter, trim: TrimPoint) -> Li
 
     Inputs are the total rotor inputs (u0 - C_f-fwd at trim); the tethered model's state
     includes LN, with the reel rate as a separate input column ``B_reel``.
+
+    Parameters
+    ----------
+    model : TetheredHelicopter or FreeHelicopter
+        The model.
+    trim : TrimPoint
+        The hover to linearize about (``model.trim(...)``).
+
+    Returns
+    -------
+    LinearModel
     """
     p = model.constants
     x0 = np.asarray(trim.x, dtype=float)

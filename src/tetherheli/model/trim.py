@@ -1,7 +1,7 @@
 """Hover trim (paper Tables IV and V).
 
-At hover q5 = q6 = q7 = q8 = 0 (tether vertical, SPEC.md), all speeds are zero and the winch's
-natural length is LN = q9 - TC / KC (eq 28). The unknowns [q4, q5, fMR3, tMR1, tMR2, fTR2]
+At hover q5 = q6 = q7 = q8 = 0 (tether vertical, docs/paper.md), all speeds are zero and the
+winch's natural length is LN = q9 - TC / KC (eq 28). The unknowns [q4, q5, fMR3, tMR1, tMR2, fTR2]
 solve u' = 0 (eqs 30-35) with the inputs of eq 54 at trim: the hover input u0|T plus minus the
 feed-forward C_f-fwd (eq 55) that cancels the tether torque. Table V's inputs therefore exclude
 the tether moment; the torque the rotor must actually produce about f1 is u0|T's tMR1 - C1.
@@ -32,14 +32,19 @@ __all__ = ["TrimPoint", "hover_trim"]
 class TrimPoint:
     """A hover equilibrium of the tethered model.
 
-    Attributes
+    Parameters
     ----------
-    x : (13,) state [q4..q9, u1..u6, LN] [rad, m, m/s, rad/s, m]
-    u : (4,) hover input u0 = [fMR3, tMR1, tMR2, fTR2] [N, N m, N m, N], excluding the tether
-        torque (Tables IV, V)
-    y : (4,) outputs [q1, q2, q3, q6] [m, m, m, rad] (eqs 43-45)
-    tension : TC at trim [N]
-    feedforward : (4,) C_f-fwd = [0, C1, C2, 0] at trim [N m] (eq 55)
+    x : numpy.ndarray, shape (13,)
+        State q4..q9, u1..u6, LN (rad, m, m/s, rad/s, m).
+    u : numpy.ndarray, shape (4,)
+        Hover input u0 = (fMR3, tMR1, tMR2, fTR2) (N, N m, N m, N), excluding the tether
+        torque (Tables IV, V).
+    y : numpy.ndarray, shape (4,)
+        Outputs q1, q2, q3, q6 (m, m, m, rad; eqs 43-45).
+    tension : float
+        TC at trim (N).
+    feedforward : numpy.ndarray, shape (4,)
+        C_f-fwd = (0, C1, C2, 0) at trim (N m, eq 55).
     """
 
     x: np.ndarray
@@ -62,16 +67,35 @@ class TrimPoint:
 def hover_trim(
     params: Params, tension: float, q9: float = 10.0, *, N_F_wind: object = None
 ) -> TrimPoint:
-    """Hover trim with tether tension ``tension`` [N] and tether length ``q9`` [m].
+    """Hover trim with a given tether tension and length (Tables IV, V).
 
-    With ``N_F_wind`` (3,) [N], a constant wind force on HO in N, the trim in that wind: the
-    outputs [q1, q2, q3, q6] equal the windless trim's (with the same ``tension``; ``q9`` is
-    then the windless length, and the returned ``x`` holds the leaning tether's q7, q8, q9 and
+    With ``N_F_wind``, a constant wind force on HO, the trim in that wind: the outputs
+    (q1, q2, q3, q6) equal the windless trim's (with the same ``tension``; ``q9`` is then the
+    windless length, and the returned ``x`` holds the leaning tether's q7, q8, q9 and
     LN = q9 - tension / KC). None or a zero force gives the windless trim itself.
 
-    Raises ParameterError for a q9 outside ``params.TETHER_LENGTH_RANGE`` and InfeasibleError
-    for a tension the tether cannot give at that length (``TetherParams.check_tension``) or
-    a hover with no trim.
+    Parameters
+    ----------
+    params : Params
+        The parameter set.
+    tension : float
+        Tether tension TC at hover (N), >= 0; 0 gives Table IV's hover.
+    q9 : float, optional
+        Tether length (m); default 10 m.
+    N_F_wind : array_like, shape (3,), optional
+        Steady wind force on HO, N components (N).
+
+    Returns
+    -------
+    TrimPoint
+
+    Raises
+    ------
+    ParameterError
+        A q9 outside ``params.TETHER_LENGTH_RANGE``.
+    InfeasibleError
+        A tension the tether cannot give at that length (``TetherParams.check_tension``) or
+        a hover with no trim.
     """
     tension = check_number("tension", tension, low=0.0, unit="[N]")
     q9 = check_tether_length(q9, "q9")

@@ -86,15 +86,21 @@ def simulate(
 
     Parameters
     ----------
-    scenario : the run (see ``load_scenario``)
-    method : "rk4" (fixed step, compiled) or "adaptive" (DOP853 reference)
-    controller : a custom ``Controller``; None uses the paper's (LQI + feed-forward + PI)
-    rtol, atol : tolerances of the adaptive method
+    scenario : Scenario
+        The run (see ``load_scenario``).
+    method : {"rk4", "adaptive"}, optional
+        ``"rk4"`` (fixed step, compiled; default) or ``"adaptive"`` (DOP853 reference).
+    controller : Controller, optional
+        A custom ``tetherheli.control.base.Controller``; None uses the paper's (LQI,
+        feed-forward and PI winch).
+    rtol, atol : float, optional
+        Tolerances of the adaptive method.
 
     Returns
     -------
-    SimulationResult. A run that diverges, becomes non-finite, hits the ground or exceeds the
-    maximum tension stops early with ``status`` != 0 and ``message`` saying why.
+    SimulationResult
+        A run that diverges, becomes non-finite, hits the ground or exceeds the maximum
+        tension stops early with ``status`` != 0 and ``message`` saying why.
     """
     if not isinstance(scenario, Scenario):
         raise TypeError(f"scenario must be a tetherheli Scenario, not {type(scenario).__name__}")

@@ -72,23 +72,43 @@ _RESULT_HINT = "<stem>.csv + <stem>.json result pairs written by SimulationResul
 class SimulationResult:
     """A sampled closed-loop run (one row per control sample t_k = k dt).
 
-    Attributes
+    ``simulate`` builds it; plotting and export only read it.
+
+    Parameters
     ----------
-    time : (n,) [s]
-    states : (n, 13) tethered-coordinate state [q4..q9, u1..u6, LN] (see ``STATE_NAMES``);
-        for the free configuration q7..q9 locate P as if a tether were there
-    outputs : (n, 4) [q1, q2, q3, q6] [m, m, m, rad] (eqs 43-45)
-    inputs : (n, 4) applied [fMR3, tMR1, tMR2, fTR2], including the feed-forward (eq 54)
-    feedforward : (n, 4) C_f-fwd of eq 55 (zeros without tether or feed-forward)
-    tension : (n,) tether tension TC [N]
-    reel_rate : (n,) winch rate RC held over [t_k, t_k+1) [m/s] (eq 37)
-    wind : (n, 3) wind force on HO in N [N]
-    trim_state, trim_input, trim_output : the run's trim (its references)
-    status : 0 on success, else a failure code; ``message`` says which
-    configuration : the scenario as plain data; ``version`` the package version
-    release_time, release_tension : the safety device released the tether at this control
-        sample [s], the tension [N] having exceeded the breaking tension (None: not released);
-        the run then continued free, and ``message`` says so
+    time : numpy.ndarray, shape (n,)
+        Sample times (s).
+    states : numpy.ndarray, shape (n, 13)
+        Tethered-coordinate state q4..q9, u1..u6, LN (see ``STATE_NAMES``); for the free
+        configuration q7..q9 locate P as if a tether were there.
+    outputs : numpy.ndarray, shape (n, 4)
+        q1, q2, q3, q6 (m, m, m, rad; eqs 43-45).
+    inputs : numpy.ndarray, shape (n, 4)
+        Applied fMR3, tMR1, tMR2, fTR2, including the feed-forward (eq 54).
+    feedforward : numpy.ndarray, shape (n, 4)
+        C_f-fwd of eq 55 (zeros without tether or feed-forward).
+    tension : numpy.ndarray, shape (n,)
+        Tether tension TC (N).
+    reel_rate : numpy.ndarray, shape (n,)
+        Winch rate RC held over [t_k, t_k+1) (m/s, eq 37).
+    wind : numpy.ndarray, shape (n, 3)
+        Wind force on HO, N components (N).
+    trim_state, trim_input, trim_output : numpy.ndarray
+        The run's trim (its references), shapes (13,), (4,), (4,).
+    status : int
+        0 on success, else a failure code; ``message`` says which.
+    configuration : dict
+        The scenario as plain data (``Scenario.to_dict``).
+    version : str
+        The package version that ran it.
+    method : str, optional
+        The integrator, ``"rk4"`` (default) or ``"adaptive"``.
+    extra : dict of str to numpy.ndarray, optional
+        Further sampled columns (e.g. estimates ``<name>_est``).
+    release_time, release_tension : float or None, optional
+        The safety device released the tether at this control sample (s), the tension (N)
+        having exceeded the breaking tension (None: not released); the run then continued
+        free, and ``message`` says so.
     """
 
     time: np.ndarray
@@ -152,8 +172,13 @@ class SimulationResult:
         return self.time.size * float(dt)
 
     def release_info(self) -> dict[str, float] | None:
-        """The tether release as plain data, ``{"time", "tension", "breaking_tension"}``
-        [s, N, N], or None."""
+        """The tether release as plain data.
+
+        Returns
+        -------
+        dict or None
+            ``{"time", "tension", "breaking_tension"}`` (s, N, N), or None without release.
+        """
         if self.release_time is None or self.release_tension is None:
             return None
         return {
@@ -168,7 +193,13 @@ class SimulationResult:
         return float(self.configuration.get("actuators", {}).get("breaking_tension", np.inf))
 
     def release_note(self) -> str | None:
-        """One line on the tether release (``status.release_sentence``), or None."""
+        """One line on the tether release (``status.release_sentence``).
+
+        Returns
+        -------
+        str or None
+            The sentence, or None without release.
+        """
         info = self.release_info()
         if info is None:
             return None
@@ -184,14 +215,26 @@ class SimulationResult:
         return str(self.configuration.get("name", "run"))
 
     def deviations(self) -> dict[str, np.ndarray]:
-        """Deviations from the run's own trim: q1..q3 [m], q4, q5 [rad]."""
+        """Deviations from the run's own trim.
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            ``q1``, ``q2``, ``q3`` (m), ``q4``, ``q5`` (rad), each of shape (n,).
+        """
         d = {n: self.outputs[:, i] - self.trim_output[i] for i, n in enumerate(POSITION)}
         d["q4"] = self.states[:, 0] - self.trim_state[0]
         d["q5"] = self.states[:, 1] - self.trim_state[1]
         return d
 
     def columns(self) -> dict[str, np.ndarray]:
-        """All sampled signals as named columns (name -> (n,))."""
+        """All sampled signals as named columns, in the order of the run's CSV.
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            Column name (``t`` first) -> its samples, shape (n,).
+        """
         cols: dict[str, np.ndarray] = {"t": self.time}
         for i, n in enumerate(STATE_NAMES):
             cols[n] = self.states[:, i]
@@ -210,8 +253,14 @@ class SimulationResult:
         return cols
 
     def column_units(self) -> dict[str, str]:
-        """The unit of each of ``columns()`` (``RESULT_UNITS``; an estimate ``<name>_est``
-        has its signal's unit; "" for an extra column of unknown unit)."""
+        """The unit of each of ``columns()``.
+
+        Returns
+        -------
+        dict of str to str
+            Column name -> unit (``RESULT_UNITS``; an estimate ``<name>_est`` has its
+            signal's unit; "" for an extra column of unknown unit).
+        """
         units = {}
         for name in self.columns():
             base = name.removesuffix(_ESTIMATE_SUFFIX)
@@ -219,10 +268,15 @@ class SimulationResult:
         return units
 
     def to_dataframe(self) -> Any:
-        """The sampled signals as a ``pandas.DataFrame``: index ``t`` [s], one column per
-        ``columns()`` entry after t (the run CSV's columns, in order), units in
-        ``df.attrs["units"]``, and ``attrs`` ``scenario`` (name), ``tetherheli_version``,
-        ``status``, ``method``. Needs pandas (``pip install tetherheli[data]``)."""
+        """The sampled signals as a pandas DataFrame (``pip install tetherheli[data]``).
+
+        Returns
+        -------
+        pandas.DataFrame
+            Index ``t`` (s), one column per ``columns()`` entry after t (the run CSV's
+            columns, in order), units in ``df.attrs["units"]``, and ``attrs`` ``scenario``
+            (name), ``tetherheli_version``, ``status``, ``method``.
+        """
         pd = _optional("pandas")
         cols = self.columns()
         index = pd.Index(np.array(cols.pop("t")), name="t")
@@ -231,10 +285,15 @@ class SimulationResult:
         return df
 
     def to_xarray(self) -> Any:
-        """The sampled signals as an ``xarray.Dataset``: dimension ``t`` [s], one variable per
-        column of ``columns()`` after t, each with its ``units`` attribute, and the same
-        dataset attributes as ``to_dataframe`` (units aside). Needs xarray
-        (``pip install tetherheli[data]``)."""
+        """The sampled signals as an xarray Dataset (``pip install tetherheli[data]``).
+
+        Returns
+        -------
+        xarray.Dataset
+            Dimension ``t`` (s), one variable per column of ``columns()`` after t, each with
+            its ``units`` attribute, and the dataset attributes of ``to_dataframe`` (units
+            aside).
+        """
         xr = _optional("xarray")
         cols = self.columns()
         units = self.column_units()
@@ -258,7 +317,18 @@ class SimulationResult:
 
     def to_csv(self, path: str | Path) -> Path:
         """Write the time series as CSV (SI units; header row), atomically, streamed in blocks
-        of rows (a long run is not held a second time as text)."""
+        of rows (a long run is not held a second time as text).
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The file to write.
+
+        Returns
+        -------
+        pathlib.Path
+            The file written.
+        """
         cols = self.columns()
         columns = list(cols.values())
         with atomic_open(Path(path)) as fh:
@@ -270,7 +340,13 @@ class SimulationResult:
         return Path(path)
 
     def metadata(self) -> dict[str, Any]:
-        """Configuration, version, status, trim: what is recorded next to the results."""
+        """What is recorded next to the results.
+
+        Returns
+        -------
+        dict
+            Version, status, message, tether release, method, configuration, trim and units.
+        """
         return {
             "tetherheli_version": self.version,
             "status": self.status,
@@ -295,8 +371,21 @@ class SimulationResult:
         }
 
     def save(self, directory: str | Path, stem: str | None = None) -> dict[str, Path]:
-        """Write ``<stem>.csv`` and ``<stem>.json`` (configuration + version) into directory;
-        ``load_result(directory, stem)`` reads them back."""
+        """Write ``<stem>.csv`` and ``<stem>.json`` (configuration and version); ``load_result
+        (directory, stem)`` reads them back.
+
+        Parameters
+        ----------
+        directory : str or pathlib.Path
+            An existing directory.
+        stem : str, optional
+            The files' stem (default: the scenario's name).
+
+        Returns
+        -------
+        dict of str to pathlib.Path
+            ``{"csv": ..., "json": ...}``, the files written.
+        """
         directory = Path(directory)
         stem = stem or self.name
         csv_path = self.to_csv(directory / f"{stem}.csv")
@@ -359,6 +448,16 @@ def list_results(directory: str | Path) -> list[str]:
     ``configuration`` table (as ``SimulationResult.save`` writes), in the directory or one
     folder below it (``<name>/<stem>``, as ``tetherheli simulate`` writes several runs);
     other files are ignored.
+
+    Parameters
+    ----------
+    directory : str or pathlib.Path
+        The result directory.
+
+    Returns
+    -------
+    list of str
+        The stems (``<name>/<stem>`` for a run one folder below).
 
     Raises
     ------
@@ -449,8 +548,10 @@ def load_result(directory: str | Path, stem: str | None = None) -> SimulationRes
 
     Parameters
     ----------
-    directory : path of the result directory
-    stem : which run (``list_results``); None when the directory holds exactly one
+    directory : str or pathlib.Path
+        The result directory.
+    stem : str, optional
+        Which run (``list_results``); None when the directory holds exactly one.
 
     Returns
     -------

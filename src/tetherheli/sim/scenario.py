@@ -39,10 +39,10 @@ from typing import Any, Literal
 import numpy as np
 
 from .._io import dumps_toml, read_toml
-from .._validation import check_bool, check_integer, check_number, check_vector
+from .._validation import Key
 from ..control import lqi
 from ..errors import ParameterError
-from ..params import Params, check_tether_length
+from ..params import TETHER_LENGTH_RANGE, Params, check_tether_length
 from ..sensors import SensorConfig, sensor_config_from_dict
 from ..wind import (
     Disturbance,
@@ -69,48 +69,141 @@ PAPER_QY: tuple[float, ...] = tuple(np.diag(lqi.PAPER_QY).tolist())
 PAPER_RU: tuple[float, ...] = tuple(np.diag(lqi.PAPER_RU).tolist())
 
 
+def _key(default: Any, key: Key) -> Any:
+    """A dataclass field with its ``Key`` (documentation, unit, allowed values): the one
+    description ``_validate`` checks against and ``tetherheli.sim.reference`` prints."""
+    return field(default=default, metadata={"key": key})
+
+
+def field_key(cls: type, name: str) -> Key:
+    """The ``Key`` of field ``name`` of a scenario dataclass (``Scenario``,
+    ``ControlSettings``, ``Limits``, ``ActuatorSettings``).
+
+    Parameters
+    ----------
+    cls : type
+        The dataclass.
+    name : str
+        The field's name.
+
+    Returns
+    -------
+    Key
+    """
+    return cls.__dataclass_fields__[name].metadata["key"]
+
+
 @dataclass(frozen=True)
 class ControlSettings:
-    """Controller and integrator settings (Sec. V)."""
+    """Controller and integrator settings (Sec. V).
 
-    dt: float = 0.01
-    substeps: int = 2
-    feedforward: bool = True
-    Qy: tuple[float, ...] = PAPER_QY
-    Ru: tuple[float, ...] = PAPER_RU
+    Parameters
+    ----------
+    dt, substeps, feedforward, Qy, Ru
+        The keys of a scenario's ``[control]`` table.
+        Each field's ``Key`` gives its meaning, unit, default and allowed range (printed
+        in the scenario TOML reference, ``docs/scenario_reference.md``).
+    """
+
+    dt: float = _key(
+        0.01,
+        Key(
+            "controller sample time (not given by the paper)", "s", low=0.0, low_open=True,
+            note="at most duration, which must be a whole number of samples",
+        ),
+    )  # fmt: skip
+    substeps: int = _key(2, Key("RK4 steps per control sample", kind="integer", low=1, high=1000))
+    feedforward: bool = _key(
+        True, Key("tether-torque feed-forward C_f-fwd (eqs 54-55)", kind="bool")
+    )
+    Qy: tuple[float, ...] = _key(
+        PAPER_QY,
+        Key("diagonal of the LQI output weight Qy (eq 47; paper Sec. V-A)", kind="vector",
+            length=8, low=0.0),
+    )  # fmt: skip
+    Ru: tuple[float, ...] = _key(
+        PAPER_RU,
+        Key("diagonal of the LQI input weight Ru (eq 47; paper Sec. V-A)", kind="vector",
+            length=4, low=0.0, low_open=True),
+    )  # fmt: skip
 
 
 @dataclass(frozen=True)
 class Limits:
-    """Bounds that stop a run with a failure status (never reported as success)."""
+    """Bounds that stop a run with a failure status (never reported as success).
 
-    max_tension: float = 500.0
-    max_deviation: float = 100.0
-    max_angle_deg: float = 80.0
+    Parameters
+    ----------
+    max_tension, max_deviation, max_angle_deg
+        The keys of a scenario's ``[limits]`` table.
+        Each field's ``Key`` gives its meaning, unit, default and allowed range (printed
+        in the scenario TOML reference, ``docs/scenario_reference.md``).
+    """
+
+    max_tension: float = _key(
+        500.0, Key("tether tension above which the run fails", "N", low=0.0, low_open=True)
+    )
+    max_deviation: float = _key(
+        100.0,
+        Key("distance of HO from its trim position above which the run fails", "m", low=0.0,
+            low_open=True),
+    )  # fmt: skip
+    max_angle_deg: float = _key(
+        80.0,
+        Key("roll or pitch angle above which the run fails", "deg", low=0.0, low_open=True,
+            high=89.0),
+    )  # fmt: skip
 
 
 _INF = math.inf
+_U_UNITS = "N, N m, N m, N"
 
 
 @dataclass(frozen=True)
 class ActuatorSettings:
     """Actuator and tether-device realism (all off by default; Sec. IV-C, eq 40).
 
-    u_min, u_max : input limits [fMR3 N, tMR1 N m, tMR2 N m, fTR2 N] (the cyclic limits are
-        eq 40's tmax_MR1,2); time_constant : first-order actuator lag [s] (0: none);
-    reel_rate_limit : |dLN/dt| bound of the winch [m/s] (anti-windup in the PI, eq 56);
-    reel_acceleration_limit : bound on the change of the reel rate [m/s^2], applied per
-        sample to the PI's command; the paper's PI then integrates only while the limit does
-        not bind (a custom controller gets the limited rate without being told);
-    breaking_tension : the safety device releases the tether above it [N] (Sec. IV-C).
+    The reel acceleration limit is applied per sample to the PI's command; the paper's PI
+    then integrates only while the limit does not bind (a custom controller gets the limited
+    rate without being told). Above the breaking tension the safety device releases the
+    tether and the run continues free.
+
+    Parameters
+    ----------
+    u_min, u_max, time_constant, reel_rate_limit, reel_acceleration_limit, breaking_tension
+        The keys of a scenario's ``[actuators]`` table.
+        Each field's ``Key`` gives its meaning, unit, default and allowed range (printed
+        in the scenario TOML reference, ``docs/scenario_reference.md``).
     """
 
-    u_min: tuple[float, float, float, float] = (-_INF, -_INF, -_INF, -_INF)
-    u_max: tuple[float, float, float, float] = (_INF, _INF, _INF, _INF)
-    time_constant: float = 0.0
-    reel_rate_limit: float = _INF
-    reel_acceleration_limit: float = _INF
-    breaking_tension: float = _INF
+    u_min: tuple[float, float, float, float] = _key(
+        (-_INF, -_INF, -_INF, -_INF),
+        Key("lower input limits of fMR,3, tMR,1, tMR,2, fTR,2", _U_UNITS, kind="vector",
+            length=4, finite=False, note="each below u_max"),
+    )  # fmt: skip
+    u_max: tuple[float, float, float, float] = _key(
+        (_INF, _INF, _INF, _INF),
+        Key("upper input limits of fMR,3, tMR,1, tMR,2, fTR,2 (the cyclic ones are eq 40's "
+            "tmax_MR1,2)", _U_UNITS, kind="vector", length=4, finite=False),
+    )  # fmt: skip
+    time_constant: float = _key(
+        0.0, Key("first-order actuator lag (0: none)", "s", low=0.0, high=10.0)
+    )
+    reel_rate_limit: float = _key(
+        _INF,
+        Key("bound on the winch's reel rate |dLN/dt| (eq 37; anti-windup in eq 56's PI)",
+            "m/s", low=0.0, low_open=True, finite=False),
+    )  # fmt: skip
+    reel_acceleration_limit: float = _key(
+        _INF,
+        Key("bound on the change of the reel rate, per sample", "m/s^2", low=0.0,
+            low_open=True, finite=False),
+    )  # fmt: skip
+    breaking_tension: float = _key(
+        _INF,
+        Key("tension above which the safety device releases the tether (Sec. IV-C)", "N",
+            low=0.0, low_open=True, finite=False),
+    )  # fmt: skip
 
 
 def _wind_record(wind: Disturbance) -> dict[str, Any]:
@@ -129,23 +222,71 @@ def _wind_record(wind: Disturbance) -> dict[str, Any]:
 
 @dataclass(frozen=True)
 class Scenario:
-    """One closed-loop run: configuration, duration, controller settings, wind, parameters."""
+    """One closed-loop run: configuration, duration, controller settings, wind, parameters.
 
-    name: str = "scenario"
-    configuration: Literal["free", "tethered"] = "tethered"
-    duration: float = 60.0
-    q9: float = 10.0
+    Every field is validated on construction (``ParameterError`` naming the field, the value
+    and what is allowed); ``load_scenario`` reads the same fields from TOML.
+
+    Parameters
+    ----------
+    name, configuration, duration, q9, description, seed, metrics_start
+        The scenario's top-level keys.
+        Each field's ``Key`` gives its meaning, unit, default and allowed range (printed
+        in the scenario TOML reference, ``docs/scenario_reference.md``).
+    control : ControlSettings, optional
+        Controller and integrator settings (Sec. V).
+    limits : Limits, optional
+        Bounds that stop a failing run.
+    wind : Disturbance, optional
+        The wind force on HO (``tetherheli.wind``); default none.
+    params : Params, optional
+        The parameter set (default ``Params.paper()``).
+    actuators : ActuatorSettings, optional
+        Actuator and winch realism (default: ideal).
+    sensors : SensorConfig, optional
+        What the controller measures (default: the true state).
+    """
+
+    name: str = _key(
+        "scenario",
+        Key(
+            "the run's name, a file stem",
+            kind="text",
+            note="1-100 letters, digits, '_', '.' or '-', not '.' or '..'",
+        ),
+    )
+    configuration: Literal["free", "tethered"] = _key(
+        "tethered",
+        Key(
+            "the tethered helicopter or the free one (the tether removed, Sec. VI)",
+            kind="text",
+            choices=("free", "tethered"),
+        ),
+    )
+    duration: float = _key(60.0, Key("length of the run", "s", low=0.0, low_open=True))
+    q9: float = _key(
+        10.0,
+        Key("tether length at trim (tethered; free: the trim altitude's tether length)", "m",
+            low=TETHER_LENGTH_RANGE[0], high=TETHER_LENGTH_RANGE[1]),
+    )  # fmt: skip
     control: ControlSettings = field(default_factory=ControlSettings)
     limits: Limits = field(default_factory=Limits)
     wind: Disturbance = field(default_factory=NoWind)
     params: Params = field(default_factory=Params.paper)
-    description: str = ""
+    description: str = _key("", Key("free text recorded with the results", kind="text"))
     actuators: ActuatorSettings = field(default_factory=ActuatorSettings)
     sensors: SensorConfig = field(default_factory=SensorConfig)
-    seed: int = 0
+    seed: int = _key(
+        0, Key("seed of the run's random numbers (sensor noise, turbulence)", kind="integer",
+               low=0),
+    )  # fmt: skip
     #: [s] the peak, RMS and tension metrics cover t >= metrics_start only (a settling time
     #: excluded; default 0: the whole run); 0 <= metrics_start < duration
-    metrics_start: float = 0.0
+    metrics_start: float = _key(
+        0.0,
+        Key("the peak, RMS and tension metrics cover t >= metrics_start only (a settling "
+            "time excluded; 0: the whole run)", "s", low=0.0, note="below duration"),
+    )  # fmt: skip
 
     def __post_init__(self) -> None:
         _validate(self, source=None)
@@ -161,11 +302,27 @@ class Scenario:
         return metrics_first_sample(self.metrics_start, self.control.dt)
 
     def replace(self, **changes: Any) -> Scenario:
-        """A copy with fields replaced (validated)."""
+        """A copy with fields replaced (validated).
+
+        Parameters
+        ----------
+        **changes
+            Field name -> new value.
+
+        Returns
+        -------
+        Scenario
+        """
         return dataclasses.replace(self, **changes)
 
     def to_dict(self) -> dict[str, Any]:
-        """The full configuration as plain data (recorded next to every result)."""
+        """The full configuration as plain data (recorded next to every result).
+
+        Returns
+        -------
+        dict
+            Every field; the wind and sensors as their tables, the parameters by section.
+        """
         return {
             "name": self.name,
             "description": self.description,
@@ -184,8 +341,18 @@ class Scenario:
 
     def to_toml(self) -> str:
         """The scenario as a TOML document that ``load_scenario`` reads back to an equal
-        Scenario (every key written, defaults included; ``scenario_toml``). A custom
-        disturbance without ``to_dict`` cannot be written: ``ParameterError`` naming it."""
+        Scenario (every key written, defaults included; ``scenario_toml``).
+
+        Returns
+        -------
+        str
+            The TOML document.
+
+        Raises
+        ------
+        ParameterError
+            A custom disturbance without ``to_dict`` cannot be written.
+        """
         return scenario_toml(self.to_dict())
 
 
@@ -196,9 +363,22 @@ MAX_SAMPLES = 1_000_000_000
 
 
 def scenario_toml(configuration: dict[str, Any]) -> str:
-    """A scenario's plain data (``Scenario.to_dict``, as a result records it) as a TOML
-    document ``load_scenario`` reads back; a custom disturbance (recorded by class and repr
-    only) cannot be: ``ParameterError`` naming it."""
+    """A scenario's plain data as a TOML document ``load_scenario`` reads back.
+
+    Parameters
+    ----------
+    configuration : dict
+        ``Scenario.to_dict()``, as a result records it.
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    ParameterError
+        A custom disturbance (recorded by class and repr only) cannot be written.
+    """
     wind = configuration.get("wind", {})
     if wind.get("type") == "custom":
         raise ParameterError("wind", wind.get("class"), "a disturbance with to_dict (TOML)")
@@ -206,8 +386,20 @@ def scenario_toml(configuration: dict[str, Any]) -> str:
 
 
 def metrics_first_sample(metrics_start: float, dt: float) -> int:
-    """The first control sample k (time k dt) at or after ``metrics_start`` [s]: the metrics
-    (peak, RMS, tension range) cover samples k >= this one."""
+    """The first control sample the metrics (peak, RMS, tension range) cover.
+
+    Parameters
+    ----------
+    metrics_start : float
+        Start of the metrics window (s).
+    dt : float
+        Control sample time (s).
+
+    Returns
+    -------
+    int
+        The first k with k dt >= ``metrics_start``.
+    """
     return math.ceil(metrics_start / dt - 1e-9)
 
 
@@ -229,22 +421,20 @@ def _validate(s: Scenario, source: str | None) -> None:
     """Check every field of ``s`` and store the checked values (Python floats and ints, so a
     NumPy scalar is accepted and recorded as plain data)."""
     check_name("name", s.name, source=source)
-    if s.configuration not in ("free", "tethered"):
-        raise ParameterError(
-            "configuration", s.configuration, "'free' or 'tethered'", source=source
-        )
-    _set(s, "duration", check_number("duration", s.duration, low=0.0, low_open=True, source=source))
+    field_key(Scenario, "configuration").check("configuration", s.configuration, source=source)
+    _set(
+        s, "duration", field_key(Scenario, "duration").check("duration", s.duration, source=source)
+    )
     _set(s, "q9", check_tether_length(s.q9, "q9", source=source))
     _set(
         s,
         "metrics_start",
-        check_number(
-            "metrics_start", s.metrics_start, low=0.0, high=s.duration, high_open=True,
-            unit="[s]", source=source,
+        field_key(Scenario, "metrics_start").check(
+            "metrics_start", s.metrics_start, high=s.duration, high_open=True, source=source
         ),
-    )  # fmt: skip
+    )
     c = s.control
-    dt = check_number("control.dt", c.dt, low=0.0, low_open=True, source=source)
+    dt = field_key(ControlSettings, "dt").check("control.dt", c.dt, source=source)
     if dt > s.duration:
         raise ParameterError(
             "control.dt", c.dt, f"a sample time <= duration ({s.duration} s)", source=source
@@ -263,51 +453,14 @@ def _validate(s: Scenario, source: str | None) -> None:
             f"a whole number of control samples (dt = {c.dt} s)",
             source=source,
         )
-    control = ControlSettings(
-        dt=dt,
-        substeps=check_integer("control.substeps", c.substeps, low=1, high=1000, source=source),
-        feedforward=check_bool("control.feedforward", c.feedforward, source=source),
-        Qy=check_vector("control.Qy", c.Qy, 8, low=0.0, source=source),
-        Ru=check_vector("control.Ru", c.Ru, 4, low=0.0, low_open=True, source=source),
-    )
-    lim = Limits(
-        **{
-            name: check_number(
-                f"limits.{name}",
-                getattr(s.limits, name),
-                low=0.0,
-                low_open=True,
-                high=89.0 if name == "max_angle_deg" else None,
-                source=source,
-            )
-            for name in ("max_tension", "max_deviation", "max_angle_deg")
-        }
-    )
+    control = _checked(ControlSettings, "control", c, source, dt=dt)
+    lim = _checked(Limits, "limits", s.limits, source)
     a = s.actuators
-    u_limits = {
-        name: check_vector(
-            f"actuators.{name}", getattr(a, name), 4, finite=False, unit="[N, N m, N m, N]",
-            source=source,
-        )
-        for name in ("u_min", "u_max")
-    }  # fmt: skip
-    if any(lo >= hi for lo, hi in zip(u_limits["u_min"], u_limits["u_max"], strict=True)):
+    actuators = _checked(ActuatorSettings, "actuators", a, source)
+    if any(lo >= hi for lo, hi in zip(actuators.u_min, actuators.u_max, strict=True)):
         raise ParameterError(
             "actuators.u_min", a.u_min, "limits below actuators.u_max", source=source
         )
-    actuators = ActuatorSettings(
-        **u_limits,
-        time_constant=check_number(
-            "actuators.time_constant", a.time_constant, low=0.0, high=10.0, source=source
-        ),
-        **{
-            name: check_number(
-                f"actuators.{name}", getattr(a, name), low=0.0, low_open=True, finite=False,
-                source=source,
-            )
-            for name in ("reel_rate_limit", "reel_acceleration_limit", "breaking_tension")
-        },
-    )  # fmt: skip
     _set(s, "control", control)
     _set(s, "limits", lim)
     _set(s, "actuators", actuators)
@@ -318,7 +471,7 @@ def _validate(s: Scenario, source: str | None) -> None:
         s.sensors.group_timing(s.control.dt)  # rates and latencies on the control grid
     except ParameterError as exc:
         raise ParameterError(exc.field, exc.value, exc.allowed, source=source) from None
-    _set(s, "seed", check_integer("seed", s.seed, low=0, source=source))
+    _set(s, "seed", field_key(Scenario, "seed").check("seed", s.seed, source=source))
     if not isinstance(s.params, Params):
         raise ParameterError("params", s.params, "a tetherheli.Params", source=source)
     if s.configuration == "tethered" and s.params.tension_control.T_ref >= lim.max_tension:
@@ -339,6 +492,20 @@ def _validate(s: Scenario, source: str | None) -> None:
 
 def _set(s: Scenario, name: str, value: Any) -> None:
     object.__setattr__(s, name, value)
+
+
+def _checked(cls: type, section: str, value: Any, source: str | None, **done: Any) -> Any:
+    """A ``cls`` (a settings table) with every field checked against its ``Key``; ``done``:
+    fields already checked."""
+    return cls(
+        **{
+            f.name: done[f.name]
+            if f.name in done
+            else f.metadata["key"].check(f"{section}.{f.name}", getattr(value, f.name),
+                                         source=source)
+            for f in dataclasses.fields(cls)
+        }
+    )  # fmt: skip
 
 
 _TOP_KEYS = {
@@ -381,9 +548,12 @@ def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Sc
             kwargs[k] = data[k]
     if "configuration" in data:
         kwargs["configuration"] = data["configuration"]
-    for k in ("duration", "q9"):
-        if k in data:
-            kwargs[k] = check_number(k, data[k], low=0.0, low_open=True, source=source)
+    if "duration" in data:
+        kwargs["duration"] = field_key(Scenario, "duration").check(
+            "duration", data["duration"], source=source
+        )
+    if "q9" in data:
+        kwargs["q9"] = check_tether_length(data["q9"], "q9", source=source)
     if "metrics_start" in data:
         kwargs["metrics_start"] = data["metrics_start"]  # checked with the rest by _validate
     if "control" in data:
@@ -394,13 +564,15 @@ def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Sc
                     raise ParameterError(f"control.{k}", ctl[k], "a list of numbers", source=source)
                 ctl[k] = tuple(ctl[k])
         if "dt" in ctl:
-            ctl["dt"] = check_number("control.dt", ctl["dt"], low=0.0, low_open=True, source=source)
+            ctl["dt"] = field_key(ControlSettings, "dt").check(
+                "control.dt", ctl["dt"], source=source
+            )
         kwargs["control"] = ControlSettings(**ctl)
     if "limits" in data:
         lim = _table(source, "limits", data["limits"], Limits)
         kwargs["limits"] = Limits(
             **{
-                k: check_number(f"limits.{k}", v, low=0.0, low_open=True, source=source)
+                k: field_key(Limits, k).check(f"limits.{k}", v, source=source)
                 for k, v in lim.items()
             }
         )
@@ -441,7 +613,23 @@ def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Sc
 
 
 def load_scenario(path: str | Path) -> Scenario:
-    """Load and validate a scenario TOML file (see the module docstring for its keys)."""
+    """Load and validate a scenario TOML file.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file; its keys are listed in the scenario TOML reference.
+
+    Returns
+    -------
+    Scenario
+
+    Raises
+    ------
+    ParameterError
+        An unknown key, a wrong type or a value out of range, in one line naming the file,
+        the key, the value and what is allowed.
+    """
     return scenario_from_dict(read_toml(path, "scenario TOML file"), source=str(path))
 
 
@@ -454,7 +642,23 @@ def paper_scenario(
 ) -> Scenario:
     """Sec. VI's simulation 1 (wind along n1) or 2 (along n2), free or tethered: a 20 N pulse
     at t = 10 s lasting ``pulse_duration`` (not stated in the paper; 1 s assumed), then
-    20 sin(2 pi 0.1 t) N from t = 30 s; 60 s; Tref = 25 N; references at trim."""
+    20 sin(2 pi 0.1 t) N from t = 30 s; 60 s; Tref = 25 N; references at trim.
+
+    Parameters
+    ----------
+    simulation : {1, 2}
+        Wind along n1 (1) or n2 (2).
+    configuration : {"free", "tethered"}
+        With or without the tether.
+    pulse_duration : float, optional
+        Length of the pulse (s); default 1 s.
+    dt : float, optional
+        Controller sample time (s); default 0.01 s.
+
+    Returns
+    -------
+    Scenario
+    """
     if simulation not in (1, 2):
         raise ParameterError("simulation", simulation, "1 or 2")
     return Scenario(

@@ -1,0 +1,240 @@
+"""The scenario TOML reference (``docs/scenario_reference.md``), written from the code's own
+descriptions of its keys so that it cannot drift from what the loader accepts:
+
+- the scenario's own keys, ``[control]``, ``[limits]``, ``[actuators]``: each field's ``Key``
+  (``tetherheli._validation.Key``), the object the validation checks against;
+- ``[params.*]``: each parameter field's ``Key`` (``tetherheli.params``), defaults from
+  ``Params.paper()``;
+- ``[sensors]``: ``SensorConfig``'s fields, its ``Parameters`` documentation and the range
+  table its validation uses;
+- ``[[wind]]``: every ``type`` the loader knows, its class's fields and ``Parameters``
+  documentation (which states each field's unit and range; the class checks them).
+
+Regenerate with ``python docs/gen_scenario_reference.py``; ``tests/test_docs.py`` fails when
+the committed page differs.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import inspect
+import math
+import re
+from typing import Any
+
+from .._docstrings import parameter_docs
+from .._validation import Key
+from ..params import HelicopterParams, Params, TensionControlParams, TetherParams
+from ..sensors import _NUMERIC_FIELDS, POSITION_SOURCES, SENSOR_PRESETS, SensorConfig
+from ..wind import loader as wind_loader
+from .scenario import _TOP_KEYS, ActuatorSettings, ControlSettings, Limits, Scenario
+
+__all__ = ["scenario_reference"]
+
+_TABLES = {"control": ControlSettings, "limits": Limits, "actuators": ActuatorSettings}
+_PARAM_SECTIONS = {
+    "helicopter": HelicopterParams,
+    "tether": TetherParams,
+    "tension_control": TensionControlParams,
+}
+
+
+def _value(value: Any) -> str:
+    """A default as TOML would spell it."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        if math.isinf(value):
+            return "inf" if value > 0 else "-inf"
+        return f"{value:g}"
+    if isinstance(value, str):
+        return f'"{value}"'
+    if isinstance(value, (tuple, list)):
+        return "[" + ", ".join(_value(v) for v in value) + "]"
+    return str(value)
+
+
+_CODE = re.compile(r"(`+)(.+?)\1")
+
+
+def _cell(text: str) -> str:
+    """``text`` for a table cell: pipes escaped, and brackets outside code spans (a "[m]"
+    would otherwise be read as a reference link)."""
+    out, last = [], 0
+    for m in _CODE.finditer(text):
+        out += [text[last : m.start()].replace("[", "\\["), m.group(0)]
+        last = m.end()
+    out.append(text[last:].replace("[", "\\["))
+    return "".join(out).replace("|", "\\|").replace("\n", " ")
+
+
+def _key_rows(prefix: str, cls: type, defaults: Any) -> list[str]:
+    rows = []
+    for f in dataclasses.fields(cls):
+        key = f.metadata.get("key")
+        if key is None:
+            continue
+        allowed = key.allowed() + (f"; {key.note}" if key.note else "")
+        rows.append(
+            f"| `{prefix}{f.name}` | {_cell(key.doc)} | {key.unit or '-'} | "
+            f"`{_value(getattr(defaults, f.name))}` | {_cell(allowed)} |"
+        )
+    return rows
+
+
+_HEADER = ["| key | meaning | unit | default | allowed |", "|---|---|---|---|---|"]
+
+
+def _sensor_key(name: str) -> Key:
+    kind, nonnegative = _NUMERIC_FIELDS[name]
+    low = 0.0 if nonnegative else None
+    if kind == "scalar":
+        return Key("", low=low)
+    return Key("", kind="vector", length=3, low=low)
+
+
+def _sensor_rows() -> list[str]:
+    docs = parameter_docs(SensorConfig.__doc__)
+    default = SensorConfig()
+    rows = []
+    for f in dataclasses.fields(SensorConfig):
+        name = f.name
+        group = name.rsplit("_", 1)[0]
+        doc = docs.get(name, ("", ""))[1]
+        if not doc and name.endswith("_rate"):
+            doc = f"sample rate of the {group} sensor (0: every control sample)"
+        elif not doc and name.endswith("_latency"):
+            doc = f"delay of the {group} sensor's output (0: none)"
+        elif not doc:
+            doc = docs.get("<group>_rate", ("", ""))[1] or "see `SensorConfig`"
+        if name == "position_source":
+            allowed = "one of " + ", ".join(f"`{s}`" for s in sorted(POSITION_SOURCES))
+        elif name == "gps_outage":
+            allowed = "[] or [t_start, t_end] with 0 <= t_start < t_end [s]"
+        else:
+            allowed = _sensor_key(name).allowed()
+        bracket = re.search(r"\[([^\]]+)\]", doc)
+        unit = "Hz" if name.endswith("_rate") else "s" if name.endswith("_latency") else "-"
+        if name == "gps_outage":
+            unit = "s"
+        elif unit == "-" and bracket and docs.get(name):
+            unit = bracket.group(1)
+        rows.append(
+            f"| `sensors.{name}` | {_cell(doc)} | {unit} | "
+            f"`{_value(getattr(default, name))}` | {_cell(allowed)} |"
+        )
+    presets = ", ".join(f"`{p}`" for p in sorted(SENSOR_PRESETS))
+    rows.append(
+        "| `sensors.presets` | datasheet-class sensors applied first (the other keys override "
+        f"them) | - | `[]` | a list of: {presets} |"
+    )
+    return rows
+
+
+def _summary(cls: type) -> str:
+    return inspect.cleandoc(cls.__doc__ or "").split("\n\n")[0].replace("\n", " ")
+
+
+def _wind_rows(registry: dict[str, type], where: str, title: str = "") -> list[str]:
+    out = []
+    for type_name, cls in sorted(registry.items()):
+        docs = parameter_docs(cls.__doc__)
+        heading = title or f'`type = "{type_name}"`'
+        out += ["", f"#### {heading} ({cls.__name__})", ""]
+        summary = _summary(cls)
+        out += [_cell(summary), ""]
+        fields = [f for f in dataclasses.fields(cls) if f.init]
+        if not fields:
+            out.append("No other keys.")
+            continue
+        out += ["| key | type | default | meaning, unit and range |", "|---|---|---|---|"]
+        for f in fields:
+            if f.default is not dataclasses.MISSING:
+                default = f"`{_value(f.default)}`"
+            elif f.default_factory is not dataclasses.MISSING:
+                default = f"`{_value(f.default_factory())}`"
+            else:
+                default = "required"
+            _kind, doc = docs.get(f.name, ("", ""))
+            out.append(f"| `{where}.{f.name}` | {_cell(str(f.type))} | {default} | {_cell(doc)} |")
+    return out
+
+
+def scenario_reference() -> str:
+    """The scenario TOML reference as a Markdown page.
+
+    Returns
+    -------
+    str
+        The page ``docs/scenario_reference.md`` holds.
+    """
+    scenario = Scenario()
+    paper = Params.paper()
+    top = [
+        "# Scenario TOML reference",
+        "",
+        "<!-- Generated by docs/gen_scenario_reference.py from the code's own key metadata "
+        "(tetherheli.sim.reference); do not edit by hand. -->",
+        "",
+        "A scenario file describes one closed-loop run; `tetherheli simulate FILE` runs it and",
+        "`tetherheli.load_scenario(path)` loads it. Every key is optional (its default is",
+        "given); an unknown key, a value of the wrong type or out of its range stops the load",
+        "with one line naming the file, the key, the value and what is allowed. Units are SI",
+        "unless the unit column says otherwise; `inf` is TOML's infinity.",
+        "",
+        "## Top-level keys",
+        "",
+        *_HEADER,
+        *_key_rows("", Scenario, scenario),
+        "",
+        "The tables `[control]`, `[limits]`, `[actuators]`, `[sensors]`, `[params.*]` and the",
+        "array `[[wind]]` follow.",
+    ]
+    for table, cls in _TABLES.items():
+        top += ["", f"## `[{table}]`", "", _summary(cls), ""]
+        top += [*_HEADER, *_key_rows(f"{table}.", cls, getattr(scenario, table))]
+    top += [
+        "",
+        "## `[params.helicopter]`, `[params.tether]`, `[params.tension_control]`",
+        "",
+        "Overrides of the paper's parameters (Tables II and III, eq 56); the default is the",
+        "paper's value. `Params.from_toml` reads the same tables without the `params.`",
+        "prefix.",
+    ]
+    for section, cls in _PARAM_SECTIONS.items():
+        top += ["", f"### `[params.{section}]`", "", *_HEADER]
+        top += _key_rows(f"params.{section}.", cls, getattr(paper, section))
+    top += [
+        "",
+        "## `[sensors]`",
+        "",
+        "What the controller measures (`SensorConfig`). All zero by default: perfect sensors,",
+        "the paper's assumption. Standard deviations and biases carry the unit of the",
+        "quantity measured (given in the meaning).",
+        "",
+        *_HEADER,
+        *_sensor_rows(),
+        "",
+        "## `[[wind]]`",
+        "",
+        "The wind force on HO: one table, or several `[[wind]]` tables whose forces add. Each",
+        "has a `type` and that type's keys; each class checks its ranges, as stated below.",
+    ]
+    top += _wind_rows(wind_loader._DISTURBANCES, "wind")
+    top += [
+        "",
+        "### Turbulence `model` and `drag` tables",
+        "",
+        "A `turbulence` wind holds a `model` table (a gust model, by `type`; a",
+        "`gauss_markov` model with a `calibration` key is calibrated from a published",
+        "turbulence standard) and a `drag` table.",
+    ]
+    calibrated = wind_loader.CalibratedGaussMarkovTurbulence
+    models = dict(wind_loader._GUST_MODELS)
+    top += _wind_rows(models, "wind.model")
+    top += _wind_rows(
+        {"": calibrated}, "wind.model", '`type = "gauss_markov"` with a `calibration`'
+    )
+    top += _wind_rows({"": wind_loader.DragModel}, "wind.drag", "The `drag` table")
+    assert set(_TOP_KEYS) >= {f.name for f in dataclasses.fields(Scenario)}
+    return "\n".join(top) + "\n"
