@@ -13,6 +13,12 @@ A scenario file::
     feedforward = true                # eq 55
     Qy = [1, 1, 1, 1, 10, 10, 10, 10] # eq 53 weights (paper)
     Ru = [1, 1, 1, 1]
+    controller = "paper"              # or "tether_lqi" (control.tether_lqi)
+    [control.tether_lqi]              # the tethered LQI's weights (TetherLQISettings)
+    Qy = [...]                        # q1, q2, q3, q6 and their integrators
+    q_tension = 0.0                   # [1/N^2] on the tension deviation
+    Ru = [...]                        # fMR3, tMR1, tMR2, fTR2, reel rate
+    anti_windup = true
     [limits]
     max_tension = 500.0               # [N]
     max_deviation = 100.0             # [m]
@@ -53,10 +59,12 @@ from ..wind import (
 )
 
 __all__ = [
+    "CONTROLLERS",
     "ActuatorSettings",
     "ControlSettings",
     "Limits",
     "Scenario",
+    "TetherLQISettings",
     "load_scenario",
     "metrics_first_sample",
     "paper_scenario",
@@ -69,15 +77,42 @@ PAPER_QY: tuple[float, ...] = tuple(np.diag(lqi.PAPER_QY).tolist())
 PAPER_RU: tuple[float, ...] = tuple(np.diag(lqi.PAPER_RU).tolist())
 
 
+#: The controllers ``[control] controller`` selects: the paper's scheme (Sec. V) and the LQI
+#: on the tethered linearization with the reel rate as a fifth input (``control.tether_lqi``).
+CONTROLLERS: tuple[str, ...] = ("paper", "tether_lqi")
+
+
+@dataclass(frozen=True)
+class TetherLQISettings:
+    """Design weights of the tethered LQI (``[control.tether_lqi]``, ``control.tether_lqi``).
+
+    Qy : weights on [q1, q2, q3, q6] and their integrators (eq 47's y_LQI); q_tension : weight
+    on the tension deviation [1/N^2] (not integrated); Ru : weights on [fMR3, tMR1, tMR2,
+    fTR2, RC]; anti_windup : the integrators hold while a rotor command is outside its
+    actuator limits. Defaults: the weights ``python benchmarks/tune_tether_lqi.py
+    --evaluations 700`` found (see its header: the paper's runs 1 and 2 with eq 40's
+    saturation, effort within the paper's tethered controller's).
+    """
+
+    Qy: tuple[float, ...] = (11.7435, 11.7435, 1.49411, 2.07043, 21.2098, 21.2098, 10.7023, 12.1298)
+    q_tension: float = 0.000794132
+    Ru: tuple[float, ...] = (0.632461, 0.878679, 0.878679, 0.641701, 0.510088)
+    anti_windup: bool = True
+
+
 @dataclass(frozen=True)
 class ControlSettings:
-    """Controller and integrator settings (Sec. V)."""
+    """Controller and integrator settings (Sec. V); ``controller`` one of ``CONTROLLERS``.
+    Qy, Ru and feedforward are the paper controller's; ``tether_lqi`` the tethered LQI's
+    (which flies without the feed-forward: its plant model contains the tether)."""
 
     dt: float = 0.01
     substeps: int = 2
     feedforward: bool = True
     Qy: tuple[float, ...] = PAPER_QY
     Ru: tuple[float, ...] = PAPER_RU
+    controller: str = "paper"
+    tether_lqi: TetherLQISettings = field(default_factory=TetherLQISettings)
 
 
 @dataclass(frozen=True)
@@ -269,6 +304,8 @@ def _validate(s: Scenario, source: str | None) -> None:
         feedforward=check_bool("control.feedforward", c.feedforward, source=source),
         Qy=check_vector("control.Qy", c.Qy, 8, low=0.0, source=source),
         Ru=check_vector("control.Ru", c.Ru, 4, low=0.0, low_open=True, source=source),
+        controller=_check_controller(c.controller, source),
+        tether_lqi=_check_tether_lqi(c.tether_lqi, source),
     )
     lim = Limits(
         **{
@@ -337,6 +374,22 @@ def _validate(s: Scenario, source: str | None) -> None:
     check_wind_covers(s.wind, s.duration, source=source)
 
 
+def _check_controller(value: Any, source: str | None) -> str:
+    if value not in CONTROLLERS:
+        raise ParameterError("control.controller", value, f"one of {CONTROLLERS}", source=source)
+    return value
+
+
+def _check_tether_lqi(t: TetherLQISettings, source: str | None) -> TetherLQISettings:
+    k = "control.tether_lqi"
+    return TetherLQISettings(
+        Qy=check_vector(f"{k}.Qy", t.Qy, 8, low=0.0, source=source),
+        q_tension=check_number(f"{k}.q_tension", t.q_tension, low=0.0, source=source),
+        Ru=check_vector(f"{k}.Ru", t.Ru, 5, low=0.0, low_open=True, source=source),
+        anti_windup=check_bool(f"{k}.anti_windup", t.anti_windup, source=source),
+    )
+
+
 def _set(s: Scenario, name: str, value: Any) -> None:
     object.__setattr__(s, name, value)
 
@@ -393,6 +446,16 @@ def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Sc
                 if not isinstance(ctl[k], list):
                     raise ParameterError(f"control.{k}", ctl[k], "a list of numbers", source=source)
                 ctl[k] = tuple(ctl[k])
+        if "tether_lqi" in ctl:
+            tl = dict(_table(source, "control.tether_lqi", ctl["tether_lqi"], TetherLQISettings))
+            for k in ("Qy", "Ru"):
+                if k in tl:
+                    if not isinstance(tl[k], list):
+                        raise ParameterError(
+                            f"control.tether_lqi.{k}", tl[k], "a list of numbers", source=source
+                        )
+                    tl[k] = tuple(tl[k])
+            ctl["tether_lqi"] = TetherLQISettings(**tl)
         if "dt" in ctl:
             ctl["dt"] = check_number("control.dt", ctl["dt"], low=0.0, low_open=True, source=source)
         kwargs["control"] = ControlSettings(**ctl)
