@@ -16,7 +16,9 @@ Constraints (a penalty per unit of violation; a failed run scores 10):
 Search: Nelder-Mead (scipy) on the log10 of 11 diagonal weights (q1 = q2 tied, their
 integrators tied, tMR1 = tMR2 tied), from the start point below. It prints the best weights
 as a ``[control.tether_lqi]`` table and their four ratios, effort ratios and tension range.
-Deterministic: the same command prints the same weights.
+Deterministic: the same command prints the same weights. ``--evaluations 0`` only evaluates
+the shipped defaults (``TetherLQISettings()``) and prints the reductions against the free
+helicopter, 100 (1 - ratio) %, of the paper's tethered controller and of the tethered LQI.
 """
 
 from __future__ import annotations
@@ -30,6 +32,7 @@ from scipy.optimize import minimize
 from tetherheli.errors import TetherheliError
 from tetherheli.names import INPUT
 from tetherheli.sim import load_scenario
+from tetherheli.sim.scenario import TetherLQISettings
 from tetherheli.studies.controllers import eq40_saturated, fly, with_controller
 
 SCENARIOS = "scenarios/paper_sim{}_{}.toml"
@@ -61,19 +64,24 @@ def main() -> None:
         tethered = eq40_saturated(load_scenario(SCENARIOS.format(n, "tethered")))
         paper = fly(tethered)[1]
         sims[n] = (axis, free, paper, tethered)
+        q = f"q{axis + 1}"
         print(
-            f"sim {n}: free peak/RMS {free[f'peak_q{axis + 1}']:.3f}/{free[f'rms_q{axis + 1}']:.3f}"
-            f" m; paper tethered (eq 40) {paper[f'peak_q{axis + 1}']:.3f}/"
-            f"{paper[f'rms_q{axis + 1}']:.3f} m"
+            f"sim {n}: free peak/RMS {free[f'peak_{q}']:.3f}/{free[f'rms_{q}']:.3f} m; paper "
+            f"tethered (eq 40) {paper[f'peak_{q}']:.3f}/{paper[f'rms_{q}']:.3f} m, reductions "
+            f"{100 * (1 - paper[f'peak_{q}'] / free[f'peak_{q}']):.1f}/"
+            f"{100 * (1 - paper[f'rms_{q}'] / free[f'rms_{q}']):.1f} %"
         )
     T_ref = sims[1][3].params.tension_control.T_ref
 
     def evaluate(p: np.ndarray) -> tuple[float, dict]:
+        return evaluate_weights(weights(p))
+
+    def evaluate_weights(w: dict) -> tuple[float, dict]:
         info: dict = {"ratios": [], "effort": [], "tension": []}
         score, penalty = 0.0, 0.0
         for axis, free, paper, scenario in sims.values():
             try:
-                m = fly(with_controller(scenario, "tether_lqi", **weights(p)))[1]
+                m = fly(with_controller(scenario, "tether_lqi", **w))[1]
             except TetherheliError:
                 return 10.0, info
             if not m["completed"]:
@@ -101,6 +109,11 @@ def main() -> None:
             print(f"best {f:.4f} at", ",".join(f"{v:.3f}" for v in p), flush=True)
         return f
 
+    if args.evaluations == 0:
+        d = TetherLQISettings()
+        shipped = {"Qy": d.Qy, "q_tension": d.q_tension, "Ru": d.Ru}
+        report(*evaluate_weights(shipped), "the shipped defaults")
+        return
     p0 = np.array([float(v) for v in args.start.split(",")])
     simplex = np.vstack([p0, p0 + STEP * np.eye(p0.size)])  # steps of STEP decades
     minimize(
@@ -108,14 +121,18 @@ def main() -> None:
         options={"maxfev": args.evaluations, "initial_simplex": simplex, "xatol": 1e-3},
     )  # fmt: skip
     w = weights(best["p"])
-    info = best["info"]
-    print(f"best score {best['f']:.4f} (worst of the four ratios; + penalties)")
     print("log10 weights:", ",".join(f"{v:.4f}" for v in best["p"]))
     print("[control.tether_lqi]")
     print("Qy = [" + ", ".join(f"{v:.6g}" for v in w["Qy"]) + "]")
     print(f"q_tension = {w['q_tension']:.6g}")
     print("Ru = [" + ", ".join(f"{v:.6g}" for v in w["Ru"]) + "]")
+    report(best["f"], best["info"], "the best weights")
+
+
+def report(score: float, info: dict, what: str) -> None:
+    print(f"{what}: score {score:.4f} (worst of the four ratios; + penalties)")
     print("ratios vs free (sim1 peak, RMS q1; sim2 peak, RMS q2):", np.round(info["ratios"], 4))
+    print("reductions [%]:", np.round(100 * (1 - np.array(info["ratios"])), 1))
     print("effort vs paper tethered (sim1 4 inputs, sim2 4 inputs):", np.round(info["effort"], 3))
     print("tension range [N] (sim1 min max, sim2 min max):", np.round(info["tension"], 2))
 

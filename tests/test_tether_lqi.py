@@ -150,3 +150,21 @@ def test_scenario_keys_round_trip_and_bad_values(tmp_path):
     path.write_text(bad)
     with pytest.raises(ParameterError, match=r"control\.tether_lqi\.q_tension"):
         load_scenario(path)
+
+
+def test_start_in_turbulence_is_an_equilibrium_of_the_law():
+    """In the mean wind of a turbulence scenario the tethered LQI starts at a windy trim
+    (``setup.start_point``) where its law commands that trim's total rotor input and a reel
+    rate of zero (the trim's tension chosen by the secant method on the reel row)."""
+    s = load_scenario("scenarios/turbulence_hover_tethered.toml")
+    s = s.replace(control=dataclasses.replace(s.control, controller="tether_lqi"))
+    setup = engine_setup(s)
+    K, x_ref, y_ref, u0, _, z0 = setup.law
+    y, inp, ffwd = np.empty(4), np.empty(4), np.empty(4)
+    rate = paper_control(setup.start.x, setup.start.trim.tension, z0.copy(), np.zeros(2),
+                         setup.ctrl.copy(), setup.model.constants, K, x_ref, y_ref, u0, y, inp,
+                         ffwd)  # fmt: skip
+    np.testing.assert_allclose(inp, setup.start.trim.u_total, rtol=0, atol=1e-9)
+    assert abs(rate) < 1e-9
+    np.testing.assert_allclose(y, y_ref, rtol=0, atol=1e-9)  # the windless trim's outputs
+    assert setup.start.trim.tension != setup.trim.tension  # not a trivial start

@@ -166,11 +166,20 @@ def _tethered_design(params, T_ref, q9, dt):
     return G, H, lin.C, c_t
 
 
+@lru_cache(maxsize=64)
 def tether_lqi_gain(
-    params, T_ref: float, q9: float, dt: float, Qy, q_tension: float, Ru, free: LQIGain
+    params,
+    T_ref: float,
+    q9: float,
+    dt: float,
+    Qy: tuple,
+    q_tension: float,
+    Ru: tuple,
+    free: LQIGain,
 ) -> TetherLQIGain:
     """``design_tether_lqi`` on ``tethered_design(params, T_ref, q9, dt)`` with diagonal
-    weights Qy (8,) and Ru (5,), paired with the free law ``free``."""
+    weights Qy (8,) and Ru (5,) (tuples), paired with the free law ``free``; cached, as
+    ``sim.setup.paper_gain`` is (a batch's runs share it)."""
     G, H, C, c_t = tethered_design(params, T_ref, q9, dt)
     gain = design_tether_lqi(
         G, H, C, c_t, dt, Qy=np.diag(Qy), q_tension=float(q_tension), Ru=np.diag(Ru)

@@ -255,10 +255,43 @@ def start_point(
             f"weights giving an invertible K_z (condition < {MAX_KZ_CONDITION:g}), so that an "
             "integrator state holds the trim in the wind at t = 0",
         )
-    u_cmd = windy.u if ctrl[CTRL_FFWD] > 0.5 else windy.u_total
     u_law = trim.u_total if isinstance(gain, TetherLQIGain) else trim.u
-    rhs = u_law - K_x @ (windy.x[:n_x] - trim.x[:n_x]) - u_cmd
-    return StartPoint(windy, np.linalg.solve(K_z, rhs))
+
+    def integrators(windy: TrimPoint) -> np.ndarray:
+        u_cmd = windy.u if ctrl[CTRL_FFWD] > 0.5 else windy.u_total
+        rhs = u_law - K_x @ (windy.x[:n_x] - trim.x[:n_x]) - u_cmd
+        return np.linalg.solve(K_z, rhs)
+
+    z0 = integrators(windy)
+    if isinstance(gain, TetherLQIGain) and ctrl[CTRL_WINCH] > 0.5:
+        windy, z0 = _reel_at_rest(model, trim, K, force, q9, windy, z0, integrators)
+    return StartPoint(windy, z0)
+
+
+def _reel_at_rest(model, trim, K, force, q9, windy, z0, integrators):
+    """The tethered LQI's start in wind: its fifth row (the reel rate) must command zero too.
+    The windy trims of any tension keep the outputs (``hover_trim``), so the tension is the
+    free unknown: the secant method on the reel command r(T) = -K_5 [x_w(T) - x_ref; z0(T)]
+    (near-linear in T), from the windless trim's tension; returns (windy trim, z0)."""
+
+    def reel(w: TrimPoint, z: np.ndarray) -> float:
+        return float(-K[4, :13] @ (w.x[:13] - trim.x[:13]) - K[4, 13:] @ z)
+
+    T_prev, r_prev = trim.tension, reel(windy, z0)
+    T = 1.02 * T_prev
+    for _ in range(12):
+        windy = model.trim(T, q9, N_F_wind=force)
+        z0 = integrators(windy)
+        r = reel(windy, z0)
+        if abs(r) < 1e-12 or r == r_prev:
+            break
+        T, T_prev, r_prev = T - r * (T - T_prev) / (r - r_prev), T, r
+        if not T > 0.0:
+            raise InfeasibleError(
+                "control.tether_lqi", "a start in the wind", "weights whose reel row holds "
+                "the winch at rest at a positive tension"
+            )  # fmt: skip
+    return windy, z0
 
 
 def actuator_array(scenario: Scenario, trim: TrimPoint, ctrl: np.ndarray) -> np.ndarray:
