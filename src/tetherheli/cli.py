@@ -741,3 +741,12 @@ def _register_animate(sub: argparse._SubParsersAction) -> None:
 
 _EXTRA_COMMANDS.append(_register_simulation)
 _EXTRA_COMMANDS.append(_register_animate)
+
+
+def _register_compare(sub: argparse._SubParsersAction) -> None:
+    from .compare import register  # light: its heavy imports are inside the command
+
+    register(sub)
+
+
+_EXTRA_COMMANDS.append(_register_compare)

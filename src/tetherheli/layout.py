@@ -55,7 +55,10 @@ CTRL_K_P = 4
 CTRL_K_I = 5
 CTRL_REEL_RATE_LIMIT = 6  # [m/s] (inf: none)
 CTRL_REEL_ACCEL = 7  # |d(reel rate)/dt| the winch allows [m/s^2] (inf: none)
-CTRL_SIZE = 8
+CTRL_ANTI_WINDUP = 8  # 1: the integrators hold while a rotor command is outside its limits
+CTRL_U_MIN = 9  # (4,) the rotor inputs' limits the anti-windup compares with (= act's)
+CTRL_U_MAX = 13  # (4,)
+CTRL_SIZE = 17
 
 # --- the winch PI's state (``winch``, ``control.paper``) ---------------------------------------
 WINCH_INTEGRAL = 0  # I_k of eq 56 [N s]
@@ -82,8 +85,14 @@ LOOP_FFWD = 10  # (4,) the feed-forward part of the inputs (eq 55)
 LOOP_SIZE = 11
 
 # --- the paper controller's law (``law``, ``sim.engine.paper_sample``): a tuple of arrays ------
-LAW_GAIN = 0  # (4, 16) K_LQI|F (eqs 47-53)
-LAW_X_REF = 1  # (12,) the trim state q4..u6 (the same for the free and the tethered trim)
+#: (4, 16) K_LQI|F (eqs 47-53), columns [q4..u6 (12); z (4)]; or, for the tethered LQI
+#: (``control.tether_lqi``), (9, 17) on columns [q4..u6, LN (13); z (4)]: rows 0-4 the
+#: tethered law (four rotor inputs, then the reel rate, which replaces the winch PI), rows 5-8
+#: the free law flown after a release (its LN column zero)
+LAW_GAIN = 0
+#: (12,) the trim state q4..u6 (the same for the free and the tethered trim); (13,) with LN
+#: for the tethered LQI
+LAW_X_REF = 1
 LAW_Y_REF = 2  # (4,) the trim outputs q1, q2, q3, q6
 LAW_U0 = 3  # (4,) the configuration's trim input u0 (u0|T tethered, u0|F free; eq 54)
 LAW_U0_FREE = 4  # (4,) u0|F: used once the tether is released or removed

@@ -11,6 +11,7 @@ import numpy as np
 
 from .._compile import compiled
 from ..layout import (
+    CTRL_ANTI_WINDUP,
     CTRL_DT,
     CTRL_FFWD,
     CTRL_K_I,
@@ -19,6 +20,8 @@ from ..layout import (
     CTRL_REEL_RATE_LIMIT,
     CTRL_SIZE,
     CTRL_T_REF,
+    CTRL_U_MAX,
+    CTRL_U_MIN,
     CTRL_WINCH,
     WINCH_INTEGRAL,
     WINCH_PREVIOUS_RATE,
@@ -82,14 +85,26 @@ def paper_control_sc(
     x, sc, measured_tension, z, winch, ctrl, c, gain, x_ref, y_ref, u0, y, inp, ffwd
 ):
     """``paper_control`` with sc (10,) = sin, cos of x[0..4] given (``kernels.angle_trig``);
-    the engine's entry point."""
+    the engine's entry point.
+
+    The gain's shape selects the law (``layout.LAW_GAIN``): (4, 16), the paper's LQI on
+    q4..u6; (9, 17), the tethered LQI (``control.tether_lqi``) on q4..u6 and LN, whose fifth
+    row commands the reel rate in place of the winch PI while the winch runs (rows 5-8, the
+    free law, once it stops: a release or the free configuration). With
+    ctrl[CTRL_ANTI_WINDUP] the integrators hold while a rotor command lies outside
+    [ctrl[CTRL_U_MIN + i], ctrl[CTRL_U_MAX + i]] (conditional integration).
+    """
     tethered_outputs_sc(x, sc, c, y)
+    n_x = gain.shape[1] - 4
+    winch_on = ctrl[CTRL_WINCH] > 0.5
+    tether_law = gain.shape[0] > 4
+    row0 = 5 if (tether_law and not winch_on) else 0
     for i in range(4):
         acc = u0[i]
-        for j in range(12):
-            acc -= gain[i, j] * (x[j] - x_ref[j])
+        for j in range(n_x):
+            acc -= gain[row0 + i, j] * (x[j] - x_ref[j])
         for j in range(4):
-            acc -= gain[i, 12 + j] * z[j]
+            acc -= gain[row0 + i, n_x + j] * z[j]
         inp[i] = acc
     ffwd[0] = 0.0
     ffwd[3] = 0.0
@@ -101,11 +116,38 @@ def paper_control_sc(
         ffwd[1] = 0.0
         ffwd[2] = 0.0
     dt = ctrl[CTRL_DT]
+    integrate = True
+    if ctrl[CTRL_ANTI_WINDUP] > 0.5:
+        for i in range(4):
+            if inp[i] < ctrl[CTRL_U_MIN + i] or inp[i] > ctrl[CTRL_U_MAX + i]:
+                integrate = False
+    if integrate:
+        for j in range(4):
+            z[j] += dt * (y_ref[j] - y[j])
+    if not winch_on:
+        return 0.0
+    if tether_law:
+        return reel_law_step(x, z, winch, ctrl, gain, x_ref, n_x)
+    return winch_step(winch, measured_tension, ctrl)
+
+
+@_jit_inline
+def reel_law_step(x, z, winch, ctrl, gain, x_ref, n_x):
+    """The tethered LQI's reel-rate command (row 4 of the gain; the trim's rate is zero),
+    clamped to the winch's rate limit, then its acceleration limit relative to the previous
+    command, as ``winch_step`` does for the PI; returns the reel rate [m/s]."""
+    acc = 0.0
+    for j in range(n_x):
+        acc -= gain[4, j] * (x[j] - x_ref[j])
     for j in range(4):
-        z[j] += dt * (y_ref[j] - y[j])
-    if ctrl[CTRL_WINCH] > 0.5:
-        return winch_step(winch, measured_tension, ctrl)
-    return 0.0
+        acc -= gain[4, n_x + j] * z[j]
+    lim = ctrl[CTRL_REEL_RATE_LIMIT]
+    acc = min(max(acc, -lim), lim)
+    limited = limit_rate_change_jit(
+        acc, winch[WINCH_PREVIOUS_RATE], ctrl[CTRL_REEL_ACCEL], ctrl[CTRL_DT]
+    )
+    winch[WINCH_PREVIOUS_RATE] = limited
+    return limited
 
 
 class PaperController(Controller):
@@ -113,7 +155,8 @@ class PaperController(Controller):
 
     Parameters
     ----------
-    gain : (4, 16) LQI gain K_LQI|F designed on the free model (Sec. IV-E)
+    gain : (4, 16) LQI gain K_LQI|F designed on the free model (Sec. IV-E), or the tethered
+        LQI's (9, 17) (``layout.LAW_GAIN``)
     trim_state : (13,) the configuration's trim x0 (references for q4..u6)
     trim_output : (4,) y0, the output references
     trim_input : (4,) u0|F or u0|T (Tables IV, V)
@@ -141,7 +184,8 @@ class PaperController(Controller):
         z_init=None,
     ) -> None:
         self.gain = np.ascontiguousarray(gain, dtype=float)
-        self.x_ref = np.ascontiguousarray(trim_state[:12], dtype=float)
+        # q4..u6, and LN for the tethered LQI's (9, 17) gain (``layout.LAW_GAIN``)
+        self.x_ref = np.ascontiguousarray(trim_state[: self.gain.shape[1] - 4], dtype=float)
         self.y_ref = np.ascontiguousarray(trim_output, dtype=float)
         self.u0 = np.ascontiguousarray(trim_input, dtype=float)
         free = trim_input if free_trim_input is None else free_trim_input

@@ -457,12 +457,16 @@ def run_batch(
         )
 
     if lanes:
-        # a block's runs share the RK4 steps per sample; runs of equal length finish together
-        order.sort(key=lambda i: (scenarios[i].control.substeps, scenarios[i].n_samples))
+        # a block's runs share the RK4 steps per sample and the controller (whose law's arrays
+        # are stacked: ``layout.LAW_GAIN``); runs of equal length finish together
+        def block_key(i: int) -> tuple[int, str]:
+            return scenarios[i].control.substeps, scenarios[i].control.controller
+
+        order.sort(key=lambda i: (block_key(i), scenarios[i].n_samples))
         blocks: list[list[int]] = []
         for i in order:
             last = blocks[-1] if blocks else None
-            same = last and scenarios[last[0]].control.substeps == scenarios[i].control.substeps
+            same = last and block_key(last[0]) == block_key(i)
             if same and len(last) < LANES:
                 last.append(i)
             else:

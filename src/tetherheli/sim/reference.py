@@ -17,6 +17,7 @@ the committed page differs.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import inspect
 import math
 import re
@@ -27,11 +28,23 @@ from .._validation import Key
 from ..params import HelicopterParams, Params, TensionControlParams, TetherParams
 from ..sensors import _NUMERIC_FIELDS, POSITION_SOURCES, SENSOR_PRESETS, SensorConfig
 from ..wind import loader as wind_loader
-from .scenario import _TOP_KEYS, ActuatorSettings, ControlSettings, Limits, Scenario
+from .scenario import (
+    _TOP_KEYS,
+    ActuatorSettings,
+    ControlSettings,
+    Limits,
+    Scenario,
+    TetherLQISettings,
+)
 
 __all__ = ["scenario_reference"]
 
-_TABLES = {"control": ControlSettings, "limits": Limits, "actuators": ActuatorSettings}
+_TABLES = {
+    "control": ControlSettings,
+    "control.tether_lqi": TetherLQISettings,
+    "limits": Limits,
+    "actuators": ActuatorSettings,
+}
 _PARAM_SECTIONS = {
     "helicopter": HelicopterParams,
     "tether": TetherParams,
@@ -192,7 +205,8 @@ def scenario_reference() -> str:
     ]
     for table, cls in _TABLES.items():
         top += ["", f"## `[{table}]`", "", _summary(cls), ""]
-        top += [*_HEADER, *_key_rows(f"{table}.", cls, getattr(scenario, table))]
+        defaults = functools.reduce(getattr, table.split("."), scenario)
+        top += [*_HEADER, *_key_rows(f"{table}.", cls, defaults)]
     top += [
         "",
         "## `[params.helicopter]`, `[params.tether]`, `[params.tension_control]`",

@@ -13,6 +13,12 @@ A scenario file::
     feedforward = true                # eq 55
     Qy = [1, 1, 1, 1, 10, 10, 10, 10] # eq 53 weights (paper)
     Ru = [1, 1, 1, 1]
+    controller = "paper"              # or "tether_lqi" (control.tether_lqi)
+    [control.tether_lqi]              # the tethered LQI's weights (TetherLQISettings)
+    Qy = [...]                        # q1, q2, q3, q6 and their integrators
+    q_tension = 0.0                   # [1/N^2] on the tension deviation
+    Ru = [...]                        # fMR3, tMR1, tMR2, fTR2, reel rate
+    anti_windup = true
     [limits]
     max_tension = 500.0               # [N]
     max_deviation = 100.0             # [m]
@@ -53,10 +59,12 @@ from ..wind import (
 )
 
 __all__ = [
+    "CONTROLLERS",
     "ActuatorSettings",
     "ControlSettings",
     "Limits",
     "Scenario",
+    "TetherLQISettings",
     "load_scenario",
     "metrics_first_sample",
     "paper_scenario",
@@ -93,14 +101,55 @@ def field_key(cls: type, name: str) -> Key:
     return cls.__dataclass_fields__[name].metadata["key"]
 
 
+#: The controllers ``[control] controller`` selects: the paper's scheme (Sec. V) and the LQI
+#: on the tethered linearization with the reel rate as a fifth input (``control.tether_lqi``).
+CONTROLLERS: tuple[str, ...] = ("paper", "tether_lqi")
+
+
+@dataclass(frozen=True)
+class TetherLQISettings:
+    """Design weights of the tethered LQI (``[control.tether_lqi]``, ``control.tether_lqi``).
+
+    Parameters
+    ----------
+    Qy, q_tension, Ru, anti_windup
+        The keys of a scenario's ``[control.tether_lqi]`` table; each field's ``Key`` gives
+        its meaning, unit, default and allowed range. Defaults: the weights
+        ``python benchmarks/tune_tether_lqi.py --evaluations 700`` found (see its header: the
+        paper's runs 1 and 2 with eq 40's saturation, effort within the paper's tethered
+        controller's).
+    """
+
+    Qy: tuple[float, ...] = _key(
+        (11.7435, 11.7435, 1.49411, 2.07043, 21.2098, 21.2098, 10.7023, 12.1298),
+        Key("diagonal of the output weight on [q1, q2, q3, q6] and their integrators",
+            kind="vector", length=8, low=0.0),
+    )  # fmt: skip
+    q_tension: float = _key(
+        0.000794132, Key("weight on the tension deviation (not integrated)", "1/N^2", low=0.0)
+    )
+    Ru: tuple[float, ...] = _key(
+        (0.632461, 0.878679, 0.878679, 0.641701, 0.510088),
+        Key("diagonal of the input weight on [fMR3, tMR1, tMR2, fTR2, reel rate]",
+            kind="vector", length=5, low=0.0, low_open=True),
+    )  # fmt: skip
+    anti_windup: bool = _key(
+        True,
+        Key("the integrators hold while a rotor command is outside its actuator limits",
+            kind="bool"),
+    )  # fmt: skip
+
+
 @dataclass(frozen=True)
 class ControlSettings:
     """Controller and integrator settings (Sec. V).
 
     Parameters
     ----------
-    dt, substeps, feedforward, Qy, Ru
-        The keys of a scenario's ``[control]`` table.
+    dt, substeps, feedforward, Qy, Ru, controller, tether_lqi
+        The keys of a scenario's ``[control]`` table: ``controller`` one of ``CONTROLLERS``;
+        Qy, Ru and feedforward are the paper controller's, ``tether_lqi`` the tethered LQI's
+        (which flies without the feed-forward: its plant model contains the tether).
         Each field's ``Key`` gives its meaning, unit, default and allowed range (printed
         in the scenario TOML reference, ``docs/scenario_reference.md``).
     """
@@ -126,6 +175,13 @@ class ControlSettings:
         Key("diagonal of the LQI input weight Ru (eq 47; paper Sec. V-A)", kind="vector",
             length=4, low=0.0, low_open=True),
     )  # fmt: skip
+    controller: str = _key(
+        "paper",
+        Key("the controller flown: the paper's (Sec. V) or the LQI on the tethered "
+            "linearization with the reel rate as a fifth input", kind="text",
+            choices=CONTROLLERS),
+    )  # fmt: skip
+    tether_lqi: TetherLQISettings = field(default_factory=TetherLQISettings)
 
 
 @dataclass(frozen=True)
@@ -453,7 +509,8 @@ def _validate(s: Scenario, source: str | None) -> None:
             f"a whole number of control samples (dt = {c.dt} s)",
             source=source,
         )
-    control = _checked(ControlSettings, "control", c, source, dt=dt)
+    tether_lqi = _checked(TetherLQISettings, "control.tether_lqi", c.tether_lqi, source)
+    control = _checked(ControlSettings, "control", c, source, dt=dt, tether_lqi=tether_lqi)
     lim = _checked(Limits, "limits", s.limits, source)
     a = s.actuators
     actuators = _checked(ActuatorSettings, "actuators", a, source)
@@ -563,6 +620,16 @@ def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Sc
                 if not isinstance(ctl[k], list):
                     raise ParameterError(f"control.{k}", ctl[k], "a list of numbers", source=source)
                 ctl[k] = tuple(ctl[k])
+        if "tether_lqi" in ctl:
+            tl = dict(_table(source, "control.tether_lqi", ctl["tether_lqi"], TetherLQISettings))
+            for k in ("Qy", "Ru"):
+                if k in tl:
+                    if not isinstance(tl[k], list):
+                        raise ParameterError(
+                            f"control.tether_lqi.{k}", tl[k], "a list of numbers", source=source
+                        )
+                    tl[k] = tuple(tl[k])
+            ctl["tether_lqi"] = TetherLQISettings(**tl)
         if "dt" in ctl:
             ctl["dt"] = field_key(ControlSettings, "dt").check(
                 "control.dt", ctl["dt"], source=source

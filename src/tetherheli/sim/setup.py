@@ -23,6 +23,7 @@ import numpy as np
 
 from ..control.lqi import LQIGain, design_lqi
 from ..control.paper import PaperController
+from ..control.tether_lqi import TetherLQIGain, tether_lqi_gain
 from ..errors import InfeasibleError
 from ..layout import (
     ACT_BREAK,
@@ -40,6 +41,7 @@ from ..layout import (
     CFG_METRICS_FROM,
     CFG_N_SUB,
     CFG_SIZE,
+    CTRL_ANTI_WINDUP,
     CTRL_DT,
     CTRL_FFWD,
     CTRL_K_I,
@@ -48,6 +50,8 @@ from ..layout import (
     CTRL_REEL_RATE_LIMIT,
     CTRL_SIZE,
     CTRL_T_REF,
+    CTRL_U_MAX,
+    CTRL_U_MIN,
     CTRL_WINCH,
     LANES,
     WIND_COLUMNS,
@@ -102,7 +106,7 @@ class RunSetup(NamedTuple):
 
     model: TetheredHelicopter
     trim: TrimPoint
-    gain: LQIGain
+    gain: LQIGain | TetherLQIGain
     ctrl: np.ndarray  # controller settings (``layout.CTRL_*``)
     cfg: np.ndarray  # run configuration (``layout.CFG_*``)
 
@@ -119,16 +123,21 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
     T_ref = params.tension_control.T_ref if tethered else 0.0
     trim: TrimPoint = model.trim(T_ref, scenario.q9)
     c = scenario.control
-    gain = paper_gain(
-        params if design_params is None else design_params,
-        c.dt,
-        tuple(c.Qy),
-        tuple(c.Ru),
-        scenario.q9,
-    )
+    design = params if design_params is None else design_params
+    gain = paper_gain(design, c.dt, tuple(c.Qy), tuple(c.Ru), scenario.q9)
+    lqi_on_tether = c.controller == "tether_lqi"
+    if lqi_on_tether:  # its plant contains the tether: no feed-forward (eq 55), no PI (eq 56)
+        w = c.tether_lqi
+        gain = tether_lqi_gain(
+            design, design.tension_control.T_ref, scenario.q9, c.dt,
+            tuple(w.Qy), w.q_tension, tuple(w.Ru), gain,
+        )  # fmt: skip
     ctrl = np.zeros(CTRL_SIZE)
     ctrl[CTRL_DT] = c.dt
-    ctrl[CTRL_FFWD] = float(tethered and c.feedforward)
+    ctrl[CTRL_FFWD] = float(tethered and c.feedforward and not lqi_on_tether)
+    ctrl[CTRL_ANTI_WINDUP] = float(lqi_on_tether and c.tether_lqi.anti_windup)
+    ctrl[CTRL_U_MIN : CTRL_U_MIN + 4] = -math.inf
+    ctrl[CTRL_U_MAX : CTRL_U_MAX + 4] = math.inf
     ctrl[CTRL_WINCH] = float(tethered)
     ctrl[CTRL_T_REF] = T_ref
     ctrl[CTRL_K_P] = params.tension_control.K_P
@@ -166,15 +175,19 @@ def _free_trim_input(params: Params, q9: float) -> np.ndarray:
     return u
 
 
-def paper_law(gain: LQIGain, trim: TrimPoint, u0_free: np.ndarray, z0: np.ndarray) -> tuple:
+def paper_law(
+    gain: LQIGain | TetherLQIGain, trim: TrimPoint, u0_free: np.ndarray, z0: np.ndarray
+) -> tuple:
     """The paper controller's law (gain, x_ref, y_ref, u0, u0_free, z0) (``layout.LAW_*``):
     ``trim`` is the windless trim (its state and outputs are the references), z0 the
-    integrators' start (``start_point``)."""
+    integrators' start (``start_point``). The tethered LQI's law works about the trim's total
+    input (no feed-forward) and references LN too."""
+    K = np.ascontiguousarray(gain.K)
     return (
-        np.ascontiguousarray(gain.K),
-        np.ascontiguousarray(trim.x[:12]),
+        K,
+        np.ascontiguousarray(trim.x[: K.shape[1] - 4]),
         trim.y.copy(),
-        trim.u.copy(),
+        trim.u_total.copy() if isinstance(gain, TetherLQIGain) else trim.u.copy(),
         np.ascontiguousarray(u0_free, dtype=float),
         np.array(z0, dtype=float),
     )
@@ -232,7 +245,8 @@ def start_point(
         return StartPoint(trim, np.zeros(4))
     windy = model.trim(trim.tension, q9, N_F_wind=force)
     K = np.asarray(gain.K)
-    K_x, K_z = K[:, :12], K[:, 12:16]
+    n_x = K.shape[1] - 4  # 12, or 13 for the tethered LQI (whose rows 0-3 are its rotor law)
+    K_x, K_z = K[:4, :n_x], K[:4, n_x:]
     cond = np.linalg.cond(K_z)
     if not cond < MAX_KZ_CONDITION:
         raise InfeasibleError(
@@ -241,9 +255,43 @@ def start_point(
             f"weights giving an invertible K_z (condition < {MAX_KZ_CONDITION:g}), so that an "
             "integrator state holds the trim in the wind at t = 0",
         )
-    u_cmd = windy.u if ctrl[CTRL_FFWD] > 0.5 else windy.u_total
-    rhs = trim.u - K_x @ (windy.x[:12] - trim.x[:12]) - u_cmd
-    return StartPoint(windy, np.linalg.solve(K_z, rhs))
+    u_law = trim.u_total if isinstance(gain, TetherLQIGain) else trim.u
+
+    def integrators(windy: TrimPoint) -> np.ndarray:
+        u_cmd = windy.u if ctrl[CTRL_FFWD] > 0.5 else windy.u_total
+        rhs = u_law - K_x @ (windy.x[:n_x] - trim.x[:n_x]) - u_cmd
+        return np.linalg.solve(K_z, rhs)
+
+    z0 = integrators(windy)
+    if isinstance(gain, TetherLQIGain) and ctrl[CTRL_WINCH] > 0.5:
+        windy, z0 = _reel_at_rest(model, trim, K, force, q9, windy, z0, integrators)
+    return StartPoint(windy, z0)
+
+
+def _reel_at_rest(model, trim, K, force, q9, windy, z0, integrators):
+    """The tethered LQI's start in wind: its fifth row (the reel rate) must command zero too.
+    The windy trims of any tension keep the outputs (``hover_trim``), so the tension is the
+    free unknown: the secant method on the reel command r(T) = -K_5 [x_w(T) - x_ref; z0(T)]
+    (near-linear in T), from the windless trim's tension; returns (windy trim, z0)."""
+
+    def reel(w: TrimPoint, z: np.ndarray) -> float:
+        return float(-K[4, :13] @ (w.x[:13] - trim.x[:13]) - K[4, 13:] @ z)
+
+    T_prev, r_prev = trim.tension, reel(windy, z0)
+    T = 1.02 * T_prev
+    for _ in range(12):
+        windy = model.trim(T, q9, N_F_wind=force)
+        z0 = integrators(windy)
+        r = reel(windy, z0)
+        if abs(r) < 1e-12 or r == r_prev:
+            break
+        T, T_prev, r_prev = T - r * (T - T_prev) / (r - r_prev), T, r
+        if not T > 0.0:
+            raise InfeasibleError(
+                "control.tether_lqi", "a start in the wind", "weights whose reel row holds "
+                "the winch at rest at a positive tension"
+            )  # fmt: skip
+    return windy, z0
 
 
 def actuator_array(scenario: Scenario, trim: TrimPoint, ctrl: np.ndarray) -> np.ndarray:
@@ -258,6 +306,8 @@ def actuator_array(scenario: Scenario, trim: TrimPoint, ctrl: np.ndarray) -> np.
     act[ACT_REEL_ACCEL] = a.reel_acceleration_limit
     ctrl[CTRL_REEL_RATE_LIMIT] = a.reel_rate_limit
     ctrl[CTRL_REEL_ACCEL] = a.reel_acceleration_limit
+    ctrl[CTRL_U_MIN : CTRL_U_MIN + 4] = a.u_min  # for the anti-windup (CTRL_ANTI_WINDUP)
+    ctrl[CTRL_U_MAX : CTRL_U_MAX + 4] = a.u_max
     need = trim.u_total
     for i, name in enumerate(INPUT):
         if not a.u_min[i] < need[i] < a.u_max[i]:
@@ -301,7 +351,7 @@ class EngineSetup:
 
     model: TetheredHelicopter
     trim: TrimPoint
-    gain: LQIGain
+    gain: LQIGain | TetherLQIGain
     ctrl: np.ndarray
     cfg: np.ndarray
     wind: CompiledWind | None

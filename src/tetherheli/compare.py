@@ -1,0 +1,177 @@
+"""``tetherheli compare``: scenarios flown by several controllers, one table and one figure.
+
+Each tethered scenario is flown once per controller (``[control] controller``, the weights of
+its ``[control.tether_lqi]``); a free scenario is flown once (every controller flies the
+paper's free law there), as the reference the tether is judged against. ``--eq40`` applies
+eq 40's cyclic limit as saturation of tMR1, tMR2 (``controllers.eq40_saturated``). The
+measures are ``controllers.CONTROLLER_METRICS``; the compute time is that of a second,
+identical run (the first one compiles).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+__all__ = ["compare", "register", "write_compare"]
+
+
+def compare(paths: list[str], controllers: tuple[str, ...], *, eq40: bool) -> list[dict[str, Any]]:
+    """One row per (scenario, controller): ``scenario``, ``configuration``, ``controller``,
+    ``status`` and ``controllers.CONTROLLER_METRICS``."""
+    from .errors import TetherheliError
+    from .sim import load_scenario
+    from .studies.controllers import eq40_saturated, fly, with_controller
+
+    rows = []
+    for path in paths:
+        base = load_scenario(path)
+        if eq40:
+            base = eq40_saturated(base)
+        names = controllers if base.configuration == "tethered" else ("paper",)
+        for name in names:
+            row: dict[str, Any] = {
+                "scenario": base.name,
+                "configuration": base.configuration,
+                "controller": name,
+            }
+            try:
+                scenario = with_controller(base, name)
+                fly(scenario)  # a first run compiles what it needs: not part of the time
+                result, metrics = fly(scenario)
+                row["status"] = result.message
+                row.update(metrics)
+            except TetherheliError as exc:
+                row["status"] = str(exc).splitlines()[0]
+                row["completed"] = False
+            rows.append(row)
+    return rows
+
+
+def _figure(rows: list[dict[str, Any]]):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    labels = [f"{r['scenario']}\n{r['controller']}" for r in rows]
+    fig, axes = plt.subplots(1, 2, figsize=(max(8.0, 1.1 * len(rows) + 4), 4.5))
+    x = np.arange(len(rows))
+    for ax, kind in zip(axes, ("peak", "rms"), strict=True):
+        for a, off in zip((1, 2, 3), (-0.27, 0.0, 0.27), strict=True):
+            vals = [r.get(f"{kind}_q{a}", np.nan) for r in rows]
+            ax.bar(x + off, vals, width=0.27, label=f"q{a}")
+        ax.set_xticks(x, labels, rotation=60, ha="right", fontsize=7)
+        ax.set_ylabel(f"{kind} deviation [m]")
+        ax.legend()
+        ax.grid(axis="y", alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def write_compare(
+    rows: list[dict[str, Any]],
+    out_dir: str | Path,
+    *,
+    command: str,
+    inputs: tuple[str, ...],
+    force: bool = False,
+) -> None:
+    """compare.csv (every measure), compare.md (the main columns), compare.png and
+    summary.json, written whole or not at all (``_io.output_directory``)."""
+    from . import __version__
+    from ._io import atomic_write_text, output_directory
+    from .studies.controllers import CONTROLLER_METRICS
+    from .viz.plots import save_figure
+
+    columns = ["scenario", "configuration", "controller", "status", *CONTROLLER_METRICS]
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    writer.writerow(columns)
+    for r in rows:
+        writer.writerow([r.get(c, "") for c in columns])
+    fig = _figure(rows)
+    with output_directory(out_dir, writer="compare", inputs=inputs, force=force) as tmp:
+        save_figure(fig, tmp / "compare.png")
+        atomic_write_text(tmp / "compare.csv", buf.getvalue())
+        atomic_write_text(tmp / "compare.md", markdown_table(rows))
+        info = {"rows": rows, "tetherheli_version": __version__, "command": command}
+        atomic_write_text(tmp / "summary.json", json.dumps(info, indent=2) + "\n")
+
+
+def markdown_table(rows: list[dict[str, Any]]) -> str:
+    """The comparison's main columns as a Markdown table (lengths [m], attitude [deg],
+    efforts [N, N m, N m, N], tension [N], compute time [us])."""
+    head = (
+        "| scenario | controller | peak q1 | peak q2 | peak q3 | RMS q1 | RMS q2 | RMS q3 "
+        "| peak att. | RMS dfMR3 | RMS dtMR1 | RMS dtMR2 | RMS dfTR2 | peak cyclic / limit "
+        "| tension | ok | us/sample |\n"
+    )
+    head += "|" + "---|" * 17 + "\n"
+    lines = []
+    for r in rows:
+        if "peak_q1" not in r:
+            lines.append(f"| {r['scenario']} | {r['controller']} |" + " |" * 14 + " no | |")
+            continue
+        lim = r["cyclic_limit"]
+        cyc = f"{r['peak_cyclic']:.2f} / {lim:.2f}" if lim == lim else f"{r['peak_cyclic']:.2f}"
+        tension = (
+            f"{r['tension_min']:.1f}-{r['tension_max']:.1f}"
+            if r["configuration"] == "tethered"
+            else "-"
+        )
+        cells = [
+            r["scenario"], r["controller"],
+            *(f"{r[k]:.3f}" for k in ("peak_q1", "peak_q2", "peak_q3", "rms_q1", "rms_q2",
+                                      "rms_q3")),
+            f"{r['peak_attitude_deg']:.2f}",
+            *(f"{r[k]:.3f}" for k in ("rms_dfMR3", "rms_dtMR1", "rms_dtMR2", "rms_dfTR2")),
+            cyc, tension, "yes" if r["completed"] else "no",
+            f"{r['compute_us_per_sample']:.1f}",
+        ]  # fmt: skip
+        lines.append("| " + " | ".join(cells) + " |")
+    return head + "\n".join(lines) + "\n"
+
+
+def _cmd_compare(args: argparse.Namespace) -> int:
+    from ._io import claim_output_directory
+    from .errors import ParameterError
+    from .sim.scenario import CONTROLLERS
+
+    names = tuple(n.strip() for n in args.controllers.split(",") if n.strip())
+    for n in names:
+        if n not in CONTROLLERS:
+            raise ParameterError("--controllers", args.controllers, f"names from {CONTROLLERS}")
+    if not names:
+        raise ParameterError("--controllers", args.controllers, f"names from {CONTROLLERS}")
+    inputs = tuple(args.scenarios)
+    claim_output_directory(args.out, inputs=inputs, force=args.force)
+    rows = compare(list(args.scenarios), names, eq40=args.eq40)
+    command = "tetherheli compare " + " ".join(sys.argv[2:])
+    write_compare(rows, args.out, command=command, inputs=inputs, force=args.force)
+    print(markdown_table(rows), end="")
+    failed = [r for r in rows if not r.get("completed")]
+    for r in failed:
+        print(f"tetherheli: {r['scenario']} / {r['controller']}: {r['status']}", file=sys.stderr)
+    return 1 if failed else 0
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """The ``compare`` sub-command (``cli._EXTRA_COMMANDS``)."""
+    p = sub.add_parser("compare", help="fly scenarios under several controllers: table, figure")
+    p.add_argument("scenarios", nargs="+", help="scenario TOML files")
+    p.add_argument(
+        "--controllers", default="paper,tether_lqi", help="comma-separated controller names"
+    )
+    p.add_argument(
+        "--eq40", action="store_true", help="saturate tMR1, tMR2 at eq 40's cyclic limit"
+    )
+    p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--force", action="store_true", help="replace this command's earlier output")
+    p.set_defaults(func=_cmd_compare)

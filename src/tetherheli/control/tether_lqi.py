@@ -1,0 +1,187 @@
+"""An LQI designed on the *tethered* linearization, with the winch's reel rate as a fifth input.
+
+The paper designs its LQI on the free helicopter (Sec. V-A) and leaves the tether to a
+feed-forward (eq 55) and a tension PI (eq 56). Here the plant of eq 46 is the tethered model
+linearized at Table V's trim (``model.linearize``: 13 states q4..u6 and LN, the tension
+TC = KC (q9 - LN) of eq 28 inside A), with inputs u = [fMR3, tMR1, tMR2, fTR2, RC]
+(RC = dLN/dt, eq 37). The integrators of eq 50 act on the paper's outputs [q1, q2, q3, q6];
+the cost of eq 47 adds a weight on the tension deviation dTC = KC (dq9 - dLN), which is
+not integrated (five inputs hold four integrated outputs; the tension is the spare degree of
+freedom the weight prices):
+
+    J = 1/2 sum( y_LQI' Qy y_LQI + q_T dTC^2 + u' Ru u ).
+
+The gain is that of ``control.lqi`` (eqs 48-53) with Qx = C_LQI' Qy C_LQI + q_T c_T' c_T.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+from scipy.linalg import solve_discrete_are
+
+from .._linalg import check_dt, discretize_zoh
+from ..errors import TetherheliError
+from .lqi import LQIGain, _check_pd, _check_psd, augment_lqi
+
+__all__ = [
+    "TetherLQIGain",
+    "design_tether_lqi",
+    "pack_gain",
+    "tether_lqi_gain",
+    "tethered_design",
+]
+
+
+@dataclass(frozen=True, eq=False)
+class TetherLQIGain:
+    """The tethered LQI (``design_tether_lqi``) with the free law flown after a release.
+
+    Attributes
+    ----------
+    tethered : LQIGain
+        K (5, 17) on [q4..u6, LN, z]; rows fMR3, tMR1, tMR2, fTR2, RC. Its ``Qy`` is the
+        output weight on [y; z]; the tension weight is ``q_tension``.
+    free : LQIGain
+        The paper's K_LQI|F (4, 16), used once the tether is released.
+    q_tension : float
+        Weight on the tension deviation [1/N^2].
+    """
+
+    tethered: LQIGain
+    free: LQIGain
+    q_tension: float
+
+    @property
+    def K(self) -> np.ndarray:
+        """The engine's packed gain (9, 17) (``layout.LAW_GAIN``, ``pack_gain``)."""
+        return pack_gain(self.tethered.K, self.free.K)
+
+    @property
+    def spectral_radius(self) -> float:
+        """Spectral radius of the tethered closed loop G_LQI - H_LQI K."""
+        return self.tethered.spectral_radius
+
+
+def pack_gain(K_tethered: np.ndarray, K_free: np.ndarray) -> np.ndarray:
+    """(9, 17): rows 0-4 the tethered gain (5, 17), rows 5-8 the free gain (4, 16) with a zero
+    LN column inserted at 12 (``layout.LAW_GAIN``)."""
+    K = np.zeros((9, 17))
+    K[:5] = K_tethered
+    K[5:, :12] = K_free[:, :12]
+    K[5:, 13:] = K_free[:, 12:]
+    return K
+
+
+def design_tether_lqi(
+    G: np.ndarray,
+    H: np.ndarray,
+    C: np.ndarray,
+    c_tension: np.ndarray,
+    dt: float,
+    *,
+    Qy: np.ndarray,
+    q_tension: float,
+    Ru: np.ndarray,
+) -> LQIGain:
+    """The LQI gain on (G, H, C) with an extra, non-integrated tension weight.
+
+    Parameters
+    ----------
+    G, H : ndarray, shapes (n, n), (n, m)
+        Discrete tethered plant (eq 46) with the reel rate among the inputs.
+    C : ndarray, shape (p, n)
+        The integrated outputs (eq 50).
+    c_tension : ndarray, shape (n,)
+        The tension deviation's row, dTC = c_tension' dx [N].
+    dt : float
+        Sample time [s].
+    Qy : ndarray, shape (2 p, 2 p)
+        Weight on [y; z] (eq 47), positive semidefinite.
+    q_tension : float
+        Weight on dTC^2 [1/N^2], >= 0.
+    Ru : ndarray, shape (m, m)
+        Input weight, positive definite.
+
+    Returns
+    -------
+    LQIGain
+        K (m, n + p) = (Ru + H' P H)^{-1} H' P G on the augmented system (eqs 48-53).
+    """
+    dt = check_dt(dt)
+    G_lqi, H_lqi, C_lqi = augment_lqi(G, H, C, dt)
+    _check_psd("Qy", Qy)
+    _check_pd("Ru", Ru)
+    if not (np.isfinite(q_tension) and q_tension >= 0):
+        raise TetherheliError(f"q_tension = {q_tension}; allowed: a weight >= 0 [1/N^2]")
+    c_aug = np.zeros(G_lqi.shape[0])
+    c_aug[: G.shape[0]] = c_tension
+    Qx = C_lqi.T @ Qy @ C_lqi + q_tension * np.outer(c_aug, c_aug)
+    try:
+        P = solve_discrete_are(G_lqi, H_lqi, Qx, Ru)
+    except (np.linalg.LinAlgError, ValueError) as exc:
+        raise TetherheliError(
+            f"no stabilising solution of the tethered LQI's Riccati equation (eq 49): {exc}"
+        ) from None
+    P = 0.5 * (P + P.T)
+    K = np.linalg.solve(Ru + H_lqi.T @ P @ H_lqi, H_lqi.T @ P @ G_lqi)
+    gain = LQIGain(K=K, dt=dt, Qy=Qy, Ru=Ru, P=P, G_lqi=G_lqi, H_lqi=H_lqi)
+    if not gain.spectral_radius < 1.0:
+        raise TetherheliError(
+            f"the tethered LQI's closed loop has spectral radius {gain.spectral_radius:.6g} >= 1"
+        )
+    return gain
+
+
+def tethered_design(params, T_ref: float, q9: float, dt: float):
+    """The tethered plant the LQI is designed on: (G, H, C, c_tension) at Table V's trim
+    (tension T_ref [N], tether length q9 [m]), ZOH-discretised at dt [s] (eq 46), inputs
+    [fMR3, tMR1, tMR2, fTR2, RC]."""
+    return _tethered_design(params, float(T_ref), float(q9), float(dt))
+
+
+@lru_cache(maxsize=32)
+def _tethered_design(params, T_ref, q9, dt):
+    from ..model import TetheredHelicopter
+    from ..model.linearize import linearize
+    from ..names import INPUT, REEL_RATE
+
+    model = TetheredHelicopter(params)
+    trim = model.trim(T_ref, q9)
+    if not trim.tension > 0.0:
+        raise TetherheliError(
+            f"the tethered LQI needs a taut tether at trim; tension {trim.tension:g} N"
+        )
+    lin = linearize(model, trim)
+    B = lin.input_matrix((*INPUT, REEL_RATE))
+    G, H = discretize_zoh(lin.A, B, dt)
+    K_C = params.tether.K_C
+    c_t = np.zeros(lin.A.shape[0])
+    c_t[lin.state_names.index("q9")] = K_C  # eq 28: TC = KC (q9 - LN)
+    c_t[lin.state_names.index("LN")] = -K_C
+    for a in (G, H, lin.C, c_t):
+        a.setflags(write=False)
+    return G, H, lin.C, c_t
+
+
+@lru_cache(maxsize=64)
+def tether_lqi_gain(
+    params,
+    T_ref: float,
+    q9: float,
+    dt: float,
+    Qy: tuple,
+    q_tension: float,
+    Ru: tuple,
+    free: LQIGain,
+) -> TetherLQIGain:
+    """``design_tether_lqi`` on ``tethered_design(params, T_ref, q9, dt)`` with diagonal
+    weights Qy (8,) and Ru (5,) (tuples), paired with the free law ``free``; cached, as
+    ``sim.setup.paper_gain`` is (a batch's runs share it)."""
+    G, H, C, c_t = tethered_design(params, T_ref, q9, dt)
+    gain = design_tether_lqi(
+        G, H, C, c_t, dt, Qy=np.diag(Qy), q_tension=float(q_tension), Ru=np.diag(Ru)
+    )
+    return TetherLQIGain(gain, free, float(q_tension))

@@ -1,0 +1,103 @@
+"""Flying one scenario under several controllers and measuring what each achieves and costs.
+
+The measures (``controller_metrics``) are those of issue 14's comparison: peak and RMS of the
+position deviations q1-q3 [m], the peak attitude deviation (q4, q5) [deg], RMS and peak of
+each rotor input minus its trim total input (the control effort), the peak cyclic torque
+against its limit (eq 40), the tension range [N], the run's status and the compute time per
+control sample. ``eq40_saturated`` applies the paper's eq-40 cyclic limit (20% of the free
+hover lift times the tether arm, ``sweep.paper_cyclic_limit``) as saturation of tMR1, tMR2.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from typing import Any
+
+import numpy as np
+
+from ..errors import ParameterError
+from ..names import INPUT
+from ..sim.scenario import CONTROLLERS, Scenario
+from .sweep import paper_cyclic_limit, scenario_cyclic_limit
+
+__all__ = [
+    "CONTROLLER_METRICS",
+    "controller_metrics",
+    "eq40_saturated",
+    "fly",
+    "with_controller",
+]
+
+#: the columns ``controller_metrics`` returns, in table order
+CONTROLLER_METRICS: tuple[str, ...] = (
+    "peak_q1", "peak_q2", "peak_q3", "rms_q1", "rms_q2", "rms_q3", "peak_attitude_deg",
+    *(f"rms_d{n}" for n in INPUT), *(f"peak_d{n}" for n in INPUT),
+    "peak_cyclic", "cyclic_limit", "tension_min", "tension_max", "completed",
+    "compute_us_per_sample",
+)  # fmt: skip
+
+
+def eq40_saturated(scenario: Scenario) -> Scenario:
+    """``scenario`` with tMR1, tMR2 saturated at +-eq 40's limit (``paper_cyclic_limit``);
+    fMR3 and fTR2 keep their limits."""
+    lim = paper_cyclic_limit(scenario.params)
+    a = scenario.actuators
+    act = dataclasses.replace(
+        a,
+        u_min=(a.u_min[0], -lim, -lim, a.u_min[3]),
+        u_max=(a.u_max[0], lim, lim, a.u_max[3]),
+    )
+    return scenario.replace(actuators=act)
+
+
+def with_controller(scenario: Scenario, controller: str, **tether_lqi: Any) -> Scenario:
+    """``scenario`` flown by ``controller`` (``CONTROLLERS``), with ``[control.tether_lqi]``
+    fields replaced by ``tether_lqi``."""
+    if controller not in CONTROLLERS:
+        raise ParameterError("controller", controller, f"one of {CONTROLLERS}")
+    c = scenario.control
+    weights = dataclasses.replace(c.tether_lqi, **tether_lqi)
+    return scenario.replace(
+        control=dataclasses.replace(c, controller=controller, tether_lqi=weights)
+    )
+
+
+def controller_metrics(result, u_trim: np.ndarray, cyclic_limit: float | None) -> dict[str, Any]:
+    """The comparison's measures of a recorded run (``CONTROLLER_METRICS`` but the compute
+    time). ``u_trim`` (4,) is the trim's total rotor input; ``cyclic_limit`` [N m] or None."""
+    d = result.outputs[:, :3] - result.trim_output[:3]
+    att = result.states[:, :2] - result.trim_state[:2]
+    du = result.inputs - np.asarray(u_trim)
+    out: dict[str, Any] = {}
+    for a in range(3):
+        out[f"peak_q{a + 1}"] = float(np.max(np.abs(d[:, a])))
+        out[f"rms_q{a + 1}"] = float(np.sqrt(np.mean(d[:, a] ** 2)))
+    out["peak_attitude_deg"] = float(np.degrees(np.max(np.abs(att))))
+    for i, n in enumerate(INPUT):
+        out[f"rms_d{n}"] = float(np.sqrt(np.mean(du[:, i] ** 2)))
+    for i, n in enumerate(INPUT):
+        out[f"peak_d{n}"] = float(np.max(np.abs(du[:, i])))
+    out["peak_cyclic"] = float(np.max(np.abs(result.inputs[:, 1:3])))
+    out["cyclic_limit"] = math.nan if cyclic_limit is None else float(cyclic_limit)
+    out["tension_min"] = float(np.min(result.tension))
+    out["tension_max"] = float(np.max(result.tension))
+    out["completed"] = bool(result.ok)
+    return out
+
+
+def fly(scenario: Scenario) -> tuple[Any, dict[str, Any]]:
+    """Simulate ``scenario`` (compiled engine) and measure it (``controller_metrics``, with the
+    wall-clock time of ``simulate`` per control sample [us], its set-up and recording
+    included: an upper bound of the controller's cost)."""
+    from ..sim import simulate
+    from ..sim.setup import engine_setup
+
+    setup = engine_setup(scenario)
+    t0 = time.perf_counter()
+    result = simulate(scenario)
+    elapsed = time.perf_counter() - t0
+    metrics = controller_metrics(result, setup.trim.u_total, scenario_cyclic_limit(scenario))
+    metrics["compute_us_per_sample"] = 1e6 * elapsed / max(1, result.time.size)
+    return result, metrics
