@@ -39,6 +39,8 @@ def test_parquet_round_trips_like_csv(run, tmp_path):
         assert paths[fmt] == tmp_path / fmt / f"fmt_run.{fmt}"
         assert list_results(tmp_path / fmt) == ["fmt_run"]
         _assert_same(load_result(tmp_path / fmt), run)
+        _assert_same(load_result(paths[fmt]), run)  # the file's path names the run too
+        _assert_same(load_result(paths["json"]), run)
     table = pd.read_parquet(tmp_path / "parquet" / "fmt_run.parquet")
     assert list(table.columns) == list(RESULT_COLUMNS)
     np.testing.assert_array_equal(table["q3"].to_numpy(), run.outputs[:, 2])

@@ -537,7 +537,8 @@ def load_result(directory: str | Path, stem: str | None = None) -> SimulationRes
 
     Parameters
     ----------
-    directory : path of the result directory
+    directory : path of the result directory, or of one run's ``<stem>.csv``,
+        ``<stem>.parquet`` or ``<stem>.json`` (then ``stem`` is that file's)
     stem : which run (``list_results``); None when the directory holds exactly one
 
     Returns
@@ -554,6 +555,9 @@ def load_result(directory: str | Path, stem: str | None = None) -> SimulationRes
         If the directory is missing or holds no (or, with ``stem=None``, several) runs, or a
         file is malformed (one line naming the file and what is expected).
     """
+    given = Path(directory)
+    if stem is None and given.is_file() and given.suffix[1:] in (*RESULT_FORMATS, "json"):
+        directory, stem = given.parent, given.stem
     path = _result_directory(directory)
     stems = list_results(path)
     if stem is None:
