@@ -15,7 +15,12 @@ from tetherheli import simulate
 from tetherheli.analysis import run_metrics, tether_moment
 from tetherheli.cli import main
 from tetherheli.errors import ParameterError
-from tetherheli.sim.scenario import ActuatorSettings, paper_scenario
+from tetherheli.sim.scenario import (
+    ActuatorSettings,
+    load_scenario,
+    paper_scenario,
+    scenario_from_dict,
+)
 from tetherheli.studies.cyclic_limit import (
     bisect_criterion,
     bracket_from_above,
@@ -169,6 +174,7 @@ def test_find_min_cli(tmp_path, capsys):
     info = json.loads((out / "summary.json").read_text())
     assert info["metric"] == "peak_q1" and info["within"] == 0.1
     assert info["hi"] - info["lo"] <= 0.01
+    assert scenario_from_dict(info["configuration"]) == load_scenario(scen)
     assert info["interval"] in capsys.readouterr().out
     assert (out / "sweep.png").exists()
     bad = [*argv, "--cyclic-limit", "4", "--out", str(tmp_path / "x")]

@@ -10,7 +10,7 @@ import pytest
 
 from tetherheli import ParameterError, Params
 from tetherheli.cli import main
-from tetherheli.sim.scenario import paper_scenario
+from tetherheli.sim.scenario import load_scenario, paper_scenario, scenario_from_dict
 from tetherheli.studies.sweep import paper_cyclic_limit, sweep, tension_bound
 
 SIM1_TETHERED = str(Path(__file__).resolve().parents[1] / "scenarios" / "paper_sim1_tethered.toml")
@@ -79,6 +79,9 @@ def test_sweep_cli(tmp_path, capsys):
     assert main(argv) == 0
     info = json.loads((out / "summary.json").read_text())
     assert info["best_value"] == 20.0 and (out / "sweep.png").exists()
+    # the summary records the whole swept scenario, which re-creates it
+    recorded = scenario_from_dict(info["configuration"])
+    assert recorded == load_scenario(SIM1_TETHERED)
     bad = [
         "sweep",
         SIM1_TETHERED,

@@ -271,6 +271,7 @@ def _cmd_paper(args: argparse.Namespace) -> int:
         pulse_duration=args.pulse_duration,
         command=command.strip(),
         force=args.force,
+        data_format=args.data_format,
     )
     red = summary["reduction_percent"]
     print(f"wrote {args.out}/ (report.md, summary.json, fig6-fig9 PNG, time series)")
@@ -298,7 +299,9 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from .report import write_comparison, write_run
     from .sim import load_scenario, simulate
     from .sim.closed_loop import check_run_memory
+    from .sim.result import check_result_format
 
+    check_result_format(args.data_format)  # before the runs
     scenarios = [load_scenario(path) for path in args.scenario]  # all validated first
     names = [s.name for s in scenarios]
     if len(set(names)) != len(names):
@@ -310,9 +313,15 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     command = "tetherheli simulate " + " ".join(args.scenario)
     results = [simulate(s, method=args.method) for s in scenarios]
     if len(results) == 1:
-        write_run(results[0], args.out, command=command, inputs=inputs, force=args.force)
+        write_run(
+            results[0], args.out, command=command, inputs=inputs, force=args.force,
+            data_format=args.data_format,
+        )  # fmt: skip
     else:
-        write_comparison(results, args.out, command=command, inputs=inputs, force=args.force)
+        write_comparison(
+            results, args.out, command=command, inputs=inputs, force=args.force,
+            data_format=args.data_format,
+        )  # fmt: skip
     for r in results:
         if r.released:
             print(f"tetherheli: run {r.name}: {r.release_note()}", file=sys.stderr)
@@ -358,6 +367,17 @@ def _add_force(p: argparse.ArgumentParser) -> None:
     )
 
 
+def _add_format(p: argparse.ArgumentParser, what: str) -> None:
+    """``--format csv|parquet`` of the time series (``sim.result.RESULT_FORMATS``)."""
+    p.add_argument(
+        "--format",
+        dest="data_format",
+        choices=("csv", "parquet"),
+        default="csv",
+        help=f"file format of {what}: csv (default) or parquet (needs pandas and pyarrow)",
+    )
+
+
 def _register_simulation(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("paper", help="the paper's four wind simulations, Figs. 6-9, report")
     p.add_argument("--out", default="paper_out", help="output directory (default paper_out)")
@@ -368,6 +388,7 @@ def _register_simulation(sub: argparse._SubParsersAction) -> None:
         default=1.0,
         help="duration of the 20 N pulse [s] (not stated in the paper; default 1)",
     )
+    _add_format(p, "the time series <run>.csv")
     _add_force(p)
     p.set_defaults(func=_cmd_paper)
 
@@ -385,6 +406,7 @@ def _register_simulation(sub: argparse._SubParsersAction) -> None:
         default="rk4",
         help="integration: compiled fixed-step RK4 or the adaptive reference",
     )
+    _add_format(p, "the time series <name>.csv")
     _add_force(p)
     p.set_defaults(func=_cmd_simulate)
 
@@ -561,6 +583,7 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
             worker_timeout_s=args.worker_timeout,
             inputs=(args.scenario,),
             force=args.force,
+            table_format=args.data_format,
         )
     except ClusterError as exc:
         print(
@@ -579,7 +602,10 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
         return EXIT_STOPPED
-    print(f"wrote {args.out}/ (results.csv, summary.json, peak_q1_hist.png, peak_q1_cdf.png)")
+    print(
+        f"wrote {args.out}/ (results.{args.data_format}, summary.json, peak_q1_hist.png, "
+        "peak_q1_cdf.png)"
+    )
     failed = 0
     for cfg in CONFIGURATIONS:
         s = summary["statistics"][cfg]
@@ -592,7 +618,8 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
     if failed:
         print(
             f"tetherheli: {failed} run{'s' if failed > 1 else ''} failed (status, message and "
-            f"reason in {args.out}/results.csv; percentiles are over completed runs)",
+            f"reason in {args.out}/results.{args.data_format}; percentiles are over completed "
+            "runs)",
             file=sys.stderr,
         )
     return 1 if failed and args.strict else 0
@@ -724,6 +751,7 @@ def _register_animate(sub: argparse._SubParsersAction) -> None:
         "for this many seconds (default 60)",
     )
     p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
+    _add_format(p, "the results table results.csv")
     _add_force(p)
     p.set_defaults(func=_cmd_montecarlo)
 
@@ -750,3 +778,43 @@ def _register_compare(sub: argparse._SubParsersAction) -> None:
 
 
 _EXTRA_COMMANDS.append(_register_compare)
+
+
+# --- shipped scenarios ------------------------------------------------------------------------
+
+
+def _cmd_scenarios(args: argparse.Namespace) -> int:
+    from .shipped import copy_scenario, shipped_scenarios
+
+    if args.name is None:
+        if args.out is not None:
+            raise _UsageError("tetherheli scenarios: --out needs a scenario NAME")
+        listing = shipped_scenarios()
+        width = max(map(len, listing))
+        for name, description in listing.items():
+            print(f"{name:<{width}}  {description}")
+        return 0
+    if args.out is None:
+        raise _UsageError(
+            f"tetherheli scenarios: give --out PATH to copy {args.name} (e.g. "
+            f"--out {args.name}.toml)"
+        )
+    path = copy_scenario(args.name, args.out)
+    print(f"wrote {path}")
+    return 0
+
+
+def _register_scenarios(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "scenarios",
+        help="list the shipped scenario files, or copy one out to edit",
+        description="Without NAME: list the scenarios shipped with tetherheli. With NAME and "
+        "--out: copy that scenario's TOML file to PATH (never over a file tetherheli did not "
+        "write).",
+    )
+    p.add_argument("name", nargs="?", help="a shipped scenario's name (see the list)")
+    p.add_argument("--out", help="file to write the scenario to (with NAME)")
+    p.set_defaults(func=_cmd_scenarios)
+
+
+_EXTRA_COMMANDS.append(_register_scenarios)

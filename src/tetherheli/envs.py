@@ -50,10 +50,22 @@ Wind
     :class:`~tetherheli.wind.Disturbance` may be passed instead, and
     ``reset(options={"wind": disturbance})`` overrides the wind of one episode.
 
-The environment is not registered on import: call :func:`register_envs` once, then
-``gymnasium.make("tetherheli/TetheredHover-v0", ...)``, or ``gymnasium.make_vec(...,
-num_envs=N, vectorization_mode="vector_entry_point")`` for N copies stepped in one compiled
-call (:class:`tetherheli.vector_env.TetheredHoverVectorEnv`). The observation (``observe_into``)
+Rendering
+    ``render_mode="rgb_array"``: ``render()`` returns the animation's scene
+    (:func:`tetherheli.viz.animation.frame_rgb`, the drawing of ``tetherheli animate``) of the
+    episode so far as an (H, W, 3) uint8 array; ``"human"`` shows that frame in a Matplotlib
+    window after every reset and step (needs a display: an interactive Matplotlib backend).
+    ``metadata["render_fps"]`` is 1 / dt, one frame per step. Rendering records the episode
+    (one row per step) and redraws the whole scene per frame (a fraction of a second): it is
+    for looking at a policy, not for training.
+
+Importing this module registers ``ENV_ID`` with Gymnasium (:func:`register_envs`), so
+``gymnasium.make("tetherheli/TetheredHover-v0", ...)`` works after ``import tetherheli.envs``
+and ``gymnasium.make("tetherheli.envs:tetherheli/TetheredHover-v0")`` works in a fresh process
+(Gymnasium 1.x imports the module named before the colon; it no longer loads plugins from
+entry points). ``gymnasium.make_vec(..., num_envs=N, vectorization_mode="vector_entry_point")``
+gives N copies stepped in one compiled call
+(:class:`tetherheli.vector_env.TetheredHoverVectorEnv`). The observation (``observe_into``)
 and the step's reward and failure check (``finish_step``) are compiled functions that both
 environments run. Requires the ``gymnasium`` package (``pip install "tetherheli[rl]"``).
 """
@@ -111,10 +123,14 @@ from .wind import (
 )
 
 __all__ = [
+    "DEFAULT_EPISODE_TIME",
     "ENV_ID",
+    "MAX_EPISODE_STEPS",
     "OBSERVATION_NAMES",
     "OBS_LIMIT",
+    "RENDER_MODES",
     "WIND_KINDS",
+    "RenderModeError",
     "TetheredHoverEnv",
     "finish_step",
     "observe_into",
@@ -134,10 +150,38 @@ OBS_LIMIT = 1.0e4
 #: Wind kinds that :meth:`TetheredHoverEnv.draw_wind` can draw.
 WIND_KINDS = ("none", "pulse", "sine", "turbulence")
 
+#: Render modes of :class:`TetheredHoverEnv` (``render_mode=None``, the default, draws nothing).
+RENDER_MODES = ("human", "rgb_array")
+
+#: Default episode length [s] of :class:`TetheredHoverEnv` (``max_episode_time``).
+DEFAULT_EPISODE_TIME = 30.0
+
 _DEFAULT_ACTION_SCALE = (20.0, 2.0, 2.0, 5.0)
 _DEFAULT_DRAG = DragModel(cd_area_m2=(0.3, 0.3, 0.5))
 
 _jit = compiled(error_model="numpy")
+
+
+class RenderModeError(ParameterError, gymnasium.error.UnsupportedMode):
+    """A render mode the environment does not support (or "human" without a display): a
+    ``ParameterError`` (one line) that is also Gymnasium's ``error.UnsupportedMode``."""
+
+
+def _check_display() -> None:
+    """Refuse ``render_mode="human"`` (``RenderModeError``) unless Matplotlib's backend is
+    interactive, i.e. a window can be shown."""
+    import matplotlib
+    from matplotlib.backends import BackendFilter, backend_registry
+
+    backend = matplotlib.get_backend()  # resolves the automatic choice (no window opened)
+    interactive = backend.lower() in backend_registry.list_builtin(BackendFilter.INTERACTIVE)
+    if not interactive and not (backend.startswith("module://") and "inline" not in backend):
+        raise RenderModeError(
+            "render_mode",
+            "human",
+            f"'rgb_array' or None here: no display (Matplotlib backend {backend!r} cannot "
+            "open a window)",
+        )
 
 
 @_jit
@@ -235,8 +279,10 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         Weight of ``|a|^2`` in the reward, >= 0 (default 0.01).
     termination_penalty : float, optional
         Reward of a terminating step is ``-termination_penalty`` (default 100).
-    render_mode : None
-        Rendering is not supported.
+    render_mode : {None, "rgb_array", "human"}, optional
+        None (default): no rendering. "rgb_array": ``render()`` returns the animation's
+        scene of the episode so far. "human": that scene in a window after every reset and
+        step (needs a display). Anything else raises ``RenderModeError``.
 
     Attributes
     ----------
@@ -246,7 +292,10 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         The current episode's wind (None before the first reset).
     """
 
-    metadata: ClassVar[dict[str, Any]] = {"render_modes": []}
+    metadata: ClassVar[dict[str, Any]] = {
+        "render_modes": list(RENDER_MODES),
+        "render_fps": 1.0 / Scenario().control.dt,  # the default; an instance sets 1 / dt
+    }
 
     def __init__(
         self,
@@ -255,7 +304,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         wind: str | Sequence[str] | Disturbance = ("pulse", "sine", "turbulence"),
         residual: bool = True,
         action_scale: Sequence[float] = _DEFAULT_ACTION_SCALE,
-        max_episode_time: float = 30.0,
+        max_episode_time: float = DEFAULT_EPISODE_TIME,
         max_wind_force: float = 20.0,
         max_mean_wind: float = 3.0,
         turbulence: GaussMarkovTurbulence | None = None,
@@ -265,9 +314,13 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         termination_penalty: float = 100.0,
         render_mode: str | None = None,
     ) -> None:
-        if render_mode is not None:
-            raise ParameterError("render_mode", render_mode, "None (rendering is not supported)")
-        self.render_mode = None
+        if render_mode is not None and render_mode not in RENDER_MODES:
+            raise RenderModeError("render_mode", render_mode, f"None or one of {RENDER_MODES}")
+        if render_mode == "human":
+            _check_display()
+        self.render_mode = render_mode
+        self._frames: list[np.ndarray] = []  # the recorded episode (rendering only)
+        self._window: Any = None  # the "human" mode's (figure, image)
         if scenario is None:
             scenario = Scenario()
         if not isinstance(scenario, Scenario):
@@ -304,6 +357,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._act = actuator_array(self.scenario, trim, ctrl)  # rejects limits below hover need
         self.trim = trim
         self.dt = self.scenario.control.dt
+        self.metadata = {**self.metadata, "render_fps": 1.0 / self.dt}
         self.n_max = self.scenario.n_samples
         self._c = np.ascontiguousarray(model.constants)
         self._ctrl_base = ctrl
@@ -341,6 +395,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._inp = self._loop[LOOP_INPUTS]  # the applied rotor inputs of the last step
         self._k = 0
         self._done = True
+        self._status = int(Status.OK)
 
     # ------------------------------------------------------------------ configuration
 
@@ -509,7 +564,12 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._episode_sensors = sensor_tuple(noise, self._source, self._arm, self._schedule)
         tethered_outputs(self._x, self._c, self._y)
         self._inp[:] = np.nan
-        return self._observe(self._tension()), self._info(Status.OK, math.nan)
+        self._status = int(Status.OK)
+        observation = self._observe(self._tension())
+        if self.render_mode is not None:
+            self._frames = []
+            self._record()
+        return observation, self._info(Status.OK, math.nan)
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         """Advance one control sample.
@@ -578,9 +638,108 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         truncated = not terminated and self._k >= self.n_max
         self._done = terminated or truncated
         observation = self._observe(tension)  # what the sensors read now
+        self._status = int(status)
+        if self.render_mode is not None:
+            self._record()
         return observation, float(reward), terminated, truncated, self._info(status, rate)
 
+    def render(self) -> np.ndarray | None:
+        """The scene of the episode so far, as ``tetherheli animate`` draws it
+        (:func:`tetherheli.viz.animation.frame_rgb`): helicopter, rotor disc, trail, tether
+        coloured by tension, winch and wind-force arrow at the current sample.
+
+        Returns
+        -------
+        ndarray (H, W, 3) uint8 or None
+            The frame with ``render_mode="rgb_array"``; None with "human" (the frame is shown
+            in the window) or None (nothing drawn).
+        """
+        if self.render_mode is None:
+            gymnasium.logger.warn("render() called with render_mode=None: nothing to draw")
+            return None
+        frame = self._draw()
+        if self.render_mode == "rgb_array":
+            return frame
+        self._show(frame)
+        return None
+
+    def close(self) -> None:
+        """Close the "human" mode's window, if open."""
+        if self._window is not None:
+            import matplotlib.pyplot as plt
+
+            plt.close(self._window[0])
+            self._window = None
+        super().close()
+
     # ------------------------------------------------------------------ helpers
+
+    def _record(self) -> None:
+        """Append the current sample to the rendered episode: t, q1..q9, wind force on HO
+        (``engine.wind_force``, as ``simulate`` records it), tension; shown at once in
+        "human" mode."""
+        wind = self._wind
+        assert wind is not None
+        x, t = self._x, self._k * self.dt
+        row = np.empty(14)
+        row[0] = t
+        row[1:4] = self._y[:3]
+        row[4:10] = x[:6]
+        force = np.zeros(3)
+        engine.wind_force(
+            wind.program, wind.gust, self._cfg[CFG_GUST_DT], wind.drag, t, 1, x[6], x[7], x[8],
+            force,
+        )  # fmt: skip
+        row[10:13] = force
+        row[13] = self._tension()
+        self._frames.append(row)
+        if self.render_mode == "human":
+            self._show(self._draw())
+
+    def episode(self) -> Any:
+        """The episode so far as the animation reads a saved run
+        (:class:`tetherheli.viz.animation.RunData`, stem "episode"), recorded only with a
+        ``render_mode``: per step t, q1..q9, the wind force on HO and the tension."""
+        from ._version import __version__
+        from .viz.animation import RunData
+
+        if not self._frames:
+            raise RuntimeError("no episode recorded: set a render_mode and call reset()")
+        rows = np.array(self._frames)
+        return RunData(
+            stem="episode",
+            name=self.scenario.name,
+            configuration=self.scenario.configuration,  # type: ignore[arg-type]
+            time=rows[:, 0],
+            q=rows[:, 1:10],
+            wind=rows[:, 10:13],
+            tension=rows[:, 13],
+            trim_position=self._y_ref[:3].copy(),
+            helicopter=self.scenario.params.helicopter,
+            status=self._status,
+            message=status_message(self._status, float(self._release[0])),
+            version=__version__,
+        )
+
+    def _draw(self) -> np.ndarray:
+        """The animation's frame of the recorded episode at its last sample."""
+        from .viz.animation import frame_rgb
+
+        run = self.episode()
+        return frame_rgb([run], float(run.time[-1]))
+
+    def _show(self, frame: np.ndarray) -> None:
+        """Show a frame in the "human" mode's Matplotlib window (opened on first use)."""
+        import matplotlib.pyplot as plt
+
+        if self._window is None or not plt.fignum_exists(self._window[0].number):
+            fig = plt.figure("tetherheli: " + ENV_ID, figsize=(10, 6))
+            ax = fig.add_axes((0.0, 0.0, 1.0, 1.0))
+            ax.set_axis_off()
+            self._window = (fig, ax.imshow(frame))
+        else:
+            self._window[1].set_data(frame)
+        plt.pause(1.0 / self.metadata["render_fps"])
 
     @property
     def _sensor_args(self) -> tuple:
@@ -628,17 +787,32 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         return self._k * self.dt
 
 
-def register_envs() -> None:
-    """Register ``ENV_ID`` ("tetherheli/TetheredHover-v0") with Gymnasium (idempotent).
+#: ``max_episode_steps`` of the registration: the default episode (``DEFAULT_EPISODE_TIME`` at
+#: the default sample time ``Scenario().control.dt``).
+MAX_EPISODE_STEPS = round(DEFAULT_EPISODE_TIME / Scenario().control.dt)
 
-    The environment truncates itself at ``max_episode_time``, so no ``TimeLimit`` wrapper is
-    added; keyword arguments of ``gymnasium.make`` go to :class:`TetheredHoverEnv`. The
-    vector entry point is :class:`tetherheli.vector_env.TetheredHoverVectorEnv`
-    (``gymnasium.make_vec(ENV_ID, num_envs=N, vectorization_mode="vector_entry_point")``).
+
+def register_envs() -> None:
+    """Register ``ENV_ID`` ("tetherheli/TetheredHover-v0") with Gymnasium (idempotent; done
+    when this module is imported).
+
+    Keyword arguments of ``gymnasium.make`` go to :class:`TetheredHoverEnv`. The registration
+    has ``max_episode_steps = MAX_EPISODE_STEPS`` (3000: 30 s at 10 ms), so ``make`` adds
+    Gymnasium's ``TimeLimit`` wrapper, which agrees with the environment's own truncation at
+    the defaults; an episode ends at whichever comes first, so a longer ``max_episode_time``
+    needs ``max_episode_steps`` too (``gymnasium.make(ENV_ID, max_episode_time=60,
+    max_episode_steps=6000)``). The vector entry point is
+    :class:`tetherheli.vector_env.TetheredHoverVectorEnv`
+    (``gymnasium.make_vec(ENV_ID, num_envs=N, vectorization_mode="vector_entry_point")``),
+    which truncates at the same step.
     """
     if ENV_ID not in gymnasium.registry:
         gymnasium.register(
             id=ENV_ID,
             entry_point="tetherheli.envs:TetheredHoverEnv",
             vector_entry_point="tetherheli.vector_env:TetheredHoverVectorEnv",
+            max_episode_steps=MAX_EPISODE_STEPS,
         )
+
+
+register_envs()

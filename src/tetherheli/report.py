@@ -20,6 +20,7 @@ from .analysis import metric_samples, reduction_percent, run_metrics
 from .errors import ParameterError
 from .names import POSITION
 from .sim import SimulationResult, simulate
+from .sim.result import check_result_format
 from .sim.scenario import Scenario, paper_scenario, scenario_toml
 
 __all__ = [
@@ -143,7 +144,7 @@ def _fmt(value: float | None, spec: str, suffix: str = "") -> str:
     return "n/a" if value is None else f"{value:{spec}}{suffix}"
 
 
-def _report_md(summary: dict[str, Any], command: str) -> str:
+def _report_md(summary: dict[str, Any], command: str, data_format: str = "csv") -> str:
     red = summary["reduction_percent"]
     runs = summary["runs"]
     statuses = summary["statuses"]
@@ -239,8 +240,9 @@ def _report_md(summary: dict[str, Any], command: str) -> str:
         "",
         "![Fig. 9](fig9_sim2_inputs.png)",
         "",
-        "Time series: `<run>.csv` (SI units) with `<run>.json` (configuration, trim, version); "
-        "`summary.json` holds the metrics above; `manifest.json` the full configuration.",
+        f"Time series: `<run>.{data_format}` (SI units) with `<run>.json` (configuration, "
+        "trim, version); `summary.json` holds the metrics above; `manifest.json` the full "
+        "configuration.",
         "",
     ]
     return "\n".join(lines)
@@ -253,15 +255,18 @@ def run_paper(
     pulse_duration: float = 1.0,
     command: str = "tetherheli paper",
     force: bool = False,
+    data_format: str = "csv",
 ) -> dict[str, Any]:
     """Run the four simulations of Sec. VI and write the paper's outputs into ``out_dir``
     (``_io.output_directory``: refused before any run if it holds files tetherheli did not
-    write, unless ``force``; those are kept).
+    write, unless ``force``; those are kept). The time series are ``<run>.csv``, or
+    ``<run>.parquet`` with ``data_format="parquet"`` (``sim.result.RESULT_FORMATS``).
 
     A run that fails (e.g. with a coarse ``dt``) is recorded, not raised: its status is in
     summary.json's ``statuses`` and in report.md, its reductions are None ("n/a"), and the
     figures draw it up to the failure. The caller decides the exit code (the CLI: 1).
     """
+    check_result_format(data_format)
     claim_output_directory(out_dir, force=force)
     from .viz.plots import figure_inputs, figure_outputs, save_figure
 
@@ -274,7 +279,7 @@ def run_paper(
     summary = paper_summary(results, dt=dt, pulse_duration=pulse_duration)
     with output_directory(out_dir, writer="paper", force=force) as tmp:
         for k, r in results.items():
-            r.save(tmp, k)
+            r.save(tmp, k, format=data_format)
         for sim, (fo, fi) in ((1, ("fig6", "fig7")), (2, ("fig8", "fig9"))):
             pair = [results[f"sim{sim}_free"], results[f"sim{sim}_tethered"]]
             axis = "n1" if sim == 1 else "n2"
@@ -295,7 +300,7 @@ def run_paper(
         atomic_write_text(
             tmp / "manifest.json", json.dumps(_manifest(command, scenarios), indent=2) + "\n"
         )
-        atomic_write_text(tmp / "report.md", _report_md(summary, command))
+        atomic_write_text(tmp / "report.md", _report_md(summary, command, data_format))
     return summary
 
 
@@ -306,14 +311,19 @@ def write_run(
     command: str = "tetherheli simulate",
     inputs: tuple[str | Path, ...] = (),
     force: bool = False,
+    data_format: str = "csv",
 ) -> dict[str, Any]:
-    """Write one run (time series, figures, metrics, report) into ``out_dir``
-    (``_io.output_directory``: the user's files there are kept, never replaced)."""
+    """Write one run (time series as ``data_format``, "csv" or "parquet"; figures, metrics,
+    report) into ``out_dir`` (``_io.output_directory``: the user's files there are kept,
+    never replaced)."""
+    check_result_format(data_format)
     with output_directory(out_dir, writer="simulate", inputs=inputs, force=force) as tmp:
-        return _write_run_files(result, tmp, command)
+        return _write_run_files(result, tmp, command, data_format)
 
 
-def _write_run_files(result: SimulationResult, directory: Path, command: str) -> dict[str, Any]:
+def _write_run_files(
+    result: SimulationResult, directory: Path, command: str, data_format: str = "csv"
+) -> dict[str, Any]:
     from .viz.plots import figure_inputs, figure_outputs, save_figure
 
     directory.mkdir(exist_ok=True)
@@ -327,7 +337,7 @@ def _write_run_files(result: SimulationResult, directory: Path, command: str) ->
         "tetherheli_version": __version__,
         "command": command,
     }
-    result.save(directory, result.name)
+    result.save(directory, result.name, format=data_format)
     if result.configuration.get("wind", {}).get("type") != "custom":  # else not re-runnable
         atomic_write_text(directory / SCENARIO_FILE, scenario_toml(result.configuration))
     if result.time.size > 1:
@@ -369,14 +379,16 @@ def write_comparison(
     command: str,
     inputs: tuple[str | Path, ...] = (),
     force: bool = False,
+    data_format: str = "csv",
 ) -> dict[str, Any]:
     """Several runs: each in ``out_dir/<name>/`` as ``write_run`` writes it, overlaid in
     ``outputs.png`` and ``inputs.png``, with their metrics side by side in ``summary.json``
     and ``report.md``."""
     from .viz.plots import figure_inputs, figure_outputs, save_figure
 
+    check_result_format(data_format)
     with output_directory(out_dir, writer="simulate", inputs=inputs, force=force) as tmp:
-        infos = {r.name: _write_run_files(r, tmp / r.name, command) for r in results}
+        infos = {r.name: _write_run_files(r, tmp / r.name, command, data_format) for r in results}
         plotted = [r for r in results if r.time.size > 1]
         if plotted:
             title = " vs ".join(r.name for r in plotted)

@@ -54,7 +54,14 @@ from gymnasium.vector.utils import batch_space
 
 from ._compile import compiled
 from ._validation import check_integer
-from .envs import OBSERVATION_NAMES, TetheredHoverEnv, finish_step, observe_into, tether_tension
+from .envs import (
+    OBSERVATION_NAMES,
+    RenderModeError,
+    TetheredHoverEnv,
+    finish_step,
+    observe_into,
+    tether_tension,
+)
 from .errors import ParameterError
 from .layout import (
     CFG_ATTACHED,
@@ -177,7 +184,12 @@ class TetheredHoverVectorEnv(VectorEnv):
         Number of copies, >= 1.
     scenario, **kwargs
         As for :class:`~tetherheli.envs.TetheredHoverEnv` (validated by it): every copy has
-        the same configuration and draws its own episodes.
+        the same configuration and draws its own episodes. ``render_mode`` must be None (the
+        copies are not drawn; ``RenderModeError`` otherwise).
+    max_episode_steps : int, optional
+        Truncate a copy's episode after this many steps if that comes before its
+        ``max_episode_time`` (what Gymnasium's ``TimeLimit`` does to the single environment;
+        ``gymnasium.make_vec`` passes the registration's ``MAX_EPISODE_STEPS``).
 
     Attributes
     ----------
@@ -192,10 +204,24 @@ class TetheredHoverVectorEnv(VectorEnv):
         "autoreset_mode": AutoresetMode.NEXT_STEP,
     }
 
-    def __init__(self, num_envs: int = 1, scenario: Any = None, **kwargs: Any) -> None:
+    def __init__(
+        self,
+        num_envs: int = 1,
+        scenario: Any = None,
+        *,
+        max_episode_steps: int | None = None,
+        **kwargs: Any,
+    ) -> None:
         self.num_envs = n = check_integer("num_envs", num_envs, low=1)
+        render_mode = kwargs.pop("render_mode", None)
+        if render_mode is not None:
+            raise RenderModeError("render_mode", render_mode, "None (the copies are not drawn)")
         self.env = env = TetheredHoverEnv(scenario, **kwargs)
         self.render_mode = None
+        self._step_limit = env.n_max
+        if max_episode_steps is not None:
+            limit = check_integer("max_episode_steps", max_episode_steps, low=1)
+            self._step_limit = min(env.n_max, limit)
         self.single_observation_space = env.observation_space
         self.single_action_space = env.action_space
         self.observation_space = batch_space(env.observation_space, n)
@@ -421,7 +447,7 @@ class TetheredHoverVectorEnv(VectorEnv):
                 self._start_episode(int(i), None)
         self._run(restart, np.ascontiguousarray(a), np.ascontiguousarray(command), mode)
         terminated = (self._status != engine.STATUS_OK) & ~restart
-        truncated = ~terminated & ~restart & (self._k[:n] >= self.env.n_max)
+        truncated = ~terminated & ~restart & (self._k[:n] >= self._step_limit)
         self._autoreset = terminated | truncated
         return self._obs.copy(), self._reward.copy(), terminated, truncated, self._infos()
 

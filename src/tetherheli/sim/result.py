@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from .._io import atomic_open, atomic_write_bytes, atomic_write_text
+from .._io import atomic_open, atomic_path, atomic_write_bytes, atomic_write_text
 from ..errors import ParameterError
 from ..names import (
     INPUT,
@@ -26,10 +26,12 @@ from ..status import Status, release_sentence, status_message
 
 __all__ = [
     "RESULT_COLUMNS",
+    "RESULT_FORMATS",
     "RESULT_UNITS",
     "SimulationResult",
     "atomic_write_bytes",
     "atomic_write_text",
+    "check_result_format",
     "list_results",
     "load_result",
 ]
@@ -63,9 +65,30 @@ RESULT_UNITS: dict[str, str] = {
     "RC": "m/s",
     **dict.fromkeys(_WIND, "N"),
 }
+#: File formats of a saved run's time series (``SimulationResult.save``): ``<stem>.csv`` (the
+#: default, text) or ``<stem>.parquet`` (Apache Parquet through pandas + pyarrow, the
+#: ``data`` extra); ``load_result`` reads either.
+RESULT_FORMATS = ("csv", "parquet")
 #: Extra columns named ``<output>_est`` (the controller's estimate) carry the output's unit.
 _ESTIMATE_SUFFIX = "_est"
-_RESULT_HINT = "<stem>.csv + <stem>.json result pairs written by SimulationResult.save"
+_RESULT_HINT = (
+    "<stem>.csv (or .parquet) + <stem>.json result pairs written by SimulationResult.save"
+)
+
+
+def check_result_format(fmt: str) -> str:
+    """``fmt`` if it is one of ``RESULT_FORMATS`` whose packages are installed (Parquet needs
+    pandas and pyarrow), else a one-line ``ParameterError``: checked before a run, not after
+    it."""
+    if fmt not in RESULT_FORMATS:
+        raise ParameterError("format", fmt, f"one of {RESULT_FORMATS}")
+    if fmt == "parquet":
+        try:
+            _optional("pandas")
+            _optional("pyarrow")
+        except ImportError as exc:
+            raise ParameterError("format", fmt, f"'csv' here ({exc})") from None
+    return fmt
 
 
 @dataclass(frozen=True)
@@ -339,6 +362,27 @@ class SimulationResult:
                 writer.writerows([repr(float(v)) for v in row] for row in block)
         return Path(path)
 
+    def to_parquet(self, path: str | Path) -> Path:
+        """Write the time series as Apache Parquet, atomically: the columns of ``to_csv``
+        (``t`` first), float64, with the units in the pandas metadata (``df.attrs``). Needs
+        pandas and pyarrow (``pip install tetherheli[data]``).
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The file to write.
+
+        Returns
+        -------
+        pathlib.Path
+            The file written.
+        """
+        _optional("pyarrow")
+        df = self.to_dataframe().reset_index()
+        with atomic_path(Path(path)) as tmp:
+            df.to_parquet(tmp, engine="pyarrow", index=False)
+        return Path(path)
+
     def metadata(self) -> dict[str, Any]:
         """What is recorded next to the results.
 
@@ -370,9 +414,12 @@ class SimulationResult:
             },
         }
 
-    def save(self, directory: str | Path, stem: str | None = None) -> dict[str, Path]:
-        """Write ``<stem>.csv`` and ``<stem>.json`` (configuration and version); ``load_result
-        (directory, stem)`` reads them back.
+    def save(
+        self, directory: str | Path, stem: str | None = None, *, format: str = "csv"
+    ) -> dict[str, Path]:
+        """Write the time series ``<stem>.csv`` (or ``<stem>.parquet``) and ``<stem>.json``
+        (configuration, trim, version) into directory; ``load_result(directory, stem)`` reads
+        them back.
 
         Parameters
         ----------
@@ -380,18 +427,25 @@ class SimulationResult:
             An existing directory.
         stem : str, optional
             The files' stem (default: the scenario's name).
+        format : {"csv", "parquet"}, optional
+            The time series' format (``RESULT_FORMATS``).
 
         Returns
         -------
         dict of str to pathlib.Path
-            ``{"csv": ..., "json": ...}``, the files written.
+            ``{format: path of the time series, "json": path of the metadata}``.
         """
+        check_result_format(format)
         directory = Path(directory)
         stem = stem or self.name
-        csv_path = self.to_csv(directory / f"{stem}.csv")
+        series = directory / f"{stem}.{format}"
+        if format == "parquet":
+            self.to_parquet(series)
+        else:
+            self.to_csv(series)
         meta_path = directory / f"{stem}.json"
         atomic_write_text(meta_path, json.dumps(self.metadata(), indent=2) + "\n")
-        return {"csv": csv_path, "json": meta_path}
+        return {format: series, "json": meta_path}
 
 
 def _optional(module: str) -> Any:
@@ -402,7 +456,7 @@ def _optional(module: str) -> Any:
         return importlib.import_module(module)
     except ImportError:
         raise ImportError(
-            f"{module} is needed for this export and is not installed: "
+            f"{module} is needed for this format and is not installed: "
             f"pip install {module} (or tetherheli[data])"
         ) from None
 
@@ -444,10 +498,10 @@ def _is_result(json_path: Path) -> bool:
 def list_results(directory: str | Path) -> list[str]:
     """Stems of the saved runs in a directory, sorted.
 
-    A run is a ``<stem>.csv`` with a ``<stem>.json`` beside it whose JSON object has a
-    ``configuration`` table (as ``SimulationResult.save`` writes), in the directory or one
-    folder below it (``<name>/<stem>``, as ``tetherheli simulate`` writes several runs);
-    other files are ignored.
+    A run is a ``<stem>.csv`` or ``<stem>.parquet`` with a ``<stem>.json`` beside it whose
+    JSON object has a ``configuration`` table (as ``SimulationResult.save`` writes), in the
+    directory or one folder below it (``<name>/<stem>``, as ``tetherheli simulate`` writes
+    several runs); other files are ignored.
 
     Parameters
     ----------
@@ -465,16 +519,44 @@ def list_results(directory: str | Path) -> list[str]:
         If the directory does not exist.
     """
     path = _result_directory(directory)
-    stems = []
-    for csv_path in sorted([*path.glob("*.csv"), *path.glob("*/*.csv")]):
-        json_path = csv_path.with_suffix(".json")
-        if json_path.is_file() and _is_result(json_path):
-            stems.append(csv_path.relative_to(path).with_suffix("").as_posix())
-    return stems
+    stems = set()
+    for fmt in RESULT_FORMATS:
+        for series in [*path.glob(f"*.{fmt}"), *path.glob(f"*/*.{fmt}")]:
+            json_path = series.with_suffix(".json")
+            if json_path.is_file() and _is_result(json_path):
+                stems.add(series.relative_to(path).with_suffix("").as_posix())
+    return sorted(stems)
 
 
-def _read_columns(path: Path) -> dict[str, np.ndarray]:
-    """The CSV's columns by name: every one of ``RESULT_COLUMNS`` finite, times increasing."""
+def _series_path(path: Path, stem: str) -> Path:
+    """The time-series file of a run: ``<stem>.csv`` or ``<stem>.parquet``, not both."""
+    found = [path / f"{stem}.{fmt}" for fmt in RESULT_FORMATS if (path / f"{stem}.{fmt}").is_file()]
+    if len(found) != 1:
+        names = " and ".join(p.name for p in found)
+        raise ParameterError(
+            "run", stem, f"one time-series file per run, not both {names}", source=str(path)
+        )
+    return found[0]
+
+
+def _read_table(path: Path) -> tuple[list[str], np.ndarray]:
+    """The header and the values (rows x columns) of a run's time-series file."""
+    if path.suffix == ".parquet":
+        pd = _optional("pandas")
+        _optional("pyarrow")
+        try:
+            df = pd.read_parquet(path, engine="pyarrow")
+            return [str(c) for c in df.columns], df.to_numpy(dtype=float)
+        except (OSError, ValueError, TypeError) as exc:
+            reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            raise ParameterError(
+                "parquet", path.name, f"a Parquet table of numbers ({reason})", source=str(path)
+            ) from None
+    return _read_csv_table(path)
+
+
+def _read_csv_table(path: Path) -> tuple[list[str], np.ndarray]:
+    """The header and the values of a run CSV."""
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
@@ -486,11 +568,7 @@ def _read_columns(path: Path) -> dict[str, np.ndarray]:
     if not rows:
         raise ParameterError("csv", "empty file", "a header row and data rows", source=src)
     header = [h.strip() for h in rows[0]]
-    missing = [c for c in RESULT_COLUMNS if c not in header]
-    if missing:
-        raise ParameterError(
-            "csv header", ",".join(missing), f"columns {', '.join(RESULT_COLUMNS)}", source=src
-        )
+    _check_header(header, "csv header", src)
     body = [r for r in rows[1:] if r]
     values = np.empty((len(body), len(header)))
     for k, row in enumerate(body):
@@ -504,21 +582,38 @@ def _read_columns(path: Path) -> dict[str, np.ndarray]:
             raise ParameterError(
                 f"csv line {k + 2}", ",".join(row)[:60], "numbers", source=src
             ) from None
+    return header, values
+
+
+def _read_columns(path: Path) -> dict[str, np.ndarray]:
+    """The time series' columns by name (``<stem>.csv`` or ``.parquet``): every one of
+    ``RESULT_COLUMNS`` present and finite, times increasing."""
+    header, values = _read_table(path)
+    src = str(path)
+    csv_file = path.suffix == ".csv"
+    _check_header(header, "csv header" if csv_file else "parquet columns", src)
     cols = {name: values[:, j] for j, name in enumerate(header)}
     for name in RESULT_COLUMNS:
         bad = np.flatnonzero(~np.isfinite(cols[name]))
         if bad.size:
+            where = f"csv line {bad[0] + 2}" if csv_file else f"parquet row {bad[0]}"
             raise ParameterError(
-                f"csv line {bad[0] + 2} column {name}",
+                f"{where} column {name}",
                 cols[name][bad[0]],
                 "a finite number",
                 source=src,
             )
     if np.any(np.diff(cols["t"]) <= 0.0):
-        raise ParameterError(
-            "csv column t", "not increasing", "strictly increasing times", source=src
-        )
+        raise ParameterError("column t", "not increasing", "strictly increasing times", source=src)
     return cols
+
+
+def _check_header(header: list[str], field: str, source: str) -> None:
+    missing = [c for c in RESULT_COLUMNS if c not in header]
+    if missing:
+        raise ParameterError(
+            field, ",".join(missing), f"columns {', '.join(RESULT_COLUMNS)}", source=source
+        )
 
 
 def _trim(meta: dict[str, Any], part: str, names: tuple[str, ...], source: str) -> np.ndarray:
@@ -549,7 +644,8 @@ def load_result(directory: str | Path, stem: str | None = None) -> SimulationRes
     Parameters
     ----------
     directory : str or pathlib.Path
-        The result directory.
+        The result directory, or the path of one run's ``<stem>.csv``, ``<stem>.parquet`` or
+        ``<stem>.json`` (then ``stem`` is that file's).
     stem : str, optional
         Which run (``list_results``); None when the directory holds exactly one.
 
@@ -567,6 +663,9 @@ def load_result(directory: str | Path, stem: str | None = None) -> SimulationRes
         If the directory is missing or holds no (or, with ``stem=None``, several) runs, or a
         file is malformed (one line naming the file and what is expected).
     """
+    given = Path(directory)
+    if stem is None and given.is_file() and given.suffix[1:] in (*RESULT_FORMATS, "json"):
+        directory, stem = given.parent, given.stem
     path = _result_directory(directory)
     stems = list_results(path)
     if stem is None:
@@ -595,7 +694,7 @@ def load_result(directory: str | Path, stem: str | None = None) -> SimulationRes
     trim_input = _trim(meta, "input", INPUT_NAMES, source)
     trim_output = _trim(meta, "output", OUTPUT_NAMES, source)
     release_time, release_tension = _release(meta, source)
-    cols = _read_columns(path / f"{stem}.csv")
+    cols = _read_columns(_series_path(path, stem))
     n = cols["t"].size
     cols = {name: np.ascontiguousarray(v) for name, v in cols.items()}
     states = np.column_stack([cols[name] for name in STATE_NAMES])

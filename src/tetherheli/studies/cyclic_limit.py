@@ -26,7 +26,7 @@ import io
 import json
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -88,6 +88,7 @@ class LimitSearch:
         hi None: it fails at the largest grid value (no answer within the grid)
     values, metric, statuses, meets : every limited run in the order run (grid first, then
         the bisection), its metric (NaN if it did not complete), message and criterion
+    configuration : the searched scenario as plain data (``Scenario.to_dict``)
     """
 
     scenario_name: str
@@ -103,6 +104,7 @@ class LimitSearch:
     statuses: tuple[str, ...]
     meets: np.ndarray
     n_grid: int
+    configuration: dict[str, Any] = field(default_factory=dict)
 
     def interval_text(self) -> str:
         """The answer in words, e.g. "4.375-4.380 N m"."""
@@ -129,6 +131,7 @@ class LimitSearch:
             "metric_values": [None if not np.isfinite(m) else float(m) for m in self.metric],
             "statuses": list(self.statuses),
             "meets": [bool(m) for m in self.meets],
+            "configuration": self.configuration,
         }
 
 
@@ -208,6 +211,7 @@ def minimum_cyclic_limit(
         tuple(statuses),
         np.array(meets, dtype=bool),
         int(grid.size),
+        configuration=scenario.to_dict(),
     )
 
 

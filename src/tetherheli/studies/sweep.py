@@ -24,7 +24,7 @@ import dataclasses
 import io
 import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -125,7 +125,8 @@ class SweepResult:
     is each completed run's largest tether moment about HO on f1 or f2 [N m]
     (``analysis.tether_moment``), ``peak_tether_angle_deg`` (n,) the largest tether-to-shaft
     angle and ``peak_worst_case_moment`` (n,) eq 40's |arm| max TC; NaN otherwise. An invalid
-    point's status is "invalid: <why>"."""
+    point's status is "invalid: <why>". ``configuration`` is the swept scenario as plain data
+    (``Scenario.to_dict``, as manifests record it), before the swept value is applied."""
 
     parameter: str
     metric_name: str
@@ -141,6 +142,7 @@ class SweepResult:
     peak_tether_moment: np.ndarray | None = None
     peak_tether_angle_deg: np.ndarray | None = None
     peak_worst_case_moment: np.ndarray | None = None
+    configuration: dict[str, Any] = field(default_factory=dict)
 
     @property
     def failed(self) -> tuple[int, ...]:
@@ -179,6 +181,7 @@ class SweepResult:
             "peak_tether_moment_Nm": floats(self.peak_tether_moment),
             "peak_tether_angle_deg": floats(self.peak_tether_angle_deg),
             "eq40_worst_case_moment_Nm": floats(self.peak_worst_case_moment),
+            "configuration": self.configuration,
         }
 
 
@@ -340,6 +343,7 @@ def sweep(
         peak_tether_moment=peaks,
         peak_tether_angle_deg=angles,
         peak_worst_case_moment=worst,
+        configuration=scenario.to_dict(),
     )
 
 

@@ -54,6 +54,7 @@ __all__ = [
     "RunData",
     "animate",
     "direction_cosines",
+    "frame_rgb",
     "helicopter_points",
     "list_runs",
     "load_run",
@@ -772,3 +773,36 @@ def render_frame(
         scene.fig.savefig(tmp, dpi=dpi)
     record_output_file(out, writer="animate")
     return out
+
+
+def frame_rgb(
+    runs: Sequence[RunData],
+    time: float,
+    *,
+    dpi: float = 80.0,
+    rotor_radius: float = 0.9,
+    wind_scale: float | None = None,
+) -> np.ndarray:
+    """One frame of the animation's scene as an RGB image (what ``render_frame`` saves; the
+    Gymnasium environment's ``render``).
+
+    Parameters
+    ----------
+    runs : runs to draw, overlaid (``load_run``, or built from an episode)
+    time : simulated time of the frame [s]; the nearest sample of each run is drawn
+    dpi, rotor_radius, wind_scale : as for ``animate``
+
+    Returns
+    -------
+    ndarray (H, W, 3) uint8
+        The 10 x 6 inch figure at ``dpi`` (800 x 480 pixels at the default 80).
+    """
+    dpi, rotor_radius, wind_scale = _drawing_options(dpi, rotor_radius, wind_scale)
+    if len(runs) == 0:
+        raise ParameterError("runs", runs, "at least one run")
+    scene = _Scene(
+        runs, np.array([float(time)]), rotor_radius=rotor_radius, wind_scale=wind_scale, dpi=dpi
+    )
+    scene.update(0)
+    scene.fig.canvas.draw()
+    return np.array(scene.fig.canvas.buffer_rgba())[:, :, :3]

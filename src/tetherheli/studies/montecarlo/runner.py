@@ -18,6 +18,7 @@ import numpy as np
 
 from ..._io import (
     atomic_open,
+    atomic_path,
     atomic_write_text,
     check_output_file,
     claim_output_directory,
@@ -29,16 +30,57 @@ from ...errors import ParameterError, TetherheliError
 from ...progress import ProgressLine
 from ...resources import check_memory
 from ...sim.batch import METRIC_NAMES, run_batch
+from ...sim.result import check_result_format
 from ...sim.scenario import Scenario
 from ...status import Status
 from ...wind import Turbulence
 from .config import CONFIGURATIONS, MAX_RUNS, MonteCarloConfig, _wind_parts
 from .draws import draw, draw_seed
 
-__all__ = ["RESULT_FILES", "run_montecarlo"]
+__all__ = ["RESULT_FILES", "result_files", "run_montecarlo"]
 
-#: What a finished job writes beside ``partial/`` (the figures by ``_figures``).
+#: What a finished job writes beside ``partial/`` (the figures by ``_figures``); with
+#: ``table_format="parquet"`` the table is ``results.parquet`` (``result_files``).
 RESULT_FILES = ("results.csv", "summary.json", "peak_q1_hist.png", "peak_q1_cdf.png")
+
+#: Columns of the results table that are text (the seed entropy can exceed 64 bits) or
+#: integers in its Parquet form; every other column is a float64.
+_TEXT_COLUMNS = ("seed_entropy", "spawn_key", "configuration", "message", "reason")
+_INT_COLUMNS = ("run", "status")
+
+
+def result_files(table_format: str = "csv") -> tuple[str, ...]:
+    """``RESULT_FILES`` with the results table in ``table_format`` ("csv" or "parquet")."""
+    return (f"results.{table_format}", *RESULT_FILES[1:])
+
+
+def _parquet_schema(header: list[str]) -> Any:
+    import pyarrow as pa
+
+    def kind(c: str) -> Any:
+        if c in _TEXT_COLUMNS:
+            return pa.string()
+        return pa.int64() if c in _INT_COLUMNS else pa.float64()
+
+    return pa.schema([(c, kind(c)) for c in header])
+
+
+def _parquet_chunk(rows_text: str, schema: Any) -> Any:
+    """A chunk's CSV rows as a pyarrow table of ``schema`` (``_parquet_schema``)."""
+    import pyarrow as pa
+
+    rows = list(csv.reader(io.StringIO(rows_text)))
+    columns = list(zip(*rows, strict=True)) if rows else [() for _ in schema]
+    arrays = []
+    for field, column in zip(schema, columns, strict=True):
+        if field.type == pa.string():
+            values: list[Any] = list(column)
+        elif field.type == pa.int64():
+            values = [int(v) for v in column]
+        else:
+            values = [float(v) for v in column]
+        arrays.append(pa.array(values, type=field.type))
+    return pa.Table.from_arrays(arrays, schema=schema)
 
 
 #: Memory of one draw's two scenarios besides their gust series (objects, parameters, wind
@@ -223,6 +265,7 @@ def run_montecarlo(
     worker_timeout_s: float = 60.0,
     inputs: tuple[str | Path, ...] = (),
     force: bool = False,
+    table_format: str = "csv",
 ) -> dict[str, Any] | None:
     """Run (or resume) a Monte Carlo and write its outputs to ``out``.
 
@@ -252,6 +295,10 @@ def run_montecarlo(
         Run the chunks on this Dask cluster (``sim.batch.connect``); same table as in-process.
     worker_timeout_s : float
         With ``client``: how long the cluster may have no worker before ``ClusterError``.
+    table_format : {"csv", "parquet"}
+        The results table: ``results.csv`` (default) or ``results.parquet`` (pyarrow; the
+        same columns, text columns as strings, ``run`` and ``status`` as int64, the rest
+        float64).
 
     Returns
     -------
@@ -276,6 +323,7 @@ def run_montecarlo(
     """
     if not isinstance(config, MonteCarloConfig):
         raise TypeError("config must be a MonteCarloConfig")
+    files = result_files(check_result_format(table_format))
     check_integer("runs", config.runs, low=1, high=MAX_RUNS)
     chunk_size = check_integer("chunk_size", chunk_size, low=1, high=1_000_000)
     if max_chunks is not None:
@@ -290,7 +338,7 @@ def run_montecarlo(
     if out.exists() and not out.is_dir():
         raise ParameterError("out", str(out), "a directory (new, or of the same job)")
     claim_output_directory(out, inputs=inputs, force=force, own=lambda rel: _is_job_file(out, rel))
-    for name in RESULT_FILES:  # refused now, not after the runs
+    for name in files:  # refused now, not after the runs
         check_output_file(out / name)
     part = out / "partial"
     part.mkdir(parents=True, exist_ok=True)
@@ -337,8 +385,8 @@ def run_montecarlo(
             computed += 1
             bar.update(hi, n)
     table = _ColumnReader(header)
-    with atomic_open(out / "results.csv") as fh:  # streamed: one chunk in memory at a time
-        fh.write(",".join(header) + "\n")
+
+    def verified_chunks() -> Iterator[str]:
         for lo, hi in _chunks(n, chunk_size):
             path = _chunk_path(part, lo, hi)
             try:
@@ -348,14 +396,29 @@ def run_montecarlo(
                     f"{path} {exc} after it was verified (changed by another process?); "
                     "run the same command again"
                 ) from None
-            fh.write(text)
             table.add(text)
+            yield text
+
+    # streamed: one chunk in memory at a time
+    if table_format == "parquet":
+        import pyarrow.parquet as pq
+
+        schema = _parquet_schema(header)
+        with atomic_path(out / files[0]) as tmp:
+            with pq.ParquetWriter(tmp, schema) as writer:
+                for text in verified_chunks():
+                    writer.write_table(_parquet_chunk(text, schema))
+    else:
+        with atomic_open(out / files[0]) as fh:
+            fh.write(",".join(header) + "\n")
+            for text in verified_chunks():
+                fh.write(text)
     columns = table.arrays()
     text = json.dumps(_summarize(base, config, columns), indent=2) + "\n"
     atomic_write_text(out / "summary.json", text)
     summary: dict[str, Any] = json.loads(text)
     _figures(out, columns)
-    record_outputs(out, RESULT_FILES, writer="montecarlo")
+    record_outputs(out, files, writer="montecarlo")
     return summary
 
 
