@@ -520,7 +520,8 @@ def figure_paired(
         ms=3,
         color=CONFIGURATION_COLOURS["tethered"],
         alpha=0.6,
-        label=f"{int(both.sum())} draws, {below} below y = x (the tether reduced it)",
+        label=f"{int(both.sum())} draws with both runs completed, {below} below y = x (the "
+        "tether reduced it)",
     )
     ax.plot([lo, edge], [lo, edge], color="0.3", lw=0.8, label="y = x")
     failed = ~both
@@ -532,7 +533,8 @@ def figure_paired(
             y,
             "x",
             color=CONFIGURATION_COLOURS["free"],
-            label=f"{int(failed.sum())} draws with a failed run (on the edge)",
+            label=f"{int(failed.sum())} draw{'s' if failed.sum() != 1 else ''} with a failed run "
+            "(on the edge)",
         )
     ax.set_xlim(lo, edge + pad)
     ax.set_ylim(lo, edge + pad)
