@@ -1,5 +1,6 @@
 """Running a Monte Carlo: chunks of draws written and verified on disk (resumable), the
-results table, the summary statistics over completed runs and the figures."""
+results table, the summary statistics (``statistics``: failed runs in the tails, the paired
+reduction, bootstrap intervals) and the figures."""
 
 from __future__ import annotations
 
@@ -446,14 +447,15 @@ def _percentile_entry(sample: np.ndarray, seed: int) -> dict[str, Any]:
     }
 
 
-def _paired(columns: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+def _paired(columns: dict[str, np.ndarray]) -> dict[str, np.ndarray] | None:
     """Each draw's free and tethered rows side by side: ``<metric>`` (n, 2) and ``ok`` (n, 2)
-    (the table holds draw i's free row, then its tethered row)."""
+    (the table holds draw i's free row, then its tethered row); None for a table of another
+    layout (a hand-made one)."""
     cfg = columns["configuration"]
-    if not (
+    if cfg.size % 2 or not (
         np.all(cfg[0::2] == CONFIGURATIONS[0]) and np.all(cfg[1::2] == CONFIGURATIONS[1])
-    ):  # pragma: no cover - the table's layout is ours
-        raise TetherheliError("results table: rows are not free/tethered pairs")
+    ):
+        return None
     pairs = {m: columns[m].reshape(-1, 2) for m in METRIC_NAMES}
     pairs["ok"] = (columns["status"] == Status.OK).reshape(-1, 2)
     return pairs
@@ -476,16 +478,16 @@ def _summarize(
         }
         for k, (m, worst) in enumerate(_SUMMARY_METRICS.items()):
             v = columns[m][ok]
-            entry[m] = {}
-            if v.size:
+            if v.size:  # no completed run: the counts say it all
+                sample = with_failures(columns[m][sel], ok[sel], worst)
                 entry[m] = {"mean": float(v.mean()), "max": float(v.max())}
-            sample = with_failures(columns[m][sel], ok[sel], worst)
-            entry[m] |= _percentile_entry(sample, config.seed + 100 * c + k)
+                entry[m] |= _percentile_entry(sample, config.seed + 100 * c + k)
         stats[cfg] = entry
     pairs = _paired(columns)
-    free_ok, teth_ok = pairs["ok"][:, 0], pairs["ok"][:, 1]
     reduction: dict[str, Any] = {}
-    for k, m in enumerate(_REDUCTION_METRICS):
+    failed_draws = None
+    for k, m in enumerate(_REDUCTION_METRICS if pairs is not None else ()):
+        free_ok, teth_ok = pairs["ok"][:, 0], pairs["ok"][:, 1]
         r = paired_reduction(pairs[m][:, 0], pairs[m][:, 1], free_ok, teth_ok)
         done = np.isfinite(r) & free_ok & teth_ok
         reduction[m] = {
@@ -493,6 +495,11 @@ def _summarize(
             "both_completed": int(done.sum()),
             "mean_both_completed": float(r[done].mean()) if done.any() else None,
         } | _percentile_entry(r, config.seed + 1000 + k)
+        failed_draws = {
+            "free_only": int((~free_ok & teth_ok).sum()),
+            "tethered_only": int((free_ok & ~teth_ok).sum()),
+            "both": int((~free_ok & ~teth_ok).sum()),
+        }
     return {
         "description": "Monte Carlo: per-configuration percentiles over all runs, a failed "
         "run counted as the worst value (+inf; -inf for tension_min), so a percentile among "
@@ -511,11 +518,7 @@ def _summarize(
         "montecarlo": config.to_dict(),
         "scenario": base.to_dict(),
         "controller": "LQI gain designed on the nominal parameters; plant dispersed",
-        "failed_draws": {
-            "free_only": int((~free_ok & teth_ok).sum()),
-            "tethered_only": int((free_ok & ~teth_ok).sum()),
-            "both": int((~free_ok & ~teth_ok).sum()),
-        },
+        "failed_draws": failed_draws,
         "statistics": stats,
         "reduction_percent": reduction,
     }
@@ -526,6 +529,7 @@ def _figures(out: Path, columns: dict[str, np.ndarray], metric: str, figure_form
     from ...viz.plots import figure_montecarlo, figure_paired, save_figure
 
     pairs = _paired(columns)
+    assert pairs is not None  # the job's own table
     values = {cfg: pairs[metric][:, c] for c, cfg in enumerate(CONFIGURATIONS)}
     ok = {cfg: pairs["ok"][:, c] for c, cfg in enumerate(CONFIGURATIONS)}
     for kind in ("hist", "cdf"):
