@@ -221,12 +221,25 @@ def table_montecarlo(work: Path, figures: Path | None) -> None:
     path = SCENARIOS / "montecarlo_paper_sim1.toml"
     out = work / "mc_out"
     tetherheli("montecarlo", path, "--runs", "1000", "--seed", "20261122", "--out", out, "--quiet")
-    stats = _json(out / "summary.json")["statistics"]
+    summary = _json(out / "summary.json")
+    stats = summary["statistics"]
     print("\n| 1000 draws | free | tethered |\n|---|---:|---:|")
     for label, p in (("median", "p50"), ("95th percentile", "p95")):
         f, t = stats["free"]["peak_q1"][p], stats["tethered"]["peak_q1"][p]
-        print(f"| peak q1 deviation, {label} [m] | {f:.3f} | {t:.3f} |")
+        (fl, fh), (tl, th) = (
+            stats["free"]["peak_q1"]["ci95"][p],
+            stats["tethered"]["peak_q1"]["ci95"][p],
+        )
+        print(
+            f"| peak q1 deviation, {label} [m] [95% CI] | {f:.3f} [{fl:.3f}, {fh:.3f}] | "
+            f"{t:.3f} [{tl:.3f}, {th:.3f}] |"
+        )
     print(f"| runs that failed | {stats['free']['failed']} | {stats['tethered']['failed']} |")
+    r = summary["reduction_percent"]["peak_q1"]
+    for label, p in (("median", "p50"), ("5th percentile", "p5")):
+        lo, hi = r["ci95"][p]
+        print(f"paired reduction of peak q1, {label}: {r[p]:.1f} % [95% CI {lo:.1f}, {hi:.1f}]")
+    print(f"failed draws: {summary['failed_draws']}")
     base, config = load_montecarlo(path)
     with open(out / "results.csv", newline="") as fh:
         for row in csv.DictReader(fh):
@@ -243,15 +256,19 @@ def table_montecarlo(work: Path, figures: Path | None) -> None:
             )
     if figures:
         shutil.copy(out / "peak_q1_hist.png", figures / "montecarlo_peak_q1_hist.png")
+        shutil.copy(out / "peak_q1_paired.png", figures / "montecarlo_peak_q1_paired.png")
 
 
 def table_montecarlo_turbulence(work: Path, figures: Path | None) -> None:
     out = work / "mct_out"
     tetherheli("montecarlo", SCENARIOS / "montecarlo_turbulence.toml", "--out", out, "--quiet")
-    stats = _json(out / "summary.json")["statistics"]
-    f, t = stats["free"], stats["tethered"]
+    summary = _json(out / "summary.json")
+    f, t = summary["statistics"]["free"], summary["statistics"]["tethered"]
     n = f["runs"]
-    print(f"\n| {n} draws: median (95th percentile) | free | tethered | reduction |")
+    print(
+        f"\n| {n} draws: median (95th percentile) | free | tethered | "
+        "paired reduction per draw: median [95% CI] (5th percentile) |"
+    )
     print("|---|---:|---:|---:|")
     for label, m in (
         ("q1 RMS deviation [m]", "rms_q1"),
@@ -259,11 +276,11 @@ def table_montecarlo_turbulence(work: Path, figures: Path | None) -> None:
         ("q2 RMS deviation [m]", "rms_q2"),
     ):
         a, b = f[m], t[m]
-        r50 = 100 * (a["p50"] - b["p50"]) / a["p50"]
-        r95 = 100 * (a["p95"] - b["p95"]) / a["p95"]
+        r = summary["reduction_percent"][m]
+        lo, hi = r["ci95"]["p50"]
         print(
             f"| {label} | {a['p50']:.3f} ({a['p95']:.3f}) | {b['p50']:.3f} ({b['p95']:.3f}) | "
-            f"{r50:.0f}% ({r95:.0f}%) |"
+            f"{r['p50']:.0f}% [{lo:.0f}, {hi:.0f}] ({r['p5']:.0f}%) |"
         )
 
 

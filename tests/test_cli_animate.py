@@ -27,3 +27,29 @@ def test_animate_cli_writes_gif(tmp_path):
     assert main(["animate", str(tmp_path), "--out", str(out), "--max-frames", "5"]) == 0
     with Image.open(out) as img:
         assert img.n_frames == 5
+
+
+def test_animate_accepts_multi_scenario_simulate_output(tmp_path, capsys):
+    """`simulate a.toml b.toml` writes OUT/<name>/<name>.csv; `animate OUT` overlays both,
+    the free run red and the tethered run blue as in the figures."""
+    from tetherheli.viz.animation import _load_runs, run_colours
+    from tetherheli.viz.plots import CONFIGURATION_COLOURS
+
+    files = []
+    for cfg in ("free", "tethered"):
+        f = tmp_path / f"{cfg}.toml"
+        f.write_text(
+            f'name = "{cfg}_run"\nconfiguration = "{cfg}"\nduration = 0.3\n'
+            '[[wind]]\ntype = "pulse"\nstart = 0.1\nduration = 0.1\nmagnitude = 20.0\n'
+            "direction = [1.0, 0.0, 0.0]\n"
+        )
+        files.append(str(f))
+    out = tmp_path / "cmp"
+    assert main(["simulate", *files, "--out", str(out)]) == 0
+    assert main(["animate", str(out), "--max-frames", "3", "--quiet"]) == 0
+    assert capsys.readouterr().err == ""
+    with Image.open(out / "animation.gif") as img:
+        assert img.n_frames == 3
+    runs = _load_runs(out, None)
+    assert [r.stem for r in runs] == ["free_run/free_run", "tethered_run/tethered_run"]
+    assert run_colours(runs) == [CONFIGURATION_COLOURS["free"], CONFIGURATION_COLOURS["tethered"]]

@@ -93,7 +93,7 @@ def test_outputs_and_equal_seeds_equal_tables(short_file, tmp_path):
     assert summary == s1 and summary["N"] == 8 and summary["seed"] == 7
     assert summary["statistics"]["free"]["completed"] == 8
     assert "p95" in summary["statistics"]["tethered"]["peak_q1"]
-    for name in ("peak_q1_hist.png", "peak_q1_cdf.png"):
+    for name in ("peak_q1_hist.png", "peak_q1_cdf.png", "peak_q1_paired.png"):
         assert (tmp_path / "a" / name).stat().st_size > 1000
     # another seed gives other draws
     base, config = load_montecarlo(short_file)
@@ -155,11 +155,12 @@ def test_resume_after_interrupt_equals_uninterrupted(short_file, tmp_path, capsy
         run_montecarlo(base, config, tmp_path / "r", chunk_size=4, progress=False)
 
 
-def test_progress_on_stderr(short_file, tmp_path, capsys):
+def test_progress_on_stderr_is_one_line_off_a_terminal(short_file, tmp_path, capsys):
     base, config = load_montecarlo(short_file)
     run_montecarlo(base, config, tmp_path / "p", chunk_size=4, progress=True)
     err = capsys.readouterr().err
-    assert "4/8" in err and "8/8 draws 100.0%" in err
+    assert "\r" not in err and len(err.splitlines()) == 1
+    assert err.startswith("montecarlo: 8/8 draws in ") and "draws/s" in err
 
 
 @pytest.mark.parametrize(
@@ -390,13 +391,24 @@ def test_a_draw_that_cannot_hover_is_a_failed_row(failing_file, tmp_path):
     # the heavier the draw, the sooner it fails: some draws fly free but not tethered
     pairs = {(f["status"], t["status"]) for f, t in zip(rows[::2], rows[1::2], strict=True)}
     assert ("0", "6") in pairs and ("0", "0") in pairs
-    # percentiles are over the completed runs only
+    # a failed run counts as +inf: in numpy's linear percentile a stand-in above every
+    # completed value gives the same order; a percentile that reaches it is null
     for cfg in ("free", "tethered"):
         ok = [float(r["peak_q1"]) for r in rows if r["configuration"] == cfg and r["status"] == "0"]
         s = summary["statistics"][cfg]
         assert (s["runs"], s["completed"], s["failed"]) == (6, len(ok), 6 - len(ok))
-        assert s["peak_q1"]["p50"] == float(np.percentile(ok, 50))
+        stand_in = np.array(ok + [1e6] * (6 - len(ok)))
+        for p in (5, 25, 50, 75, 95):
+            expected = float(np.percentile(stand_in, p))
+            got = s["peak_q1"][f"p{p}"]
+            assert got is None if expected > max(ok) else got == pytest.approx(expected, rel=1e-12)
         assert s["peak_q1"]["max"] == max(ok)
+    assert summary["statistics"]["tethered"]["peak_q1"]["p95"] is None  # failures in the tail
+    # the paired reduction: a draw whose tethered run failed is -inf (the bad tail)
+    teth_only = sum(1 for f, t in zip(rows[::2], rows[1::2], strict=True)
+                    if f["status"] == "0" and t["status"] != "0")  # fmt: skip
+    assert summary["failed_draws"]["tethered_only"] == teth_only > 0
+    assert summary["reduction_percent"]["peak_q1"]["p1"] is None
 
 
 def test_cli_failed_draws_exit_0_or_1_with_strict(failing_file, tmp_path, capsys):

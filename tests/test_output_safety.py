@@ -299,16 +299,17 @@ def test_interrupt_starts_on_a_new_line_after_a_progress_bar(workdir: Path, caps
     from tetherheli import progress
 
     def interrupted(args):
-        with progress.ProgressLine("montecarlo", "draws") as bar:
-            bar.update(3, 10)
+        with progress.Progress("montecarlo", 10, "draws") as bar:
+            bar.update(3)
             raise KeyboardInterrupt
 
     import tetherheli.cli as cli
 
     monkeypatch.setattr(cli, "_cmd_trim", interrupted)
     assert main(["trim"]) == 130
-    err = capsys.readouterr().err
-    assert err.endswith("%\ntetherheli: interrupted\n")
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 2 and lines[0].startswith("montecarlo: 3/10 draws in ")
+    assert lines[1] == "tetherheli: interrupted"
 
 
 def test_animation_run_names_are_names_not_paths(workdir: Path, capsys):

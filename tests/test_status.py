@@ -202,7 +202,7 @@ def test_paper_with_coarse_dt_reports_failures(tmp_path, capsys):
     writes its outputs, records each run's status and failure time, leaves the reductions
     null / n/a, prints one line per failed run and exits 1."""
     out = tmp_path / "paper"
-    assert main(["paper", "--dt", "1", "--out", str(out)]) == 1
+    assert main(["paper", "--dt", "1", "--out", str(out), "--quiet"]) == 1
     captured = capsys.readouterr()
     lines = [x for x in captured.err.splitlines() if x]
     assert len(lines) == 4 and all(x.startswith("tetherheli: run sim") for x in lines)
@@ -329,7 +329,7 @@ def test_sweep_cli_exits_1_when_a_point_fails(tmp_path, capsys):
     commas), one stderr line per such point and a count, exit 1; all completed: exit 0."""
     scenario = str(Path(__file__).resolve().parents[1] / "scenarios" / "paper_sim1_tethered.toml")
     out = tmp_path / "sw"
-    argv = ["sweep", scenario, "--param", "tension_control.T_ref", "--values", "20,450"]
+    argv = ["sweep", scenario, "--param", "tension_control.T_ref", "--values", "20,450", "--quiet"]
     assert main([*argv, "--out", str(out)]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 2

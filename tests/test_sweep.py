@@ -75,6 +75,7 @@ def test_sweep_cli(tmp_path, capsys):
         "10,20",
         "--out",
         str(out),
+        "--quiet",
     ]
     assert main(argv) == 0
     info = json.loads((out / "summary.json").read_text())

@@ -40,6 +40,11 @@ class _UsageError(Exception):
     pass
 
 
+def _plain(text: str) -> str:
+    """``text`` without reStructuredText markup (double backquotes), for ``--help``."""
+    return text.replace("``", "")
+
+
 def _load_params(path: str | None) -> Params:
     return Params.from_toml(path) if path else Params.paper()
 
@@ -120,10 +125,15 @@ def _cmd_derive(args: argparse.Namespace) -> int:
     from ._io import atomic_write_text, check_output_file, record_output_file
     from .model.codegen import GENERATED_PATH, generate_source
 
-    target = Path(args.output) if args.output else GENERATED_PATH
+    if args.output is not None:
+        if args.out is not None:
+            raise _UsageError("tetherheli derive: give --out only (--output is its old name)")
+        print("tetherheli: warning: derive --output is deprecated; use --out", file=sys.stderr)
+    out = args.out if args.out is not None else args.output
+    target = Path(out) if out else GENERATED_PATH
     generated = target.resolve() == GENERATED_PATH.resolve()
     if not (args.check or generated):  # a user's path: a new file, or one derive wrote
-        check_output_file(target, option="--output")
+        check_output_file(target, option="--out")
     text = generate_source()
     if args.check:
         current = target.read_text() if target.exists() else ""
@@ -156,11 +166,17 @@ def _positive_float(name: str) -> Callable[[str], float]:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="tetherheli", description=__doc__.splitlines()[0])
+    parser = _Parser(prog="tetherheli", description=_plain(__doc__.splitlines()[0]))
     parser.add_argument("--version", action="version", version=f"tetherheli {__version__}")
     common = _Parser(add_help=False)
     common.add_argument(
         "--debug", action="store_true", help="print the traceback of an internal error"
+    )
+    common.add_argument(
+        "--quiet",
+        action="store_true",
+        help="no progress on stderr (no bar on a terminal, no summary line in a log); "
+        "warnings and errors are still printed",
     )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     sub.add_parser = functools.partial(sub.add_parser, parents=[common])  # type: ignore[method-assign]
@@ -178,7 +194,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_trim)
 
     p = sub.add_parser("derive", help="regenerate the numeric model code from Kane's method")
-    p.add_argument("--output", help="where to write (default: the package's _generated.py)")
+    p.add_argument("--out", help="where to write (default: the package's _generated.py)")
+    p.add_argument("--output", help=argparse.SUPPRESS)  # the old name of --out: warns
     p.add_argument(
         "--check",
         action="store_true",
@@ -272,9 +289,12 @@ def _cmd_paper(args: argparse.Namespace) -> int:
         command=command.strip(),
         force=args.force,
         data_format=args.data_format,
+        figure_format=args.figure_format,
+        progress=not args.quiet,
     )
     red = summary["reduction_percent"]
-    print(f"wrote {args.out}/ (report.md, summary.json, fig6-fig9 PNG, time series)")
+    fmt = args.figure_format.upper()
+    print(f"wrote {args.out}/ (report.md, summary.json, fig6-fig9 {fmt}, time series)")
     print("reduction of the disturbance effect by the tether (100 (free - tethered) / free):")
     for k, v in red.items():
         print(f"  {k:<14} {v:6.1f} %" if v is not None else f"  {k:<14}    n/a (a run failed)")
@@ -312,15 +332,21 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     claim_output_directory(args.out, inputs=inputs, force=args.force)
     command = "tetherheli simulate " + " ".join(args.scenario)
     results = [simulate(s, method=args.method) for s in scenarios]
+    fmt = args.figure_format
     if len(results) == 1:
         write_run(
-            results[0], args.out, command=command, inputs=inputs, force=args.force,
+            results[0],
+            args.out,
+            command=command,
+            inputs=inputs,
+            force=args.force,
             data_format=args.data_format,
-        )  # fmt: skip
+            figure_format=fmt,
+        )
     else:
         write_comparison(
             results, args.out, command=command, inputs=inputs, force=args.force,
-            data_format=args.data_format,
+            data_format=args.data_format, figure_format=fmt,
         )  # fmt: skip
     for r in results:
         if r.released:
@@ -358,6 +384,17 @@ _dt_arg = _seconds_arg("a sample time", 1.0)
 _dt_arg_pulse = _seconds_arg("a duration", 20.0)
 
 
+def _add_figure_format(p: argparse.ArgumentParser) -> None:
+    from .viz.plots import FIGURE_FORMATS, PRINT_DPI
+
+    p.add_argument(
+        "--figure-format",
+        choices=FIGURE_FORMATS,
+        default="png",
+        help=f"format of the figures: png ({PRINT_DPI} dpi, the default), or pdf or svg (vector)",
+    )
+
+
 def _add_force(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--force",
@@ -389,6 +426,7 @@ def _register_simulation(sub: argparse._SubParsersAction) -> None:
         help="duration of the 20 N pulse [s] (not stated in the paper; default 1)",
     )
     _add_format(p, "the time series <run>.csv")
+    _add_figure_format(p)
     _add_force(p)
     p.set_defaults(func=_cmd_paper)
 
@@ -407,6 +445,7 @@ def _register_simulation(sub: argparse._SubParsersAction) -> None:
         help="integration: compiled fixed-step RK4 or the adaptive reference",
     )
     _add_format(p, "the time series <name>.csv")
+    _add_figure_format(p)
     _add_force(p)
     p.set_defaults(func=_cmd_simulate)
 
@@ -424,6 +463,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
         fps=args.fps,
         speed=args.speed,
         max_frames=args.max_frames,
+        progress=not args.quiet,
     )
     print(f"wrote {path}")
     return 0
@@ -432,8 +472,13 @@ def _cmd_animate(args: argparse.Namespace) -> int:
 def _cmd_sensing(args: argparse.Namespace) -> int:
     from .report import run_sensing
 
-    table = run_sensing(args.out, scenarios=tuple(args.scenario) or None, force=args.force)
-    print(f"wrote {args.out}/ (sensing.png, summary.json, time series)")
+    table = run_sensing(
+        args.out,
+        scenarios=tuple(args.scenario) or None,
+        force=args.force,
+        figure_format=args.figure_format,
+    )
+    print(f"wrote {args.out}/ (sensing.{args.figure_format}, summary.json, time series)")
     print("RMS q1/q2/q3 [m]: the controller's estimate error, the true deviation from trim,")
     print("and the Kalman filter's error fusing the IMU with each source (over the GNSS outage)")
 
@@ -483,8 +528,23 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 
     metric = args.metric or "rms_q1"
     claim_output_directory(args.out, inputs=inputs, force=args.force)
-    result = sweep(scenario, args.param, args.values, metric, cyclic_limit=args.cyclic_limit)
-    write_sweep(result, args.out, command=command, inputs=inputs, force=args.force)
+    result = sweep(
+        scenario,
+        args.param,
+        args.values,
+        metric,
+        cyclic_limit=args.cyclic_limit,
+        progress=not args.quiet,
+        workers=args.workers,
+    )
+    write_sweep(
+        result,
+        args.out,
+        command=command,
+        inputs=inputs,
+        force=args.force,
+        figure_format=args.figure_format,
+    )
     moments = result.peak_tether_moment
     for i, (v, m, s) in enumerate(zip(result.values, result.metric, result.statuses, strict=True)):
         extra = ""
@@ -528,9 +588,22 @@ def _find_min(args: argparse.Namespace, scenario, inputs: tuple, command: str) -
     metric = args.metric or "peak_q1"
     claim_output_directory(args.out, inputs=inputs, force=args.force)
     result = minimum_cyclic_limit(
-        scenario, args.values, within=args.within, metric=metric, tol=args.tol
+        scenario,
+        args.values,
+        within=args.within,
+        metric=metric,
+        tol=args.tol,
+        progress=not args.quiet,
+        workers=args.workers,
     )
-    write_limit_search(result, args.out, command=command, inputs=inputs, force=args.force)
+    write_limit_search(
+        result,
+        args.out,
+        command=command,
+        inputs=inputs,
+        force=args.force,
+        figure_format=args.figure_format,
+    )
     print(f"{scenario.name}: {metric} without cyclic limits = {result.reference:.6g}")
     rows = zip(result.values, result.metric, result.meets, result.statuses, strict=True)
     for v, m, ok, s in rows:
@@ -563,6 +636,7 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
     from .errors import ClusterError
     from .sim.batch import connect, disconnect
     from .studies.montecarlo import CONFIGURATIONS, load_montecarlo, run_montecarlo
+    from .studies.montecarlo.runner import result_files
 
     base, config = load_montecarlo(args.scenario)
     if args.runs is not None:
@@ -584,6 +658,8 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
             inputs=(args.scenario,),
             force=args.force,
             table_format=args.data_format,
+            metric=args.metric,
+            figure_format=args.figure_format,
         )
     except ClusterError as exc:
         print(
@@ -602,32 +678,64 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
         return EXIT_STOPPED
-    print(
-        f"wrote {args.out}/ (results.{args.data_format}, summary.json, peak_q1_hist.png, "
-        "peak_q1_cdf.png)"
-    )
+    figures = ", ".join(result_files(args.metric, args.figure_format, args.data_format)[2:])
+    print(f"wrote {args.out}/ (results.{args.data_format}, summary.json, {figures})")
+
+    from .viz.plots import metric_label
+
+    m = args.metric
+    unit = metric_label(m).rpartition("[")[2].rstrip("]")
+
+    def value(v: float | None, spec: str = ".4g") -> str:
+        return f"{v:{spec}}" if v is not None else "(among the failed runs)"
+
     failed = 0
     for cfg in CONFIGURATIONS:
         s = summary["statistics"][cfg]
-        p = s.get("peak_q1", {})
+        p = s[m]
         failed += s["failed"]
         print(
-            f"  {cfg:<9} completed {s['completed']}/{s['runs']}, peak q1 median "
-            f"{p.get('p50', float('nan')):.4f} m, p95 {p.get('p95', float('nan')):.4f} m"
+            f"  {cfg:<9} completed {s['completed']}/{s['runs']}, {m} median "
+            f"{value(p['p50'])} {unit}, p95 {value(p['p95'])} {unit}"
+        )
+    if m in summary["reduction_percent"]:
+        r = summary["reduction_percent"][m]
+        lo, hi = r["ci95"]["p50"]
+        print(
+            f"  paired reduction of {m} by the tether per draw: median {value(r['p50'], '.1f')} "
+            f"% (95% CI {value(lo, '.1f')} .. {value(hi, '.1f')}), "
+            f"5th percentile {value(r['p5'], '.1f')} %"
         )
     if failed:
         print(
             f"tetherheli: {failed} run{'s' if failed > 1 else ''} failed (status, message and "
-            f"reason in {args.out}/results.{args.data_format}; percentiles are over completed "
-            "runs)",
+            f"reason in {args.out}/results.{args.data_format}; in the percentiles a failed run "
+            "counts as the worst value)",
             file=sys.stderr,
         )
     return 1 if failed and args.strict else 0
 
 
+def _add_workers(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--workers",
+        type=_count_arg("--workers", 1, 1024),
+        help="threads running the simulations (default: all CPUs)",
+    )
+
+
+def _montecarlo_metrics() -> tuple[str, ...]:
+    from .studies.montecarlo.runner import METRICS
+
+    return METRICS
+
+
 def _register_animate(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("animate", help="3-D animation (GIF/MP4) of the runs in a result folder")
-    p.add_argument("result_dir", help="folder written by `tetherheli paper` or `simulate`")
+    p.add_argument(
+        "result_dir",
+        help="folder written by 'tetherheli paper' or 'simulate' (one or several scenarios)",
+    )
     p.add_argument("--out", help="output .gif or .mp4 (default RESULT_DIR/animation.gif)")
     p.add_argument("--runs", help="comma-separated run names (default: all in the folder)")
     p.add_argument(
@@ -699,6 +807,8 @@ def _register_animate(sub: argparse._SubParsersAction) -> None:
         help="--find-min: width of the reported interval [N m] (default 0.001)",
     )
     p.add_argument("--out", required=True, help="output directory")
+    _add_workers(p)
+    _add_figure_format(p)
     _add_force(p)
     p.set_defaults(func=_cmd_sweep)
 
@@ -721,8 +831,12 @@ def _register_animate(sub: argparse._SubParsersAction) -> None:
         default=50,
         help="draws per resumable chunk file (default 50)",
     )
+    _add_workers(p)
     p.add_argument(
-        "--workers", type=_count_arg("--workers", 1, 1024), help="threads (default: all CPUs)"
+        "--metric",
+        choices=_montecarlo_metrics(),
+        default="peak_q1",
+        help="the metric of the figures (histogram, CDF, paired scatter; default peak_q1)",
     )
     p.add_argument(
         "--max-chunks",
@@ -750,8 +864,8 @@ def _register_animate(sub: argparse._SubParsersAction) -> None:
         help="with --scheduler: give up (exit 1, resumable) when the cluster has had no worker "
         "for this many seconds (default 60)",
     )
-    p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
     _add_format(p, "the results table results.csv")
+    _add_figure_format(p)
     _add_force(p)
     p.set_defaults(func=_cmd_montecarlo)
 
@@ -763,6 +877,7 @@ def _register_animate(sub: argparse._SubParsersAction) -> None:
         default=[],
         help="scenario with [sensors] (repeatable; default: the shipped sensing_*.toml)",
     )
+    _add_figure_format(p)
     _add_force(p)
     p.set_defaults(func=_cmd_sensing)
 

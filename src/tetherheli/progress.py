@@ -1,53 +1,126 @@
-"""A one-line progress bar on stderr that knows whether its line is open, so that a note, an
-error or "interrupted" printed after it starts on a line of its own."""
+"""Progress of the long commands (``montecarlo``, ``sweep``, ``animate``, ``paper``) on stderr:
+the one place that decides how it looks.
+
+On a terminal a tqdm bar with the count, rate and ETA, redrawn in place; when stderr is not a
+terminal (a log file, a pipe, CI) nothing while the work runs and one summary line when it
+ends, so a log never receives carriage-return frames; nothing at all when not ``enabled``
+(the CLI's ``--quiet``).
+"""
 
 from __future__ import annotations
 
 import sys
+import time
+from typing import TextIO
 
-__all__ = ["ProgressLine"]
+__all__ = ["Progress"]
 
 
-class ProgressLine:
-    """``label [#####     ] done/total unit  pct%`` redrawn in place on stderr (nothing when
-    not ``enabled``). Used as a context manager: leaving the block, normally or by an
-    exception, ends an open line."""
+def _is_terminal(stream: TextIO) -> bool:
+    try:
+        return bool(stream.isatty())
+    except (AttributeError, ValueError):  # no isatty, or a closed stream
+        return False
 
-    def __init__(self, label: str, unit: str, *, enabled: bool = True) -> None:
+
+class Progress:
+    """Progress of ``total`` units of work labelled ``label``; a context manager (leaving the
+    block, normally or by an exception, closes the bar and prints the summary line).
+
+    Parameters
+    ----------
+    label : str
+        What is being done (e.g. "montecarlo").
+    total : int
+        Units of work in all.
+    unit : str
+        Name of a unit, plural (e.g. "draws").
+    enabled : bool
+        False: print nothing (``--quiet``).
+    stream : text stream, optional
+        Where to write (default ``sys.stderr`` at creation).
+    """
+
+    def __init__(
+        self,
+        label: str,
+        total: int,
+        unit: str,
+        *,
+        enabled: bool = True,
+        stream: TextIO | None = None,
+    ) -> None:
         self.label = label
+        self.total = int(total)
         self.unit = unit
         self.enabled = enabled
-        self._open = False
+        self.done = 0
+        self._stream = sys.stderr if stream is None else stream
+        self._start = time.perf_counter()
+        self._closed = False
+        self._bar = None
+        if enabled and _is_terminal(self._stream):
+            from tqdm import tqdm
 
-    def __enter__(self) -> ProgressLine:
+            self._bar = tqdm(
+                total=self.total,
+                desc=label,
+                unit=f" {unit}",
+                file=self._stream,
+                dynamic_ncols=True,
+                leave=True,
+            )
+
+    def __enter__(self) -> Progress:
         return self
 
     def __exit__(self, *exc: object) -> None:
-        self.end_line()
+        self.close()
 
-    def update(self, done: int, total: int) -> None:
-        if not self.enabled:
-            return
-        frac = done / total if total else 1.0
-        bar = "#" * int(30 * frac)
-        print(
-            f"\r{self.label} [{bar:<30}] {done}/{total} {self.unit} {100 * frac:5.1f}%",
-            end="",
-            file=sys.stderr,
-        )
-        self._open = True
-        if done >= total:
-            self.end_line()
-        sys.stderr.flush()
+    @property
+    def terminal(self) -> bool:
+        """Whether a live bar is drawn (enabled, on a terminal)."""
+        return self._bar is not None
 
-    def end_line(self) -> None:
-        if self._open:
-            self._open = False
-            print(file=sys.stderr)
-            sys.stderr.flush()
+    def set_total(self, total: int) -> None:
+        """The units of work in all, when known only once the work has started."""
+        self.total = int(total)
+        if self._bar is not None:
+            self._bar.total = self.total
+            self._bar.refresh()
+
+    def update(self, n: int = 1) -> None:
+        """``n`` more units done."""
+        self.done += int(n)
+        if self._bar is not None:
+            self._bar.update(int(n))
+
+    def update_to(self, done: int) -> None:
+        """``done`` units done in all."""
+        self.update(int(done) - self.done)
 
     def note(self, message: str) -> None:
-        """One line on stderr (progress or not)."""
-        self.end_line()
-        print(message, file=sys.stderr)
-        sys.stderr.flush()
+        """One line on stderr (shown even when not ``enabled``: it is a message, not
+        progress), above the bar on a terminal."""
+        if self._bar is not None:
+            self._bar.write(message, file=self._stream)
+        else:
+            print(message, file=self._stream)
+            self._stream.flush()
+
+    def summary(self) -> str:
+        """The final line: ``label: done/total unit in s (rate unit/s)``."""
+        elapsed = time.perf_counter() - self._start
+        rate = f", {self.done / elapsed:.3g} {self.unit}/s" if elapsed > 0 and self.done else ""
+        return f"{self.label}: {self.done}/{self.total} {self.unit} in {elapsed:.1f} s{rate}"
+
+    def close(self) -> None:
+        """End the bar (terminal) or print the summary line (otherwise); idempotent."""
+        if self._closed:
+            return
+        self._closed = True
+        if self._bar is not None:
+            self._bar.close()
+        elif self.enabled:
+            print(self.summary(), file=self._stream)
+            self._stream.flush()

@@ -144,7 +144,9 @@ def _fmt(value: float | None, spec: str, suffix: str = "") -> str:
     return "n/a" if value is None else f"{value:{spec}}{suffix}"
 
 
-def _report_md(summary: dict[str, Any], command: str, data_format: str = "csv") -> str:
+def _report_md(
+    summary: dict[str, Any], command: str, data_format: str = "csv", figure_format: str = "png"
+) -> str:
     red = summary["reduction_percent"]
     runs = summary["runs"]
     statuses = summary["statuses"]
@@ -230,15 +232,15 @@ def _report_md(summary: dict[str, Any], command: str, data_format: str = "csv") 
         "Simulation 1 (wind along n1): outputs and attitude (the paper's Fig. 6), tension and "
         "inputs (Fig. 7).",
         "",
-        "![Fig. 6](fig6_sim1_outputs.png)",
+        f"![Fig. 6](fig6_sim1_outputs.{figure_format})",
         "",
-        "![Fig. 7](fig7_sim1_inputs.png)",
+        f"![Fig. 7](fig7_sim1_inputs.{figure_format})",
         "",
         "Simulation 2 (wind along n2): Figs. 8 and 9.",
         "",
-        "![Fig. 8](fig8_sim2_outputs.png)",
+        f"![Fig. 8](fig8_sim2_outputs.{figure_format})",
         "",
-        "![Fig. 9](fig9_sim2_inputs.png)",
+        f"![Fig. 9](fig9_sim2_inputs.{figure_format})",
         "",
         f"Time series: `<run>.{data_format}` (SI units) with `<run>.json` (configuration, "
         "trim, version); `summary.json` holds the metrics above; `manifest.json` the full "
@@ -256,26 +258,36 @@ def run_paper(
     command: str = "tetherheli paper",
     force: bool = False,
     data_format: str = "csv",
+    figure_format: str = "png",
+    progress: bool = False,
 ) -> dict[str, Any]:
     """Run the four simulations of Sec. VI and write the paper's outputs into ``out_dir``
     (``_io.output_directory``: refused before any run if it holds files tetherheli did not
     write, unless ``force``; those are kept). The time series are ``<run>.csv``, or
-    ``<run>.parquet`` with ``data_format="parquet"`` (``sim.result.RESULT_FORMATS``).
+    ``<run>.parquet`` with ``data_format="parquet"`` (``sim.result.RESULT_FORMATS``); the
+    figures are ``figure_format`` files (png, pdf or svg); ``progress`` shows the runs done on
+    stderr (``tetherheli.progress``).
 
     A run that fails (e.g. with a coarse ``dt``) is recorded, not raised: its status is in
     summary.json's ``statuses`` and in report.md, its reductions are None ("n/a"), and the
     figures draw it up to the failure. The caller decides the exit code (the CLI: 1).
     """
-    check_result_format(data_format)
-    claim_output_directory(out_dir, force=force)
-    from .viz.plots import figure_inputs, figure_outputs, save_figure
+    from .progress import Progress
+    from .viz.plots import check_figure_format, figure_inputs, figure_outputs, save_figure
 
+    check_result_format(data_format)
+    figure_format = check_figure_format(figure_format)
+    claim_output_directory(out_dir, force=force)
     scenarios = {
         f"sim{sim}_{cfg}": paper_scenario(sim, cfg, pulse_duration=pulse_duration, dt=dt)
         for sim in (1, 2)
         for cfg in ("free", "tethered")
     }
-    results = {k: simulate(s) for k, s in scenarios.items()}
+    results = {}
+    with Progress("paper", len(scenarios), "runs", enabled=progress) as bar:
+        for k, s in scenarios.items():
+            results[k] = simulate(s)
+            bar.update(1)
     summary = paper_summary(results, dt=dt, pulse_duration=pulse_duration)
     with output_directory(out_dir, writer="paper", force=force) as tmp:
         for k, r in results.items():
@@ -287,20 +299,22 @@ def run_paper(
                 figure_outputs(
                     pair, f"Simulation {sim}: wind along {axis} (paper Fig. {6 if sim == 1 else 8})"
                 ),
-                tmp / f"{fo}_sim{sim}_outputs.png",
+                tmp / f"{fo}_sim{sim}_outputs.{figure_format}",
             )
             save_figure(
                 figure_inputs(
                     pair,
                     f"Simulation {sim}: tension and inputs (paper Fig. {7 if sim == 1 else 9})",
                 ),
-                tmp / f"{fi}_sim{sim}_inputs.png",
+                tmp / f"{fi}_sim{sim}_inputs.{figure_format}",
             )
         atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=2) + "\n")
         atomic_write_text(
             tmp / "manifest.json", json.dumps(_manifest(command, scenarios), indent=2) + "\n"
         )
-        atomic_write_text(tmp / "report.md", _report_md(summary, command, data_format))
+        atomic_write_text(
+            tmp / "report.md", _report_md(summary, command, data_format, figure_format)
+        )
     return summary
 
 
@@ -312,20 +326,29 @@ def write_run(
     inputs: tuple[str | Path, ...] = (),
     force: bool = False,
     data_format: str = "csv",
+    figure_format: str = "png",
 ) -> dict[str, Any]:
-    """Write one run (time series as ``data_format``, "csv" or "parquet"; figures, metrics,
-    report) into ``out_dir`` (``_io.output_directory``: the user's files there are kept,
-    never replaced)."""
+    """Write one run (time series as ``data_format``, "csv" or "parquet"; figures as
+    ``figure_format`` files: png, pdf or svg; metrics, report) into ``out_dir``
+    (``_io.output_directory``: the user's files there are kept, never replaced)."""
+    from .viz.plots import check_figure_format
+
     check_result_format(data_format)
+    figure_format = check_figure_format(figure_format)
     with output_directory(out_dir, writer="simulate", inputs=inputs, force=force) as tmp:
-        return _write_run_files(result, tmp, command, data_format)
+        return _write_run_files(result, tmp, command, data_format, figure_format)
 
 
 def _write_run_files(
-    result: SimulationResult, directory: Path, command: str, data_format: str = "csv"
+    result: SimulationResult,
+    directory: Path,
+    command: str,
+    data_format: str = "csv",
+    figure_format: str = "png",
 ) -> dict[str, Any]:
     from .viz.plots import figure_inputs, figure_outputs, save_figure
 
+    ext = figure_format
     directory.mkdir(exist_ok=True)
     metrics = run_metrics(result).as_dict() if metric_samples(result) else {}
     info = {
@@ -341,8 +364,8 @@ def _write_run_files(
     if result.configuration.get("wind", {}).get("type") != "custom":  # else not re-runnable
         atomic_write_text(directory / SCENARIO_FILE, scenario_toml(result.configuration))
     if result.time.size > 1:
-        save_figure(figure_outputs([result], result.name), directory / "outputs.png")
-        save_figure(figure_inputs([result], result.name), directory / "inputs.png")
+        save_figure(figure_outputs([result], result.name), directory / f"outputs.{ext}")
+        save_figure(figure_inputs([result], result.name), directory / f"inputs.{ext}")
     atomic_write_text(directory / "summary.json", json.dumps(info, indent=2) + "\n")
     lines = [
         f"# {result.name}",
@@ -367,7 +390,7 @@ def _write_run_files(
             "",
         ]
     if result.time.size > 1:
-        lines += ["![outputs](outputs.png)", "", "![inputs](inputs.png)", ""]
+        lines += [f"![outputs](outputs.{ext})", "", f"![inputs](inputs.{ext})", ""]
     atomic_write_text(directory / "report.md", "\n".join(lines))
     return info
 
@@ -380,20 +403,24 @@ def write_comparison(
     inputs: tuple[str | Path, ...] = (),
     force: bool = False,
     data_format: str = "csv",
+    figure_format: str = "png",
 ) -> dict[str, Any]:
     """Several runs: each in ``out_dir/<name>/`` as ``write_run`` writes it, overlaid in
-    ``outputs.png`` and ``inputs.png``, with their metrics side by side in ``summary.json``
-    and ``report.md``."""
-    from .viz.plots import figure_inputs, figure_outputs, save_figure
+    ``outputs.<figure_format>`` and ``inputs.<figure_format>`` (png, pdf or svg), with their
+    metrics side by side in ``summary.json`` and ``report.md``."""
+    from .viz.plots import check_figure_format, figure_inputs, figure_outputs, save_figure
 
     check_result_format(data_format)
+    ext = check_figure_format(figure_format)
     with output_directory(out_dir, writer="simulate", inputs=inputs, force=force) as tmp:
-        infos = {r.name: _write_run_files(r, tmp / r.name, command, data_format) for r in results}
+        infos = {
+            r.name: _write_run_files(r, tmp / r.name, command, data_format, ext) for r in results
+        }
         plotted = [r for r in results if r.time.size > 1]
         if plotted:
             title = " vs ".join(r.name for r in plotted)
-            save_figure(figure_outputs(plotted, title), tmp / "outputs.png")
-            save_figure(figure_inputs(plotted, title), tmp / "inputs.png")
+            save_figure(figure_outputs(plotted, title), tmp / f"outputs.{ext}")
+            save_figure(figure_inputs(plotted, title), tmp / f"inputs.{ext}")
         summary = {"tetherheli_version": __version__, "command": command, "runs": infos}
         atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=2) + "\n")
         lines = [f"# {title if plotted else 'comparison'}", "", f"Produced by `{command}`.", ""]
@@ -409,7 +436,7 @@ def write_comparison(
             cells = [get(i) if i["metrics"] or name == "status" else "-" for i in infos.values()]
             lines.append(f"| {name} | " + " | ".join(cells) + " |")
         if plotted:
-            lines += ["", "![outputs](outputs.png)", "", "![inputs](inputs.png)"]
+            lines += ["", f"![outputs](outputs.{ext})", "", f"![inputs](inputs.{ext})"]
         atomic_write_text(tmp / "report.md", "\n".join(lines) + "\n")
     return summary
 
@@ -456,6 +483,7 @@ def run_sensing(
     scenarios: tuple[str | Path, ...] | None = None,
     command: str = "tetherheli sensing",
     force: bool = False,
+    figure_format: str = "png",
 ) -> dict[str, Any]:
     """The tether as a GPS-free position sensor (Sec. IV-F): fly the shipped
     ``sensing_*`` scenarios (``SENSING_RUNS``, or the given ones), compare the controller's
@@ -465,11 +493,13 @@ def run_sensing(
 
     A failed run is recorded, not raised: its row holds its status (``run_status``), its
     RMS figures cover the samples up to the failure (None without samples), and the plot
-    draws it up to the failure. The caller decides the exit code (the CLI: 1)."""
+    draws it up to the failure (``sensing.<figure_format>``: png, pdf or svg). The caller
+    decides the exit code (the CLI: 1)."""
     from .estimation import FUSIONS, estimate_run
     from .sim import load_scenario
-    from .viz.plots import figure_sensing, save_figure
+    from .viz.plots import check_figure_format, figure_sensing, save_figure
 
+    figure_format = check_figure_format(figure_format)
     claim_output_directory(out_dir, inputs=scenarios or (), force=force)
     if scenarios:
         runs = [load_scenario(p) for p in scenarios]
@@ -513,7 +543,7 @@ def run_sensing(
     with output_directory(out_dir, writer="sensing", inputs=scenarios or (), force=force) as tmp:
         for name, r in results.items():
             r.save(tmp, name)
-        save_figure(fig, tmp / "sensing.png")
+        save_figure(fig, tmp / f"sensing.{figure_format}")
         info = {
             "tetherheli_version": __version__,
             "command": command,

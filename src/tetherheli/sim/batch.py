@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Any
@@ -352,6 +352,7 @@ def run_batch(
     record_setup_failures: bool = False,
     worker_timeout_s: float = 60.0,
     lanes: bool = True,
+    on_done: Callable[[int], None] | None = None,
 ) -> BatchResult:
     """Run many scenarios with the compiled engine, keeping per-run summaries only.
 
@@ -378,6 +379,9 @@ def run_batch(
         Advance the runs in blocks of ``layout.LANES`` (``engine.run_lanes``, the default);
         False runs them one at a time (``engine.run_closed_loop``). Both give the same
         numbers bit for bit.
+    on_done : callable, optional
+        Called with the number of runs just finished, as they finish (progress,
+        ``tetherheli.progress``); the counts add up to ``len(scenarios)``.
 
     Returns
     -------
@@ -414,6 +418,8 @@ def run_batch(
             summaries[idx], status[idx], done[idx] = sm, st, dn
             for i, r in zip(idx, why, strict=True):
                 reasons[i] = r
+            if on_done is not None:
+                on_done(len(idx))
         return BatchResult(summaries, status, done, tuple(reasons))
     # group by (params, control, q9) so each group's gain is designed once (paper_gain caches)
     order = sorted(
@@ -474,11 +480,20 @@ def run_batch(
         tasks, task = blocks, run_lane_block
     else:
         tasks, task = order, run_one
+
+    def size(t: int | list[int]) -> int:
+        return len(t) if isinstance(t, list) else 1
+
     if workers == 1 or len(tasks) == 1:
         for t in tasks:
             task(t)
+            if on_done is not None:
+                on_done(size(t))
     else:
         with ThreadPoolExecutor(max_workers=workers) as pool:
-            for fut in [pool.submit(task, t) for t in tasks]:
+            futures = [(pool.submit(task, t), size(t)) for t in tasks]
+            for fut, m in futures:
                 fut.result()
+                if on_done is not None:
+                    on_done(m)
     return BatchResult(summaries, status, done, tuple(reasons))

@@ -35,6 +35,7 @@ import numpy as np
 from .._io import atomic_write_text, output_directory
 from .._version import __version__
 from ..errors import InfeasibleError, ParameterError
+from ..progress import Progress
 from ..sim import Scenario
 from .sweep import METRICS, _evaluate, _prepare_points, _with
 
@@ -142,12 +143,29 @@ def minimum_cyclic_limit(
     within: float = 0.10,
     metric: str = "peak_q1",
     tol: float = 1e-3,
+    progress: bool = False,
+    workers: int | None = None,
 ) -> LimitSearch:
     """The smallest symmetric cyclic limit tmax_MR1,2 [N m] (eq 40) with which ``scenario``
     completes and its ``metric`` (``sweep.METRICS``) stays within (1 + ``within``) times the
     run without cyclic limits, as an interval found by a grid scan and bisection (see the
-    module docstring). ``grid``: limits > 0 [N m], at least 2; ``tol``: the interval's width.
+    module docstring). ``grid``: limits > 0 [N m], at least 2; ``tol``: the interval's width;
+    ``progress``: the runs done on stderr (``tetherheli.progress``; the total counts the
+    longest bisection); ``workers``: threads of the batches (default: all CPUs).
     """
+    with Progress("sweep --find-min", 1, "runs", enabled=progress) as bar:
+        return _search(scenario, grid, within, metric, tol, bar, workers)
+
+
+def _search(
+    scenario: Scenario,
+    grid: np.ndarray,
+    within: float,
+    metric: str,
+    tol: float,
+    bar: Progress,
+    workers: int | None,
+) -> LimitSearch:
     if metric not in METRICS:
         raise ParameterError("metric", metric, f"one of {sorted(METRICS)}")
     if not (math.isfinite(within) and within >= 0):
@@ -157,10 +175,12 @@ def minimum_cyclic_limit(
     grid = np.unique(np.asarray(grid, dtype=float))
     if grid.size < 2 or not np.all(np.isfinite(grid)) or grid[0] <= 0:
         raise ParameterError("grid", grid.tolist(), "at least 2 distinct finite limits > 0")
+    bisections = math.ceil(math.log2(max(float(np.diff(grid).max()) / tol, 1.0)))
+    bar.set_total(1 + grid.size + bisections)
 
     reference_scenario = _with(scenario, PARAMETER, math.inf)
     ref_status = [""]
-    ref, ref_ok = _evaluate([reference_scenario], ref_status, metric)
+    ref, ref_ok = _evaluate([reference_scenario], ref_status, metric, bar, workers)
     if not ref_ok[0]:
         raise InfeasibleError(
             "scenario",
@@ -177,7 +197,7 @@ def minimum_cyclic_limit(
 
     def run(points: np.ndarray) -> np.ndarray:
         scenarios, st = _prepare_points(scenario, PARAMETER, points)
-        out, completed = _evaluate(scenarios, st, metric)
+        out, completed = _evaluate(scenarios, st, metric, bar, workers)
         ok = np.array(completed) & (out <= threshold)
         values.extend(points.tolist())
         metrics.extend(out.tolist())
@@ -197,6 +217,7 @@ def minimum_cyclic_limit(
         lo, hi, _ = bisect_criterion(
             float(grid[i - 1]), float(grid[i]), lambda v: bool(run(np.array([v]))[0]), tol
         )
+    bar.update_to(bar.total)
     return LimitSearch(
         scenario.name,
         metric,
@@ -222,11 +243,13 @@ def write_limit_search(
     command: str,
     inputs: tuple[str | Path, ...] = (),
     force: bool = False,
+    figure_format: str = "png",
 ) -> None:
-    """Table (CSV: every run), plot (PNG) and summary.json of a search, written whole or not
-    at all (``_io.output_directory``)."""
-    from ..viz.plots import figure_limit_search, save_figure
+    """Table (CSV: every run), plot (``sweep.<figure_format>``: png, pdf or svg) and
+    summary.json of a search, written whole or not at all (``_io.output_directory``)."""
+    from ..viz.plots import check_figure_format, figure_limit_search, save_figure
 
+    figure_format = check_figure_format(figure_format)
     fig = figure_limit_search(result)
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
@@ -236,7 +259,7 @@ def write_limit_search(
     ):
         writer.writerow([repr(v), repr(m), int(ok), s])
     with output_directory(out_dir, writer="sweep", inputs=inputs, force=force) as tmp:
-        save_figure(fig, tmp / "sweep.png")
+        save_figure(fig, tmp / f"sweep.{figure_format}")
         atomic_write_text(tmp / "sweep.csv", buf.getvalue())
         info = {**result.as_dict(), "tetherheli_version": __version__, "command": command}
         atomic_write_text(tmp / "summary.json", json.dumps(info, indent=2) + "\n")

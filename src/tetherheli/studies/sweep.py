@@ -36,6 +36,7 @@ from ..analysis import run_metrics, tether_moment
 from ..errors import InfeasibleError, ParameterError
 from ..names import POSITION
 from ..params import Params
+from ..progress import Progress
 from ..sim import Scenario, simulate
 from ..sim.batch import run_batch
 from ..wind import compile_wind
@@ -44,6 +45,7 @@ __all__ = [
     "METRICS",
     "SweepResult",
     "paper_cyclic_limit",
+    "parameter_label",
     "scenario_cyclic_limit",
     "sweep",
     "tension_bound",
@@ -64,6 +66,27 @@ _ACTUATOR_FIELDS = {
     "actuators.breaking_tension",
 }
 _SCENARIO_FIELDS = {"q9", "control.dt", *_ACTUATOR_FIELDS}
+#: axis labels (name [unit]) of the scenario settings a sweep can vary (``ActuatorSettings``)
+_SCENARIO_LABELS = {
+    "q9": "tether length q9 [m]",
+    "control.dt": "controller sample time dt [s]",
+    "actuators.cyclic_limit": "cyclic limit tmax_MR1,2 [N m]",
+    "actuators.time_constant": "actuator time constant [s]",
+    "actuators.reel_rate_limit": "reel-rate limit |dLN/dt| [m/s]",
+    "actuators.reel_acceleration_limit": "reel-acceleration limit [m/s^2]",
+    "actuators.breaking_tension": "breaking tension [N]",
+}
+
+
+def parameter_label(parameter: str) -> str:
+    """An axis label for a swept ``parameter``: its name and unit, from the parameters' own
+    documentation (``Params.field_docs``) or the scenario settings'."""
+    if parameter in _SCENARIO_LABELS:
+        return _SCENARIO_LABELS[parameter]
+    doc = Params.field_docs().get(parameter)
+    if doc and "]" in doc:
+        return f"{parameter}: {doc[: doc.index(']') + 1]}"
+    return parameter
 
 
 def paper_cyclic_limit(params: Params) -> float:
@@ -206,14 +229,16 @@ def _prepare_points(
     return scenarios, reasons
 
 
-def _run_batch_feasible(scenarios: list[Scenario | None], reasons: list[str]):
+def _run_batch_feasible(
+    scenarios: list[Scenario | None], reasons: list[str], on_done=None, workers: int | None = None
+):
     """``run_batch`` over the valid points; a point whose set-up the physics cannot meet
     (no trim, a hover outside the actuator limits) becomes invalid, the others still run."""
     from ..sim.setup import engine_setup
 
     idx = [i for i, s in enumerate(scenarios) if s is not None]
     try:
-        return idx, run_batch([scenarios[i] for i in idx])  # type: ignore[misc]
+        return idx, run_batch([scenarios[i] for i in idx], on_done=on_done, workers=workers)  # type: ignore[misc]
     except InfeasibleError:
         for i in idx:  # rare: find the points that cannot be set up, then run the rest
             try:
@@ -222,21 +247,27 @@ def _run_batch_feasible(scenarios: list[Scenario | None], reasons: list[str]):
                 scenarios[i] = None
                 reasons[i] = _INVALID + str(exc)
         idx = [i for i, s in enumerate(scenarios) if s is not None]
-        return idx, run_batch([scenarios[i] for i in idx])  # type: ignore[misc]
+        return idx, run_batch([scenarios[i] for i in idx], on_done=on_done, workers=workers)  # type: ignore[misc]
 
 
 def _evaluate(
-    scenarios: list[Scenario | None], statuses: list[str], metric: str
+    scenarios: list[Scenario | None],
+    statuses: list[str],
+    metric: str,
+    bar: Progress | None = None,
+    workers: int | None = None,
 ) -> tuple[np.ndarray, list[bool]]:
     """Run every valid point; the metric (NaN unless completed) and whether each completed.
-    ``statuses`` receives each run's message (or "invalid: <why>")."""
+    ``statuses`` receives each run's message (or "invalid: <why>"); ``bar`` counts runs;
+    ``workers``: threads of ``run_batch``."""
+    update = bar.update if bar is not None else None
     out = np.full(len(scenarios), np.nan)
     completed = [False] * len(scenarios)
     wind = next((s.wind for s in scenarios if s is not None), None)
     if wind is not None and compile_wind(wind) is not None:
         # built-in winds (the sweep does not change the wind): the compiled batch on all
         # cores (per-run summaries, the numbers of simulate); its metric names are METRICS'
-        idx, batch = _run_batch_feasible(scenarios, statuses)
+        idx, batch = _run_batch_feasible(scenarios, statuses, update, workers)
         for j, i in enumerate(idx):
             statuses[i] = batch.message(j)
             completed[i] = bool(batch.ok[j])
@@ -245,6 +276,8 @@ def _evaluate(
         return out, completed
     group, key = METRICS[metric]
     for i, s in enumerate(scenarios):
+        if update is not None:
+            update(1)
         if s is None:
             continue
         try:
@@ -268,6 +301,8 @@ def sweep(
     *,
     cyclic_limit: float | None = None,
     moments: bool = True,
+    progress: bool = False,
+    workers: int | None = None,
 ) -> SweepResult:
     """Simulate ``scenario`` once per value of ``parameter`` and collect ``metric`` (see
     ``METRICS``).
@@ -283,7 +318,8 @@ def sweep(
     and set the eq-40 bound, or, if it has none, the paper's 20% rule sets the bound alone
     (``SweepResult.limit_applied`` False). With ``moments`` (tethered scenarios) every
     completed point is also simulated with its signals recorded to measure the tether's peak
-    moment about HO (``analysis.tether_moment``).
+    moment about HO (``analysis.tether_moment``). ``progress`` shows the runs done on stderr
+    (``tetherheli.progress``); ``workers`` is the number of threads (default: all CPUs).
 
     A value the physics cannot meet (``InfeasibleError``: a T_ref above what the tether gives
     at its length, a hover outside the actuator limits, no trim) is recorded as an invalid
@@ -311,14 +347,19 @@ def sweep(
         if cyclic_limit is None:
             cyclic_limit, limit_applied = paper_cyclic_limit(scenario.params), False
     scenarios, statuses = _prepare_points(scenario, parameter, values)  # validates each
-    out, completed = _evaluate(scenarios, statuses, metric)
-    peaks = angles = worst = None
-    if moments and scenario.configuration == "tethered":
-        peaks, angles, worst = (np.full(values.size, np.nan) for _ in range(3))
-        for i, s in enumerate(scenarios):
-            if s is not None and completed[i]:
-                tm = tether_moment(simulate(s), s.params)
-                peaks[i], angles[i], worst[i] = tm.peak, tm.peak_angle_deg, tm.peak_worst_case
+    moments = moments and scenario.configuration == "tethered"
+    total = values.size * (2 if moments else 1)
+    with Progress("sweep", total, "runs", enabled=progress) as bar:
+        out, completed = _evaluate(scenarios, statuses, metric, bar, workers)
+        bar.update_to(values.size)  # the invalid points count as done
+        peaks = angles = worst = None
+        if moments:
+            peaks, angles, worst = (np.full(values.size, np.nan) for _ in range(3))
+            for i, s in enumerate(scenarios):
+                if s is not None and completed[i]:
+                    tm = tether_moment(simulate(s), s.params)
+                    peaks[i], angles[i], worst[i] = tm.peak, tm.peak_angle_deg, tm.peak_worst_case
+                bar.update(1)
     bound = None
     if parameter == "tension_control.T_ref" and cyclic_limit is not None:
         bound = tension_bound(scenario.params, cyclic_limit)
@@ -354,11 +395,14 @@ def write_sweep(
     command: str,
     inputs: tuple[str | Path, ...] = (),
     force: bool = False,
+    figure_format: str = "png",
 ) -> None:
-    """Table (CSV), plot (PNG) and summary.json of a sweep, written whole or not at all
-    (``_io.output_directory``: the user's files in ``out_dir`` are kept, never replaced)."""
-    from ..viz.plots import figure_sweep, save_figure
+    """Table (CSV), plot (``sweep.<figure_format>``: png, pdf or svg) and summary.json of a
+    sweep, written whole or not at all (``_io.output_directory``: the user's files in
+    ``out_dir`` are kept, never replaced)."""
+    from ..viz.plots import check_figure_format, figure_sweep, save_figure
 
+    figure_format = check_figure_format(figure_format)
     fig = figure_sweep(result)
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")  # quotes a status holding a comma
@@ -387,7 +431,7 @@ def write_sweep(
     ):
         writer.writerow([repr(row[0]), repr(row[1]), row[2], *(repr(v) for v in row[3:])])
     with output_directory(out_dir, writer="sweep", inputs=inputs, force=force) as tmp:
-        save_figure(fig, tmp / "sweep.png")
+        save_figure(fig, tmp / f"sweep.{figure_format}")
         atomic_write_text(tmp / "sweep.csv", buf.getvalue())
         info = {**result.as_dict(), "tetherheli_version": __version__, "command": command}
         atomic_write_text(tmp / "summary.json", json.dumps(info, indent=2) + "\n")

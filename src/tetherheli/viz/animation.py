@@ -46,6 +46,7 @@ from .._validation import check_integer, check_number
 from ..errors import ParameterError
 from ..model.kinematics import HelicopterPoints, direction_cosines, helicopter_points
 from ..params import HelicopterParams, Params
+from ..progress import Progress
 from ..resources import check_memory
 from ..sim.result import list_results, load_result
 
@@ -59,12 +60,15 @@ __all__ = [
     "list_runs",
     "load_run",
     "render_frame",
+    "run_colours",
 ]
 
 #: Output formats ``animate`` can write: file suffix -> Matplotlib writer name.
 FORMATS: dict[str, str] = {".gif": "pillow", ".mp4": "ffmpeg"}
 
-_RUN_COLOURS = ("tab:blue", "tab:red", "tab:purple", "tab:brown", "tab:pink", "tab:gray")
+#: colours of further runs of a configuration already drawn (the first free run is red and the
+#: first tethered run blue, as in every figure: ``viz.plots.CONFIGURATION_COLOURS``)
+_MORE_COLOURS = ("tab:purple", "tab:brown", "tab:pink", "tab:gray", "tab:olive", "tab:cyan")
 _WIND_COLOUR = "darkorange"
 _TENSION_CMAP = "viridis"
 _SLACK = 1e-9  # [N] a tension at or below this is drawn as a slack tether
@@ -199,6 +203,23 @@ def _load_runs(directory: str | Path, stems: Sequence[str] | None) -> list[RunDa
 
 
 # --- drawing ------------------------------------------------------------------------------
+
+
+def run_colours(runs: Sequence[RunData]) -> list[str]:
+    """The colour of each run: the first free run red and the first tethered run blue
+    (``viz.plots.CONFIGURATION_COLOURS``, the figures' colours), any further run one of
+    ``_MORE_COLOURS`` in turn."""
+    from .plots import CONFIGURATION_COLOURS
+
+    colours, used, extra = [], set(), 0
+    for r in runs:
+        c = CONFIGURATION_COLOURS.get(r.configuration)
+        if c is None or c in used:
+            c = _MORE_COLOURS[extra % len(_MORE_COLOURS)]
+            extra += 1
+        used.add(c)
+        colours.append(c)
+    return colours
 
 
 def _wireframe(h: HelicopterParams, rotor_radius: float) -> np.ndarray:
@@ -356,7 +377,7 @@ class _Scene:
         t_max = max(float(np.max(taut)), 2.0 * float(np.median(taut))) if taut.size else 1.0
         self.norm = Normalize(0.0, t_max)
         self.cmap = mpl.colormaps[_TENSION_CMAP]
-        self.colours = [_RUN_COLOURS[i % len(_RUN_COLOURS)] for i in range(len(runs))]
+        self.colours = run_colours(runs)
 
         # Camera: fixed limits from every sample of every run, not only the drawn frames. The
         # wind arrow may leave the box (including it would shrink the helicopter).
@@ -662,6 +683,7 @@ def animate(
     dpi: float = 80.0,
     rotor_radius: float = 0.9,
     wind_scale: float | None = None,
+    progress: bool = False,
 ) -> Path:
     """Render saved runs as a 3-D animation (GIF, or MP4 when ffmpeg is installed).
 
@@ -679,6 +701,7 @@ def animate(
     rotor_radius : radius of the drawn rotor disc [m]
     wind_scale : drawn length of the wind-force arrow per newton [m/N]; None scales the
         largest force of the runs to 1 m
+    progress : show the frames drawn on stderr (``tetherheli.progress``)
 
     Returns
     -------
@@ -715,9 +738,11 @@ def animate(
         writer.setup(scene.fig, tmp, dpi=dpi)  # may round the figure size (ffmpeg)
         try:
             scene.freeze_background()
-            for k in range(len(times)):
-                scene.update(k)
-                writer.grab_frame()
+            with Progress("animate", len(times), "frames", enabled=progress) as bar:
+                for k in range(len(times)):
+                    scene.update(k)
+                    writer.grab_frame()
+                    bar.update(1)
         except BaseException:
             with contextlib.suppress(Exception):  # release ffmpeg; the file is discarded
                 writer.finish()

@@ -3,7 +3,11 @@ sweep, the Monte Carlo and the sensing figures.
 
 These functions only read results and return Matplotlib ``Figure`` objects built without
 pyplot, so importing them leaves the process's Matplotlib backend alone (notebooks keep their
-inline figures); ``save_figure`` writes one as PNG. A failed run is drawn up to its last
+inline figures). Each takes an optional ``fig`` (an empty figure to draw into, e.g. one from
+``plt.figure()`` in a notebook) or, for the one-panel figures, ``ax`` (axes to draw on), and
+returns the figure. ``save_figure`` writes one as PNG (at ``PRINT_DPI``), PDF or SVG by the
+file's suffix. Free runs are drawn in red and tethered runs in blue everywhere
+(``CONFIGURATION_COLOURS``, also used by the animation). A failed run is drawn up to its last
 recorded sample and says so in the legend; samples that cannot be drawn (non-finite, or beyond
 ``PLOT_LIMIT``) are left out as gaps, with a note on the figure.
 """
@@ -18,26 +22,58 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .._io import atomic_write_bytes
+from ..errors import ParameterError
 from ..names import INPUT, INPUT_UNITS
 from ..sim.result import SimulationResult
 
 __all__ = [
+    "CONFIGURATION_COLOURS",
+    "FIGURE_FORMATS",
     "PLOT_LIMIT",
+    "PRINT_DPI",
+    "check_figure_format",
     "figure_inputs",
     "figure_limit_search",
     "figure_montecarlo",
     "figure_outputs",
+    "figure_paired",
     "figure_release",
     "figure_sensing",
     "figure_sweep",
+    "metric_label",
     "plottable",
     "save_figure",
 ]
 
-_STYLE = {
-    "free": dict(color="tab:red", lw=1.1, label="free"),
-    "tethered": dict(color="tab:blue", lw=1.1, label="tethered"),
-}
+#: The colour of each configuration in every figure and the animation.
+CONFIGURATION_COLOURS = {"free": "tab:red", "tethered": "tab:blue"}
+#: The formats ``save_figure`` writes (by the file's suffix).
+FIGURE_FORMATS = ("png", "pdf", "svg")
+#: Resolution of the saved raster figures [dots per inch]: print quality.
+PRINT_DPI = 300
+
+_STYLE = {cfg: dict(color=c, lw=1.1, label=cfg) for cfg, c in CONFIGURATION_COLOURS.items()}
+
+
+def check_figure_format(figure_format: str) -> str:
+    """``figure_format`` if it is one of ``FIGURE_FORMATS``, else ParameterError."""
+    if figure_format not in FIGURE_FORMATS:
+        raise ParameterError("figure format", figure_format, f"one of {list(FIGURE_FORMATS)}")
+    return figure_format
+
+
+def metric_label(metric: str) -> str:
+    """An axis label with the unit for a run metric (``sim.batch.METRIC_NAMES``, e.g.
+    "peak_q1" -> "peak |q1 - q1 trim| [m]")."""
+    kind, _, rest = metric.partition("_")
+    if kind == "tension":
+        return f"{rest}imum tether tension TC [N]"
+    q, _, unit = rest.partition("_")
+    if kind == "peak":
+        return f"peak |{q} - {q} trim| [{unit or 'm'}]"
+    if kind == "rms":
+        return f"RMS of {q} - {q} trim [m]"
+    return metric
 
 
 #: samples beyond this magnitude (or non-finite) are not drawn: Matplotlib cannot place ticks
@@ -78,9 +114,28 @@ class _Plotter:
         ax.plot(t, clean, **style)
 
 
-def _stacked(rows: int, size: tuple[float, float]) -> tuple[Figure, np.ndarray]:
-    """A figure of ``rows`` axes stacked over a shared time axis (no pyplot)."""
+def _new_figure(fig: Figure | None, size: tuple[float, float]) -> Figure:
+    """``fig`` (a caller's empty figure) or a new constrained-layout figure (no pyplot)."""
+    if fig is None:
+        return Figure(figsize=size, layout="constrained")
+    if fig.axes:
+        raise ParameterError("fig", "a figure with axes", "an empty figure")
+    return fig
+
+
+def _single_axes(ax: Any, size: tuple[float, float]) -> tuple[Figure, Any]:
+    """``ax`` and its figure, or a new figure with one axes."""
+    if ax is not None:
+        return ax.get_figure(), ax
     fig = Figure(figsize=size, layout="constrained")
+    return fig, fig.add_subplot()
+
+
+def _stacked(
+    rows: int, size: tuple[float, float], fig: Figure | None = None
+) -> tuple[Figure, np.ndarray]:
+    """A figure of ``rows`` axes stacked over a shared time axis (no pyplot)."""
+    fig = _new_figure(fig, size)
     return fig, np.atleast_1d(fig.subplots(rows, 1, sharex=True))
 
 
@@ -105,9 +160,12 @@ def _finish(fig: Figure, axes: np.ndarray, title: str, dropped: int = 0) -> Figu
     return fig
 
 
-def figure_outputs(runs: list[SimulationResult], title: str = "") -> Figure:
-    """Figs. 6 and 8: wind force, q1, q2, q3 [m] and q4, q5 [deg] against time."""
-    fig, axes = _stacked(6, (7.5, 10.5))
+def figure_outputs(
+    runs: list[SimulationResult], title: str = "", *, fig: Figure | None = None
+) -> Figure:
+    """Figs. 6 and 8: wind force, q1, q2, q3 [m] and q4, q5 [deg] against time (into ``fig``
+    if given)."""
+    fig, axes = _stacked(6, (7.5, 10.5), fig)
     plot = _Plotter()
     for r in runs:
         st = _style(r)
@@ -126,9 +184,13 @@ def figure_outputs(runs: list[SimulationResult], title: str = "") -> Figure:
     return _finish(fig, axes, title, plot.dropped)
 
 
-def figure_inputs(runs: list[SimulationResult], title: str = "") -> Figure:
-    """Figs. 7 and 9: tension TC and inputs fMR3, tMR1, tMR2 (with feed-forward)."""
-    fig, axes = _stacked(4, (7.5, 8.0))
+def figure_inputs(
+    runs: list[SimulationResult], title: str = "", *, fig: Figure | None = None
+) -> Figure:
+    """Figs. 7 and 9: tension TC and inputs fMR3, tMR1, tMR2 (with feed-forward), into
+    ``fig`` if given. The tension axis spans the taut tethers' samples (a free run's TC = 0
+    would flatten their variation), and says so when a free run lies off it."""
+    fig, axes = _stacked(4, (7.5, 8.0), fig)
     plot = _Plotter()
     for r in runs:
         st = _style(r)
@@ -139,51 +201,106 @@ def figure_inputs(runs: list[SimulationResult], title: str = "") -> Figure:
             plot(ax, r.time, r.inputs[:, i], **st)
             ax.set_ylabel(f"{name} [{unit}]")
     axes[0].set_ylabel("TC [N]")
+    _scale_to_taut(axes[0], runs)
     return _finish(fig, axes, title, plot.dropped)
 
 
-def figure_sweep(result: Any) -> Figure:
-    """A sweep's metric against the swept values (``sweep.SweepResult``), with eq 40's tension
-    bound, the best value, and the failed or invalid points marked. For a tethered sweep a
-    second panel compares the tether's measured peak moment about HO with the cyclic authority
-    and eq 40's worst case |arm| TC."""
+def _scale_to_taut(ax: Any, runs: list[SimulationResult]) -> None:
+    """Limit the tension axis to the tethered runs' finite samples (with a 10% margin) when
+    a free run (TC = 0) would otherwise squash them; the free runs are then named below."""
+    taut = [
+        plottable(r.tension)[0]
+        for r in runs
+        if r.configuration.get("configuration") == "tethered" and r.tension.size
+    ]
+    values = np.concatenate(taut) if taut else np.zeros(0)
+    values = values[np.isfinite(values)]
+    if not values.size:
+        return
+    lo, hi = float(values.min()), float(values.max())
+    pad = 0.1 * (hi - lo) if hi > lo else max(0.05 * abs(hi), 1e-3)
+    if lo - pad <= 0.0:
+        return  # zero is in range: the free runs are drawn as they are
+    ax.set_ylim(lo - pad, hi + pad)
+    if len(taut) < len(runs):
+        ax.text(
+            0.01,
+            0.04,
+            "free: TC = 0 N (below the axis)",
+            transform=ax.transAxes,
+            fontsize=7,
+            color=CONFIGURATION_COLOURS["free"],
+        )
+
+
+def _shade_invalid(ax: Any, values: np.ndarray, invalid: np.ndarray, label: str) -> None:
+    """Shade the stretches of the swept axis around the ``invalid`` points (each point's
+    span reaches halfway to its neighbours), labelled once."""
+    order = np.argsort(values)
+    v, bad = values[order], invalid[order]
+    edges = np.concatenate([[v[0]], (v[:-1] + v[1:]) / 2, [v[-1]]])
+    if v.size == 1:
+        edges = np.array([v[0] - 0.5, v[0] + 0.5])
+    for i in np.flatnonzero(bad):
+        ax.axvspan(edges[i], edges[i + 1], color="0.8", alpha=0.6, lw=0, label=label)
+        label = "_"  # one legend entry
+
+
+def figure_sweep(result: Any, *, fig: Figure | None = None) -> Figure:
+    """A sweep's metric against the swept values (``sweep.SweepResult``), into ``fig`` if
+    given: the axes named with their units, the region beyond eq 40's tension bound shaded
+    red (the cyclic authority cannot hold the tether moment there), the points the physics
+    cannot meet (no trim, beyond the actuator limits) shaded grey, the failed runs marked and
+    the best value. For a tethered sweep a second panel compares the tether's measured peak
+    moment about HO with the cyclic authority and eq 40's worst case |arm| TC."""
+    from ..studies.sweep import parameter_label
+
     moments = result.peak_tether_moment is not None and np.any(
         np.isfinite(result.peak_tether_moment)
     )
-    fig = Figure(figsize=(7.0, 6.5 if moments else 4.0), layout="constrained")
+    fig = _new_figure(fig, (7.0, 6.5 if moments else 4.0))
     axes = np.atleast_1d(fig.subplots(2 if moments else 1, 1, sharex=True))
     ax = axes[0]
-    ax.plot(result.values, result.metric, "o-", color="tab:blue", label=result.metric_name)
+    tethered = CONFIGURATION_COLOURS["tethered"]
+    ax.plot(result.values, result.metric, "o-", color=tethered, label=result.metric_name)
+    invalid = np.array([s.startswith("invalid") for s in result.statuses], dtype=bool)
+    if invalid.any():
+        for a in axes:
+            _shade_invalid(a, result.values, invalid, f"infeasible set-up ({int(invalid.sum())})")
     if result.bound is not None:
         how = "" if result.limit_applied else ", 20% rule, runs unsaturated"
+        top = max(float(np.max(result.values)), result.bound)
+        for a in axes:
+            a.axvspan(result.bound, top, color="tab:red", alpha=0.08, lw=0)
         ax.axvline(
             result.bound,
             color="tab:red",
             ls="--",
-            label=f"eq 40 bound: TC < {result.bound:.2f} N{how}",
+            label=f"eq 40 bound: TC < {result.bound:.2f} N{how} (beyond: shaded)",
         )
     if result.best_value is not None:
         ax.axvline(
             result.best_value, color="tab:green", ls=":", label=f"best: {result.best_value:g}"
         )
-    if result.failed:
-        bad = result.values[list(result.failed)]
+    ran_failed = np.array([i for i in result.failed if not invalid[i]], dtype=int)
+    if ran_failed.size:
+        bad = result.values[ran_failed]
         ax.plot(
             bad,
             np.full(bad.size, 0.03),
             "x",
             color="tab:red",
             transform=ax.get_xaxis_transform(),
-            label=f"failed or invalid ({bad.size})",
+            label=f"run failed ({bad.size})",
         )
-    ax.set_ylabel(result.metric_name)
+    ax.set_ylabel(metric_label(result.metric_name))
     if moments:
         m = axes[1]
         m.plot(
             result.values,
             result.peak_tether_moment,
             "o-",
-            color="tab:blue",
+            color=tethered,
             label="peak tether moment about HO (measured, f1 or f2)",
         )
         m.plot(
@@ -201,20 +318,22 @@ def figure_sweep(result: Any) -> Figure:
                 ls="--",
                 label=f"cyclic authority {result.cyclic_limit:.3f} N m ({applied})",
             )
-        m.set_ylabel("moment [N m]")
-    axes[-1].set_xlabel(result.parameter)
+        m.set_ylabel("moment about HO [N m]")
+    axes[-1].set_xlabel(parameter_label(result.parameter))
+    lo, hi = float(np.min(result.values)), float(np.max(result.values))
     for a in axes:
+        if hi > lo:  # the shading must not widen the axis
+            a.set_xlim(lo, hi)
         a.grid(alpha=0.3)
         a.legend(loc="upper right", fontsize=8)
     return fig
 
 
-def figure_limit_search(search: Any) -> Figure:
-    """A minimum-cyclic-limit search (``studies.cyclic_limit.LimitSearch``): the metric of
-    every limited run against the limit, the threshold (1 + within) x the unlimited run's, the
-    interval found, and the runs that did not complete."""
-    fig = Figure(figsize=(7.0, 4.0), layout="constrained")
-    ax = fig.add_subplot()
+def figure_limit_search(search: Any, *, ax: Any = None) -> Figure:
+    """A minimum-cyclic-limit search (``studies.cyclic_limit.LimitSearch``), on ``ax`` if
+    given: the metric of every limited run against the limit, the threshold (1 + within) x
+    the unlimited run's, the interval found, and the runs that did not complete."""
+    fig, ax = _single_axes(ax, (7.0, 4.0))
     order = np.argsort(search.values)
     v, mtr, meets = search.values[order], search.metric[order], search.meets[order]
     ax.semilogy(v, mtr, ".-", color="tab:blue", lw=0.8, label=search.metric_name)
@@ -238,22 +357,23 @@ def figure_limit_search(search: Any) -> Figure:
     if search.hi is not None:
         ax.axvline(search.hi, color="tab:green", ls=":", label=f"minimum: {search.interval_text()}")
     ax.set_xlabel("cyclic limit tmax_MR1,2 [N m]")
-    ax.set_ylabel(search.metric_name)
+    ax.set_ylabel(metric_label(search.metric_name))
     ax.set_title(search.scenario_name, fontsize=9)
     ax.grid(alpha=0.3, which="both")
     ax.legend(loc="upper right", fontsize=8)
     return fig
 
 
-def figure_release(comparison: Any) -> Figure:
-    """The transient after a tether release (``studies.release.ReleaseComparison``): altitude
-    deviation q3 - q3_trim, collective fMR3 and tension, with the controller switched to the
-    free trim (u0|F) against one that keeps the tethered trim input (u0|T)."""
-    fig, axes = _stacked(3, (8.0, 6.5))
+def figure_release(comparison: Any, *, fig: Figure | None = None) -> Figure:
+    """The transient after a tether release (``studies.release.ReleaseComparison``), into
+    ``fig`` if given: altitude deviation q3 - q3_trim, collective fMR3 and tension, with the
+    controller switched to the free trim (u0|F) against one that keeps the tethered trim
+    input (u0|T)."""
+    fig, axes = _stacked(3, (8.0, 6.5), fig)
     plot = _Plotter()
     runs = (
         (comparison.kept, dict(color="tab:gray", lw=1.1, label="u0|T kept (before)")),
-        (comparison.switched, dict(color="tab:blue", lw=1.1, label="switched to u0|F")),
+        (comparison.switched, dict(color="tab:green", lw=1.1, label="switched to u0|F")),
     )
     for r, st in runs:
         plot(axes[0], r.time, r.outputs[:, 2] - r.trim_output[2], **st)
@@ -275,34 +395,155 @@ def figure_release(comparison: Any) -> Figure:
 _KIND_TITLES = {"hist": "histogram", "cdf": "empirical CDF"}
 
 
+def _failed_note(cfg: str, n: int, failed: int) -> str:
+    return f"{cfg}: {n} runs" + (f", {failed} failed" if failed else "")
+
+
 def figure_montecarlo(
-    completed: Mapping[str, np.ndarray], totals: Mapping[str, int], kind: str
+    values: Mapping[str, np.ndarray],
+    ok: Mapping[str, np.ndarray],
+    kind: str,
+    *,
+    metric: str = "peak_q1",
+    ax: Any = None,
 ) -> Figure:
-    """The Monte Carlo's peak q1 deviations per configuration: ``kind`` "hist" (histogram) or
-    "cdf" (empirical CDF) of the ``completed`` runs' values [m]; ``totals`` counts every run,
-    so failed runs are named in the legend."""
-    data = {cfg: np.sort(np.asarray(v, dtype=float)) for cfg, v in completed.items()}
-    everything = np.concatenate(list(data.values())) if data else np.zeros(0)
-    bins = np.linspace(everything.min(), everything.max(), 41) if everything.size else 10
-    fig = Figure(figsize=(6.4, 4.2))
-    ax = fig.add_subplot()
-    for cfg, v in data.items():
-        color = _STYLE.get(cfg, {}).get("color")
+    """A Monte Carlo metric per configuration, on ``ax`` if given: ``kind`` "hist"
+    (histogram of the completed runs; the failed ones counted in the legend and as a bar past
+    the right edge) or "cdf" (empirical CDF over every run, a failed run counted as +inf, so
+    the curve stops short of 1 by the failed fraction).
+
+    Parameters
+    ----------
+    values : mapping configuration -> (n,) array
+        The metric of every run (any value where failed).
+    ok : mapping configuration -> (n,) bool array
+        Whether each run completed.
+    kind : str
+        "hist" or "cdf".
+    metric : str
+        The metric's name (``sim.batch.METRIC_NAMES``), for the labels.
+    ax : matplotlib Axes, optional
+        Where to draw.
+
+    Returns
+    -------
+    Figure
+    """
+    if kind not in _KIND_TITLES:
+        raise ParameterError("kind", kind, f"one of {list(_KIND_TITLES)}")
+    fig, ax = _single_axes(ax, (6.4, 4.2))
+    done = {
+        cfg: np.sort(np.asarray(v, dtype=float)[np.asarray(ok[cfg])]) for cfg, v in values.items()
+    }
+    everything = np.concatenate(list(done.values())) if done else np.zeros(0)
+    lo, hi = (everything.min(), everything.max()) if everything.size else (0.0, 1.0)
+    bins = np.linspace(lo, hi if hi > lo else lo + 1.0, 41)
+    width = bins[1] - bins[0]
+    for cfg, v in done.items():
+        color = CONFIGURATION_COLOURS.get(cfg)
+        total = int(np.asarray(values[cfg]).size)
+        failed = total - v.size
         if not v.size:  # every run failed: say so in the legend
-            ax.plot([], [], color=color, label=f"{cfg}: {totals[cfg]} runs, all failed")
+            ax.plot([], [], color=color, label=f"{cfg}: {total} runs, all failed")
             continue
-        failed = totals[cfg] - v.size
-        label = f"{cfg}: {v.size} runs" + (f", {failed} failed (not shown)" if failed else "")
+        label = _failed_note(cfg, total, failed)
         if kind == "hist":
             ax.hist(v, bins=bins, alpha=0.6, color=color, label=label)
+            if failed:
+                ax.bar(hi + 1.5 * width, failed, width=width, color=color, alpha=0.6, hatch="//")
             ax.set_ylabel("runs")
         else:
-            frac = np.arange(1, v.size + 1) / v.size
+            frac = np.arange(1, v.size + 1) / total
             ax.step(v, frac, where="post", color=color, label=label)
-            ax.set_ylabel("fraction of completed runs")
-    ax.set_xlabel("peak |q1 - q1 trim| [m]")
-    ax.set_title(f"Monte Carlo: peak q1 deviation, {_KIND_TITLES[kind]}")
-    ax.legend(loc="upper right")  # "best" searches the data: slow, and warns so
+            if failed:
+                ax.axhline(v.size / total, color=color, ls=":", lw=0.8)
+            ax.set_ylabel("fraction of all runs")
+    if kind == "hist" and any(np.asarray(values[c]).size > done[c].size for c in done):
+        ax.text(
+            1.0,
+            -0.12,
+            "hatched: failed runs",
+            transform=ax.transAxes,
+            ha="right",
+            fontsize=7,
+        )
+    ax.set_xlabel(metric_label(metric))
+    ax.set_title(f"Monte Carlo: {metric}, {_KIND_TITLES[kind]}")
+    ax.legend(loc="upper right" if kind == "hist" else "lower right")  # not "best": slow
+    ax.grid(alpha=0.3)
+    return fig
+
+
+def figure_paired(
+    free: np.ndarray,
+    tethered: np.ndarray,
+    free_ok: np.ndarray,
+    tethered_ok: np.ndarray,
+    metric: str = "peak_q1",
+    *,
+    ax: Any = None,
+) -> Figure:
+    """The Monte Carlo's paired comparison, on ``ax`` if given: one point per draw at
+    (free, tethered) value of ``metric`` with the line y = x (below it the tether helped);
+    a draw whose free or tethered run failed is drawn as a cross on the top or right edge.
+
+    Parameters
+    ----------
+    free, tethered : (n,) arrays
+        The metric of each draw's two runs.
+    free_ok, tethered_ok : (n,) bool arrays
+        Whether each run completed.
+    metric : str
+        The metric's name, for the labels.
+    ax : matplotlib Axes, optional
+        Where to draw.
+
+    Returns
+    -------
+    Figure
+    """
+    fig, ax = _single_axes(ax, (5.2, 5.0))
+    f = np.asarray(free, dtype=float)
+    t = np.asarray(tethered, dtype=float)
+    fo, to = np.asarray(free_ok, dtype=bool), np.asarray(tethered_ok, dtype=bool)
+    both = fo & to
+    known = np.concatenate([f[fo], t[to]])
+    lo, hi = (float(known.min()), float(known.max())) if known.size else (0.0, 1.0)
+    pad = 0.05 * (hi - lo) if hi > lo else 0.5
+    lo, hi = lo - pad, hi + pad
+    edge = hi + pad  # failed runs sit on the edge
+    below = int((t[both] < f[both]).sum())
+    ax.plot(
+        f[both],
+        t[both],
+        ".",
+        ms=3,
+        color=CONFIGURATION_COLOURS["tethered"],
+        alpha=0.6,
+        label=f"{int(both.sum())} draws with both runs completed, {below} below y = x (the "
+        "tether reduced it)",
+    )
+    ax.plot([lo, edge], [lo, edge], color="0.3", lw=0.8, label="y = x")
+    failed = ~both
+    if failed.any():
+        x = np.where(fo, f, edge)[failed]
+        y = np.where(to, t, edge)[failed]
+        ax.plot(
+            x,
+            y,
+            "x",
+            color=CONFIGURATION_COLOURS["free"],
+            label=f"{int(failed.sum())} draw{'s' if failed.sum() != 1 else ''} with a failed run "
+            "(on the edge)",
+        )
+    ax.set_xlim(lo, edge + pad)
+    ax.set_ylim(lo, edge + pad)
+    ax.set_aspect("equal", adjustable="box")
+    label = metric_label(metric)
+    ax.set_xlabel(f"free: {label}")
+    ax.set_ylabel(f"tethered: {label}")
+    ax.set_title(f"Monte Carlo: {metric} per draw, free against tethered", fontsize=9)
+    ax.legend(loc="upper left", fontsize=7)
     ax.grid(alpha=0.3)
     return fig
 
@@ -310,14 +551,16 @@ def figure_montecarlo(
 def figure_sensing(
     results: Mapping[str, SimulationResult],
     estimates: Mapping[str, Mapping[str, Any]] | None = None,
+    *,
+    fig: Figure | None = None,
 ) -> Figure:
     """Sec. IV-F: the controller's q1 estimate error and the true q1 deviation of runs with
     different position sources (``extra["q1_est"]``); with ``estimates`` (run name ->
     fusion -> ``estimation.EstimateResult``) a middle panel with the Kalman filter's q1
     error for each fusion on the first run with a GNSS outage (else the first run), the
-    outage shaded."""
+    outage shaded. Drawn into ``fig`` if given."""
     panels = 3 if estimates else 2
-    fig, axes = _stacked(panels, (7.5, 3.0 * panels))
+    fig, axes = _stacked(panels, (7.5, 3.0 * panels), fig)
     for name, r in results.items():
         label = name if r.ok else f"{name} (failed at t = {r.end_time:g} s)"
         axes[0].plot(r.time, plottable(r.extra["q1_est"] - r.outputs[:, 0])[0], lw=0.6, label=label)
@@ -349,11 +592,15 @@ def figure_sensing(
     return fig
 
 
-def save_figure(fig: Figure, path: str | Path, dpi: int = 110) -> Path:
-    """Save as PNG, atomically."""
+def save_figure(fig: Figure, path: str | Path, dpi: int = PRINT_DPI) -> Path:
+    """Save ``fig`` atomically in the format of ``path``'s suffix (``FIGURE_FORMATS``: PNG
+    at ``dpi``, default ``PRINT_DPI``; PDF, SVG as vectors, without a creation date)."""
     import io
 
+    path = Path(path)
+    fmt = check_figure_format(path.suffix.lower().lstrip("."))
+    metadata = {"png": None, "pdf": {"CreationDate": None}, "svg": {"Date": None}}[fmt]
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi)
-    atomic_write_bytes(Path(path), buf.getvalue())
-    return Path(path)
+    fig.savefig(buf, format=fmt, dpi=dpi, metadata=metadata)
+    atomic_write_bytes(path, buf.getvalue())
+    return path

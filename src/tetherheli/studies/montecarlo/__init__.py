@@ -36,12 +36,17 @@ Definitions:
 Failed runs are data: a run that fails in flight (diverges, hits the ground, ...) or whose
 dispersed plant cannot be set up (no hover trim within the actuator limits:
 ``Status.SETUP``, the error in the ``reason`` column) is a row with its status, and the
-job goes on; percentiles are over the completed runs.
+job goes on. In the statistics a failed run counts as the worst value (+inf; -inf for
+``tension_min``), so it sits in the tail of the failing side instead of being dropped
+(``statistics``: the percentiles, the paired per-draw reduction by the tether and the
+bootstrap confidence intervals).
 
 Output directory: ``results.csv`` (one row per run and configuration; ``reason`` says why a
 draw could not be set up; ``release_time``, ``release_tension`` record a tether release by the
 safety device, NaN without one), ``summary.json`` (configuration, version, N, seed,
-percentiles, releases per configuration), ``peak_q1_hist.png``, ``peak_q1_cdf.png``.
+percentiles with bootstrap confidence intervals, the paired reduction, failed draws,
+releases per configuration) and the figures of one metric (``metric``, default peak_q1):
+``<metric>_hist.png``, ``<metric>_cdf.png``, ``<metric>_paired.png`` (or .pdf, .svg).
 Work is done in chunks written (fsync, then rename) to ``partial/chunk_<first>_<end>.csv``:
 the chunk's rows of ``results.csv`` and a last line ``# tetherheli montecarlo chunk: draws
 a..b, n rows, sha256 <hex of the rows>``. Running the same command again verifies every

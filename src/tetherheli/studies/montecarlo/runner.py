@@ -1,5 +1,6 @@
 """Running a Monte Carlo: chunks of draws written and verified on disk (resumable), the
-results table, the summary statistics over completed runs and the figures."""
+results table, the summary statistics (``statistics``: failed runs in the tails, the paired
+reduction, bootstrap intervals) and the figures."""
 
 from __future__ import annotations
 
@@ -27,7 +28,7 @@ from ..._io import (
 from ..._validation import check_integer
 from ..._version import __version__
 from ...errors import ParameterError, TetherheliError
-from ...progress import ProgressLine
+from ...progress import Progress
 from ...resources import check_memory
 from ...sim.batch import METRIC_NAMES, run_batch
 from ...sim.result import check_result_format
@@ -37,21 +38,31 @@ from ...wind import Turbulence
 from .config import CONFIGURATIONS, MAX_RUNS, MonteCarloConfig, _wind_parts
 from .draws import draw, draw_seed
 
-__all__ = ["RESULT_FILES", "result_files", "run_montecarlo"]
+__all__ = ["FIGURE_KINDS", "METRICS", "RESULT_FILES", "result_files", "run_montecarlo"]
 
-#: What a finished job writes beside ``partial/`` (the figures by ``_figures``); with
-#: ``table_format="parquet"`` the table is ``results.parquet`` (``result_files``).
-RESULT_FILES = ("results.csv", "summary.json", "peak_q1_hist.png", "peak_q1_cdf.png")
+#: The metrics a Monte Carlo can plot (``metric=``): every per-run metric of the table.
+METRICS = tuple(m for m in METRIC_NAMES if m != "n_samples")
+#: The figures of a metric: ``<metric>_<kind>.<format>`` (``viz.plots.figure_montecarlo``,
+#: ``figure_paired``).
+FIGURE_KINDS = ("hist", "cdf", "paired")
+
+
+def result_files(
+    metric: str = "peak_q1", figure_format: str = "png", table_format: str = "csv"
+) -> tuple[str, ...]:
+    """What a finished job writes beside ``partial/``: the results table in ``table_format``
+    ("csv" or "parquet"), the summary and the figures of ``metric`` in ``figure_format``."""
+    figures = tuple(f"{metric}_{kind}.{figure_format}" for kind in FIGURE_KINDS)
+    return (f"results.{table_format}", "summary.json", *figures)
+
+
+#: What a finished job writes with the default metric and format.
+RESULT_FILES = result_files()
 
 #: Columns of the results table that are text (the seed entropy can exceed 64 bits) or
 #: integers in its Parquet form; every other column is a float64.
 _TEXT_COLUMNS = ("seed_entropy", "spawn_key", "configuration", "message", "reason")
 _INT_COLUMNS = ("run", "status")
-
-
-def result_files(table_format: str = "csv") -> tuple[str, ...]:
-    """``RESULT_FILES`` with the results table in ``table_format`` ("csv" or "parquet")."""
-    return (f"results.{table_format}", *RESULT_FILES[1:])
 
 
 def _parquet_schema(header: list[str]) -> Any:
@@ -266,6 +277,8 @@ def run_montecarlo(
     inputs: tuple[str | Path, ...] = (),
     force: bool = False,
     table_format: str = "csv",
+    metric: str = "peak_q1",
+    figure_format: str = "png",
 ) -> dict[str, Any] | None:
     """Run (or resume) a Monte Carlo and write its outputs to ``out``.
 
@@ -290,7 +303,8 @@ def run_montecarlo(
     max_chunks : int, optional
         Compute at most this many new chunks, then return None (the job stays resumable).
     progress : bool
-        Progress line on stderr.
+        Progress on stderr (``tetherheli.progress``: a bar on a terminal, else one line at
+        the end).
     client : distributed.Client, optional
         Run the chunks on this Dask cluster (``sim.batch.connect``); same table as in-process.
     worker_timeout_s : float
@@ -299,6 +313,11 @@ def run_montecarlo(
         The results table: ``results.csv`` (default) or ``results.parquet`` (pyarrow; the
         same columns, text columns as strings, ``run`` and ``status`` as int64, the rest
         float64).
+    metric : str
+        The metric of the figures (one of ``METRICS``): histogram, CDF and the paired
+        free-against-tethered scatter per draw.
+    figure_format : str
+        "png", "pdf" or "svg" (``viz.plots.FIGURE_FORMATS``).
 
     Returns
     -------
@@ -323,8 +342,13 @@ def run_montecarlo(
     """
     if not isinstance(config, MonteCarloConfig):
         raise TypeError("config must be a MonteCarloConfig")
-    files = result_files(check_result_format(table_format))
+    from ...viz.plots import check_figure_format
+
     check_integer("runs", config.runs, low=1, high=MAX_RUNS)
+    if metric not in METRICS:
+        raise ParameterError("metric", metric, f"one of {list(METRICS)}")
+    figure_format = check_figure_format(figure_format)
+    files = result_files(metric, figure_format, check_result_format(table_format))
     chunk_size = check_integer("chunk_size", chunk_size, low=1, high=1_000_000)
     if max_chunks is not None:
         max_chunks = check_integer("max_chunks", max_chunks, low=0, high=MAX_RUNS)
@@ -366,7 +390,7 @@ def run_montecarlo(
     n = config.runs
     header = _columns(config)
     computed = 0
-    with ProgressLine("montecarlo", "draws", enabled=progress) as bar:
+    with Progress("montecarlo", n, "draws", enabled=progress) as bar:
         for lo, hi in _chunks(n, chunk_size):
             path = _chunk_path(part, lo, hi)
             if path.exists():
@@ -375,7 +399,7 @@ def run_montecarlo(
                 except _BadChunk as exc:
                     bar.note(f"tetherheli: {path} {exc}; computing it again")
                 else:
-                    bar.update(hi, n)
+                    bar.update_to(hi)
                     continue
             if max_chunks is not None and computed >= max_chunks:
                 return None
@@ -383,7 +407,7 @@ def run_montecarlo(
             rows = _run_chunk(base, config, children, lo, workers, client, worker_timeout_s)
             atomic_write_text(path, _seal(rows, lo, hi))
             computed += 1
-            bar.update(hi, n)
+            bar.update_to(hi)
     table = _ColumnReader(header)
 
     def verified_chunks() -> Iterator[str]:
@@ -417,7 +441,7 @@ def run_montecarlo(
     text = json.dumps(_summarize(base, config, columns), indent=2) + "\n"
     atomic_write_text(out / "summary.json", text)
     summary: dict[str, Any] = json.loads(text)
-    _figures(out, columns)
+    _figures(out, columns, metric, figure_format)
     record_outputs(out, files, writer="montecarlo")
     return summary
 
@@ -456,22 +480,52 @@ class _ColumnReader:
 
 
 _PCTS = (1, 5, 25, 50, 75, 95, 99)
-_SUMMARY_METRICS = (
-    "peak_q1",
-    "peak_q2",
-    "peak_q3",
-    "rms_q1",
-    "rms_q2",
-    "tension_min",
-    "tension_max",
-)
+#: the metrics of summary.json, and the side a failed run counts on (+inf: smaller is better)
+_SUMMARY_METRICS = {m: -math.inf if m == "tension_min" else math.inf for m in METRICS}
+#: the metrics whose paired reduction by the tether summary.json reports: the deviations
+_REDUCTION_METRICS = tuple(m for m in METRICS if m.startswith(("peak_", "rms_")))
+
+
+def _json_number(v: float) -> float | None:
+    """A finite number, or None (JSON null) for a percentile among the failed runs."""
+    return float(v) if math.isfinite(v) else None
+
+
+def _percentile_entry(sample: np.ndarray, seed: int) -> dict[str, Any]:
+    """Percentiles of ``sample`` (failures as +-inf) with their bootstrap intervals."""
+    from .statistics import bootstrap_interval, tail_percentile
+
+    values = tail_percentile(sample, _PCTS)
+    low, high = bootstrap_interval(sample, _PCTS, seed)
+    return {f"p{p}": _json_number(v) for p, v in zip(_PCTS, values, strict=True)} | {
+        "ci95": {
+            f"p{p}": [_json_number(lo), _json_number(hi)]
+            for p, lo, hi in zip(_PCTS, low, high, strict=True)
+        }
+    }
+
+
+def _paired(columns: dict[str, np.ndarray]) -> dict[str, np.ndarray] | None:
+    """Each draw's free and tethered rows side by side: ``<metric>`` (n, 2) and ``ok`` (n, 2)
+    (the table holds draw i's free row, then its tethered row); None for a table of another
+    layout (a hand-made one)."""
+    cfg = columns["configuration"]
+    if cfg.size % 2 or not (
+        np.all(cfg[0::2] == CONFIGURATIONS[0]) and np.all(cfg[1::2] == CONFIGURATIONS[1])
+    ):
+        return None
+    pairs = {m: columns[m].reshape(-1, 2) for m in METRIC_NAMES}
+    pairs["ok"] = (columns["status"] == Status.OK).reshape(-1, 2)
+    return pairs
 
 
 def _summarize(
     base: Scenario, config: MonteCarloConfig, columns: dict[str, np.ndarray]
 ) -> dict[str, Any]:
+    from .statistics import BOOTSTRAP_RESAMPLES, CONFIDENCE, paired_reduction, with_failures
+
     stats: dict[str, Any] = {}
-    for cfg in CONFIGURATIONS:
+    for c, cfg in enumerate(CONFIGURATIONS):
         sel = columns["configuration"] == cfg
         ok = sel & (columns["status"] == Status.OK)
         entry: dict[str, Any] = {
@@ -480,33 +534,64 @@ def _summarize(
             "failed": int(sel.sum() - ok.sum()),
             "tether_released": int((sel & np.isfinite(columns["release_time"])).sum()),
         }
-        for m in _SUMMARY_METRICS:
+        for k, (m, worst) in enumerate(_SUMMARY_METRICS.items()):
             v = columns[m][ok]
-            if v.size:
-                entry[m] = {"mean": float(v.mean()), "max": float(v.max())} | {
-                    f"p{p}": float(np.percentile(v, p)) for p in _PCTS
-                }
+            if v.size:  # no completed run: the counts say it all
+                sample = with_failures(columns[m][sel], ok[sel], worst)
+                entry[m] = {"mean": float(v.mean()), "max": float(v.max())}
+                entry[m] |= _percentile_entry(sample, config.seed + 100 * c + k)
         stats[cfg] = entry
+    pairs = _paired(columns)
+    reduction: dict[str, Any] = {}
+    failed_draws = None
+    for k, m in enumerate(_REDUCTION_METRICS if pairs is not None else ()):
+        free_ok, teth_ok = pairs["ok"][:, 0], pairs["ok"][:, 1]
+        r = paired_reduction(pairs[m][:, 0], pairs[m][:, 1], free_ok, teth_ok)
+        done = np.isfinite(r) & free_ok & teth_ok
+        reduction[m] = {
+            "draws": int(r.size),
+            "both_completed": int(done.sum()),
+            "mean_both_completed": float(r[done].mean()) if done.any() else None,
+        } | _percentile_entry(r, config.seed + 1000 + k)
+        failed_draws = {
+            "free_only": int((~free_ok & teth_ok).sum()),
+            "tethered_only": int((free_ok & ~teth_ok).sum()),
+            "both": int((~free_ok & ~teth_ok).sum()),
+        }
     return {
-        "description": "Monte Carlo: per-configuration percentiles over completed runs",
+        "description": "Monte Carlo: per-configuration percentiles over all runs, a failed "
+        "run counted as the worst value (+inf; -inf for tension_min), so a percentile among "
+        "the failures is null; mean and max over completed runs; the paired per-draw "
+        "reduction 100 (free - tethered) / free [%] (a failed tethered run: -inf, a failed "
+        "free run with a completed tethered one: 100); ci95: bootstrap confidence intervals",
         "version": __version__,
         "N": config.runs,
         "seed": config.seed,
+        "bootstrap": {
+            "method": "scipy.stats.bootstrap, percentile method, resampling draws",
+            "resamples": BOOTSTRAP_RESAMPLES,
+            "confidence": CONFIDENCE,
+            "seed": "root seed + 100 configuration + metric index (+ 1000 for reductions)",
+        },
         "montecarlo": config.to_dict(),
         "scenario": base.to_dict(),
         "controller": "LQI gain designed on the nominal parameters; plant dispersed",
+        "failed_draws": failed_draws,
         "statistics": stats,
+        "reduction_percent": reduction,
     }
 
 
-def _figures(out: Path, columns: dict[str, np.ndarray]) -> None:
-    """The histogram and CDF of the completed runs' peak q1 (``viz.plots``)."""
-    from ...viz.plots import figure_montecarlo, save_figure
+def _figures(out: Path, columns: dict[str, np.ndarray], metric: str, figure_format: str) -> None:
+    """Histogram, CDF and paired scatter of ``metric`` (``viz.plots``)."""
+    from ...viz.plots import figure_montecarlo, figure_paired, save_figure
 
-    ok = columns["status"] == Status.OK
-    completed = {
-        cfg: columns["peak_q1"][ok & (columns["configuration"] == cfg)] for cfg in CONFIGURATIONS
-    }
-    totals = {cfg: int((columns["configuration"] == cfg).sum()) for cfg in CONFIGURATIONS}
+    pairs = _paired(columns)
+    assert pairs is not None  # the job's own table
+    values = {cfg: pairs[metric][:, c] for c, cfg in enumerate(CONFIGURATIONS)}
+    ok = {cfg: pairs["ok"][:, c] for c, cfg in enumerate(CONFIGURATIONS)}
     for kind in ("hist", "cdf"):
-        save_figure(figure_montecarlo(completed, totals, kind), out / f"peak_q1_{kind}.png", 100)
+        fig = figure_montecarlo(values, ok, kind, metric=metric)
+        save_figure(fig, out / f"{metric}_{kind}.{figure_format}")
+    fig = figure_paired(values["free"], values["tethered"], ok["free"], ok["tethered"], metric)
+    save_figure(fig, out / f"{metric}_paired.{figure_format}")

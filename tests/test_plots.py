@@ -1,0 +1,191 @@
+"""Figures (``tetherheli.viz.plots``): importing the package leaves Matplotlib's backend
+alone, every plot function draws into a caller's figure or axes and returns the figure,
+``save_figure`` writes PNG at print resolution, PDF and SVG, one source of colours for
+figures and animation, and the sweep and Monte Carlo figures carry what a reader needs."""
+
+from __future__ import annotations
+
+import os
+import struct
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+
+from tetherheli.errors import ParameterError
+from tetherheli.viz import plots
+
+ROOT = Path(__file__).resolve().parents[1]
+
+_IMPORT_ALL = """
+import importlib, pkgutil, sys
+import matplotlib
+matplotlib.use("svg")  # a backend the package must not replace
+import tetherheli
+names = [m.name for m in pkgutil.walk_packages(tetherheli.__path__, "tetherheli.")]
+names = [n for n in names if n != "tetherheli.__main__"]  # runs the command line
+for name in names:
+    importlib.import_module(name)
+print(len(names), matplotlib.get_backend(), "matplotlib.pyplot" in sys.modules)
+"""
+
+
+def test_importing_every_module_keeps_the_backend():
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+    env.pop("MPLBACKEND", None)
+    out = subprocess.run(
+        [sys.executable, "-c", _IMPORT_ALL], capture_output=True, text=True, env=env, timeout=600
+    )
+    assert out.returncode == 0, out.stderr
+    count, backend, pyplot = out.stdout.split()
+    assert int(count) > 30 and backend == "svg" and pyplot == "False"
+
+
+def _png_size(data: bytes) -> tuple[int, int]:
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    return struct.unpack(">II", data[16:24])  # IHDR width, height
+
+
+def _mc_data():
+    rng = np.random.default_rng(4)
+    free = rng.uniform(0.5, 1.0, 50)
+    teth = 0.4 * free + rng.normal(0, 0.02, 50)
+    ok_f = np.ones(50, bool)
+    ok_t = np.ones(50, bool)
+    ok_t[:3] = False
+    return free, teth, ok_f, ok_t
+
+
+def test_save_figure_formats_and_print_resolution(tmp_path):
+    free, teth, ok_f, ok_t = _mc_data()
+    fig = plots.figure_paired(free, teth, ok_f, ok_t, "peak_q1")
+    png = plots.save_figure(fig, tmp_path / "a.png")
+    w, h = _png_size(png.read_bytes())
+    inches = fig.get_size_inches()
+    assert plots.PRINT_DPI >= 300
+    assert (w, h) == (round(inches[0] * plots.PRINT_DPI), round(inches[1] * plots.PRINT_DPI))
+    pdf = plots.save_figure(fig, tmp_path / "a.pdf").read_bytes()
+    assert pdf.startswith(b"%PDF") and b"CreationDate" not in pdf
+    assert b"<svg" in plots.save_figure(fig, tmp_path / "a.svg").read_bytes()
+    with pytest.raises(ParameterError, match="figure format"):
+        plots.save_figure(fig, tmp_path / "a.jpg")
+
+
+def test_plot_functions_draw_into_a_given_axes_or_figure():
+    free, teth, ok_f, ok_t = _mc_data()
+    fig = Figure()
+    ax = fig.add_subplot(1, 2, 1)
+    assert plots.figure_paired(free, teth, ok_f, ok_t, ax=ax) is fig
+    values = {"free": free, "tethered": teth}
+    ok = {"free": ok_f, "tethered": ok_t}
+    assert plots.figure_montecarlo(values, ok, "cdf", ax=fig.add_subplot(1, 2, 2)) is fig
+    blank = Figure()
+    r = _result()
+    assert plots.figure_inputs([r], fig=blank) is blank and len(blank.axes) == 4
+    with pytest.raises(ParameterError, match="empty figure"):
+        plots.figure_outputs([r], fig=blank)
+
+
+def _result():
+    from tetherheli.sim import Scenario, simulate
+    from tetherheli.wind import Pulse
+
+    return simulate(
+        Scenario(duration=0.5, configuration="tethered", wind=Pulse(0.1, 0.2, 20.0, (1, 0, 0)))
+    )
+
+
+def test_paired_scatter_has_y_equals_x_and_marks_failed_draws():
+    free, teth, ok_f, ok_t = _mc_data()
+    fig = plots.figure_paired(free, teth, ok_f, ok_t, "rms_q2")
+    ax = fig.axes[0]
+    lines = {ln.get_label(): ln for ln in ax.get_lines()}
+    diag = lines["y = x"]
+    assert np.array_equal(diag.get_xdata(), diag.get_ydata())
+    failed = [ln for label, ln in lines.items() if "failed run" in label]
+    assert len(failed) == 1 and len(failed[0].get_xdata()) == 3
+    below = int((teth[3:] < free[3:]).sum())
+    assert any(f"{below} below y = x" in label for label in lines)
+    assert ax.get_xlabel() == "free: RMS of q2 - q2 trim [m]"
+
+
+def test_montecarlo_cdf_counts_failed_runs_in_the_tail():
+    free, teth, ok_f, ok_t = _mc_data()
+    fig = plots.figure_montecarlo(
+        {"free": free, "tethered": teth}, {"free": ok_f, "tethered": ok_t}, "cdf", metric="peak_q2"
+    )
+    ax = fig.axes[0]
+    steps = {ln.get_color(): ln for ln in ax.get_lines() if ln.get_linestyle() == "-"}
+    blue = steps[plots.CONFIGURATION_COLOURS["tethered"]]
+    assert blue.get_ydata()[-1] == pytest.approx(47 / 50)  # 3 failed runs: stops short of 1
+    assert steps[plots.CONFIGURATION_COLOURS["free"]].get_ydata()[-1] == 1.0
+    assert ax.get_xlabel() == "peak |q2 - q2 trim| [m]"
+    with pytest.raises(ParameterError, match="kind"):
+        plots.figure_montecarlo({}, {}, "box")
+
+
+def test_metric_labels_carry_units():
+    assert plots.metric_label("peak_q4_deg") == "peak |q4 - q4 trim| [deg]"
+    assert plots.metric_label("tension_max") == "maximum tether tension TC [N]"
+    assert plots.metric_label("tension_min") == "minimum tether tension TC [N]"
+
+
+def test_sweep_figure_names_units_and_shades_the_infeasible_region():
+    from tetherheli.studies.sweep import SweepResult
+
+    values = np.array([10.0, 20.0, 30.0, 40.0, 50.0])
+    result = SweepResult(
+        "tension_control.T_ref",
+        "rms_q1",
+        values,
+        np.array([0.3, 0.2, 0.15, np.nan, np.nan]),
+        ("completed", "completed", "completed", "diverged", "invalid: no trim"),
+        35.0,
+        30.0,
+        (True, True, True, False, False),
+        cyclic_limit=1.0,
+    )
+    fig = plots.figure_sweep(result)
+    ax = fig.axes[0]
+    assert ax.get_xlabel() == "tension_control.T_ref: reference tether tension TrefC [N]"
+    assert ax.get_ylabel() == "RMS of q1 - q1 trim [m]"
+    spans = [p.get_x() for p in ax.patches]  # axvspan rectangles: start of each
+    assert 35.0 in spans  # beyond eq 40's bound
+    assert 45.0 in spans  # the invalid point at 50, from halfway to its neighbour
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "infeasible set-up (1)" in labels and "run failed (1)" in labels
+
+
+def test_tension_panel_is_scaled_to_the_taut_tether():
+    from tetherheli.sim import Scenario, simulate
+    from tetherheli.wind import Pulse
+
+    wind = Pulse(0.1, 0.2, 20.0, (1, 0, 0))
+    runs = [
+        simulate(Scenario(duration=0.5, configuration=c, wind=wind)) for c in ("free", "tethered")
+    ]
+    ax = plots.figure_inputs(runs).axes[0]
+    lo, hi = ax.get_ylim()
+    teth = runs[1].tension
+    assert lo > 0.0 and lo <= teth.min() and teth.max() <= hi
+    assert hi - lo < 1.5 * (teth.max() - teth.min()) + 1e-6
+    assert any("free: TC = 0" in t.get_text() for t in ax.texts)
+
+
+def test_animation_colours_are_the_figures():
+    from tetherheli.viz.animation import run_colours
+
+    class Run:
+        def __init__(self, configuration):
+            self.configuration = configuration
+
+    runs = [Run("tethered"), Run("free"), Run("tethered"), Run("free")]
+    colours = run_colours(runs)
+    assert colours[:2] == [
+        plots.CONFIGURATION_COLOURS["tethered"],
+        plots.CONFIGURATION_COLOURS["free"],
+    ]
+    assert len(set(colours)) == 4
