@@ -1,7 +1,8 @@
 """The lumped-mass tether (model.tether_lumped) against independent routes: Irvine's elastic
 catenary (Cable Structures, MIT Press 1981, ch. 2), the wave speeds of a taut string and rod
-(e.g. Graff, Wave Motion in Elastic Solids, ch. 1-2), energy conservation and SciPy's
-adaptive integrators (Radau, DOP853)."""
+(e.g. Graff, Wave Motion in Elastic Solids, ch. 1-2), energy conservation, SciPy's adaptive
+integrators (Radau, DOP853), and for the coupling the tethered model (eq 28) and the
+Newton-Euler route of tests/newton_euler.py."""
 
 from __future__ import annotations
 
@@ -11,9 +12,12 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from tetherheli import ParameterError
+from tetherheli import ParameterError, TetheredHelicopter
 from tetherheli.layout import LUMPED_CDN, LUMPED_CDT, LUMPED_G
+from tetherheli.model import kernels
 from tetherheli.model import tether_lumped as tl
+
+from .newton_euler import NewtonEuler, dcm_table_i
 
 G = 9.81
 MU = 0.02  # the paper-scale cable [kg/m] (probes.md)
@@ -386,3 +390,57 @@ def test_stiff_cable_going_slack_and_snapping_taut_at_the_control_sample():
     assert np.isfinite(coarse).all()
     assert coarse.mean() == pytest.approx(fine.mean(), rel=0.02)
     assert coarse.max() == pytest.approx(fine.max(), rel=0.01)
+
+
+def _tethered_states(model, trim, n=6, seed=3):
+    rng = np.random.default_rng(seed)
+    for _ in range(n):
+        x = trim.x.copy()
+        x[:5] += 0.2 * rng.standard_normal(5)  # q4..q8
+        x[5] += 0.3 * rng.standard_normal()  # q9
+        x[6:12] += 0.5 * rng.standard_normal(6)
+        yield x
+
+
+def test_radial_force_at_P_reproduces_the_tethered_model():
+    """Eq 28's tension -TC c3 at P, fed as a general force at P (wind at HO + rotor torques,
+    ``force_at_P_as_loads``) into the generated RHS at zero tension, gives today's tethered
+    derivative (``kernels.tethered_derivative``) to rounding."""
+    model = TetheredHelicopter()
+    trim = model.trim(25.0)
+    c = model.constants
+    arm = model.params.helicopter.tether_arm
+    K_C = model.params.tether.K_C
+    wind = np.array([3.0, -1.0, 0.5])
+    for x in _tethered_states(model, trim):
+        out_ref = np.empty(13)
+        kernels.tethered_derivative(x, trim.u_total, wind, 0.2, c, K_C, out_ref)
+        q7, q8, q9 = x[3:6]
+        c3 = np.array([math.sin(q8), -math.sin(q7) * math.cos(q8), math.cos(q7) * math.cos(q8)])
+        tension = kernels.tension_from_state(q9, x[12], K_C)
+        assert tension > 0.0
+        out = np.empty(13)
+        tl.tethered_derivative_force_at_P(x, trim.u_total, wind, -tension * c3, 0.2, c, arm, out)
+        assert out == pytest.approx(out_ref, rel=1e-12, abs=1e-12)
+
+
+def test_general_force_at_P_matches_newton_euler():
+    """A force at P off the tether direction (what a lumped tether gives): the accelerations of
+    ``tethered_derivative_force_at_P`` equal the independent Newton-Euler route
+    (tests/newton_euler.py: force and moment r_P x F about HO)."""
+    model = TetheredHelicopter()
+    trim = model.trim(25.0)
+    ne = NewtonEuler(model.params)
+    arm = model.params.helicopter.tether_arm
+    rng = np.random.default_rng(5)
+    wind = np.array([1.0, 2.0, -0.5])
+    for x in _tethered_states(model, trim):
+        force_P = rng.normal(0.0, 20.0, 3)
+        out = np.empty(13)
+        tl.tethered_derivative_force_at_P(
+            x, trim.u_total, wind, force_P, 0.0, model.constants, arm, out
+        )
+        R = dcm_table_i(*x[:3])
+        a, w_dot = ne.accelerations(R, x[6:9], x[9:12], trim.u_total, wind, force_P)
+        assert out[6:9] == pytest.approx(a, rel=1e-10, abs=1e-10)
+        assert out[9:12] == pytest.approx(w_dot, rel=1e-10, abs=1e-10)

@@ -26,7 +26,8 @@ step), node N is the attachment point P (driven: its position and velocity are g
 - End forces: the force the tether exerts on P is -T e of the top segment plus half the top
   segment's weight and drag; on the winch, +T e of the bottom segment plus half the bottom
   segment's weight and drag. With this convention the static chain converges to the elastic
-  catenary at order 2 in N (``shared/notes/probes.md``; a test checks it).
+  catenary at order 2 in N (a test checks it; the raw end-segment tension converges at
+  order 1 only).
 
 The step is the two-stage Rosenbrock method ROS2 of Verwer, Spee, Blom and Hundsdorfer
 (SIAM J. Sci. Comput. 20, 1999), gamma = 1 + 1/sqrt(2): L-stable, second order for any
@@ -36,8 +37,12 @@ non-autonomous term (P moves) enters through dF/dt = K_P v_P + C_P a_P of the la
 node. A slack segment keeps the axial blocks of a just-taut one in W: a step that starts slack
 and ends taut then stays implicit (with the exact, zero, blocks a stiff cable that snaps taut
 blows up at the control sample; a test covers the case). Each stage solves one symmetric
-block-tridiagonal system of 3 x 3 blocks (block Thomas,
-O(N)). The test module measures the step against SciPy's Radau at tight tolerances.
+block-tridiagonal system of 3 x 3 blocks (block Thomas, O(N)). The test module measures the
+step against SciPy's Radau at tight tolerances.
+
+Coupling: the force at P enters the tethered helicopter's generated equations as a wind force
+at HO plus the rotor torques of its moment about HO (``force_at_P_as_loads``), with eq 28's
+tension set to zero; q7..q9 then only locate P.
 """
 
 from __future__ import annotations
@@ -60,6 +65,7 @@ from ..layout import (
     LUMPED_SIZE,
     LUMPED_ZETA,
 )
+from . import kernels
 
 __all__ = [
     "ROS2_GAMMA",
@@ -69,11 +75,13 @@ __all__ = [
     "chain_forces",
     "elastic_catenary",
     "end_forces",
+    "force_at_P_as_loads",
     "initial_chain",
     "ros2_step",
     "ros2_work",
     "ros2_work_size",
     "static_chain",
+    "tethered_derivative_force_at_P",
 ]
 
 #: ROS2's gamma (Verwer et al. 1999): 1 + 1/sqrt(2), the L-stable choice
@@ -473,6 +481,51 @@ def _stage(nf, m_node, K, gh, ra, rb, Dinv, B, kr, kv, rhs):
     for i in range(nf):
         for a in range(3):
             kr[i, a] = ra[i, a] + gh * kv[i, a]
+
+
+# ----------------------------------------------------------------------------------------------
+# coupling: a general force at P in the tethered helicopter's equations
+# ----------------------------------------------------------------------------------------------
+
+
+@_jit
+def force_at_P_as_loads(x, inp, wind, force_P, arm, inp_out, wind_out):
+    """The inputs and wind force under which the generated tethered RHS at zero tension feels
+    a force ``force_P`` [N, N components] at P.
+
+    Kane's generalised speeds of the tethered model are those of the free one (eq 7: u1..u3
+    the velocity of HO in N; eq 8: u4..u6 the body rates), so a force F at P = HO + arm f3
+    has the partial velocities of a force at HO (generalised forces F . n1..n3, exactly where
+    the wind force at HO enters) plus a torque arm f3 x F about HO, i.e.
+    (-arm F.f2, arm F.f1, 0) in F, exactly where the rotor torques tMR1, tMR2 enter (the
+    rotor's partial angular velocities for u4, u5 are f1, f2, as the fuselage's). Hence:
+    wind_out = wind + F, inp_out = inp with tMR1 - arm F.f2 and tMR2 + arm F.f1; q7..q9 only
+    locate P. (The radial force -TC c3 reproduces ``kernels.tethered_derivative``; a test
+    checks it, and a non-radial one against the Newton-Euler route.)
+
+    x: the tethered state (13,) (q4..q6 used); inp (4,), wind (3,), force_P (3,); arm =
+    ``HelicopterParams.tether_arm`` [m]; inp_out (4,), wind_out (3,) written."""
+    R = np.empty((3, 3))
+    kernels.kinematics_dcm(x[0:3], R)  # column j: f_j in N
+    f1 = force_P[0] * R[0, 0] + force_P[1] * R[1, 0] + force_P[2] * R[2, 0]
+    f2 = force_P[0] * R[0, 1] + force_P[1] * R[1, 1] + force_P[2] * R[2, 1]
+    for j in range(3):
+        wind_out[j] = wind[j] + force_P[j]
+    inp_out[0] = inp[0]
+    inp_out[1] = inp[1] - arm * f2
+    inp_out[2] = inp[2] + arm * f1
+    inp_out[3] = inp[3]
+
+
+@_jit
+def tethered_derivative_force_at_P(x, inp, wind, force_P, reel_rate, c, arm, out):
+    """out (13,) = dx/dt of the tethered helicopter with the force ``force_P`` [N, in N] at P
+    in place of eq 28's tension (``force_at_P_as_loads``); out[12] = reel_rate."""
+    inp2 = np.empty(4)
+    wind2 = np.empty(3)
+    force_at_P_as_loads(x, inp, wind, force_P, arm, inp2, wind2)
+    kernels.tethered_rhs(x, inp2, wind2, 0.0, c, out)
+    out[12] = reel_rate
 
 
 # ----------------------------------------------------------------------------------------------
