@@ -444,3 +444,141 @@ def test_general_force_at_P_matches_newton_euler():
         a, w_dot = ne.accelerations(R, x[6:9], x[9:12], trim.u_total, wind, force_P)
         assert out[6:9] == pytest.approx(a, rel=1e-10, abs=1e-10)
         assert out[9:12] == pytest.approx(w_dot, rel=1e-10, abs=1e-10)
+
+
+# ----------------------------------------------------------------------------------------------
+# item 3: hover trim with a massive tether
+# ----------------------------------------------------------------------------------------------
+
+
+def test_hover_trim_lumped_massless_limit_is_table_v(paper):
+    """mu -> 0: Table V's tethered trim (TC = 25 N, q9 = 10 m: fMR3 = 148.6568 N, tMR1 =
+    1.3132 N m, tMR2 = 0, fTR2 = 13.7645 N, q4 = 5.29 deg) and eq 28's LN = q9 - TC / KC with
+    EA = KC LN0 (Table III: 40 N/m x 9.375 m)."""
+    lt = tl.hover_trim_lumped(paper, _tether(10, mass_per_length_kg_m=1e-12), 25.0, 10.0)
+    assert lt.trim.u == pytest.approx([148.6568, 1.3132, 0.0, 13.7645], abs=5e-5)
+    assert math.degrees(lt.trim.x[0]) == pytest.approx(5.29, abs=0.005)
+    assert lt.top_tension_N == pytest.approx(25.0, abs=1e-9)
+    assert lt.unstretched_length_m == pytest.approx(10.0 - 25.0 / paper.tether.K_C, abs=1e-9)
+
+
+@pytest.mark.parametrize("q9", [10.0, 50.0, 100.0])
+def test_hover_trim_lumped_balance(paper, q9):
+    """At trim without wind: (i) the rotors' extra vertical force over the free hover (Table IV,
+    TC = 0) equals the vertical tension at P; (ii) top minus ground tension is the cable's
+    weight mu g L0 (the vertical catenary); (iii) the lumped chain's end forces at its static
+    nodes (chain_forces) are the catenary's; (iv) the helicopter's derivative with the force at
+    P as loads (tethered_derivative_force_at_P, not eq 28) vanishes."""
+    tether = _tether(20, mass_per_length_kg_m=0.03)
+    lt = tl.hover_trim_lumped(paper, tether, 25.0, q9)
+    h = paper.helicopter
+
+    def vertical_rotor_force(trim):
+        R = np.empty((3, 3))
+        kernels.kinematics_dcm(trim.x[0:3], R)
+        u = trim.u_total
+        return u[0] * R[2, 2] + u[3] * R[2, 1]
+
+    from tetherheli.model.trim import hover_trim
+
+    extra = vertical_rotor_force(lt.trim) - vertical_rotor_force(hover_trim(paper, 0.0, 10.0))
+    assert extra == pytest.approx(-lt.force_P[2], rel=1e-10)
+    L0 = lt.unstretched_length_m
+    assert lt.top_tension_N - lt.ground_tension_N == pytest.approx(0.03 * h.g * L0, rel=1e-12)
+    # the chain's own forces at its static shape
+    zero = np.zeros_like(lt.nodes)
+    f_winch, f_P, _ = tl.end_forces(lt.nodes, zero, zero, L0, tether.packed(h.g))
+    np.testing.assert_allclose(f_winch, [0.0, 0.0, 25.0], atol=1e-9)
+    np.testing.assert_allclose(f_P, lt.force_P, atol=1e-9)
+    # the helicopter at rest
+    out = np.empty(13)
+    c = kernels.model_constants("tethered", h)
+    tl.tethered_derivative_force_at_P(
+        lt.trim.x, lt.trim.u_total, np.zeros(3), lt.force_P, 0.0, c, h.tether_arm, out
+    )
+    assert np.abs(out[:12]).max() < 1e-9
+
+
+def test_hover_trim_lumped_refusals(paper):
+    """A zero ground tension, a non-tether, a length out of range and a cable too heavy for the
+    rotor's limits are each refused with one line."""
+    from tetherheli.errors import InfeasibleError
+
+    tether = _tether(10, mass_per_length_kg_m=0.1)
+    for call in (
+        lambda: tl.hover_trim_lumped(paper, tether, 0.0),
+        lambda: tl.hover_trim_lumped(paper, "cable", 25.0),
+        lambda: tl.hover_trim_lumped(paper, tether, 25.0, -5.0),
+    ):
+        with pytest.raises(ParameterError) as err:
+            call()
+        assert "\n" not in str(err.value)
+    # 100 m of 0.1 kg/m (98 N) on top of 25 N: fMR3 ~ 232 N > 170 N; fine at 10 m (158 N)
+    with pytest.raises(InfeasibleError, match="fMR3") as err:
+        tl.hover_trim_lumped(paper, tether, 25.0, 100.0, u_max=(170.0, 10.0, 10.0, 50.0))
+    assert "\n" not in str(err.value)
+    tl.hover_trim_lumped(paper, tether, 25.0, 10.0, u_max=(170.0, 10.0, 10.0, 50.0))
+
+
+# ----------------------------------------------------------------------------------------------
+# item 5: the tether as a sensor with sag
+# ----------------------------------------------------------------------------------------------
+
+
+def test_static_cable_is_the_elastic_catenary():
+    """Without wind the shot static cable (ODE in s) is Irvine's elastic catenary through the
+    same ends with the same L0: its ground tension vector is (H, V)."""
+    tether = _tether(10, mass_per_length_kg_m=0.03)
+    d = np.array([30.0, -20.0, 60.0])
+    cab = tl.static_cable(d, 25.0, tether, G)
+    a = math.hypot(d[0], d[1])
+    cat = tl.elastic_catenary(
+        a, d[2], 0.03 * G, 375.0, unstretched_length_m=cab.unstretched_length_m
+    )
+    T0 = cab.ground_tension
+    assert math.hypot(T0[0], T0[1]) == pytest.approx(cat.H_N, rel=1e-8)
+    assert T0[2] == pytest.approx(cat.V_N, rel=1e-8)
+    assert np.linalg.norm(cab.top_tension) == pytest.approx(cat.tension_B_N, rel=1e-8)
+    # and the winch tangent points along d's azimuth
+    assert T0[1] / T0[0] == pytest.approx(d[1] / d[0], rel=1e-10)
+
+
+def test_sensor_sag_bias_and_correction():
+    """Sec. IV-F's straight-tether estimate from the winch tangent: unbiased in the massless
+    limit, biased with sag (P at 60 deg elevation, 50 m, 0.03 kg/m); the catenary estimator
+    (tension, tangent, L0) recovers P to solver tolerance, and with the known wind too."""
+    d = 50.0 * np.array([0.5, 0.0, math.sqrt(0.75)])
+    light = tl.static_cable(d, 25.0, _tether(10, mass_per_length_kg_m=1e-9), G)
+    alt, _ = tl.straight_tether_estimates(light, 375.0)
+    assert np.abs(alt - d).max() < 1e-6
+    for mu, wind in ((0.03, None), (0.03, (6.0, 3.0, 0.0))):
+        tether = _tether(10, mass_per_length_kg_m=mu)
+        cab = tl.static_cable(d, 25.0, tether, G, wind if wind is not None else (0.0, 0.0, 0.0))
+        alt, _ = tl.straight_tether_estimates(cab, 375.0)
+        assert np.abs(alt - d).max() > 1.0  # metres of bias
+        est = tl.catenary_position_estimate(
+            *cab.encoder_angles, 25.0, cab.unstretched_length_m, tether, G, wind
+        )
+        assert np.abs(est - d).max() < 1e-8
+
+
+def test_sensor_vertical_no_wind_unbiased():
+    """P straight above the winch without wind: the cable hangs vertically whatever its mass,
+    the tangent is the chord and the IV-F estimate is exact; a side wind biases it downwind."""
+    tether = _tether(10, mass_per_length_kg_m=0.03)
+    d = np.array([0.0, 0.0, 40.0])
+    alt, _ = tl.straight_tether_estimates(tl.static_cable(d, 25.0, tether, G), 375.0)
+    assert np.abs(alt - d).max() < 1e-9
+    windy = tl.static_cable(d, 25.0, tether, G, (5.0, 0.0, 0.0))
+    alt, _ = tl.straight_tether_estimates(windy, 375.0)
+    assert alt[0] > 0.5
+
+
+def test_static_cable_refuses_a_cable_on_the_ground():
+    """A 0.1 kg/m cable over 90 m of span and 10 m of rise with 5 N at the winch would leave
+    the winch downwards (lie on the ground): refused with one line."""
+    from tetherheli.errors import InfeasibleError
+
+    with pytest.raises(InfeasibleError, match="ground_tension_N") as err:
+        tl.static_cable((90.0, 0.0, 10.0), 5.0, _tether(10, mass_per_length_kg_m=0.1), G)
+    assert "\n" not in str(err.value)

@@ -71,16 +71,22 @@ __all__ = [
     "ROS2_GAMMA",
     "ElasticCatenary",
     "LumpedTether",
+    "LumpedTrim",
+    "StaticCable",
+    "catenary_position_estimate",
     "chain_energy",
     "chain_forces",
     "elastic_catenary",
     "end_forces",
     "force_at_P_as_loads",
+    "hover_trim_lumped",
     "initial_chain",
     "ros2_step",
     "ros2_work",
     "ros2_work_size",
+    "static_cable",
     "static_chain",
+    "straight_tether_estimates",
     "tethered_derivative_force_at_P",
 ]
 
@@ -818,3 +824,314 @@ def initial_chain(
     x[:, 2] += zs
     x[0], x[-1] = r_winch, r_P  # exact ends
     return x
+
+
+# ----------------------------------------------------------------------------------------------
+# hover trim with a massive tether (issue 13, item 3)
+# ----------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class LumpedTrim:
+    """The hover trim of the tethered helicopter with a massive tether hanging from P straight
+    down to the winch (the paper's geometry, q7 = q8 = 0).
+
+    Attributes
+    ----------
+    trim : TrimPoint
+        The helicopter's trim (``model.trim``): x with x[12] the unstretched length L0, u the
+        hover input excluding the tether torque (Tables IV, V), ``u_total`` the rotors' actual
+        inputs, ``tension`` the tension at P.
+    catenary : ElasticCatenary
+        The hanging tether, A the winch (the origin O) and B the point P.
+    force_P : ndarray (3,)
+        The force the tether exerts on P [N, in N]: -(T_ground + mu g L0) n3.
+    nodes : ndarray (N+1, 3)
+        The lumped chain's exact static equilibrium (``static_chain``) [m], row 0 the winch.
+    """
+
+    trim: object
+    catenary: ElasticCatenary
+    force_P: np.ndarray
+    nodes: np.ndarray
+
+    @property
+    def ground_tension_N(self) -> float:
+        """Tension at the winch [N] (the load cell)."""
+        return self.catenary.tension_A_N
+
+    @property
+    def top_tension_N(self) -> float:
+        """Tension at P [N]: the ground tension plus the cable's weight."""
+        return self.catenary.tension_B_N
+
+    @property
+    def unstretched_length_m(self) -> float:
+        """Paid-out unstretched length L0 [m]."""
+        return self.catenary.unstretched_length_m
+
+
+def hover_trim_lumped(
+    params,
+    tether: LumpedTether,
+    ground_tension_N: float,
+    q9: float = 10.0,
+    *,
+    u_min: object = None,
+    u_max: object = None,
+) -> LumpedTrim:
+    """Hover trim with a massive tether: P at height q9 straight above the winch, the tether
+    hanging in its static shape (the vertical elastic catenary) with tension
+    ``ground_tension_N`` at the winch.
+
+    The hanging cable's tension grows linearly with height, T(s) = T_g + mu g s, so the
+    unstretched length L0 solves q9 = L0 + (T_g L0 + mu g L0^2 / 2) / EA (Irvine's catenary at
+    zero span) and the force at P is -(T_g + mu g L0) n3: radial along c3 = n3, so the
+    helicopter's trim is eq 28's trim (``trim.windless_trim``) with that tension at P.
+
+    Parameters
+    ----------
+    params : Params or a model with ``.params``
+    tether : LumpedTether
+    ground_tension_N : float
+        Tension at the winch [N], > 0 (the tension PI's reference, eq 56).
+    q9 : float
+        Height of P above the winch [m] (``params.TETHER_LENGTH_RANGE``); the paper's 10 m.
+    u_min, u_max : (4,) or None
+        Rotor input limits [fMR3 N, tMR1 N m, tMR2 N m, fTR2 N] (``actuators.u_min/u_max``);
+        the trim's actual inputs ``u_total`` must lie strictly within them.
+
+    Returns
+    -------
+    LumpedTrim
+
+    Raises ParameterError for bad input and InfeasibleError for a hover outside the rotor
+    limits or with no trim.
+    """
+    from ..params import check_tether_length
+    from .trim import windless_trim
+
+    params = getattr(params, "params", params)
+    if not isinstance(tether, LumpedTether):
+        raise ParameterError("tether", tether, "a LumpedTether")
+    T_g = check_number("ground_tension_N", ground_tension_N, low=0.0, low_open=True, unit="[N]")
+    q9 = check_tether_length(q9, "q9")
+    g = params.helicopter.g
+    w = tether.mass_per_length_kg_m * g
+    EA = tether.EA_N
+    b = 1.0 + T_g / EA
+    L0 = 2.0 * q9 / (b + math.sqrt(b * b + 2.0 * w * q9 / EA))  # the root of the quadratic
+    cat = elastic_catenary(0.0, q9, w, EA, unstretched_length_m=L0)
+    top = cat.tension_B_N
+    trim = windless_trim(params, top, q9, L0)
+    u = trim.u_total
+    names = ("fMR3", "tMR1", "tMR2", "fTR2")
+    for bound, low in ((u_min, True), (u_max, False)):
+        if bound is None:
+            continue
+        lim = np.asarray(bound, dtype=float)
+        for i, name in enumerate(names):
+            if (u[i] <= lim[i]) if low else (u[i] >= lim[i]):
+                raise InfeasibleError(
+                    "ground_tension_N",
+                    T_g,
+                    f"a tension whose hover fits the rotor limits: {name} = {u[i]:.6g} at a "
+                    f"tension of {top:.6g} N at P is outside u_{'min' if low else 'max'} = "
+                    f"{lim[i]:g}",
+                )
+    nodes = static_chain(np.zeros(3), np.array([0.0, 0.0, q9]), L0, tether, g)
+    return LumpedTrim(trim=trim, catenary=cat, force_P=np.array([0.0, 0.0, -top]), nodes=nodes)
+
+
+# ----------------------------------------------------------------------------------------------
+# the tether as a sensor with sag (issue 13, item 5)
+# ----------------------------------------------------------------------------------------------
+
+
+def _cable_end(T0, L0, tether, g, wind):
+    """Integrate the static cable from the winch (s = 0, tension vector T0 [N] along the cable)
+    over its unstretched length L0 [m] in a steady uniform wind (3,) [m/s]: dT/ds = mu g n3 -
+    drag, dr/ds = (1 + |T| / EA) T / |T|, the drag per stretched length that of
+    ``chain_forces`` on a still cable (CDN |W_n| W_n + CDT |W_t| W_t). Returns r(L0), T(L0)."""
+    from scipy.integrate import solve_ivp
+
+    p = tether.packed(g)
+    mu_g = tether.mass_per_length_kg_m * g
+    EA = tether.EA_N
+    W = np.asarray(wind, dtype=float)
+
+    def rhs(_, y):
+        T = y[3:]
+        t = math.sqrt(T @ T)
+        e = T / t
+        lam = 1.0 + t / EA
+        Wt = (W @ e) * e
+        Wn = W - Wt
+        drag = lam * (
+            p[LUMPED_CDN] * math.sqrt(Wn @ Wn) * Wn + p[LUMPED_CDT] * math.sqrt(Wt @ Wt) * Wt
+        )
+        dT = -drag
+        dT[2] += mu_g
+        return np.concatenate([lam * e, dT]) * L0
+
+    y0 = np.concatenate([np.zeros(3), T0])
+    sol = solve_ivp(rhs, (0.0, 1.0), y0, method="DOP853", rtol=1e-12, atol=1e-12 * max(L0, 1.0))
+    return sol.y[:3, -1], sol.y[3:, -1]
+
+
+@dataclass(frozen=True)
+class StaticCable:
+    """A static cable from the winch (origin) to P in steady wind (``static_cable``).
+
+    Attributes: ``r_P`` (3,) [m]; ``unstretched_length_m`` L0 [m]; ``ground_tension`` (3,)
+    [N], the tension vector at the winch along the cable (its direction the winch tangent);
+    ``top_tension`` (3,) [N] at P (the force on P is its negative); ``wind`` (3,) [m/s]."""
+
+    r_P: np.ndarray
+    unstretched_length_m: float
+    ground_tension: np.ndarray
+    top_tension: np.ndarray
+    wind: np.ndarray
+
+    @property
+    def encoder_angles(self) -> tuple[float, float]:
+        """(q7, q8) [rad] the ground joint's encoders read: the winch tangent
+        e = c3 = [s8, -s7 c8, c7 c8] (eq 27)."""
+        e = self.ground_tension / np.linalg.norm(self.ground_tension)
+        return math.atan2(-e[1], e[2]), math.asin(max(-1.0, min(1.0, e[0])))
+
+
+def static_cable(
+    r_P: object,
+    ground_tension_N: float,
+    tether: LumpedTether,
+    g: float,
+    wind: object = (0.0, 0.0, 0.0),
+) -> StaticCable:
+    """The static cable from the winch at the origin to P for a given winch tension, in a
+    steady uniform wind with drag on the cable (``_cable_end``): shooting on the ground
+    tension's horizontal components and the unstretched length L0 (the vertical component
+    sqrt(T_g^2 - Tx^2 - Ty^2) > 0: the cable leaves the winch upwards). Without wind it is
+    Irvine's elastic catenary (a test checks it).
+
+    Parameters
+    ----------
+    r_P : (3,)
+        P relative to the winch [m], above it.
+    ground_tension_N : float
+        Tension at the winch [N], > 0.
+    tether : LumpedTether
+    g : float
+        Gravity [m/s^2].
+    wind : (3,)
+        Steady wind [m/s].
+
+    Returns
+    -------
+    StaticCable
+
+    Raises InfeasibleError when no such cable leaves the winch upwards (a cable too heavy for
+    the tension: it would lie on the ground).
+    """
+    from .._validation import check_vector
+
+    d = np.array(check_vector("r_P", r_P, 3), dtype=float)
+    if d[2] <= 0.0:
+        raise ParameterError("r_P", d.tolist(), "a point above the winch (r_P[2] > 0 m)")
+    T_g = check_number("ground_tension_N", ground_tension_N, low=0.0, low_open=True, unit="[N]")
+    W = np.array(check_vector("wind", wind, 3), dtype=float)
+    chord = float(np.linalg.norm(d))
+
+    def unpack(z):
+        hx, hy = z[0] * T_g, z[1] * T_g
+        vz2 = T_g * T_g - hx * hx - hy * hy
+        return hx, hy, vz2, chord * math.exp(z[2])
+
+    def residual(z):
+        hx, hy, vz2, L0 = unpack(z)
+        if vz2 <= 0.0:
+            return np.full(3, 1e3)
+        r, _ = _cable_end(np.array([hx, hy, math.sqrt(vz2)]), L0, tether, g, W)
+        return (r - d) / chord
+
+    # start: the windless catenary's ground tangent (a straight stretched chord if it fails)
+    e = d / chord
+    z0 = np.array([e[0], e[1], math.log(1.0 / (1.0 + T_g / tether.EA_N))])
+    sol = optimize.root(residual, z0, method="hybr", tol=1e-13)
+    hx, hy, vz2, L0 = unpack(sol.x)
+    if vz2 <= 0.0 or np.max(np.abs(residual(sol.x))) > 1e-9:
+        raise InfeasibleError(
+            "ground_tension_N",
+            T_g,
+            f"a tension that lifts the cable off the ground all the way to P at {d.tolist()} m "
+            f"(mu = {tether.mass_per_length_kg_m:g} kg/m, wind {W.tolist()} m/s)",
+        )
+    T0 = np.array([hx, hy, math.sqrt(vz2)])
+    _, Ttop = _cable_end(T0, L0, tether, g, W)
+    return StaticCable(r_P=d, unstretched_length_m=L0, ground_tension=T0, top_tension=Ttop, wind=W)
+
+
+def catenary_position_estimate(
+    q7: float,
+    q8: float,
+    ground_tension_N: float,
+    unstretched_length_m: float,
+    tether: LumpedTether,
+    g: float,
+    wind: object = None,
+) -> np.ndarray:
+    """P relative to the winch [m] from the ground joint's encoders (the winch tangent
+    c3(q7, q8)), the load cell's tension and the paid-out unstretched length: the elastic
+    catenary (Irvine) integrated from the winch, H = T_g |c3_h|, V = T_g c3,3; with
+    ``wind`` (3,) [m/s] the static cable with drag (``_cable_end``) instead. It corrects the
+    sag bias of Sec. IV-F's straight-tether estimate (``sensors.tether_position_estimate``).
+
+    Parameters
+    ----------
+    q7, q8 : float
+        Encoder angles [rad].
+    ground_tension_N : float
+        Tension at the winch [N], > 0.
+    unstretched_length_m : float
+        Paid-out unstretched length L0 [m], > 0.
+    tether : LumpedTether
+    g : float
+        Gravity [m/s^2].
+    wind : (3,) or None
+        A known steady wind [m/s]; None: the catenary without drag.
+
+    Returns
+    -------
+    ndarray (3,)
+    """
+    q7 = check_number("q7", q7)
+    q8 = check_number("q8", q8)
+    T_g = check_number("ground_tension_N", ground_tension_N, low=0.0, low_open=True, unit="[N]")
+    L0 = check_number("unstretched_length_m", unstretched_length_m, low=0.0, low_open=True)
+    e = np.array([math.sin(q8), -math.sin(q7) * math.cos(q8), math.cos(q7) * math.cos(q8)])
+    if wind is not None:
+        r, _ = _cable_end(T_g * e, L0, tether, g, wind)
+        return r
+    eh = math.hypot(e[0], e[1])
+    x, z = _catenary_xz(
+        np.array([L0]), T_g * eh, T_g * e[2], tether.mass_per_length_kg_m * g, tether.EA_N
+    )
+    horiz = np.array([e[0] / eh, e[1] / eh, 0.0]) if eh > 0.0 else np.zeros(3)
+    r = x[0] * horiz
+    r[2] = z[0]
+    return r
+
+
+def straight_tether_estimates(cable: StaticCable, EA_N: float) -> tuple[np.ndarray, np.ndarray]:
+    """Sec. IV-F's straight-tether estimates of P [m] from the winch-tangent angles of
+    ``cable``: (i) with the altimeter (eq 45: the length from the true height of P,
+    ``sensors.tether_position_estimate`` at zero arm, the attitude terms cancelling) and (ii)
+    with the paid-out length as eq 28's stretched length L0 (1 + T_g / EA)."""
+    from ..sensors import tether_position_estimate
+    from .kinematics import tethered_HO_position
+
+    q7, q8 = cable.encoder_angles
+    alt = tether_position_estimate(q7, q8, cable.r_P[2], 0.0, 0.0, 0.0)[0]
+    length = cable.unstretched_length_m * (1.0 + np.linalg.norm(cable.ground_tension) / EA_N)
+    by_length = np.asarray(tethered_HO_position(0.0, 0.0, q7, q8, length, 0.0), dtype=float)
+    return alt, by_length.reshape(3)
