@@ -481,7 +481,7 @@ def test_hover_trim_lumped_balance(paper, q9):
 
     from tetherheli.model.trim import hover_trim
 
-    extra = vertical_rotor_force(lt.trim) - vertical_rotor_force(hover_trim(paper, 0.0, 10.0))
+    extra = vertical_rotor_force(lt.trim) - vertical_rotor_force(hover_trim(paper, 0.0, q9))
     assert extra == pytest.approx(-lt.force_P[2], rel=1e-10)
     L0 = lt.unstretched_length_m
     assert lt.top_tension_N - lt.ground_tension_N == pytest.approx(0.03 * h.g * L0, rel=1e-12)

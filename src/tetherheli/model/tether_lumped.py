@@ -49,6 +49,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy import optimize
@@ -66,6 +67,10 @@ from ..layout import (
     LUMPED_ZETA,
 )
 from . import kernels
+
+if TYPE_CHECKING:
+    from ..params import Params
+    from .trim import TrimPoint
 
 __all__ = [
     "ROS2_GAMMA",
@@ -850,7 +855,7 @@ class LumpedTrim:
         The lumped chain's exact static equilibrium (``static_chain``) [m], row 0 the winch.
     """
 
-    trim: object
+    trim: TrimPoint
     catenary: ElasticCatenary
     force_P: np.ndarray
     nodes: np.ndarray
@@ -872,7 +877,7 @@ class LumpedTrim:
 
 
 def hover_trim_lumped(
-    params,
+    params: Params,
     tether: LumpedTether,
     ground_tension_N: float,
     q9: float = 10.0,
