@@ -46,6 +46,15 @@ CFG_GUST_DT = 7  # gust-table step [s] (0: no gust table)
 CFG_METRICS_FROM = 8  # first control sample k the on-line metrics cover (Scenario.metrics_start)
 CFG_SIZE = 9
 
+# --- the lumped-mass tether's parameters (``lumped``, ``model.tether_lumped``) ---------------
+LUMPED_MU = 0  # mass per unstretched length [kg/m]
+LUMPED_EA = 1  # axial stiffness EA [N]
+LUMPED_ZETA = 2  # axial damping as a fraction of each segment's critical damping
+LUMPED_CDN = 3  # 0.5 rho d Cd: normal drag per length per speed^2 [kg/m^2]
+LUMPED_CDT = 4  # 0.5 rho pi d Ct: tangential drag per length per speed^2 [kg/m^2]
+LUMPED_G = 5  # gravity [m/s^2], along -n3
+LUMPED_SIZE = 6
+
 # --- the paper controller's settings (``ctrl``, ``control.paper``) ---------------------------
 CTRL_DT = 0  # sample time [s]
 CTRL_FFWD = 1  # 1: tether-torque feed-forward on (eq 55)

@@ -25,7 +25,7 @@ from ..errors import InfeasibleError
 from ..params import Params, check_tether_length
 from . import kernels
 
-__all__ = ["TrimPoint", "hover_trim"]
+__all__ = ["TrimPoint", "hover_trim", "windless_trim"]
 
 
 @dataclass(frozen=True)
@@ -100,11 +100,27 @@ def hover_trim(
     tension = check_number("tension", tension, low=0.0, unit="[N]")
     q9 = check_tether_length(q9, "q9")
     params.tether.check_tension(tension, q9, "tension")  # the natural length LN stays sensible
+    point = windless_trim(params, tension, q9, params.tether.natural_length(q9, tension))
+    if N_F_wind is None:
+        return point
+    force = np.array(check_vector("N_F_wind", N_F_wind, 3))
+    if not np.any(force):
+        return point
+    return _trim_in_wind(
+        params, point, force, kernels.model_constants("tethered", params.helicopter)
+    )
+
+
+def windless_trim(params: Params, tension: float, q9: float, natural_length: float) -> TrimPoint:
+    """The windless hover trim (q5 = q7 = q8 = 0) with a force ``tension`` [N] pulling P
+    straight down towards the ground joint at height ``q9`` [m]; ``natural_length`` [m] is
+    stored in x[12] only (eq 28's LN; a lumped tether's unstretched length). Arguments are
+    not validated (``hover_trim`` does it)."""
     h = params.helicopter
     p = kernels.model_constants("tethered", h)
     x = np.zeros(13)
     x[5] = q9
-    x[12] = params.tether.natural_length(q9, tension)
+    x[12] = natural_length
     wind = np.zeros(3)
     out = np.empty(13)
     torque = np.empty(2)
@@ -138,13 +154,7 @@ def hover_trim(
     xs, u0, ffwd = assemble(sol.x)
     y = np.empty(4)
     kernels.tethered_outputs(xs, p, y)
-    point = TrimPoint(x=xs, u=u0, y=y, tension=float(tension), feedforward=ffwd)
-    if N_F_wind is None:
-        return point
-    force = np.array(check_vector("N_F_wind", N_F_wind, 3))
-    if not np.any(force):
-        return point
-    return _trim_in_wind(params, point, force, p)
+    return TrimPoint(x=xs, u=u0, y=y, tension=float(tension), feedforward=ffwd)
 
 
 def _trim_in_wind(params: Params, base: TrimPoint, force: np.ndarray, p: np.ndarray) -> TrimPoint:

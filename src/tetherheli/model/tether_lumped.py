@@ -1,0 +1,1142 @@
+"""A tether with mass, sag and drag: a lumped-mass chain, its stiff-stable step and its static
+shape (the elastic catenary).
+
+The chain has N straight segments between N + 1 nodes: node 0 is the ground winch (fixed over a
+step), node N is the attachment point P (driven: its position and velocity are given), nodes
+1..N-1 are free point masses. Conventions:
+
+- Unstretched length: **uniform re-discretisation**. All segments share the unstretched length
+  l0 = L0 / N; a winch that pays out changes L0, hence l0 and the node masses, of every segment
+  at once (no node is created or removed, so the state keeps its size; the arrays of a run are
+  fixed). L0 is held constant over one step.
+- Masses: a segment's mass mu l0 is split half to each of its end nodes. The interior nodes
+  carry mu l0; the half segments at the ends act on the winch and on P as part of the end
+  force (their weight), not as inertia of the chain.
+- Axial force of segment s (nodes s, s+1; d = x[s+1] - x[s], l = |d|, e = d / l):
+  T = k (l - l0) + c dl/dt with k = EA / l0 when l > l0 and T >= 0, else 0 (slack: no
+  compression, no pushing damper). c = 2 zeta sqrt(k mu l0) = 2 zeta sqrt(EA mu): zeta is the
+  fraction of the critical damping of one segment's mass on its spring (so c does not depend
+  on N).
+- Drag on segment s from the air-relative velocity at its middle, u = (v[s] + v[s+1]) / 2 -
+  (w[s] + w[s+1]) / 2 (w: the wind per node): normal part u_n = u - (u.e) e, tangential part
+  u_t = (u.e) e; F = -0.5 rho d l Cd |u_n| u_n - 0.5 rho pi d l Ct |u_t| u_t (the normal drag
+  on the projected area d l, the tangential on the wetted area pi d l; Hoerner's cross-flow
+  principle), half of it on each end node.
+- Gravity -g n3 (SPEC.md: n3 up).
+- End forces: the force the tether exerts on P is -T e of the top segment plus half the top
+  segment's weight and drag; on the winch, +T e of the bottom segment plus half the bottom
+  segment's weight and drag. With this convention the static chain converges to the elastic
+  catenary at order 2 in N (a test checks it; the raw end-segment tension converges at
+  order 1 only).
+
+The step is the two-stage Rosenbrock method ROS2 of Verwer, Spee, Blom and Hundsdorfer
+(SIAM J. Sci. Comput. 20, 1999), gamma = 1 + 1/sqrt(2): L-stable, second order for any
+approximation W of the Jacobian. W holds the axial and geometric stiffness
+k e e^T + (T / l)(I - e e^T), the axial damping c e e^T and the drag's velocity derivative; the
+non-autonomous term (P moves) enters through dF/dt = K_P v_P + C_P a_P of the last interior
+node. A slack segment keeps the axial blocks of a just-taut one in W: a step that starts slack
+and ends taut then stays implicit (with the exact, zero, blocks a stiff cable that snaps taut
+blows up at the control sample; a test covers the case). Each stage solves one symmetric
+block-tridiagonal system of 3 x 3 blocks (block Thomas, O(N)). The test module measures the
+step against SciPy's Radau at tight tolerances.
+
+Coupling: the force at P enters the tethered helicopter's generated equations as a wind force
+at HO plus the rotor torques of its moment about HO (``force_at_P_as_loads``), with eq 28's
+tension set to zero; q7..q9 then only locate P.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+from scipy import optimize
+
+from .._compile import compiled
+from .._validation import check_integer, check_number
+from ..errors import InfeasibleError, ParameterError
+from ..layout import (
+    LUMPED_CDN,
+    LUMPED_CDT,
+    LUMPED_EA,
+    LUMPED_G,
+    LUMPED_MU,
+    LUMPED_SIZE,
+    LUMPED_ZETA,
+)
+from . import kernels
+
+if TYPE_CHECKING:
+    from ..params import Params
+    from .trim import TrimPoint
+
+__all__ = [
+    "ROS2_GAMMA",
+    "ElasticCatenary",
+    "LumpedTether",
+    "LumpedTrim",
+    "StaticCable",
+    "catenary_position_estimate",
+    "chain_energy",
+    "chain_forces",
+    "elastic_catenary",
+    "end_forces",
+    "force_at_P_as_loads",
+    "hover_trim_lumped",
+    "initial_chain",
+    "ros2_step",
+    "ros2_work",
+    "ros2_work_size",
+    "static_cable",
+    "static_chain",
+    "straight_tether_estimates",
+    "tethered_derivative_force_at_P",
+]
+
+#: ROS2's gamma (Verwer et al. 1999): 1 + 1/sqrt(2), the L-stable choice
+ROS2_GAMMA = 1.0 + 1.0 / math.sqrt(2.0)
+#: ISA sea-level air density [kg/m^3] (the default of ``wind.drag.DragModel`` too)
+AIR_DENSITY_KG_M3 = 1.225
+
+_jit = compiled(fastmath={"nnan", "ninf"}, error_model="numpy")
+
+
+@dataclass(frozen=True)
+class LumpedTether:
+    """A lumped-mass tether's parameters (see the module docstring for the model). The
+    defaults are the paper's tether (EA = K_C L0N = 40 N/m x 9.375 m, Table III) as a 20 g/m,
+    5 mm cable with 10 % damping.
+
+    Parameters
+    ----------
+    segments : int
+        Number of segments N >= 1 (N - 1 free nodes).
+    mass_per_length_kg_m : float
+        Mass per unstretched length mu [kg/m], > 0.
+    EA_N : float
+        Axial stiffness EA [N], > 0. ``from_paper_stiffness`` derives it from the paper's
+        K_C: EA = K_C L0N (the whole tether's spring constant at its trim natural length).
+    damping_ratio : float
+        Axial damping as a fraction of each segment's critical damping, >= 0.
+    diameter_m : float
+        Cable diameter d [m], > 0.
+    drag_coefficient : float
+        Normal (cross-flow) drag coefficient Cd, > 0 (about 1.0-1.2 for a round cable).
+    tangential_drag_coefficient : float
+        Skin-friction coefficient Ct on the wetted area pi d l, >= 0 (0: no tangential drag).
+    air_density_kg_m3 : float
+        rho [kg/m^3], > 0.
+    """
+
+    segments: int = 10
+    mass_per_length_kg_m: float = 0.02
+    EA_N: float = 375.0
+    damping_ratio: float = 0.1
+    diameter_m: float = 0.005
+    drag_coefficient: float = 1.1
+    tangential_drag_coefficient: float = 0.0
+    air_density_kg_m3: float = AIR_DENSITY_KG_M3
+
+    def __post_init__(self) -> None:
+        s = "tether"
+        check_integer(f"{s}.segments", self.segments, low=1)
+        for name, low_open in (
+            ("mass_per_length_kg_m", True),
+            ("EA_N", True),
+            ("damping_ratio", False),
+            ("diameter_m", True),
+            ("drag_coefficient", True),
+            ("tangential_drag_coefficient", False),
+            ("air_density_kg_m3", True),
+        ):
+            value = check_number(f"{s}.{name}", getattr(self, name), low=0.0, low_open=low_open)
+            object.__setattr__(self, name, value)
+        object.__setattr__(self, "segments", int(self.segments))
+
+    @classmethod
+    def from_paper_stiffness(cls, K_C: float, natural_length_m: float, **kw) -> LumpedTether:
+        """The tether whose whole-length spring constant at natural length L0N is the paper's
+        K_C (eq 28, Table III): EA = K_C L0N [N]."""
+        K_C = check_number("tether.K_C", K_C, low=0.0, low_open=True)
+        L = check_number("tether.L_N0", natural_length_m, low=0.0, low_open=True)
+        return cls(EA_N=K_C * L, **kw)
+
+    def packed(self, g: float) -> np.ndarray:
+        """The packed array (``layout.LUMPED_*``) the compiled kernels take."""
+        p = np.empty(LUMPED_SIZE)
+        p[LUMPED_MU] = self.mass_per_length_kg_m
+        p[LUMPED_EA] = self.EA_N
+        p[LUMPED_ZETA] = self.damping_ratio
+        p[LUMPED_CDN] = 0.5 * self.air_density_kg_m3 * self.diameter_m * self.drag_coefficient
+        p[LUMPED_CDT] = (
+            0.5 * self.air_density_kg_m3 * math.pi * self.diameter_m
+        ) * self.tangential_drag_coefficient
+        p[LUMPED_G] = check_number("g", g, low=0.0)
+        return p
+
+
+# ----------------------------------------------------------------------------------------------
+# compiled kernels: x, v (N+1, 3) node positions and velocities (rows 0 and N: winch and P)
+# ----------------------------------------------------------------------------------------------
+
+
+@_jit
+def chain_forces(x, v, wind, L0, p, F, T, K, Cax, D, jac):
+    """Node forces F (N+1, 3) [N] (rows 0 and N: the force on the winch and on P, with half an
+    end segment's weight and drag), segment tensions T (N,) [N]; if ``jac``, the per-segment
+    Jacobian blocks (N, 3, 3): K = d(T e)/d(d) (axial + geometric stiffness),
+    Cax = d(T e)/d(dv) (axial damping), D = -d(drag)/du (drag's velocity derivative); a slack
+    segment gets the axial blocks of a just-taut one."""
+    n = x.shape[0] - 1
+    l0 = L0 / n
+    mu = p[LUMPED_MU]
+    k = p[LUMPED_EA] / l0
+    c = 2.0 * p[LUMPED_ZETA] * math.sqrt(p[LUMPED_EA] * mu)
+    cdn = p[LUMPED_CDN]
+    cdt = p[LUMPED_CDT]
+    w_half = 0.5 * mu * l0 * p[LUMPED_G]
+    for i in range(n + 1):
+        F[i, 0] = 0.0
+        F[i, 1] = 0.0
+        F[i, 2] = -2.0 * w_half if 0 < i < n else -w_half
+    for s in range(n):
+        ex = x[s + 1, 0] - x[s, 0]
+        ey = x[s + 1, 1] - x[s, 1]
+        ez = x[s + 1, 2] - x[s, 2]
+        length = math.sqrt(ex * ex + ey * ey + ez * ez)
+        ex /= length
+        ey /= length
+        ez /= length
+        ldot = (
+            ex * (v[s + 1, 0] - v[s, 0])
+            + ey * (v[s + 1, 1] - v[s, 1])
+            + ez * (v[s + 1, 2] - v[s, 2])
+        )
+        tension = k * (length - l0) + c * ldot if length > l0 else 0.0
+        if tension < 0.0:
+            tension = 0.0
+        T[s] = tension
+        ux = 0.5 * (v[s, 0] + v[s + 1, 0] - wind[s, 0] - wind[s + 1, 0])
+        uy = 0.5 * (v[s, 1] + v[s + 1, 1] - wind[s, 1] - wind[s + 1, 1])
+        uz = 0.5 * (v[s, 2] + v[s + 1, 2] - wind[s, 2] - wind[s + 1, 2])
+        ue = ux * ex + uy * ey + uz * ez
+        ux -= ue * ex
+        uy -= ue * ey
+        uz -= ue * ez
+        speed_n = math.sqrt(ux * ux + uy * uy + uz * uz)
+        an = cdn * length * speed_n  # normal drag = -an u_n
+        at = cdt * length * abs(ue)  # tangential drag = -at (u.e) e
+        fx = tension * ex - 0.5 * (an * ux + at * ue * ex)
+        fy = tension * ey - 0.5 * (an * uy + at * ue * ey)
+        fz = tension * ez - 0.5 * (an * uz + at * ue * ez)
+        dx = 0.5 * (an * ux + at * ue * ex)
+        dy = 0.5 * (an * uy + at * ue * ey)
+        dz = 0.5 * (an * uz + at * ue * ez)
+        F[s, 0] += fx
+        F[s, 1] += fy
+        F[s, 2] += fz
+        F[s + 1, 0] += -tension * ex - dx
+        F[s + 1, 1] += -tension * ey - dy
+        F[s + 1, 2] += -tension * ez - dz
+        if jac:
+            # W keeps a slack segment's axial stiffness and damping (as if just taut): a step
+            # that starts slack and ends taut stays implicit (no snap blow-up); ROS2 keeps its
+            # order 2 for any W
+            geo = tension / length
+            e = (ex, ey, ez)
+            un = (ux, uy, uz)
+            inv_speed = 1.0 / speed_n if speed_n > 0.0 else 0.0
+            for a in range(3):
+                for b in range(3):
+                    eab = e[a] * e[b]
+                    proj = (1.0 if a == b else 0.0) - eab
+                    K[s, a, b] = k * eab + geo * proj
+                    Cax[s, a, b] = c * eab
+                    D[s, a, b] = (
+                        cdn * length * (speed_n * proj + un[a] * un[b] * inv_speed) + 2.0 * at * eab
+                    )
+
+
+@_jit
+def _factor(n_free, m_node, K, Cax, D, cm, cc, ck, Dinv, B, piv, db):
+    """Factor the symmetric block-tridiagonal matrix A = cm M + cc C + ck Kn of the free nodes
+    (Kn = dF/dx, C = dF/dv assembled from the segment blocks) by block Thomas: Dinv (n_free,
+    3, 3) the inverted pivots, B (n_free, 3, 3) the super-diagonal blocks A[i, i+1]; piv,
+    db (3, 3) scratch."""
+    for i in range(n_free):
+        s_lo = i  # segment below free node i (nodes i, i+1 of the chain)
+        s_hi = i + 1  # segment above
+        for a in range(3):
+            for b in range(3):
+                # dF/dx diagonal: -(K_lo + K_hi); dF/dv diagonal: -(Cax + D/4) of both
+                kd = -(K[s_lo, a, b] + K[s_hi, a, b])
+                cd = -(Cax[s_lo, a, b] + Cax[s_hi, a, b]) - 0.25 * (D[s_lo, a, b] + D[s_hi, a, b])
+                piv[a, b] = cc * cd + ck * kd + (cm * m_node if a == b else 0.0)
+                # off-diagonal (i, i+1) through segment s_hi: dF/dx = +K, dF/dv = Cax - D/4
+                B[i, a, b] = ck * K[s_hi, a, b] + cc * (Cax[s_hi, a, b] - 0.25 * D[s_hi, a, b])
+        if i > 0:  # piv -= B_{i-1}^T (Dinv_{i-1} B_{i-1})
+            for q in range(3):
+                for b in range(3):
+                    db[q, b] = (
+                        Dinv[i - 1, q, 0] * B[i - 1, 0, b]
+                        + Dinv[i - 1, q, 1] * B[i - 1, 1, b]
+                        + Dinv[i - 1, q, 2] * B[i - 1, 2, b]
+                    )
+            for a in range(3):
+                for b in range(3):
+                    piv[a, b] -= (
+                        B[i - 1, 0, a] * db[0, b]
+                        + B[i - 1, 1, a] * db[1, b]
+                        + B[i - 1, 2, a] * db[2, b]
+                    )
+        _inv3(piv, Dinv[i])
+
+
+@_jit
+def _inv3(m, out):
+    """out = m^-1 (3 x 3, by cofactors)."""
+    c00 = m[1, 1] * m[2, 2] - m[1, 2] * m[2, 1]
+    c01 = m[1, 2] * m[2, 0] - m[1, 0] * m[2, 2]
+    c02 = m[1, 0] * m[2, 1] - m[1, 1] * m[2, 0]
+    det = m[0, 0] * c00 + m[0, 1] * c01 + m[0, 2] * c02
+    inv = 1.0 / det
+    out[0, 0] = c00 * inv
+    out[1, 0] = c01 * inv
+    out[2, 0] = c02 * inv
+    out[0, 1] = (m[0, 2] * m[2, 1] - m[0, 1] * m[2, 2]) * inv
+    out[1, 1] = (m[0, 0] * m[2, 2] - m[0, 2] * m[2, 0]) * inv
+    out[2, 1] = (m[0, 1] * m[2, 0] - m[0, 0] * m[2, 1]) * inv
+    out[0, 2] = (m[0, 1] * m[1, 2] - m[0, 2] * m[1, 1]) * inv
+    out[1, 2] = (m[0, 2] * m[1, 0] - m[0, 0] * m[1, 2]) * inv
+    out[2, 2] = (m[0, 0] * m[1, 1] - m[0, 1] * m[1, 0]) * inv
+
+
+@_jit
+def _solve(Dinv, B, rhs, out):
+    """Solve A out = rhs (n_free, 3) with the factors of ``_factor`` (forward into out, then
+    back in place)."""
+    n_free = rhs.shape[0]
+    for i in range(n_free):
+        for a in range(3):
+            out[i, a] = rhs[i, a]
+        if i > 0:  # y_i -= B_{i-1}^T Dinv_{i-1} y_{i-1}
+            t0 = (
+                Dinv[i - 1, 0, 0] * out[i - 1, 0]
+                + Dinv[i - 1, 0, 1] * out[i - 1, 1]
+                + Dinv[i - 1, 0, 2] * out[i - 1, 2]
+            )
+            t1 = (
+                Dinv[i - 1, 1, 0] * out[i - 1, 0]
+                + Dinv[i - 1, 1, 1] * out[i - 1, 1]
+                + Dinv[i - 1, 1, 2] * out[i - 1, 2]
+            )
+            t2 = (
+                Dinv[i - 1, 2, 0] * out[i - 1, 0]
+                + Dinv[i - 1, 2, 1] * out[i - 1, 1]
+                + Dinv[i - 1, 2, 2] * out[i - 1, 2]
+            )
+            for a in range(3):
+                out[i, a] -= B[i - 1, 0, a] * t0 + B[i - 1, 1, a] * t1 + B[i - 1, 2, a] * t2
+    for i in range(n_free - 1, -1, -1):
+        z0 = out[i, 0]
+        z1 = out[i, 1]
+        z2 = out[i, 2]
+        if i < n_free - 1:
+            z0 -= (
+                B[i, 0, 0] * out[i + 1, 0] + B[i, 0, 1] * out[i + 1, 1] + B[i, 0, 2] * out[i + 1, 2]
+            )
+            z1 -= (
+                B[i, 1, 0] * out[i + 1, 0] + B[i, 1, 1] * out[i + 1, 1] + B[i, 1, 2] * out[i + 1, 2]
+            )
+            z2 -= (
+                B[i, 2, 0] * out[i + 1, 0] + B[i, 2, 1] * out[i + 1, 1] + B[i, 2, 2] * out[i + 1, 2]
+            )
+        for a in range(3):
+            out[i, a] = Dinv[i, a, 0] * z0 + Dinv[i, a, 1] * z1 + Dinv[i, a, 2] * z2
+
+
+@_jit
+def ros2_work_size(segments):
+    """The length of the scratch array ``ros2_step`` needs for ``segments`` segments."""
+    n = segments
+    return 3 * (n + 1) + n + 27 * n + 18 * n + 24 * n + 6 * (n + 1) + 18
+
+
+def ros2_work(segments: int) -> np.ndarray:
+    """The scratch array ``ros2_step`` needs for a chain of ``segments`` segments (allocate
+    once per run)."""
+    return np.empty(ros2_work_size(segments))
+
+
+@_jit
+def ros2_step(x, v, wind, L0, p, h, xP1, vP1, work):
+    """Advance the free nodes of the chain over one step h [s] by ROS2 (module docstring).
+
+    x, v (N+1, 3): positions, velocities at t (rows 0 and N: winch and P), updated in place to
+    t + h (row N becomes xP1, vP1, P's position and velocity at t + h; the winch row is left
+    as it is). wind (N+1, 3) the wind at the nodes [m/s], held over the step; L0 the
+    unstretched length [m], held over the step; work: ``ros2_work(N)``."""
+    n = x.shape[0] - 1
+    nf = n - 1
+    if nf == 0:
+        for j in range(3):
+            x[n, j] = xP1[j]
+            v[n, j] = vP1[j]
+        return
+    o = 0
+    F = work[o : o + 3 * (n + 1)].reshape((n + 1, 3))
+    o += 3 * (n + 1)
+    T = work[o : o + n]
+    o += n
+    K = work[o : o + 9 * n].reshape((n, 3, 3))
+    o += 9 * n
+    Cax = work[o : o + 9 * n].reshape((n, 3, 3))
+    o += 9 * n
+    Dd = work[o : o + 9 * n].reshape((n, 3, 3))
+    o += 9 * n
+    Dinv = work[o : o + 9 * nf].reshape((nf, 3, 3))
+    o += 9 * nf
+    B = work[o : o + 9 * nf].reshape((nf, 3, 3))
+    o += 9 * nf
+    ra = work[o : o + 3 * nf].reshape((nf, 3))
+    o += 3 * nf
+    rb = work[o : o + 3 * nf].reshape((nf, 3))
+    o += 3 * nf
+    k1r = work[o : o + 3 * nf].reshape((nf, 3))
+    o += 3 * nf
+    k1v = work[o : o + 3 * nf].reshape((nf, 3))
+    o += 3 * nf
+    k2r = work[o : o + 3 * nf].reshape((nf, 3))
+    o += 3 * nf
+    k2v = work[o : o + 3 * nf].reshape((nf, 3))
+    o += 3 * nf
+    rhs = work[o : o + 3 * nf].reshape((nf, 3))
+    o += 3 * nf
+    x0 = work[o : o + 3 * (n + 1)].reshape((n + 1, 3))
+    o += 3 * (n + 1)
+    v0 = work[o : o + 3 * (n + 1)].reshape((n + 1, 3))
+    o += 3 * (n + 1)
+    piv = work[o : o + 9].reshape((3, 3))
+    o += 9
+    db = work[o : o + 9].reshape((3, 3))
+    g = ROS2_GAMMA
+    m_node = p[LUMPED_MU] * L0 / n
+    chain_forces(x, v, wind, L0, p, F, T, K, Cax, Dd, True)
+    # (M - g h C - g^2 h^2 Kn) kv = M b + g h Kn a, kr = a + g h kv  for (I - g h J) k = (a, b)
+    _factor(nf, m_node, K, Cax, Dd, 1.0, -g * h, -g * g * h * h, Dinv, B, piv, db)
+    # the driven top point: d(F_{N-1})/dt = K_top vP + C_top aP, with aP over the step
+    top = n - 1
+    ft0 = 0.0
+    ft1 = 0.0
+    ft2 = 0.0
+    for b in range(3):
+        aP = (vP1[b] - v[n, b]) / h
+        ft0 += K[top, 0, b] * v[n, b] + (Cax[top, 0, b] - 0.25 * Dd[top, 0, b]) * aP
+        ft1 += K[top, 1, b] * v[n, b] + (Cax[top, 1, b] - 0.25 * Dd[top, 1, b]) * aP
+        ft2 += K[top, 2, b] * v[n, b] + (Cax[top, 2, b] - 0.25 * Dd[top, 2, b]) * aP
+    scale_t = g * h * h / m_node
+    # stage 1: (I - g h J) k1 = h f(y) + g h^2 f_t
+    for i in range(nf):
+        for j in range(3):
+            ra[i, j] = h * v[i + 1, j]
+            rb[i, j] = h * F[i + 1, j] / m_node
+    rb[nf - 1, 0] += scale_t * ft0
+    rb[nf - 1, 1] += scale_t * ft1
+    rb[nf - 1, 2] += scale_t * ft2
+    _stage(nf, m_node, K, g * h, ra, rb, Dinv, B, k1r, k1v, rhs)
+    # stage 2 at t + h, y + k1 (Verwer's form: (I - g h J) k2 = h f(y + k1) - 2 k1 - g h^2 f_t)
+    for i in range(n + 1):
+        for j in range(3):
+            x0[i, j] = x[i, j]
+            v0[i, j] = v[i, j]
+    for i in range(nf):
+        for j in range(3):
+            x[i + 1, j] = x0[i + 1, j] + k1r[i, j]
+            v[i + 1, j] = v0[i + 1, j] + k1v[i, j]
+    for j in range(3):
+        x[n, j] = xP1[j]
+        v[n, j] = vP1[j]
+    chain_forces(x, v, wind, L0, p, F, T, K, Cax, Dd, False)
+    for i in range(nf):
+        for j in range(3):
+            ra[i, j] = h * v[i + 1, j] - 2.0 * k1r[i, j]
+            rb[i, j] = h * F[i + 1, j] / m_node - 2.0 * k1v[i, j]
+    rb[nf - 1, 0] -= scale_t * ft0
+    rb[nf - 1, 1] -= scale_t * ft1
+    rb[nf - 1, 2] -= scale_t * ft2
+    _stage(nf, m_node, K, g * h, ra, rb, Dinv, B, k2r, k2v, rhs)
+    for i in range(nf):
+        for j in range(3):
+            x[i + 1, j] = x0[i + 1, j] + 1.5 * k1r[i, j] + 0.5 * k2r[i, j]
+            v[i + 1, j] = v0[i + 1, j] + 1.5 * k1v[i, j] + 0.5 * k2v[i, j]
+
+
+@_jit
+def _stage(nf, m_node, K, gh, ra, rb, Dinv, B, kr, kv, rhs):
+    """Solve (I - gh J) (kr, kv) = (ra, rb) for J = [[0, I], [Kn/m, C/m]]: the factored A =
+    M - gh C - gh^2 Kn takes kv from M rb + gh Kn ra, then kr = ra + gh kv (rhs: scratch)."""
+    for i in range(nf):
+        s_lo = i
+        s_hi = i + 1
+        for a in range(3):
+            acc = m_node * rb[i, a]
+            for b in range(3):
+                kn = -(K[s_lo, a, b] + K[s_hi, a, b]) * ra[i, b]
+                if i > 0:
+                    kn += K[s_lo, a, b] * ra[i - 1, b]
+                if i < nf - 1:
+                    kn += K[s_hi, a, b] * ra[i + 1, b]
+                acc += gh * kn
+            rhs[i, a] = acc
+    _solve(Dinv, B, rhs, kv)
+    for i in range(nf):
+        for a in range(3):
+            kr[i, a] = ra[i, a] + gh * kv[i, a]
+
+
+# ----------------------------------------------------------------------------------------------
+# coupling: a general force at P in the tethered helicopter's equations
+# ----------------------------------------------------------------------------------------------
+
+
+@_jit
+def force_at_P_as_loads(x, inp, wind, force_P, arm, inp_out, wind_out):
+    """The inputs and wind force under which the generated tethered RHS at zero tension feels
+    a force ``force_P`` [N, N components] at P.
+
+    Kane's generalised speeds of the tethered model are those of the free one (eq 7: u1..u3
+    the velocity of HO in N; eq 8: u4..u6 the body rates), so a force F at P = HO + arm f3
+    has the partial velocities of a force at HO (generalised forces F . n1..n3, exactly where
+    the wind force at HO enters) plus a torque arm f3 x F about HO, i.e.
+    (-arm F.f2, arm F.f1, 0) in F, exactly where the rotor torques tMR1, tMR2 enter (the
+    rotor's partial angular velocities for u4, u5 are f1, f2, as the fuselage's). Hence:
+    wind_out = wind + F, inp_out = inp with tMR1 - arm F.f2 and tMR2 + arm F.f1; q7..q9 only
+    locate P. (The radial force -TC c3 reproduces ``kernels.tethered_derivative``; a test
+    checks it, and a non-radial one against the Newton-Euler route.)
+
+    x: the tethered state (13,) (q4..q6 used); inp (4,), wind (3,), force_P (3,); arm =
+    ``HelicopterParams.tether_arm`` [m]; inp_out (4,), wind_out (3,) written."""
+    R = np.empty((3, 3))
+    kernels.kinematics_dcm(x[0:3], R)  # column j: f_j in N
+    f1 = force_P[0] * R[0, 0] + force_P[1] * R[1, 0] + force_P[2] * R[2, 0]
+    f2 = force_P[0] * R[0, 1] + force_P[1] * R[1, 1] + force_P[2] * R[2, 1]
+    for j in range(3):
+        wind_out[j] = wind[j] + force_P[j]
+    inp_out[0] = inp[0]
+    inp_out[1] = inp[1] - arm * f2
+    inp_out[2] = inp[2] + arm * f1
+    inp_out[3] = inp[3]
+
+
+@_jit
+def tethered_derivative_force_at_P(x, inp, wind, force_P, reel_rate, c, arm, out):
+    """out (13,) = dx/dt of the tethered helicopter with the force ``force_P`` [N, in N] at P
+    in place of eq 28's tension (``force_at_P_as_loads``); out[12] = reel_rate."""
+    inp2 = np.empty(4)
+    wind2 = np.empty(3)
+    force_at_P_as_loads(x, inp, wind, force_P, arm, inp2, wind2)
+    kernels.tethered_rhs(x, inp2, wind2, 0.0, c, out)
+    out[12] = reel_rate
+
+
+# ----------------------------------------------------------------------------------------------
+# Python-level helpers
+# ----------------------------------------------------------------------------------------------
+
+
+def _scratch(n: int) -> tuple[np.ndarray, ...]:
+    return (
+        np.empty((n + 1, 3)),
+        np.empty(n),
+        np.empty((n, 3, 3)),
+        np.empty((n, 3, 3)),
+        np.empty((n, 3, 3)),
+    )
+
+
+def end_forces(
+    x: np.ndarray, v: np.ndarray, wind: np.ndarray, L0: float, p: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The forces the tether exerts on the winch and on P [N] (each with half an end segment's
+    weight and drag) and the segment tensions (N,) [N].
+
+    Parameters
+    ----------
+    x, v : ndarray (N+1, 3)
+        Node positions [m] and velocities [m/s], row 0 the winch, row N the point P.
+    wind : ndarray (N+1, 3)
+        Wind at the nodes [m/s].
+    L0 : float
+        Unstretched length [m].
+    p : ndarray
+        ``LumpedTether.packed(g)``.
+
+    Returns
+    -------
+    force_winch, force_P : ndarray (3,)
+    tensions : ndarray (N,)
+    """
+    F, T, K, C, D = _scratch(x.shape[0] - 1)
+    chain_forces(x, v, wind, L0, p, F, T, K, C, D, False)
+    return F[0].copy(), F[-1].copy(), T
+
+
+def chain_energy(x: np.ndarray, v: np.ndarray, L0: float, p: np.ndarray) -> float:
+    """Kinetic + gravitational + elastic energy [J] of the free nodes and the segments (the
+    end nodes' half-segment masses are not counted: it is conserved with fixed ends)."""
+    n = x.shape[0] - 1
+    l0 = L0 / n
+    m = p[LUMPED_MU] * l0
+    kinetic = 0.5 * m * float(np.sum(v[1:-1] ** 2))
+    gravity = m * p[LUMPED_G] * float(np.sum(x[1:-1, 2]))
+    stretch = np.maximum(np.linalg.norm(np.diff(x, axis=0), axis=1) - l0, 0.0)
+    return kinetic + gravity + 0.5 * (p[LUMPED_EA] / l0) * float(np.sum(stretch**2))
+
+
+def static_chain(
+    r_winch: np.ndarray, r_P: np.ndarray, L0: float, tether: LumpedTether, g: float
+) -> np.ndarray:
+    """The lumped chain's exact static equilibrium (no wind, at rest) between the winch and P:
+    the discrete catenary. Every free node carries W = mu l0 g, so segment s pulls its lower
+    node with the tension vector (H h, V + s W) (h the horizontal unit vector towards P) and
+    its length is l0 (1 + |t_s| / EA); (H, V) solve sum_s d_s = r_P - r_winch (SciPy ``root``
+    from the elastic catenary's values).
+
+    Parameters
+    ----------
+    r_winch, r_P : array_like (3,)
+        The fixed ends [m].
+    L0 : float
+        Unstretched length [m].
+    tether : LumpedTether
+    g : float
+        Gravity [m/s^2].
+
+    Returns
+    -------
+    ndarray (N+1, 3): the node positions [m] (``chain_forces`` vanishes there on the free
+    nodes; a test checks it).
+    """
+    r_winch = np.asarray(r_winch, dtype=float)
+    r_P = np.asarray(r_P, dtype=float)
+    d = r_P - r_winch
+    a = math.hypot(d[0], d[1])
+    n = tether.segments
+    l0 = L0 / n
+    W = tether.mass_per_length_kg_m * l0 * g
+    EA = tether.EA_N
+    cat = elastic_catenary(a, d[2], tether.mass_per_length_kg_m * g, EA, unstretched_length_m=L0)
+    vert = np.arange(n) * W
+
+    def segments(H, V):
+        tz = V + vert
+        t = np.hypot(H, tz)
+        stretch = l0 * (1.0 / t + 1.0 / EA)  # segment length / |t_s|
+        return H * stretch, tz * stretch
+
+    scale = max(math.hypot(a, d[2]), 1e-9)
+    if a == 0.0:
+
+        def residual(u):
+            return [(np.sum(segments(0.0, u[0])[1]) - d[2]) / scale]
+
+        sol = optimize.root(residual, [cat.V_N + 0.5 * W], method="hybr", tol=1e-14)
+        H, V = 0.0, float(sol.x[0])
+    else:
+
+        def residual(u):
+            sx, sz = segments(u[0], u[1])
+            return [(np.sum(sx) - a) / scale, (np.sum(sz) - d[2]) / scale]
+
+        sol = optimize.root(residual, [cat.H_N, cat.V_N + 0.5 * W], method="hybr", tol=1e-14)
+        H, V = (float(u) for u in sol.x)
+    if max(abs(r) for r in residual(sol.x)) > 1e-11:
+        raise InfeasibleError("static_chain", (a, d[2]), "end points the chain can reach")
+    sx, sz = segments(H, V)
+    horiz = np.array([d[0] / a, d[1] / a, 0.0]) if a > 0.0 else np.zeros(3)
+    x = np.empty((n + 1, 3))
+    x[0] = r_winch
+    x[1:] = r_winch + np.outer(np.cumsum(sx), horiz)
+    x[1:, 2] += np.cumsum(sz)
+    x[-1] = r_P
+    return x
+
+
+# ----------------------------------------------------------------------------------------------
+# the elastic catenary (Irvine, Cable Structures, MIT Press 1981, ch. 1 and 2)
+# ----------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class ElasticCatenary:
+    """An elastic catenary between A (lower, s = 0) and B (s = L0) in the vertical plane, with
+    horizontal span a [m] and rise b [m] of B over A; H the horizontal and V the vertical force
+    the cable pulls A with, negated (the cable's tension at A is (H, V) along s).
+
+    Lagrangian coordinate s in [0, L0] (unstretched arc length), w = mu g [N/m] (Irvine
+    eqs 1.25-1.26 with the origin at A):
+    x(s) = H s / EA + (H / w) [asinh((V + w s) / H) - asinh(V / H)],
+    z(s) = (V s + w s^2 / 2) / EA + (H / w) [sqrt(1 + ((V + w s) / H)^2) - sqrt(1 + (V / H)^2)];
+    for a = 0 (hanging vertically, H = 0): x = 0, z(s) = s + (V s + w s^2 / 2) / EA.
+    """
+
+    span_m: float
+    rise_m: float
+    weight_per_length_N_m: float
+    EA_N: float
+    unstretched_length_m: float
+    H_N: float
+    V_N: float
+
+    def position(self, s: np.ndarray | float) -> tuple[np.ndarray, np.ndarray]:
+        """(x(s), z(s)) [m] at unstretched arc length s [m] from A."""
+        return _catenary_xz(
+            np.asarray(s, dtype=float), self.H_N, self.V_N, self.weight_per_length_N_m, self.EA_N
+        )
+
+    @property
+    def tension_A_N(self) -> float:
+        """Tension at A [N]: sqrt(H^2 + V^2)."""
+        return math.hypot(self.H_N, self.V_N)
+
+    @property
+    def tension_B_N(self) -> float:
+        """Tension at B [N]: sqrt(H^2 + (V + w L0)^2)."""
+        return math.hypot(
+            self.H_N, self.V_N + self.weight_per_length_N_m * self.unstretched_length_m
+        )
+
+    def sag_m(self) -> float:
+        """Largest vertical distance of the cable below the chord AB [m]."""
+        s = np.linspace(0.0, self.unstretched_length_m, 2001)
+        x, z = self.position(s)
+        chord = self.rise_m * x / self.span_m if self.span_m > 0.0 else z
+        return float(np.max(chord - z))
+
+
+def _catenary_xz(s, H, V, w, EA):
+    if H == 0.0:
+        return np.zeros_like(s), s + (V * s + 0.5 * w * s * s) / EA
+    x = H * s / EA + (H / w) * (np.arcsinh((V + w * s) / H) - np.arcsinh(V / H))
+    z = (V * s + 0.5 * w * s * s) / EA + (H / w) * (
+        np.hypot(1.0, (V + w * s) / H) - np.hypot(1.0, V / H)
+    )
+    return x, z
+
+
+def elastic_catenary(
+    span_m: float,
+    rise_m: float,
+    weight_per_length_N_m: float,
+    EA_N: float,
+    *,
+    unstretched_length_m: float | None = None,
+    horizontal_tension_N: float | None = None,
+) -> ElasticCatenary:
+    """Solve Irvine's elastic catenary for given end points and either the unstretched length
+    or the horizontal tension (exactly one).
+
+    Parameters
+    ----------
+    span_m, rise_m : float
+        Horizontal distance a >= 0 and height b of the upper end B over A [m].
+    weight_per_length_N_m : float
+        w = mu g [N/m], > 0.
+    EA_N : float
+        Axial stiffness [N], > 0.
+    unstretched_length_m, horizontal_tension_N : float
+        L0 [m] or H [N] (H needs a > 0).
+
+    Returns
+    -------
+    ElasticCatenary
+    """
+    a = check_number("span_m", span_m, low=0.0)
+    b = check_number("rise_m", rise_m)
+    w = check_number("weight_per_length_N_m", weight_per_length_N_m, low=0.0, low_open=True)
+    EA = check_number("EA_N", EA_N, low=0.0, low_open=True)
+    if (unstretched_length_m is None) == (horizontal_tension_N is None):
+        raise ParameterError(
+            "elastic_catenary",
+            (unstretched_length_m, horizontal_tension_N),
+            "exactly one of unstretched_length_m and horizontal_tension_N",
+        )
+    chord = math.hypot(a, b)
+    if unstretched_length_m is not None:
+        L0 = check_number("unstretched_length_m", unstretched_length_m, low=0.0, low_open=True)
+        if a == 0.0:
+            V = (b - L0) * EA / L0 - 0.5 * w * L0
+            if V <= 0.0:
+                raise InfeasibleError(
+                    "unstretched_length_m", L0, f"a length that hangs taut over a rise of {b:g} m"
+                )
+            return ElasticCatenary(a, b, w, EA, L0, 0.0, V)
+        H0, V0 = _guess(a, b, w, EA, L0, chord)
+
+        def residual(u):
+            x, z = _catenary_xz(np.array([L0]), math.exp(u[0]), u[1], w, EA)
+            return [(x[0] - a) / chord, (z[0] - b) / chord]
+
+        sol = optimize.root(residual, [math.log(H0), V0], method="hybr", tol=1e-14)
+        H, V = math.exp(sol.x[0]), float(sol.x[1])
+    else:
+        H = check_number("horizontal_tension_N", horizontal_tension_N, low=0.0, low_open=True)
+        if a == 0.0:
+            raise ParameterError("span_m", a, "> 0 m with a horizontal tension given")
+
+        def residual(u):
+            x, z = _catenary_xz(np.array([math.exp(u[0])]), H, u[1], w, EA)
+            return [(x[0] - a) / chord, (z[0] - b) / chord]
+
+        V0 = H * b / a - 0.5 * w * chord
+        sol = optimize.root(residual, [math.log(chord), V0], method="hybr", tol=1e-14)
+        L0, V = math.exp(sol.x[0]), float(sol.x[1])
+    if max(abs(r) for r in residual(sol.x)) > 1e-11:  # (hybr may flag xtol at 1e-14)
+        raise InfeasibleError("elastic_catenary", (a, b), "end points the catenary can reach")
+    return ElasticCatenary(a, b, w, EA, L0, H, V)
+
+
+def _guess(a, b, w, EA, L0, chord):
+    """Start values (H, V) for the solve: a straight stretched cable when L0 is shorter than
+    the chord, else the parabolic sag f with L0 = chord + 8 f^2 / (3 chord)."""
+    if L0 < chord:
+        T = EA * (chord / L0 - 1.0) + 0.5 * w * L0
+        return T * a / chord, T * b / chord - 0.5 * w * L0
+    f = math.sqrt(3.0 * chord * (L0 - chord) / 8.0) + 1e-3 * chord
+    H = w * a * a / (8.0 * f)
+    return H, H * b / a - 0.5 * w * L0
+
+
+def initial_chain(
+    r_winch: np.ndarray, r_P: np.ndarray, L0: float, tether: LumpedTether, g: float
+) -> np.ndarray:
+    """Node positions (N+1, 3) [m] on the elastic catenary between the winch and P (nodes at
+    s = i L0 / N), the start shape of a run (``static_chain`` refines it to the chain's own
+    equilibrium)."""
+    r_winch = np.asarray(r_winch, dtype=float)
+    r_P = np.asarray(r_P, dtype=float)
+    d = r_P - r_winch
+    a = math.hypot(d[0], d[1])
+    cat = elastic_catenary(
+        a, d[2], tether.mass_per_length_kg_m * g, tether.EA_N, unstretched_length_m=L0
+    )
+    s = np.linspace(0.0, L0, tether.segments + 1)
+    xs, zs = cat.position(s)
+    horiz = np.array([d[0] / a, d[1] / a, 0.0]) if a > 0.0 else np.zeros(3)
+    x = r_winch + np.outer(xs, horiz)
+    x[:, 2] += zs
+    x[0], x[-1] = r_winch, r_P  # exact ends
+    return x
+
+
+# ----------------------------------------------------------------------------------------------
+# hover trim with a massive tether (issue 13, item 3)
+# ----------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class LumpedTrim:
+    """The hover trim of the tethered helicopter with a massive tether hanging from P straight
+    down to the winch (the paper's geometry, q7 = q8 = 0).
+
+    Attributes
+    ----------
+    trim : TrimPoint
+        The helicopter's trim (``model.trim``): x with x[12] the unstretched length L0, u the
+        hover input excluding the tether torque (Tables IV, V), ``u_total`` the rotors' actual
+        inputs, ``tension`` the tension at P.
+    catenary : ElasticCatenary
+        The hanging tether, A the winch (the origin O) and B the point P.
+    force_P : ndarray (3,)
+        The force the tether exerts on P [N, in N]: -(T_ground + mu g L0) n3.
+    nodes : ndarray (N+1, 3)
+        The lumped chain's exact static equilibrium (``static_chain``) [m], row 0 the winch.
+    """
+
+    trim: TrimPoint
+    catenary: ElasticCatenary
+    force_P: np.ndarray
+    nodes: np.ndarray
+
+    @property
+    def ground_tension_N(self) -> float:
+        """Tension at the winch [N] (the load cell)."""
+        return self.catenary.tension_A_N
+
+    @property
+    def top_tension_N(self) -> float:
+        """Tension at P [N]: the ground tension plus the cable's weight."""
+        return self.catenary.tension_B_N
+
+    @property
+    def unstretched_length_m(self) -> float:
+        """Paid-out unstretched length L0 [m]."""
+        return self.catenary.unstretched_length_m
+
+
+def hover_trim_lumped(
+    params: Params,
+    tether: LumpedTether,
+    ground_tension_N: float,
+    q9: float = 10.0,
+    *,
+    u_min: object = None,
+    u_max: object = None,
+) -> LumpedTrim:
+    """Hover trim with a massive tether: P at height q9 straight above the winch, the tether
+    hanging in its static shape (the vertical elastic catenary) with tension
+    ``ground_tension_N`` at the winch.
+
+    The hanging cable's tension grows linearly with height, T(s) = T_g + mu g s, so the
+    unstretched length L0 solves q9 = L0 + (T_g L0 + mu g L0^2 / 2) / EA (Irvine's catenary at
+    zero span) and the force at P is -(T_g + mu g L0) n3: radial along c3 = n3, so the
+    helicopter's trim is eq 28's trim (``trim.windless_trim``) with that tension at P.
+
+    Parameters
+    ----------
+    params : Params or a model with ``.params``
+    tether : LumpedTether
+    ground_tension_N : float
+        Tension at the winch [N], > 0 (the tension PI's reference, eq 56).
+    q9 : float
+        Height of P above the winch [m] (``params.TETHER_LENGTH_RANGE``); the paper's 10 m.
+    u_min, u_max : (4,) or None
+        Rotor input limits [fMR3 N, tMR1 N m, tMR2 N m, fTR2 N] (``actuators.u_min/u_max``);
+        the trim's actual inputs ``u_total`` must lie strictly within them.
+
+    Returns
+    -------
+    LumpedTrim
+
+    Raises ParameterError for bad input and InfeasibleError for a hover outside the rotor
+    limits or with no trim.
+    """
+    from ..params import check_tether_length
+    from .trim import windless_trim
+
+    params = getattr(params, "params", params)
+    if not isinstance(tether, LumpedTether):
+        raise ParameterError("tether", tether, "a LumpedTether")
+    T_g = check_number("ground_tension_N", ground_tension_N, low=0.0, low_open=True, unit="[N]")
+    q9 = check_tether_length(q9, "q9")
+    g = params.helicopter.g
+    w = tether.mass_per_length_kg_m * g
+    EA = tether.EA_N
+    b = 1.0 + T_g / EA
+    L0 = 2.0 * q9 / (b + math.sqrt(b * b + 2.0 * w * q9 / EA))  # the root of the quadratic
+    cat = elastic_catenary(0.0, q9, w, EA, unstretched_length_m=L0)
+    top = cat.tension_B_N
+    trim = windless_trim(params, top, q9, L0)
+    u = trim.u_total
+    names = ("fMR3", "tMR1", "tMR2", "fTR2")
+    for bound, low in ((u_min, True), (u_max, False)):
+        if bound is None:
+            continue
+        lim = np.asarray(bound, dtype=float)
+        for i, name in enumerate(names):
+            if (u[i] <= lim[i]) if low else (u[i] >= lim[i]):
+                raise InfeasibleError(
+                    "ground_tension_N",
+                    T_g,
+                    f"a tension whose hover fits the rotor limits: {name} = {u[i]:.6g} at a "
+                    f"tension of {top:.6g} N at P is outside u_{'min' if low else 'max'} = "
+                    f"{lim[i]:g}",
+                )
+    nodes = static_chain(np.zeros(3), np.array([0.0, 0.0, q9]), L0, tether, g)
+    return LumpedTrim(trim=trim, catenary=cat, force_P=np.array([0.0, 0.0, -top]), nodes=nodes)
+
+
+# ----------------------------------------------------------------------------------------------
+# the tether as a sensor with sag (issue 13, item 5)
+# ----------------------------------------------------------------------------------------------
+
+
+def _cable_end(T0, L0, tether, g, wind):
+    """Integrate the static cable from the winch (s = 0, tension vector T0 [N] along the cable)
+    over its unstretched length L0 [m] in a steady uniform wind (3,) [m/s]: dT/ds = mu g n3 -
+    drag, dr/ds = (1 + |T| / EA) T / |T|, the drag per stretched length that of
+    ``chain_forces`` on a still cable (CDN |W_n| W_n + CDT |W_t| W_t). Returns r(L0), T(L0)."""
+    from scipy.integrate import solve_ivp
+
+    p = tether.packed(g)
+    mu_g = tether.mass_per_length_kg_m * g
+    EA = tether.EA_N
+    W = np.asarray(wind, dtype=float)
+
+    def rhs(_, y):
+        T = y[3:]
+        t = math.sqrt(T @ T)
+        e = T / t
+        lam = 1.0 + t / EA
+        Wt = (W @ e) * e
+        Wn = W - Wt
+        drag = lam * (
+            p[LUMPED_CDN] * math.sqrt(Wn @ Wn) * Wn + p[LUMPED_CDT] * math.sqrt(Wt @ Wt) * Wt
+        )
+        dT = -drag
+        dT[2] += mu_g
+        return np.concatenate([lam * e, dT]) * L0
+
+    y0 = np.concatenate([np.zeros(3), T0])
+    sol = solve_ivp(rhs, (0.0, 1.0), y0, method="DOP853", rtol=1e-12, atol=1e-12 * max(L0, 1.0))
+    return sol.y[:3, -1], sol.y[3:, -1]
+
+
+@dataclass(frozen=True)
+class StaticCable:
+    """A static cable from the winch (origin) to P in steady wind (``static_cable``).
+
+    Attributes: ``r_P`` (3,) [m]; ``unstretched_length_m`` L0 [m]; ``ground_tension`` (3,)
+    [N], the tension vector at the winch along the cable (its direction the winch tangent);
+    ``top_tension`` (3,) [N] at P (the force on P is its negative); ``wind`` (3,) [m/s]."""
+
+    r_P: np.ndarray
+    unstretched_length_m: float
+    ground_tension: np.ndarray
+    top_tension: np.ndarray
+    wind: np.ndarray
+
+    @property
+    def encoder_angles(self) -> tuple[float, float]:
+        """(q7, q8) [rad] the ground joint's encoders read: the winch tangent
+        e = c3 = [s8, -s7 c8, c7 c8] (eq 27)."""
+        e = self.ground_tension / np.linalg.norm(self.ground_tension)
+        return math.atan2(-e[1], e[2]), math.asin(max(-1.0, min(1.0, e[0])))
+
+
+def static_cable(
+    r_P: object,
+    ground_tension_N: float,
+    tether: LumpedTether,
+    g: float,
+    wind: object = (0.0, 0.0, 0.0),
+) -> StaticCable:
+    """The static cable from the winch at the origin to P for a given winch tension, in a
+    steady uniform wind with drag on the cable (``_cable_end``): shooting on the ground
+    tension's horizontal components and the unstretched length L0 (the vertical component
+    sqrt(T_g^2 - Tx^2 - Ty^2) > 0: the cable leaves the winch upwards). Without wind it is
+    Irvine's elastic catenary (a test checks it).
+
+    Parameters
+    ----------
+    r_P : (3,)
+        P relative to the winch [m], above it.
+    ground_tension_N : float
+        Tension at the winch [N], > 0.
+    tether : LumpedTether
+    g : float
+        Gravity [m/s^2].
+    wind : (3,)
+        Steady wind [m/s].
+
+    Returns
+    -------
+    StaticCable
+
+    Raises InfeasibleError when no such cable leaves the winch upwards (a cable too heavy for
+    the tension: it would lie on the ground).
+    """
+    from .._validation import check_vector
+
+    d = np.array(check_vector("r_P", r_P, 3), dtype=float)
+    if d[2] <= 0.0:
+        raise ParameterError("r_P", d.tolist(), "a point above the winch (r_P[2] > 0 m)")
+    T_g = check_number("ground_tension_N", ground_tension_N, low=0.0, low_open=True, unit="[N]")
+    W = np.array(check_vector("wind", wind, 3), dtype=float)
+    chord = float(np.linalg.norm(d))
+
+    def unpack(z):
+        hx, hy = z[0] * T_g, z[1] * T_g
+        vz2 = T_g * T_g - hx * hx - hy * hy
+        return hx, hy, vz2, chord * math.exp(z[2])
+
+    def residual(z):
+        hx, hy, vz2, L0 = unpack(z)
+        if vz2 <= 0.0:
+            return np.full(3, 1e3)
+        r, _ = _cable_end(np.array([hx, hy, math.sqrt(vz2)]), L0, tether, g, W)
+        return (r - d) / chord
+
+    # start: the windless catenary's ground tangent (a straight stretched chord if it fails)
+    e = d / chord
+    z0 = np.array([e[0], e[1], math.log(1.0 / (1.0 + T_g / tether.EA_N))])
+    sol = optimize.root(residual, z0, method="hybr", tol=1e-13)
+    hx, hy, vz2, L0 = unpack(sol.x)
+    if vz2 <= 0.0 or np.max(np.abs(residual(sol.x))) > 1e-9:
+        raise InfeasibleError(
+            "ground_tension_N",
+            T_g,
+            f"a tension that lifts the cable off the ground all the way to P at {d.tolist()} m "
+            f"(mu = {tether.mass_per_length_kg_m:g} kg/m, wind {W.tolist()} m/s)",
+        )
+    T0 = np.array([hx, hy, math.sqrt(vz2)])
+    _, Ttop = _cable_end(T0, L0, tether, g, W)
+    return StaticCable(r_P=d, unstretched_length_m=L0, ground_tension=T0, top_tension=Ttop, wind=W)
+
+
+def catenary_position_estimate(
+    q7: float,
+    q8: float,
+    ground_tension_N: float,
+    unstretched_length_m: float,
+    tether: LumpedTether,
+    g: float,
+    wind: object = None,
+) -> np.ndarray:
+    """P relative to the winch [m] from the ground joint's encoders (the winch tangent
+    c3(q7, q8)), the load cell's tension and the paid-out unstretched length: the elastic
+    catenary (Irvine) integrated from the winch, H = T_g |c3_h|, V = T_g c3,3; with
+    ``wind`` (3,) [m/s] the static cable with drag (``_cable_end``) instead. It corrects the
+    sag bias of Sec. IV-F's straight-tether estimate (``sensors.tether_position_estimate``).
+
+    Parameters
+    ----------
+    q7, q8 : float
+        Encoder angles [rad].
+    ground_tension_N : float
+        Tension at the winch [N], > 0.
+    unstretched_length_m : float
+        Paid-out unstretched length L0 [m], > 0.
+    tether : LumpedTether
+    g : float
+        Gravity [m/s^2].
+    wind : (3,) or None
+        A known steady wind [m/s]; None: the catenary without drag.
+
+    Returns
+    -------
+    ndarray (3,)
+    """
+    q7 = check_number("q7", q7)
+    q8 = check_number("q8", q8)
+    T_g = check_number("ground_tension_N", ground_tension_N, low=0.0, low_open=True, unit="[N]")
+    L0 = check_number("unstretched_length_m", unstretched_length_m, low=0.0, low_open=True)
+    e = np.array([math.sin(q8), -math.sin(q7) * math.cos(q8), math.cos(q7) * math.cos(q8)])
+    if wind is not None:
+        r, _ = _cable_end(T_g * e, L0, tether, g, wind)
+        return r
+    eh = math.hypot(e[0], e[1])
+    x, z = _catenary_xz(
+        np.array([L0]), T_g * eh, T_g * e[2], tether.mass_per_length_kg_m * g, tether.EA_N
+    )
+    horiz = np.array([e[0] / eh, e[1] / eh, 0.0]) if eh > 0.0 else np.zeros(3)
+    r = x[0] * horiz
+    r[2] = z[0]
+    return r
+
+
+def straight_tether_estimates(cable: StaticCable, EA_N: float) -> tuple[np.ndarray, np.ndarray]:
+    """Sec. IV-F's straight-tether estimates of P [m] from the winch-tangent angles of
+    ``cable``: (i) with the altimeter (eq 45: the length from the true height of P,
+    ``sensors.tether_position_estimate`` at zero arm, the attitude terms cancelling) and (ii)
+    with the paid-out length as eq 28's stretched length L0 (1 + T_g / EA)."""
+    from ..sensors import tether_position_estimate
+    from .kinematics import tethered_HO_position
+
+    q7, q8 = cable.encoder_angles
+    alt = tether_position_estimate(q7, q8, cable.r_P[2], 0.0, 0.0, 0.0)[0]
+    length = cable.unstretched_length_m * (1.0 + np.linalg.norm(cable.ground_tension) / EA_N)
+    by_length = np.asarray(tethered_HO_position(0.0, 0.0, q7, q8, length, 0.0), dtype=float)
+    return alt, by_length.reshape(3)
