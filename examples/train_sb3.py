@@ -1,3 +1,4 @@
+# not-for-ci: trains a policy for minutes and needs the `rl` extra (stable-baselines3, torch)
 """Train a PPO policy (Stable-Baselines3) on the tethered-hover environment.
 
 The policy acts on top of the paper's controller (``residual=True``, the default): a zero

@@ -10,6 +10,8 @@ import re
 import pytest
 
 from tetherheli import cli
+from tetherheli.sim.result import RESULT_FORMATS
+from tetherheli.viz.plots import FIGURE_FORMATS
 
 #: reStructuredText markup that must not reach --help: ``literal``, `interpreted`, roles
 _RST = re.compile(r"``|`[^`]+`|:(func|class|mod|meth|attr|data|ref|doc|math):")
@@ -58,12 +60,19 @@ def test_the_same_things_are_spelled_the_same():
         assert "--output" not in flags or flags["--output"].help == argparse.SUPPRESS, name
     for name in ("trim",):
         assert "--out" not in _flags(subs[name])  # prints, writes nothing
-    for name in ("derive", "paper", "simulate", "animate", "sweep", "montecarlo", "sensing"):
+    for name in (
+        "derive", "paper", "simulate", "animate", "sweep", "montecarlo", "sensing", "compare",
+    ):  # fmt: skip
         assert "--out" in _flags(subs[name]), name
     for name in ("paper", "simulate", "sweep", "montecarlo", "sensing"):
         fmt = _flags(subs[name])["--figure-format"]
-        assert fmt.choices == ("png", "pdf", "svg") and fmt.default == "png", name
-        assert "--format" not in _flags(subs[name])  # that spelling is the data format's
+        assert fmt.choices == FIGURE_FORMATS and fmt.default == "png", name
+    for name, sub in subs.items():  # --format is always the time series' data format
+        if "--format" in _flags(sub):
+            data = _flags(sub)["--format"]
+            assert tuple(data.choices) == RESULT_FORMATS and data.default == "csv", name
+    for name in ("paper", "simulate", "montecarlo"):
+        assert "--format" in _flags(subs[name]), name
     for name in ("sweep", "montecarlo"):
         assert _flags(subs[name])["--workers"].help == _flags(subs["montecarlo"])["--workers"].help
     assert "--seed" in _flags(subs["montecarlo"])
