@@ -582,6 +582,22 @@ _TOP_KEYS = {
 }
 
 
+def _vectors(source, key, value, cls) -> dict[str, Any]:
+    """The TOML table ``value`` of settings ``cls`` (``_table``), its vector keys (a ``Key``
+    of kind "vector") turned from TOML arrays into tuples."""
+    table = dict(_table(source, key, value, cls))
+    for f in dataclasses.fields(cls):
+        spec = f.metadata.get("key")
+        if spec is None or spec.kind != "vector" or f.name not in table:
+            continue
+        if not isinstance(table[f.name], list):
+            raise ParameterError(
+                f"{key}.{f.name}", table[f.name], f"a list of {spec.length} numbers", source=source
+            )
+        table[f.name] = tuple(table[f.name])
+    return table
+
+
 def _table(source, key, value, allowed_cls) -> dict[str, Any]:
     if not isinstance(value, dict):
         raise ParameterError(key, value, "a table", source=source)
@@ -614,21 +630,9 @@ def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Sc
     if "metrics_start" in data:
         kwargs["metrics_start"] = data["metrics_start"]  # checked with the rest by _validate
     if "control" in data:
-        ctl = dict(_table(source, "control", data["control"], ControlSettings))
-        for k in ("Qy", "Ru"):
-            if k in ctl:
-                if not isinstance(ctl[k], list):
-                    raise ParameterError(f"control.{k}", ctl[k], "a list of numbers", source=source)
-                ctl[k] = tuple(ctl[k])
+        ctl = _vectors(source, "control", data["control"], ControlSettings)
         if "tether_lqi" in ctl:
-            tl = dict(_table(source, "control.tether_lqi", ctl["tether_lqi"], TetherLQISettings))
-            for k in ("Qy", "Ru"):
-                if k in tl:
-                    if not isinstance(tl[k], list):
-                        raise ParameterError(
-                            f"control.tether_lqi.{k}", tl[k], "a list of numbers", source=source
-                        )
-                    tl[k] = tuple(tl[k])
+            tl = _vectors(source, "control.tether_lqi", ctl["tether_lqi"], TetherLQISettings)
             ctl["tether_lqi"] = TetherLQISettings(**tl)
         if "dt" in ctl:
             ctl["dt"] = field_key(ControlSettings, "dt").check(
@@ -644,14 +648,7 @@ def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Sc
             }
         )
     if "actuators" in data:
-        act = dict(_table(source, "actuators", data["actuators"], ActuatorSettings))
-        for k in ("u_min", "u_max"):
-            if k in act:
-                if not isinstance(act[k], list):
-                    raise ParameterError(
-                        f"actuators.{k}", act[k], "a list of 4 numbers", source=source
-                    )
-                act[k] = tuple(act[k])
+        act = _vectors(source, "actuators", data["actuators"], ActuatorSettings)
         kwargs["actuators"] = ActuatorSettings(**act)
     if "sensors" in data:
         if not isinstance(data["sensors"], dict):
