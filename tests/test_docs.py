@@ -135,7 +135,7 @@ def test_documented_range_is_the_checked_one(key, default, allowed):
 
 #: The modules the API reference (docs/api.md) documents, with the names it lists; the
 #: docstrings of these are converted to numpydoc. Not yet converted (other work in progress):
-#: envs.py, vector_env.py, cli.py, viz/, progress.py, the Monte Carlo, control/, sim/engine.py.
+#: envs.py, vector_env.py, cli.py, viz/, progress.py, the Monte Carlo, sim/engine.py.
 API = {
     "tetherheli.params": ["Params", "HelicopterParams", "TetherParams", "TensionControlParams",
                           "check_tether_length"],
@@ -150,6 +150,12 @@ API = {
     "tetherheli.sim.reference": ["scenario_reference"],
     "tetherheli._validation": ["Key"],
     "tetherheli.errors": ["ParameterError", "InfeasibleError"],
+    "tetherheli.control.tether_lqi": ["design_tether_lqi", "tethered_design", "tether_lqi_gain",
+                                      "TetherLQIGain"],
+    "tetherheli.control.lqi": ["design_lqi", "augment_lqi", "LQIGain"],
+    "tetherheli.control.base": ["Controller", "Command", "Measurement"],
+    "tetherheli.control.paper": ["PaperController"],
+    "tetherheli.control.tension": ["TensionPI"],
 }  # fmt: skip
 
 

@@ -141,7 +141,22 @@ class TensionPI:
     def from_params(
         cls, params: TensionControlParams, dt: float, *, rate_limit: float = math.inf
     ) -> TensionPI:
-        """The controller with the gains and reference of ``params`` (eq 56, Sec. VI)."""
+        """The controller with the gains and reference of ``params`` (eq 56, Sec. VI).
+
+        Parameters
+        ----------
+        params : TensionControlParams
+            K_P [m/(s N)], K_I [m/(s^2 N)] and T_ref [N].
+        dt : float
+            Sample time [s], > 0.
+        rate_limit : float, optional
+            Bound on |R_C| [m/s] (default ``math.inf``, none).
+
+        Returns
+        -------
+        TensionPI
+            The configured controller.
+        """
         return cls(K_P=params.K_P, K_I=params.K_I, T_ref=params.T_ref, dt=dt, rate_limit=rate_limit)
 
     def step(self, state_integral: float, measured_tension: float) -> tuple[float, float]:
