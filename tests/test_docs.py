@@ -135,7 +135,7 @@ def test_documented_range_is_the_checked_one(key, default, allowed):
 
 #: The modules the API reference (docs/api.md) documents, with the names it lists; the
 #: docstrings of these are converted to numpydoc. Not yet converted (other work in progress):
-#: envs.py, vector_env.py, cli.py, viz/, progress.py, the Monte Carlo, sim/engine.py.
+#: cli.py, viz/, progress.py, the Monte Carlo, sim/engine.py.
 API = {
     "tetherheli.params": ["Params", "HelicopterParams", "TetherParams", "TensionControlParams",
                           "check_tether_length"],
@@ -156,6 +156,8 @@ API = {
     "tetherheli.control.base": ["Controller", "Command", "Measurement"],
     "tetherheli.control.paper": ["PaperController"],
     "tetherheli.control.tension": ["TensionPI"],
+    "tetherheli.envs": ["TetheredHoverEnv", "register_envs", "finish_step", "observe_into"],
+    "tetherheli.vector_env": ["TetheredHoverVectorEnv"],
 }  # fmt: skip
 
 
