@@ -135,7 +135,7 @@ def test_documented_range_is_the_checked_one(key, default, allowed):
 
 #: The modules the API reference (docs/api.md) documents, with the names it lists; the
 #: docstrings of these are converted to numpydoc. Not yet converted (other work in progress):
-#: cli.py, viz/, progress.py, the Monte Carlo, sim/engine.py.
+#: cli.py, viz/animation.py, progress.py, the Monte Carlo, sim/engine.py.
 API = {
     "tetherheli.params": ["Params", "HelicopterParams", "TetherParams", "TensionControlParams",
                           "check_tether_length"],
@@ -158,6 +158,10 @@ API = {
     "tetherheli.control.tension": ["TensionPI"],
     "tetherheli.envs": ["TetheredHoverEnv", "register_envs", "finish_step", "observe_into"],
     "tetherheli.vector_env": ["TetheredHoverVectorEnv"],
+    "tetherheli.viz.plots": ["figure_outputs", "figure_inputs", "figure_sweep",
+                             "figure_limit_search", "figure_release", "figure_montecarlo",
+                             "figure_paired", "figure_sensing", "save_figure",
+                             "check_figure_format", "metric_label", "plottable"],
 }  # fmt: skip
 
 
