@@ -135,7 +135,8 @@ def test_documented_range_is_the_checked_one(key, default, allowed):
 
 #: The modules the API reference (docs/api.md) documents, with the names it lists; the
 #: docstrings of these are converted to numpydoc. Not yet converted (other work in progress):
-#: cli.py, viz/animation.py, progress.py, the Monte Carlo, sim/engine.py.
+#: cli.py, viz/animation.py, progress.py, the Monte Carlo, studies/ (but controllers),
+#: sim/engine.py.
 API = {
     "tetherheli.params": ["Params", "HelicopterParams", "TetherParams", "TensionControlParams",
                           "check_tether_length"],
@@ -169,6 +170,14 @@ API = {
     "tetherheli.compare": ["compare", "write_compare", "register"],
     "tetherheli.studies.controllers": ["eq40_saturated", "with_controller",
                                        "controller_metrics", "fly"],
+    "tetherheli.model.tether_lumped": ["LumpedTether", "LumpedTrim", "StaticCable",
+                                       "ElasticCatenary", "hover_trim_lumped", "initial_chain",
+                                       "static_chain", "static_cable", "elastic_catenary",
+                                       "chain_forces", "chain_energy", "end_forces",
+                                       "force_at_P_as_loads", "tethered_derivative_force_at_P",
+                                       "ros2_step", "ros2_work", "ros2_work_size",
+                                       "catenary_position_estimate",
+                                       "straight_tether_estimates"],
 }  # fmt: skip
 
 
