@@ -92,7 +92,24 @@ def limit_rate_change(
 
     The winch PI (``control.paper.winch_step``) applies it to its own command and holds its
     integral while it binds (conditional integration, no windup); the actuator model applies
-    the same bound to any controller's command."""
+    the same bound to any controller's command.
+
+    Parameters
+    ----------
+    rate : float
+        The commanded reel rate [m/s].
+    previous_rate : float
+        The previous sample's rate [m/s].
+    acceleration_limit : float
+        The winch's acceleration limit [m/s^2] (``math.inf``: none).
+    dt : float
+        Sample time [s].
+
+    Returns
+    -------
+    float
+        ``rate`` clipped to previous_rate -+ acceleration_limit dt [m/s].
+    """
     step = acceleration_limit * dt
     return min(max(rate, previous_rate - step), previous_rate + step)
 

@@ -67,7 +67,20 @@ class TetherLQIGain:
 
 def pack_gain(K_tethered: np.ndarray, K_free: np.ndarray) -> np.ndarray:
     """(9, 17): rows 0-4 the tethered gain (5, 17), rows 5-8 the free gain (4, 16) with a zero
-    LN column inserted at 12 (``layout.LAW_GAIN``)."""
+    LN column inserted at 12 (``layout.LAW_GAIN``).
+
+    Parameters
+    ----------
+    K_tethered : ndarray, shape (5, 17)
+        The tethered LQI's gain on [q4..u6, LN, z].
+    K_free : ndarray, shape (4, 16)
+        The free law's gain on [q4..u6, z].
+
+    Returns
+    -------
+    ndarray, shape (9, 17)
+        The packed gain the engine takes.
+    """
     K = np.zeros((9, 17))
     K[:5] = K_tethered
     K[5:, :12] = K_free[:, :12]
