@@ -135,8 +135,8 @@ def test_documented_range_is_the_checked_one(key, default, allowed):
 
 #: The modules the API reference (docs/api.md) documents, with the names it lists; the
 #: docstrings of these are converted to numpydoc. Not yet converted (other work in progress):
-#: cli.py, viz/animation.py, progress.py, the Monte Carlo, studies/ (but controllers),
-#: sim/engine.py.
+#: cli.py, progress.py, the Monte Carlo (but its statistics), studies/sweep.py and
+#: cyclic_limit.py, sensors.py, sim/setup.py, sim/batch.py, sim/engine.py.
 API = {
     "tetherheli.params": ["Params", "HelicopterParams", "TetherParams", "TensionControlParams",
                           "check_tether_length"],
@@ -188,6 +188,12 @@ API = {
     "tetherheli.wind.loader": ["disturbance_from_dict"],
     "tetherheli.studies.montecarlo.statistics": ["bootstrap_interval", "paired_reduction",
                                                  "tail_percentile", "with_failures"],
+    "tetherheli.viz.animation": ["RunData", "animate", "frame_rgb", "load_run", "render_frame",
+                                 "run_colours"],
+    "tetherheli.studies.release": ["ReleaseComparison", "altitude_excursion",
+                                   "release_comparison"],
+    "tetherheli.analysis": ["RunMetrics", "TetherMoment", "metric_samples", "reduction_percent",
+                            "run_metrics", "tether_moment"],
 }  # fmt: skip
 
 
