@@ -135,8 +135,9 @@ def test_documented_range_is_the_checked_one(key, default, allowed):
 
 #: The modules the API reference (docs/api.md) documents, with the names it lists; the
 #: docstrings of these are converted to numpydoc. Not yet converted (other work in progress):
-#: cli.py, progress.py, the Monte Carlo (but its statistics), studies/cyclic_limit.py,
-#: sensors.py, sim/setup.py, sim/batch.py, sim/engine.py.
+#: cli.py, progress.py, the Monte Carlo (but its statistics), sensors.py, sim/setup.py,
+#: sim/batch.py, sim/engine.py, model/derive.py, model/codegen.py, model/kernels.py and the
+#: private helpers (_io, _validation, _compile, _linalg), resources.py, report.py.
 API = {
     "tetherheli.params": ["Params", "HelicopterParams", "TetherParams", "TensionControlParams",
                           "check_tether_length"],
@@ -198,6 +199,9 @@ API = {
                                  "paper_cyclic_limit", "scenario_cyclic_limit",
                                  "parameter_label"],
     "tetherheli.status": ["status_message", "release_sentence"],
+    "tetherheli.studies.cyclic_limit": ["minimum_cyclic_limit", "LimitSearch",
+                                        "write_limit_search", "bisect_criterion",
+                                        "bracket_from_above"],
 }  # fmt: skip
 
 
