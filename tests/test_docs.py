@@ -135,9 +135,9 @@ def test_documented_range_is_the_checked_one(key, default, allowed):
 
 #: The modules the API reference (docs/api.md) documents, with the names it lists; the
 #: docstrings of these are converted to numpydoc. Not yet converted (other work in progress):
-#: cli.py, progress.py, the Monte Carlo (but its statistics), sensors.py, sim/setup.py,
-#: sim/batch.py, sim/engine.py, model/derive.py, model/codegen.py, model/kernels.py and the
-#: private helpers (_io, _validation, _compile, _linalg), resources.py, report.py.
+#: cli.py, progress.py, sensors.py, sim/setup.py, sim/batch.py, sim/engine.py,
+#: model/derive.py, model/codegen.py, model/kernels.py, resources.py, report.py and the
+#: private helpers (_io, _validation, _compile, _linalg).
 API = {
     "tetherheli.params": ["Params", "HelicopterParams", "TetherParams", "TensionControlParams",
                           "check_tether_length"],
@@ -202,6 +202,10 @@ API = {
     "tetherheli.studies.cyclic_limit": ["minimum_cyclic_limit", "LimitSearch",
                                         "write_limit_search", "bisect_criterion",
                                         "bracket_from_above"],
+    "tetherheli.studies.montecarlo.config": ["MonteCarloConfig", "load_montecarlo",
+                                             "montecarlo_config_from_dict"],
+    "tetherheli.studies.montecarlo.draws": ["Draw", "draw", "draw_seed"],
+    "tetherheli.studies.montecarlo.runner": ["run_montecarlo", "result_files"],
 }  # fmt: skip
 
 
