@@ -135,21 +135,77 @@ def test_documented_range_is_the_checked_one(key, default, allowed):
 
 #: The modules the API reference (docs/api.md) documents, with the names it lists; the
 #: docstrings of these are converted to numpydoc. Not yet converted (other work in progress):
-#: envs.py, vector_env.py, cli.py, viz/, progress.py, the Monte Carlo, control/, sim/engine.py.
+#: cli.py, progress.py, sensors.py, sim/setup.py, sim/batch.py, sim/engine.py,
+#: model/derive.py, model/codegen.py, model/kernels.py, resources.py, report.py and the
+#: private helpers (_io, _validation, _compile, _linalg).
 API = {
     "tetherheli.params": ["Params", "HelicopterParams", "TetherParams", "TensionControlParams",
                           "check_tether_length"],
     "tetherheli.model.dynamics": ["FreeHelicopter", "TetheredHelicopter"],
     "tetherheli.model.trim": ["TrimPoint", "hover_trim"],
     "tetherheli.model.linearize": ["LinearModel", "linearize"],
-    "tetherheli.sim.scenario": ["Scenario", "ControlSettings", "Limits", "ActuatorSettings",
-                                "load_scenario", "paper_scenario", "scenario_toml",
-                                "metrics_first_sample"],
+    "tetherheli.sim.scenario": ["Scenario", "ControlSettings", "TetherLQISettings", "Limits",
+                                "ActuatorSettings", "load_scenario", "paper_scenario",
+                                "scenario_toml", "metrics_first_sample"],
     "tetherheli.sim.closed_loop": ["simulate"],
     "tetherheli.sim.result": ["SimulationResult", "load_result", "list_results"],
     "tetherheli.sim.reference": ["scenario_reference"],
     "tetherheli._validation": ["Key"],
     "tetherheli.errors": ["ParameterError", "InfeasibleError"],
+    "tetherheli.control.tether_lqi": ["design_tether_lqi", "tethered_design", "tether_lqi_gain",
+                                      "TetherLQIGain", "pack_gain"],
+    "tetherheli.control.lqi": ["design_lqi", "augment_lqi", "LQIGain"],
+    "tetherheli.control.base": ["Controller", "Command", "Measurement"],
+    "tetherheli.control.paper": ["PaperController"],
+    "tetherheli.control.tension": ["TensionPI", "limit_rate_change"],
+    "tetherheli.envs": ["TetheredHoverEnv", "register_envs", "finish_step", "observe_into"],
+    "tetherheli.vector_env": ["TetheredHoverVectorEnv"],
+    "tetherheli.viz.plots": ["figure_outputs", "figure_inputs", "figure_sweep",
+                             "figure_limit_search", "figure_release", "figure_montecarlo",
+                             "figure_paired", "figure_sensing", "save_figure",
+                             "check_figure_format", "metric_label", "plottable"],
+    "tetherheli.estimation": ["Fixes", "PositionFilter", "position_filter", "run_filter",
+                              "EstimateResult", "estimate_run"],
+    "tetherheli.shipped": ["shipped_scenarios", "shipped_scenario_text", "shipped_scenario",
+                           "copy_scenario"],
+    "tetherheli.compare": ["compare", "write_compare", "register"],
+    "tetherheli.studies.controllers": ["eq40_saturated", "with_controller",
+                                       "controller_metrics", "fly"],
+    "tetherheli.model.tether_lumped": ["LumpedTether", "LumpedTrim", "StaticCable",
+                                       "ElasticCatenary", "hover_trim_lumped", "initial_chain",
+                                       "static_chain", "static_cable", "elastic_catenary",
+                                       "chain_forces", "chain_energy", "end_forces",
+                                       "force_at_P_as_loads", "tethered_derivative_force_at_P",
+                                       "ros2_step", "ros2_work", "ros2_work_size",
+                                       "catenary_position_estimate",
+                                       "straight_tether_estimates"],
+    "tetherheli.wind.profiles": ["Disturbance", "NoWind", "ConstantForce", "Step", "Pulse",
+                                 "Sine", "WindSum", "paper_wind"],
+    "tetherheli.wind.turbulence": ["GustModel", "GaussMarkovTurbulence", "DrydenGust",
+                                   "CalibratedGaussMarkovTurbulence", "GustCalibration",
+                                   "gust_calibration", "Turbulence", "check_wind_covers",
+                                   "heading_axes", "initial_wind_force"],
+    "tetherheli.wind.drag": ["DragModel"],
+    "tetherheli.wind.loader": ["disturbance_from_dict"],
+    "tetherheli.studies.montecarlo.statistics": ["bootstrap_interval", "paired_reduction",
+                                                 "tail_percentile", "with_failures"],
+    "tetherheli.viz.animation": ["RunData", "animate", "frame_rgb", "load_run", "render_frame",
+                                 "run_colours"],
+    "tetherheli.studies.release": ["ReleaseComparison", "altitude_excursion",
+                                   "release_comparison"],
+    "tetherheli.analysis": ["RunMetrics", "TetherMoment", "metric_samples", "reduction_percent",
+                            "run_metrics", "tether_moment"],
+    "tetherheli.studies.sweep": ["sweep", "SweepResult", "write_sweep", "tension_bound",
+                                 "paper_cyclic_limit", "scenario_cyclic_limit",
+                                 "parameter_label"],
+    "tetherheli.status": ["status_message", "release_sentence"],
+    "tetherheli.studies.cyclic_limit": ["minimum_cyclic_limit", "LimitSearch",
+                                        "write_limit_search", "bisect_criterion",
+                                        "bracket_from_above"],
+    "tetherheli.studies.montecarlo.config": ["MonteCarloConfig", "load_montecarlo",
+                                             "montecarlo_config_from_dict"],
+    "tetherheli.studies.montecarlo.draws": ["Draw", "draw", "draw_seed"],
+    "tetherheli.studies.montecarlo.runner": ["run_montecarlo", "result_files"],
 }  # fmt: skip
 
 
@@ -169,9 +225,13 @@ def _public_callables():
 
 def _missing_sections(obj) -> list[str]:
     """What numpydoc requires of ``obj`` and its docstring lacks: a Parameters entry for every
-    argument (a class: its constructor's), Returns for a function that returns a value."""
+    argument (a class: its constructor's), Returns for a function that returns a value. A
+    NamedTuple's fields may be under Attributes (the API reference's reader, griffe, does not
+    see them as a signature)."""
     found = sections(obj.__doc__)
     documented = parameter_docs(obj.__doc__)
+    if inspect.isclass(obj) and issubclass(obj, tuple) and hasattr(obj, "_fields"):
+        documented |= parameter_docs(obj.__doc__, "Attributes")
     problems = []
     signature = inspect.signature(obj)
     for p in signature.parameters.values():

@@ -36,7 +36,17 @@ __all__ = [
 
 @dataclass(frozen=True)
 class RunMetrics:
-    """Peak and RMS deviations from trim and the tension range of one run."""
+    """Peak and RMS deviations from trim and the tension range of one run.
+
+    Parameters
+    ----------
+    peak_abs_dev : dict of str to float
+        max |deviation| of "q1", "q2", "q3" [m] and of "q4_deg", "q5_deg" [deg].
+    rms_dev : dict of str to float
+        RMS deviation of "q1", "q2", "q3" [m].
+    tension_min, tension_max : float
+        The tension range [N].
+    """
 
     peak_abs_dev: dict[str, float]
     rms_dev: dict[str, float]
@@ -44,6 +54,13 @@ class RunMetrics:
     tension_max: float
 
     def as_dict(self) -> dict[str, object]:
+        """The metrics as a JSON-friendly record (summary.json).
+
+        Returns
+        -------
+        dict of str to object
+            The four fields, the dictionaries copied.
+        """
         return {
             "peak_abs_dev": dict(self.peak_abs_dev),
             "rms_dev": dict(self.rms_dev),
@@ -59,13 +76,35 @@ def _first_sample(result: SimulationResult) -> int:
 
 def metric_samples(result: SimulationResult) -> int:
     """How many recorded samples the metrics cover (0: none, e.g. a run that failed before
-    ``metrics_start``)."""
+    ``metrics_start``).
+
+    Parameters
+    ----------
+    result : SimulationResult
+        A recorded run.
+
+    Returns
+    -------
+    int
+        The number of samples at or after ``metrics_start``.
+    """
     return max(0, result.time.size - _first_sample(result))
 
 
 def run_metrics(result: SimulationResult) -> RunMetrics:
     """Metrics of ``result`` over its samples from the recorded ``metrics_start`` on (see the
-    module docstring)."""
+    module docstring).
+
+    Parameters
+    ----------
+    result : SimulationResult
+        A recorded run with a sample at or after its ``metrics_start``.
+
+    Returns
+    -------
+    RunMetrics
+        Its peak and RMS deviations from trim and its tension range.
+    """
     k0 = _first_sample(result)
     if result.time.size <= k0:
         raise ValueError(
@@ -82,7 +121,20 @@ def run_metrics(result: SimulationResult) -> RunMetrics:
 
 
 def reduction_percent(free: float, tethered: float) -> float:
-    """100 (free - tethered) / free [%]; NaN-free: raises if free is not positive."""
+    """100 (free - tethered) / free [%]; NaN-free: raises if free is not positive.
+
+    Parameters
+    ----------
+    free : float
+        The free run's metric, finite and > 0.
+    tethered : float
+        The tethered run's metric, finite (same unit).
+
+    Returns
+    -------
+    float
+        The reduction [%] (negative when the tether made it worse).
+    """
     if not (math.isfinite(free) and free > 0.0 and math.isfinite(tethered)):
         raise ValueError(f"free = {free!r}, tethered = {tethered!r}; allowed: finite, free > 0")
     return 100.0 * (free - tethered) / free
@@ -92,10 +144,15 @@ def reduction_percent(free: float, tethered: float) -> float:
 class TetherMoment:
     """The tether's moment about HO over a run (``tether_moment``).
 
-    moment : (n, 2) about f1, f2 [N m]: what the cyclic torques tMR1, tMR2 must balance
-    worst_case : (n,) eq 40's |dO-P,3 - dO-HO,3| TC [N m] (tether perpendicular to the shaft)
-    angle_deg : (n,) angle between the tether and the shaft f3 [deg] (NaN while slack):
-        |moment| = worst_case sin(angle)
+    Parameters
+    ----------
+    moment : ndarray, shape (n, 2)
+        The moment about f1, f2 [N m]: what the cyclic torques tMR1, tMR2 must balance.
+    worst_case : ndarray, shape (n,)
+        Eq 40's |dO-P,3 - dO-HO,3| TC [N m] (tether perpendicular to the shaft).
+    angle_deg : ndarray, shape (n,)
+        Angle between the tether and the shaft f3 [deg] (NaN while slack):
+        |moment| = worst_case sin(angle).
     """
 
     moment: np.ndarray
@@ -129,7 +186,20 @@ class TetherMoment:
 def tether_moment(result: SimulationResult, params: Params) -> TetherMoment:
     """The tether's moment about HO at every recorded sample of a tethered-coordinate run,
     from the recorded state and tension through the model's tether-torque function (generated
-    from eqs 33-34: C1, C2 of eq 55); ``params`` are the run's parameters (Table II)."""
+    from eqs 33-34: C1, C2 of eq 55); ``params`` are the run's parameters (Table II).
+
+    Parameters
+    ----------
+    result : SimulationResult
+        A run recorded in tethered coordinates.
+    params : Params
+        The run's parameters.
+
+    Returns
+    -------
+    TetherMoment
+        The moment [N m], eq 40's worst case [N m] and the tether's angle to the shaft [deg].
+    """
     from .model import kernels  # compiled code: imported when needed
 
     c = kernels.model_constants("tethered", params.helicopter)

@@ -23,7 +23,27 @@ __all__ = ["compare", "register", "write_compare"]
 
 def compare(paths: list[str], controllers: tuple[str, ...], *, eq40: bool) -> list[dict[str, Any]]:
     """One row per (scenario, controller): ``scenario``, ``configuration``, ``controller``,
-    ``status`` and ``controllers.CONTROLLER_METRICS``."""
+    ``status`` and ``controllers.CONTROLLER_METRICS``.
+
+    Each run is flown twice and the second timed (the first compiles what it needs). A
+    free scenario is flown under the paper's controller only.
+
+    Parameters
+    ----------
+    paths : list of str
+        Scenario TOML files.
+    controllers : tuple of str
+        Controller names (``studies.controllers.with_controller``), e.g. ``("paper",
+        "tether_lqi")``.
+    eq40 : bool
+        Saturate tMR1, tMR2 at eq 40's cyclic limit (``eq40_saturated``).
+
+    Returns
+    -------
+    list of dict of str to object
+        One row per (scenario, controller); a run that could not be set up has its error's
+        first line as ``status`` and ``completed`` False.
+    """
     from .errors import TetherheliError
     from .sim import load_scenario
     from .studies.controllers import eq40_saturated, fly, with_controller
@@ -84,7 +104,25 @@ def write_compare(
     force: bool = False,
 ) -> None:
     """compare.csv (every measure), compare.md (the main columns), compare.png and
-    summary.json, written whole or not at all (``_io.output_directory``)."""
+    summary.json, written whole or not at all (``_io.output_directory``).
+
+    Parameters
+    ----------
+    rows : list of dict of str to object
+        ``compare``'s rows.
+    out_dir : str or Path
+        The output folder.
+    command : str
+        The command line, recorded in summary.json.
+    inputs : tuple of str
+        The input files, recorded with the folder's marker.
+    force : bool, optional
+        Replace this command's earlier output in ``out_dir`` (default False).
+
+    Returns
+    -------
+    None
+    """
     from . import __version__
     from ._io import atomic_write_text, output_directory
     from .studies.controllers import CONTROLLER_METRICS
@@ -163,7 +201,17 @@ def _cmd_compare(args: argparse.Namespace) -> int:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    """The ``compare`` sub-command (``cli._EXTRA_COMMANDS``)."""
+    """The ``compare`` sub-command (``cli._EXTRA_COMMANDS``).
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The CLI's sub-command parsers, to which ``compare`` is added.
+
+    Returns
+    -------
+    None
+    """
     p = sub.add_parser("compare", help="fly scenarios under several controllers: table, figure")
     p.add_argument("scenarios", nargs="+", help="scenario TOML files")
     p.add_argument(

@@ -197,7 +197,36 @@ def finish_step(x, a, cfg, c, y, y_ref, effort_weight, penalty):
     """The end of a step at the sampled state x (13,): y (4,) receives the true outputs
     q1, q2, q3, q6 (eqs 43-45); returns (status of ``engine.check_state``, reward, true
     tension [N]). Reward: -(|q_1..3 - q_ref|^2 + effort_weight |a|^2) with the clipped action
-    a (4,), or -penalty when the state failed."""
+    a (4,), or -penalty when the state failed.
+
+    Parameters
+    ----------
+    x : ndarray, shape (13,)
+        The state at the end of the step, [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+    a : ndarray, shape (4,)
+        The clipped action in [-1, 1] (dimensionless).
+    cfg : ndarray, shape (CFG_SIZE,)
+        The engine's configuration (``layout.CFG_*``: attachment, K_C, failure limits...).
+    c : ndarray
+        The tethered model's constants (``kernels.model_constants("tethered", h)``).
+    y : ndarray, shape (4,)
+        Scratch; receives the true outputs [q1, q2, q3, q6] in [m, m, m, rad].
+    y_ref : ndarray, shape (4,)
+        The trim outputs [m, m, m, rad].
+    effort_weight : float
+        Weight of |a|^2 in the reward, >= 0.
+    penalty : float
+        The reward of a failed state is -penalty.
+
+    Returns
+    -------
+    status : int
+        ``engine.check_state``'s status (``Status``), ``STATUS_OK`` unless the state failed.
+    reward : float
+        The step's reward [m^2, with the effort term added].
+    tension : float
+        The true tether tension [N] (eq 28), 0 when detached.
+    """
     tension = tether_tension(x, cfg)
     tethered_outputs(x, c, y)
     status = engine.check_state(x, y, y_ref, tension, cfg)
@@ -215,7 +244,38 @@ def observe_into(x, tension, k, sensors, c, x0, y_ref, t_ref, x_meas, y_meas, ob
     true state and tension when the noise table is empty; ``sensors`` is
     ``sim.setup.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history ring),
     as for ``engine.sense``) as deviations from the trim x0, y_ref, t_ref; NaN reads 0, values
-    are clipped to +-OBS_LIMIT. x_meas (13,), y_meas (4,) are scratch."""
+    are clipped to +-OBS_LIMIT. x_meas (13,), y_meas (4,) are scratch.
+
+    Parameters
+    ----------
+    x : ndarray, shape (13,)
+        The true state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+    tension : float
+        The true tether tension [N].
+    k : int
+        The sample index (t = k dt).
+    sensors : tuple
+        ``sim.setup.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history
+        ring).
+    c : ndarray
+        The tethered model's constants (``kernels.model_constants("tethered", h)``).
+    x0 : ndarray, shape (13,)
+        The trim state the angles and rates are measured from.
+    y_ref : ndarray, shape (4,)
+        The trim outputs [q1, q2, q3, q6] in [m, m, m, rad].
+    t_ref : float
+        The reference tension [N].
+    x_meas : ndarray, shape (13,)
+        Scratch: the measured state.
+    y_meas : ndarray, shape (4,)
+        Scratch: the measured outputs.
+    obs : ndarray, shape (13,), float32
+        Receives the observation, filled in place.
+
+    Returns
+    -------
+    None
+    """
     if sensors[0].shape[0] == 0:
         for i in range(13):
             x_meas[i] = x[i]
@@ -443,6 +503,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         Returns
         -------
         Disturbance
+            The episode's wind (a force profile, or turbulence with drag).
         """
         if rng is None:
             rng = self.np_random
@@ -482,10 +543,23 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         rest in the trim of its air at t = 0 (``sim.setup.start_point``, no draw), then the
         sensor noise table (``sensors.noise_table``; empty with perfect sensors).
 
+        Parameters
+        ----------
+        rng : numpy.random.Generator
+            The generator of the draws (``reset`` passes ``np_random``).
+        wind : Disturbance, optional
+            A built-in disturbance for this episode instead of a draw (default None: draw).
+
         Returns
         -------
-        (Disturbance, CompiledWind, StartPoint, ndarray (n_samples + 1, N_CHANNELS) or
-        (0, N_CHANNELS))
+        wind : Disturbance
+            The episode's wind.
+        compiled : CompiledWind
+            Its compiled form for the engine.
+        start : StartPoint
+            The start state x and integrators z (``sim.setup.start_point``).
+        noise : ndarray, shape (n_samples + 1, N_CHANNELS) or (0, N_CHANNELS)
+            The episode's sensor noise table (empty with perfect sensors).
         """
         if wind is None:
             if self._fixed_wind is not None:
@@ -508,7 +582,26 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
     def action_command(self, action: Any, shape: tuple[int, ...] = (4,)) -> tuple:
         """(clipped action a, rotor command, ``engine.ACTION_*`` mode) of an action of the
         given shape (..., 4): a = clip(action, -1, 1); the command is ``action_scale`` a
-        (residual) or ``trim.u_total + action_scale a`` (replace)."""
+        (residual) or ``trim.u_total + action_scale a`` (replace).
+
+        Parameters
+        ----------
+        action : array_like
+            The action(s), reshapeable to ``shape``; finite (clipped to [-1, 1]).
+        shape : tuple of int, optional
+            The shape (..., 4) of the action array (default (4,); the vector environment
+            passes (N, 4)).
+
+        Returns
+        -------
+        a : ndarray, shape ``shape``
+            The clipped action.
+        command : ndarray, shape ``shape``
+            The rotor command [fMR3, tMR1, tMR2, fTR2] in [N, N m, N m, N]: a correction of the
+            paper controller's (residual) or the total input (replace).
+        mode : int
+            ``engine.ACTION_ADD`` (residual) or ``engine.ACTION_REPLACE``.
+        """
         a = np.clip(np.asarray(action, dtype=float).reshape(shape), -1.0, 1.0)
         if not np.all(np.isfinite(a)):
             raise ParameterError("action", action, f"finite numbers of shape {shape}")
@@ -582,14 +675,18 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         Returns
         -------
         observation : ndarray, shape (13,), float32
+            What the sensors read after the step, as deviations from trim (order
+            ``OBSERVATION_NAMES``), clipped to +-OBS_LIMIT.
         reward : float
+            -(|q_1..3 - q_ref|^2 [m^2] + effort_weight |a|^2), or -termination_penalty
+            (``finish_step``).
         terminated : bool
             The state failed ``engine.check_state`` (``info["status"]`` says why).
         truncated : bool
             ``max_episode_time`` reached.
         info : dict
             ``time`` [s]; ``status`` (``Status``) and ``message``; ``outputs``
-            (4,) float64 [q1, q2, q3, q6] [m, m, m, rad]; ``inputs`` (4,) the rotor inputs
+            (4,) float64 [q1, q2, q3, q6] in [m, m, m, rad]; ``inputs`` (4,) the rotor inputs
             applied over the step; ``reel_rate`` [m/s] applied over the step; ``tension`` [N];
             ``tether_release``: None, or ``{"time", "tension"}`` [s, N] once the safety device
             has released the tether in this episode (``message`` then says so too).
@@ -699,7 +796,14 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
     def episode(self) -> Any:
         """The episode so far as the animation reads a saved run
         (:class:`tetherheli.viz.animation.RunData`, stem "episode"), recorded only with a
-        ``render_mode``: per step t, q1..q9, the wind force on HO and the tension."""
+        ``render_mode``: per step t, q1..q9, the wind force on HO and the tension.
+
+        Returns
+        -------
+        RunData
+            Time [s], q1..q9 [m, rad], wind force [N] and tension [N] per recorded sample,
+            with the trim position, the helicopter and the episode's status.
+        """
         from ._version import __version__
         from .viz.animation import RunData
 

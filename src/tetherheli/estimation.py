@@ -75,11 +75,18 @@ FUSIONS = ("gnss", "tether", "both")
 class Fixes(NamedTuple):
     """One position sensor's fixes for ``run_filter``.
 
-    times : (m,) int, the sample j each fix was taken at (increasing)
-    values : (m, 3), the fix [m] along n1, n2, n3
-    latency : int, samples from taking a fix to its arrival (j + latency)
-    H : (ns,), the fix's row of the measurement matrix (the same on every axis)
-    R : (3,), the fix's white-noise variance per axis [m^2]; inf on an axis it does not fix
+    Attributes
+    ----------
+    times : ndarray, shape (m,), int
+        The sample j each fix was taken at (increasing).
+    values : ndarray, shape (m, 3)
+        The fix [m] along n1, n2, n3.
+    latency : int
+        Samples from taking a fix to its arrival (j + latency).
+    H : ndarray, shape (ns,)
+        The fix's row of the measurement matrix (the same on every axis).
+    R : ndarray, shape (3,)
+        The fix's white-noise variance per axis [m^2]; inf on an axis it does not fix.
     """
 
     times: np.ndarray
@@ -93,7 +100,24 @@ class Fixes(NamedTuple):
 class PositionFilter:
     """The per-axis model of the module docstring: F (ns, ns), B (ns,), Q (3, ns, ns) per
     axis, the initial state covariance P0 (3, ns, ns), and ``gm`` (the GNSS Gauss-Markov
-    error is the state's 4th entry)."""
+    error is the state's 4th entry).
+
+    Parameters
+    ----------
+    dt : float
+        Sample time [s].
+    F : ndarray, shape (ns, ns)
+        State transition over one sample of [position, velocity, accelerometer bias(, GNSS
+        Gauss-Markov error)] (ns = 3 or 4).
+    B : ndarray, shape (ns,)
+        Input column of the measured acceleration [m/s^2].
+    Q : ndarray, shape (3, ns, ns)
+        Process noise covariance per axis [m^2, m^2/s^2, m^2/s^4].
+    P0 : ndarray, shape (3, ns, ns)
+        Initial state covariance per axis.
+    gm : bool
+        Whether the state carries the GNSS Gauss-Markov error (ns = 4).
+    """
 
     dt: float
     F: np.ndarray
@@ -113,6 +137,21 @@ def position_filter(config: SensorConfig, dt: float, *, gnss: bool) -> PositionF
     P0: 1 m (position, or the GNSS Gauss-Markov sigma when larger), 0.1 m/s, the bias's
     random walk over 100 s plus the constant ``accel_bias`` (at least 1e-3 m/s^2), and the
     Gauss-Markov variance: the filter starts at the trim's hover point, at rest.
+
+    Parameters
+    ----------
+    config : SensorConfig
+        The sensors' noise figures (accelerometer density, random walk and bias; GNSS
+        Gauss-Markov sigma [m] and time constant [s]).
+    dt : float
+        Sample time [s].
+    gnss : bool
+        Whether GNSS fixes are fused (adds the Gauss-Markov state when its sigma > 0).
+
+    Returns
+    -------
+    PositionFilter
+        The per-axis model.
     """
     dt = float(dt)
     sig_gm = np.asarray(config.gps_markov_sigma, dtype=float)
@@ -153,11 +192,25 @@ def run_filter(
     [p0, 0, 0(, 0)] with covariance P0. (Any number m of independent axes runs alike: Q and
     P0 (m, ns, ns), accel and fix values (., m), R (m,); the results are then (n, m).)
 
+    Parameters
+    ----------
+    model : PositionFilter
+        The filter model (``position_filter``).
+    accel : ndarray, shape (n, 3)
+        The accelerometer's reading at every sample [m/s^2].
+    fixes : sequence of Fixes
+        The position sensors' fixes, each with its latency.
+    p0 : ndarray, shape (3,)
+        The initial position estimate [m].
+
     Returns
     -------
-    position : (n, 3), the estimate of HO at every sample from the data arrived by then [m]
-    velocity : (n, 3) [m/s]
-    position_std : (n, 3), the filter's own 1-sigma of the position estimate [m]
+    position : ndarray, shape (n, 3)
+        The estimate of HO at every sample from the data arrived by then [m].
+    velocity : ndarray, shape (n, 3)
+        The velocity estimate [m/s].
+    position_std : ndarray, shape (n, 3)
+        The filter's own 1-sigma of the position estimate [m].
     """
     n, ns, axes = accel.shape[0], model.n_states, model.Q.shape[0]
     F, B, Q = model.F, model.B, model.Q
@@ -219,7 +272,21 @@ def run_filter(
 @dataclass(frozen=True)
 class EstimateResult:
     """A filter's estimate over a recorded run (``estimate_run``): time (n,) [s], the
-    estimate, its predicted 1-sigma and the truth, (n, 3) each [m] (HO along n1, n2, n3)."""
+    estimate, its predicted 1-sigma and the truth, (n, 3) each [m] (HO along n1, n2, n3).
+
+    Parameters
+    ----------
+    fusion : str
+        The position sources fused with the IMU, one of ``FUSIONS``.
+    time : ndarray, shape (n,)
+        Sample times [s].
+    position : ndarray, shape (n, 3)
+        The estimate of HO [m].
+    position_std : ndarray, shape (n, 3)
+        Its predicted 1-sigma [m].
+    truth : ndarray, shape (n, 3)
+        The true position of HO [m].
+    """
 
     fusion: str
     time: np.ndarray
@@ -234,7 +301,18 @@ class EstimateResult:
 
     def error_rms(self, window: Sequence[float] | None = None) -> dict[str, float] | None:
         """RMS of the estimate error per axis {"q1", "q2", "q3"} [m], over the run or over
-        the samples with t in [t_start, t_end) of ``window`` (None without samples)."""
+        the samples with t in [t_start, t_end) of ``window`` (None without samples).
+
+        Parameters
+        ----------
+        window : sequence of 2 floats, optional
+            (t_start, t_end) [s]; default the whole run.
+
+        Returns
+        -------
+        dict of str to float or None
+            {"q1", "q2", "q3"} -> RMS error [m]; None when the window holds no sample.
+        """
         err = self.error
         if window:
             err = err[(self.time >= window[0]) & (self.time < window[1])]
@@ -252,6 +330,20 @@ def estimate_run(result: Any, scenario: Any, fusion: str) -> EstimateResult:
     run's own noise table and schedule (``sensors.measured_channels``: what the controller
     read); the accelerometer's errors come from the scenario's seed's first spawned
     generator. The filter's noise figures are the scenario's ``[sensors]``.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        The recorded run of ``simulate(scenario)``.
+    scenario : Scenario
+        The run's scenario, with sensors (``[sensors]`` not perfect).
+    fusion : str
+        One of ``FUSIONS``; "tether" and "both" need the tethered configuration.
+
+    Returns
+    -------
+    EstimateResult
+        The estimate of HO's position [m] with its 1-sigma and the truth.
     """
     from .sim.setup import sensor_noise, sensor_schedule
 

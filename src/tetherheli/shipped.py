@@ -47,13 +47,29 @@ def _description(text: str) -> str:
 
 
 def shipped_scenarios() -> dict[str, str]:
-    """The shipped scenarios, name -> one-line description, sorted by name."""
+    """The shipped scenarios, name -> one-line description, sorted by name.
+
+    Returns
+    -------
+    dict of str to str
+        Scenario name -> its TOML ``description``, on one line.
+    """
     files = _files()
     return {name: _description(files[name].read_text(encoding="utf-8")) for name in sorted(files)}
 
 
 def shipped_scenario_text(name: str) -> str:
     """The TOML text of a shipped scenario.
+
+    Parameters
+    ----------
+    name : str
+        One of ``shipped_scenarios()``.
+
+    Returns
+    -------
+    str
+        The scenario file's text.
 
     Raises
     ------
@@ -68,7 +84,18 @@ def shipped_scenario_text(name: str) -> str:
 
 def shipped_scenario(name: str) -> Scenario:
     """A shipped scenario by name, loaded and validated as ``load_scenario`` loads a file
-    (Monte Carlo scenarios: ``studies.montecarlo.load_montecarlo`` on a copied-out file)."""
+    (Monte Carlo scenarios: ``studies.montecarlo.load_montecarlo`` on a copied-out file).
+
+    Parameters
+    ----------
+    name : str
+        One of ``shipped_scenarios()``.
+
+    Returns
+    -------
+    Scenario
+        The validated scenario.
+    """
     text = shipped_scenario_text(name)
     return scenario_from_dict(tomllib.loads(text), source=f"shipped scenario {name}")
 
@@ -78,6 +105,18 @@ def copy_scenario(name: str, out: str | Path) -> Path:
 
     A file at ``out`` is refused unless tetherheli wrote it (``_io.check_output_file``), so a
     user's file is never overwritten; a folder for ``out`` must exist.
+
+    Parameters
+    ----------
+    name : str
+        One of ``shipped_scenarios()``.
+    out : str or Path
+        The file to write, in an existing folder.
+
+    Returns
+    -------
+    Path
+        The file written.
 
     Raises
     ------

@@ -48,7 +48,20 @@ _MESSAGES = {
 
 def status_message(status: int, release_time: float | None = None) -> str:
     """The message of a run's status; a tether release (at ``release_time`` [s], None or NaN:
-    none) is part of it, so a released run is never a plain "completed"."""
+    none) is part of it, so a released run is never a plain "completed".
+
+    Parameters
+    ----------
+    status : int
+        A ``Status`` code.
+    release_time : float, optional
+        The tether release time [s]; None or NaN (default None): no release.
+
+    Returns
+    -------
+    str
+        The one-line message.
+    """
     message = Status(int(status)).message
     if release_time is None or not math.isfinite(release_time):
         return message
@@ -59,7 +72,22 @@ def status_message(status: int, release_time: float | None = None) -> str:
 
 def release_sentence(release_time: float, tension: float, breaking_tension: float) -> str:
     """One line describing a tether release, e.g. "tether released at t = 12.3 s (tension
-    61.2034 N > breaking 60 N); continued free"."""
+    61.2034 N > breaking 60 N); continued free".
+
+    Parameters
+    ----------
+    release_time : float
+        Time of the release [s].
+    tension : float
+        The tension that broke the tether [N].
+    breaking_tension : float
+        The safety device's breaking tension [N].
+
+    Returns
+    -------
+    str
+        The sentence.
+    """
     return (
         f"tether released at t = {release_time:g} s (tension {tension:.6g} N > breaking "
         f"{breaking_tension:g} N); continued free"

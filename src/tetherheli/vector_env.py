@@ -397,8 +397,10 @@ class TetheredHoverVectorEnv(VectorEnv):
 
         Returns
         -------
-        observations : ndarray (num_envs, 13) float32
+        observations : ndarray, shape (num_envs, 13), float32
+            Each copy's first observation.
         infos : dict
+            As for :meth:`step`.
         """
         n = self.num_envs
         if seed is None:
@@ -434,8 +436,17 @@ class TetheredHoverVectorEnv(VectorEnv):
 
         Returns
         -------
-        observations (num_envs, 13) float32, rewards (num_envs,), terminated (num_envs,) bool,
-        truncated (num_envs,) bool, infos (dict of arrays over the copies)
+        observations : ndarray, shape (num_envs, 13), float32
+            Each copy's observation (order ``envs.OBSERVATION_NAMES``).
+        rewards : ndarray, shape (num_envs,)
+            Each copy's reward (as ``TetheredHoverEnv.step``'s).
+        terminated : ndarray, shape (num_envs,), bool
+            Copies whose state failed ``engine.check_state``.
+        truncated : ndarray, shape (num_envs,), bool
+            Copies that reached their step limit.
+        infos : dict
+            The keys of ``TetheredHoverEnv.step``'s info as arrays over the copies, each with
+            its ``_key`` mask.
         """
         if not self._started:
             raise RuntimeError("call reset() before step()")

@@ -20,11 +20,16 @@ __all__ = ["Command", "Controller", "Measurement"]
 class Measurement:
     """What the controller sees at a sample.
 
-    state : (13,) [q4..q9, u1..u6, LN] in tethered coordinates (for the free configuration
-        q7..q9 locate the attachment point P as a virtual tether would)
-    tension : measured tether tension (load cell, T_C^est) [N]
-    attached : False once the tether is removed or released by the safety device (Sec.
-        IV-C): the winch then does nothing and the tether exerts no force
+    Parameters
+    ----------
+    state : ndarray, shape (13,)
+        [q4..q9, u1..u6, LN] in tethered coordinates [rad, m, rad/s, m/s, m] (for the free
+        configuration q7..q9 locate the attachment point P as a virtual tether would).
+    tension : float
+        Measured tether tension (load cell, T_C^est) [N].
+    attached : bool, optional
+        False once the tether is removed or released by the safety device (Sec. IV-C): the
+        winch then does nothing and the tether exerts no force. Default True.
     """
 
     state: np.ndarray
@@ -36,9 +41,15 @@ class Measurement:
 class Command:
     """What the controller commands until the next sample.
 
-    inputs : (4,) [fMR3, tMR1, tMR2, fTR2] applied to the rotors [N, N m, N m, N]
-    reel_rate : RC = dLN/dt [m/s] (eq 37)
-    feedforward : (4,) the part of ``inputs`` that is feed-forward (recorded only)
+    Parameters
+    ----------
+    inputs : ndarray, shape (4,)
+        [fMR3, tMR1, tMR2, fTR2] applied to the rotors [N, N m, N m, N].
+    reel_rate : float, optional
+        RC = dLN/dt [m/s] (eq 37). Default 0.
+    feedforward : ndarray, shape (4,), optional
+        The part of ``inputs`` that is feed-forward [N, N m, N m, N] (recorded only).
+        Default zeros.
     """
 
     inputs: np.ndarray
@@ -55,4 +66,17 @@ class Controller(ABC):
 
     @abstractmethod
     def step(self, t: float, measurement: Measurement) -> Command:
-        """The command for the sample at time t [s]."""
+        """The command for the sample at time t [s].
+
+        Parameters
+        ----------
+        t : float
+            Sample time t_k = k dt [s].
+        measurement : Measurement
+            What the sensors report at t_k.
+
+        Returns
+        -------
+        Command
+            Held constant until the next sample (zero-order hold).
+        """

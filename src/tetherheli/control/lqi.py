@@ -156,7 +156,7 @@ class LQIGain:
     The control law is u_k = -K [x_k; z_k] = -Kx x_k - Kz z_k, with the integrators updated by
     eq 50, z_{k+1} = z_k + dt (r_k - y_k). All arrays are read-only copies.
 
-    Attributes
+    Parameters
     ----------
     K : ndarray, shape (m, n + p)
         The gain K_LQI [input unit / state unit].
@@ -256,6 +256,11 @@ class LQIGain:
             Plant state deviation from trim.
         z : array_like, shape (p,)
             Integrator state of eq 50.
+
+        Returns
+        -------
+        ndarray, shape (m,)
+            The input deviation from trim [input unit].
         """
         return -(self.Kx @ np.asarray(x, dtype=float)) - self.Kz @ np.asarray(z, dtype=float)
 
@@ -270,12 +275,24 @@ class LQIGain:
             Reference deviation at sample k [output unit].
         y : array_like, shape (p,)
             Output deviation at sample k [output unit].
+
+        Returns
+        -------
+        ndarray, shape (p,)
+            z_{k+1} [output unit s].
         """
         z = np.asarray(z, dtype=float)
         return z + self.dt * (np.asarray(r, dtype=float) - np.asarray(y, dtype=float))
 
     def as_dict(self) -> dict[str, Any]:
-        """A JSON-friendly record: sizes, dt, Qy, Ru, K, and the closed-loop spectral radius."""
+        """A JSON-friendly record: sizes, dt, Qy, Ru, K, and the closed-loop spectral radius.
+
+        Returns
+        -------
+        dict of str to object
+            Keys ``n``, ``m``, ``p`` (int), ``dt`` [s], ``Qy``, ``Ru``, ``K`` (nested lists)
+            and ``spectral_radius`` (float).
+        """
         return {
             "n": self.n,
             "m": self.m,

@@ -153,22 +153,31 @@ def reel_law_step(x, z, winch, ctrl, gain, x_ref, n_x):
 class PaperController(Controller):
     """The paper's control scheme (Fig. 5) as a ``Controller``.
 
-    Parameters
-    ----------
-    gain : (4, 16) LQI gain K_LQI|F designed on the free model (Sec. IV-E), or the tethered
-        LQI's (9, 17) (``layout.LAW_GAIN``)
-    trim_state : (13,) the configuration's trim x0 (references for q4..u6)
-    trim_output : (4,) y0, the output references
-    trim_input : (4,) u0|F or u0|T (Tables IV, V)
-    ctrl : (CTRL_SIZE,) settings, see the CTRL_* indices
-    constants : the tethered model's constants, ``kernels.model_constants("tethered", h)``
-    free_trim_input : (4,) u0|F, used once the tether is released (``sim.setup.free_trim_input``);
-        default ``trim_input``
-
     After a release (``Measurement.attached`` false) the winch and the feed-forward stop and
     the LQI works about u0|F, as the compiled engine does (``engine.paper_sample``).
-    z_init : (4,) the integrators' state at the start and after ``reset`` (default zero;
-        ``sim.setup.start_point`` gives the one that holds the trim in a steady wind)
+
+    Parameters
+    ----------
+    gain : array_like, shape (4, 16) or (9, 17)
+        The LQI gain K_LQI|F designed on the free model (Sec. IV-E), or the tethered LQI's
+        packed gain (``layout.LAW_GAIN``, ``control.tether_lqi.pack_gain``).
+    trim_state : array_like, shape (13,)
+        The configuration's trim x0 [q4..q9, u1..u6, LN] (references for q4..u6, and LN for
+        the tethered LQI).
+    trim_output : array_like, shape (4,)
+        y0, the output references [q1, q2, q3 in m, q6 in rad].
+    trim_input : array_like, shape (4,)
+        u0|F or u0|T (Tables IV, V) [N, N m, N m, N].
+    ctrl : array_like, shape (CTRL_SIZE,)
+        Settings, see the ``layout.CTRL_*`` indices.
+    constants : array_like
+        The tethered model's constants, ``kernels.model_constants("tethered", h)``.
+    free_trim_input : array_like, shape (4,), optional
+        u0|F, used once the tether is released (``sim.setup.free_trim_input``); default
+        ``trim_input``.
+    z_init : array_like, shape (4,), optional
+        The integrators' state at the start and after ``reset`` [m s, rad s] (default zero;
+        ``sim.setup.start_point`` gives the one that holds the trim in a steady wind).
     """
 
     def __init__(
@@ -196,11 +205,26 @@ class PaperController(Controller):
         self.reset()
 
     def reset(self) -> None:
+        """Restore the settings, the integrators (to ``z_init``) and the winch state."""
         self.ctrl = self._settings.copy()
         self._z = self._z_init.copy()
         self._winch = np.zeros(WINCH_SIZE)
 
     def step(self, t: float, measurement: Measurement) -> Command:
+        """Eqs 50-56 at one sample (``paper_control``).
+
+        Parameters
+        ----------
+        t : float
+            Sample time [s] (the law is time-invariant; unused).
+        measurement : Measurement
+            The measured state, tension and attachment.
+
+        Returns
+        -------
+        Command
+            Rotor inputs, reel rate R_C [m/s] and the feed-forward part.
+        """
         if not measurement.attached:  # released: no winch, no feed-forward (Sec. IV-C)
             self.ctrl[CTRL_WINCH] = 0.0
             self.ctrl[CTRL_FFWD] = 0.0

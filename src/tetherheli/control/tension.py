@@ -92,7 +92,24 @@ def limit_rate_change(
 
     The winch PI (``control.paper.winch_step``) applies it to its own command and holds its
     integral while it binds (conditional integration, no windup); the actuator model applies
-    the same bound to any controller's command."""
+    the same bound to any controller's command.
+
+    Parameters
+    ----------
+    rate : float
+        The commanded reel rate [m/s].
+    previous_rate : float
+        The previous sample's rate [m/s].
+    acceleration_limit : float
+        The winch's acceleration limit [m/s^2] (``math.inf``: none).
+    dt : float
+        Sample time [s].
+
+    Returns
+    -------
+    float
+        ``rate`` clipped to previous_rate -+ acceleration_limit dt [m/s].
+    """
     step = acceleration_limit * dt
     return min(max(rate, previous_rate - step), previous_rate + step)
 
@@ -141,7 +158,22 @@ class TensionPI:
     def from_params(
         cls, params: TensionControlParams, dt: float, *, rate_limit: float = math.inf
     ) -> TensionPI:
-        """The controller with the gains and reference of ``params`` (eq 56, Sec. VI)."""
+        """The controller with the gains and reference of ``params`` (eq 56, Sec. VI).
+
+        Parameters
+        ----------
+        params : TensionControlParams
+            K_P [m/(s N)], K_I [m/(s^2 N)] and T_ref [N].
+        dt : float
+            Sample time [s], > 0.
+        rate_limit : float, optional
+            Bound on |R_C| [m/s] (default ``math.inf``, none).
+
+        Returns
+        -------
+        TensionPI
+            The configured controller.
+        """
         return cls(K_P=params.K_P, K_I=params.K_I, T_ref=params.T_ref, dt=dt, rate_limit=rate_limit)
 
     def step(self, state_integral: float, measured_tension: float) -> tuple[float, float]:

@@ -39,7 +39,7 @@ __all__ = [
 class TetherLQIGain:
     """The tethered LQI (``design_tether_lqi``) with the free law flown after a release.
 
-    Attributes
+    Parameters
     ----------
     tethered : LQIGain
         K (5, 17) on [q4..u6, LN, z]; rows fMR3, tMR1, tMR2, fTR2, RC. Its ``Qy`` is the
@@ -67,7 +67,20 @@ class TetherLQIGain:
 
 def pack_gain(K_tethered: np.ndarray, K_free: np.ndarray) -> np.ndarray:
     """(9, 17): rows 0-4 the tethered gain (5, 17), rows 5-8 the free gain (4, 16) with a zero
-    LN column inserted at 12 (``layout.LAW_GAIN``)."""
+    LN column inserted at 12 (``layout.LAW_GAIN``).
+
+    Parameters
+    ----------
+    K_tethered : ndarray, shape (5, 17)
+        The tethered LQI's gain on [q4..u6, LN, z].
+    K_free : ndarray, shape (4, 16)
+        The free law's gain on [q4..u6, z].
+
+    Returns
+    -------
+    ndarray, shape (9, 17)
+        The packed gain the engine takes.
+    """
     K = np.zeros((9, 17))
     K[:5] = K_tethered
     K[5:, :12] = K_free[:, :12]
@@ -138,7 +151,32 @@ def design_tether_lqi(
 def tethered_design(params, T_ref: float, q9: float, dt: float):
     """The tethered plant the LQI is designed on: (G, H, C, c_tension) at Table V's trim
     (tension T_ref [N], tether length q9 [m]), ZOH-discretised at dt [s] (eq 46), inputs
-    [fMR3, tMR1, tMR2, fTR2, RC]."""
+    [fMR3, tMR1, tMR2, fTR2, RC].
+
+    Cached per (params, T_ref, q9, dt); the returned arrays are read-only.
+
+    Parameters
+    ----------
+    params : Params
+        The model parameters (helicopter, tether, tension control).
+    T_ref : float
+        Trim tension [N] (Table V's trim is at the reference tension, eq 40).
+    q9 : float
+        Trim tether length q9 [m].
+    dt : float
+        Sample time [s] of the zero-order hold (eq 46).
+
+    Returns
+    -------
+    G : ndarray, shape (13, 13)
+        Discrete state matrix on [q4..q9, u1..u6, LN].
+    H : ndarray, shape (13, 5)
+        Discrete input matrix; columns fMR3 [N], tMR1, tMR2 [N m], fTR2 [N], RC [m/s].
+    C : ndarray, shape (4, 13)
+        The outputs [q1, q2, q3, q6] linearized at trim (eq 50's integrated outputs).
+    c_tension : ndarray, shape (13,)
+        The tension deviation's row, dTC = KC (dq9 - dLN) (eq 28) [N per state unit].
+    """
     return _tethered_design(params, float(T_ref), float(q9), float(dt))
 
 
@@ -179,7 +217,32 @@ def tether_lqi_gain(
 ) -> TetherLQIGain:
     """``design_tether_lqi`` on ``tethered_design(params, T_ref, q9, dt)`` with diagonal
     weights Qy (8,) and Ru (5,) (tuples), paired with the free law ``free``; cached, as
-    ``sim.setup.paper_gain`` is (a batch's runs share it)."""
+    ``sim.setup.paper_gain`` is (a batch's runs share it).
+
+    Parameters
+    ----------
+    params : Params
+        The model parameters.
+    T_ref : float
+        Trim tension [N].
+    q9 : float
+        Trim tether length q9 [m].
+    dt : float
+        Sample time [s].
+    Qy : tuple of float, length 8
+        Diagonal of the output weight on [y; z] (eq 47).
+    q_tension : float
+        Weight on the tension deviation dTC^2 [1/N^2], >= 0.
+    Ru : tuple of float, length 5
+        Diagonal of the input weight on [fMR3, tMR1, tMR2, fTR2, RC], > 0.
+    free : LQIGain
+        The free law K_LQI|F (4, 16) flown after a release.
+
+    Returns
+    -------
+    TetherLQIGain
+        The tethered gain (5, 17) with ``free`` and ``q_tension``.
+    """
     G, H, C, c_t = tethered_design(params, T_ref, q9, dt)
     gain = design_tether_lqi(
         G, H, C, c_t, dt, Qy=np.diag(Qy), q_tension=float(q_tension), Ru=np.diag(Ru)

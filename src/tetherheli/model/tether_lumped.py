@@ -158,13 +158,40 @@ class LumpedTether:
     @classmethod
     def from_paper_stiffness(cls, K_C: float, natural_length_m: float, **kw) -> LumpedTether:
         """The tether whose whole-length spring constant at natural length L0N is the paper's
-        K_C (eq 28, Table III): EA = K_C L0N [N]."""
+        K_C (eq 28, Table III): EA = K_C L0N [N].
+
+        Parameters
+        ----------
+        K_C : float
+            The paper's tether spring constant [N/m], > 0 (Table III: 40).
+        natural_length_m : float
+            The natural length L0N at which K_C holds [m], > 0.
+        **kw
+            The other fields of ``LumpedTether``.
+
+        Returns
+        -------
+        LumpedTether
+            The tether with EA_N = K_C L0N.
+        """
         K_C = check_number("tether.K_C", K_C, low=0.0, low_open=True)
         L = check_number("tether.L_N0", natural_length_m, low=0.0, low_open=True)
         return cls(EA_N=K_C * L, **kw)
 
     def packed(self, g: float) -> np.ndarray:
-        """The packed array (``layout.LUMPED_*``) the compiled kernels take."""
+        """The packed array (``layout.LUMPED_*``) the compiled kernels take.
+
+        Parameters
+        ----------
+        g : float
+            Gravity [m/s^2], >= 0.
+
+        Returns
+        -------
+        ndarray, shape (LUMPED_SIZE,)
+            mu [kg/m], EA [N], damping ratio, the normal and tangential drag factors
+            rho d Cd / 2 and rho pi d Ct / 2 [kg/m^2], g [m/s^2].
+        """
         p = np.empty(LUMPED_SIZE)
         p[LUMPED_MU] = self.mass_per_length_kg_m
         p[LUMPED_EA] = self.EA_N
@@ -188,7 +215,31 @@ def chain_forces(x, v, wind, L0, p, F, T, K, Cax, D, jac):
     end segment's weight and drag), segment tensions T (N,) [N]; if ``jac``, the per-segment
     Jacobian blocks (N, 3, 3): K = d(T e)/d(d) (axial + geometric stiffness),
     Cax = d(T e)/d(dv) (axial damping), D = -d(drag)/du (drag's velocity derivative); a slack
-    segment gets the axial blocks of a just-taut one."""
+    segment gets the axial blocks of a just-taut one.
+
+    Parameters
+    ----------
+    x, v : ndarray, shape (N+1, 3)
+        Node positions [m] and velocities [m/s], row 0 the winch, row N the point P.
+    wind : ndarray, shape (N+1, 3)
+        Wind at the nodes [m/s].
+    L0 : float
+        Unstretched length [m].
+    p : ndarray, shape (LUMPED_SIZE,)
+        ``LumpedTether.packed(g)``.
+    F : ndarray, shape (N+1, 3)
+        Receives the node forces [N].
+    T : ndarray, shape (N,)
+        Receives the segment tensions [N].
+    K, Cax, D : ndarray, shape (N, 3, 3)
+        Receive the Jacobian blocks [N/m, N s/m, N s/m] when ``jac``.
+    jac : bool
+        Whether to fill K, Cax, D.
+
+    Returns
+    -------
+    None
+    """
     n = x.shape[0] - 1
     l0 = L0 / n
     mu = p[LUMPED_MU]
@@ -359,14 +410,36 @@ def _solve(Dinv, B, rhs, out):
 
 @_jit
 def ros2_work_size(segments):
-    """The length of the scratch array ``ros2_step`` needs for ``segments`` segments."""
+    """The length of the scratch array ``ros2_step`` needs for ``segments`` segments.
+
+    Parameters
+    ----------
+    segments : int
+        Number of segments N >= 1.
+
+    Returns
+    -------
+    int
+        The scratch length.
+    """
     n = segments
     return 3 * (n + 1) + n + 27 * n + 18 * n + 24 * n + 6 * (n + 1) + 18
 
 
 def ros2_work(segments: int) -> np.ndarray:
     """The scratch array ``ros2_step`` needs for a chain of ``segments`` segments (allocate
-    once per run)."""
+    once per run).
+
+    Parameters
+    ----------
+    segments : int
+        Number of segments N >= 1.
+
+    Returns
+    -------
+    ndarray, shape (ros2_work_size(segments),)
+        Uninitialised scratch.
+    """
     return np.empty(ros2_work_size(segments))
 
 
@@ -377,7 +450,29 @@ def ros2_step(x, v, wind, L0, p, h, xP1, vP1, work):
     x, v (N+1, 3): positions, velocities at t (rows 0 and N: winch and P), updated in place to
     t + h (row N becomes xP1, vP1, P's position and velocity at t + h; the winch row is left
     as it is). wind (N+1, 3) the wind at the nodes [m/s], held over the step; L0 the
-    unstretched length [m], held over the step; work: ``ros2_work(N)``."""
+    unstretched length [m], held over the step; work: ``ros2_work(N)``.
+
+    Parameters
+    ----------
+    x, v : ndarray, shape (N+1, 3)
+        Node positions [m] and velocities [m/s] at t, updated in place to t + h.
+    wind : ndarray, shape (N+1, 3)
+        Wind at the nodes [m/s], held over the step.
+    L0 : float
+        Unstretched length [m], held over the step.
+    p : ndarray, shape (LUMPED_SIZE,)
+        ``LumpedTether.packed(g)``.
+    h : float
+        Step [s].
+    xP1, vP1 : ndarray, shape (3,)
+        P's position [m] and velocity [m/s] at t + h.
+    work : ndarray
+        Scratch, ``ros2_work(N)``.
+
+    Returns
+    -------
+    None
+    """
     n = x.shape[0] - 1
     nf = n - 1
     if nf == 0:
@@ -516,8 +611,27 @@ def force_at_P_as_loads(x, inp, wind, force_P, arm, inp_out, wind_out):
     locate P. (The radial force -TC c3 reproduces ``kernels.tethered_derivative``; a test
     checks it, and a non-radial one against the Newton-Euler route.)
 
-    x: the tethered state (13,) (q4..q6 used); inp (4,), wind (3,), force_P (3,); arm =
-    ``HelicopterParams.tether_arm`` [m]; inp_out (4,), wind_out (3,) written."""
+    Parameters
+    ----------
+    x : ndarray, shape (13,)
+        The tethered state (q4..q6 [rad] used).
+    inp : ndarray, shape (4,)
+        Rotor inputs fMR3 [N], tMR1, tMR2 [N m], fTR2 [N].
+    wind : ndarray, shape (3,)
+        Wind force on HO [N], along n1, n2, n3.
+    force_P : ndarray, shape (3,)
+        The force at P [N], along n1, n2, n3.
+    arm : float
+        ``HelicopterParams.tether_arm`` [m].
+    inp_out : ndarray, shape (4,)
+        Receives the equivalent inputs.
+    wind_out : ndarray, shape (3,)
+        Receives the equivalent wind force [N].
+
+    Returns
+    -------
+    None
+    """
     R = np.empty((3, 3))
     kernels.kinematics_dcm(x[0:3], R)  # column j: f_j in N
     f1 = force_P[0] * R[0, 0] + force_P[1] * R[1, 0] + force_P[2] * R[2, 0]
@@ -533,7 +647,31 @@ def force_at_P_as_loads(x, inp, wind, force_P, arm, inp_out, wind_out):
 @_jit
 def tethered_derivative_force_at_P(x, inp, wind, force_P, reel_rate, c, arm, out):
     """out (13,) = dx/dt of the tethered helicopter with the force ``force_P`` [N, in N] at P
-    in place of eq 28's tension (``force_at_P_as_loads``); out[12] = reel_rate."""
+    in place of eq 28's tension (``force_at_P_as_loads``); out[12] = reel_rate.
+
+    Parameters
+    ----------
+    x : ndarray, shape (13,)
+        The tethered state [q4..q9, u1..u6, LN].
+    inp : ndarray, shape (4,)
+        Rotor inputs fMR3 [N], tMR1, tMR2 [N m], fTR2 [N].
+    wind : ndarray, shape (3,)
+        Wind force on HO [N].
+    force_P : ndarray, shape (3,)
+        The force at P [N], along n1, n2, n3.
+    reel_rate : float
+        dLN/dt [m/s] (eq 37).
+    c : ndarray
+        The tethered model's constants (``kernels.model_constants("tethered", h)``).
+    arm : float
+        ``HelicopterParams.tether_arm`` [m].
+    out : ndarray, shape (13,)
+        Receives dx/dt.
+
+    Returns
+    -------
+    None
+    """
     inp2 = np.empty(4)
     wind2 = np.empty(3)
     force_at_P_as_loads(x, inp, wind, force_P, arm, inp2, wind2)
@@ -575,8 +713,10 @@ def end_forces(
 
     Returns
     -------
-    force_winch, force_P : ndarray (3,)
-    tensions : ndarray (N,)
+    force_winch, force_P : ndarray, shape (3,)
+        The forces on the winch and on P [N], along n1, n2, n3.
+    tensions : ndarray, shape (N,)
+        The segment tensions [N].
     """
     F, T, K, C, D = _scratch(x.shape[0] - 1)
     chain_forces(x, v, wind, L0, p, F, T, K, C, D, False)
@@ -585,7 +725,22 @@ def end_forces(
 
 def chain_energy(x: np.ndarray, v: np.ndarray, L0: float, p: np.ndarray) -> float:
     """Kinetic + gravitational + elastic energy [J] of the free nodes and the segments (the
-    end nodes' half-segment masses are not counted: it is conserved with fixed ends)."""
+    end nodes' half-segment masses are not counted: it is conserved with fixed ends).
+
+    Parameters
+    ----------
+    x, v : ndarray, shape (N+1, 3)
+        Node positions [m] and velocities [m/s].
+    L0 : float
+        Unstretched length [m].
+    p : ndarray, shape (LUMPED_SIZE,)
+        ``LumpedTether.packed(g)``.
+
+    Returns
+    -------
+    float
+        The energy [J].
+    """
     n = x.shape[0] - 1
     l0 = L0 / n
     m = p[LUMPED_MU] * l0
@@ -611,13 +766,15 @@ def static_chain(
     L0 : float
         Unstretched length [m].
     tether : LumpedTether
+        The tether (N segments, mu, EA).
     g : float
         Gravity [m/s^2].
 
     Returns
     -------
-    ndarray (N+1, 3): the node positions [m] (``chain_forces`` vanishes there on the free
-    nodes; a test checks it).
+    ndarray, shape (N+1, 3)
+        The node positions [m] (``chain_forces`` vanishes there on the free nodes; a test
+        checks it).
     """
     r_winch = np.asarray(r_winch, dtype=float)
     r_P = np.asarray(r_P, dtype=float)
@@ -680,6 +837,21 @@ class ElasticCatenary:
     x(s) = H s / EA + (H / w) [asinh((V + w s) / H) - asinh(V / H)],
     z(s) = (V s + w s^2 / 2) / EA + (H / w) [sqrt(1 + ((V + w s) / H)^2) - sqrt(1 + (V / H)^2)];
     for a = 0 (hanging vertically, H = 0): x = 0, z(s) = s + (V s + w s^2 / 2) / EA.
+
+    Parameters
+    ----------
+    span_m : float
+        Horizontal span a of B from A [m].
+    rise_m : float
+        Rise b of B over A [m].
+    weight_per_length_N_m : float
+        w = mu g [N/m].
+    EA_N : float
+        Axial stiffness [N].
+    unstretched_length_m : float
+        L0 [m].
+    H_N, V_N : float
+        The horizontal and vertical tension components at A [N].
     """
 
     span_m: float
@@ -691,7 +863,18 @@ class ElasticCatenary:
     V_N: float
 
     def position(self, s: np.ndarray | float) -> tuple[np.ndarray, np.ndarray]:
-        """(x(s), z(s)) [m] at unstretched arc length s [m] from A."""
+        """(x(s), z(s)) [m] at unstretched arc length s [m] from A.
+
+        Parameters
+        ----------
+        s : float or ndarray
+            Unstretched arc length from A [m], in [0, L0].
+
+        Returns
+        -------
+        x, z : ndarray
+            Horizontal and vertical position from A [m], shaped as ``s``.
+        """
         return _catenary_xz(
             np.asarray(s, dtype=float), self.H_N, self.V_N, self.weight_per_length_N_m, self.EA_N
         )
@@ -709,7 +892,13 @@ class ElasticCatenary:
         )
 
     def sag_m(self) -> float:
-        """Largest vertical distance of the cable below the chord AB [m]."""
+        """Largest vertical distance of the cable below the chord AB [m].
+
+        Returns
+        -------
+        float
+            The sag [m], from 2001 points along the cable.
+        """
         s = np.linspace(0.0, self.unstretched_length_m, 2001)
         x, z = self.position(s)
         chord = self.rise_m * x / self.span_m if self.span_m > 0.0 else z
@@ -752,6 +941,7 @@ def elastic_catenary(
     Returns
     -------
     ElasticCatenary
+        The solved cable (H, V at A).
     """
     a = check_number("span_m", span_m, low=0.0)
     b = check_number("rise_m", rise_m)
@@ -814,7 +1004,24 @@ def initial_chain(
 ) -> np.ndarray:
     """Node positions (N+1, 3) [m] on the elastic catenary between the winch and P (nodes at
     s = i L0 / N), the start shape of a run (``static_chain`` refines it to the chain's own
-    equilibrium)."""
+    equilibrium).
+
+    Parameters
+    ----------
+    r_winch, r_P : array_like, shape (3,)
+        The fixed ends [m].
+    L0 : float
+        Unstretched length [m].
+    tether : LumpedTether
+        The tether (N segments, mu, EA).
+    g : float
+        Gravity [m/s^2].
+
+    Returns
+    -------
+    ndarray, shape (N+1, 3)
+        The node positions [m], rows 0 and N exactly the winch and P.
+    """
     r_winch = np.asarray(r_winch, dtype=float)
     r_P = np.asarray(r_P, dtype=float)
     d = r_P - r_winch
@@ -841,7 +1048,7 @@ class LumpedTrim:
     """The hover trim of the tethered helicopter with a massive tether hanging from P straight
     down to the winch (the paper's geometry, q7 = q8 = 0).
 
-    Attributes
+    Parameters
     ----------
     trim : TrimPoint
         The helicopter's trim (``model.trim``): x with x[12] the unstretched length L0, u the
@@ -897,7 +1104,9 @@ def hover_trim_lumped(
     Parameters
     ----------
     params : Params or a model with ``.params``
+        The helicopter and tether parameters.
     tether : LumpedTether
+        The massive tether.
     ground_tension_N : float
         Tension at the winch [N], > 0 (the tension PI's reference, eq 56).
     q9 : float
@@ -909,9 +1118,14 @@ def hover_trim_lumped(
     Returns
     -------
     LumpedTrim
+        The helicopter's trim, the hanging catenary, the force at P and the chain's nodes.
 
-    Raises ParameterError for bad input and InfeasibleError for a hover outside the rotor
-    limits or with no trim.
+    Raises
+    ------
+    ParameterError
+        Bad input.
+    InfeasibleError
+        A hover outside the rotor limits or with no trim.
     """
     from ..params import check_tether_length
     from .trim import windless_trim
@@ -988,9 +1202,20 @@ def _cable_end(T0, L0, tether, g, wind):
 class StaticCable:
     """A static cable from the winch (origin) to P in steady wind (``static_cable``).
 
-    Attributes: ``r_P`` (3,) [m]; ``unstretched_length_m`` L0 [m]; ``ground_tension`` (3,)
-    [N], the tension vector at the winch along the cable (its direction the winch tangent);
-    ``top_tension`` (3,) [N] at P (the force on P is its negative); ``wind`` (3,) [m/s]."""
+    Parameters
+    ----------
+    r_P : ndarray, shape (3,)
+        P relative to the winch [m].
+    unstretched_length_m : float
+        L0 [m].
+    ground_tension : ndarray, shape (3,)
+        The tension vector at the winch along the cable [N] (its direction the winch
+        tangent).
+    top_tension : ndarray, shape (3,)
+        The tension vector at P [N] (the force on P is its negative).
+    wind : ndarray, shape (3,)
+        The steady wind [m/s].
+    """
 
     r_P: np.ndarray
     unstretched_length_m: float
@@ -1021,22 +1246,27 @@ def static_cable(
 
     Parameters
     ----------
-    r_P : (3,)
+    r_P : array_like, shape (3,)
         P relative to the winch [m], above it.
     ground_tension_N : float
         Tension at the winch [N], > 0.
     tether : LumpedTether
+        The tether (mu, EA, drag).
     g : float
         Gravity [m/s^2].
-    wind : (3,)
-        Steady wind [m/s].
+    wind : array_like, shape (3,), optional
+        Steady wind [m/s] (default none).
 
     Returns
     -------
     StaticCable
+        The cable's unstretched length and end tensions.
 
-    Raises InfeasibleError when no such cable leaves the winch upwards (a cable too heavy for
-    the tension: it would lie on the ground).
+    Raises
+    ------
+    InfeasibleError
+        When no such cable leaves the winch upwards (a cable too heavy for the tension: it
+        would lie on the ground).
     """
     from .._validation import check_vector
 
@@ -1100,14 +1330,16 @@ def catenary_position_estimate(
     unstretched_length_m : float
         Paid-out unstretched length L0 [m], > 0.
     tether : LumpedTether
+        The tether (mu, EA, drag).
     g : float
         Gravity [m/s^2].
-    wind : (3,) or None
-        A known steady wind [m/s]; None: the catenary without drag.
+    wind : array_like, shape (3,), optional
+        A known steady wind [m/s]; None (default): the catenary without drag.
 
     Returns
     -------
-    ndarray (3,)
+    ndarray, shape (3,)
+        The estimate of P relative to the winch [m], along n1, n2, n3.
     """
     q7 = check_number("q7", q7)
     q8 = check_number("q8", q8)
@@ -1131,7 +1363,22 @@ def straight_tether_estimates(cable: StaticCable, EA_N: float) -> tuple[np.ndarr
     """Sec. IV-F's straight-tether estimates of P [m] from the winch-tangent angles of
     ``cable``: (i) with the altimeter (eq 45: the length from the true height of P,
     ``sensors.tether_position_estimate`` at zero arm, the attitude terms cancelling) and (ii)
-    with the paid-out length as eq 28's stretched length L0 (1 + T_g / EA)."""
+    with the paid-out length as eq 28's stretched length L0 (1 + T_g / EA).
+
+    Parameters
+    ----------
+    cable : StaticCable
+        The cable whose winch tangent the encoders read.
+    EA_N : float
+        Axial stiffness [N], for the stretched length of (ii).
+
+    Returns
+    -------
+    by_altimeter : ndarray, shape (3,)
+        Estimate (i) of P [m].
+    by_length : ndarray, shape (3,)
+        Estimate (ii) of P [m].
+    """
     from ..sensors import tether_position_estimate
     from .kinematics import tethered_HO_position
 

@@ -41,7 +41,18 @@ CONTROLLER_METRICS: tuple[str, ...] = (
 
 def eq40_saturated(scenario: Scenario) -> Scenario:
     """``scenario`` with tMR1, tMR2 saturated at +-eq 40's limit (``paper_cyclic_limit``);
-    fMR3 and fTR2 keep their limits."""
+    fMR3 and fTR2 keep their limits.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The scenario to limit.
+
+    Returns
+    -------
+    Scenario
+        A copy with ``actuators.u_min``, ``u_max`` of tMR1, tMR2 at -+ eq 40's limit [N m].
+    """
     lim = paper_cyclic_limit(scenario.params)
     a = scenario.actuators
     act = dataclasses.replace(
@@ -54,7 +65,22 @@ def eq40_saturated(scenario: Scenario) -> Scenario:
 
 def with_controller(scenario: Scenario, controller: str, **tether_lqi: Any) -> Scenario:
     """``scenario`` flown by ``controller`` (``CONTROLLERS``), with ``[control.tether_lqi]``
-    fields replaced by ``tether_lqi``."""
+    fields replaced by ``tether_lqi``.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The scenario to fly.
+    controller : str
+        One of ``CONTROLLERS`` (e.g. "paper", "tether_lqi").
+    **tether_lqi
+        Fields of ``[control.tether_lqi]`` (``TetherLQISettings``) to replace.
+
+    Returns
+    -------
+    Scenario
+        A copy with ``control.controller`` and ``control.tether_lqi`` replaced.
+    """
     if controller not in CONTROLLERS:
         raise ParameterError("controller", controller, f"one of {CONTROLLERS}")
     c = scenario.control
@@ -66,7 +92,24 @@ def with_controller(scenario: Scenario, controller: str, **tether_lqi: Any) -> S
 
 def controller_metrics(result, u_trim: np.ndarray, cyclic_limit: float | None) -> dict[str, Any]:
     """The comparison's measures of a recorded run (``CONTROLLER_METRICS`` but the compute
-    time). ``u_trim`` (4,) is the trim's total rotor input; ``cyclic_limit`` [N m] or None."""
+    time). ``u_trim`` (4,) is the trim's total rotor input; ``cyclic_limit`` [N m] or None.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        The recorded run.
+    u_trim : ndarray, shape (4,)
+        The trim's total rotor input [N, N m, N m, N].
+    cyclic_limit : float or None
+        The scenario's cyclic limit [N m], recorded (NaN when None).
+
+    Returns
+    -------
+    dict of str to object
+        Peak and RMS deviations of q1..q3 [m], the peak attitude [deg], RMS and peak input
+        deviations [N, N m, N m, N], the peak cyclic [N m], its limit, the tension range
+        [N] and ``completed``.
+    """
     d = result.outputs[:, :3] - result.trim_output[:3]
     att = result.states[:, :2] - result.trim_state[:2]
     du = result.inputs - np.asarray(u_trim)
@@ -90,7 +133,20 @@ def controller_metrics(result, u_trim: np.ndarray, cyclic_limit: float | None) -
 def fly(scenario: Scenario) -> tuple[Any, dict[str, Any]]:
     """Simulate ``scenario`` (compiled engine) and measure it (``controller_metrics``, with the
     wall-clock time of ``simulate`` per control sample [us], its set-up and recording
-    included: an upper bound of the controller's cost)."""
+    included: an upper bound of the controller's cost).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The scenario to simulate.
+
+    Returns
+    -------
+    result : SimulationResult
+        The run.
+    metrics : dict of str to object
+        ``controller_metrics`` with ``compute_us_per_sample`` [us].
+    """
     from ..sim import simulate
     from ..sim.setup import engine_setup
 

@@ -52,7 +52,18 @@ PARAMETER = "actuators.cyclic_limit"
 
 def bracket_from_above(meets: np.ndarray) -> int | None:
     """The smallest index i such that ``meets[i:]`` all hold (grid ascending); None when the
-    last one fails. i == 0: the criterion holds at every grid value."""
+    last one fails. i == 0: the criterion holds at every grid value.
+
+    Parameters
+    ----------
+    meets : array_like of bool, shape (n,)
+        The criterion at each grid value, ascending.
+
+    Returns
+    -------
+    int or None
+        The index, or None.
+    """
     meets = np.asarray(meets, dtype=bool)
     if meets.size == 0 or not meets[-1]:
         return None
@@ -64,7 +75,24 @@ def bisect_criterion(
     lo: float, hi: float, criterion: Callable[[float], bool], tol: float
 ) -> tuple[float, float, list[tuple[float, bool]]]:
     """Bisection of [lo, hi] (criterion false at lo, true at hi) until hi - lo <= tol; the
-    final (lo, hi), still false at lo and true at hi, and every (value, result) evaluated."""
+    final (lo, hi), still false at lo and true at hi, and every (value, result) evaluated.
+
+    Parameters
+    ----------
+    lo, hi : float
+        The bracket (criterion false at lo, true at hi), in the searched unit.
+    criterion : callable
+        value -> bool.
+    tol : float
+        The final width, > 0.
+
+    Returns
+    -------
+    lo, hi : float
+        The final bracket.
+    evaluated : list of (float, bool)
+        Every value tried and its result, in order.
+    """
     if not (math.isfinite(tol) and tol > 0):
         raise ParameterError("tol", tol, "a tolerance > 0")
     evaluated: list[tuple[float, bool]] = []
@@ -83,13 +111,36 @@ def bisect_criterion(
 class LimitSearch:
     """The result of ``minimum_cyclic_limit``.
 
-    reference : the metric of the run without cyclic limits; threshold = (1 + within) x it
-    lo, hi : the interval [N m]: the criterion fails at lo and holds at hi and at every grid
-        value above; lo None: it holds at every grid value (the minimum is below the grid);
-        hi None: it fails at the largest grid value (no answer within the grid)
-    values, metric, statuses, meets : every limited run in the order run (grid first, then
-        the bisection), its metric (NaN if it did not complete), message and criterion
-    configuration : the searched scenario as plain data (``Scenario.to_dict``)
+    Parameters
+    ----------
+    scenario_name : str
+        The searched scenario's name.
+    metric_name : str
+        The metric (``sweep.METRICS``).
+    within : float
+        The allowed relative increase of the metric.
+    tolerance : float
+        The interval's width [N m].
+    reference : float
+        The metric of the run without cyclic limits.
+    threshold : float
+        (1 + within) x reference.
+    lo, hi : float or None
+        The interval [N m]: the criterion fails at lo and holds at hi and at every grid value
+        above; lo None: it holds at every grid value (the minimum is below the grid); hi None:
+        it fails at the largest grid value (no answer within the grid).
+    values : ndarray, shape (n,)
+        Every limited run's limit [N m], in the order run (grid first, then the bisection).
+    metric : ndarray, shape (n,)
+        Its metric (NaN if it did not complete).
+    statuses : tuple of str
+        Its status message.
+    meets : ndarray, shape (n,), bool
+        Whether it meets the criterion.
+    n_grid : int
+        How many of the runs are the grid's.
+    configuration : dict of str to object, optional
+        The searched scenario as plain data (``Scenario.to_dict``).
     """
 
     scenario_name: str
@@ -108,7 +159,13 @@ class LimitSearch:
     configuration: dict[str, Any] = field(default_factory=dict)
 
     def interval_text(self) -> str:
-        """The answer in words, e.g. "4.375-4.380 N m"."""
+        """The answer in words, e.g. "4.375-4.380 N m".
+
+        Returns
+        -------
+        str
+            The interval, or why there is none.
+        """
         if self.hi is None:
             return f"none up to {self.values[: self.n_grid].max():g} N m"
         if self.lo is None:
@@ -116,6 +173,13 @@ class LimitSearch:
         return f"{self.lo:.3f}-{self.hi:.3f} N m"
 
     def as_dict(self) -> dict[str, Any]:
+        """The search as a JSON-friendly record (summary.json).
+
+        Returns
+        -------
+        dict of str to object
+            The fields, the grid and the interval in words (NaN written as null).
+        """
         return {
             "scenario": self.scenario_name,
             "parameter": PARAMETER,
@@ -152,6 +216,28 @@ def minimum_cyclic_limit(
     module docstring). ``grid``: limits > 0 [N m], at least 2; ``tol``: the interval's width;
     ``progress``: the runs done on stderr (``tetherheli.progress``; the total counts the
     longest bisection); ``workers``: threads of the batches (default: all CPUs).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The scenario to search.
+    grid : ndarray
+        Limits > 0 [N m], at least 2.
+    within : float, optional
+        Allowed relative increase of the metric (default 0.10).
+    metric : str, optional
+        One of ``sweep.METRICS`` (default "peak_q1", [m]).
+    tol : float, optional
+        The interval's width [N m] (default 1e-3).
+    progress : bool, optional
+        Show progress on stderr (default False).
+    workers : int, optional
+        Threads of the batches (default all CPUs).
+
+    Returns
+    -------
+    LimitSearch
+        The interval and every run made.
     """
     with Progress("sweep --find-min", 1, "runs", enabled=progress) as bar:
         return _search(scenario, grid, within, metric, tol, bar, workers)
@@ -246,7 +332,27 @@ def write_limit_search(
     figure_format: str = "png",
 ) -> None:
     """Table (CSV: every run), plot (``sweep.<figure_format>``: png, pdf or svg) and
-    summary.json of a search, written whole or not at all (``_io.output_directory``)."""
+    summary.json of a search, written whole or not at all (``_io.output_directory``).
+
+    Parameters
+    ----------
+    result : LimitSearch
+        The search.
+    out_dir : str or Path
+        The output folder.
+    command : str
+        The command line, recorded in summary.json.
+    inputs : tuple of str or Path, optional
+        The input files, recorded with the folder's marker.
+    force : bool, optional
+        Replace this command's earlier output (default False).
+    figure_format : str, optional
+        "png" (default), "pdf" or "svg".
+
+    Returns
+    -------
+    None
+    """
     from ..viz.plots import check_figure_format, figure_limit_search, save_figure
 
     figure_format = check_figure_format(figure_format)

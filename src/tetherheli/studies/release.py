@@ -23,21 +23,47 @@ __all__ = ["ReleaseComparison", "altitude_excursion", "release_comparison"]
 
 
 def altitude_excursion(result: SimulationResult) -> float:
-    """max |q3 - q3_trim| [m] from the release on (the whole run without a release)."""
+    """max |q3 - q3_trim| [m] from the release on (the whole run without a release).
+
+    Parameters
+    ----------
+    result : SimulationResult
+        A tethered run.
+
+    Returns
+    -------
+    float
+        The altitude excursion [m].
+    """
     k = 0 if result.release_time is None else int(np.searchsorted(result.time, result.release_time))
     return float(np.max(np.abs(result.outputs[k:, 2] - result.trim_output[2])))
 
 
 @dataclass(frozen=True)
 class ReleaseComparison:
-    """``switched``: the run as simulated (u0|F after the release); ``kept``: the same run
-    with the tethered trim input kept after the release (Python loop, same phases)."""
+    """A tether release flown twice (``release_comparison``).
+
+    Parameters
+    ----------
+    switched : SimulationResult
+        The run as simulated (u0|F after the release).
+    kept : SimulationResult
+        The same run with the tethered trim input u0|T kept after the release (Python loop,
+        same phases).
+    """
 
     switched: SimulationResult
     kept: SimulationResult
 
     def rows(self) -> list[tuple[str, str, str]]:
-        """(quantity, kept u0|T, switched to u0|F) for a table."""
+        """(quantity, kept u0|T, switched to u0|F) for a table.
+
+        Returns
+        -------
+        list of (str, str, str)
+            The release time [s], the altitude excursion [m] and fMR3 one sample after the
+            release [N], formatted.
+        """
         k, s = self.kept, self.switched
         return [
             ("tether released at [s]", f"{k.release_time:g}", f"{s.release_time:g}"),
@@ -60,7 +86,18 @@ def _after_release(result: SimulationResult, samples: int) -> np.ndarray:
 
 def release_comparison(scenario: Scenario) -> ReleaseComparison:
     """Simulate a tethered ``scenario`` whose tether is released (finite
-    ``actuators.breaking_tension``), switched to the free trim and with u0|T kept."""
+    ``actuators.breaking_tension``), switched to the free trim and with u0|T kept.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        A tethered scenario whose tether is released during the run.
+
+    Returns
+    -------
+    ReleaseComparison
+        The two runs.
+    """
     if scenario.configuration != "tethered":
         raise ParameterError("configuration", scenario.configuration, "'tethered'")
     switched = simulate(scenario)

@@ -80,7 +80,18 @@ _SCENARIO_LABELS = {
 
 def parameter_label(parameter: str) -> str:
     """An axis label for a swept ``parameter``: its name and unit, from the parameters' own
-    documentation (``Params.field_docs``) or the scenario settings'."""
+    documentation (``Params.field_docs``) or the scenario settings'.
+
+    Parameters
+    ----------
+    parameter : str
+        The swept parameter (as ``sweep`` takes it).
+
+    Returns
+    -------
+    str
+        The label, e.g. "name: description [unit]"; the bare name without a unit.
+    """
     if parameter in _SCENARIO_LABELS:
         return _SCENARIO_LABELS[parameter]
     doc = Params.field_docs().get(parameter)
@@ -90,7 +101,18 @@ def parameter_label(parameter: str) -> str:
 
 
 def paper_cyclic_limit(params: Params) -> float:
-    """tmax_MR1,2 implied by the paper (eq 40): 20% of the free hover lift times |arm| [N m]."""
+    """tmax_MR1,2 implied by the paper (eq 40): 20% of the free hover lift times |arm| [N m].
+
+    Parameters
+    ----------
+    params : Params
+        The helicopter's parameters.
+
+    Returns
+    -------
+    float
+        The cyclic limit [N m].
+    """
     from ..model import TetheredHelicopter
 
     lift = float(TetheredHelicopter(params).trim(0.0).u[0])
@@ -99,7 +121,18 @@ def paper_cyclic_limit(params: Params) -> float:
 
 def scenario_cyclic_limit(scenario: Scenario) -> float | None:
     """The cyclic authority of a scenario's ``[actuators]``: the smallest magnitude among the
-    limits of tMR1 and tMR2 (u_min, u_max) [N m]; None when they are unlimited."""
+    limits of tMR1 and tMR2 (u_min, u_max) [N m]; None when they are unlimited.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The scenario whose actuator limits are read.
+
+    Returns
+    -------
+    float or None
+        The cyclic authority [N m], or None.
+    """
     a = scenario.actuators
     limit = min(abs(a.u_min[1]), abs(a.u_min[2]), abs(a.u_max[1]), abs(a.u_max[2]))
     return float(limit) if math.isfinite(limit) else None
@@ -112,7 +145,20 @@ def _check_cyclic_limit(name: str, value: float) -> float:
 
 
 def tension_bound(params: Params, cyclic_limit: float) -> float:
-    """Eq 40: the largest tension whose moment about HO the cyclic can still balance [N]."""
+    """Eq 40: the largest tension whose moment about HO the cyclic can still balance [N].
+
+    Parameters
+    ----------
+    params : Params
+        The helicopter's parameters (its tether arm [m]).
+    cyclic_limit : float
+        The cyclic authority tmax_MR1,2 [N m], > 0.
+
+    Returns
+    -------
+    float
+        cyclic_limit / |arm| [N].
+    """
     cyclic_limit = _check_cyclic_limit("cyclic_limit", cyclic_limit)
     return cyclic_limit / abs(params.helicopter.tether_arm)
 
@@ -149,7 +195,41 @@ class SweepResult:
     (``analysis.tether_moment``), ``peak_tether_angle_deg`` (n,) the largest tether-to-shaft
     angle and ``peak_worst_case_moment`` (n,) eq 40's |arm| max TC; NaN otherwise. An invalid
     point's status is "invalid: <why>". ``configuration`` is the swept scenario as plain data
-    (``Scenario.to_dict``, as manifests record it), before the swept value is applied."""
+    (``Scenario.to_dict``, as manifests record it), before the swept value is applied.
+
+    Parameters
+    ----------
+    parameter : str
+        The swept parameter.
+    metric_name : str
+        The metric collected (``METRICS``).
+    values : ndarray, shape (n,)
+        The swept values, in the parameter's unit.
+    metric : ndarray, shape (n,)
+        The metric of each point, in its unit (NaN where failed or invalid).
+    statuses : tuple of str
+        Each point's status message.
+    bound : float or None
+        Eq 40's tension bound [N] (T_ref sweeps), else None.
+    best_value : float or None
+        The value with the smallest metric among the completed runs.
+    completed : tuple of bool, optional
+        Whether each point's run completed.
+    cyclic_limit : float or None, optional
+        The sweep's cyclic authority [N m].
+    limit_applied : bool, optional
+        Whether the runs were saturated at ``cyclic_limit``.
+    best_within_bound : float or None, optional
+        The best value at or below ``bound``.
+    peak_tether_moment : ndarray, shape (n,), optional
+        Each completed run's largest tether moment about HO [N m].
+    peak_tether_angle_deg : ndarray, shape (n,), optional
+        The largest tether-to-shaft angle [deg].
+    peak_worst_case_moment : ndarray, shape (n,), optional
+        Eq 40's |arm| max TC [N m].
+    configuration : dict of str to object, optional
+        The swept scenario as plain data.
+    """
 
     parameter: str
     metric_name: str
@@ -182,6 +262,14 @@ class SweepResult:
         return "the paper's 20% rule, not applied: the runs are not saturated"
 
     def as_dict(self) -> dict[str, Any]:
+        """The sweep as a JSON-friendly record (summary.json).
+
+        Returns
+        -------
+        dict of str to object
+            The fields with units in their names (NaN written as null).
+        """
+
         def floats(a: np.ndarray | None) -> list[float | None] | None:
             if a is None:
                 return None
@@ -325,6 +413,30 @@ def sweep(
     at its length, a hover outside the actuator limits, no trim) is recorded as an invalid
     point, status "invalid: <why>", metric NaN, not completed; the other points still run.
     A malformed value (e.g. a negative cyclic limit) raises ParameterError: no sweep.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The scenario to sweep.
+    parameter : str
+        What to sweep (see above).
+    values : ndarray, shape (n,)
+        The values, finite, in the parameter's unit.
+    metric : str, optional
+        One of ``METRICS`` (default "rms_q1", [m]).
+    cyclic_limit : float, optional
+        Saturate tMR1, tMR2 at +-cyclic_limit [N m].
+    moments : bool, optional
+        Measure the tether's peak moment of each completed point (default True).
+    progress : bool, optional
+        Show progress on stderr (default False).
+    workers : int, optional
+        Number of threads (default all CPUs).
+
+    Returns
+    -------
+    SweepResult
+        The metric per value, statuses, the bound and the best value.
     """
     if metric not in METRICS:
         raise ParameterError("metric", metric, f"one of {sorted(METRICS)}")
@@ -399,7 +511,27 @@ def write_sweep(
 ) -> None:
     """Table (CSV), plot (``sweep.<figure_format>``: png, pdf or svg) and summary.json of a
     sweep, written whole or not at all (``_io.output_directory``: the user's files in
-    ``out_dir`` are kept, never replaced)."""
+    ``out_dir`` are kept, never replaced).
+
+    Parameters
+    ----------
+    result : SweepResult
+        The sweep.
+    out_dir : str or Path
+        The output folder.
+    command : str
+        The command line, recorded in summary.json.
+    inputs : tuple of str or Path, optional
+        The input files, recorded with the folder's marker.
+    force : bool, optional
+        Replace this command's earlier output (default False).
+    figure_format : str, optional
+        "png" (default), "pdf" or "svg".
+
+    Returns
+    -------
+    None
+    """
     from ..viz.plots import check_figure_format, figure_sweep, save_figure
 
     figure_format = check_figure_format(figure_format)

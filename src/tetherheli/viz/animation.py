@@ -84,22 +84,34 @@ _MARGIN = 0.3  # [m] free space around the drawn helicopter(s) in the close-up
 class RunData:
     """One saved run, as much of it as the animation draws.
 
-    Attributes
+    Parameters
     ----------
-    stem : file stem in the result directory (``<stem>.csv``, ``<stem>.json``)
-    name : the scenario's name (configuration["name"])
-    configuration : "free" or "tethered"
-    time : (n,) sample times [s], strictly increasing
-    q : (n, 9) generalized coordinates q1..q9: HO position q1..q3 [m], Euler angles q4..q6
-        [rad], tether angles q7, q8 [rad] and length q9 [m] (for a free run q7..q9 locate P as
-        if a tether were there)
-    wind : (n, 3) wind force on HO in N [N] (Fw1, Fw2, Fw3)
-    tension : (n,) tether tension TC [N] (zero for a free run)
-    trim_position : (3,) HO at the run's trim point [m]
-    helicopter : the helicopter parameters of the run (for the point offsets)
-    status : 0 if the run completed, else the simulator's failure code
-    message : the simulator's status message
-    version : tetherheli version that wrote the run
+    stem : str
+        File stem in the result directory (``<stem>.csv``, ``<stem>.json``).
+    name : str
+        The scenario's name (configuration["name"]).
+    configuration : {"free", "tethered"}
+        The run's configuration.
+    time : ndarray, shape (n,)
+        Sample times [s], strictly increasing.
+    q : ndarray, shape (n, 9)
+        Generalized coordinates q1..q9: HO position q1..q3 [m], Euler angles q4..q6 [rad],
+        tether angles q7, q8 [rad] and length q9 [m] (for a free run q7..q9 locate P as if a
+        tether were there).
+    wind : ndarray, shape (n, 3)
+        Wind force on HO in N [N] (Fw1, Fw2, Fw3).
+    tension : ndarray, shape (n,)
+        Tether tension TC [N] (zero for a free run).
+    trim_position : ndarray, shape (3,)
+        HO at the run's trim point [m].
+    helicopter : HelicopterParams
+        The helicopter parameters of the run (for the point offsets).
+    status : int
+        0 if the run completed, else the simulator's failure code.
+    message : str
+        The simulator's status message.
+    version : str
+        The tetherheli version that wrote the run.
     """
 
     stem: str
@@ -134,7 +146,13 @@ class RunData:
         return self.configuration == "tethered"
 
     def points(self) -> HelicopterPoints:
-        """The named points at every sample, each (n, 3) [m]."""
+        """The named points at every sample, each (n, 3) [m].
+
+        Returns
+        -------
+        HelicopterPoints
+            The helicopter's named points (``model.kinematics.helicopter_points``).
+        """
         return helicopter_points(self.position, self.angles, self.helicopter)
 
 
@@ -208,7 +226,18 @@ def _load_runs(directory: str | Path, stems: Sequence[str] | None) -> list[RunDa
 def run_colours(runs: Sequence[RunData]) -> list[str]:
     """The colour of each run: the first free run red and the first tethered run blue
     (``viz.plots.CONFIGURATION_COLOURS``, the figures' colours), any further run one of
-    ``_MORE_COLOURS`` in turn."""
+    ``_MORE_COLOURS`` in turn.
+
+    Parameters
+    ----------
+    runs : sequence of RunData
+        The runs drawn together.
+
+    Returns
+    -------
+    list of str
+        One Matplotlib colour per run.
+    """
     from .plots import CONFIGURATION_COLOURS
 
     colours, used, extra = [], set(), 0

@@ -56,7 +56,18 @@ _STYLE = {cfg: dict(color=c, lw=1.1, label=cfg) for cfg, c in CONFIGURATION_COLO
 
 
 def check_figure_format(figure_format: str) -> str:
-    """``figure_format`` if it is one of ``FIGURE_FORMATS``, else ParameterError."""
+    """``figure_format`` if it is one of ``FIGURE_FORMATS``, else ParameterError.
+
+    Parameters
+    ----------
+    figure_format : str
+        A format name, e.g. ``"png"``.
+
+    Returns
+    -------
+    str
+        ``figure_format`` unchanged.
+    """
     if figure_format not in FIGURE_FORMATS:
         raise ParameterError("figure format", figure_format, f"one of {list(FIGURE_FORMATS)}")
     return figure_format
@@ -64,7 +75,18 @@ def check_figure_format(figure_format: str) -> str:
 
 def metric_label(metric: str) -> str:
     """An axis label with the unit for a run metric (``sim.batch.METRIC_NAMES``, e.g.
-    "peak_q1" -> "peak |q1 - q1 trim| [m]")."""
+    "peak_q1" -> "peak |q1 - q1 trim| [m]").
+
+    Parameters
+    ----------
+    metric : str
+        A metric name such as ``"peak_q1"``, ``"rms_q2"``, ``"tension_max"``.
+
+    Returns
+    -------
+    str
+        The label; an unknown name is returned unchanged.
+    """
     kind, _, rest = metric.partition("_")
     if kind == "tension":
         return f"{rest}imum tether tension TC [N]"
@@ -94,7 +116,20 @@ def _style(result: SimulationResult) -> dict:
 
 def plottable(values: np.ndarray) -> tuple[np.ndarray, int]:
     """A copy of ``values`` with the samples that cannot be drawn (non-finite, or beyond
-    ``PLOT_LIMIT``) set to NaN (gaps in the line), and how many there were."""
+    ``PLOT_LIMIT``) set to NaN (gaps in the line), and how many there were.
+
+    Parameters
+    ----------
+    values : ndarray
+        Samples of any shape and unit.
+
+    Returns
+    -------
+    drawable : ndarray of float
+        The copy, same shape, NaN where a sample cannot be drawn.
+    dropped : int
+        How many samples were set to NaN.
+    """
     a = np.array(values, dtype=float)
     with np.errstate(invalid="ignore"):
         bad = ~(np.abs(a) <= PLOT_LIMIT)
@@ -164,7 +199,22 @@ def figure_outputs(
     runs: list[SimulationResult], title: str = "", *, fig: Figure | None = None
 ) -> Figure:
     """Figs. 6 and 8: wind force, q1, q2, q3 [m] and q4, q5 [deg] against time (into ``fig``
-    if given)."""
+    if given).
+
+    Parameters
+    ----------
+    runs : list of SimulationResult
+        The runs to overlay (coloured by configuration, ``CONFIGURATION_COLOURS``).
+    title : str, optional
+        The figure's title (default none).
+    fig : matplotlib.figure.Figure, optional
+        The figure to draw into (cleared); default a new one.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn.
+    """
     fig, axes = _stacked(6, (7.5, 10.5), fig)
     plot = _Plotter()
     for r in runs:
@@ -189,7 +239,22 @@ def figure_inputs(
 ) -> Figure:
     """Figs. 7 and 9: tension TC and inputs fMR3, tMR1, tMR2 (with feed-forward), into
     ``fig`` if given. The tension axis spans the taut tethers' samples (a free run's TC = 0
-    would flatten their variation), and says so when a free run lies off it."""
+    would flatten their variation), and says so when a free run lies off it.
+
+    Parameters
+    ----------
+    runs : list of SimulationResult
+        The runs to overlay (coloured by configuration).
+    title : str, optional
+        The figure's title (default none).
+    fig : matplotlib.figure.Figure, optional
+        The figure to draw into (cleared); default a new one.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn.
+    """
     fig, axes = _stacked(4, (7.5, 8.0), fig)
     plot = _Plotter()
     for r in runs:
@@ -252,7 +317,20 @@ def figure_sweep(result: Any, *, fig: Figure | None = None) -> Figure:
     red (the cyclic authority cannot hold the tether moment there), the points the physics
     cannot meet (no trim, beyond the actuator limits) shaded grey, the failed runs marked and
     the best value. For a tethered sweep a second panel compares the tether's measured peak
-    moment about HO with the cyclic authority and eq 40's worst case |arm| TC."""
+    moment about HO with the cyclic authority and eq 40's worst case |arm| TC.
+
+    Parameters
+    ----------
+    result : SweepResult
+        The sweep (``studies.sweep.run_sweep``'s result).
+    fig : matplotlib.figure.Figure, optional
+        The figure to draw into (cleared); default a new one.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn.
+    """
     from ..studies.sweep import parameter_label
 
     moments = result.peak_tether_moment is not None and np.any(
@@ -332,7 +410,20 @@ def figure_sweep(result: Any, *, fig: Figure | None = None) -> Figure:
 def figure_limit_search(search: Any, *, ax: Any = None) -> Figure:
     """A minimum-cyclic-limit search (``studies.cyclic_limit.LimitSearch``), on ``ax`` if
     given: the metric of every limited run against the limit, the threshold (1 + within) x
-    the unlimited run's, the interval found, and the runs that did not complete."""
+    the unlimited run's, the interval found, and the runs that did not complete.
+
+    Parameters
+    ----------
+    search : LimitSearch
+        The search's result (limits [N m], metric, threshold, interval).
+    ax : matplotlib.axes.Axes, optional
+        The axes to draw on; default those of a new figure.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn (``ax``'s if given).
+    """
     fig, ax = _single_axes(ax, (7.0, 4.0))
     order = np.argsort(search.values)
     v, mtr, meets = search.values[order], search.metric[order], search.meets[order]
@@ -368,7 +459,20 @@ def figure_release(comparison: Any, *, fig: Figure | None = None) -> Figure:
     """The transient after a tether release (``studies.release.ReleaseComparison``), into
     ``fig`` if given: altitude deviation q3 - q3_trim, collective fMR3 and tension, with the
     controller switched to the free trim (u0|F) against one that keeps the tethered trim
-    input (u0|T)."""
+    input (u0|T).
+
+    Parameters
+    ----------
+    comparison : ReleaseComparison
+        The two runs, ``kept`` (u0|T) and ``switched`` (u0|F).
+    fig : matplotlib.figure.Figure, optional
+        The figure to draw into (cleared); default a new one.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn.
+    """
     fig, axes = _stacked(3, (8.0, 6.5), fig)
     plot = _Plotter()
     runs = (
@@ -414,9 +518,10 @@ def figure_montecarlo(
 
     Parameters
     ----------
-    values : mapping configuration -> (n,) array
-        The metric of every run (any value where failed).
-    ok : mapping configuration -> (n,) bool array
+    values : mapping of str to ndarray, shape (n,)
+        Configuration -> the metric of every run, in the metric's unit (any value where
+        failed).
+    ok : mapping of str to ndarray, shape (n,), bool
         Whether each run completed.
     kind : str
         "hist" or "cdf".
@@ -427,7 +532,8 @@ def figure_montecarlo(
 
     Returns
     -------
-    Figure
+    matplotlib.figure.Figure
+        The figure drawn (``ax``'s if given).
     """
     if kind not in _KIND_TITLES:
         raise ParameterError("kind", kind, f"one of {list(_KIND_TITLES)}")
@@ -489,9 +595,9 @@ def figure_paired(
 
     Parameters
     ----------
-    free, tethered : (n,) arrays
-        The metric of each draw's two runs.
-    free_ok, tethered_ok : (n,) bool arrays
+    free, tethered : ndarray, shape (n,)
+        The metric of each draw's two runs, in the metric's unit.
+    free_ok, tethered_ok : ndarray, shape (n,), bool
         Whether each run completed.
     metric : str
         The metric's name, for the labels.
@@ -500,7 +606,8 @@ def figure_paired(
 
     Returns
     -------
-    Figure
+    matplotlib.figure.Figure
+        The figure drawn (``ax``'s if given).
     """
     fig, ax = _single_axes(ax, (5.2, 5.0))
     f = np.asarray(free, dtype=float)
@@ -558,7 +665,22 @@ def figure_sensing(
     different position sources (``extra["q1_est"]``); with ``estimates`` (run name ->
     fusion -> ``estimation.EstimateResult``) a middle panel with the Kalman filter's q1
     error for each fusion on the first run with a GNSS outage (else the first run), the
-    outage shaded. Drawn into ``fig`` if given."""
+    outage shaded. Drawn into ``fig`` if given.
+
+    Parameters
+    ----------
+    results : mapping of str to SimulationResult
+        Run name -> a run recording ``extra["q1_est"]`` [m].
+    estimates : mapping of str to mapping of str to EstimateResult, optional
+        Run name -> fusion -> the Kalman filter's estimate (default none: two panels).
+    fig : matplotlib.figure.Figure, optional
+        The figure to draw into (cleared); default a new one.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn.
+    """
     panels = 3 if estimates else 2
     fig, axes = _stacked(panels, (7.5, 3.0 * panels), fig)
     for name, r in results.items():
@@ -594,7 +716,22 @@ def figure_sensing(
 
 def save_figure(fig: Figure, path: str | Path, dpi: int = PRINT_DPI) -> Path:
     """Save ``fig`` atomically in the format of ``path``'s suffix (``FIGURE_FORMATS``: PNG
-    at ``dpi``, default ``PRINT_DPI``; PDF, SVG as vectors, without a creation date)."""
+    at ``dpi``, default ``PRINT_DPI``; PDF, SVG as vectors, without a creation date).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure to save.
+    path : str or Path
+        The file to write; its suffix (.png, .pdf, .svg) selects the format.
+    dpi : int, optional
+        Resolution of a PNG [dots per inch] (default ``PRINT_DPI``).
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
     import io
 
     path = Path(path)

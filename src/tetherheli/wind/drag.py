@@ -67,5 +67,10 @@ class DragModel:
         return 0.5 * self.rho * np.asarray(self.cd_area_m2) * speed * v_rel
 
     def to_dict(self) -> dict[str, Any]:
-        """A TOML-friendly table of the fields."""
+        """A TOML-friendly table of the fields.
+        Returns
+        -------
+        dict of str to object
+            Field name -> value (tuples as lists).
+        """
         return _plain_dict(self)

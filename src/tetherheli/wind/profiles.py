@@ -116,7 +116,12 @@ class Disturbance(ABC):
         return self._force(t)
 
     def to_dict(self) -> dict[str, Any]:
-        """A TOML-friendly table that ``disturbance_from_dict`` maps back to an equal object."""
+        """A TOML-friendly table that ``disturbance_from_dict`` maps back to an equal object.
+        Returns
+        -------
+        dict of str to object
+            ``type`` and the fields, as TOML writes them.
+        """
         raise NotImplementedError(f"{type(self).__name__} does not define to_dict()")
 
     def __add__(self, other: object) -> WindSum:
@@ -178,7 +183,12 @@ class Pulse(Disturbance):
         return np.outer(np.where(on, self.magnitude, 0.0), self.direction)
 
     def to_dict(self) -> dict[str, Any]:
-        """See ``Disturbance.to_dict``."""
+        """See ``Disturbance.to_dict``.
+        Returns
+        -------
+        dict of str to object
+            ``type`` and the fields, as TOML writes them.
+        """
         return _plain_dict(self)
 
 
@@ -211,7 +221,12 @@ class Step(Disturbance):
         return np.outer(np.where(t >= self.start, self.magnitude, 0.0), self.direction)
 
     def to_dict(self) -> dict[str, Any]:
-        """See ``Disturbance.to_dict``."""
+        """See ``Disturbance.to_dict``.
+        Returns
+        -------
+        dict of str to object
+            ``type`` and the fields, as TOML writes them.
+        """
         return _plain_dict(self)
 
 
@@ -260,7 +275,12 @@ class Sine(Disturbance):
         return np.outer(np.where(t >= self.start, value, 0.0), self.direction)
 
     def to_dict(self) -> dict[str, Any]:
-        """See ``Disturbance.to_dict``."""
+        """See ``Disturbance.to_dict``.
+        Returns
+        -------
+        dict of str to object
+            ``type`` and the fields, as TOML writes them.
+        """
         return _plain_dict(self)
 
 
@@ -285,7 +305,12 @@ class ConstantForce(Disturbance):
         return np.tile(np.asarray(self.vector), (t.size, 1))
 
     def to_dict(self) -> dict[str, Any]:
-        """See ``Disturbance.to_dict``."""
+        """See ``Disturbance.to_dict``.
+        Returns
+        -------
+        dict of str to object
+            ``type`` and the fields, as TOML writes them.
+        """
         return _plain_dict(self)
 
 
@@ -299,7 +324,12 @@ class NoWind(Disturbance):
         return np.zeros((t.size, 3))
 
     def to_dict(self) -> dict[str, Any]:
-        """See ``Disturbance.to_dict``."""
+        """See ``Disturbance.to_dict``.
+        Returns
+        -------
+        dict of str to object
+            ``type`` and the fields, as TOML writes them.
+        """
         return {"type": self.type_name}
 
 
@@ -339,7 +369,12 @@ class WindSum(Disturbance):
         return out
 
     def to_dict(self) -> dict[str, Any]:
-        """See ``Disturbance.to_dict``."""
+        """See ``Disturbance.to_dict``.
+        Returns
+        -------
+        dict of str to object
+            ``type`` and the fields, as TOML writes them.
+        """
         return {"type": self.type_name, "components": [c.to_dict() for c in self.components]}
 
 

@@ -208,7 +208,12 @@ class GustModel(ABC):
         return y @ self.axes.T
 
     def to_dict(self) -> dict[str, Any]:
-        """A TOML-friendly table (``type`` and the fields) for ``disturbance_from_dict``."""
+        """A TOML-friendly table (``type`` and the fields) for ``disturbance_from_dict``.
+        Returns
+        -------
+        dict of str to object
+            ``type`` and the fields, as TOML writes them.
+        """
         return _plain_dict(self)
 
 
@@ -420,13 +425,16 @@ class GustCalibration:
     """Standard deviations, length scales and correlation times of the gust axes (u, v, w)
     that a published turbulence model gives (``gust_calibration``).
 
-    Attributes
+    Parameters
     ----------
-    sigma_m_s : (3,) standard deviations [m/s]
-    length_scale_m : (3,) the model's length scales [m]
-    correlation_time_s : (3,) the Gauss-Markov correlation time 1/a of each axis [s]: the
-        integral time scale of the model's spectrum at the convection speed (its value at
-        zero frequency divided by 4 sigma^2)
+    sigma_m_s : tuple of 3 floats
+        Standard deviations [m/s].
+    length_scale_m : tuple of 3 floats
+        The model's length scales [m].
+    correlation_time_s : tuple of 3 floats
+        The Gauss-Markov correlation time 1/a of each axis [s]: the integral time scale of
+        the model's spectrum at the convection speed (its value at zero frequency divided by
+        4 sigma^2).
     """
 
     sigma_m_s: tuple[float, float, float]
@@ -601,13 +609,29 @@ class CalibratedGaussMarkovTurbulence(GaussMarkovTurbulence):
         )
 
     def to_dict(self) -> dict[str, Any]:
-        """The calibration's inputs (absent optional ones left out); K and a follow."""
+        """The calibration's inputs (absent optional ones left out); K and a follow.
+        Returns
+        -------
+        dict of str to object
+            ``type`` and the calibration's given fields.
+        """
         return {k: v for k, v in _plain_dict(self).items() if v is not None}
 
 
 def heading_axes(heading_rad: float) -> np.ndarray:
     """Gust axes (u, v, w) in N, shape (3, 3), columns: u horizontal at azimuth
-    ``heading_rad`` (from n1 towards n2), v horizontal to its left, w = n3."""
+    ``heading_rad`` (from n1 towards n2), v horizontal to its left, w = n3.
+
+    Parameters
+    ----------
+    heading_rad : float
+        Azimuth of the gust axis u from n1 towards n2 [rad].
+
+    Returns
+    -------
+    ndarray, shape (3, 3)
+        Columns u, v, w in N (a rotation about n3).
+    """
     c, s = math.cos(heading_rad), math.sin(heading_rad)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
@@ -699,7 +723,13 @@ class Turbulence(Disturbance):
         _set(self, "_gust", gust)
 
     def rng(self) -> np.random.Generator:
-        """A fresh generator in the state used to draw the gusts."""
+        """A fresh generator in the state used to draw the gusts.
+
+        Returns
+        -------
+        numpy.random.Generator
+            Seeded from ``seed`` and ``spawn_key``.
+        """
         return np.random.default_rng(np.random.SeedSequence(self.seed, spawn_key=self.spawn_key))
 
     @property
@@ -736,7 +766,18 @@ class Turbulence(Disturbance):
 
     def covers(self, t: float | np.ndarray) -> bool | np.ndarray:
         """Whether time(s) ``t`` [s] lie within the gust grid [0, ``t_end``] (relative
-        tolerance 1e-12 at the end)."""
+        tolerance 1e-12 at the end).
+
+        Parameters
+        ----------
+        t : float or ndarray
+            Time(s) [s].
+
+        Returns
+        -------
+        bool or ndarray of bool
+            Shaped as ``t``.
+        """
         return (t >= 0.0) & (t <= self.t_end * (1.0 + 1e-12))
 
     def _interp(self, t: np.ndarray) -> np.ndarray:
@@ -766,7 +807,12 @@ class Turbulence(Disturbance):
         return self.drag.force(np.asarray(self.N_v_mean_wind, dtype=float) + self._gust[0])
 
     def to_dict(self) -> dict[str, Any]:
-        """See ``Disturbance.to_dict``; the gusts themselves are regenerated from the seed."""
+        """See ``Disturbance.to_dict``; the gusts themselves are regenerated from the seed.
+        Returns
+        -------
+        dict of str to object
+            ``type``, the fields, and the ``model`` and ``drag`` tables.
+        """
         out = _plain_dict(self)
         out["model"] = self.model.to_dict()
         out["drag"] = self.drag.to_dict()
@@ -798,7 +844,18 @@ def initial_wind_force(wind: Disturbance) -> np.ndarray:
     """The force of the air on HO at rest at t = 0, shape (3,) [N]: the drag of the mean wind
     plus the gust at t = 0 of every ``Turbulence`` in ``wind`` (``Turbulence.initial_force``);
     zero for the force profiles (pulse, step, sine, constant), which a run meets as they
-    come. A run starts in the trim that balances it (``sim.setup.start_point``)."""
+    come. A run starts in the trim that balances it (``sim.setup.start_point``).
+
+    Parameters
+    ----------
+    wind : Disturbance
+        The run's wind (a sum is summed part by part).
+
+    Returns
+    -------
+    ndarray, shape (3,)
+        The force along n1, n2, n3 [N].
+    """
     if isinstance(wind, WindSum):
         parts = [initial_wind_force(part) for part in wind.components]
         return np.sum(parts, axis=0) + np.zeros(3)
@@ -815,6 +872,21 @@ def check_wind_covers(
     The one check for every path: the compiled engine would hold the last gust value for the
     rest of the run and the Python loop would stop with an error mid-run; ``Scenario``
     calls it on construction, the Gymnasium environment on every episode's wind.
+
+    Parameters
+    ----------
+    wind : Disturbance
+        The wind (a sum is checked part by part).
+    duration : float
+        The run's length [s].
+    name : str, optional
+        The field the error names (default ``"wind"``).
+    source : str, optional
+        Where the wind came from (a file), for the error message.
+
+    Returns
+    -------
+    None
 
     Raises
     ------

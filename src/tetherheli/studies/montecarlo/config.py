@@ -52,7 +52,7 @@ _MC_KEYS = {
 class MonteCarloConfig:
     """The dispersions of a Monte Carlo (the ``[montecarlo]`` table), validated.
 
-    Attributes
+    Parameters
     ----------
     runs : int
         Number of draws N (each run free and tethered).
@@ -79,7 +79,13 @@ class MonteCarloConfig:
     params: tuple[tuple[str, float], ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
-        """Plain data (recorded in summary.json)."""
+        """Plain data (recorded in summary.json).
+
+        Returns
+        -------
+        dict of str to object
+            The fields, ``params`` as a dict "section.field" -> p [%].
+        """
         d = dataclasses.asdict(self)
         d["params"] = dict(self.params)
         return d
@@ -87,6 +93,18 @@ class MonteCarloConfig:
 
 def montecarlo_config_from_dict(data: Any, *, source: str | None = None) -> MonteCarloConfig:
     """Validate a ``[montecarlo]`` table (see the module docstring).
+
+    Parameters
+    ----------
+    data : dict
+        The table as TOML reads it.
+    source : str, optional
+        The file it came from, for the error messages.
+
+    Returns
+    -------
+    MonteCarloConfig
+        The validated dispersions.
 
     Raises
     ------
@@ -146,6 +164,11 @@ def montecarlo_config_from_dict(data: Any, *, source: str | None = None) -> Mont
 
 def load_montecarlo(path: str | Path) -> tuple[Scenario, MonteCarloConfig]:
     """Load a scenario TOML file with a ``[montecarlo]`` table.
+
+    Parameters
+    ----------
+    path : str or Path
+        The scenario file.
 
     Returns
     -------

@@ -32,14 +32,17 @@ __all__ = ["Draw", "draw", "draw_seed"]
 class Draw:
     """One dispersed draw (shared by its free and tethered runs).
 
-    Attributes
+    Parameters
     ----------
     index : int
         Spawn index i of the child ``SeedSequence``.
     entropy : int
-        The root entropy; ``spawn_key`` is ``(index,)``.
+        The root entropy.
+    spawn_key : tuple of int
+        The child's spawn key, ``(index,)``.
     amplitude_scale, direction_deg, phase_rad, start_shift_s : float
-        Wind dispersions (``phase_rad`` NaN when phases are not drawn).
+        Wind dispersions: magnitude factor, rotation about n3 [deg], sine phase [rad] (NaN
+        when phases are not drawn) and time shift [s].
     param_factors : tuple of (str, float)
         Multiplicative factor of every dispersed parameter.
     param_values : tuple of float
@@ -48,6 +51,8 @@ class Draw:
         The dispersed scenario (configuration "tethered"); None when the dispersed values
         are physically impossible (e.g. a tension the dispersed tether cannot give), and
         ``reason`` says why: the draw is then a failed row, not an error of the job.
+    reason : str, optional
+        Why ``scenario`` is None (default "").
     """
 
     index: int
@@ -65,7 +70,20 @@ class Draw:
 
 def draw_seed(seed: int, index: int) -> np.random.SeedSequence:
     """The seed of draw ``index``: child ``index`` of ``SeedSequence(seed).spawn(N)`` for any
-    N > ``index``, made on its own in O(1) (same entropy, spawn key ``(index,)``, pool size)."""
+    N > ``index``, made on its own in O(1) (same entropy, spawn key ``(index,)``, pool size).
+
+    Parameters
+    ----------
+    seed : int
+        The root seed.
+    index : int
+        The draw's index, >= 0.
+
+    Returns
+    -------
+    numpy.random.SeedSequence
+        The draw's seed.
+    """
     return np.random.SeedSequence(seed, spawn_key=(index,))
 
 
@@ -77,7 +95,24 @@ def _rot(v: tuple[float, ...], angle: float, scale: float = 1.0) -> tuple[float,
 def draw(
     base: Scenario, config: MonteCarloConfig, child: np.random.SeedSequence, index: int
 ) -> Draw:
-    """Disperse ``base`` with the random stream of ``child`` (see the package docstring)."""
+    """Disperse ``base`` with the random stream of ``child`` (see the package docstring).
+
+    Parameters
+    ----------
+    base : Scenario
+        The nominal scenario.
+    config : MonteCarloConfig
+        The dispersions.
+    child : numpy.random.SeedSequence
+        The draw's seed (``draw_seed``).
+    index : int
+        The draw's index.
+
+    Returns
+    -------
+    Draw
+        The dispersed draw (its ``scenario`` None with a ``reason`` when impossible).
+    """
     rng = np.random.default_rng(child)
     # fixed draw order: amplitude, direction, phase, time shift, parameters (sorted)
     scale = max(0.0, 1.0 + config.amplitude_std_percent / 100.0 * rng.standard_normal())

@@ -51,7 +51,22 @@ def result_files(
     metric: str = "peak_q1", figure_format: str = "png", table_format: str = "csv"
 ) -> tuple[str, ...]:
     """What a finished job writes beside ``partial/``: the results table in ``table_format``
-    ("csv" or "parquet"), the summary and the figures of ``metric`` in ``figure_format``."""
+    ("csv" or "parquet"), the summary and the figures of ``metric`` in ``figure_format``.
+
+    Parameters
+    ----------
+    metric : str, optional
+        The figures' metric (default "peak_q1").
+    figure_format : str, optional
+        "png" (default), "pdf" or "svg".
+    table_format : str, optional
+        "csv" (default) or "parquet".
+
+    Returns
+    -------
+    tuple of str
+        The file names.
+    """
     figures = tuple(f"{metric}_{kind}.{figure_format}" for kind in FIGURE_KINDS)
     return (f"results.{table_format}", "summary.json", *figures)
 
@@ -313,6 +328,11 @@ def run_montecarlo(
         The results table: ``results.csv`` (default) or ``results.parquet`` (pyarrow; the
         same columns, text columns as strings, ``run`` and ``status`` as int64, the rest
         float64).
+    inputs : tuple of str or Path, optional
+        The input files (the scenario), which ``out`` must not hold; recorded with the
+        folder's marker.
+    force : bool, optional
+        Write into a non-empty folder tetherheli did not create (its files are kept).
     metric : str
         The metric of the figures (one of ``METRICS``): histogram, CDF and the paired
         free-against-tethered scatter per draw.
