@@ -135,7 +135,7 @@ def test_documented_range_is_the_checked_one(key, default, allowed):
 
 #: The modules the API reference (docs/api.md) documents, with the names it lists; the
 #: docstrings of these are converted to numpydoc. Not yet converted (other work in progress):
-#: cli.py, progress.py, sensors.py, sim/setup.py, sim/batch.py, sim/engine.py,
+#: cli.py, progress.py, sim/setup.py, sim/batch.py, sim/engine.py,
 #: model/derive.py, model/codegen.py, model/kernels.py, resources.py, report.py and the
 #: private helpers (_io, _validation, _compile, _linalg).
 API = {
@@ -206,6 +206,12 @@ API = {
                                              "montecarlo_config_from_dict"],
     "tetherheli.studies.montecarlo.draws": ["Draw", "draw", "draw_seed"],
     "tetherheli.studies.montecarlo.runner": ["run_montecarlo", "result_files"],
+    "tetherheli.sensors": ["SensorConfig", "sensor_config_from_dict", "noise_table",
+                           "gauss_markov", "random_walk", "accelerometer_errors",
+                           "sample_schedule", "group_samples", "ring_rows", "measure",
+                           "measure_into", "measure_sampled", "measure_batch",
+                           "true_channels_into", "measured_channels",
+                           "tether_position_estimate", "hover_error_std"],
 }  # fmt: skip
 
 
