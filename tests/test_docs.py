@@ -136,7 +136,7 @@ def test_documented_range_is_the_checked_one(key, default, allowed):
 #: The modules the API reference (docs/api.md) documents, with the names it lists; the
 #: docstrings of these are converted to numpydoc. Not yet converted (other work in progress):
 #: cli.py, sim/setup.py, sim/engine.py,
-#: model/derive.py, model/codegen.py, model/kernels.py, resources.py and the
+#: model/derive.py, model/codegen.py, model/kernels.py and the
 #: private helpers (_io, _validation, _compile, _linalg).
 API = {
     "tetherheli.params": ["Params", "HelicopterParams", "TetherParams", "TensionControlParams",
@@ -217,6 +217,7 @@ API = {
                            "true_channels_into", "measured_channels",
                            "tether_position_estimate", "hover_error_std"],
     "tetherheli.progress": ["Progress"],
+    "tetherheli.resources": ["check_memory", "memory_limit", "format_bytes"],
     "tetherheli.report": ["run_paper", "paper_summary", "run_status", "write_run",
                           "write_comparison", "run_sensing", "sensing_scenario"],
     "tetherheli.sim.batch": ["run_batch", "BatchResult", "summary_metrics", "connect",
