@@ -135,7 +135,7 @@ def test_documented_range_is_the_checked_one(key, default, allowed):
 
 #: The modules the API reference (docs/api.md) documents, with the names it lists; the
 #: docstrings of these are converted to numpydoc. Not yet converted (other work in progress):
-#: cli.py, sim/setup.py, sim/engine.py,
+#: the rest of cli.py, sim/setup.py, sim/engine.py,
 #: model/derive.py, model/codegen.py, model/kernels.py and the
 #: private helpers (_io, _validation, _compile, _linalg).
 API = {
@@ -191,6 +191,9 @@ API = {
                                    "heading_axes", "initial_wind_force"],
     "tetherheli.wind.drag": ["DragModel"],
     "tetherheli.wind.loader": ["disturbance_from_dict"],
+    "tetherheli.wind.compiled": ["CompiledWind", "compile_wind"],
+    "tetherheli.cli": ["main"],
+    "tetherheli.layout": ["default_actuators"],
     "tetherheli.studies.montecarlo.statistics": ["bootstrap_interval", "paired_reduction",
                                                  "tail_percentile", "with_failures"],
     "tetherheli.viz.animation": ["RunData", "animate", "frame_rgb", "load_run", "render_frame",
