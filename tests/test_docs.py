@@ -135,7 +135,7 @@ def test_documented_range_is_the_checked_one(key, default, allowed):
 
 #: The modules the API reference (docs/api.md) documents, with the names it lists; the
 #: docstrings of these are converted to numpydoc. Not yet converted (other work in progress):
-#: the rest of cli.py, sim/setup.py, sim/engine.py,
+#: the rest of cli.py, sim/engine.py,
 #: model/derive.py, model/codegen.py, model/kernels.py and the
 #: private helpers (_io, _validation, _compile, _linalg).
 API = {
@@ -223,6 +223,10 @@ API = {
     "tetherheli.resources": ["check_memory", "memory_limit", "format_bytes"],
     "tetherheli.report": ["run_paper", "paper_summary", "run_status", "write_run",
                           "write_comparison", "run_sensing", "sensing_scenario"],
+    "tetherheli.sim.setup": ["engine_setup", "EngineSetup", "run_setup", "RunSetup", "paper_gain",
+                             "free_trim_input", "paper_law", "start_point", "StartPoint",
+                             "actuator_array", "sensor_noise", "sensor_schedule",
+                             "sensor_tuple", "lane_block", "lane_program_into"],
     "tetherheli.sim.batch": ["run_batch", "BatchResult", "summary_metrics", "connect",
                              "disconnect", "run_block", "run_unrecorded"],
 }  # fmt: skip
