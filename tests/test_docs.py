@@ -4,6 +4,7 @@ and the public API carries numpydoc sections (issue 12, item 6)."""
 from __future__ import annotations
 
 import dataclasses
+import enum
 import importlib
 import inspect
 import math
@@ -205,7 +206,7 @@ API = {
     "tetherheli.studies.sweep": ["sweep", "SweepResult", "write_sweep", "tension_bound",
                                  "paper_cyclic_limit", "scenario_cyclic_limit",
                                  "parameter_label"],
-    "tetherheli.status": ["status_message", "release_sentence"],
+    "tetherheli.status": ["Status", "status_message", "release_sentence"],
     "tetherheli.studies.cyclic_limit": ["minimum_cyclic_limit", "LimitSearch",
                                         "write_limit_search", "bisect_criterion",
                                         "bracket_from_above"],
@@ -250,9 +251,13 @@ def _missing_sections(obj) -> list[str]:
     """What numpydoc requires of ``obj`` and its docstring lacks: a Parameters entry for every
     argument (a class: its constructor's), Returns for a function that returns a value. A
     NamedTuple's fields may be under Attributes (the API reference's reader, griffe, does not
-    see them as a signature)."""
+    see them as a signature). An Enum has no constructor of its own to document: every member
+    must be under Attributes instead."""
     found = sections(obj.__doc__)
     documented = parameter_docs(obj.__doc__)
+    if inspect.isclass(obj) and issubclass(obj, enum.Enum):
+        members = parameter_docs(obj.__doc__, "Attributes")
+        return [f"member {m} undocumented" for m in obj.__members__ if m not in members]
     if inspect.isclass(obj) and issubclass(obj, tuple) and hasattr(obj, "_fields"):
         documented |= parameter_docs(obj.__doc__, "Attributes")
     problems = []
@@ -289,4 +294,15 @@ def test_numpydoc_check_fails_on_a_bare_docstring():
         "parameter x undocumented",
         "parameter scale undocumented",
         "no Returns section",
+    ]
+
+    class BareStatus(enum.IntEnum):
+        """An end state."""
+
+        OK = 0
+        FAILED = 1
+
+    assert _missing_sections(BareStatus) == [
+        "member OK undocumented",
+        "member FAILED undocumented",
     ]
