@@ -4,6 +4,7 @@ and the public API carries numpydoc sections (issue 12, item 6)."""
 from __future__ import annotations
 
 import dataclasses
+import enum
 import importlib
 import inspect
 import math
@@ -135,20 +136,23 @@ def test_documented_range_is_the_checked_one(key, default, allowed):
 
 #: The modules the API reference (docs/api.md) documents, with the names it lists; the
 #: docstrings of these are converted to numpydoc. Not yet converted (other work in progress):
-#: cli.py, progress.py, sensors.py, sim/setup.py, sim/batch.py, sim/engine.py,
-#: model/derive.py, model/codegen.py, model/kernels.py, resources.py, report.py and the
+#: the rest of cli.py, sim/engine.py,
+#: model/derive.py, model/codegen.py, model/kernels.py and the
 #: private helpers (_io, _validation, _compile, _linalg).
 API = {
     "tetherheli.params": ["Params", "HelicopterParams", "TetherParams", "TensionControlParams",
                           "check_tether_length"],
     "tetherheli.model.dynamics": ["FreeHelicopter", "TetheredHelicopter"],
-    "tetherheli.model.trim": ["TrimPoint", "hover_trim"],
+    "tetherheli.model.trim": ["TrimPoint", "hover_trim", "windless_trim"],
+    "tetherheli.model.kinematics": ["HelicopterPoints", "helicopter_points", "direction_cosines",
+                                    "tethered_HO_position", "tether_length_from_altitude"],
     "tetherheli.model.linearize": ["LinearModel", "linearize"],
     "tetherheli.sim.scenario": ["Scenario", "ControlSettings", "TetherLQISettings", "Limits",
                                 "ActuatorSettings", "load_scenario", "paper_scenario",
                                 "scenario_toml", "metrics_first_sample"],
-    "tetherheli.sim.closed_loop": ["simulate"],
-    "tetherheli.sim.result": ["SimulationResult", "load_result", "list_results"],
+    "tetherheli.sim.closed_loop": ["simulate", "check_run_memory"],
+    "tetherheli.sim.result": ["SimulationResult", "load_result", "list_results",
+                              "check_result_format"],
     "tetherheli.sim.reference": ["scenario_reference"],
     "tetherheli._validation": ["Key"],
     "tetherheli.errors": ["ParameterError", "InfeasibleError"],
@@ -158,7 +162,8 @@ API = {
     "tetherheli.control.base": ["Controller", "Command", "Measurement"],
     "tetherheli.control.paper": ["PaperController"],
     "tetherheli.control.tension": ["TensionPI", "limit_rate_change"],
-    "tetherheli.envs": ["TetheredHoverEnv", "register_envs", "finish_step", "observe_into"],
+    "tetherheli.envs": ["TetheredHoverEnv", "register_envs", "finish_step", "observe_into",
+                        "tether_tension", "RenderModeError"],
     "tetherheli.vector_env": ["TetheredHoverVectorEnv"],
     "tetherheli.viz.plots": ["figure_outputs", "figure_inputs", "figure_sweep",
                              "figure_limit_search", "figure_release", "figure_montecarlo",
@@ -187,6 +192,9 @@ API = {
                                    "heading_axes", "initial_wind_force"],
     "tetherheli.wind.drag": ["DragModel"],
     "tetherheli.wind.loader": ["disturbance_from_dict"],
+    "tetherheli.wind.compiled": ["CompiledWind", "compile_wind"],
+    "tetherheli.cli": ["main"],
+    "tetherheli.layout": ["default_actuators"],
     "tetherheli.studies.montecarlo.statistics": ["bootstrap_interval", "paired_reduction",
                                                  "tail_percentile", "with_failures"],
     "tetherheli.viz.animation": ["RunData", "animate", "frame_rgb", "load_run", "render_frame",
@@ -198,7 +206,7 @@ API = {
     "tetherheli.studies.sweep": ["sweep", "SweepResult", "write_sweep", "tension_bound",
                                  "paper_cyclic_limit", "scenario_cyclic_limit",
                                  "parameter_label"],
-    "tetherheli.status": ["status_message", "release_sentence"],
+    "tetherheli.status": ["Status", "status_message", "release_sentence"],
     "tetherheli.studies.cyclic_limit": ["minimum_cyclic_limit", "LimitSearch",
                                         "write_limit_search", "bisect_criterion",
                                         "bracket_from_above"],
@@ -206,6 +214,22 @@ API = {
                                              "montecarlo_config_from_dict"],
     "tetherheli.studies.montecarlo.draws": ["Draw", "draw", "draw_seed"],
     "tetherheli.studies.montecarlo.runner": ["run_montecarlo", "result_files"],
+    "tetherheli.sensors": ["SensorConfig", "sensor_config_from_dict", "noise_table",
+                           "gauss_markov", "random_walk", "accelerometer_errors",
+                           "sample_schedule", "group_samples", "ring_rows", "measure",
+                           "measure_into", "measure_sampled", "measure_batch",
+                           "true_channels_into", "measured_channels",
+                           "tether_position_estimate", "hover_error_std"],
+    "tetherheli.progress": ["Progress"],
+    "tetherheli.resources": ["check_memory", "memory_limit", "format_bytes"],
+    "tetherheli.report": ["run_paper", "paper_summary", "run_status", "write_run",
+                          "write_comparison", "run_sensing", "sensing_scenario"],
+    "tetherheli.sim.setup": ["engine_setup", "EngineSetup", "run_setup", "RunSetup", "paper_gain",
+                             "free_trim_input", "paper_law", "start_point", "StartPoint",
+                             "actuator_array", "sensor_noise", "sensor_schedule",
+                             "sensor_tuple", "lane_block", "lane_program_into"],
+    "tetherheli.sim.batch": ["run_batch", "BatchResult", "summary_metrics", "connect",
+                             "disconnect", "run_block", "run_unrecorded"],
 }  # fmt: skip
 
 
@@ -227,9 +251,13 @@ def _missing_sections(obj) -> list[str]:
     """What numpydoc requires of ``obj`` and its docstring lacks: a Parameters entry for every
     argument (a class: its constructor's), Returns for a function that returns a value. A
     NamedTuple's fields may be under Attributes (the API reference's reader, griffe, does not
-    see them as a signature)."""
+    see them as a signature). An Enum has no constructor of its own to document: every member
+    must be under Attributes instead."""
     found = sections(obj.__doc__)
     documented = parameter_docs(obj.__doc__)
+    if inspect.isclass(obj) and issubclass(obj, enum.Enum):
+        members = parameter_docs(obj.__doc__, "Attributes")
+        return [f"member {m} undocumented" for m in obj.__members__ if m not in members]
     if inspect.isclass(obj) and issubclass(obj, tuple) and hasattr(obj, "_fields"):
         documented |= parameter_docs(obj.__doc__, "Attributes")
     problems = []
@@ -266,4 +294,15 @@ def test_numpydoc_check_fails_on_a_bare_docstring():
         "parameter x undocumented",
         "parameter scale undocumented",
         "no Returns section",
+    ]
+
+    class BareStatus(enum.IntEnum):
+        """An end state."""
+
+        OK = 0
+        FAILED = 1
+
+    assert _missing_sections(BareStatus) == [
+        "member OK undocumented",
+        "member FAILED undocumented",
     ]

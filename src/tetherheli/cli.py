@@ -232,7 +232,20 @@ def _join_negative_values(argv: list[str]) -> list[str]:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit code (see the module docstring)."""
+    """Run the command line; returns the exit code (see the module docstring).
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        The arguments after the program name (default ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit code: 0 success, 1 a run failed, ``EXIT_USAGE`` (2) a user error,
+        ``EXIT_STOPPED`` (3) ``montecarlo --max-chunks`` stopped early, ``EXIT_INTERNAL``
+        (70) a bug, ``EXIT_INTERRUPTED`` (130).
+    """
     argv = _join_negative_values(list(sys.argv[1:] if argv is None else argv))
     debug = "--debug" in argv
     parser = build_parser()

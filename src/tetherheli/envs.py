@@ -164,7 +164,13 @@ _jit = compiled(error_model="numpy")
 
 class RenderModeError(ParameterError, gymnasium.error.UnsupportedMode):
     """A render mode the environment does not support (or "human" without a display): a
-    ``ParameterError`` (one line) that is also Gymnasium's ``error.UnsupportedMode``."""
+    ``ParameterError`` (one line) that is also Gymnasium's ``error.UnsupportedMode``.
+
+    Parameters
+    ----------
+    field, value, allowed, source
+        As for ``ParameterError``.
+    """
 
 
 def _check_display() -> None:
@@ -186,7 +192,20 @@ def _check_display() -> None:
 
 @_jit
 def tether_tension(x, cfg):
-    """The tether tension of state x [N] (eq 28), 0 when the tether is removed or released."""
+    """The tether tension of state x [N] (eq 28), 0 when the tether is removed or released.
+
+    Parameters
+    ----------
+    x : ndarray, shape (13,)
+        State q4..q9, u1..u6, LN (rad, m, m/s, rad/s, m).
+    cfg : ndarray, shape (CFG_SIZE,)
+        The engine's configuration (``layout.CFG_*``; reads ``CFG_ATTACHED``, ``CFG_K_C``).
+
+    Returns
+    -------
+    float
+        Tension TC [N], >= 0.
+    """
     if cfg[CFG_ATTACHED] <= 0.5:
         return 0.0
     return tension_from_state(x[5], x[12], cfg[CFG_K_C])

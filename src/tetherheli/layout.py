@@ -118,7 +118,14 @@ ACT_SIZE = 11
 
 
 def default_actuators() -> np.ndarray:
-    """Ideal actuators: no limits, no lag, an unbreakable tether."""
+    """Ideal actuators: no limits, no lag, an unbreakable tether.
+
+    Returns
+    -------
+    numpy.ndarray, shape (ACT_SIZE,)
+        The actuator array (``ACT_*``): input bounds at -inf/+inf, breaking tension and
+        reel acceleration infinite, all else 0.
+    """
     act = np.zeros(ACT_SIZE)
     act[ACT_U_MIN : ACT_U_MIN + 4] = -math.inf
     act[ACT_U_MAX : ACT_U_MAX + 4] = math.inf

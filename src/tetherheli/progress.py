@@ -83,25 +83,49 @@ class Progress:
         return self._bar is not None
 
     def set_total(self, total: int) -> None:
-        """The units of work in all, when known only once the work has started."""
+        """The units of work in all, when known only once the work has started.
+
+        Parameters
+        ----------
+        total : int
+            Units of work in all.
+        """
         self.total = int(total)
         if self._bar is not None:
             self._bar.total = self.total
             self._bar.refresh()
 
     def update(self, n: int = 1) -> None:
-        """``n`` more units done."""
+        """``n`` more units done.
+
+        Parameters
+        ----------
+        n : int
+            Units just finished.
+        """
         self.done += int(n)
         if self._bar is not None:
             self._bar.update(int(n))
 
     def update_to(self, done: int) -> None:
-        """``done`` units done in all."""
+        """``done`` units done in all.
+
+        Parameters
+        ----------
+        done : int
+            Units finished so far, in all.
+        """
         self.update(int(done) - self.done)
 
     def note(self, message: str) -> None:
         """One line on stderr (shown even when not ``enabled``: it is a message, not
-        progress), above the bar on a terminal."""
+        progress), above the bar on a terminal.
+
+        Parameters
+        ----------
+        message : str
+            The line, without a newline.
+        """
         if self._bar is not None:
             self._bar.write(message, file=self._stream)
         else:
@@ -109,7 +133,13 @@ class Progress:
             self._stream.flush()
 
     def summary(self) -> str:
-        """The final line: ``label: done/total unit in s (rate unit/s)``."""
+        """The final line: ``label: done/total unit in s (rate unit/s)``.
+
+        Returns
+        -------
+        str
+            The line, e.g. "montecarlo: 200/200 draws in 12.3 s, 16.3 draws/s".
+        """
         elapsed = time.perf_counter() - self._start
         rate = f", {self.done / elapsed:.3g} {self.unit}/s" if elapsed > 0 and self.done else ""
         return f"{self.label}: {self.done}/{self.total} {self.unit} in {elapsed:.1f} s{rate}"

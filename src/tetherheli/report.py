@@ -42,7 +42,19 @@ RUN_KEYS = ("sim1_free", "sim1_tethered", "sim2_free", "sim2_tethered")
 
 def run_status(result: SimulationResult) -> dict[str, Any]:
     """How a run ended, as plain data: status code, message, whether it completed, the time
-    of its last recorded sample [s] (where a failed run stopped) and its tether release."""
+    of its last recorded sample [s] (where a failed run stopped) and its tether release.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        The run.
+
+    Returns
+    -------
+    dict of str to Any
+        ``status`` (int), ``message`` (str), ``completed`` (bool), ``end_time`` [s] and
+        ``tether_release`` (``SimulationResult.release_info``).
+    """
     return {
         "status": result.status,
         "message": result.message,
@@ -74,6 +86,22 @@ def paper_summary(
 
     ``statuses`` says how every run ended; the metrics of a failed run cover its samples up
     to the failure, and a reduction involving a failed run is None (it cannot be computed).
+
+    Parameters
+    ----------
+    results : dict of str to SimulationResult
+        The four runs, keyed "sim1_free", "sim1_tethered", "sim2_free", "sim2_tethered".
+    dt : float
+        Control sample time the runs used [s].
+    pulse_duration : float
+        Duration of the wind pulse [s].
+
+    Returns
+    -------
+    dict of str to Any
+        summary.json's content: ``dt``, ``pulse_duration``, ``runs`` (``run_metrics`` of
+        each run, None without samples), ``reduction_percent`` (tethered against free [%],
+        None if either run failed) and ``statuses`` (``run_status``).
     """
     metrics = {k: _metrics_or_none(results[k]) for k in RUN_KEYS}
     red: dict[str, float | None] = {}
@@ -271,6 +299,30 @@ def run_paper(
     A run that fails (e.g. with a coarse ``dt``) is recorded, not raised: its status is in
     summary.json's ``statuses`` and in report.md, its reductions are None ("n/a"), and the
     figures draw it up to the failure. The caller decides the exit code (the CLI: 1).
+
+    Parameters
+    ----------
+    out_dir : str or pathlib.Path
+        The output directory (created if missing).
+    dt : float
+        Control sample time [s].
+    pulse_duration : float
+        Duration of the wind pulse [s].
+    command : str
+        The command line recorded in summary.json and report.md.
+    force : bool
+        Write into a directory that holds files tetherheli did not write (they are kept).
+    data_format : {"csv", "parquet"}
+        Format of the time series.
+    figure_format : {"png", "pdf", "svg"}
+        Format of the figures.
+    progress : bool
+        Show the runs done on stderr.
+
+    Returns
+    -------
+    dict of str to Any
+        summary.json's content (``paper_summary``).
     """
     from .progress import Progress
     from .viz.plots import check_figure_format, figure_inputs, figure_outputs, save_figure
@@ -330,7 +382,31 @@ def write_run(
 ) -> dict[str, Any]:
     """Write one run (time series as ``data_format``, "csv" or "parquet"; figures as
     ``figure_format`` files: png, pdf or svg; metrics, report) into ``out_dir``
-    (``_io.output_directory``: the user's files there are kept, never replaced)."""
+    (``_io.output_directory``: the user's files there are kept, never replaced).
+
+    Parameters
+    ----------
+    result : SimulationResult
+        The run.
+    out_dir : str or pathlib.Path
+        The output directory (created if missing).
+    command : str
+        The command line recorded in summary.json and report.md.
+    inputs : tuple of str or pathlib.Path
+        Input files (scenarios) the output directory records as read.
+    force : bool
+        Write into a directory that holds files tetherheli did not write (they are kept).
+    data_format : {"csv", "parquet"}
+        Format of the time series.
+    figure_format : {"png", "pdf", "svg"}
+        Format of the figures.
+
+    Returns
+    -------
+    dict of str to Any
+        summary.json's content: the run's name, status, message, tether release, metrics
+        (``run_metrics``; empty without samples), tetherheli version and command.
+    """
     from .viz.plots import check_figure_format
 
     check_result_format(data_format)
@@ -407,7 +483,30 @@ def write_comparison(
 ) -> dict[str, Any]:
     """Several runs: each in ``out_dir/<name>/`` as ``write_run`` writes it, overlaid in
     ``outputs.<figure_format>`` and ``inputs.<figure_format>`` (png, pdf or svg), with their
-    metrics side by side in ``summary.json`` and ``report.md``."""
+    metrics side by side in ``summary.json`` and ``report.md``.
+
+    Parameters
+    ----------
+    results : list of SimulationResult
+        The runs, with distinct scenario names.
+    out_dir : str or pathlib.Path
+        The output directory (created if missing).
+    command : str
+        The command line recorded in summary.json and report.md.
+    inputs : tuple of str or pathlib.Path
+        Input files (scenarios) the output directory records as read.
+    force : bool
+        Write into a directory that holds files tetherheli did not write (they are kept).
+    data_format : {"csv", "parquet"}
+        Format of the time series.
+    figure_format : {"png", "pdf", "svg"}
+        Format of the figures.
+
+    Returns
+    -------
+    dict of str to Any
+        summary.json's content: version, command and every run's ``write_run`` summary.
+    """
     from .viz.plots import check_figure_format, figure_inputs, figure_outputs, save_figure
 
     check_result_format(data_format)
@@ -456,7 +555,18 @@ def sensing_scenario(source: str) -> Scenario:
     """Paper simulation 1, tethered, seed 1, with the sensors as they are flown
     (``SensorConfig.flown``: consumer GNSS, MEMS IMU, laser altimeter, joint encoders, load
     cell) and the controller's position from the GNSS or the tether; ``source`` is a key of
-    ``SENSING_RUNS`` ("gps", "tether", and both with a 20 s GNSS outage)."""
+    ``SENSING_RUNS`` ("gps", "tether", and both with a 20 s GNSS outage).
+
+    Parameters
+    ----------
+    source : str
+        A key of ``SENSING_RUNS``.
+
+    Returns
+    -------
+    Scenario
+        The scenario, named ``sensing_<source>``.
+    """
     from .sensors import SensorConfig
 
     if source not in SENSING_RUNS:
@@ -494,7 +604,28 @@ def run_sensing(
     A failed run is recorded, not raised: its row holds its status (``run_status``), its
     RMS figures cover the samples up to the failure (None without samples), and the plot
     draws it up to the failure (``sensing.<figure_format>``: png, pdf or svg). The caller
-    decides the exit code (the CLI: 1)."""
+    decides the exit code (the CLI: 1).
+
+    Parameters
+    ----------
+    out_dir : str or pathlib.Path
+        The output directory (created if missing).
+    scenarios : tuple of str or pathlib.Path, optional
+        Scenario files to fly instead of the shipped ``sensing_*`` ones.
+    command : str
+        The command line recorded in summary.json and report.md.
+    force : bool
+        Write into a directory that holds files tetherheli did not write (they are kept).
+    figure_format : {"png", "pdf", "svg"}
+        Format of the figures.
+
+    Returns
+    -------
+    dict of str to dict
+        Per run name: its status (``run_status``), GNSS outage, position-estimate error RMS
+        and true deviation RMS along n1, n2, n3 [m], and the Kalman filters' error RMS and
+        final 1-sigma [m].
+    """
     from .estimation import FUSIONS, estimate_run
     from .sim import load_scenario
     from .viz.plots import check_figure_format, figure_sensing, save_figure

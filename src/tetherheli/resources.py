@@ -37,7 +37,18 @@ class ResourceLimitError(TetherheliError):
 
 
 def memory_limit() -> int:
-    """The budget in bytes (``TETHERHELI_MEMORY_LIMIT``, else ``DEFAULT_MEMORY_LIMIT``)."""
+    """The budget in bytes (``TETHERHELI_MEMORY_LIMIT``, else ``DEFAULT_MEMORY_LIMIT``).
+
+    Returns
+    -------
+    int
+        The budget [bytes].
+
+    Raises
+    ------
+    ResourceLimitError
+        ``TETHERHELI_MEMORY_LIMIT`` is not a size such as 512M, 8G or 1.5GiB.
+    """
     text = os.environ.get(MEMORY_LIMIT_ENV, "").strip()
     if not text:
         return DEFAULT_MEMORY_LIMIT
@@ -53,7 +64,18 @@ def memory_limit() -> int:
 
 
 def format_bytes(n: float) -> str:
-    """``n`` bytes in binary units, e.g. '3.2 GiB'."""
+    """``n`` bytes in binary units, e.g. '3.2 GiB'.
+
+    Parameters
+    ----------
+    n : float
+        A size [bytes].
+
+    Returns
+    -------
+    str
+        The size with one decimal in KiB, MiB, ... (whole bytes below 1 KiB).
+    """
     for unit in ("B", "KiB", "MiB", "GiB", "TiB", "PiB"):
         if abs(n) < 1024 or unit == "PiB":
             return f"{n:.0f} {unit}" if unit == "B" else f"{n:.1f} {unit}"
@@ -66,6 +88,20 @@ def check_memory(what: str, needed_bytes: float, *, hint: str = "") -> None:
 
     ``what`` names the job and the input that sizes it (e.g. "run paper_sim1: duration =
     1e+12 s at dt = 0.01 s"); ``hint`` says how to make it smaller.
+
+    Parameters
+    ----------
+    what : str
+        The job and the input that sizes it, for the message.
+    needed_bytes : float
+        The job's estimated allocation [bytes].
+    hint : str
+        How to make the job smaller, appended to the message.
+
+    Raises
+    ------
+    ResourceLimitError
+        ``needed_bytes`` exceeds ``memory_limit()``.
     """
     limit = memory_limit()
     if not needed_bytes <= limit:  # also refuses NaN

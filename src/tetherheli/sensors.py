@@ -242,7 +242,8 @@ class SensorConfig:
     deviation (independent per sample and per channel) plus the constant bias. The standard
     deviations are *per control sample* (the noise is not scaled with the sample time). All
     defaults are zero with ``position_source="true"``: perfect sensors, the paper's
-    assumption, so the paper's results are unchanged.
+    assumption, so the paper's results are unchanged. All the fields from ``gyro_density`` on
+    (rates [Hz], latencies [s]) are 0 / empty by default too: the legacy white model.
 
     Parameters
     ----------
@@ -290,11 +291,38 @@ class SensorConfig:
     gps_outage : sequence of 2 floats
         ``[t_start, t_end]`` [s]: GNSS samples taken in it are lost (the last one before it
         is held); empty: none.
-    <group>_rate, <group>_latency : float
-        Sample rate [Hz] and latency [s] of each sensor group of ``SENSOR_GROUPS`` (0: every
-        control sample, no delay); see the module docstring "Flown sensors".
-
-    All the fields from ``gyro_density`` on are 0 / empty by default: the legacy white model.
+    load_cell_rate : float
+        sample rate of the load_cell sensor (0: every control sample)
+    load_cell_latency : float
+        delay of the load_cell sensor's output (0: none)
+    encoder_rate : float
+        sample rate of the encoder sensor (0: every control sample)
+    encoder_latency : float
+        delay of the encoder sensor's output (0: none)
+    altimeter_rate : float
+        sample rate of the altimeter sensor (0: every control sample)
+    altimeter_latency : float
+        delay of the altimeter sensor's output (0: none)
+    attitude_rate : float
+        sample rate of the attitude sensor (0: every control sample)
+    attitude_latency : float
+        delay of the attitude sensor's output (0: none)
+    gyro_rate : float
+        sample rate of the gyro sensor (0: every control sample)
+    gyro_latency : float
+        delay of the gyro sensor's output (0: none)
+    velocity_rate : float
+        sample rate of the velocity sensor (0: every control sample)
+    velocity_latency : float
+        delay of the velocity sensor's output (0: none)
+    gps_rate : float
+        sample rate of the gps sensor (0: every control sample)
+    gps_latency : float
+        delay of the gps sensor's output (0: none)
+    winch_encoder_rate : float
+        sample rate of the winch_encoder sensor (0: every control sample)
+    winch_encoder_latency : float
+        delay of the winch_encoder sensor's output (0: none)
 
     Raises
     ------
@@ -384,7 +412,13 @@ class SensorConfig:
     # --- presets ------------------------------------------------------------------------------
     @classmethod
     def perfect(cls) -> SensorConfig:
-        """Perfect sensors and the true position: the paper's assumption (the default)."""
+        """Perfect sensors and the true position: the paper's assumption (the default).
+
+        Returns
+        -------
+        SensorConfig
+            All stds and biases 0, ``position_source="true"``.
+        """
         return cls()
 
     @classmethod
@@ -407,6 +441,11 @@ class SensorConfig:
 
         No biases (a GPS bias of a few metres is common; set ``gps_bias`` to study it).
         For RTK-corrected GNSS see ``typical_rtk_gps``.
+
+        Returns
+        -------
+        SensorConfig
+            The preset, position from the GPS.
         """
         return cls(
             position_source="gps",
@@ -426,6 +465,11 @@ class SensorConfig:
         (0.02, 0.02, 0.04) m and 0.02 m/s velocity. It needs a base station and a radio link,
         and it loses the fixed solution under multipath or occlusion, the "typical
         degradation factors of GPS systems" of Sec. IV-F.
+
+        Returns
+        -------
+        SensorConfig
+            The preset, position from the GPS.
         """
         return replace(cls.typical_gps(), velocity_std=0.02, gps_std=(0.02, 0.02, 0.04))
 
@@ -449,6 +493,11 @@ class SensorConfig:
 
         ``hover_error_std`` gives the resulting position error (about 1.7 cm horizontal and
         5 cm vertical at the paper's hover, against 1.5 m and 3 m for ``typical_gps``).
+
+        Returns
+        -------
+        SensorConfig
+            The preset, position from the tether (tethered configuration only).
         """
         return cls(
             position_source="tether",
@@ -464,7 +513,25 @@ class SensorConfig:
     @classmethod
     def from_presets(cls, *names: str, **fields_: Any) -> SensorConfig:
         """The sensors of ``SENSOR_PRESETS`` ``names`` (later ones win on shared fields), then
-        ``fields_`` (e.g. ``position_source``, ``gps_outage``) on top."""
+        ``fields_`` (e.g. ``position_source``, ``gps_outage``) on top.
+
+        Parameters
+        ----------
+        *names : str
+            Keys of ``SENSOR_PRESETS``.
+        **fields_ : Any
+            ``SensorConfig`` fields that override the presets.
+
+        Returns
+        -------
+        SensorConfig
+            The merged sensors.
+
+        Raises
+        ------
+        ParameterError
+            An unknown preset name.
+        """
         merged: dict[str, Any] = {}
         for name in names:
             if name not in SENSOR_PRESETS:
@@ -487,7 +554,24 @@ class SensorConfig:
         """A full suite of sensors as they are flown (``SENSOR_PRESETS``): a GNSS receiver
         (``gnss`` "consumer" or "rtk"), the MEMS IMU, an altimeter (``altimeter`` "laser" or
         "barometric"), the ground-joint encoders, the load cell and the winch encoder; the
-        controller's position from ``position_source``."""
+        controller's position from ``position_source``.
+
+        Parameters
+        ----------
+        position_source : {"true", "gps", "tether"}
+            Where the controller's position comes from.
+        gnss : {"consumer", "rtk"}
+            The GNSS receiver's preset.
+        altimeter : {"laser", "barometric"}
+            The altimeter's preset.
+        gps_outage : tuple of 2 floats or ()
+            ``(t_start, t_end)`` [s] of a GNSS outage; empty: none.
+
+        Returns
+        -------
+        SensorConfig
+            The suite.
+        """
         if gnss not in ("consumer", "rtk"):
             raise ParameterError("gnss", gnss, "'consumer' or 'rtk'")
         if altimeter not in ("laser", "barometric"):
@@ -548,6 +632,16 @@ class SensorConfig:
         1/(r dt) an integer (e.g. 50, 25, 20, 10, 5, 1 Hz at dt = 0.01 s); a latency must be
         a multiple of dt. Anything else is refused (``ParameterError`` naming the field), so
         a scenario never means a timing it does not get.
+
+        Parameters
+        ----------
+        dt : float
+            Control sample time [s], > 0.
+
+        Returns
+        -------
+        period, latency : numpy.ndarray of int64, shape (N_GROUPS,)
+            Sample period and latency of each group, in control samples.
         """
         dt = check_number("control.dt", dt, low=0.0, low_open=True)
         period = np.ones(N_GROUPS, dtype=np.int64)
@@ -578,7 +672,18 @@ class SensorConfig:
         ``dt``): sigma = N sqrt(f) with f the gyro's sample rate, min(gyro_rate, 1/dt) (the
         average over one sample of continuous white noise of density N, IEEE Std 952's
         angle-random-walk convention; a datasheet quoting N sqrt(bandwidth) with the
-        bandwidth f/2 gives a std smaller by sqrt(2))."""
+        bandwidth f/2 gives a std smaller by sqrt(2)).
+
+        Parameters
+        ----------
+        dt : float or None
+            Control sample time [s]; needed only when ``gyro_density`` is set.
+
+        Returns
+        -------
+        numpy.ndarray, shape (N_CHANNELS,)
+            Per-sample std of every channel, units per channel (``CHANNEL_NAMES``).
+        """
         std = self.channel_std()
         if self.gyro_density > 0.0:
             if dt is None:
@@ -589,7 +694,13 @@ class SensorConfig:
 
     def channel_std(self) -> np.ndarray:
         """Noise standard deviation of every channel, shape (N_CHANNELS,), units per channel
-        (see ``CHANNEL_NAMES``)."""
+        (see ``CHANNEL_NAMES``).
+
+        Returns
+        -------
+        numpy.ndarray, shape (N_CHANNELS,)
+            The stds, in ``CH_*`` order.
+        """
         std = np.zeros(N_CHANNELS)
         std[CH_LOAD_CELL] = self.load_cell_std
         std[CH_ENCODER_Q7] = self.encoder_std
@@ -603,7 +714,13 @@ class SensorConfig:
         return std
 
     def channel_bias(self) -> np.ndarray:
-        """Constant bias of every channel, shape (N_CHANNELS,), units per channel."""
+        """Constant bias of every channel, shape (N_CHANNELS,), units per channel.
+
+        Returns
+        -------
+        numpy.ndarray, shape (N_CHANNELS,)
+            The biases, in ``CH_*`` order (0 for channels without a bias field).
+        """
         bias = np.zeros(N_CHANNELS)
         bias[CH_LOAD_CELL] = self.load_cell_bias
         bias[CH_ALTIMETER] = self.altimeter_bias
@@ -616,6 +733,11 @@ class SensorConfig:
 
         ``"tether"`` needs the ground-joint encoders, which the free helicopter lacks (its
         q7, q8, q9 are virtual).
+
+        Parameters
+        ----------
+        tethered : bool
+            True for the tethered configuration, False for the free helicopter.
         """
         if not tethered and self.position_source == "tether":
             raise ParameterError(
@@ -626,7 +748,13 @@ class SensorConfig:
 
     def to_dict(self) -> dict[str, Any]:
         """A TOML-friendly table (tuples as lists) that ``sensor_config_from_dict`` maps back
-        to an equal object."""
+        to an equal object.
+
+        Returns
+        -------
+        dict of str to Any
+            Field name to value, tuples as lists.
+        """
         out: dict[str, Any] = {}
         for f in fields(self):
             value = getattr(self, f.name)
@@ -774,10 +902,13 @@ def noise_table(
     Parameters
     ----------
     config : SensorConfig
+        The sensors.
     n_samples : int
         Number of control samples of the run (>= 0); rows are t_k = k dt, k = 0..n_samples.
     rng : numpy.random.Generator
         The run's generator (e.g. from ``SeedSequence.spawn``).
+    dt : float or None
+        Control sample time [s]; needed when ``config`` has flown sensors or a gyro density.
 
     Returns
     -------
@@ -816,8 +947,23 @@ def gauss_markov(sigma: Any, tau: float, dt: float, w: np.ndarray) -> np.ndarray
 
     It is the sampled solution of de/dt = -e / tau + noise of intensity 2 sigma^2 / tau:
     stationary, variance sigma^2, autocorrelation sigma^2 exp(-|lag| / tau) (Gelb, *Applied
-    Optimal Estimation*, Table 3.4-1). ``w`` (n, m) standard normal; ``sigma`` scalar or (m,).
-    Returns (n, m) in the unit of sigma.
+    Optimal Estimation*, Table 3.4-1).
+
+    Parameters
+    ----------
+    sigma : float or array_like, shape (m,)
+        Stationary standard deviation of each column (any unit).
+    tau : float
+        Correlation time [s], > 0.
+    dt : float
+        Sample time [s].
+    w : numpy.ndarray, shape (n, m)
+        Standard normal draws.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, m)
+        The process at samples 0..n-1, in the unit of ``sigma``.
     """
     from scipy.signal import lfilter
 
@@ -834,7 +980,22 @@ def gauss_markov(sigma: Any, tau: float, dt: float, w: np.ndarray) -> np.ndarray
 def random_walk(density: float, dt: float, w: np.ndarray) -> np.ndarray:
     """A random walk sampled at dt: b_0 = 0, b_k = b_{k-1} + density sqrt(dt) w_k, i.e. white
     noise of density ``density`` integrated (a rate random walk for a gyro, rad/s/sqrt(s));
-    variance density^2 k dt at sample k. ``w`` (n, m) standard normal; returns (n, m)."""
+    variance density^2 k dt at sample k.
+
+    Parameters
+    ----------
+    density : float
+        Density of the integrated white noise [unit/sqrt(s)].
+    dt : float
+        Sample time [s].
+    w : numpy.ndarray, shape (n, m)
+        Standard normal draws (row 0 is not used: b_0 = 0).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, m)
+        The walk at samples 0..n-1 [unit of ``density`` times sqrt(s)].
+    """
     b = np.cumsum(w * (density * math.sqrt(dt)), axis=0)
     b -= b[0]
     return b
@@ -846,7 +1007,24 @@ def accelerometer_errors(
     """The accelerometer's errors along n1, n2, n3 for the state estimator, shape
     (n_samples + 1, 3) [m/s^2]: white noise of density ``accel_density`` at the control rate
     (sigma = N / sqrt(dt), as ``white_std``), a bias random walk ``accel_random_walk``
-    (``random_walk``) and the constant ``accel_bias``. Drawn as one (n + 1, 6) block."""
+    (``random_walk``) and the constant ``accel_bias``. Drawn as one (n + 1, 6) block.
+
+    Parameters
+    ----------
+    config : SensorConfig
+        The sensors (``accel_density``, ``accel_random_walk``, ``accel_bias``).
+    n_samples : int
+        Number of control samples of the run, >= 0.
+    rng : numpy.random.Generator
+        The generator the block is drawn from.
+    dt : float
+        Control sample time [s].
+
+    Returns
+    -------
+    numpy.ndarray, shape (n_samples + 1, 3)
+        Row k: the accelerometer error at sample k [m/s^2].
+    """
     n_samples = check_integer("n_samples", n_samples, low=0)
     w = rng.standard_normal((n_samples + 1, 6))
     out = w[:, :3] * (config.accel_density / math.sqrt(dt)) + np.asarray(config.accel_bias)
@@ -866,6 +1044,21 @@ def sample_schedule(config: SensorConfig, dt: float, n_samples: int) -> np.ndarr
     arrives (k < L) it reports sample 0, as a sensor that has been reading the trim since
     before t = 0. The measurement at k is then the true value of sample j plus row j of the
     noise table.
+
+    Parameters
+    ----------
+    config : SensorConfig
+        The sensors (rates, latencies, ``gps_outage``).
+    dt : float
+        Control sample time [s].
+    n_samples : int
+        Number of control samples of the run, >= 0.
+
+    Returns
+    -------
+    numpy.ndarray of int64, shape (n_samples + 1, N_GROUPS) or (0, N_GROUPS)
+        Row k, column g: the sample index j group g reports at control sample k; no rows for
+        untimed sensors.
     """
     n_samples = check_integer("n_samples", n_samples, low=0)
     if not config.is_timed:
@@ -895,7 +1088,31 @@ def group_samples(
 ) -> tuple[np.ndarray, int]:
     """The samples a sensor group delivers in a run: (sample indices j, latency L in samples);
     sample j reaches the user at j + L (only those with j + L <= n_samples are returned).
-    Same rule as ``sample_schedule``."""
+    Same rule as ``sample_schedule``.
+
+    Parameters
+    ----------
+    config : SensorConfig
+        The sensors.
+    dt : float
+        Control sample time [s].
+    n_samples : int
+        Number of control samples of the run.
+    group : str
+        One of ``SENSOR_GROUPS``.
+
+    Returns
+    -------
+    samples : numpy.ndarray of int, shape (m,)
+        Control sample indices j at which the group samples (outage samples removed).
+    latency : int
+        Latency L in control samples.
+
+    Raises
+    ------
+    ParameterError
+        An unknown ``group`` or a rate/latency off the control grid.
+    """
     if group not in SENSOR_GROUPS:
         raise ParameterError("group", group, f"one of {SENSOR_GROUPS}")
     g = SENSOR_GROUPS.index(group)
@@ -906,7 +1123,18 @@ def group_samples(
 
 def ring_rows(schedule: np.ndarray) -> int:
     """Rows of the history ring ``measure_sampled`` needs for ``schedule``: the oldest sample
-    ever reported, counted back from the current one, plus one (1 for an empty schedule)."""
+    ever reported, counted back from the current one, plus one (1 for an empty schedule).
+
+    Parameters
+    ----------
+    schedule : numpy.ndarray of int, shape (n + 1, N_GROUPS) or (0, N_GROUPS)
+        ``sample_schedule``'s output.
+
+    Returns
+    -------
+    int
+        Number of ring rows, >= 1.
+    """
     if schedule.shape[0] == 0:
         return 1
     return int((np.arange(schedule.shape[0])[:, None] - schedule).max()) + 1
@@ -916,7 +1144,28 @@ def ring_rows(schedule: np.ndarray) -> int:
 @_jit
 def measure(x_true, tension_true, noise_row, source_code, arm, x_est):
     """The controller's state and tension estimate at one sample (compiled); see
-    ``measure_into``, which the closed loop calls with its own scratch array."""
+    ``measure_into``, which the closed loop calls with its own scratch array.
+
+    Parameters
+    ----------
+    x_true : ndarray, shape (13,)
+        True state [q4..q9, u1..u6, LN] (rad, m, m/s, rad/s, m).
+    tension_true : float
+        True tether tension TC [N] (0 for the free configuration).
+    noise_row : ndarray, shape (N_CHANNELS,)
+        Noise plus bias of this sample (a row of ``noise_table``).
+    source_code : int
+        ``SOURCE_TRUE``, ``SOURCE_GPS`` or ``SOURCE_TETHER``.
+    arm : float
+        dO-P,3 - dO-HO,3 [m] (``HelicopterParams.tether_arm``).
+    x_est : ndarray, shape (13,)
+        Filled with the state estimate (as ``measure_into``).
+
+    Returns
+    -------
+    float
+        Measured tension [N].
+    """
     return measure_into(x_true, tension_true, noise_row, source_code, arm, x_est, np.empty((4, 3)))
 
 
@@ -1008,7 +1257,26 @@ def _tether_from_gps(h1, h2, h3, arm, x_est, R):
 @_jit
 def true_channels_into(x_true, tension_true, arm, HO, out):
     """The true value of every noise channel (``CH_*`` order) into out (N_CHANNELS,): TC,
-    q7, q8, altitude of HO, q4..q6, u4..u6, u1..u3, HO in N (eqs 43-45, into HO (3,)), LN."""
+    q7, q8, altitude of HO, q4..q6, u4..u6, u1..u3, HO in N (eqs 43-45, into HO (3,)), LN.
+
+    Parameters
+    ----------
+    x_true : ndarray, shape (13,)
+        True state [q4..q9, u1..u6, LN] (rad, m, m/s, rad/s, m).
+    tension_true : float
+        True tether tension TC [N] (0 for the free configuration).
+    arm : float
+        dO-P,3 - dO-HO,3 [m] (``HelicopterParams.tether_arm``).
+    HO : ndarray, shape (3,)
+        Filled with the true position of HO in N [m].
+    out : ndarray, shape (N_CHANNELS,)
+        Filled with the true channel values, units per channel (``CHANNEL_NAMES``).
+
+    Returns
+    -------
+    None
+        The results are written into ``HO`` and ``out``.
+    """
     kinematics_tethered_HO(x_true, arm, HO)
     out[CH_LOAD_CELL] = tension_true
     out[CH_ENCODER_Q7] = x_true[3]
@@ -1033,7 +1301,25 @@ def measure_sampled(x_true, tension_true, k, sensors, x_est):
     stored in row k mod H of the history ring (H = rows - 1; its last row is scratch) and
     channel c reads sample j = schedule[k, group of c] (``sample_schedule``): the true value
     stored at j plus noise row j. The position source then converts as ``measure_into``.
-    Returns the measured tension [N].
+
+    Parameters
+    ----------
+    x_true : ndarray, shape (13,)
+        True state [q4..q9, u1..u6, LN] (rad, m, m/s, rad/s, m).
+    tension_true : float
+        True tether tension TC [N] (0 for the free configuration).
+    k : int
+        Control sample index.
+    sensors : tuple
+        ``(noise (n + 1, N_CHANNELS), source_code, arm, scratch (4, 3), schedule, ring)``
+        from ``sim.setup.sensor_tuple``.
+    x_est : ndarray, shape (13,)
+        Filled with the state estimate (as ``measure_into``).
+
+    Returns
+    -------
+    float
+        Measured tension [N].
     """
     noise, source_code, arm, scratch, schedule, ring = sensors
     if schedule.shape[0] == 0:
@@ -1074,7 +1360,26 @@ def measured_channels(
     """What every channel read at every sample of a recorded run, shape (n, N_CHANNELS): the
     replay of ``measure_sampled`` in NumPy (true values from the recorded states (n, 13) and
     tension (n,), noise rows and schedule as the run used; an empty schedule reads sample k
-    at k). Used to feed a state estimator after a run (``tetherheli.estimation``)."""
+    at k). Used to feed a state estimator after a run (``tetherheli.estimation``).
+
+    Parameters
+    ----------
+    x_true : numpy.ndarray, shape (n, 13)
+        Recorded true states (``layout.py`` order).
+    tension_true : numpy.ndarray, shape (n,)
+        Recorded true tension TC [N].
+    noise : numpy.ndarray, shape (>= n, N_CHANNELS)
+        The run's noise table (``noise_table``).
+    schedule : numpy.ndarray of int, shape (>= n, N_GROUPS) or (0, N_GROUPS)
+        The run's ``sample_schedule``.
+    arm : float
+        dO-P,3 - dO-HO,3 [m] (``HelicopterParams.tether_arm``).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, N_CHANNELS)
+        Measured value of every channel (``CH_*`` order) at every sample, units per channel.
+    """
     n = x_true.shape[0]
     q4, q5, q7, q8, q9 = (x_true[:, i] for i in (0, 1, 3, 4, 5))
     HO = tethered_HO_position(q4, q5, q7, q8, q9, arm)
@@ -1098,7 +1403,30 @@ def measured_channels(
 @_jit
 def measure_batch(x_true, tension_true, noise, source_code, arm, x_est, tension_est):
     """Row-wise ``measure``: x_true (n, 13), tension_true (n,), noise (n, N_CHANNELS); fills
-    x_est (n, 13) and tension_est (n,) (for Monte Carlo analysis of the estimates)."""
+    x_est (n, 13) and tension_est (n,) (for Monte Carlo analysis of the estimates).
+
+    Parameters
+    ----------
+    x_true : ndarray, shape (n, 13)
+        True states, one per row.
+    tension_true : ndarray, shape (n,)
+        True tension TC [N].
+    noise : ndarray, shape (n, N_CHANNELS)
+        Noise rows (``noise_table``).
+    source_code : int
+        ``SOURCE_TRUE``, ``SOURCE_GPS`` or ``SOURCE_TETHER``.
+    arm : float
+        dO-P,3 - dO-HO,3 [m] (``HelicopterParams.tether_arm``).
+    x_est : ndarray, shape (n, 13)
+        Filled with the state estimates.
+    tension_est : ndarray, shape (n,)
+        Filled with the measured tensions [N].
+
+    Returns
+    -------
+    None
+        The results are written into ``x_est`` and ``tension_est``.
+    """
     scratch = np.empty((4, 3))
     for k in range(x_true.shape[0]):
         tension_est[k] = measure_into(

@@ -14,7 +14,29 @@ __all__ = ["Status", "release_sentence", "status_message"]
 
 
 class Status(enum.IntEnum):
-    """A run's end state; ``OK`` is the only success."""
+    """A run's end state; ``OK`` is the only success.
+
+    The integer values are those the compiled engine returns and result files record;
+    ``message`` gives each member's one-line explanation.
+
+    Attributes
+    ----------
+    OK : int
+        0: the run completed.
+    NONFINITE : int
+        1: the state became non-finite.
+    GROUND : int
+        2: the helicopter hit the ground (q3 < 0 or P at ground level).
+    MAX_TENSION : int
+        3: the tether tension exceeded ``limits.max_tension``.
+    DIVERGED : int
+        4: deviation or attitude beyond ``limits.max_deviation`` / ``limits.max_angle_deg``.
+    SINGULAR : int
+        5: a coordinate singularity (q9 <= 0 or |q5|, |q8| at 90 deg).
+    SETUP : int
+        6: the run could not be set up (never returned by the engine;
+        ``run_batch(record_setup_failures=True)``).
+    """
 
     OK = 0
     NONFINITE = 1

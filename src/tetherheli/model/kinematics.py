@@ -58,14 +58,20 @@ def direction_cosines(q4: ArrayLike, q5: ArrayLike, q6: ArrayLike) -> np.ndarray
 class HelicopterPoints:
     """Positions of the helicopter's named points from NO, in N components [m], each (..., 3).
 
-    Attributes
+    Parameters
     ----------
-    N_p_HO : centre of mass of the whole helicopter (q1, q2, q3)
-    N_p_O : reference point of the fuselage (eq 2)
-    N_p_MRO : main-rotor centre
-    N_p_TRO : tail-rotor centre
-    N_p_P : tether attachment point
-    N_R_F : (..., 3, 3) direction cosine matrix of F in N (column j = f_j), Table I
+    N_p_HO : numpy.ndarray, shape (..., 3)
+        Centre of mass of the whole helicopter (q1, q2, q3) [m].
+    N_p_O : numpy.ndarray, shape (..., 3)
+        Reference point of the fuselage (eq 2) [m].
+    N_p_MRO : numpy.ndarray, shape (..., 3)
+        Main-rotor centre [m].
+    N_p_TRO : numpy.ndarray, shape (..., 3)
+        Tail-rotor centre [m].
+    N_p_P : numpy.ndarray, shape (..., 3)
+        Tether attachment point [m].
+    N_R_F : numpy.ndarray, shape (..., 3, 3)
+        Direction cosine matrix of F in N (column j = f_j), Table I.
     """
 
     N_p_HO: np.ndarray
@@ -143,8 +149,23 @@ def tether_length_from_altitude(
 ) -> Any:
     """q9 from eq 45 given the altitude q3 of HO: (q3 + arm c4 c5) / (c7 c8) [m] (Sec. IV-F).
 
-    Arguments as for ``tethered_HO_position``, ``altitude`` [m] in place of q9; returns an
-    array of the broadcast shape (a 0-d array for scalars).
+    Arguments as for ``tethered_HO_position``, ``altitude`` [m] in place of q9.
+
+    Parameters
+    ----------
+    altitude : float or array of shape (...,)
+        Altitude q3 of HO [m].
+    q4, q5 : float or array of shape (...,)
+        Roll and pitch [rad].
+    q7, q8 : float or array of shape (...,)
+        Tether angles [rad].
+    arm : float
+        dO-P,3 - dO-HO,3 [m] (``HelicopterParams.tether_arm``).
+
+    Returns
+    -------
+    numpy.ndarray, shape (...,)
+        q9 [m], of the broadcast shape (a 0-d array for scalars).
     """
     q, _ = _samples_last(q4, q5, 0.0, q7, q8, altitude)  # q9's row holds the altitude
     return gen.kinematics_tether_length(q, q[5], float(arm))

@@ -115,7 +115,24 @@ def windless_trim(params: Params, tension: float, q9: float, natural_length: flo
     """The windless hover trim (q5 = q7 = q8 = 0) with a force ``tension`` [N] pulling P
     straight down towards the ground joint at height ``q9`` [m]; ``natural_length`` [m] is
     stored in x[12] only (eq 28's LN; a lumped tether's unstretched length). Arguments are
-    not validated (``hover_trim`` does it)."""
+    not validated (``hover_trim`` does it).
+
+    Parameters
+    ----------
+    params : Params
+        The helicopter's parameters (``params.helicopter``).
+    tension : float
+        Tether tension TC at P [N].
+    q9 : float
+        Distance from the ground joint to P [m].
+    natural_length : float
+        Unstretched tether length LN [m], stored in x[12].
+
+    Returns
+    -------
+    TrimPoint
+        The trim state (13,), inputs and feedforward, as ``hover_trim``'s.
+    """
     h = params.helicopter
     p = kernels.model_constants("tethered", h)
     x = np.zeros(13)

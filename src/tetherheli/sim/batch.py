@@ -89,7 +89,22 @@ METRIC_NAMES = (
 @compiled(nogil=True)
 def run_unrecorded(engine_args, summary):  # pragma: no cover - compiled
     """``engine.run_closed_loop(*engine_args, ...)`` without recording (1-row dummy outputs),
-    GIL released; ``engine_args`` is ``EngineSetup.engine_args``."""
+    GIL released; ``engine_args`` is ``EngineSetup.engine_args``.
+
+    Parameters
+    ----------
+    engine_args : tuple
+        ``EngineSetup.engine_args``: the compiled engine's arguments for one run.
+    summary : numpy.ndarray, shape (len(engine.SUMMARY_FIELDS),)
+        Filled with the run's on-line metrics.
+
+    Returns
+    -------
+    status : int
+        ``Status`` of the run (0: completed).
+    samples_done : int
+        Samples the run completed (``n_samples + 1`` if completed).
+    """
     d13 = np.zeros((1, 13))
     d4 = np.zeros((1, 4))
     d3 = np.zeros((1, 3))
@@ -101,7 +116,24 @@ def run_unrecorded(engine_args, summary):  # pragma: no cover - compiled
 @compiled(nogil=True)
 def run_block(block_args, summary, status, done):  # pragma: no cover - compiled
     """``engine.run_lanes(*block_args, summary, status, done)`` with the GIL released;
-    ``block_args`` is ``setup.lane_block``'s."""
+    ``block_args`` is ``setup.lane_block``'s.
+
+    Parameters
+    ----------
+    block_args : tuple
+        ``setup.lane_block``'s arguments for a block of ``layout.LANES`` runs.
+    summary : numpy.ndarray, shape (LANES, len(engine.SUMMARY_FIELDS))
+        Filled with each lane's on-line metrics.
+    status : numpy.ndarray of int, shape (LANES,)
+        Filled with each lane's ``Status``.
+    done : numpy.ndarray of int, shape (LANES,)
+        Filled with each lane's samples done.
+
+    Returns
+    -------
+    None
+        The results are written into ``summary``, ``status`` and ``done``.
+    """
     engine.run_lanes(*block_args, summary, status, done)
 
 
@@ -143,7 +175,10 @@ def summary_metrics(summary: np.ndarray) -> dict[str, float]:
 class BatchResult:
     """Per-run summaries of a batch.
 
-    Attributes
+    A run whose tether the safety device released is still ``ok`` (it completed, free); its
+    ``release`` and ``message`` say when.
+
+    Parameters
     ----------
     summaries : numpy.ndarray
         ``(N, len(engine.SUMMARY_FIELDS))``, columns ``engine.SUMMARY_FIELDS``.
@@ -153,9 +188,6 @@ class BatchResult:
         ``(N,)`` int, samples recorded before the run ended (``n_samples + 1`` if completed).
     reasons : tuple of str
         ``(N,)``: why a run could not be set up (``Status.SETUP``), else "".
-
-    A run whose tether the safety device released is still ``ok`` (it completed, free); its
-    ``release`` and ``message`` say when.
     """
 
     summaries: np.ndarray
@@ -186,20 +218,59 @@ class BatchResult:
         return self.summaries[:, engine.SUMMARY_RELEASE_TENSION]
 
     def release(self, i: int) -> tuple[float, float] | None:
-        """Run ``i``'s tether release, (time [s], tension [N]), or None."""
+        """Run ``i``'s tether release, (time [s], tension [N]), or None.
+
+        Parameters
+        ----------
+        i : int
+            Run index, 0 <= i < N.
+
+        Returns
+        -------
+        tuple of 2 floats or None
+            (release time [s], release tension [N]); None if the tether was never released.
+        """
         t = float(self.release_time[i])
         return None if math.isnan(t) else (t, float(self.release_tension[i]))
 
     def message(self, i: int) -> str:
-        """Run ``i``'s status message, with its tether release (``status_message``)."""
+        """Run ``i``'s status message, with its tether release (``status_message``).
+
+        Parameters
+        ----------
+        i : int
+            Run index, 0 <= i < N.
+
+        Returns
+        -------
+        str
+            One line, e.g. "completed" or why the run stopped.
+        """
         return status_message(int(self.status[i]), float(self.release_time[i]))
 
     def messages(self) -> list[str]:
-        """The status message of every run (a tether release included)."""
+        """The status message of every run (a tether release included).
+
+        Returns
+        -------
+        list of str, length N
+            ``message(i)`` for every run.
+        """
         return [self.message(i) for i in range(len(self))]
 
     def metrics(self, i: int) -> dict[str, float]:
-        """``summary_metrics`` of run ``i``."""
+        """``summary_metrics`` of run ``i``.
+
+        Parameters
+        ----------
+        i : int
+            Run index, 0 <= i < N.
+
+        Returns
+        -------
+        dict of str to float
+            Metric name (``METRIC_NAMES``) to value, units as ``summary_metrics``.
+        """
         return summary_metrics(self.summaries[i])
 
 
@@ -225,6 +296,18 @@ def _check(scenario: Scenario) -> None:
 
 def connect(address: str, timeout_s: float = 10.0) -> Any:
     """A ``dask.distributed.Client`` of the scheduler at ``address`` (e.g. "tcp://host:8786").
+
+    Parameters
+    ----------
+    address : str
+        Scheduler address, ``protocol://host:port``.
+    timeout_s : float
+        How long to wait for the scheduler [s].
+
+    Returns
+    -------
+    distributed.Client
+        The connected client; close it with ``disconnect``.
 
     Raises
     ------
@@ -252,7 +335,13 @@ def connect(address: str, timeout_s: float = 10.0) -> Any:
 def disconnect(client: Any) -> None:
     """Close a client of ``connect``. If its scheduler was lost, the close interrupts the
     client's attempts to reconnect, which distributed logs as tracebacks: the client is gone,
-    so its loggers are silenced first (the reason was reported as one ``ClusterError``)."""
+    so its loggers are silenced first (the reason was reported as one ``ClusterError``).
+
+    Parameters
+    ----------
+    client : distributed.Client
+        A client returned by ``connect``.
+    """
     if client.status != "running":
         import logging
 

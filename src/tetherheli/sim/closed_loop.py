@@ -55,7 +55,27 @@ _RECORDED_PEAK_FACTOR = 3
 def check_run_memory(scenario: Scenario, *, record: bool = True, concurrent: int = 1) -> int:
     """Estimate the bytes one run of ``scenario`` allocates (recorded signals when ``record``,
     sensor-noise table, ``concurrent`` runs at once) and refuse it (``ResourceLimitError``,
-    before anything is allocated) above the memory budget (``tetherheli.resources``)."""
+    before anything is allocated) above the memory budget (``tetherheli.resources``).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The run (its ``n_samples`` and sensors set the size).
+    record : bool
+        Whether the run records its signals at every sample.
+    concurrent : int
+        Number of such runs held in memory at once, >= 1.
+
+    Returns
+    -------
+    int
+        The estimated bytes, all ``concurrent`` runs together.
+
+    Raises
+    ------
+    ResourceLimitError
+        The estimate exceeds the memory budget.
+    """
     rows = scenario.n_samples + 1
     # the noise table, and for timed sensors the schedule (sensors.sample_schedule) and ring
     per_run = 0 if scenario.sensors.is_perfect else rows * N_CHANNELS * 8

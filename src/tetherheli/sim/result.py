@@ -79,7 +79,23 @@ _RESULT_HINT = (
 def check_result_format(fmt: str) -> str:
     """``fmt`` if it is one of ``RESULT_FORMATS`` whose packages are installed (Parquet needs
     pandas and pyarrow), else a one-line ``ParameterError``: checked before a run, not after
-    it."""
+    it.
+
+    Parameters
+    ----------
+    fmt : str
+        The requested result format (``RESULT_FORMATS``, e.g. "csv" or "parquet").
+
+    Returns
+    -------
+    str
+        ``fmt``, unchanged.
+
+    Raises
+    ------
+    ParameterError
+        An unknown format, or Parquet without pandas and pyarrow.
+    """
     if fmt not in RESULT_FORMATS:
         raise ParameterError("format", fmt, f"one of {RESULT_FORMATS}")
     if fmt == "parquet":

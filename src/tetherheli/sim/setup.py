@@ -94,7 +94,26 @@ def paper_gain(
     params: Params, dt: float, Qy: tuple[float, ...], Ru: tuple[float, ...], q9: float = 10.0
 ) -> LQIGain:
     """K_LQI|F: the LQI gain designed on the linearized tethered equations at TC = 0 (the free
-    helicopter) about Table IV's hover (Sec. V-A, eqs 46-53), for sample time dt."""
+    helicopter) about Table IV's hover (Sec. V-A, eqs 46-53), for sample time dt.
+
+    Parameters
+    ----------
+    params : Params
+        Parameters of the design model.
+    dt : float
+        Control sample time [s].
+    Qy : tuple of 4 floats
+        Diagonal of the output weight on q1, q2, q3, q6 (eq 50).
+    Ru : tuple of 4 floats
+        Diagonal of the input weight on fMR3, tMR1, tMR2, fTR2 (eq 50).
+    q9 : float
+        Tether length of the design hover [m].
+
+    Returns
+    -------
+    LQIGain
+        The discrete LQI gain K = [K_x, K_z], shape (4, 16).
+    """
     model = TetheredHelicopter(params)
     lin = linearize(model, model.trim(0.0, q9)).select(LQI_STATES)
     G, H = lin.discretize(dt)
@@ -102,7 +121,21 @@ def paper_gain(
 
 
 class RunSetup(NamedTuple):
-    """The model, hover trim, LQI gain and packed settings of one run (``run_setup``)."""
+    """The model, hover trim, LQI gain and packed settings of one run (``run_setup``).
+
+    Attributes
+    ----------
+    model : TetheredHelicopter
+        The plant, on the scenario's parameters.
+    trim : TrimPoint
+        The windless hover trim at the scenario's q9 and reference tension.
+    gain : LQIGain or TetherLQIGain
+        The controller's gain.
+    ctrl : numpy.ndarray, shape (CTRL_SIZE,)
+        Controller settings (``layout.CTRL_*``).
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        Run configuration (``layout.CFG_*``).
+    """
 
     model: TetheredHelicopter
     trim: TrimPoint
@@ -116,6 +149,18 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
 
     The gain is designed on ``design_params`` (default: the scenario's own parameters; a
     Monte Carlo passes the nominal ones); plant, trim and winch use the scenario's.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The run.
+    design_params : Params, optional
+        Parameters the gain is designed on (default: the scenario's own).
+
+    Returns
+    -------
+    RunSetup
+        Model, trim, gain and the packed ``ctrl`` and ``cfg`` arrays.
     """
     params = scenario.params
     model = TetheredHelicopter(params)
@@ -160,7 +205,22 @@ def free_trim_input(scenario: Scenario, model: TetheredHelicopter, trim: TrimPoi
     """u0|F (4,): the free hover's trim input (Table IV) at the scenario's q9, which the paper
     controller uses once the safety device has released the tether (``engine.paper_sample``).
     The free trim's state q4..u6 and outputs equal the tethered trim's (the tension acts along
-    the shaft at hover), so only u0 changes; the free configuration's is its own trim input."""
+    the shaft at hover), so only u0 changes; the free configuration's is its own trim input.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The run.
+    model : TetheredHelicopter
+        The run's model (``run_setup``).
+    trim : TrimPoint
+        The run's windless trim (``run_setup``).
+
+    Returns
+    -------
+    numpy.ndarray, shape (4,)
+        u0|F = (fMR3, tMR1, tMR2, fTR2) [N, N m, N m, N].
+    """
     if scenario.configuration != "tethered":
         return trim.u.copy()
     return _free_trim_input(model.params, scenario.q9).copy()
@@ -181,7 +241,24 @@ def paper_law(
     """The paper controller's law (gain, x_ref, y_ref, u0, u0_free, z0) (``layout.LAW_*``):
     ``trim`` is the windless trim (its state and outputs are the references), z0 the
     integrators' start (``start_point``). The tethered LQI's law works about the trim's total
-    input (no feed-forward) and references LN too."""
+    input (no feed-forward) and references LN too.
+
+    Parameters
+    ----------
+    gain : LQIGain or TetherLQIGain
+        The controller's gain, K of shape (4, 16) or (5, 17).
+    trim : TrimPoint
+        The windless trim.
+    u0_free : numpy.ndarray, shape (4,)
+        The free hover's trim input (``free_trim_input``).
+    z0 : numpy.ndarray, shape (4,)
+        The integrators' initial state (``start_point``).
+
+    Returns
+    -------
+    tuple of 6 numpy.ndarray
+        (K, x_ref, y_ref (4,), u0 (4,), u0_free (4,), z0 (4,)), contiguous.
+    """
     K = np.ascontiguousarray(gain.K)
     return (
         K,
@@ -195,7 +272,15 @@ def paper_law(
 
 class StartPoint(NamedTuple):
     """Where a run starts (``start_point``): the trim in the steady wind and the LQI's
-    integrator state z0 [m s, m s, m s, rad s] that holds it."""
+    integrator state z0 [m s, m s, m s, rad s] that holds it.
+
+    Attributes
+    ----------
+    trim : TrimPoint
+        The trim in the wind at t = 0 (its ``x`` is the initial state).
+    z : numpy.ndarray, shape (4,)
+        The integrators' initial state z0 [m s, m s, m s, rad s].
+    """
 
     trim: TrimPoint
     z: np.ndarray  # (4,)
@@ -230,9 +315,23 @@ def start_point(
 
     Parameters
     ----------
-    model, trim, gain, ctrl : as returned by ``run_setup`` (``trim`` is the windless one)
-    wind : the run's disturbance
-    q9 : the tether length of the windless trim [m]
+    model : TetheredHelicopter
+        As returned by ``run_setup``.
+    trim : TrimPoint
+        The windless trim (``run_setup``).
+    gain : LQIGain or TetherLQIGain
+        As returned by ``run_setup``.
+    ctrl : numpy.ndarray, shape (CTRL_SIZE,)
+        As returned by ``run_setup``.
+    wind : Disturbance
+        The run's disturbance.
+    q9 : float
+        The tether length of the windless trim [m].
+
+    Returns
+    -------
+    StartPoint
+        The trim in the wind at t = 0 and z0.
 
     Raises
     ------
@@ -296,7 +395,22 @@ def _reel_at_rest(model, trim, K, force, q9, windy, z0, integrators):
 
 def actuator_array(scenario: Scenario, trim: TrimPoint, ctrl: np.ndarray) -> np.ndarray:
     """The engine's actuator array (``layout.ACT_*``); also sets the winch limits in ``ctrl``.
-    Rejects limits the hover input does not fit in (``InfeasibleError``)."""
+    Rejects limits the hover input does not fit in (``InfeasibleError``).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The run.
+    trim : TrimPoint
+        The start trim, whose total input must lie inside the limits.
+    ctrl : numpy.ndarray, shape (CTRL_SIZE,)
+        Controller settings; its winch and input limits are set in place.
+
+    Returns
+    -------
+    numpy.ndarray, shape (ACT_SIZE,)
+        The actuator array.
+    """
     a = scenario.actuators
     act = default_actuators()
     act[ACT_U_MIN : ACT_U_MIN + 4] = a.u_min
@@ -321,7 +435,18 @@ def actuator_array(scenario: Scenario, trim: TrimPoint, ctrl: np.ndarray) -> np.
 
 
 def sensor_noise(scenario: Scenario) -> np.ndarray:
-    """Per-sample sensor noise rows, drawn from the scenario's seed (none when perfect)."""
+    """Per-sample sensor noise rows, drawn from the scenario's seed (none when perfect).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The run.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n_samples + 1, N_CHANNELS) or (0, N_CHANNELS)
+        ``sensors.noise_table`` of the run, units per channel.
+    """
     if scenario.sensors.is_perfect:
         return np.zeros((0, N_CHANNELS))
     rng = np.random.default_rng(np.random.SeedSequence(scenario.seed))
@@ -330,7 +455,22 @@ def sensor_noise(scenario: Scenario) -> np.ndarray:
 
 def sensor_schedule(config: SensorConfig, dt: float, n_samples: int) -> np.ndarray:
     """``sensors.sample_schedule`` of a run, empty, (0, N_GROUPS), for perfect sensors (no
-    measurement)."""
+    measurement).
+
+    Parameters
+    ----------
+    config : SensorConfig
+        The run's sensors.
+    dt : float
+        Control sample time [s].
+    n_samples : int
+        Number of control samples of the run.
+
+    Returns
+    -------
+    numpy.ndarray of int64, shape (n_samples + 1, N_GROUPS) or (0, N_GROUPS)
+        The schedule.
+    """
     if config.is_perfect:
         return np.zeros((0, N_GROUPS), dtype=np.int64)
     return sample_schedule(config, dt, n_samples)
@@ -340,14 +480,53 @@ def sensor_tuple(noise: np.ndarray, source: int, arm: float, schedule: np.ndarra
     """The ``sensors`` argument of the engine's ``sense`` (``sensors.measure_sampled``), for
     every loop (compiled, Python, Gymnasium): (noise table, position-source code, tether arm,
     a (4, 3) scratch, schedule, a fresh history ring of ``sensors.ring_rows(schedule) + 1``
-    rows)."""
+    rows).
+
+    Parameters
+    ----------
+    noise : numpy.ndarray, shape (n + 1, N_CHANNELS) or (0, N_CHANNELS)
+        The noise table (``sensor_noise``).
+    source : int
+        Position-source code (``sensors.SOURCE_*``).
+    arm : float
+        dO-P,3 - dO-HO,3 [m] (``HelicopterParams.tether_arm``).
+    schedule : numpy.ndarray of int64, shape (n + 1, N_GROUPS) or (0, N_GROUPS)
+        The sample schedule (``sensor_schedule``).
+
+    Returns
+    -------
+    tuple
+        (noise, source, arm, scratch (4, 3), schedule, ring (rows, N_CHANNELS)).
+    """
     ring = np.zeros((ring_rows(schedule) + 1, N_CHANNELS))
     return (noise, source, arm, np.empty((4, 3)), schedule, ring)
 
 
 @dataclass(frozen=True)
 class EngineSetup:
-    """Everything one run needs, packed for the compiled engine."""
+    """Everything one run needs, packed for the compiled engine.
+
+    Parameters
+    ----------
+    model, trim, gain, ctrl, cfg
+        As ``RunSetup``'s.
+    wind : CompiledWind or None
+        The engine form of the wind (None: a custom disturbance).
+    act : numpy.ndarray, shape (ACT_SIZE,)
+        Actuator array (``actuator_array``).
+    noise : numpy.ndarray, shape (n_samples + 1, N_CHANNELS) or (0, N_CHANNELS)
+        Sensor noise table (``sensor_noise``).
+    source : int
+        Position-source code (``sensors.SOURCE_*``).
+    arm : float
+        dO-P,3 - dO-HO,3 [m].
+    schedule : numpy.ndarray of int64, shape (n_samples + 1, N_GROUPS) or (0, N_GROUPS)
+        Sensor sample schedule (``sensor_schedule``).
+    u0_free : numpy.ndarray, shape (4,)
+        u0|F, the trim input after a release (``free_trim_input``).
+    start : StartPoint
+        The start in the wind (``start_point``).
+    """
 
     model: TetheredHelicopter
     trim: TrimPoint
@@ -364,7 +543,19 @@ class EngineSetup:
     start: StartPoint
 
     def engine_args(self, n_samples: int) -> tuple:
-        """The leading arguments of ``engine.run_closed_loop`` (built-in winds only)."""
+        """The leading arguments of ``engine.run_closed_loop`` (built-in winds only).
+
+        Parameters
+        ----------
+        n_samples : int
+            Control samples to run.
+
+        Returns
+        -------
+        tuple
+            (x_init (13,), n_samples, cfg, ctrl, model constants, law, (program, gust, drag),
+            act, sensors).
+        """
         assert self.wind is not None
         return (
             self.start.x.copy(),
@@ -385,7 +576,13 @@ class EngineSetup:
         return paper_law(self.gain, self.trim, self.u0_free, self.start.z)
 
     def paper_controller(self) -> PaperController:
-        """The paper's controller as a Python ``Controller``, on the same law and start."""
+        """The paper's controller as a Python ``Controller``, on the same law and start.
+
+        Returns
+        -------
+        PaperController
+            A controller the Python loop (``simulate``) can fly.
+        """
         K, x_ref, y_ref, u0, u0_free, z0 = self.law
         return PaperController(
             K, x_ref, y_ref, u0, self.ctrl, self.model.constants,
@@ -400,7 +597,20 @@ class EngineSetup:
 
 def engine_setup(scenario: Scenario, design_params: Params | None = None) -> EngineSetup:
     """Set-up, trim, gain (designed on ``design_params``, default the scenario's), wind,
-    actuators and sensor noise of one run."""
+    actuators and sensor noise of one run.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The run.
+    design_params : Params, optional
+        Parameters the gain is designed on (default: the scenario's own).
+
+    Returns
+    -------
+    EngineSetup
+        The packed run.
+    """
     model, trim, gain, ctrl, cfg = run_setup(scenario, design_params)
     wind = compile_wind(scenario.wind)
     if wind is not None:
@@ -438,7 +648,17 @@ def _stack(arrays: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
 def lane_program_into(programs: np.ndarray, j: int, program: np.ndarray) -> None:
     """Lane j of a block's wind programs ``programs`` (rows, WIND_COLUMNS, LANES): the run's
     profile rows ``program`` (k, WIND_COLUMNS), k <= rows, then padding rows of zero force (a
-    constant of magnitude 0, which adds +0 to the force)."""
+    constant of magnitude 0, which adds +0 to the force).
+
+    Parameters
+    ----------
+    programs : numpy.ndarray, shape (rows, WIND_COLUMNS, LANES)
+        The block's wind programs; lane ``j`` is overwritten.
+    j : int
+        Lane index, 0 <= j < LANES.
+    program : numpy.ndarray, shape (k, WIND_COLUMNS)
+        The run's profile rows (``CompiledWind.program``), k <= rows.
+    """
     programs[:, :, j] = 0.0
     programs[:, WIND_KIND, j] = WIND_CONSTANT
     programs[: program.shape[0], :, j] = program
@@ -450,7 +670,21 @@ def lane_block(setups: Sequence[EngineSetup], n_samples: Sequence[int]) -> tuple
     a lane axis in front (built-in winds only; every run must take the same RK4 steps per
     sample). Lanes beyond the runs are padding: copies of the first run with n_samples = -1
     (never run). Wind programs are padded with rows of zero force and laid out flat (row,
-    column, lane); tables of other lengths are zero-padded with their rows in use."""
+    column, lane); tables of other lengths are zero-padded with their rows in use.
+
+    Parameters
+    ----------
+    setups : sequence of EngineSetup
+        1 to ``LANES`` runs with built-in winds.
+    n_samples : sequence of int
+        Control samples of each run.
+
+    Returns
+    -------
+    tuple
+        The arguments of ``engine.run_lanes`` before its outputs, each with a leading lane
+        axis of length ``LANES``.
+    """
     if not 0 < len(setups) <= LANES or len(n_samples) != len(setups):
         raise ValueError(f"lane_block: 1 to {LANES} runs, each with its n_samples")
     pad = LANES - len(setups)

@@ -16,7 +16,20 @@ __all__ = ["CompiledWind", "compile_wind"]
 
 @dataclass(frozen=True)
 class CompiledWind:
-    """A disturbance in the engine's form: profile rows, a gust table and drag coefficients."""
+    """A disturbance in the engine's form: profile rows, a gust table and drag coefficients.
+
+    Parameters
+    ----------
+    program : numpy.ndarray, shape (k, WIND_COLUMNS)
+        One row per built-in profile (``layout.WIND_*`` columns: kind, start [s], duration
+        [s], magnitude [N], frequency [Hz], phase [rad], unit direction in N).
+    gust : numpy.ndarray, shape (m, 3)
+        Gust plus mean wind velocity in N on a time grid [m/s]; (0, 3) without turbulence.
+    gust_dt : float
+        Step of that grid [s] (0: no gust table).
+    drag : numpy.ndarray, shape (3,)
+        0.5 rho CdA per axis [kg/m].
+    """
 
     program: np.ndarray  # (k, WIND_COLUMNS)
     gust: np.ndarray  # (m, 3) gust + mean wind velocity on a grid [m/s]
@@ -24,7 +37,18 @@ class CompiledWind:
     drag: np.ndarray  # (3,) 0.5 rho CdA per axis [kg/m]
 
     def breakpoints(self, t_end: float) -> np.ndarray:
-        """Times in (0, t_end) where a profile switches (pulse and step edges, sine starts)."""
+        """Times in (0, t_end) where a profile switches (pulse and step edges, sine starts).
+
+        Parameters
+        ----------
+        t_end : float
+            End of the run [s].
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,)
+            The switch times [s], sorted, without duplicates.
+        """
         pts = []
         for row in self.program:
             kind, start, duration = int(row[0]), row[1], row[2]
@@ -37,7 +61,19 @@ class CompiledWind:
 
 
 def compile_wind(wind: Disturbance) -> CompiledWind | None:
-    """The engine form of built-in disturbances, or None for a custom one."""
+    """The engine form of built-in disturbances, or None for a custom one.
+
+    Parameters
+    ----------
+    wind : Disturbance
+        A built-in profile, turbulence, or a ``WindSum`` of them (at most one turbulence).
+
+    Returns
+    -------
+    CompiledWind or None
+        The engine form; None for a custom disturbance or more than one turbulence (the
+        compiled engine cannot fly it).
+    """
     rows: list[list[float]] = []
     gusts: list[Turbulence] = []
     parts = wind.components if isinstance(wind, WindSum) else (wind,)
