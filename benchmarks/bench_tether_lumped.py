@@ -15,14 +15,16 @@ no test asserts them.
 from __future__ import annotations
 
 import argparse
-import time
 
 import numpy as np
+
+# the massless baseline and the timer of bench_derivative.py (this folder is on sys.path when a
+# script here runs)
+from bench_derivative import _loop, best_of
 from numba import njit
 from scipy.integrate import solve_ivp
 
 from tetherheli import TetheredHelicopter
-from tetherheli.model import kernels
 from tetherheli.model import tether_lumped as tl
 
 G = 9.81
@@ -44,25 +46,6 @@ def _steps(x, v, wind, L0, p, h, xP, vP, n):
         tl.ros2_step(x, v, wind, L0, p, h, xP[k], vP[k], work)
 
 
-@njit
-def _derivatives(x, u, wind, c, K_C, out, n):
-    acc = 0.0
-    for i in range(n):
-        x[6] = 1e-3 * (i % 7)  # defeat hoisting
-        kernels.tethered_derivative(x, u, wind, 0.0, c, K_C, out)
-        acc += out[7]
-    return acc
-
-
-def best_of(fn, repeat=5):
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return min(times)
-
-
 def _case(n: int, EA: float):
     t = tl.LumpedTether(segments=n, EA_N=EA, damping_ratio=0.1, diameter_m=0.006)
     L0 = 10.0 * (1.0 - 10.0 / EA)
@@ -78,8 +61,8 @@ def timing() -> None:
     xh, u, c = trim.x.copy(), trim.u_total.copy(), model.constants
     out = np.empty(13)
     m = 1_000_000
-    _derivatives(xh, u, np.zeros(3), c, 40.0, out, 10)
-    t_deriv = best_of(lambda: _derivatives(xh, u, np.zeros(3), c, 40.0, out, m)) / m
+    _loop(xh, u, np.zeros(3), c, 40.0, out, 10)
+    t_deriv = best_of(lambda: _loop(xh, u, np.zeros(3), c, 40.0, out, m)) / m
     steps = 2000
     path = [_path((k + 1) * H) for k in range(steps)]
     xP = np.array([q[0] for q in path])
