@@ -204,6 +204,16 @@ def test_malformed_csv_is_a_parameter_error(results: Path, csv_text: str, match:
     assert "sim1_free.csv" in str(info.value)
 
 
+def test_an_empty_parquet_run_is_named_as_parquet(results: Path):
+    pd = pytest.importorskip("pandas")
+    pytest.importorskip("pyarrow")
+    (results / "sim1_free.csv").unlink()
+    pd.DataFrame({c: np.zeros(0) for c in COLUMNS}).to_parquet(results / "sim1_free.parquet")
+    with pytest.raises(ParameterError, match="no data rows") as info:
+        load_run(results, "sim1_free")
+    assert "sim1_free.parquet" in str(info.value) and "parquet" in str(info.value).split()[0]
+
+
 def test_unknown_stem_names_the_available_runs(results: Path):
     with pytest.raises(ParameterError, match="sim1_free"):
         load_run(results, "sim9")

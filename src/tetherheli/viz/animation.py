@@ -48,7 +48,7 @@ from ..model.kinematics import HelicopterPoints, direction_cosines, helicopter_p
 from ..params import HelicopterParams, Params
 from ..progress import Progress
 from ..resources import check_memory
-from ..sim.result import list_results, load_result
+from ..sim.result import _series_path, list_results, load_result
 
 __all__ = [
     "HelicopterPoints",
@@ -184,8 +184,9 @@ def load_run(directory: str | Path, stem: str | None = None) -> RunData:
     path = Path(directory)
     stem = stem if stem is not None else list_results(path)[0]
     if result.time.size == 0:
+        series = _series_path(path, stem)  # the run's .csv or .parquet, as load_result read it
         raise ParameterError(
-            "csv", "no data rows", "at least one row of samples", source=str(path / f"{stem}.csv")
+            series.suffix[1:], "no data rows", "at least one row of samples", source=str(series)
         )
     helicopter = Params.paper().helicopter
     params = result.configuration.get("params")
