@@ -33,10 +33,10 @@ from ..layout import (
     ACT_TAU,
     ACT_U_MAX,
     ACT_U_MIN,
+    CFG_ARM,
     CFG_ATTACHED,
     CFG_DT,
     CFG_GUST_DT,
-    CFG_ARM,
     CFG_K_C,
     CFG_LUMPED,
     CFG_MAX_ANGLE,
@@ -89,7 +89,6 @@ from ..layout import (
     WIND_START,
     default_actuators,
 )
-from ..model.tether_lumped import chain_forces, ros2_step
 from ..model.kernels import (
     angle_trig,
     angle_trig_from,
@@ -100,6 +99,7 @@ from ..model.kernels import (
     tethered_rhs_lanes,
     tethered_rhs_sc,
 )
+from ..model.tether_lumped import chain_forces, ros2_step
 from ..sensors import measure_sampled
 from ..status import Status, release_sentence, status_message
 
@@ -520,13 +520,13 @@ def run_closed_loop(
     (``layout.empty_chain()``: the massless tether of eq 28). ``law`` is (gain, x_ref, y_ref, u0,
     u0_free, z0) (``layout.LAW_*``), ``wind`` (program, gust table, drag), ``sensors``
     (``sim.setup.sensor_tuple``). With ``record`` the arrays of ``out`` = (x, u, ffwd, rate,
-    tension, wind, y, y_est, tension_ground, nodes), n_samples + 1 rows each, receive the sampled signals: true state,
-    applied inputs (with feed-forward), feed-forward, reel rate, true tension (at P), wind force,
-    true outputs, the controller's output estimate, the tension at the winch (equal to the
-    tension for the massless tether) and, when its first axis is not empty, the chain's node
-    positions (n_samples + 1, N + 1, 3). ``summary`` (len(SUMMARY_FIELDS),) always
-    receives the on-line metrics of the samples k >= cfg[CFG_METRICS_FROM], the release event in
-    its ``release_*`` slots (NaN without one).
+    tension, wind, y, y_est, tension_ground, nodes), n_samples + 1 rows each, receive the
+    sampled signals: true state, applied inputs (with feed-forward), feed-forward, reel rate,
+    true tension (at P), wind force, true outputs, the controller's output estimate, the
+    tension at the winch (equal to the tension for the massless tether) and, when its first
+    axis is not empty, the chain's node positions (n_samples + 1, N + 1, 3). ``summary``
+    (len(SUMMARY_FIELDS),) always receives the on-line metrics of the samples
+    k >= cfg[CFG_METRICS_FROM], the release event in its ``release_*`` slots (NaN without one).
     """
     cfg = cfg_in.copy()
     ctrl = ctrl_in.copy()
@@ -632,7 +632,10 @@ def _lumped_work(n):
         np.empty(6),  # 12 P's position and velocity at the step's start
         np.zeros(9),  # 13 stiffness seen from P (3 x 3, row-major)
         np.zeros(9),  # 14 damping seen from P
+        np.zeros(3),  # 15 the top interior node's velocity at the step's start
     )
+
+
 @_jit_inline
 def p_motion(x, sc, arm, out):
     """out (6,) = the position of P from the winch NO [m] and its velocity [m/s] in N:
@@ -713,18 +716,21 @@ def chain_ends(x, t, cfg, gust, chain, cw):
 
 
 @_jit_inline
-def _lumped_stage(xs, sc, inp, reel_rate, t, side, cfg, c, program, gust, drag, cw, out):
-    """dx/dt (13,) of the helicopter at a stage state xs (sin, cos sc) pulled at P by the
-    chain: the step-start force cw[6], minus (condensed coupling) the stiffness cw[13] and
-    damping cw[14] seen from P times P's motion since the step's start cw[12]."""
+def _lumped_stage(xs, sc, inp, reel_rate, t, tau, side, cfg, c, program, gust, drag, cw, out):
+    """dx/dt (13,) of the helicopter at a stage state xs (sin, cos sc) at t, tau [s] into
+    the step, pulled at P by the chain: the step-start force cw[6] minus (condensed coupling)
+    the top segment's stiffness cw[13] times its stretch since the step's start (P's motion
+    less the top interior node's, moving at its start velocity cw[15]) and its damping cw[14]
+    times P's change of velocity (cw[12]: P at the step's start)."""
     force_P, inp2, wind2, pm, fp, wind = cw[6], cw[7], cw[8], cw[9], cw[10], cw[11]
-    pm0, kc, cc = cw[12], cw[13], cw[14]
+    pm0, kc, cc, v_top = cw[12], cw[13], cw[14], cw[15]
     wind_force(program, gust, cfg[CFG_GUST_DT], drag, t, side, xs[6], xs[7], xs[8], wind)
     p_motion(xs, sc, cfg[CFG_ARM], pm)
     for a in range(3):
         fp[a] = force_P[a]
         for b in range(3):
-            fp[a] -= kc[3 * a + b] * (pm[b] - pm0[b]) + cc[3 * a + b] * (pm[3 + b] - pm0[3 + b])
+            stretch = pm[b] - pm0[b] - v_top[b] * tau
+            fp[a] -= kc[3 * a + b] * stretch + cc[3 * a + b] * (pm[3 + b] - pm0[3 + b])
     lumped_loads(sc, inp, wind, fp, cfg[CFG_ARM], inp2, wind2)
     tethered_rhs_sc(xs, sc, inp2, wind2, 0.0, c, out)
     out[12] = reel_rate
@@ -765,7 +771,12 @@ def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work, ch
     """
     n_sub = int(cfg[CFG_N_SUB])
     h = cfg[CFG_DT] / n_sub
-    nodes, vel, p, rwork = chain[CHAIN_NODES], chain[CHAIN_VELOCITIES], chain[CHAIN_PARAMS], chain[CHAIN_WORK]
+    nodes, vel, p, rwork = (
+        chain[CHAIN_NODES],
+        chain[CHAIN_VELOCITIES],
+        chain[CHAIN_PARAMS],
+        chain[CHAIN_WORK],
+    )
     K, C, D, air, pm, pm0, kc, cc = cw[2], cw[3], cw[4], cw[5], cw[9], cw[12], cw[13], cw[14]
     n = nodes.shape[0] - 1
     k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
@@ -777,9 +788,11 @@ def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work, ch
         tm = ta + 0.5 * h
         L0 = x[12]
         chain_ends(x, ta, cfg, gust, chain, cw)  # also puts nodes[n] on P(x)
+        v_top = cw[15]
         for a in range(3):
             pm0[a] = nodes[n, a]
             pm0[3 + a] = vel[n, a]
+            v_top[a] = vel[n - 1, a]
             for b in range(3):
                 if coupling == COUPLING_CONDENSED:
                     kc[3 * a + b] = K[n - 1, a, b]
@@ -788,19 +801,19 @@ def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work, ch
                     kc[3 * a + b] = 0.0
                     cc[3 * a + b] = 0.0
         angle_trig(x, sc0)
-        _lumped_stage(x, sc0, inp, rate, ta, 1, cfg, c, program, gust, drag, cw, k1)
+        _lumped_stage(x, sc0, inp, rate, ta, 0.0, 1, cfg, c, program, gust, drag, cw, k1)
         for i in range(13):
             tmp[i] = x[i] + 0.5 * h * k1[i]
         angle_trig_from(tmp, x, sc0, sc)
-        _lumped_stage(tmp, sc, inp, rate, tm, 1, cfg, c, program, gust, drag, cw, k2)
+        _lumped_stage(tmp, sc, inp, rate, tm, 0.5 * h, 1, cfg, c, program, gust, drag, cw, k2)
         for i in range(13):
             tmp[i] = x[i] + 0.5 * h * k2[i]
         angle_trig_from(tmp, x, sc0, sc)
-        _lumped_stage(tmp, sc, inp, rate, tm, 1, cfg, c, program, gust, drag, cw, k3)
+        _lumped_stage(tmp, sc, inp, rate, tm, 0.5 * h, 1, cfg, c, program, gust, drag, cw, k3)
         for i in range(13):
             tmp[i] = x[i] + h * k3[i]
         angle_trig_from(tmp, x, sc0, sc)
-        _lumped_stage(tmp, sc, inp, rate, tb, -1, cfg, c, program, gust, drag, cw, k4)
+        _lumped_stage(tmp, sc, inp, rate, tb, h, -1, cfg, c, program, gust, drag, cw, k4)
         for i in range(13):
             x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         angle_trig(x, sc0)

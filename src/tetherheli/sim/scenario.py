@@ -732,7 +732,9 @@ def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Sc
             raise ParameterError("sensors", data["sensors"], "a table", source=source)
         kwargs["sensors"] = sensor_config_from_dict(data["sensors"], source=source)
     if "tether" in data:
-        kwargs["tether"] = TetherSettings(**_table(source, "tether", data["tether"], TetherSettings))
+        kwargs["tether"] = TetherSettings(
+            **_table(source, "tether", data["tether"], TetherSettings)
+        )
     if "seed" in data:
         kwargs["seed"] = data["seed"]  # checked with the rest by _validate
     if "wind" in data:
