@@ -1,16 +1,21 @@
 """Cost of a closed-loop run with the lumped-mass tether in the engine (issue 13, item 4).
 
-Run: python benchmarks/bench_engine_lumped.py [--repeat R]
+Run: python benchmarks/bench_engine_lumped.py [--repeat R] [--coupling]
 Prints, measured in this run: the milliseconds of one 60 s run of the paper's simulation 1
 (tethered, dt = 10 ms, 2 substeps; ``sim.batch.run_unrecorded``, the compiled loop without
 recording) with eq 28's massless tether and with the lumped chain of N = 5, 10, 20, 40
 segments (20 g/m, 5 mm, the paper's stiffness), side by side, and each one's ratio to the
-massless run. Timings vary with the machine; no test asserts them.
+massless run. Timings vary with the machine; no test asserts them. With ``--coupling``
+instead: the coupled step's error against SciPy's Radau on the joint helicopter + chain ODE
+(``tests/test_engine_lumped.py``'s ``coupling_errors``: 2 s open loop, 10 N on HO) for the
+staggered and the condensed coupling, EA = 375 N and 20 kN, N = 10 and 20 (a few minutes).
 """
 
 from __future__ import annotations
 
 import argparse
+import sys
+from pathlib import Path
 
 import numpy as np
 
@@ -36,10 +41,30 @@ def _ms_per_run(scenario, repeat: int) -> float:
     return 1e3 * best_of(lambda: run_unrecorded(setup.engine_args(n), summary), repeat)
 
 
+def coupling_table() -> None:
+    """The coupling errors of ``tests/test_engine_lumped.py``'s ``coupling_errors``."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+    from tests.test_engine_lumped import coupling_errors
+
+    print("error against Radau (rtol 1e-9), 2 s open loop: P [m] (q7, q8 x 10 m, q9), nodes [m]")
+    print(f"{'EA [N]':>8} {'N':>3} {'staggered P':>12} {'condensed P':>12} {'nodes':>9}")
+    for EA in (375.0, 20_000.0):
+        for n in (10, 20):
+            e = coupling_errors(EA, n)
+            print(
+                f"{EA:>8g} {n:>3} {e['staggered'][0]:>12.2e} {e['condensed'][0]:>12.2e} "
+                f"{e['condensed'][1]:>9.2e}"
+            )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--repeat", type=int, default=5, help="runs per case (best taken)")
+    parser.add_argument("--coupling", action="store_true", help="the coupling's error instead")
     opts = parser.parse_args()
+    if opts.coupling:
+        coupling_table()
+        return
     base = paper_scenario(1, "tethered")
     rows = [("massless (eq 28)", _ms_per_run(base, opts.repeat))]
     for n in SEGMENTS:

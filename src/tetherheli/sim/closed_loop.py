@@ -85,6 +85,9 @@ def check_run_memory(scenario: Scenario, *, record: bool = True, concurrent: int
         per_run += rows * (N_GROUPS + N_CHANNELS) * 8
     if record:
         per_run += rows * _RECORDED_FLOATS * 8 * _RECORDED_PEAK_FACTOR
+        if scenario.tether.lumped:  # the winch's tension, and the nodes on request
+            nodes = 3 * (scenario.tether.segments + 1) if scenario.tether.record_nodes else 0
+            per_run += rows * (1 + nodes) * 8 * _RECORDED_PEAK_FACTOR
     needed = per_run * concurrent
     at_once = f", {concurrent} runs at once" if concurrent > 1 else ""
     check_memory(

@@ -280,6 +280,15 @@ class TetherSettings:
     massless trim's natural length LN = q9 - T_ref / K_C is EA / LN, so EA = K_C LN
     (``LumpedTether.from_paper_stiffness``; 375 N at the paper's hover).
 
+    A lumped run starts from ``hover_trim_lumped``'s equilibrium (the chain hanging still,
+    T_ref at the winch; even in a gust table, whose drag then acts from t = 0) and the paper
+    controller flies about that trim. The load cell (eq 56's PI, the sensors) reads the
+    tension at the winch; the result records it as ``TC_ground`` next to ``TC`` at P. The
+    drag on the nodes is that of the gust table's air, the air the helicopter's drag uses;
+    force-only wind profiles (pulse, sine, ...) act on the helicopter alone. The encoders
+    read q7, q8 (the direction to P), as for the massless tether. Runs with a lumped
+    tether go through the per-run compiled loop (no lanes), ``simulate`` with method "rk4".
+
     Parameters
     ----------
     model, segments, mass_per_length, EA, damping_ratio, diameter, drag_coefficient,

@@ -62,7 +62,7 @@ from ..layout import (
     default_actuators,
     empty_chain,
 )
-from ..model import TetheredHelicopter, TrimPoint, linearize
+from ..model import TetheredHelicopter, TrimPoint, kernels, linearize
 from ..model.tether_lumped import LumpedTether, hover_trim_lumped, ros2_work, static_chain
 from ..names import INPUT, TETHERED_STATE
 from ..params import Params
@@ -82,6 +82,7 @@ __all__ = [
     "free_trim_input",
     "lane_block",
     "lane_program_into",
+    "load_cell_trim",
     "lumped_tether",
     "paper_gain",
     "paper_law",
@@ -175,9 +176,13 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
     lumped = scenario.tether.lumped
     if lumped:  # the hover with the chain hanging below P, T_ref at the winch (eq 56)
         a = scenario.actuators
-        trim: TrimPoint = hover_trim_lumped(
-            params, lumped_tether(scenario), T_ref, scenario.q9, u_min=a.u_min, u_max=a.u_max
-        ).trim
+        trim: TrimPoint = load_cell_trim(
+            hover_trim_lumped(
+                params, lumped_tether(scenario), T_ref, scenario.q9, u_min=a.u_min, u_max=a.u_max
+            ).trim,
+            T_ref,
+            model,
+        )
     else:
         trim = model.trim(T_ref, scenario.q9)
     c = scenario.control
@@ -214,6 +219,34 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
     cfg[CFG_LUMPED] = float(lumped)
     cfg[CFG_ARM] = params.helicopter.tether_arm
     return RunSetup(model, trim, gain, ctrl, cfg)
+
+
+def load_cell_trim(trim: TrimPoint, ground_tension: float, model: TetheredHelicopter) -> TrimPoint:
+    """A lumped tether's trim as the paper controller flies it: the feed-forward C_f-fwd
+    (eq 55) is built from the load cell's tension, the winch's T_g, not the tension at P of
+    ``trim`` (T_g + mu g L0), so u0 = u_total + C_f-fwd(T_g) makes eq 54 command the trim's
+    actual inputs u_total at the start (the massless tether's u0|T has T_g = T_P).
+
+    Parameters
+    ----------
+    trim : TrimPoint
+        ``hover_trim_lumped``'s helicopter trim (its feed-forward at the tension at P).
+    ground_tension : float
+        The tension at the winch [N].
+    model : TetheredHelicopter
+        The run's model.
+
+    Returns
+    -------
+    TrimPoint
+        The same state, outputs, tension at P and actual inputs; u and feedforward at T_g.
+    """
+    torque = np.empty(2)
+    kernels.tethered_tether_torque(trim.x, float(ground_tension), model.constants, torque)
+    ffwd = np.array([0.0, torque[0], torque[1], 0.0])
+    return TrimPoint(
+        x=trim.x, u=trim.u_total + ffwd, y=trim.y, tension=trim.tension, feedforward=ffwd
+    )
 
 
 def lumped_tether(scenario: Scenario) -> LumpedTether:
