@@ -14,8 +14,11 @@ integration-step boundaries are handled exactly: an RK4 step over [ta, tb] evalu
 at ta as the right limit and at tb as the left limit, i.e. it integrates the force on the open
 interval (ta, tb).
 
-The packed arrays (``cfg``, ``ctrl``, ``act``, ``held``, the wind program, the summary) are
-laid out in ``tetherheli.layout``; run statuses are ``tetherheli.status.Status``.
+A lumped-mass tether (``[tether] model = "lumped"``) rides the same loop: ``chain_ends`` sets
+its end tensions before the sample and ``lumped_interval`` replaces ``rk4_interval``.
+
+The packed arrays (``cfg``, ``ctrl``, ``act``, ``held``, the wind program, the summary, the
+chain) are laid out in ``tetherheli.layout``; run statuses are ``tetherheli.status.Status``.
 """
 
 from __future__ import annotations
@@ -748,9 +751,17 @@ def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work, ch
     ``coupling`` COUPLING_STAGGERED holds the force on P over the RK4 step;
     COUPLING_CONDENSED corrects it within the stages by the top segment's stiffness and
     damping seen from P (its Jacobian blocks at the step's start, the interior nodes held),
-    F_P = F_P0 - K_top (r_P - r_P0) - (C_top + D_top / 4) (v_P - v_P0): a stiff cable's
-    force then follows P inside the step. The engine runs COUPLING_CONDENSED (the test module
-    measures both against SciPy's Radau on the joint ODE).
+    F_P = F_P0 - K_top (r_P - r_P0 - v_(N-1) tau) - (C_top + D_top / 4) (v_P - v_P0), tau the
+    time into the step and v_(N-1) the top interior node's velocity at its start: the force
+    follows P's motion relative to the chain inside the step, and the helicopter's RK4 sees
+    the top segment's stiffness (stable while h sqrt(EA / (l0 m)) stays within RK4's bound:
+    0.2 for 20 kN, N = 10, h = 5 ms). Why: against SciPy's Radau on the joint helicopter +
+    chain ODE (rtol 1e-9; 2 s open loop, 10 N on HO, dt = 10 ms, 2 substeps) the staggered
+    step, first order in the force's change, is 5.3-5.8e-4 m off on P's position, the
+    condensed one 4.8-5.3e-5 m, for EA = 375 N (N = 10, 20) and 20 kN (N = 10) alike; the
+    nodes' 5.5-6.0e-4 m is ROS2's own error (``tests/test_engine_lumped.py``,
+    ``benchmarks/bench_engine_lumped.py --coupling``). The full Schur complement of the
+    chain's implicit step was not needed. The engine runs COUPLING_CONDENSED.
 
     Parameters
     ----------
@@ -1019,9 +1030,10 @@ def run_lanes(
     Lanes may differ in every number but the RK4 steps per sample (cfg[:, CFG_N_SUB]).
 
     Each sample runs ``paper_sample`` per lane (sensors, controller, actuators, checks: the
-    very function of a single run), then ``rk4_lanes`` advances all lanes at once. A lane that
-    fails or completes is frozen with its result and parked at its initial state while the
-    others go on.
+    very function of a single run), then ``rk4_lanes`` advances all lanes at once. Massless
+    tethers only: runs with a lumped tether go through ``run_closed_loop`` (``run_batch``).
+    A lane that fails or completes is frozen with its result and parked at its initial state
+    while the others go on.
     """
     cfg = cfg_in.copy()
     ctrl = ctrl_in.copy()
