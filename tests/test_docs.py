@@ -48,6 +48,7 @@ def test_every_key_the_loader_accepts_is_documented():
         ("control.tether_lqi", scenario_module.TetherLQISettings),
         ("limits", scenario_module.Limits),
         ("actuators", scenario_module.ActuatorSettings),
+        ("tether", scenario_module.TetherSettings),
     ):
         # a nested table (a dataclass default) is documented by its own keys
         expected |= {
@@ -73,7 +74,7 @@ def test_every_key_the_loader_accepts_is_documented():
         assert f"`{preset}`" in page
 
 
-_TABLE_KEYS = {"control", "limits", "wind", "params", "actuators", "sensors"}
+_TABLE_KEYS = {"control", "limits", "wind", "params", "actuators", "sensors", "tether"}
 _ROW = re.compile(r"^\| `([^`]+)` \| [^|]*(?:\\\|[^|]*)* \| [^|]* \| `([^`]*)` \| (.*) \|$", re.M)
 _RANGE = re.compile(
     r"^an? (?:nonzero )?(?:finite number|number|integer)"

@@ -404,6 +404,11 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             scenario = Scenario()
         if not isinstance(scenario, Scenario):
             raise ParameterError("scenario", scenario, "a tetherheli Scenario or None")
+        if scenario.tether.lumped:
+            raise ParameterError(
+                "scenario.tether.model", scenario.tether.model, "'elastic' (the environments "
+                "fly eq 28's massless tether)"
+            )  # fmt: skip
         max_episode_time = check_number(
             "max_episode_time", max_episode_time, low=0.0, low_open=True
         )

@@ -1,8 +1,8 @@
 """The scenario TOML reference (``docs/scenario_reference.md``), written from the code's own
 descriptions of its keys so that it cannot drift from what the loader accepts:
 
-- the scenario's own keys, ``[control]``, ``[limits]``, ``[actuators]``: each field's ``Key``
-  (``tetherheli._validation.Key``), the object the validation checks against;
+- the scenario's own keys, ``[control]``, ``[limits]``, ``[actuators]``, ``[tether]``: each
+  field's ``Key`` (``tetherheli._validation.Key``), the object the validation checks against;
 - ``[params.*]``: each parameter field's ``Key`` (``tetherheli.params``), defaults from
   ``Params.paper()``;
 - ``[sensors]``: ``SensorConfig``'s fields, its ``Parameters`` documentation and the range
@@ -35,6 +35,7 @@ from .scenario import (
     Limits,
     Scenario,
     TetherLQISettings,
+    TetherSettings,
 )
 
 __all__ = ["scenario_reference"]
@@ -44,6 +45,7 @@ _TABLES = {
     "control.tether_lqi": TetherLQISettings,
     "limits": Limits,
     "actuators": ActuatorSettings,
+    "tether": TetherSettings,
 }
 _PARAM_SECTIONS = {
     "helicopter": HelicopterParams,
@@ -200,8 +202,8 @@ def scenario_reference() -> str:
         *_HEADER,
         *_key_rows("", Scenario, scenario),
         "",
-        "The tables `[control]`, `[limits]`, `[actuators]`, `[sensors]`, `[params.*]` and the",
-        "array `[[wind]]` follow.",
+        "The tables `[control]`, `[limits]`, `[actuators]`, `[tether]`, `[sensors]`, `[params.*]`",
+        "and the array `[[wind]]` follow.",
     ]
     for table, cls in _TABLES.items():
         top += ["", f"## `[{table}]`", "", _summary(cls), ""]
