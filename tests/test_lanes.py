@@ -202,4 +202,5 @@ def _dummy_out():
         np.zeros((1, 3)),
         np.zeros((1, 4)),
         np.zeros((1, 4)),
+        np.zeros((1, 2)),
     )

@@ -24,6 +24,8 @@ from ..layout import (
     CFG_GUST_DT,
     CFG_N_SUB,
     CTRL_SIZE,
+    HELD_DRUM_SPEED_SAMPLED,
+    HELD_MOTOR_TORQUE,
     HELD_SIZE,
     SUMMARY_FIELDS,
     SUMMARY_RELEASE_TIME,
@@ -35,7 +37,7 @@ from ..resources import check_memory
 from ..sensors import N_CHANNELS, N_GROUPS
 from ..status import Status
 from . import engine
-from .result import SimulationResult
+from .result import DRUM_COLUMNS, SimulationResult
 from .scenario import Scenario
 from .setup import engine_setup
 
@@ -45,8 +47,8 @@ Method = Literal["rk4", "adaptive"]
 
 
 #: Floats recorded per control sample: state 13, inputs 4, feed-forward 4, reel rate 1,
-#: tension 1, wind 3, outputs 4, output estimate 4 (``_Recorder``).
-_RECORDED_FLOATS = 34
+#: tension 1, wind 3, outputs 4, output estimate 4, drum winch 2 (``_Recorder``).
+_RECORDED_FLOATS = 36
 #: Peak memory of a recorded run over its recorded arrays: the result, the metrics'
 #: temporaries and the figures' copies of the plotted lines (measured about 2.2; margin kept).
 _RECORDED_PEAK_FACTOR = 3
@@ -152,13 +154,17 @@ class _Recorder:
         self.wind = np.zeros((n + 1, 3))
         self.y = np.zeros((n + 1, 4))
         self.y_est = np.zeros((n + 1, 4))
+        self.winch = np.zeros((n + 1, 2))  # drum speed [rad/s], mean motor torque [N m]
         self.release = np.full(2, np.nan)  # tether release: time [s], tension [N]
         self.summary = np.zeros(len(SUMMARY_FIELDS))
 
     @property
     def signals(self) -> tuple:
         """The recorded arrays in ``engine.run_closed_loop``'s ``out`` order."""
-        return (self.x, self.u, self.ffwd, self.rate, self.tension, self.wind, self.y, self.y_est)
+        return (
+            self.x, self.u, self.ffwd, self.rate, self.tension, self.wind, self.y, self.y_est,
+            self.winch,
+        )  # fmt: skip
 
     def result(
         self,
@@ -175,6 +181,9 @@ class _Recorder:
         if sensed:  # the controller's position estimate next to the truth
             for i, name in enumerate(("q1_est", "q2_est", "q3_est")):
                 extra[name] = self.y_est[:k, i].copy()
+        if scenario.winch.model == "drum":  # the drum's signals (``result.EXTRA_UNITS``)
+            for i, name in enumerate(DRUM_COLUMNS):
+                extra[name] = self.winch[:k, i].copy()
         # views, not copies: the recorder is dropped here, so a long run is held once
         return SimulationResult(
             time=np.arange(k) * scenario.control.dt,
@@ -236,7 +245,7 @@ def _python_loop(scenario, setup, controller, method, rec, *, rtol, atol):
         rate = float(cmd.reel_rate) if attached else 0.0
         finite = bool(np.all(np.isfinite(inp)) and math.isfinite(rate))
         if finite:
-            rate = engine.actuate(inp, held, rate, act, dt, k == 0)
+            rate = engine.actuate(inp, held, rate, act, dt, k == 0, tension, measured)
         tethered_outputs(x_meas, c, rec.y_est[k])
         tethered_outputs(x, c, y)
         status = engine.check_state(x, y, trim.y, tension, cfg)
@@ -246,6 +255,7 @@ def _python_loop(scenario, setup, controller, method, rec, *, rtol, atol):
             return status, k
         rec.x[k], rec.u[k], rec.ffwd[k] = x, inp, cmd.feedforward
         rec.rate[k], rec.tension[k], rec.y[k] = rate, tension, y
+        rec.winch[k] = held[HELD_DRUM_SPEED_SAMPLED], held[HELD_MOTOR_TORQUE]
         rec.wind[k] = _wind_at(scenario.wind, wind, cfg, t, 1, x, wind_buf)
         if k == n:
             break

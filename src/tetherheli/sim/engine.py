@@ -28,6 +28,14 @@ from .._compile import compiled
 from ..control.paper import limit_rate_change_jit, paper_control_sc
 from ..layout import (
     ACT_BREAK,
+    ACT_DRUM,
+    ACT_DRUM_COULOMB,
+    ACT_DRUM_INERTIA,
+    ACT_DRUM_RADIUS,
+    ACT_DRUM_SPEED_GAIN,
+    ACT_DRUM_TENSION_FFWD,
+    ACT_DRUM_TORQUE_LIMIT,
+    ACT_DRUM_VISCOUS,
     ACT_REEL_ACCEL,
     ACT_SIZE,
     ACT_TAU,
@@ -45,7 +53,10 @@ from ..layout import (
     CFG_SIZE,
     CTRL_FFWD,
     CTRL_WINCH,
+    HELD_DRUM_SPEED,
+    HELD_DRUM_SPEED_SAMPLED,
     HELD_INPUTS,
+    HELD_MOTOR_TORQUE,
     HELD_REEL_RATE,
     HELD_SIZE,
     LANES,
@@ -54,6 +65,7 @@ from ..layout import (
     LAW_Z0,
     LOOP_EVENT,
     LOOP_FFWD,
+    LOOP_HELD,
     LOOP_INPUTS,
     LOOP_Y,
     LOOP_Y_EST,
@@ -91,6 +103,7 @@ from ..model.kernels import (
     tethered_rhs_lanes,
     tethered_rhs_sc,
 )
+from ..model.winch import drum_step
 from ..sensors import measure_sampled
 from ..status import Status, release_sentence, status_message
 
@@ -404,15 +417,42 @@ def sense(x, k, t, cfg, ctrl, act, sensors, event, x_meas):
 
 
 @_jit_inline
-def actuate(inp, held, rate, act, dt, first):
+def actuate(inp, held, rate, act, dt, first, tension_ground, measured_tension):
     """Phase 3: the actuators on a controller's command. Rotor inputs: saturation and lag
-    (``apply_actuators``, in place); reel rate: the winch's acceleration limit relative to the
-    rate applied at the previous sample (the paper's PI already keeps within it and holds its
-    integral meanwhile: ``control.paper.winch_step``). Returns the applied reel rate [m/s]."""
+    (``apply_actuators``, in place). Reel rate, ideal winch: the acceleration limit relative
+    to the rate applied at the previous sample (the paper's PI already keeps within it and
+    holds its integral meanwhile: ``control.paper.winch_step``). Drum winch (act[ACT_DRUM]):
+    the command is the drive's speed reference and the drum is advanced over the sample
+    (``drum_winch``) under the tension at the winch, tension_ground [N] (the load cell reads
+    measured_tension [N]). Returns the reel rate applied over the sample [m/s]."""
     apply_actuators(inp, held, act, dt, first)
-    rate = limit_rate_change_jit(rate, held[HELD_REEL_RATE], act[ACT_REEL_ACCEL], dt)
+    if act[ACT_DRUM] > 0.5:
+        rate = drum_winch(held, rate, act, dt, tension_ground, measured_tension)
+    else:
+        rate = limit_rate_change_jit(rate, held[HELD_REEL_RATE], act[ACT_REEL_ACCEL], dt)
     held[HELD_REEL_RATE] = rate
     return rate
+
+
+@_jit_inline
+def drum_winch(held, rate_cmd, act, dt, tension_ground, measured_tension):
+    """The drum winch over one sample (``model.winch``): speed reference rate_cmd / r, the
+    drive's feed-forward r T_meas (when act[ACT_DRUM_TENSION_FFWD]), the load r T_g with
+    T_g = tension_ground held over the sample; the drum's speed in ``held`` is advanced by the
+    exact piecewise solution (``model.winch.drum_step``). Returns the mean reel rate over the
+    sample, r int w dt / dt [m/s], so that L_N advances exactly by the length paid out."""
+    r = act[ACT_DRUM_RADIUS]
+    ffwd = r * measured_tension if act[ACT_DRUM_TENSION_FFWD] > 0.5 else 0.0
+    w0 = held[HELD_DRUM_SPEED]
+    w1, speed_integral, torque_integral = drum_step(
+        w0, rate_cmd / r, r * tension_ground, ffwd, dt, act[ACT_DRUM_INERTIA],
+        act[ACT_DRUM_SPEED_GAIN], act[ACT_DRUM_TORQUE_LIMIT], act[ACT_DRUM_VISCOUS],
+        act[ACT_DRUM_COULOMB],
+    )  # fmt: skip
+    held[HELD_DRUM_SPEED_SAMPLED] = w0
+    held[HELD_DRUM_SPEED] = w1
+    held[HELD_MOTOR_TORQUE] = torque_integral / dt
+    return r * speed_integral / dt
 
 
 @_jit_inline
@@ -442,7 +482,7 @@ def paper_sample(x, k, cfg, ctrl, act, sensors, c, law, loop, action, action_mod
     elif action_mode == ACTION_REPLACE:
         for i in range(4):
             inp[i] = action[i]
-    rate = actuate(inp, held, rate, act, dt, k == 0)
+    rate = actuate(inp, held, rate, act, dt, k == 0, tension, measured)
     if sensors[0].shape[0] > 0:
         tethered_outputs(x, c, y)
         angle_trig(x, sc_true)
@@ -497,9 +537,11 @@ def run_closed_loop(
     Each sample is ``paper_sample`` then ``rk4_interval``. ``law`` is (gain, x_ref, y_ref, u0,
     u0_free, z0) (``layout.LAW_*``), ``wind`` (program, gust table, drag), ``sensors``
     (``sim.setup.sensor_tuple``). With ``record`` the arrays of ``out`` = (x, u, ffwd, rate,
-    tension, wind, y, y_est), n_samples + 1 rows each, receive the sampled signals: true state,
-    applied inputs (with feed-forward), feed-forward, reel rate, true tension, wind force, true
-    outputs, and the controller's output estimate. ``summary`` (len(SUMMARY_FIELDS),) always
+    tension, wind, y, y_est, winch), n_samples + 1 rows each, receive the sampled signals: true
+    state, applied inputs (with feed-forward), feed-forward, reel rate, true tension, wind
+    force, true outputs, the controller's output estimate, and the drum winch's speed at the
+    sample [rad/s] and mean motor torque over the sample after it [N m] (zeros for the ideal
+    winch). ``summary`` (len(SUMMARY_FIELDS),) always
     receives the on-line metrics of the samples k >= cfg[CFG_METRICS_FROM], the release event in
     its ``release_*`` slots (NaN without one).
     """
@@ -510,7 +552,7 @@ def run_closed_loop(
     work = np.empty((RK4_WORK_ROWS, 13))
     loop = _loop_state(x_init, law[LAW_Z0], work)
     event, y, y_est = loop[LOOP_EVENT], loop[LOOP_Y], loop[LOOP_Y_EST]
-    inp, ffwd = loop[LOOP_INPUTS], loop[LOOP_FFWD]
+    inp, ffwd, held = loop[LOOP_INPUTS], loop[LOOP_FFWD], loop[LOOP_HELD]
     no_action = np.zeros(4)
     start_summary(summary)
     dt = cfg[CFG_DT]
@@ -527,7 +569,7 @@ def run_closed_loop(
         if k >= cfg[CFG_METRICS_FROM]:  # the metrics' window (Scenario.metrics_start)
             _accumulate(summary, x, x_ref, y, y_ref, tension)
         if record:
-            out_x, out_u, out_ffwd, out_rate, out_tension, out_wind, out_y, out_y_est = out
+            out_x, out_u, out_ffwd, out_rate, out_tension, out_wind, out_y, out_y_est = out[:8]
             wind_force(program, gust, cfg[CFG_GUST_DT], drag, t, 1, x[6], x[7], x[8], work[5])
             out_x[k] = x
             out_u[k] = inp
@@ -537,6 +579,9 @@ def run_closed_loop(
             out_wind[k] = work[5, :3]
             out_y[k] = y
             out_y_est[k] = y_est
+            out_winch = out[8]  # the drum's speed at t_k, its mean motor torque after t_k
+            out_winch[k, 0] = held[HELD_DRUM_SPEED_SAMPLED]
+            out_winch[k, 1] = held[HELD_MOTOR_TORQUE]
         if k == n_samples:
             break
         rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, work, True)

@@ -35,6 +35,7 @@ from .scenario import (
     Limits,
     Scenario,
     TetherLQISettings,
+    WinchSettings,
 )
 
 __all__ = ["scenario_reference"]
@@ -44,6 +45,7 @@ _TABLES = {
     "control.tether_lqi": TetherLQISettings,
     "limits": Limits,
     "actuators": ActuatorSettings,
+    "winch": WinchSettings,
 }
 _PARAM_SECTIONS = {
     "helicopter": HelicopterParams,
@@ -200,8 +202,8 @@ def scenario_reference() -> str:
         *_HEADER,
         *_key_rows("", Scenario, scenario),
         "",
-        "The tables `[control]`, `[limits]`, `[actuators]`, `[sensors]`, `[params.*]` and the",
-        "array `[[wind]]` follow.",
+        "The tables `[control]`, `[limits]`, `[actuators]`, `[winch]`, `[sensors]`, `[params.*]`",
+        "and the array `[[wind]]` follow.",
     ]
     for table, cls in _TABLES.items():
         top += ["", f"## `[{table}]`", "", _summary(cls), ""]
