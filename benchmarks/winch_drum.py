@@ -84,7 +84,7 @@ def study(duration: float) -> None:
     print("|---|---|---|---|---|")
     ideal_reduction = None
     for (label, _), summary, ok, message in zip(
-        rows, batch.summaries, batch.ok, batch.messages, strict=True
+        rows, batch.summaries, batch.ok, batch.messages(), strict=True
     ):
         if not ok:
             print(f"| {label} | failed: {message} | | | |")
@@ -119,6 +119,7 @@ def study(duration: float) -> None:
 
 
 def _drum_torque(w, w_cmd, ffwd, winch):
+    """The drive's torque along w (paying out), -tau_m, with ffwd the feed-forward along w."""
     gain = winch.drum_inertia * winch.speed_loop_bandwidth
     return min(max(gain * (w_cmd - w) + ffwd, -winch.torque_limit), winch.torque_limit)
 
@@ -136,7 +137,7 @@ def _piece(z0, ta, tb, mid, sign, held, setup, winch, tol):
     gain = inertia * winch.speed_loop_bandwidth
     edges = (w_cmd + (ffwd - winch.torque_limit) / gain, w_cmd + (ffwd + winch.torque_limit) / gain)
 
-    def load(z):
+    def pull(z):  # the tether's torque on the drum, paying out
         return r * tension_from_state(z[5], z[12], cfg[CFG_K_C])
 
     def rhs(tt, z):
@@ -150,13 +151,13 @@ def _piece(z0, ta, tb, mid, sign, held, setup, winch, tol):
         if sign == 0.0:
             return np.append(dx, 0.0)
         tau = _drum_torque(w, w_cmd, ffwd, winch)
-        return np.append(dx, (tau - load(z) - b * w - tc * sign) / inertia)
+        return np.append(dx, (tau + pull(z) - b * w - tc * sign) / inertia)
 
     def through_zero(tt, z):
         return z[13] if sign != 0.0 else 1.0
 
     def breaks_free(tt, z):
-        return tc - abs(_drum_torque(0.0, w_cmd, ffwd, winch) - load(z)) if sign == 0.0 else 1.0
+        return tc - abs(_drum_torque(0.0, w_cmd, ffwd, winch) + pull(z)) if sign == 0.0 else 1.0
 
     def saturates_lo(tt, z):
         return z[13] - edges[0] if sign != 0.0 else 1.0
@@ -202,7 +203,7 @@ def reference_run(scenario, rtol: float = 1e-9, atol: float = 1e-11):
         cmd = controller.step(t, Measurement(state=z[:13].copy(), tension=tension, attached=True))
         inp = np.array(cmd.inputs, dtype=float)
         engine.apply_actuators(inp, held, act, dt, k == 0)
-        ffwd = r * tension if winch.tension_feedforward else 0.0
+        ffwd = -r * tension if winch.tension_feedforward else 0.0  # along w
         sample = (inp, cmd.reel_rate / r, ffwd)
         edges = [t, *breaks[(breaks > t) & (breaks < t + dt)].tolist(), t + dt]
         for a, b in itertools.pairwise(edges):
@@ -210,8 +211,8 @@ def reference_run(scenario, rtol: float = 1e-9, atol: float = 1e-11):
             hit = None
             while ta < b:
                 if z[13] == 0.0:  # at rest: stuck, or slipping towards the net torque
-                    load = r * tension_from_state(z[5], z[12], cfg[CFG_K_C])
-                    net = _drum_torque(0.0, sample[1], ffwd, winch) - load
+                    pull = r * tension_from_state(z[5], z[12], cfg[CFG_K_C])
+                    net = _drum_torque(0.0, sample[1], ffwd, winch) + pull
                     stuck = abs(net) <= tc and hit != 1  # hit 1: the stick just ended
                     sign = 0.0 if stuck else math.copysign(1.0, net)
                 else:

@@ -52,7 +52,7 @@ def _actuate(act, held, rate_cmd, tension, measured=None):
 
 def test_static_hold_torque_equals_r_times_tension():
     """At rest with a zero reel-rate command the drive holds the tether: motor torque = r T
-    (the static balance of J w' = tau - r T - b w - tau_c sign w), no motion; with a load
+    (the static balance of J w' = r T - tau_m - b w - tau_c sign w), no motion; with a load
     cell misreading by less than the Coulomb friction the drum still sticks, its torque then
     r T_meas."""
     act = _act(DRUM)
@@ -64,7 +64,7 @@ def test_static_hold_torque_equals_r_times_tension():
             assert rate == 0.0 and held[HELD_DRUM_SPEED] == 0.0
         assert held[HELD_MOTOR_TORQUE] == pytest.approx(r * measured, rel=1e-12)
     held = np.zeros(HELD_SIZE)
-    assert _actuate(act, held, 0.0, 25.0, 25.0 + 1.1 * tc / r) > 0.0  # beyond: it slips
+    assert _actuate(act, held, 0.0, 25.0, 25.0 + 1.1 * tc / r) < 0.0  # beyond: it hauls in
 
 
 def test_speed_loop_step_response_is_first_order():
@@ -119,26 +119,31 @@ def test_coulomb_stick_slip_thresholds():
 
 
 @pytest.mark.parametrize("viscous", [0.0, 0.003])
-def test_torque_limit_saturation_slope(viscous):
-    """A command far beyond reach saturates the drive: the reel rate's slope is
-    r (tau_max - r T - b w) / J (exactly constant without viscous friction)."""
+@pytest.mark.parametrize("direction", [1.0, -1.0])
+def test_torque_limit_saturation_slope(viscous, direction):
+    """A command far beyond reach saturates the drive: paying out (direction +1) the reel
+    rate's slope is r (tau_max + r T - b w) / J, hauling in (-1) it is -r (tau_max - r T +
+    b w) / J, i.e. the reel-in speed grows at r (tau_max - r T - b |w|) / J (exactly constant
+    without viscous friction)."""
     w = dataclasses.replace(DRUM, coulomb_friction=0.0, viscous_friction=viscous)
     act = _act(w)
     held = np.zeros(HELD_SIZE)
     r, J, tension = w.drum_radius, w.drum_inertia, 25.0
     rates, speeds = [], []
     for _ in range(20):
-        rates.append(_actuate(act, held, 50.0, tension, 0.0))  # no feed-forward torque
+        rates.append(_actuate(act, held, 50.0 * direction, tension, 0.0))  # no feed-forward
         speeds.append(held[HELD_DRUM_SPEED])
+    assert held[HELD_MOTOR_TORQUE] == -direction * w.torque_limit
     slopes = np.diff(rates) / DT
     # the means of samples k and k+1 straddle t_{k+1}, where the speed is speeds[k]
-    expected = r * (w.torque_limit - r * tension - viscous * np.array(speeds[:-1])) / J
+    speed = np.array(speeds[:-1])
+    expected = r * (direction * w.torque_limit + r * tension - viscous * speed) / J
     np.testing.assert_allclose(slopes, expected, rtol=1e-12 if viscous == 0 else 1e-5)
 
 
 def _energy_ledger(m: int, n: int = 600) -> tuple[float, float, float]:
-    """Motor work minus (work against the tension + viscous and Coulomb losses + kinetic
-    energy gained) [J] over n samples of varied commands and tensions (saturation, sticking,
+    """Motor work on the drum minus (work against the tension + viscous and Coulomb losses +
+    kinetic energy gained) [J] over n samples of varied commands and tensions (saturation, sticking,
     reversals), the powers integrated by the trapezoidal rule on m sub-steps per sample (the
     held-input solution composes over sub-intervals); with the sum of |work| terms [J] and the
     Coulomb loss [J]."""
@@ -155,9 +160,9 @@ def _energy_ledger(m: int, n: int = 600) -> tuple[float, float, float]:
             w, _, _ = drum_step(w, w_c, r * tension, ffwd, DT / m, J, gain, tmax, b, tc)
             ws.append(w)
         ws = np.array(ws)
-        torque = np.clip(gain * (w_c - ws) + ffwd, -tmax, tmax)
+        torque = np.clip(gain * (ws - w_c) + ffwd, -tmax, tmax)  # tau_m, hauling in
         for name, power in (
-            ("motor", torque * ws), ("tension", r * tension * ws), ("viscous", b * ws * ws),
+            ("motor", -torque * ws), ("tension", -r * tension * ws), ("viscous", b * ws * ws),
             ("coulomb", tc * np.abs(ws)),
         ):  # fmt: skip
             work[name] += np.trapezoid(power, dx=DT / m)
@@ -169,13 +174,13 @@ def _energy_ledger(m: int, n: int = 600) -> tuple[float, float, float]:
 def test_energy_balance_over_a_run():
     """Motor work = kinetic energy gained + viscous and Coulomb losses + work against the
     tension: the ledger's residual is the trapezoidal rule's error alone, falling as 1/m^2
-    with m sub-steps per sample, and its Richardson extrapolation is zero to 1e-6 of the
+    with m sub-steps per sample, and its Richardson extrapolation is zero to 3e-6 of the
     energies moved (the kinks at saturation and sticking keep it from vanishing further)."""
     coarse, scale, coulomb = _energy_ledger(50)
     fine, _, _ = _energy_ledger(100)
-    assert scale > 2.0 and coulomb > 0.05 * scale  # a run that does work and slips
+    assert scale > 0.5 and coulomb > 0.05 * scale  # a run that does work and slips
     assert 3.5 < coarse / fine < 4.5  # second order: quadrature error, not a model error
-    assert abs((4.0 * fine - coarse) / 3.0) < 1e-6 * scale
+    assert abs((4.0 * fine - coarse) / 3.0) < 3e-6 * scale
 
 
 def test_bad_drum_input_refused_in_one_line(tmp_path, capsys):

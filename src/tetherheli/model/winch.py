@@ -2,22 +2,28 @@
 
 The ideal winch of the paper applies the reel rate R_C of eq 56 at once (dL_N/dt = R_C,
 eq 37). The drum winch (``[winch] model = "drum"``, ``sim.scenario.WinchSettings``) puts a
-drive between the command and the tether. Its speed loop, inside the motor drive, runs far
-faster than the control sample and is modelled in continuous time: the PI of eq 56 gives the
-drum-speed reference w_c = R_C / r, held over the sample, and the drive's motor torque is
+drive between the command and the tether. Signs: the drum speed w is positive paying out
+(dL_N/dt = r w, the sign of R_C), the tether's pull r T_g turns the drum that way, and the
+motor torque tau_m counts positive hauling in (the sense that holds the tether). The drum
+obeys
 
-    tau_m = sat(K_w (w_c - w) + tau_ff, tau_max),  K_w = J omega_w,
-
-a proportional speed loop of bandwidth omega_w [rad/s] (without load, tension and friction
-the drum follows w_c as a first-order lag of time constant 1/omega_w) plus the load-cell
-feed-forward tau_ff = r T_meas (optional, ``tension_feedforward``), which removes the
-proportional loop's steady speed error under the tether's load. The drum obeys
-
-    J w' = tau_m - r T_g - b w - tau_c sign(w),  dL_N/dt = r w,
+    J w' = r T_g - tau_m - b w - tau_c sign(w),  dL_N/dt = r w,
 
 with T_g the tension at the winch (the tether tension for the massless tether; the tension
 at the ground node for a lumped tether), b the viscous and tau_c the Coulomb friction; at
-w = 0 the drum sticks while |tau_m - r T_g| <= tau_c.
+w = 0 the drum sticks while |r T_g - tau_m| <= tau_c. At rest the motor holds tau_m = r T_g.
+
+The speed loop, inside the motor drive, runs far faster than the control sample and is
+modelled in continuous time: the PI of eq 56 gives the drum-speed reference w_c = R_C / r,
+held over the sample, and the drive's torque is
+
+    tau_m = sat(K_w (w - w_c) + tau_ff, tau_max),  K_w = J omega_w,
+
+a proportional speed loop of bandwidth omega_w [rad/s] (without tension and friction the drum
+follows w_c as a first-order lag of time constant 1/omega_w) plus the load-cell feed-forward
+tau_ff = r T_meas (optional, ``tension_feedforward``), which removes the proportional loop's
+steady speed error under the tether's load. A limit tau_max below r T_g cannot hold the
+tether: the drum pays out until the tension falls to tau_max / r.
 
 Discretisation (``drum_step``): over one control sample the command w_c, the feed-forward and
 the tension T_g are held (T_g at its sampled value). The right-hand side f(w) is then
@@ -46,7 +52,8 @@ _MAX_PIECES = 8
 
 @_jit_inline
 def _torque(w, w_cmd, tau_ff, gain, torque_limit):
-    """The drive's motor torque sat(K_w (w_c - w) + tau_ff, tau_max) [N m]."""
+    """The drive's torque along w (paying out), -tau_m = sat(K_w (w_c - w) + tau_ff,
+    tau_max) with tau_ff the feed-forward along w [N m]."""
     return min(max(gain * (w_cmd - w) + tau_ff, -torque_limit), torque_limit)
 
 
@@ -54,8 +61,8 @@ def _torque(w, w_cmd, tau_ff, gain, torque_limit):
 def drum_step(
     w0: float,
     w_cmd: float,
-    load_torque: float,
-    tau_ff: float,
+    tension_torque: float,
+    ffwd_torque: float,
     h: float,
     inertia: float,
     gain: float,
@@ -72,10 +79,11 @@ def drum_step(
         Drum speed at the start [rad/s] (positive: paying out, L_N growing).
     w_cmd : float
         Speed reference w_c = R_C / r [rad/s].
-    load_torque : float
-        r T_g, the tether's torque on the drum [N m] (T_g the tension at the winch).
-    tau_ff : float
-        The drive's feed-forward torque [N m] (r T_meas, or 0).
+    tension_torque : float
+        r T_g, the tether's torque on the drum, paying out [N m] (T_g the tension at the
+        winch).
+    ffwd_torque : float
+        The drive's feed-forward torque tau_ff, hauling in [N m] (r T_meas, or 0).
     h : float
         Interval [s], > 0.
     inertia : float
@@ -96,8 +104,11 @@ def drum_step(
     speed_integral : float
         int w dt over the interval [rad] (the reel length paid out is r times it).
     torque_integral : float
-        int tau_m dt over the interval [N m s].
+        int tau_m dt over the interval [N m s] (tau_m hauling in).
     """
+    # the solver works with torques along w: the drive's -tau_m, the load opposing w -r T_g
+    load_torque = -tension_torque
+    tau_ff = -ffwd_torque
     w = w0
     left = h
     speed_integral = 0.0
@@ -166,4 +177,4 @@ def drum_step(
     if left > 0.0:  # not reached (at most four pieces); hold rather than lose time
         speed_integral += w * left
         torque_integral += _torque(w, w_cmd, tau_ff, gain, torque_limit) * left
-    return w, speed_integral, torque_integral
+    return w, speed_integral, -torque_integral

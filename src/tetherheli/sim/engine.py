@@ -437,10 +437,11 @@ def actuate(inp, held, rate, act, dt, first, tension_ground, measured_tension):
 @_jit_inline
 def drum_winch(held, rate_cmd, act, dt, tension_ground, measured_tension):
     """The drum winch over one sample (``model.winch``): speed reference rate_cmd / r, the
-    drive's feed-forward r T_meas (when act[ACT_DRUM_TENSION_FFWD]), the load r T_g with
-    T_g = tension_ground held over the sample; the drum's speed in ``held`` is advanced by the
-    exact piecewise solution (``model.winch.drum_step``). Returns the mean reel rate over the
-    sample, r int w dt / dt [m/s], so that L_N advances exactly by the length paid out."""
+    drive's feed-forward r T_meas (when act[ACT_DRUM_TENSION_FFWD]), the tether's pull r T_g
+    with T_g = tension_ground held over the sample; the drum's speed in ``held`` is advanced by
+    the exact piecewise solution (``model.winch.drum_step``) and ``held`` keeps the mean motor
+    torque (hauling in). Returns the mean reel rate over the sample, r int w dt / dt [m/s], so
+    that L_N advances exactly by the length paid out."""
     r = act[ACT_DRUM_RADIUS]
     ffwd = r * measured_tension if act[ACT_DRUM_TENSION_FFWD] > 0.5 else 0.0
     w0 = held[HELD_DRUM_SPEED]

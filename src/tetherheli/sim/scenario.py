@@ -275,7 +275,8 @@ WINCH_MODELS: tuple[str, ...] = ("ideal", "drum")
 class WinchSettings:
     """The ground winch (``[winch]``): ideal (the paper's) or a drum with inertia, friction
     and a torque-limited drive whose speed loop follows the reel rate of eq 56
-    (``model.winch``: J w' = tau_m - r T_g - b w - tau_c sign(w), dL_N/dt = r w).
+    (``model.winch``: J w' = r T_g - tau_m - b w - tau_c sign(w), dL_N/dt = r w, w > 0
+    paying out, the motor torque tau_m > 0 hauling in).
 
     Default drum, a small tether winch sized for the paper's Tref = 25 N: radius 0.05 m;
     inertia 0.005 kg m^2 = an aluminium drum 0.05 m in radius and 0.1 m long as a solid
