@@ -49,8 +49,8 @@ from tetherheli.sim.scenario import WinchSettings, paper_scenario
 from tetherheli.sim.setup import engine_setup
 
 DRUM = WinchSettings(model="drum")
-INERTIAS = (0.005, 0.05, 0.2, 0.5, 1.0)  # [kg m^2]
-TORQUE_LIMITS = (2.5, 1.6, 1.4, 1.3, 1.27, 1.2, 1.0)  # [N m]; r Tref = 1.25 N m
+INERTIAS = (0.005, 0.05, 0.5, 1.0, 2.0, 5.0)  # [kg m^2]
+TORQUE_LIMITS = (2.5, 1.3, 1.25, 1.2, 1.0, 0.75, 0.5, 0.25, 0.1)  # [N m]; r Tref = 1.25 N m
 
 
 def _sim1(winch: WinchSettings | None, duration: float, configuration: str = "tethered"):
@@ -103,7 +103,7 @@ def study(duration: float) -> None:
             return False
         return reduction_percent(free[0], _metrics(b.summaries[0])[0]) >= 0.5 * ideal_reduction
 
-    lo, hi = 0.5, 2.5  # [N m]: loses, keeps
+    lo, hi = 0.05, 2.5  # [N m]: loses, keeps
     assert keeps_half(hi) and not keeps_half(lo)
     while hi - lo > 0.005:
         mid = 0.5 * (lo + hi)
