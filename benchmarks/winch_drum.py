@@ -13,7 +13,7 @@ winch's). All runs go through ``run_batch`` (the lane engine).
 ``--reference``: the error of the engine's per-sample drum update (``model.winch.drum_step``,
 the tension held over the sample) against an adaptive solution of the joint helicopter,
 tether and drum ODE (DOP853, rtol 1e-9, atol 1e-11; the drum speed a state, the tension
-continuous, Coulomb stick/slip and torque saturation switched by events), both flying the same
+continuous, Coulomb stick and slip switched by events), both flying the same
 sampled controller; the same comparison for the ideal winch (the engine's RK4 against
 ``simulate(method="adaptive")``) is printed beside it, as the integrator's own share.
 Slow (about a minute per 60 s run).
@@ -127,15 +127,13 @@ def _drum_torque(w, w_cmd, ffwd, winch):
 def _piece(z0, ta, tb, mid, sign, held, setup, winch, tol):
     """Integrate the joint ODE z = [x, w] from ta towards tb in one mode (sign of w's
     Coulomb friction, 0: stuck) until tb or the first switching event (w through 0, the
-    stick ending, the torque entering or leaving saturation). Returns (z, t reached, which
-    event or None)."""
+    stick ending); the torque's saturation, a kink, is left to the step-size control.
+    Returns (z, t reached, which event or None)."""
     inp, w_cmd, ffwd = held
     cfg, c, wind = setup.cfg, setup.model.constants, setup.wind
     r, inertia = winch.drum_radius, winch.drum_inertia
     b, tc = winch.viscous_friction, winch.coulomb_friction
     dx, sc, force = np.empty(13), np.empty(10), np.empty(3)
-    gain = inertia * winch.speed_loop_bandwidth
-    edges = (w_cmd + (ffwd - winch.torque_limit) / gain, w_cmd + (ffwd + winch.torque_limit) / gain)
 
     def pull(z):  # the tether's torque on the drum, paying out
         return r * tension_from_state(z[5], z[12], cfg[CFG_K_C])
@@ -153,19 +151,15 @@ def _piece(z0, ta, tb, mid, sign, held, setup, winch, tol):
         tau = _drum_torque(w, w_cmd, ffwd, winch)
         return np.append(dx, (tau + pull(z) - b * w - tc * sign) / inertia)
 
-    def through_zero(tt, z):
+    def through_zero(tt, z):  # slip ends (the crossing against the slip: not at the start)
         return z[13] if sign != 0.0 else 1.0
 
-    def breaks_free(tt, z):
+    def breaks_free(tt, z):  # stick ends
         return tc - abs(_drum_torque(0.0, w_cmd, ffwd, winch) + pull(z)) if sign == 0.0 else 1.0
 
-    def saturates_lo(tt, z):
-        return z[13] - edges[0] if sign != 0.0 else 1.0
-
-    def saturates_hi(tt, z):
-        return z[13] - edges[1] if sign != 0.0 else 1.0
-
-    events = [through_zero, breaks_free, saturates_lo, saturates_hi]
+    through_zero.direction = -sign if sign != 0.0 else 0.0
+    breaks_free.direction = -1.0
+    events = [through_zero, breaks_free]
     for e in events:
         e.terminal = True
     sol = solve_ivp(rhs, (ta, tb), z0, method="DOP853", rtol=tol[0], atol=tol[1], events=events)
