@@ -47,8 +47,8 @@ Method = Literal["rk4", "adaptive"]
 
 
 #: Floats recorded per control sample: state 13, inputs 4, feed-forward 4, reel rate 1,
-#: tension 1, wind 3, outputs 4, output estimate 4, drum winch 2 (``_Recorder``).
-_RECORDED_FLOATS = 36
+#: tension 1, wind 3, outputs 4, output estimate 4 (``_Recorder``); the drum winch adds 2.
+_RECORDED_FLOATS = 34
 #: Peak memory of a recorded run over its recorded arrays: the result, the metrics'
 #: temporaries and the figures' copies of the plotted lines (measured about 2.2; margin kept).
 _RECORDED_PEAK_FACTOR = 3
@@ -84,7 +84,8 @@ def check_run_memory(scenario: Scenario, *, record: bool = True, concurrent: int
     if scenario.sensors.is_timed and not scenario.sensors.is_perfect:
         per_run += rows * (N_GROUPS + N_CHANNELS) * 8
     if record:
-        per_run += rows * _RECORDED_FLOATS * 8 * _RECORDED_PEAK_FACTOR
+        floats = _RECORDED_FLOATS + (len(DRUM_COLUMNS) if scenario.winch.model == "drum" else 0)
+        per_run += rows * floats * 8 * _RECORDED_PEAK_FACTOR
     needed = per_run * concurrent
     at_once = f", {concurrent} runs at once" if concurrent > 1 else ""
     check_memory(
@@ -135,7 +136,7 @@ def simulate(
     paper = controller is None
     if paper:
         controller = setup.paper_controller()
-    rec = _Recorder(n)
+    rec = _Recorder(n, drum=scenario.winch.model == "drum")
     if paper and method == "rk4" and wind is not None:
         status, done = engine.run_closed_loop(*setup.engine_args(n), True, rec.signals, rec.summary)
         rec.release[:] = rec.summary[SUMMARY_RELEASE_TIME : SUMMARY_RELEASE_TIME + 2]
@@ -145,7 +146,7 @@ def simulate(
 
 
 class _Recorder:
-    def __init__(self, n: int) -> None:
+    def __init__(self, n: int, *, drum: bool = False) -> None:
         self.x = np.zeros((n + 1, 13))
         self.u = np.zeros((n + 1, 4))
         self.ffwd = np.zeros((n + 1, 4))
@@ -154,7 +155,8 @@ class _Recorder:
         self.wind = np.zeros((n + 1, 3))
         self.y = np.zeros((n + 1, 4))
         self.y_est = np.zeros((n + 1, 4))
-        self.winch = np.zeros((n + 1, 2))  # drum speed [rad/s], mean motor torque [N m]
+        # the drum's speed [rad/s] and mean motor torque [N m]; one unused row without a drum
+        self.winch = np.zeros((n + 1 if drum else 1, len(DRUM_COLUMNS)))
         self.release = np.full(2, np.nan)  # tether release: time [s], tension [N]
         self.summary = np.zeros(len(SUMMARY_FIELDS))
 
@@ -255,7 +257,8 @@ def _python_loop(scenario, setup, controller, method, rec, *, rtol, atol):
             return status, k
         rec.x[k], rec.u[k], rec.ffwd[k] = x, inp, cmd.feedforward
         rec.rate[k], rec.tension[k], rec.y[k] = rate, tension, y
-        rec.winch[k] = held[HELD_DRUM_SPEED_SAMPLED], held[HELD_MOTOR_TORQUE]
+        if scenario.winch.model == "drum":
+            rec.winch[k] = held[HELD_DRUM_SPEED_SAMPLED], held[HELD_MOTOR_TORQUE]
         rec.wind[k] = _wind_at(scenario.wind, wind, cfg, t, 1, x, wind_buf)
         if k == n:
             break

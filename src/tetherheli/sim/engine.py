@@ -2,8 +2,8 @@
 
 One control sample is written once, as phases that every loop shares (``sample_step``):
 ``sense`` (the safety device's release check, then the sensors), the controller, ``actuate``
-(saturation, lag, the winch's acceleration limit), ``check_state_sc`` (failure checks of the
-sampled state); then the integrator advances the plant to the next sample. The compiled loop
+(saturation, lag, the winch's acceleration limit or drum), ``check_state_sc`` (failure checks of
+the sampled state); then the integrator advances the plant to the next sample. The compiled loop
 ``run_closed_loop`` and the Gymnasium environment run ``paper_sample`` (the phases around the
 paper's controller) with fixed-step RK4 (``rk4_interval``); ``simulate``'s Python loop runs
 the same phases around any ``Controller`` with RK4 or the adaptive reference.
@@ -541,8 +541,8 @@ def run_closed_loop(
     tension, wind, y, y_est, winch), n_samples + 1 rows each, receive the sampled signals: true
     state, applied inputs (with feed-forward), feed-forward, reel rate, true tension, wind
     force, true outputs, the controller's output estimate, and the drum winch's speed at the
-    sample [rad/s] and mean motor torque over the sample after it [N m] (zeros for the ideal
-    winch). ``summary`` (len(SUMMARY_FIELDS),) always
+    sample [rad/s] and mean motor torque over the sample after it [N m] (drum winch only; the
+    ideal winch leaves it alone, one row is enough). ``summary`` (len(SUMMARY_FIELDS),) always
     receives the on-line metrics of the samples k >= cfg[CFG_METRICS_FROM], the release event in
     its ``release_*`` slots (NaN without one).
     """
@@ -580,9 +580,9 @@ def run_closed_loop(
             out_wind[k] = work[5, :3]
             out_y[k] = y
             out_y_est[k] = y_est
-            out_winch = out[8]  # the drum's speed at t_k, its mean motor torque after t_k
-            out_winch[k, 0] = held[HELD_DRUM_SPEED_SAMPLED]
-            out_winch[k, 1] = held[HELD_MOTOR_TORQUE]
+            if act[ACT_DRUM] > 0.5:  # the drum's speed at t_k, its mean torque after t_k
+                out[8][k, 0] = held[HELD_DRUM_SPEED_SAMPLED]
+                out[8][k, 1] = held[HELD_MOTOR_TORQUE]
         if k == n_samples:
             break
         rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, work, True)
