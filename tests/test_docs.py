@@ -49,6 +49,7 @@ def test_every_key_the_loader_accepts_is_documented():
         ("limits", scenario_module.Limits),
         ("actuators", scenario_module.ActuatorSettings),
         ("tether", scenario_module.TetherSettings),
+        ("winch", scenario_module.WinchSettings),
     ):
         # a nested table (a dataclass default) is documented by its own keys
         expected |= {
@@ -74,7 +75,7 @@ def test_every_key_the_loader_accepts_is_documented():
         assert f"`{preset}`" in page
 
 
-_TABLE_KEYS = {"control", "limits", "wind", "params", "actuators", "sensors", "tether"}
+_TABLE_KEYS = {"control", "limits", "wind", "params", "actuators", "sensors", "tether", "winch"}
 _ROW = re.compile(r"^\| `([^`]+)` \| [^|]*(?:\\\|[^|]*)* \| [^|]* \| `([^`]*)` \| (.*) \|$", re.M)
 _RANGE = re.compile(
     r"^an? (?:nonzero )?(?:finite number|number|integer)"
@@ -148,8 +149,10 @@ API = {
     "tetherheli.model.kinematics": ["HelicopterPoints", "helicopter_points", "direction_cosines",
                                     "tethered_HO_position", "tether_length_from_altitude"],
     "tetherheli.model.linearize": ["LinearModel", "linearize"],
+    "tetherheli.model.winch": ["drum_step"],
     "tetherheli.sim.scenario": ["Scenario", "ControlSettings", "TetherLQISettings", "Limits",
-                                "ActuatorSettings", "load_scenario", "paper_scenario",
+                                "ActuatorSettings", "WinchSettings", "load_scenario",
+                                "paper_scenario",
                                 "scenario_toml", "metrics_first_sample"],
     "tetherheli.sim.closed_loop": ["simulate", "check_run_memory"],
     "tetherheli.sim.result": ["SimulationResult", "load_result", "list_results",
@@ -228,7 +231,7 @@ API = {
     "tetherheli.sim.setup": ["engine_setup", "EngineSetup", "run_setup", "RunSetup", "paper_gain",
                              "free_trim_input", "paper_law", "start_point", "StartPoint",
                              "actuator_array", "sensor_noise", "sensor_schedule",
-                             "sensor_tuple", "lane_block", "lane_program_into"],
+                             "sensor_tuple", "lane_block", "lane_program_into", "winch_into"],
     "tetherheli.sim.batch": ["run_batch", "BatchResult", "summary_metrics", "connect",
                              "disconnect", "run_block", "run_unrecorded"],
 }  # fmt: skip

@@ -204,4 +204,5 @@ def _dummy_out():
         np.zeros((1, 4)),
         np.zeros(1),  # the tension at the winch
         np.zeros((0, 0, 3)),  # no chain nodes
+        np.zeros((1, 2)),
     )

@@ -90,7 +90,11 @@ WINCH_SIZE = 2
 # --- what the actuators hold between samples (``held``, ``sim.engine.actuate``) ---------------
 HELD_INPUTS = 0  # (4,) the rotor inputs applied over the last sample (the lag's state)
 HELD_REEL_RATE = 4  # the reel rate applied over the last sample [m/s] (the winch starts at rest)
-HELD_SIZE = 5
+#: the drum winch (``[winch] model = "drum"``, ``model.winch``; zero for the ideal winch):
+HELD_DRUM_SPEED = 5  # the drum's speed w [rad/s], advanced by ``actuate`` to the next sample
+HELD_DRUM_SPEED_SAMPLED = 6  # w at the sample's instant, before that update [rad/s]
+HELD_MOTOR_TORQUE = 7  # the motor torque averaged over the last sample [N m]
+HELD_SIZE = 8
 
 # --- one run's loop state (``sim.engine.new_loop_state``): a tuple of arrays -------------------
 LOOP_Z = 0  # (4,) the LQI's output-error integral (eq 50)
@@ -127,7 +131,16 @@ ACT_U_MAX = 4  # (4,) upper input limits
 ACT_TAU = 8  # first-order actuator time constant [s] (0: none)
 ACT_BREAK = 9  # tether breaking / release tension [N] (inf: never)
 ACT_REEL_ACCEL = 10  # |d(reel rate)/dt| bound of the winch [m/s^2] (inf: none)
-ACT_SIZE = 11
+#: the drum winch (``sim.scenario.WinchSettings``, ``model.winch.drum_step``)
+ACT_DRUM = 11  # 1: the drum winch, 0: the ideal winch (the reel rate applied as commanded)
+ACT_DRUM_RADIUS = 12  # r [m]
+ACT_DRUM_INERTIA = 13  # J, drum and motor reflected [kg m^2]
+ACT_DRUM_TORQUE_LIMIT = 14  # tau_max [N m]
+ACT_DRUM_VISCOUS = 15  # b [N m s/rad]
+ACT_DRUM_COULOMB = 16  # tau_c [N m]
+ACT_DRUM_SPEED_GAIN = 17  # K_w = J omega_w, the speed loop's gain [N m s/rad]
+ACT_DRUM_TENSION_FFWD = 18  # 1: the drive adds the load cell's torque r T_meas
+ACT_SIZE = 19
 
 
 def empty_chain() -> tuple:

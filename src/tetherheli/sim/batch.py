@@ -109,7 +109,8 @@ def run_unrecorded(engine_args, summary):  # pragma: no cover - compiled
     d4 = np.zeros((1, 4))
     d3 = np.zeros((1, 3))
     d1 = np.zeros(1)
-    out = (d13, d4, d4, d1, d1, d3, d4, d4, d1, np.zeros((0, 0, 3)))
+    d2 = np.zeros((1, 2))
+    out = (d13, d4, d4, d1, d1, d3, d4, d4, d1, np.zeros((0, 0, 3)), d2)
     return engine.run_closed_loop(*engine_args, False, out, summary)
 
 

@@ -26,6 +26,8 @@ from ..layout import (
     CFG_TENSION_GROUND,
     CHAIN_NODES,
     CTRL_SIZE,
+    HELD_DRUM_SPEED_SAMPLED,
+    HELD_MOTOR_TORQUE,
     HELD_SIZE,
     SUMMARY_FIELDS,
     SUMMARY_RELEASE_TIME,
@@ -37,7 +39,7 @@ from ..resources import check_memory
 from ..sensors import N_CHANNELS, N_GROUPS
 from ..status import Status
 from . import engine
-from .result import TENSION_GROUND_COLUMN, SimulationResult
+from .result import DRUM_COLUMNS, TENSION_GROUND_COLUMN, SimulationResult
 from .scenario import Scenario
 from .setup import engine_setup
 
@@ -47,7 +49,7 @@ Method = Literal["rk4", "adaptive"]
 
 
 #: Floats recorded per control sample: state 13, inputs 4, feed-forward 4, reel rate 1,
-#: tension 1, wind 3, outputs 4, output estimate 4 (``_Recorder``).
+#: tension 1, wind 3, outputs 4, output estimate 4 (``_Recorder``); the drum winch adds 2.
 _RECORDED_FLOATS = 34
 #: Peak memory of a recorded run over its recorded arrays: the result, the metrics'
 #: temporaries and the figures' copies of the plotted lines (measured about 2.2; margin kept).
@@ -84,7 +86,8 @@ def check_run_memory(scenario: Scenario, *, record: bool = True, concurrent: int
     if scenario.sensors.is_timed and not scenario.sensors.is_perfect:
         per_run += rows * (N_GROUPS + N_CHANNELS) * 8
     if record:
-        per_run += rows * _RECORDED_FLOATS * 8 * _RECORDED_PEAK_FACTOR
+        floats = _RECORDED_FLOATS + (len(DRUM_COLUMNS) if scenario.winch.model == "drum" else 0)
+        per_run += rows * floats * 8 * _RECORDED_PEAK_FACTOR
         if scenario.tether.lumped:  # the winch's tension, and the nodes on request
             nodes = 3 * (scenario.tether.segments + 1) if scenario.tether.record_nodes else 0
             per_run += rows * (1 + nodes) * 8 * _RECORDED_PEAK_FACTOR
@@ -138,7 +141,7 @@ def simulate(
     paper = controller is None
     if paper:
         controller = setup.paper_controller()
-    rec = _Recorder(n)
+    rec = _Recorder(n, drum=scenario.winch.model == "drum")
     if scenario.tether.lumped:
         if not (method == "rk4" and wind is not None):
             raise ParameterError(
@@ -157,7 +160,7 @@ def simulate(
 
 
 class _Recorder:
-    def __init__(self, n: int) -> None:
+    def __init__(self, n: int, *, drum: bool = False) -> None:
         self.x = np.zeros((n + 1, 13))
         self.u = np.zeros((n + 1, 4))
         self.ffwd = np.zeros((n + 1, 4))
@@ -166,6 +169,8 @@ class _Recorder:
         self.wind = np.zeros((n + 1, 3))
         self.y = np.zeros((n + 1, 4))
         self.y_est = np.zeros((n + 1, 4))
+        # the drum's speed [rad/s] and mean motor torque [N m]; one unused row without a drum
+        self.winch = np.zeros((n + 1 if drum else 1, len(DRUM_COLUMNS)))
         self.release = np.full(2, np.nan)  # tether release: time [s], tension [N]
         self.summary = np.zeros(len(SUMMARY_FIELDS))
         self.tension_ground = np.zeros(n + 1)  # at the winch (= tension when massless)
@@ -177,7 +182,7 @@ class _Recorder:
         """The recorded arrays in ``engine.run_closed_loop``'s ``out`` order."""
         return (
             self.x, self.u, self.ffwd, self.rate, self.tension, self.wind, self.y, self.y_est,
-            self.tension_ground, self.nodes,
+            self.tension_ground, self.nodes, self.winch,
         )  # fmt: skip
 
     def result(
@@ -200,6 +205,9 @@ class _Recorder:
             for i in range(self.nodes.shape[1]):
                 for a in range(3):
                     extra[f"node{i}_n{a + 1}"] = self.nodes[:k, i, a].copy()
+        if scenario.winch.model == "drum":  # the drum's signals (``result.EXTRA_UNITS``)
+            for i, name in enumerate(DRUM_COLUMNS):
+                extra[name] = self.winch[:k, i].copy()
         # views, not copies: the recorder is dropped here, so a long run is held once
         return SimulationResult(
             time=np.arange(k) * scenario.control.dt,
@@ -266,7 +274,8 @@ def _python_loop(scenario, setup, controller, method, rec, *, rtol, atol):
         rate = float(cmd.reel_rate) if attached else 0.0
         finite = bool(np.all(np.isfinite(inp)) and math.isfinite(rate))
         if finite:
-            rate = engine.actuate(inp, held, rate, act, dt, k == 0)
+            ground = engine.winch_tension(cfg, tension)
+            rate = engine.actuate(inp, held, rate, act, dt, k == 0, ground, measured)
         tethered_outputs(x_meas, c, rec.y_est[k])
         tethered_outputs(x, c, y)
         status = engine.check_state(x, y, trim.y, tension, cfg)
@@ -276,6 +285,8 @@ def _python_loop(scenario, setup, controller, method, rec, *, rtol, atol):
             return status, k
         rec.x[k], rec.u[k], rec.ffwd[k] = x, inp, cmd.feedforward
         rec.rate[k], rec.tension[k], rec.y[k] = rate, tension, y
+        if scenario.winch.model == "drum":
+            rec.winch[k] = held[HELD_DRUM_SPEED_SAMPLED], held[HELD_MOTOR_TORQUE]
         rec.wind[k] = _wind_at(scenario.wind, wind, cfg, t, 1, x, wind_buf)
         tied = lumped and cfg[CFG_ATTACHED] > 0.5
         rec.tension_ground[k] = cfg[CFG_TENSION_GROUND] if tied else tension

@@ -2,8 +2,8 @@
 
 One control sample is written once, as phases that every loop shares (``sample_step``):
 ``sense`` (the safety device's release check, then the sensors), the controller, ``actuate``
-(saturation, lag, the winch's acceleration limit), ``check_state_sc`` (failure checks of the
-sampled state); then the integrator advances the plant to the next sample. The compiled loop
+(saturation, lag, the winch's acceleration limit or drum), ``check_state_sc`` (failure checks of
+the sampled state); then the integrator advances the plant to the next sample. The compiled loop
 ``run_closed_loop`` and the Gymnasium environment run ``paper_sample`` (the phases around the
 paper's controller) with fixed-step RK4 (``rk4_interval``); ``simulate``'s Python loop runs
 the same phases around any ``Controller`` with RK4 or the adaptive reference.
@@ -31,6 +31,14 @@ from .._compile import compiled
 from ..control.paper import limit_rate_change_jit, paper_control_sc
 from ..layout import (
     ACT_BREAK,
+    ACT_DRUM,
+    ACT_DRUM_COULOMB,
+    ACT_DRUM_INERTIA,
+    ACT_DRUM_RADIUS,
+    ACT_DRUM_SPEED_GAIN,
+    ACT_DRUM_TENSION_FFWD,
+    ACT_DRUM_TORQUE_LIMIT,
+    ACT_DRUM_VISCOUS,
     ACT_REEL_ACCEL,
     ACT_SIZE,
     ACT_TAU,
@@ -56,7 +64,10 @@ from ..layout import (
     CHAIN_WORK,
     CTRL_FFWD,
     CTRL_WINCH,
+    HELD_DRUM_SPEED,
+    HELD_DRUM_SPEED_SAMPLED,
     HELD_INPUTS,
+    HELD_MOTOR_TORQUE,
     HELD_REEL_RATE,
     HELD_SIZE,
     LANES,
@@ -65,6 +76,7 @@ from ..layout import (
     LAW_Z0,
     LOOP_EVENT,
     LOOP_FFWD,
+    LOOP_HELD,
     LOOP_INPUTS,
     LOOP_Y,
     LOOP_Y_EST,
@@ -103,6 +115,7 @@ from ..model.kernels import (
     tethered_rhs_sc,
 )
 from ..model.tether_lumped import chain_forces, ros2_step
+from ..model.winch import drum_step
 from ..sensors import measure_sampled
 from ..status import Status, release_sentence, status_message
 
@@ -399,6 +412,15 @@ def release_if_broken(tension, t, cfg, ctrl, act, event):
 
 
 @_jit_inline
+def winch_tension(cfg, tension):
+    """The tension at the winch [N]: a lumped chain's ground end (set by ``chain_ends``) while
+    attached, else ``tension``, the massless tether's one tension (eq 28) or 0 once released."""
+    if cfg[CFG_LUMPED] > 0.5 and cfg[CFG_ATTACHED] > 0.5:
+        return cfg[CFG_TENSION_GROUND]
+    return tension
+
+
+@_jit_inline
 def sense(x, k, t, cfg, ctrl, act, sensors, event, x_meas):
     """Phase 1 of a sample at t = k dt: the tether's tension (0 when removed), the safety
     device's release check (``release_if_broken``; a lumped tether's tension at P, set in
@@ -417,8 +439,7 @@ def sense(x, k, t, cfg, ctrl, act, sensors, event, x_meas):
     else:
         tension = tension_from_state(x[5], x[12], cfg[CFG_K_C])
     tension = release_if_broken(tension, t, cfg, ctrl, act, event)
-    # the load cell at the winch: the chain's ground end (the massless tether's one tension)
-    load = cfg[CFG_TENSION_GROUND] if (lumped and cfg[CFG_ATTACHED] > 0.5) else tension
+    load = winch_tension(cfg, tension)  # the load cell at the winch
     if sensors[0].shape[0] > 0:
         return tension, measure_sampled(x, load, k, sensors, x_meas)
     x_meas[:] = x
@@ -426,15 +447,43 @@ def sense(x, k, t, cfg, ctrl, act, sensors, event, x_meas):
 
 
 @_jit_inline
-def actuate(inp, held, rate, act, dt, first):
+def actuate(inp, held, rate, act, dt, first, tension_ground, measured_tension):
     """Phase 3: the actuators on a controller's command. Rotor inputs: saturation and lag
-    (``apply_actuators``, in place); reel rate: the winch's acceleration limit relative to the
-    rate applied at the previous sample (the paper's PI already keeps within it and holds its
-    integral meanwhile: ``control.paper.winch_step``). Returns the applied reel rate [m/s]."""
+    (``apply_actuators``, in place). Reel rate, ideal winch: the acceleration limit relative
+    to the rate applied at the previous sample (the paper's PI already keeps within it and
+    holds its integral meanwhile: ``control.paper.winch_step``). Drum winch (act[ACT_DRUM]):
+    the command is the drive's speed reference and the drum is advanced over the sample
+    (``drum_winch``) under the tension at the winch, tension_ground [N] (the load cell reads
+    measured_tension [N]). Returns the reel rate applied over the sample [m/s]."""
     apply_actuators(inp, held, act, dt, first)
-    rate = limit_rate_change_jit(rate, held[HELD_REEL_RATE], act[ACT_REEL_ACCEL], dt)
+    if act[ACT_DRUM] > 0.5:
+        rate = drum_winch(held, rate, act, dt, tension_ground, measured_tension)
+    else:
+        rate = limit_rate_change_jit(rate, held[HELD_REEL_RATE], act[ACT_REEL_ACCEL], dt)
     held[HELD_REEL_RATE] = rate
     return rate
+
+
+@_jit_inline
+def drum_winch(held, rate_cmd, act, dt, tension_ground, measured_tension):
+    """The drum winch over one sample (``model.winch``): speed reference rate_cmd / r, the
+    drive's feed-forward r T_meas (when act[ACT_DRUM_TENSION_FFWD]), the tether's pull r T_g
+    with T_g = tension_ground held over the sample; the drum's speed in ``held`` is advanced by
+    the exact piecewise solution (``model.winch.drum_step``) and ``held`` keeps the mean motor
+    torque (hauling in). Returns the mean reel rate over the sample, r int w dt / dt [m/s], so
+    that L_N advances exactly by the length paid out."""
+    r = act[ACT_DRUM_RADIUS]
+    ffwd = r * measured_tension if act[ACT_DRUM_TENSION_FFWD] > 0.5 else 0.0
+    w0 = held[HELD_DRUM_SPEED]
+    w1, speed_integral, torque_integral = drum_step(
+        w0, rate_cmd / r, r * tension_ground, ffwd, dt, act[ACT_DRUM_INERTIA],
+        act[ACT_DRUM_SPEED_GAIN], act[ACT_DRUM_TORQUE_LIMIT], act[ACT_DRUM_VISCOUS],
+        act[ACT_DRUM_COULOMB],
+    )  # fmt: skip
+    held[HELD_DRUM_SPEED_SAMPLED] = w0
+    held[HELD_DRUM_SPEED] = w1
+    held[HELD_MOTOR_TORQUE] = torque_integral / dt
+    return r * speed_integral / dt
 
 
 @_jit_inline
@@ -464,7 +513,7 @@ def paper_sample(x, k, cfg, ctrl, act, sensors, c, law, loop, action, action_mod
     elif action_mode == ACTION_REPLACE:
         for i in range(4):
             inp[i] = action[i]
-    rate = actuate(inp, held, rate, act, dt, k == 0)
+    rate = actuate(inp, held, rate, act, dt, k == 0, winch_tension(cfg, tension), measured)
     if sensors[0].shape[0] > 0:
         tethered_outputs(x, c, y)
         angle_trig(x, sc_true)
@@ -523,11 +572,13 @@ def run_closed_loop(
     (``layout.empty_chain()``: the massless tether of eq 28). ``law`` is (gain, x_ref, y_ref, u0,
     u0_free, z0) (``layout.LAW_*``), ``wind`` (program, gust table, drag), ``sensors``
     (``sim.setup.sensor_tuple``). With ``record`` the arrays of ``out`` = (x, u, ffwd, rate,
-    tension, wind, y, y_est, tension_ground, nodes), n_samples + 1 rows each, receive the
-    sampled signals: true state, applied inputs (with feed-forward), feed-forward, reel rate,
-    true tension (at P), wind force, true outputs, the controller's output estimate, the
-    tension at the winch (equal to the tension for the massless tether) and, when its first
-    axis is not empty, the chain's node positions (n_samples + 1, N + 1, 3). ``summary``
+    tension, wind, y, y_est, tension_ground, nodes, winch), n_samples + 1 rows each, receive
+    the sampled signals: true state, applied inputs (with feed-forward), feed-forward, reel
+    rate, true tension (at P), wind force, true outputs, the controller's output estimate, the
+    tension at the winch (equal to the tension for the massless tether), when its first axis
+    is not empty the chain's node positions (n_samples + 1, N + 1, 3), and the drum winch's
+    speed at the sample [rad/s] and mean motor torque over the sample after it [N m] (drum
+    winch only; the ideal winch leaves it alone, one row is enough). ``summary``
     (len(SUMMARY_FIELDS),) always receives the on-line metrics of the samples
     k >= cfg[CFG_METRICS_FROM], the release event in its ``release_*`` slots (NaN without one).
     """
@@ -538,7 +589,7 @@ def run_closed_loop(
     work = np.empty((RK4_WORK_ROWS, 13))
     loop = _loop_state(x_init, law[LAW_Z0], work)
     event, y, y_est = loop[LOOP_EVENT], loop[LOOP_Y], loop[LOOP_Y_EST]
-    inp, ffwd = loop[LOOP_INPUTS], loop[LOOP_FFWD]
+    inp, ffwd, held = loop[LOOP_INPUTS], loop[LOOP_FFWD], loop[LOOP_HELD]
     no_action = np.zeros(4)
     start_summary(summary)
     dt = cfg[CFG_DT]
@@ -570,10 +621,12 @@ def run_closed_loop(
             out_wind[k] = work[5, :3]
             out_y[k] = y
             out_y_est[k] = y_est
-            tied = lumped and cfg[CFG_ATTACHED] > 0.5
-            out_ground[k] = cfg[CFG_TENSION_GROUND] if tied else tension
+            out_ground[k] = winch_tension(cfg, tension)
             if out_nodes.shape[0] > 0:
                 out_nodes[k] = chain[CHAIN_NODES]
+            if act[ACT_DRUM] > 0.5:  # the drum's speed at t_k, its mean torque after t_k
+                out[10][k, 0] = held[HELD_DRUM_SPEED_SAMPLED]
+                out[10][k, 1] = held[HELD_MOTOR_TORQUE]
         if k == n_samples:
             break
         if lumped and cfg[CFG_ATTACHED] > 0.5:

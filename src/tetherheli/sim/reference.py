@@ -36,6 +36,7 @@ from .scenario import (
     Scenario,
     TetherLQISettings,
     TetherSettings,
+    WinchSettings,
 )
 
 __all__ = ["scenario_reference"]
@@ -46,6 +47,7 @@ _TABLES = {
     "limits": Limits,
     "actuators": ActuatorSettings,
     "tether": TetherSettings,
+    "winch": WinchSettings,
 }
 _PARAM_SECTIONS = {
     "helicopter": HelicopterParams,
@@ -202,7 +204,8 @@ def scenario_reference() -> str:
         *_HEADER,
         *_key_rows("", Scenario, scenario),
         "",
-        "The tables `[control]`, `[limits]`, `[actuators]`, `[tether]`, `[sensors]`, `[params.*]`",
+        "The tables `[control]`, `[limits]`, `[actuators]`, `[tether]`, `[winch]`, `[sensors]`,"
+        " `[params.*]`",
         "and the array `[[wind]]` follow.",
     ]
     for table, cls in _TABLES.items():

@@ -25,6 +25,8 @@ from ..names import (
 from ..status import Status, release_sentence, status_message
 
 __all__ = [
+    "DRUM_COLUMNS",
+    "EXTRA_UNITS",
     "RESULT_COLUMNS",
     "RESULT_FORMATS",
     "RESULT_UNITS",
@@ -70,6 +72,10 @@ RESULT_UNITS: dict[str, str] = {
 #: one tension and writes no such column (``SimulationResult.tension_ground``).
 TENSION_GROUND_COLUMN = "TC_ground"
 RESULT_UNITS[TENSION_GROUND_COLUMN] = "N"
+#: The drum winch's extra columns (``[winch] model = "drum"``): the drum's speed at each sample
+#: and the motor torque averaged over the sample that follows it, with their units.
+DRUM_COLUMNS: tuple[str, ...] = ("drum_speed", "motor_torque")
+EXTRA_UNITS: dict[str, str] = {"drum_speed": "rad/s", "motor_torque": "N m"}
 #: File formats of a saved run's time series (``SimulationResult.save``): ``<stem>.csv`` (the
 #: default, text) or ``<stem>.parquet`` (Apache Parquet through pandas + pyarrow, the
 #: ``data`` extra); ``load_result`` reads either.
@@ -314,7 +320,7 @@ class SimulationResult:
         units = {}
         for name in self.columns():
             base = name.removesuffix(_ESTIMATE_SUFFIX)
-            units[name] = RESULT_UNITS.get(name, RESULT_UNITS.get(base, ""))
+            units[name] = RESULT_UNITS.get(name, EXTRA_UNITS.get(name, RESULT_UNITS.get(base, "")))
         return units
 
     def to_dataframe(self) -> Any:

@@ -19,6 +19,8 @@ A scenario file::
     q_tension = 0.0                   # [1/N^2] on the tension deviation
     Ru = [...]                        # fMR3, tMR1, tMR2, fTR2, reel rate
     anti_windup = true
+    [winch]                           # the ground winch (WinchSettings)
+    model = "ideal"                   # or "drum": drum inertia, speed loop, torque limit
     [limits]
     max_tension = 500.0               # [N]
     max_deviation = 100.0             # [m]
@@ -60,12 +62,14 @@ from ..wind import (
 
 __all__ = [
     "CONTROLLERS",
+    "WINCH_MODELS",
     "ActuatorSettings",
     "ControlSettings",
     "Limits",
     "Scenario",
     "TetherLQISettings",
     "TetherSettings",
+    "WinchSettings",
     "load_scenario",
     "metrics_first_sample",
     "paper_scenario",
@@ -336,6 +340,74 @@ class TetherSettings:
         return self.model == "lumped"
 
 
+#: The winch models ``[winch] model`` selects: the paper's (the reel rate of eq 56 applied as
+#: commanded, dL_N/dt = R_C, eq 37) and a drum driven by a speed loop (``model.winch``).
+WINCH_MODELS: tuple[str, ...] = ("ideal", "drum")
+
+
+@dataclass(frozen=True)
+class WinchSettings:
+    """The ground winch (``[winch]``): ideal (the paper's) or a drum with inertia, friction
+    and a torque-limited drive whose speed loop follows the reel rate of eq 56
+    (``model.winch``: J w' = r T_g - tau_m - b w - tau_c sign(w), dL_N/dt = r w, w > 0
+    paying out, the motor torque tau_m > 0 hauling in).
+
+    Default drum, a small tether winch sized for the paper's Tref = 25 N: radius 0.05 m;
+    inertia 0.005 kg m^2 = an aluminium drum 0.05 m in radius and 0.1 m long as a solid
+    cylinder (rho pi r^2 L r^2 / 2 = 2.7e3 pi 0.05^4 0.1 / 2 = 0.0027 kg m^2) plus a gear
+    motor's rotor of 2.3e-5 kg m^2 through a 10:1 gearbox (2.3e-3 kg m^2 reflected); torque
+    limit 2.5 N m = the torque holding twice Tref on that drum (2 x 25 N x 0.05 m); Coulomb
+    friction 0.05 N m (2% of the torque limit) and viscous friction 0.001 N m s/rad, assumed
+    for a geared drive; speed loop bandwidth 50 rad/s, half the 100 Hz control rate in
+    rad/s over 2 pi (a drive's speed loop is usually faster: a conservative choice). These
+    are a sizing, not a catalogue part.
+
+    Parameters
+    ----------
+    model, drum_radius, drum_inertia, torque_limit, viscous_friction, coulomb_friction,
+    speed_loop_bandwidth, tension_feedforward
+        The keys of a scenario's ``[winch]`` table; each field's ``Key`` gives its meaning,
+        unit, default and allowed range. The drum keys are used by ``model = "drum"`` only.
+    """
+
+    model: str = _key(
+        "ideal",
+        Key("the winch: the paper's, which applies the reel rate of eq 56 as commanded, or a "
+            "drum with inertia, friction and a torque-limited speed loop (model.winch)",
+            kind="text", choices=WINCH_MODELS),
+    )  # fmt: skip
+    drum_radius: float = _key(
+        0.05, Key("drum radius r (dL_N/dt = r w)", "m", low=0.0, low_open=True, high=10.0)
+    )
+    drum_inertia: float = _key(
+        0.005,
+        Key("drum inertia J, with the motor's rotor reflected through the gearbox",
+            "kg m^2", low=0.0, low_open=True),
+    )  # fmt: skip
+    torque_limit: float = _key(
+        2.5, Key("the drive's motor torque limit at the drum", "N m", low=0.0, low_open=True)
+    )
+    viscous_friction: float = _key(
+        0.001, Key("viscous friction b of drum and drive", "N m s/rad", low=0.0)
+    )
+    coulomb_friction: float = _key(
+        0.05,
+        Key("Coulomb friction tau_c of drum and drive (the drum sticks at rest while the net "
+            "torque is below it)", "N m", low=0.0),
+    )  # fmt: skip
+    speed_loop_bandwidth: float = _key(
+        50.0,
+        Key("bandwidth omega_w of the drive's proportional speed loop, gain J omega_w: the "
+            "unloaded drum follows the speed reference R_C / r with time constant "
+            "1 / omega_w", "rad/s", low=0.0, low_open=True),
+    )  # fmt: skip
+    tension_feedforward: bool = _key(
+        True,
+        Key("the drive adds the load cell's torque r T_meas to the speed loop's (removes the "
+            "loop's steady speed error under the tether's load)", kind="bool"),
+    )  # fmt: skip
+
+
 def _wind_record(wind: Disturbance) -> dict[str, Any]:
     """The wind's table; a custom disturbance without ``to_dict`` is recorded by its class
     and repr (enough to identify it, not to reload it)."""
@@ -377,6 +449,8 @@ class Scenario:
         What the controller measures (default: the true state).
     tether : TetherSettings, optional
         The tether model (default: the paper's massless elastic tether).
+    winch : WinchSettings, optional
+        The ground winch (default: the paper's ideal winch).
     """
 
     name: str = _key(
@@ -420,6 +494,7 @@ class Scenario:
         Key("the peak, RMS and tension metrics cover t >= metrics_start only (a settling "
             "time excluded; 0: the whole run)", "s", low=0.0, note="below duration"),
     )  # fmt: skip
+    winch: WinchSettings = field(default_factory=WinchSettings)
 
     def __post_init__(self) -> None:
         _validate(self, source=None)
@@ -471,6 +546,7 @@ class Scenario:
             "tether": dataclasses.asdict(self.tether),
             "seed": self.seed,
             "metrics_start": self.metrics_start,
+            "winch": dataclasses.asdict(self.winch),
         }
 
     def to_toml(self) -> str:
@@ -596,6 +672,17 @@ def _validate(s: Scenario, source: str | None) -> None:
         raise ParameterError(
             "actuators.u_min", a.u_min, "limits below actuators.u_max", source=source
         )
+    if not isinstance(s.winch, WinchSettings):
+        raise ParameterError("winch", s.winch, "a WinchSettings", source=source)
+    winch = _checked(WinchSettings, "winch", s.winch, source)
+    if winch.model == "drum" and math.isfinite(actuators.reel_acceleration_limit):
+        raise ParameterError(
+            "actuators.reel_acceleration_limit",
+            a.reel_acceleration_limit,
+            'inf with [winch] model = "drum" (the drum\'s inertia and torque limit bound '
+            "its acceleration)",
+            source=source,
+        )
     _set(s, "control", control)
     _set(s, "limits", lim)
     _set(s, "actuators", actuators)
@@ -606,6 +693,7 @@ def _validate(s: Scenario, source: str | None) -> None:
             source=source,
         )  # fmt: skip
     _set(s, "tether", tether)
+    _set(s, "winch", winch)
     if not isinstance(s.sensors, SensorConfig):
         raise ParameterError("sensors", s.sensors, "a SensorConfig", source=source)
     try:
@@ -665,6 +753,7 @@ _TOP_KEYS = {
     "tether",
     "seed",
     "metrics_start",
+    "winch",
 }
 
 
@@ -736,6 +825,8 @@ def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Sc
     if "actuators" in data:
         act = _vectors(source, "actuators", data["actuators"], ActuatorSettings)
         kwargs["actuators"] = ActuatorSettings(**act)
+    if "winch" in data:
+        kwargs["winch"] = WinchSettings(**_table(source, "winch", data["winch"], WinchSettings))
     if "sensors" in data:
         if not isinstance(data["sensors"], dict):
             raise ParameterError("sensors", data["sensors"], "a table", source=source)

@@ -27,6 +27,14 @@ from ..control.tether_lqi import TetherLQIGain, tether_lqi_gain
 from ..errors import InfeasibleError
 from ..layout import (
     ACT_BREAK,
+    ACT_DRUM,
+    ACT_DRUM_COULOMB,
+    ACT_DRUM_INERTIA,
+    ACT_DRUM_RADIUS,
+    ACT_DRUM_SPEED_GAIN,
+    ACT_DRUM_TENSION_FFWD,
+    ACT_DRUM_TORQUE_LIMIT,
+    ACT_DRUM_VISCOUS,
     ACT_REEL_ACCEL,
     ACT_TAU,
     ACT_U_MAX,
@@ -69,7 +77,7 @@ from ..params import Params
 from ..sensors import N_CHANNELS, N_GROUPS, SensorConfig, noise_table, ring_rows, sample_schedule
 from ..wind import CompiledWind, compile_wind, initial_wind_force
 from ..wind.profiles import Disturbance
-from .scenario import Scenario
+from .scenario import Scenario, WinchSettings
 
 __all__ = [
     "LQI_STATES",
@@ -91,6 +99,7 @@ __all__ = [
     "sensor_schedule",
     "sensor_tuple",
     "start_point",
+    "winch_into",
 ]
 
 LQI_STATES = TETHERED_STATE[:12]
@@ -524,6 +533,7 @@ def actuator_array(scenario: Scenario, trim: TrimPoint, ctrl: np.ndarray) -> np.
     act[ACT_TAU] = a.time_constant
     act[ACT_BREAK] = a.breaking_tension
     act[ACT_REEL_ACCEL] = a.reel_acceleration_limit
+    winch_into(act, scenario.winch)
     ctrl[CTRL_REEL_RATE_LIMIT] = a.reel_rate_limit
     ctrl[CTRL_REEL_ACCEL] = a.reel_acceleration_limit
     ctrl[CTRL_U_MIN : CTRL_U_MIN + 4] = a.u_min  # for the anti-windup (CTRL_ANTI_WINDUP)
@@ -538,6 +548,29 @@ def actuator_array(scenario: Scenario, trim: TrimPoint, ctrl: np.ndarray) -> np.
                 "cannot hover otherwise)",
             )
     return act
+
+
+def winch_into(act: np.ndarray, winch: WinchSettings) -> None:
+    """Write the drum winch's settings into the actuator array (``layout.ACT_DRUM*``; left
+    zero, the ideal winch, for ``model = "ideal"``).
+
+    Parameters
+    ----------
+    act : numpy.ndarray, shape (ACT_SIZE,)
+        The actuator array, changed in place.
+    winch : WinchSettings
+        The scenario's ``[winch]`` table.
+    """
+    if winch.model != "drum":
+        return
+    act[ACT_DRUM] = 1.0
+    act[ACT_DRUM_RADIUS] = winch.drum_radius
+    act[ACT_DRUM_INERTIA] = winch.drum_inertia
+    act[ACT_DRUM_TORQUE_LIMIT] = winch.torque_limit
+    act[ACT_DRUM_VISCOUS] = winch.viscous_friction
+    act[ACT_DRUM_COULOMB] = winch.coulomb_friction
+    act[ACT_DRUM_SPEED_GAIN] = winch.drum_inertia * winch.speed_loop_bandwidth
+    act[ACT_DRUM_TENSION_FFWD] = 1.0 if winch.tension_feedforward else 0.0
 
 
 def sensor_noise(scenario: Scenario) -> np.ndarray:
