@@ -21,6 +21,7 @@ __all__ = [
     "SUMMARY_FIELDS",
     "WIND_COLUMNS",
     "default_actuators",
+    "empty_chain",
 ]
 
 # --- the lane engine (``sim.engine.run_lanes``) ---------------------------------------------
@@ -44,7 +45,19 @@ CFG_MAX_DEVIATION = 5  # [m]; a run stops as diverged when |y - y_ref| exceeds i
 CFG_MAX_ANGLE = 6  # [rad]; |q4|, |q5|, |q7|, |q8| beyond it: diverged
 CFG_GUST_DT = 7  # gust-table step [s] (0: no gust table)
 CFG_METRICS_FROM = 8  # first control sample k the on-line metrics cover (Scenario.metrics_start)
-CFG_SIZE = 9
+CFG_LUMPED = 9  # 1: the lumped-mass tether (``chain``) pulls P, 0: eq 28's massless tether
+CFG_ARM = 10  # dO-P,3 - dO-HO,3 [m], the arm of the force at P (lumped tether)
+CFG_TENSION_TOP = 11  # the lumped chain's tension at P at this sample [N] (set by the engine)
+CFG_TENSION_GROUND = 12  # ... and at the winch [N], which the load cell measures
+CFG_SIZE = 13
+
+# --- a run's lumped-mass chain (``chain``, ``sim.engine``): a tuple of arrays; a massless run
+# passes ``empty_chain()``'s (zero rows), so the compiled types agree -------------------------
+CHAIN_NODES = 0  # (N+1, 3) node positions [m], row 0 the winch (origin), row N the point P
+CHAIN_VELOCITIES = 1  # (N+1, 3) node velocities [m/s]
+CHAIN_PARAMS = 2  # (LUMPED_SIZE,) ``LumpedTether.packed(g)``
+CHAIN_WORK = 3  # ``tether_lumped.ros2_work(N)``
+CHAIN_SIZE = 4
 
 # --- the lumped-mass tether's parameters (``lumped``, ``model.tether_lumped``) ---------------
 LUMPED_MU = 0  # mass per unstretched length [kg/m]
@@ -115,6 +128,17 @@ ACT_TAU = 8  # first-order actuator time constant [s] (0: none)
 ACT_BREAK = 9  # tether breaking / release tension [N] (inf: never)
 ACT_REEL_ACCEL = 10  # |d(reel rate)/dt| bound of the winch [m/s^2] (inf: none)
 ACT_SIZE = 11
+
+
+def empty_chain() -> tuple:
+    """The ``chain`` of a run with the massless tether: arrays with zero nodes.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        (nodes (0, 3), velocities (0, 3), params (LUMPED_SIZE,), work (0,)), ``CHAIN_*``.
+    """
+    return (np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(LUMPED_SIZE), np.zeros(0))
 
 
 def default_actuators() -> np.ndarray:

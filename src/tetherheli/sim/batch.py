@@ -109,7 +109,7 @@ def run_unrecorded(engine_args, summary):  # pragma: no cover - compiled
     d4 = np.zeros((1, 4))
     d3 = np.zeros((1, 3))
     d1 = np.zeros(1)
-    out = (d13, d4, d4, d1, d1, d3, d4, d4)
+    out = (d13, d4, d4, d1, d1, d3, d4, d4, d1, np.zeros((0, 0, 3)))
     return engine.run_closed_loop(*engine_args, False, out, summary)
 
 
@@ -467,7 +467,7 @@ def run_batch(
     lanes : bool
         Advance the runs in blocks of ``layout.LANES`` (``engine.run_lanes``, the default);
         False runs them one at a time (``engine.run_closed_loop``). Both give the same
-        numbers bit for bit.
+        numbers bit for bit. Runs with a lumped tether always run one at a time.
     on_done : callable, optional
         Called with the number of runs just finished, as they finish (progress,
         ``tetherheli.progress``); the counts add up to ``len(scenarios)``.
@@ -559,14 +559,19 @@ def run_batch(
 
         order.sort(key=lambda i: (block_key(i), scenarios[i].n_samples))
         blocks: list[list[int]] = []
-        for i in order:
+        alone = [i for i in order if scenarios[i].tether.lumped]  # no lane engine for chains
+        for i in (i for i in order if not scenarios[i].tether.lumped):
             last = blocks[-1] if blocks else None
             same = last and block_key(last[0]) == block_key(i)
             if same and len(last) < LANES:
                 last.append(i)
             else:
                 blocks.append([i])
-        tasks, task = blocks, run_lane_block
+        tasks = [*blocks, *alone]
+
+        def task(t: int | list[int]) -> None:
+            run_lane_block(t) if isinstance(t, list) else run_one(t)
+
     else:
         tasks, task = order, run_one
 

@@ -23,6 +23,8 @@ from ..layout import (
     CFG_ATTACHED,
     CFG_GUST_DT,
     CFG_N_SUB,
+    CFG_TENSION_GROUND,
+    CHAIN_NODES,
     CTRL_SIZE,
     HELD_SIZE,
     SUMMARY_FIELDS,
@@ -35,7 +37,7 @@ from ..resources import check_memory
 from ..sensors import N_CHANNELS, N_GROUPS
 from ..status import Status
 from . import engine
-from .result import SimulationResult
+from .result import TENSION_GROUND_COLUMN, SimulationResult
 from .scenario import Scenario
 from .setup import engine_setup
 
@@ -134,6 +136,15 @@ def simulate(
     if paper:
         controller = setup.paper_controller()
     rec = _Recorder(n)
+    if scenario.tether.lumped:
+        if not (method == "rk4" and wind is not None):
+            raise ParameterError(
+                "method", method, "'rk4' with built-in winds for a lumped tether ([tether] "
+                "model = 'lumped'; the adaptive reference covers the massless tether)"
+            )  # fmt: skip
+        rec.lumped = True
+        if scenario.tether.record_nodes:
+            rec.nodes = np.zeros((n + 1, scenario.tether.segments + 1, 3))
     if paper and method == "rk4" and wind is not None:
         status, done = engine.run_closed_loop(*setup.engine_args(n), True, rec.signals, rec.summary)
         rec.release[:] = rec.summary[SUMMARY_RELEASE_TIME : SUMMARY_RELEASE_TIME + 2]
@@ -154,11 +165,17 @@ class _Recorder:
         self.y_est = np.zeros((n + 1, 4))
         self.release = np.full(2, np.nan)  # tether release: time [s], tension [N]
         self.summary = np.zeros(len(SUMMARY_FIELDS))
+        self.tension_ground = np.zeros(n + 1)  # at the winch (= tension when massless)
+        self.nodes = np.zeros((0, 0, 3))  # the chain's nodes (``record_nodes``)
+        self.lumped = False
 
     @property
     def signals(self) -> tuple:
         """The recorded arrays in ``engine.run_closed_loop``'s ``out`` order."""
-        return (self.x, self.u, self.ffwd, self.rate, self.tension, self.wind, self.y, self.y_est)
+        return (
+            self.x, self.u, self.ffwd, self.rate, self.tension, self.wind, self.y, self.y_est,
+            self.tension_ground, self.nodes,
+        )  # fmt: skip
 
     def result(
         self,
@@ -175,6 +192,11 @@ class _Recorder:
         if sensed:  # the controller's position estimate next to the truth
             for i, name in enumerate(("q1_est", "q2_est", "q3_est")):
                 extra[name] = self.y_est[:k, i].copy()
+        if self.lumped:  # the load cell's tension at the winch; the nodes on request
+            extra[TENSION_GROUND_COLUMN] = self.tension_ground[:k].copy()
+            for i in range(self.nodes.shape[1]):
+                for a in range(3):
+                    extra[f"node{i}_n{a + 1}"] = self.nodes[:k, i, a].copy()
         # views, not copies: the recorder is dropped here, so a long run is held once
         return SimulationResult(
             time=np.arange(k) * scenario.control.dt,
@@ -221,9 +243,14 @@ def _python_loop(scenario, setup, controller, method, rec, *, rtol, atol):
     # is told by Measurement.attached instead (the paper's one then stops its winch and
     # feed-forward, as the compiled one does)
     ctrl_scratch = np.zeros(CTRL_SIZE)
+    lumped = scenario.tether.lumped  # (method "rk4" and a built-in wind: ``simulate``)
+    chain = tuple(a.copy() for a in setup.chain)
+    cw = engine.lumped_work(scenario.tether.segments) if lumped else None
 
     for k in range(n + 1):
         t = k * dt
+        if lumped and cfg[CFG_ATTACHED] > 0.5:
+            engine.chain_ends(x, t, cfg, wind.gust, chain, cw)
         tension, measured = engine.sense(
             x, k, t, cfg, ctrl_scratch, act, sensors, rec.release, x_meas
         )
@@ -247,9 +274,18 @@ def _python_loop(scenario, setup, controller, method, rec, *, rtol, atol):
         rec.x[k], rec.u[k], rec.ffwd[k] = x, inp, cmd.feedforward
         rec.rate[k], rec.tension[k], rec.y[k] = rate, tension, y
         rec.wind[k] = _wind_at(scenario.wind, wind, cfg, t, 1, x, wind_buf)
+        tied = lumped and cfg[CFG_ATTACHED] > 0.5
+        rec.tension_ground[k] = cfg[CFG_TENSION_GROUND] if tied else tension
+        if rec.nodes.shape[0] > 0:
+            rec.nodes[k] = chain[CHAIN_NODES]
         if k == n:
             break
-        if method == "rk4":
+        if tied:
+            engine.lumped_interval(
+                x, inp, rate, t, cfg, c, wind.program, wind.gust, wind.drag, work, chain, cw,
+                engine.COUPLING_CONDENSED,
+            )  # fmt: skip
+        elif method == "rk4":
             if wind is None:
                 _rk4_custom_wind(x, inp, rate, t, dt, int(cfg[CFG_N_SUB]), cfg, c, scenario.wind)
             else:

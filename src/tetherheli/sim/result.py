@@ -65,6 +65,11 @@ RESULT_UNITS: dict[str, str] = {
     "RC": "m/s",
     **dict.fromkeys(_WIND, "N"),
 }
+#: The extra column of a lumped tether's run (``[tether] model = "lumped"``): the tension at
+#: the winch, which the load cell measures (``TC`` is the tension at P); a massless run has
+#: one tension and writes no such column (``SimulationResult.tension_ground``).
+TENSION_GROUND_COLUMN = "TC_ground"
+RESULT_UNITS[TENSION_GROUND_COLUMN] = "N"
 #: File formats of a saved run's time series (``SimulationResult.save``): ``<stem>.csv`` (the
 #: default, text) or ``<stem>.parquet`` (Apache Parquet through pandas + pyarrow, the
 #: ``data`` extra); ``load_result`` reads either.
@@ -184,6 +189,12 @@ class SimulationResult:
             "trim_output",
         ):
             getattr(self, name).setflags(write=False)
+
+    @property
+    def tension_ground(self) -> np.ndarray:
+        """Tension at the winch [N] (the load cell's; ``TENSION_GROUND_COLUMN``): a lumped
+        tether's ground end, else the tether's one tension ``tension``."""
+        return self.extra.get(TENSION_GROUND_COLUMN, self.tension)
 
     @property
     def ok(self) -> bool:

@@ -65,6 +65,7 @@ __all__ = [
     "Limits",
     "Scenario",
     "TetherLQISettings",
+    "TetherSettings",
     "load_scenario",
     "metrics_first_sample",
     "paper_scenario",
@@ -262,6 +263,70 @@ class ActuatorSettings:
     )  # fmt: skip
 
 
+#: The tether models ``[tether] model`` selects: the paper's massless elastic tether (eq 28)
+#: and the lumped-mass chain (``model.tether_lumped``).
+TETHER_MODELS: tuple[str, ...] = ("elastic", "lumped")
+
+
+@dataclass(frozen=True)
+class TetherSettings:
+    """The tether model (``[tether]``; issue 13). "elastic" is the paper's massless straight
+    tether (eq 28, stiffness ``params.tether.K_C``); "lumped" the chain of
+    ``model.tether_lumped`` (point masses, axial elasticity slack in compression, axial
+    damping, gravity, normal and tangential drag in the gust table's air), whose bottom node
+    is the winch and whose top node moves with P. The other keys apply to "lumped" only.
+
+    EA = 0 takes the paper's stiffness: the whole tether's spring constant K_C at the
+    massless trim's natural length LN = q9 - T_ref / K_C is EA / LN, so EA = K_C LN
+    (``LumpedTether.from_paper_stiffness``; 375 N at the paper's hover).
+
+    Parameters
+    ----------
+    model, segments, mass_per_length, EA, damping_ratio, diameter, drag_coefficient,
+    tangential_drag_coefficient, record_nodes
+        The keys of a scenario's ``[tether]`` table; each field's ``Key`` gives its meaning,
+        unit, default and allowed range.
+    """
+
+    model: str = _key(
+        "elastic",
+        Key("the tether model: the paper's massless elastic tether (eq 28) or a lumped-mass "
+            "chain with sag and drag (model.tether_lumped)", kind="text",
+            choices=TETHER_MODELS),
+    )  # fmt: skip
+    segments: int = _key(
+        10, Key("segments N of the lumped chain (N - 1 free nodes)", kind="integer", low=2,
+                high=1000),
+    )  # fmt: skip
+    mass_per_length: float = _key(
+        0.02, Key("mass per unstretched length", "kg/m", low=0.0, low_open=True)
+    )
+    EA: float = _key(
+        0.0,
+        Key("axial stiffness; 0: the paper's K_C times the massless trim's natural length "
+            "q9 - T_ref / K_C", "N", low=0.0),
+    )  # fmt: skip
+    damping_ratio: float = _key(
+        0.1, Key("axial damping as a fraction of a segment's critical damping", low=0.0)
+    )
+    diameter: float = _key(0.005, Key("cable diameter", "m", low=0.0, low_open=True))
+    drag_coefficient: float = _key(
+        1.1, Key("normal (cross-flow) drag coefficient of the cable", low=0.0, low_open=True)
+    )
+    tangential_drag_coefficient: float = _key(
+        0.0, Key("tangential (skin-friction) drag coefficient on the wetted area", low=0.0)
+    )
+    record_nodes: bool = _key(
+        False, Key("record the chain's node positions at every sample (result extras)",
+                   kind="bool"),
+    )  # fmt: skip
+
+    @property
+    def lumped(self) -> bool:
+        """Whether the tether is the lumped-mass chain."""
+        return self.model == "lumped"
+
+
 def _wind_record(wind: Disturbance) -> dict[str, Any]:
     """The wind's table; a custom disturbance without ``to_dict`` is recorded by its class
     and repr (enough to identify it, not to reload it)."""
@@ -301,6 +366,8 @@ class Scenario:
         Actuator and winch realism (default: ideal).
     sensors : SensorConfig, optional
         What the controller measures (default: the true state).
+    tether : TetherSettings, optional
+        The tether model (default: the paper's massless elastic tether).
     """
 
     name: str = _key(
@@ -332,6 +399,7 @@ class Scenario:
     description: str = _key("", Key("free text recorded with the results", kind="text"))
     actuators: ActuatorSettings = field(default_factory=ActuatorSettings)
     sensors: SensorConfig = field(default_factory=SensorConfig)
+    tether: TetherSettings = field(default_factory=TetherSettings)
     seed: int = _key(
         0, Key("seed of the run's random numbers (sensor noise, turbulence)", kind="integer",
                low=0),
@@ -391,6 +459,7 @@ class Scenario:
             "params": self.params.to_dict(),
             "actuators": dataclasses.asdict(self.actuators),
             "sensors": self.sensors.to_dict(),
+            "tether": dataclasses.asdict(self.tether),
             "seed": self.seed,
             "metrics_start": self.metrics_start,
         }
@@ -521,6 +590,13 @@ def _validate(s: Scenario, source: str | None) -> None:
     _set(s, "control", control)
     _set(s, "limits", lim)
     _set(s, "actuators", actuators)
+    tether = _checked(TetherSettings, "tether", s.tether, source)
+    if tether.lumped and s.configuration != "tethered":
+        raise ParameterError(
+            "tether.model", tether.model, "'elastic' in the free configuration (no tether)",
+            source=source,
+        )  # fmt: skip
+    _set(s, "tether", tether)
     if not isinstance(s.sensors, SensorConfig):
         raise ParameterError("sensors", s.sensors, "a SensorConfig", source=source)
     try:
@@ -577,6 +653,7 @@ _TOP_KEYS = {
     "params",
     "actuators",
     "sensors",
+    "tether",
     "seed",
     "metrics_start",
 }
@@ -654,6 +731,8 @@ def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Sc
         if not isinstance(data["sensors"], dict):
             raise ParameterError("sensors", data["sensors"], "a table", source=source)
         kwargs["sensors"] = sensor_config_from_dict(data["sensors"], source=source)
+    if "tether" in data:
+        kwargs["tether"] = TetherSettings(**_table(source, "tether", data["tether"], TetherSettings))
     if "seed" in data:
         kwargs["seed"] = data["seed"]  # checked with the rest by _validate
     if "wind" in data:

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import NamedTuple
 
@@ -34,7 +34,9 @@ from ..layout import (
     CFG_ATTACHED,
     CFG_DT,
     CFG_GUST_DT,
+    CFG_ARM,
     CFG_K_C,
+    CFG_LUMPED,
     CFG_MAX_ANGLE,
     CFG_MAX_DEVIATION,
     CFG_MAX_TENSION,
@@ -58,8 +60,10 @@ from ..layout import (
     WIND_CONSTANT,
     WIND_KIND,
     default_actuators,
+    empty_chain,
 )
 from ..model import TetheredHelicopter, TrimPoint, linearize
+from ..model.tether_lumped import LumpedTether, hover_trim_lumped, ros2_work, static_chain
 from ..names import INPUT, TETHERED_STATE
 from ..params import Params
 from ..sensors import N_CHANNELS, N_GROUPS, SensorConfig, noise_table, ring_rows, sample_schedule
@@ -73,10 +77,12 @@ __all__ = [
     "RunSetup",
     "StartPoint",
     "actuator_array",
+    "chain_start",
     "engine_setup",
     "free_trim_input",
     "lane_block",
     "lane_program_into",
+    "lumped_tether",
     "paper_gain",
     "paper_law",
     "run_setup",
@@ -166,7 +172,14 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
     model = TetheredHelicopter(params)
     tethered = scenario.configuration == "tethered"
     T_ref = params.tension_control.T_ref if tethered else 0.0
-    trim: TrimPoint = model.trim(T_ref, scenario.q9)
+    lumped = scenario.tether.lumped
+    if lumped:  # the hover with the chain hanging below P, T_ref at the winch (eq 56)
+        a = scenario.actuators
+        trim: TrimPoint = hover_trim_lumped(
+            params, lumped_tether(scenario), T_ref, scenario.q9, u_min=a.u_min, u_max=a.u_max
+        ).trim
+    else:
+        trim = model.trim(T_ref, scenario.q9)
     c = scenario.control
     design = params if design_params is None else design_params
     gain = paper_gain(design, c.dt, tuple(c.Qy), tuple(c.Ru), scenario.q9)
@@ -198,7 +211,67 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
     cfg[CFG_MAX_DEVIATION] = scenario.limits.max_deviation
     cfg[CFG_MAX_ANGLE] = math.radians(scenario.limits.max_angle_deg)
     cfg[CFG_METRICS_FROM] = scenario.metrics_first_sample
+    cfg[CFG_LUMPED] = float(lumped)
+    cfg[CFG_ARM] = params.helicopter.tether_arm
     return RunSetup(model, trim, gain, ctrl, cfg)
+
+
+def lumped_tether(scenario: Scenario) -> LumpedTether:
+    """The ``LumpedTether`` of a scenario's ``[tether]`` table; EA = 0 takes the paper's
+    stiffness, EA = K_C LN with the massless trim's natural length LN = q9 - T_ref / K_C
+    (eq 28; ``LumpedTether.from_paper_stiffness``).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The run (any tether model: its ``[tether]`` keys are read).
+
+    Returns
+    -------
+    LumpedTether
+        The chain's parameters (air density ``wind.drag``'s default).
+    """
+    t = scenario.tether
+    params = scenario.params
+    kw = dict(
+        segments=t.segments,
+        mass_per_length_kg_m=t.mass_per_length,
+        damping_ratio=t.damping_ratio,
+        diameter_m=t.diameter,
+        drag_coefficient=t.drag_coefficient,
+        tangential_drag_coefficient=t.tangential_drag_coefficient,
+    )
+    if t.EA > 0.0:
+        return LumpedTether(EA_N=t.EA, **kw)
+    L_N = params.tether.natural_length(scenario.q9, params.tension_control.T_ref)
+    return LumpedTether.from_paper_stiffness(params.tether.K_C, L_N, **kw)
+
+
+def chain_start(scenario: Scenario, trim: TrimPoint) -> tuple:
+    """The run's ``chain`` (``layout.CHAIN_*``): for a lumped tether the static chain hanging
+    from P straight down to the winch at rest (``tether_lumped.static_chain``, the discrete
+    catenary whose winch tension equals hover_trim_lumped's), fresh arrays; otherwise
+    ``layout.empty_chain()``.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The run.
+    trim : TrimPoint
+        Its trim (x[5] = q9, x[12] = L0).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        (nodes (N+1, 3), velocities (N+1, 3), params (LUMPED_SIZE,), ROS2 scratch).
+    """
+    if not scenario.tether.lumped:
+        return empty_chain()
+    tether = lumped_tether(scenario)
+    g = scenario.params.helicopter.g
+    q9, L0 = float(trim.x[5]), float(trim.x[12])
+    nodes = static_chain(np.zeros(3), np.array([0.0, 0.0, q9]), L0, tether, g)
+    return (nodes, np.zeros_like(nodes), tether.packed(g), ros2_work(tether.segments))
 
 
 def free_trim_input(scenario: Scenario, model: TetheredHelicopter, trim: TrimPoint) -> np.ndarray:
@@ -525,7 +598,10 @@ class EngineSetup:
     u0_free : numpy.ndarray, shape (4,)
         u0|F, the trim input after a release (``free_trim_input``).
     start : StartPoint
-        The start in the wind (``start_point``).
+        The start in the wind (``start_point``; a lumped tether starts from the windless
+        hanging chain).
+    chain : tuple of numpy.ndarray
+        The lumped chain at the start (``chain_start``; ``layout.empty_chain()``: massless).
     """
 
     model: TetheredHelicopter
@@ -541,6 +617,7 @@ class EngineSetup:
     schedule: np.ndarray
     u0_free: np.ndarray  # u0|F, the trim input after a release (``free_trim_input``)
     start: StartPoint
+    chain: tuple = field(default_factory=empty_chain)
 
     def engine_args(self, n_samples: int) -> tuple:
         """The leading arguments of ``engine.run_closed_loop`` (built-in winds only).
@@ -554,7 +631,7 @@ class EngineSetup:
         -------
         tuple
             (x_init (13,), n_samples, cfg, ctrl, model constants, law, (program, gust, drag),
-            act, sensors).
+            act, sensors, chain (a fresh copy: the engine advances it in place)).
         """
         assert self.wind is not None
         return (
@@ -567,6 +644,7 @@ class EngineSetup:
             (self.wind.program, self.wind.gust, self.wind.drag),
             self.act,
             self.sensors,
+            tuple(a.copy() for a in self.chain),
         )
 
     @property
@@ -615,7 +693,10 @@ def engine_setup(scenario: Scenario, design_params: Params | None = None) -> Eng
     wind = compile_wind(scenario.wind)
     if wind is not None:
         cfg[CFG_GUST_DT] = wind.gust_dt
-    start = start_point(model, trim, gain, ctrl, scenario.wind, scenario.q9)
+    if scenario.tether.lumped:  # the windless hanging chain, even in a gust (its drag then
+        start = StartPoint(trim, np.zeros(4))  # acts from t = 0 as a disturbance)
+    else:
+        start = start_point(model, trim, gain, ctrl, scenario.wind, scenario.q9)
     act = actuator_array(scenario, start.trim, ctrl)
     return EngineSetup(
         model,
@@ -631,6 +712,7 @@ def engine_setup(scenario: Scenario, design_params: Params | None = None) -> Eng
         sensor_schedule(scenario.sensors, scenario.control.dt, scenario.n_samples),
         free_trim_input(scenario, model, trim),
         start,
+        chain_start(scenario, trim),
     )
 
 
@@ -691,7 +773,9 @@ def lane_block(setups: Sequence[EngineSetup], n_samples: Sequence[int]) -> tuple
     runs = [s.engine_args(n) for s, n in zip(setups, n_samples, strict=True)]
     runs += [runs[0]] * pad
     counts = np.array([*n_samples, *([-1] * pad)], dtype=np.int64)
-    x_init, _, cfg, ctrl, c, law, wind, act, sensors = zip(*runs, strict=True)
+    if any(s.chain[0].shape[0] > 0 for s in setups):
+        raise ValueError("lane_block: lumped tethers run alone (engine.run_closed_loop)")
+    x_init, _, cfg, ctrl, c, law, wind, act, sensors, _ = zip(*runs, strict=True)
     program, gust, drag = zip(*wind, strict=True)
     n_rows = max(p.shape[0] for p in program)
     programs = np.empty((n_rows, WIND_COLUMNS, LANES))
