@@ -12,9 +12,9 @@ from __future__ import annotations
 import json
 import math
 
+import numpy as np
 import pytest
 
-from tetherheli import Params
 from tetherheli.analysis import run_metrics
 from tetherheli.cli import main
 from tetherheli.errors import ParameterError
@@ -125,8 +125,9 @@ def test_sensing_study_rows_and_an_infeasible_cable():
 def test_paper_cable_K_C_is_table_III():
     """The massless stand-in's K_C = (EA + T_ref) / q9: the paper's cable at 10 m gives
     Table III's 40 N/m."""
-    runs = ts.study_scenarios(_cable("paper"), 10.0)
+    runs = ts.study_scenarios(_cable("paper"), 10.0, model="massless")
     assert runs["sim1_tethered"].params.tether.K_C == pytest.approx(40.0, rel=1e-12)
+    assert runs["sim1_tethered"].tether.model == "elastic"
     assert runs["sim1_free"].configuration == "free"
     assert runs["turbulence_tethered"].q9 == 10.0
 
@@ -156,10 +157,12 @@ def test_pipeline_tiny_grid(tmp_path):
     }
     (row,) = summary["dynamic"]
     assert row["completed"]
+    assert row["tether_model"] == "lumped"
+    lumped = ts.study_scenarios(_cable("paper"), 20.0, duration_s=12.0)["sim1_tethered"]
+    assert lumped.tether.model == "lumped" and lumped.tether.EA == 375.0
     for conf in ("free", "tethered"):
         s = paper_scenario(1, conf).replace(q9=20.0, duration=12.0)
-        if conf == "tethered":
-            s = s.replace(params=Params.paper().replace(tether={"K_C": 400.0 / 20.0}))
+        s = lumped if conf == "tethered" else s
         m = run_metrics(simulate(s))
         assert row[f"sim1_peak_q1_{conf}"] == pytest.approx(m.peak_abs_dev["q1"], rel=1e-9)
     (srow,) = summary["sensing"]
@@ -198,6 +201,8 @@ def test_select_cables_refuses(keys):
         ["--duration", "0"],
         ["--duration", "90"],
         ["--lengths", "ten"],
+        ["--model", "rigid"],
+        ["--winch-gain", "fast"],
     ],
 )
 def test_cli_refuses_bad_grids(tmp_path, capsys, args):
@@ -207,6 +212,36 @@ def test_cli_refuses_bad_grids(tmp_path, capsys, args):
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "Traceback" not in err
     assert not out.exists()
+
+
+@pytest.mark.parametrize(("K_C", "stable"), [(190.0, True), (210.0, False)])
+def test_tension_loop_bound_hand_calculation(K_C, stable):
+    """Eq 56's PI with the reel rate held over a sample: T_(k+1) - T_ref = (1 - K_C K_P dt)
+    (T_k - T_ref), stable only for K_C K_P dt < 2, i.e. K_C < 200 N/m with the paper's
+    K_P = 1 m/(s N) and dt = 10 ms. Simulation 1 (massless tether, 30 s): 5 % below the bound
+    the tension stays within 1 N of 25 N; 5 % above it the loop rings up until the tether
+    goes slack (tension 0)."""
+    assert ts.tension_loop_gain(K_C, 1.0, 0.01) == pytest.approx(K_C / 100.0)
+    s = paper_scenario(1, "tethered", dt=0.01).replace(duration=30.0)
+    s = s.replace(params=s.params.replace(tether={"K_C": K_C}))
+    tension = simulate(s).tension
+    if stable:
+        assert np.abs(tension - 25.0).max() < 1.0
+    else:
+        assert tension.min() == 0.0
+
+
+def test_scaled_winch_gain_keeps_the_papers_loop_gain():
+    """ "scaled" lowers K_P and K_I by the same factor to the paper's loop gain 0.4 where the
+    cable is stiffer (power cable, 10 m: K = 2002.5 N/m); the paper's cable at 10 m keeps the
+    paper's gains (its K is Table III's 40 N/m)."""
+    for key, q9, factor in (("power", 10.0, 0.4 / 20.025), ("paper", 10.0, 1.0)):
+        s = ts.study_scenarios(_cable(key), q9, winch_gain="scaled")["sim1_tethered"]
+        tc = s.params.tension_control
+        assert tc.K_P == pytest.approx(factor, rel=1e-12)
+        assert tc.K_I == pytest.approx(0.1 * factor, rel=1e-12)
+    with pytest.raises(ParameterError, match="winch gain"):
+        ts.study_scenarios(_cable("paper"), 10.0, winch_gain="fast")
 
 
 def test_json_ready_writes_nan_as_null():

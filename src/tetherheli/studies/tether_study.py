@@ -23,11 +23,20 @@ Dynamic half (``dynamic_rows``): Sec. VI's simulations 1 and 2 and the turbulenc
 cable and length, through ``run_batch``; the paper's metric is the reduction
 100 (free - tethered) / free of the peak and RMS deviation (``analysis.reduction_percent``).
 
-Tether models of the dynamic half (``TETHER_MODELS``): ``"massless"``, the paper's straight
-elastic tether (eq 28) with the cable's axial stiffness over the length, K_C = (EA + T_ref) /
-q9 (so that K_C (q9 - LN) = T_ref at LN = q9 / (1 + T_ref / EA); the paper's cable gives
-Table III's 40 N/m at 10 m). It has the cable's stiffness but neither its weight nor its drag
-nor its inertia: a quasi-static stand-in until the lumped tether runs in the engine.
+The winch (eq 56's PI, ``WINCH_GAINS``): with the reel rate held over a sample dt, the
+tension loop of a tether of axial stiffness K is T_(k+1) - T_ref = (1 - K K_P dt)
+(T_k - T_ref) (+ the small integral term): stable only while K K_P dt < 2
+(``tension_loop_gain``; the paper's 40 N/m x 1 m/(s N) x 0.01 s = 0.4). A real cable is far
+stiffer over a short length (EA / q9: 2000 N/m for 20 kN at 10 m), so ``"paper"`` flies the
+paper's K_P = 1, K_I = 0.1 and ``"scaled"`` scales both down, where needed, to keep the
+paper's loop gain 0.4 with K = (EA + T_ref) / q9.
+
+Tether models of the dynamic half (``TETHER_MODELS``): ``"lumped"``, the lumped-mass chain
+in the engine (``[tether] model = "lumped"``: weight, sag, inertia, and drag in the
+turbulence scenario's air; T_ref is held at the winch's load cell); ``"massless"``, the
+paper's straight elastic tether (eq 28) with the cable's axial stiffness over the length,
+K_C = (EA + T_ref) / q9 (``cable_stiffness``): the cable's stiffness without its weight,
+drag or inertia, a stand-in that separates what the length does from what the mass does.
 """
 
 from __future__ import annotations
@@ -56,9 +65,12 @@ __all__ = [
     "DEFAULT_THRUST_TO_WEIGHT",
     "DEFAULT_WINDS_M_S",
     "DYNAMIC_CASES",
+    "PAPER_LOOP_GAIN",
     "STUDY_CABLES",
     "TETHER_MODELS",
+    "WINCH_GAINS",
     "StudyCable",
+    "cable_stiffness",
     "check_grid",
     "dynamic_rows",
     "hover_limits",
@@ -71,6 +83,7 @@ __all__ = [
     "static_rows",
     "study_scenarios",
     "study_table",
+    "tension_loop_gain",
 ]
 
 
@@ -142,8 +155,56 @@ STUDY_CABLES: tuple[StudyCable, ...] = (
 #: weight ratio at the low end of what small rotorcraft are built with.
 DEFAULT_THRUST_TO_WEIGHT = 1.5
 
+#: The winch gains the dynamic half can fly (module docstring).
+WINCH_GAINS: tuple[str, ...] = ("paper", "scaled")
+#: The tension loop gain K K_P dt of the paper's hover (Table III's K_C, eq 56's K_P, 10 ms):
+#: what ``"scaled"`` keeps.
+PAPER_LOOP_GAIN = 40.0 * 1.0 * 0.01
+
+
+def tension_loop_gain(stiffness_N_m: float, K_P: float, dt: float) -> float:
+    """K K_P dt: the tension loop's gain per sample (module docstring); the loop is stable
+    below 2.
+
+    Parameters
+    ----------
+    stiffness_N_m : float
+        The tether's axial stiffness K over its length [N/m].
+    K_P : float
+        Eq 56's proportional gain [m/(s N)].
+    dt : float
+        Sample time [s].
+
+    Returns
+    -------
+    float
+    """
+    return stiffness_N_m * K_P * dt
+
+
+def cable_stiffness(tether: tl.LumpedTether, q9: float, T_ref: float) -> float:
+    """K = (EA + T_ref) / q9 [N/m]: the cable's axial stiffness over its length at tension
+    T_ref (eq 28 taut: K (q9 - LN) = T_ref with LN = q9 / (1 + T_ref / EA)); the paper's cable
+    at 10 m gives Table III's K_C = 40 N/m.
+
+    Parameters
+    ----------
+    tether : LumpedTether
+        The cable (EA).
+    q9 : float
+        Its length [m].
+    T_ref : float
+        The tension [N].
+
+    Returns
+    -------
+    float
+    """
+    return (tether.EA_N + T_ref) / q9
+
+
 #: The tether models the dynamic half can fly (module docstring).
-TETHER_MODELS: tuple[str, ...] = ("massless",)
+TETHER_MODELS: tuple[str, ...] = ("lumped", "massless")
 
 #: The dynamic half's cases: (key, shipped scenario or paper simulation, the metrics whose
 #: reduction is reported). Paper sims: the deviation along the wind; turbulence (mean wind
@@ -419,7 +480,8 @@ def study_scenarios(
     cable: StudyCable,
     length_m: float,
     *,
-    model: str = "massless",
+    model: str = "lumped",
+    winch_gain: str = "paper",
     duration_s: float | None = None,
     params: Params | None = None,
 ) -> dict[str, Any]:
@@ -434,6 +496,8 @@ def study_scenarios(
         The hover height q9 [m].
     model : str, optional
         One of ``TETHER_MODELS``.
+    winch_gain : str, optional
+        One of ``WINCH_GAINS``.
     duration_s : float, optional
         Shorten every run to this many seconds (default: each scenario's own, 60 s and
         120 s).
@@ -451,9 +515,37 @@ def study_scenarios(
         raise ParameterError("tether model", model, f"one of {list(TETHER_MODELS)}")
     lo, hi = TETHER_LENGTH_RANGE
     q9 = check_number("length_m", length_m, low=lo, high=hi, unit="[m]")
+    from ..sim.scenario import TetherSettings
+
+    if winch_gain not in WINCH_GAINS:
+        raise ParameterError("winch gain", winch_gain, f"one of {list(WINCH_GAINS)}")
     params = Params.paper() if params is None else params
-    T_ref = params.tension_control.T_ref
-    tethered_params = params.replace(tether={"K_C": (cable.tether.EA_N + T_ref) / q9})
+    tc = params.tension_control
+    T_ref = tc.T_ref
+    t = cable.tether
+    K = cable_stiffness(t, q9, T_ref)
+    winch_params = params
+    if winch_gain == "scaled":
+        dt = paper_scenario(1, "tethered").control.dt
+        factor = min(1.0, PAPER_LOOP_GAIN / tension_loop_gain(K, tc.K_P, dt))
+        winch_params = params.replace(
+            tension_control={"K_P": tc.K_P * factor, "K_I": tc.K_I * factor}
+        )
+    if model == "lumped":
+        tethered_params = winch_params
+        tether = TetherSettings(
+            model="lumped",
+            segments=t.segments,
+            mass_per_length=t.mass_per_length_kg_m,
+            EA=t.EA_N,
+            damping_ratio=t.damping_ratio,
+            diameter=t.diameter_m,
+            drag_coefficient=t.drag_coefficient,
+            tangential_drag_coefficient=t.tangential_drag_coefficient,
+        )
+    else:
+        tethered_params = winch_params.replace(tether={"K_C": K})
+        tether = TetherSettings()
     out = {}
     for case, _ in DYNAMIC_CASES:
         for conf in ("free", "tethered"):
@@ -461,7 +553,10 @@ def study_scenarios(
                 s = _turbulence(conf, q9)
             else:
                 s = paper_scenario(int(case[-1]), conf).replace(q9=q9)
-            s = s.replace(params=tethered_params if conf == "tethered" else params)
+            if conf == "tethered":
+                s = s.replace(params=tethered_params, tether=tether)
+            else:
+                s = s.replace(params=params)
             if duration_s is not None:
                 s = s.replace(duration=check_number("duration_s", duration_s, low=0.0,
                                                     low_open=True, high=s.duration))  # fmt: skip
@@ -473,7 +568,8 @@ def dynamic_rows(
     cables: Sequence[StudyCable],
     lengths_m: Sequence[float],
     *,
-    model: str = "massless",
+    model: str = "lumped",
+    winch_gain: str = "paper",
     duration_s: float | None = None,
     workers: int | None = None,
     on_done: Callable[[int], None] | None = None,
@@ -488,6 +584,8 @@ def dynamic_rows(
         Hover heights q9 [m].
     model : str, optional
         One of ``TETHER_MODELS``.
+    winch_gain : str, optional
+        One of ``WINCH_GAINS``.
     duration_s : float, optional
         Shorter runs (``study_scenarios``).
     workers : int, optional
@@ -498,7 +596,8 @@ def dynamic_rows(
     Returns
     -------
     rows : list of dict
-        ``cable``, ``length_m``, ``tether_model``, ``completed`` and per case and metric
+        ``cable``, ``length_m``, ``tether_model``, ``winch_gain``, ``K_P`` [m/(s N)],
+        ``tension_loop_gain`` (``tension_loop_gain``), ``completed`` and per case and metric
         ``{case}_{metric}_free``, ``{case}_{metric}_tethered`` [m] and
         ``{case}_{metric}_reduction_pct`` (NaN when a run failed or the free run did not
         deviate, e.g. a run shorter than the first wind), the tension range
@@ -511,7 +610,9 @@ def dynamic_rows(
     runs: list[tuple[str, float, str, Any]] = []
     for cable in cables:
         for q9 in lengths_m:
-            for run, s in study_scenarios(cable, q9, model=model, duration_s=duration_s).items():
+            for run, s in study_scenarios(
+                cable, q9, model=model, winch_gain=winch_gain, duration_s=duration_s
+            ).items():
                 runs.append((cable.key, q9, run, s))
     result = run_batch(
         [r[3] for r in runs], workers=workers, record_setup_failures=True, on_done=on_done
@@ -520,7 +621,17 @@ def dynamic_rows(
     rows = []
     for cable in cables:
         for q9 in lengths_m:
-            row: dict[str, Any] = {"cable": cable.key, "length_m": q9, "tether_model": model}
+            teth = runs[by_id[(cable.key, q9, "sim1_tethered")]][3]
+            K_P = teth.params.tension_control.K_P
+            K = cable_stiffness(cable.tether, q9, teth.params.tension_control.T_ref)
+            row: dict[str, Any] = {
+                "cable": cable.key,
+                "length_m": q9,
+                "tether_model": model,
+                "winch_gain": winch_gain,
+                "K_P": K_P,
+                "tension_loop_gain": tension_loop_gain(K, K_P, teth.control.dt),
+            }
             completed = True
             for case, metrics in DYNAMIC_CASES:
                 i_free = by_id[(cable.key, q9, f"{case}_free")]
@@ -677,7 +788,8 @@ def run_tether_study(
     lengths_m: Sequence[float] = DEFAULT_LENGTHS_M,
     winds_m_s: Sequence[float] = DEFAULT_WINDS_M_S,
     elevations_deg: Sequence[float] = DEFAULT_ELEVATIONS_DEG,
-    model: str = "massless",
+    model: str = "lumped",
+    winch_gain: str = "paper",
     duration_s: float | None = None,
     max_thrust_N: float | None = None,
     workers: int | None = None,
@@ -702,6 +814,8 @@ def run_tether_study(
         The sensing half's steady winds [m/s] and elevations of P [deg].
     model : str, optional
         The dynamic half's tether model (``TETHER_MODELS``).
+    winch_gain : str, optional
+        The winch's PI gains (``WINCH_GAINS``).
     duration_s : float, optional
         Shorten the dynamic runs (default: the scenarios' own 60 s and 120 s).
     max_thrust_N : float, optional
@@ -737,6 +851,8 @@ def run_tether_study(
     elevations = check_grid("elevations", elevations_deg, low=1.0, high=90.0, unit="[deg]")
     if model not in TETHER_MODELS:
         raise ParameterError("model", model, f"one of {list(TETHER_MODELS)}")
+    if winch_gain not in WINCH_GAINS:
+        raise ParameterError("winch_gain", winch_gain, f"one of {list(WINCH_GAINS)}")
     if duration_s is not None:  # fail before any work: at most the shortest scenario's 60 s
         duration_s = check_number("duration", duration_s, low=0.0, low_open=True, high=60.0)
     claim_output_directory(out, force=force)
@@ -751,6 +867,7 @@ def run_tether_study(
             cables,
             lengths,
             model=model,
+            winch_gain=winch_gain,
             duration_s=duration_s,
             workers=workers,
             on_done=bar.update,
@@ -759,7 +876,7 @@ def run_tether_study(
     sensing = sensing_study(cables, lengths, winds, elevations, PAPER_TENSION_N, g)
     labels = {c.key: c.label for c in cables}
     md = (
-        f"# Tether study ({model} tether in the dynamic runs)\n\n"
+        f"# Tether study ({model} tether, {winch_gain} winch gains in the dynamic runs)\n\n"
         + study_table(static, dynamic)
         + "\nHover limits (25 N at P: the ground tension reaches 0; 25 N at the winch: fMR3 "
         f"reaches {max_thrust_N:.2f} N):\n\n| cable | max q9, 25 N at P [m] "
@@ -774,13 +891,14 @@ def run_tether_study(
         "command": command,
         "tetherheli_version": __version__,
         "tether_model": model,
+        "winch_gain": winch_gain,
         "note": (
             "dynamic runs: the paper's massless straight tether with K_C = (EA + T_ref) / q9 "
-            "(the cable's stiffness, neither its weight nor its drag nor its inertia); static "
-            "and sensing halves: the elastic catenary with mass and drag"
+            "(the cable's stiffness, neither its weight nor its drag nor its inertia)"
             if model == "massless"
-            else ""
-        ),
+            else "dynamic runs: the lumped-mass chain, T_ref at the winch"
+        )
+        + "; static and sensing halves: the elastic catenary with mass and drag",
         "cables": [c.to_dict() for c in cables],
         "lengths_m": list(lengths),
         "winds_m_s": list(winds),
@@ -834,6 +952,8 @@ def _cmd(args: Any) -> int:
         args.out,
         cables=cables,
         lengths_m=args.lengths,
+        model=args.model,
+        winch_gain=args.winch_gain,
         winds_m_s=args.winds,
         elevations_deg=args.elevations,
         duration_s=args.duration,
@@ -905,6 +1025,18 @@ def register(sub: Any) -> None:
         type=float,
         default=None,
         help=f"maximum fMR3 [N] (default {DEFAULT_THRUST_TO_WEIGHT:g} x the free hover thrust)",
+    )
+    p.add_argument(
+        "--model",
+        choices=TETHER_MODELS,
+        default="lumped",
+        help="the dynamic runs' tether: the lumped chain or the massless stand-in",
+    )
+    p.add_argument(
+        "--winch-gain",
+        choices=WINCH_GAINS,
+        default="paper",
+        help="eq 56's gains: the paper's, or scaled to the paper's tension loop gain",
     )
     p.add_argument("--workers", type=int, default=None, help="threads (default: all CPUs)")
     p.add_argument(
