@@ -130,6 +130,10 @@ def test_paper_cable_K_C_is_table_III():
     assert runs["sim1_tethered"].tether.model == "elastic"
     assert runs["sim1_free"].configuration == "free"
     assert runs["turbulence_tethered"].q9 == 10.0
+    # the turbulence metrics start after the settling time, in both configurations
+    for conf in ("free", "tethered"):
+        assert runs[f"turbulence_{conf}"].metrics_start == ts.TURBULENCE_SETTLE_S
+    assert runs["sim1_tethered"].metrics_start == 0.0
 
 
 def test_pipeline_tiny_grid(tmp_path):
@@ -183,6 +187,13 @@ def test_pipeline_tiny_grid(tmp_path):
 def test_check_grid_refuses(values, match):
     with pytest.raises(ParameterError, match=match):
         ts.check_grid("lengths", values, low=0.5, high=1000.0, unit="[m]")
+
+
+def test_default_grids_are_valid():
+    """The command's default grids pass its own check (ascending, in range)."""
+    ts.check_grid("lengths", ts.DEFAULT_LENGTHS_M, low=0.5, high=1000.0, unit="[m]")
+    ts.check_grid("winds", ts.DEFAULT_WINDS_M_S, low=0.0, high=30.0, unit="[m/s]")
+    ts.check_grid("elevations", ts.DEFAULT_ELEVATIONS_DEG, low=1.0, high=90.0, unit="[deg]")
 
 
 @pytest.mark.parametrize("keys", [[], ["paper", "paper"], ["steel"]])
