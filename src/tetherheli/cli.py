@@ -908,6 +908,15 @@ def _register_compare(sub: argparse._SubParsersAction) -> None:
 _EXTRA_COMMANDS.append(_register_compare)
 
 
+def _register_tether_study(sub: argparse._SubParsersAction) -> None:
+    from .studies.tether_study import register  # light: its heavy imports are inside it
+
+    register(sub)
+
+
+_EXTRA_COMMANDS.append(_register_tether_study)
+
+
 # --- shipped scenarios ------------------------------------------------------------------------
 
 
