@@ -30,6 +30,7 @@ from ..layout import (
     WIND_CONSTANT,
 )
 from ..model import TrimPoint
+from ..params import Params
 from ..model.kernels import angle_trig, angle_trig_from, tethered_outputs
 from ..resources import check_memory
 from ..sensors import N_CHANNELS, N_GROUPS
@@ -101,6 +102,7 @@ def simulate(
     controller: Controller | None = None,
     rtol: float = 1e-10,
     atol: float = 1e-12,
+    design_params: Params | None = None,
 ) -> SimulationResult:
     """Simulate a scenario in closed loop.
 
@@ -115,6 +117,9 @@ def simulate(
         feed-forward and PI winch).
     rtol, atol : float, optional
         Tolerances of the adaptive method.
+    design_params : Params, optional
+        Parameters the controller is designed on (default: the scenario's own), as
+        ``run_batch``'s: the plant and its trim keep the scenario's (a robustness run).
 
     Returns
     -------
@@ -127,7 +132,7 @@ def simulate(
     if method not in ("rk4", "adaptive"):
         raise ParameterError("method", method, "'rk4' or 'adaptive'")
     check_run_memory(scenario)
-    setup = engine_setup(scenario)
+    setup = engine_setup(scenario, design_params)
     trim, wind, noise = setup.trim, setup.wind, setup.noise
     n = scenario.n_samples
     paper = controller is None

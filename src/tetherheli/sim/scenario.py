@@ -112,7 +112,7 @@ class TetherLQISettings:
 
     Parameters
     ----------
-    Qy, q_tension, Ru, anti_windup
+    Qy, q_tension, Ru, anti_windup, q9_from_tension
         The keys of a scenario's ``[control.tether_lqi]`` table; each field's ``Key`` gives
         its meaning, unit, default and allowed range. Defaults: the weights
         ``python benchmarks/tune_tether_lqi.py --evaluations 700`` found (see its header: the
@@ -136,6 +136,12 @@ class TetherLQISettings:
     anti_windup: bool = _key(
         True,
         Key("the integrators hold while a rotor command is outside its actuator limits",
+            kind="bool"),
+    )  # fmt: skip
+    q9_from_tension: bool = _key(
+        True,
+        Key("with imperfect [sensors], the law's tether length is LN + TC / KC (drum encoder, "
+            "load cell, design KC; eq 28) while taut, not the position source's",
             kind="bool"),
     )  # fmt: skip
 
