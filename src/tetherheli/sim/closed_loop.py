@@ -30,8 +30,8 @@ from ..layout import (
     WIND_CONSTANT,
 )
 from ..model import TrimPoint
-from ..params import Params
 from ..model.kernels import angle_trig, angle_trig_from, tethered_outputs
+from ..params import Params
 from ..resources import check_memory
 from ..sensors import N_CHANNELS, N_GROUPS
 from ..status import Status
