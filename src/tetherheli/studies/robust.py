@@ -255,7 +255,10 @@ def montecarlo_compare(
     statuses: dict[str, list[str]] = {lab: [""] * n for lab in labels}
     noisy = not base.sensors.is_perfect
     for lab in labels:  # compile and warm up each law on the nominal plant (not measured)
-        fly(_flown(base, lab).replace(duration=min(base.duration, 1.0)))
+        try:
+            fly(_flown(base, lab).replace(duration=min(base.duration, 1.0)))
+        except TetherheliError:  # the nominal plant cannot be set up: its draws will say why
+            pass
     for i in range(n):
         d = draw(base, config, draw_seed(config.seed, i), i)
         for lab in labels:
