@@ -20,7 +20,7 @@ A scenario file::
     Ru = [...]                        # fMR3, tMR1, tMR2, fTR2, reel rate
     anti_windup = true
     [control.mpc]                     # the MPC's settings (MPCSettings)
-    horizon = 20                      # samples
+    horizon = 10                      # samples
     [limits]
     max_tension = 500.0               # [N]
     max_deviation = 100.0             # [m]
@@ -160,7 +160,7 @@ class MPCSettings:
     """
 
     horizon: int = _key(
-        20, Key("prediction and control horizon", "samples", kind="integer", low=1, high=400)
+        10, Key("prediction and control horizon", "samples", kind="integer", low=1, high=400)
     )
     Qy: tuple[float, ...] = _key(
         TetherLQISettings().Qy,
@@ -193,12 +193,12 @@ class MPCSettings:
             "of the model; 0: no estimate, integral action only)", "s", low=0.0),
     )  # fmt: skip
     max_iterations: int = _key(
-        400,
+        200,
         Key("OSQP's iteration limit per sample (beyond it the previous plan is flown)",
             kind="integer", low=1, high=1_000_000),
     )  # fmt: skip
     tolerance: float = _key(
-        1e-5, Key("OSQP's absolute and relative tolerance", low=0.0, low_open=True, high=1.0)
+        1e-4, Key("OSQP's absolute and relative tolerance", low=0.0, low_open=True, high=1.0)
     )
 
 
