@@ -14,8 +14,8 @@ from tetherheli.control.base import Measurement
 from tetherheli.control.mpc import MPCController, design_mpc, mpc_controller, mpc_plant
 from tetherheli.control.tether_lqi import design_tether_lqi
 from tetherheli.errors import ParameterError
-from tetherheli.model.linearize import linearize
 from tetherheli.model import TetheredHelicopter
+from tetherheli.model.linearize import linearize
 from tetherheli.names import WIND
 from tetherheli.params import Params
 from tetherheli.sim.batch import run_batch
@@ -69,7 +69,6 @@ def test_unconstrained_first_move_equals_finite_horizon_riccati():
     first move is the finite-horizon LQ gain of the same weights and horizon: the backward
     Riccati recursion P_N = Pf, K_j = (R + B' P_{j+1} B)^{-1} B' P_{j+1} A,
     P_j = Q + A' P_{j+1} (A - B K_j), first move -K_0 xi_0."""
-    G, H, C, Hd, c_t = _tethered_plant()
     N = 15
     ref = _design(horizon=N)
     Pf = 3.0 * ref.Qx
@@ -87,7 +86,7 @@ def test_dare_terminal_cost_gives_the_infinite_horizon_lq_gain():
     """With the DARE's terminal cost the unconstrained MPC is the infinite-horizon LQ law at
     any horizon: python-control's dlqr (integral_action = -dt C, eq 50) and the tethered
     LQI's design of the same weights give the same gain."""
-    G, H, C, Hd, c_t = _tethered_plant()
+    G, H, C, _, c_t = _tethered_plant()
     n = G.shape[0]
     Qy = np.diag(S.Qy)
     Q = np.zeros((n + 4, n + 4))
@@ -152,7 +151,7 @@ def test_bounds_hold_over_a_paper_run_with_eq40():
                               reel_acceleration_limit=0.5)  # fmt: skip
     s = base.replace(duration=14.0, actuators=act,
                      control=dataclasses.replace(base.control, controller="mpc"))  # fmt: skip
-    r, c, commands, _ = _fly_recording(s)
+    r, _, commands, _ = _fly_recording(s)
     assert r.ok
     lim = paper_cyclic_limit(s.params)
     u = np.array([cmd[0] for cmd in commands])
@@ -191,10 +190,10 @@ def test_osqp_solutions_satisfy_the_kkt_conditions():
     _, _, _, qps = _fly_recording(s, every=37)
     assert len(qps) > 20
     active = 0
-    for (P, q, A, l, u), (x, y), eps in qps:
+    for (P, q, A, lower, u), (x, y), eps in qps:
         Ax = A @ x
         scale_p = max(np.max(np.abs(Ax)), 1.0)
-        assert np.all(Ax >= l - (eps + eps * scale_p) * 10)
+        assert np.all(Ax >= lower - (eps + eps * scale_p) * 10)
         assert np.all(Ax <= u + (eps + eps * scale_p) * 10)
         grad = P @ x + q + A.T @ y
         scale_d = max(np.max(np.abs(P @ x)), np.max(np.abs(A.T @ y)), np.max(np.abs(q)))
@@ -202,7 +201,7 @@ def test_osqp_solutions_satisfy_the_kkt_conditions():
         tol = 10 * (eps + eps * scale_p)
         up, lo = y > 1e-6 * max(1.0, np.max(np.abs(y))), y < -1e-6 * max(1.0, np.max(np.abs(y)))
         assert np.all(u[up] - Ax[up] <= tol)
-        assert np.all(Ax[lo] - l[lo] <= tol)
+        assert np.all(Ax[lo] - lower[lo] <= tol)
         active += int(np.count_nonzero(up | lo))
     assert active > 0  # some constraint was active on the sampled steps
 

@@ -36,12 +36,14 @@ T_j = T_ref + c_T' x_j, j = 1..N, within ``tension_bounds`` softened by slacks s
 
 Formulation: condensed. The states are eliminated (xi_j = Phi_j xi_0 + Gamma_j U), leaving
 N m inputs and N slacks: with the default N = 10 that is 60 variables against 230 for the
-sparse form, a dense Hessian of 50 x 50 (condition number about 3) that OSQP factorises once. The Hessian and the
-constraint matrix do not depend on the sample, so OSQP is set up once per run and each sample
-only updates q, l, u (``OSQP.update``) and warm-starts from the previous plan, shifted. The
-horizon is short (0.1 s at dt = 10 ms) so the condensed prediction of the open-loop unstable
-hover stays well conditioned. OSQP's adaptive step is updated every 25 iterations (not by
-time), so a run gives the same numbers every time.
+sparse form, a dense Hessian of 50 x 50 (condition number about 2.3) that OSQP factorises
+once. The Hessian and the constraint matrix do not depend on the sample, so OSQP is set up
+once per run and each sample only updates q, l, u (``OSQP.update``) and warm-starts from the
+previous plan, shifted. The horizon is short (0.1 s at dt = 10 ms) so the condensed
+prediction of the open-loop unstable hover stays well conditioned; a longer one also costs
+more per OSQP iteration (the dense block grows as N^2) and, on the paper's runs, did not fly
+better (N = 20 against N = 10: see ``benchmarks/bench_mpc.py``). OSQP's adaptive step is
+updated every 25 iterations (not by time), so a run gives the same numbers every time.
 
 If OSQP fails or reaches its iteration limit the controller flies the previous plan's next
 move (or, at the first sample, the LQ law), clipped to the bounds, and counts it
