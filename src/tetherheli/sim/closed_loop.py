@@ -18,6 +18,7 @@ import numpy as np
 
 from .._version import __version__
 from ..control.base import Controller, Measurement
+from ..control.mpc import mpc_controller
 from ..errors import ParameterError
 from ..layout import (
     CFG_ATTACHED,
@@ -135,16 +136,19 @@ def simulate(
     setup = engine_setup(scenario, design_params)
     trim, wind, noise = setup.trim, setup.wind, setup.noise
     n = scenario.n_samples
-    paper = controller is None
-    if paper:
-        controller = setup.paper_controller()
+    paper = controller is None and scenario.control.controller != "mpc"
+    if controller is None:  # the MPC is a Python controller (control.mpc)
+        controller = setup.paper_controller() if paper else mpc_controller(scenario, setup)
     rec = _Recorder(n)
     if paper and method == "rk4" and wind is not None:
         status, done = engine.run_closed_loop(*setup.engine_args(n), True, rec.signals, rec.summary)
         rec.release[:] = rec.summary[SUMMARY_RELEASE_TIME : SUMMARY_RELEASE_TIME + 2]
     else:
         status, done = _python_loop(scenario, setup, controller, method, rec, rtol=rtol, atol=atol)
-    return rec.result(done, status, scenario, trim, method, sensed=noise.shape[0] > 0)
+    return rec.result(
+        done, status, scenario, trim, method, sensed=noise.shape[0] > 0,
+        columns=controller.recorded(),  # e.g. the MPC's fallbacks
+    )  # fmt: skip
 
 
 class _Recorder:
@@ -174,9 +178,10 @@ class _Recorder:
         method: str,
         *,
         sensed: bool = False,
+        columns: dict[str, np.ndarray] | None = None,
     ) -> SimulationResult:
         k = done
-        extra = {}
+        extra = {name: v[:k].copy() for name, v in (columns or {}).items()}
         if sensed:  # the controller's position estimate next to the truth
             for i, name in enumerate(("q1_est", "q2_est", "q3_est")):
                 extra[name] = self.y_est[:k, i].copy()
