@@ -138,7 +138,9 @@ def simulate(
     n = scenario.n_samples
     paper = controller is None and scenario.control.controller != "mpc"
     if controller is None:  # the MPC is a Python controller (control.mpc)
-        controller = setup.paper_controller() if paper else mpc_controller(scenario, setup)
+        controller = (
+            setup.paper_controller() if paper else mpc_controller(scenario, setup, design_params)
+        )
     rec = _Recorder(n)
     if paper and method == "rk4" and wind is not None:
         status, done = engine.run_closed_loop(*setup.engine_args(n), True, rec.signals, rec.summary)
