@@ -9,7 +9,8 @@ tethered under every controller, each designed on the file's nominal parameters
 (``simulate(design_params=...)``, as ``run_batch`` does in ``tetherheli montecarlo``). With
 imperfect ``[sensors]`` each draw gets its own sensor noise: the scenario's ``seed`` becomes
 the first word of ``SeedSequence(seed, spawn_key=(i, 1))`` (the turbulence's stream is
-(i, 0)). With ``eq40`` the cyclic torques saturate at eq 40's limit of the *nominal*
+(i, 0)); with the tether as position source the free reference flies on the GNSS of the
+same presets. With ``eq40`` the cyclic torques saturate at eq 40's limit of the *nominal*
 parameters (an actuator's authority, not redrawn with the plant).
 
 Every run is measured by ``controllers.controller_metrics``; a run that fails in flight or
@@ -20,13 +21,14 @@ reduction against the free helicopter is ``statistics.paired_reduction`` per dra
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from ..errors import ParameterError, TetherheliError
+from ..errors import TetherheliError
 from ..sim.scenario import Scenario
 from .controllers import CONTROLLER_METRICS, eq40_saturated, fly, with_controller
 from .montecarlo import MonteCarloConfig, draw, draw_seed
@@ -243,10 +245,6 @@ def montecarlo_compare(
         Per-draw measures of every run, failures included.
     """
     n = config.runs if runs is None else int(runs)
-    if base.sensors.position_source == "tether":
-        raise ParameterError(
-            "sensors.position_source", "tether", "'true' or 'gps' (every draw is flown free too)"
-        )
     if eq40:
         base = eq40_saturated(base)
     labels = (FREE, *controllers)
@@ -299,6 +297,9 @@ def _cyclic_limit(scenario: Scenario) -> float:
 def _flown(scenario: Scenario, label: str) -> Scenario:
     """The run of ``label``: the free configuration under the paper's law, or tethered."""
     if label == FREE:
+        if scenario.sensors.position_source == "tether":  # no tether: the GNSS instead
+            sensors = dataclasses.replace(scenario.sensors, position_source="gps")
+            scenario = scenario.replace(sensors=sensors)
         return with_controller(scenario.replace(configuration="free"), "paper")
     return with_controller(scenario.replace(configuration="tethered"), label)
 
