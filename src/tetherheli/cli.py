@@ -533,6 +533,10 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     from .sim import load_scenario
 
     scenario = load_scenario(args.scenario)
+    if args.controller is not None:  # every run under this controller (issue 14, item 3)
+        from .studies.controllers import with_controller
+
+        scenario = with_controller(scenario, args.controller)
     inputs = (args.scenario,)
     command = "tetherheli sweep " + " ".join(sys.argv[2:])
     if args.find_min is not None:
@@ -818,6 +822,12 @@ def _register_animate(sub: argparse._SubParsersAction) -> None:
         type=_positive_float("--tol"),
         default=1e-3,
         help="--find-min: width of the reported interval [N m] (default 0.001)",
+    )
+    p.add_argument(
+        "--controller",
+        default=None,
+        help="fly every run under this controller ([control] controller, e.g. tether_lqi; "
+        "default: the scenario's)",
     )
     p.add_argument("--out", required=True, help="output directory")
     _add_workers(p)

@@ -6,6 +6,12 @@ paper's free law there), as the reference the tether is judged against. ``--eq40
 eq 40's cyclic limit as saturation of tMR1, tMR2 (``controllers.eq40_saturated``). The
 measures are ``controllers.CONTROLLER_METRICS``; the compute time is that of a second,
 identical run (the first one compiles).
+
+``--montecarlo FILE --runs N`` adds a Monte Carlo with plant dispersion (``studies.robust``):
+the first N draws of FILE flown free and under every controller, all designed on the nominal
+parameters; the table gets the median (p50) and 95th percentile (p95) of every measure,
+failures in the failing tail and counted, and compare_montecarlo.md the paired reduction
+against the free helicopter (median and 5th percentile over the draws).
 """
 
 from __future__ import annotations
@@ -14,11 +20,12 @@ import argparse
 import csv
 import io
 import json
+import math
 import sys
 from pathlib import Path
 from typing import Any
 
-__all__ = ["compare", "register", "write_compare"]
+__all__ = ["compare", "markdown_reductions", "register", "write_compare"]
 
 
 def compare(paths: list[str], controllers: tuple[str, ...], *, eq40: bool) -> list[dict[str, Any]]:
@@ -69,6 +76,8 @@ def compare(paths: list[str], controllers: tuple[str, ...], *, eq40: bool) -> li
             except TetherheliError as exc:
                 row["status"] = str(exc).splitlines()[0]
                 row["completed"] = False
+            row["runs"] = 1
+            row["failures"] = 0 if row["completed"] else 1
             rows.append(row)
     return rows
 
@@ -102,9 +111,12 @@ def write_compare(
     command: str,
     inputs: tuple[str, ...],
     force: bool = False,
+    montecarlo: tuple[Any, ...] = (),
 ) -> None:
     """compare.csv (every measure), compare.md (the main columns), compare.png and
-    summary.json, written whole or not at all (``_io.output_directory``).
+    summary.json, written whole or not at all (``_io.output_directory``); with Monte Carlo
+    comparisons also compare_montecarlo.md (the paired reductions), compare_montecarlo.png
+    (``_figure_montecarlo``) and their per-draw values in summary.json.
 
     Parameters
     ----------
@@ -118,6 +130,9 @@ def write_compare(
         The input files, recorded with the folder's marker.
     force : bool, optional
         Replace this command's earlier output in ``out_dir`` (default False).
+    montecarlo : tuple of MonteCarloComparison, optional
+        The Monte Carlo comparisons (``studies.robust.montecarlo_compare``) whose rows are
+        in ``rows``.
 
     Returns
     -------
@@ -126,36 +141,119 @@ def write_compare(
     from . import __version__
     from ._io import atomic_write_text, output_directory
     from .studies.controllers import CONTROLLER_METRICS
+    from .studies.robust import REDUCED
     from .viz.plots import save_figure
 
-    columns = ["scenario", "configuration", "controller", "status", *CONTROLLER_METRICS]
+    reductions = [f"reduction_{m}_{p}" for m in REDUCED for p in ("p50", "p5")]
+    columns = [
+        "scenario", "configuration", "controller", "status", "runs", "failures",
+        *CONTROLLER_METRICS, *(reductions if montecarlo else ()),
+    ]  # fmt: skip
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(columns)
     for r in rows:
         writer.writerow([r.get(c, "") for c in columns])
-    fig = _figure(rows)
+    fig = _figure([r for r in rows if r.get("runs", 1) == 1] or rows)
+    fig_mc = _figure_montecarlo(montecarlo) if montecarlo else None
     with output_directory(out_dir, writer="compare", inputs=inputs, force=force) as tmp:
         save_figure(fig, tmp / "compare.png")
         atomic_write_text(tmp / "compare.csv", buf.getvalue())
         atomic_write_text(tmp / "compare.md", markdown_table(rows))
-        info = {"rows": rows, "tetherheli_version": __version__, "command": command}
+        info = {
+            "rows": [{k: _json_number(v) for k, v in r.items()} for r in rows],
+            "tetherheli_version": __version__,
+            "command": command,
+        }
+        if montecarlo:
+            save_figure(fig_mc, tmp / "compare_montecarlo.png")
+            atomic_write_text(tmp / "compare_montecarlo.md", markdown_reductions(montecarlo))
+            info["montecarlo"] = [mc.as_dict() for mc in montecarlo]
         atomic_write_text(tmp / "summary.json", json.dumps(info, indent=2) + "\n")
+
+
+def _json_number(v: Any) -> Any:
+    """+-inf (a percentile among failures) and NaN as null in JSON."""
+    return None if isinstance(v, float) and not math.isfinite(v) else v
+
+
+def markdown_reductions(montecarlo: tuple[Any, ...]) -> str:
+    """The paired reduction of the deviations against the free helicopter per controller
+    (``MonteCarloComparison.reduction``): median and 5th percentile over the draws [%],
+    failures as -inf; and the failure counts.
+
+    Parameters
+    ----------
+    montecarlo : tuple of MonteCarloComparison
+        The Monte Carlo comparisons.
+
+    Returns
+    -------
+    str
+        A Markdown table.
+    """
+    from .studies.montecarlo.statistics import tail_percentile
+    from .studies.robust import FREE, REDUCED
+
+    head = "| Monte Carlo | controller | failed (free) | failed |"
+    head += "".join(f" {m} red. p50 / p5 [%] |" for m in REDUCED) + "\n"
+    head += "|" + "---|" * (4 + len(REDUCED)) + "\n"
+    lines = []
+    for mc in montecarlo:
+        for lab in mc.labels:
+            if lab == FREE:
+                continue
+            cells = [
+                f"{mc.scenario_name} (N={mc.runs})",
+                lab,
+                f"{mc.failures(FREE)}/{mc.runs}",
+                f"{mc.failures(lab)}/{mc.runs} ({100.0 * mc.failures(lab) / mc.runs:.1f}%)",
+            ]
+            for m in REDUCED:
+                r50, r5 = (float(v) for v in tail_percentile(mc.reduction(lab, m), [50.0, 5.0]))
+                cells.append(f"{r50:.1f} / {r5:.1f}")
+            lines.append("| " + " | ".join(cells) + " |")
+    return head + "\n".join(lines) + "\n"
+
+
+def _figure_montecarlo(montecarlo: tuple[Any, ...]):
+    """Box plots of peak and RMS q1 per run kind (completed runs; failures in the labels)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(
+        len(montecarlo), 2, figsize=(9.0, 3.2 * len(montecarlo)), squeeze=False
+    )
+    for row, mc in zip(axes, montecarlo, strict=True):
+        labels = [f"{lab}\n{mc.failures(lab)}/{mc.runs} failed" for lab in mc.labels]
+        for ax, metric in zip(row, ("peak_q1", "rms_q1"), strict=True):
+            data = [mc.values[lab][metric][mc.ok[lab]] for lab in mc.labels]
+            ax.boxplot(data, whis=(5, 95), showfliers=True)
+            ax.set_xticks(range(1, len(labels) + 1), labels, fontsize=8)
+            ax.set_ylabel(f"{metric} [m]")
+            ax.set_title(f"{mc.scenario_name}, N = {mc.runs} (whiskers p5-p95)", fontsize=9)
+            ax.grid(axis="y", alpha=0.3)
+    fig.tight_layout()
+    return fig
 
 
 def markdown_table(rows: list[dict[str, Any]]) -> str:
     """The comparison's main columns as a Markdown table (lengths [m], attitude [deg],
-    efforts [N, N m, N m, N], tension [N], compute time [us])."""
+    efforts [N, N m, N m, N], tension [N], failed runs out of those flown, compute time [us]).
+    A Monte Carlo's rows are percentiles over its draws ("inf": among the failures)."""
     head = (
         "| scenario | controller | peak q1 | peak q2 | peak q3 | RMS q1 | RMS q2 | RMS q3 "
         "| peak att. | RMS dfMR3 | RMS dtMR1 | RMS dtMR2 | RMS dfTR2 | peak cyclic / limit "
-        "| tension | ok | us/sample |\n"
+        "| tension | failed | us/sample |\n"
     )
     head += "|" + "---|" * 17 + "\n"
     lines = []
     for r in rows:
+        failed = f"{r.get('failures', 0 if r.get('completed') else 1)}/{r.get('runs', 1)}"
         if "peak_q1" not in r:
-            lines.append(f"| {r['scenario']} | {r['controller']} |" + " |" * 14 + " no | |")
+            lines.append(f"| {r['scenario']} | {r['controller']} |" + " |" * 14 + f" {failed} | |")
             continue
         lim = r["cyclic_limit"]
         cyc = f"{r['peak_cyclic']:.2f} / {lim:.2f}" if lim == lim else f"{r['peak_cyclic']:.2f}"
@@ -170,7 +268,7 @@ def markdown_table(rows: list[dict[str, Any]]) -> str:
                                       "rms_q3")),
             f"{r['peak_attitude_deg']:.2f}",
             *(f"{r[k]:.3f}" for k in ("rms_dfMR3", "rms_dtMR1", "rms_dtMR2", "rms_dfTR2")),
-            cyc, tension, "yes" if r["completed"] else "no",
+            cyc, tension, failed,
             f"{r['compute_us_per_sample']:.1f}",
         ]  # fmt: skip
         lines.append("| " + " | ".join(cells) + " |")
@@ -179,6 +277,7 @@ def markdown_table(rows: list[dict[str, Any]]) -> str:
 
 def _cmd_compare(args: argparse.Namespace) -> int:
     from ._io import claim_output_directory
+    from ._validation import check_integer
     from .errors import ParameterError
     from .sim.scenario import CONTROLLERS
 
@@ -188,13 +287,36 @@ def _cmd_compare(args: argparse.Namespace) -> int:
             raise ParameterError("--controllers", args.controllers, f"names from {CONTROLLERS}")
     if not names:
         raise ParameterError("--controllers", args.controllers, f"names from {CONTROLLERS}")
-    inputs = tuple(args.scenarios)
+    mc_files = tuple(args.montecarlo or ())
+    if not args.scenarios and not mc_files:
+        raise ParameterError("scenarios", "none", "scenario files or --montecarlo FILE")
+    if args.runs is not None:
+        check_integer("--runs", args.runs, low=1)
+    mc_inputs = []
+    for path in mc_files:  # read them all before any run: a bad file fails fast
+        from .studies.montecarlo import load_montecarlo
+
+        mc_inputs.append(load_montecarlo(path))
+    inputs = (*args.scenarios, *mc_files)
     claim_output_directory(args.out, inputs=inputs, force=args.force)
     rows = compare(list(args.scenarios), names, eq40=args.eq40)
+    montecarlo = []
+    for base, config in mc_inputs:
+        from .studies.robust import montecarlo_compare
+
+        mc = montecarlo_compare(base, config, names, runs=args.runs, eq40=args.eq40)
+        montecarlo.append(mc)
+        rows.extend(mc.rows())
     command = "tetherheli compare " + " ".join(sys.argv[2:])
-    write_compare(rows, args.out, command=command, inputs=inputs, force=args.force)
+    write_compare(
+        rows, args.out, command=command, inputs=inputs, force=args.force,
+        montecarlo=tuple(montecarlo),
+    )  # fmt: skip
     print(markdown_table(rows), end="")
-    failed = [r for r in rows if not r.get("completed")]
+    if montecarlo:
+        print(markdown_reductions(tuple(montecarlo)), end="")
+    # a single run that failed fails the command; a Monte Carlo's failures are its results
+    failed = [r for r in rows if r.get("runs", 1) == 1 and not r.get("completed")]
     for r in failed:
         print(f"tetherheli: {r['scenario']} / {r['controller']}: {r['status']}", file=sys.stderr)
     return 1 if failed else 0
@@ -213,12 +335,22 @@ def register(sub: argparse._SubParsersAction) -> None:
     None
     """
     p = sub.add_parser("compare", help="fly scenarios under several controllers: table, figure")
-    p.add_argument("scenarios", nargs="+", help="scenario TOML files")
+    p.add_argument("scenarios", nargs="*", help="scenario TOML files")
     p.add_argument(
         "--controllers", default="paper,tether_lqi", help="comma-separated controller names"
     )
     p.add_argument(
         "--eq40", action="store_true", help="saturate tMR1, tMR2 at eq 40's cyclic limit"
+    )
+    p.add_argument(
+        "--montecarlo",
+        action="append",
+        metavar="FILE",
+        help="a Monte Carlo file ([montecarlo]): its draws under every controller, designed "
+        "on the nominal plant; percentiles and paired reductions (repeatable)",
+    )
+    p.add_argument(
+        "--runs", type=int, help="Monte Carlo draws N (default: the file's [montecarlo] runs)"
     )
     p.add_argument("--out", required=True, help="output folder")
     p.add_argument("--force", action="store_true", help="replace this command's earlier output")

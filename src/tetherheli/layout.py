@@ -80,7 +80,10 @@ CTRL_REEL_ACCEL = 7  # |d(reel rate)/dt| the winch allows [m/s^2] (inf: none)
 CTRL_ANTI_WINDUP = 8  # 1: the integrators hold while a rotor command is outside its limits
 CTRL_U_MIN = 9  # (4,) the rotor inputs' limits the anti-windup compares with (= act's)
 CTRL_U_MAX = 13  # (4,)
-CTRL_SIZE = 17
+#: the tethered LQI's tether length from the load cell and the drum encoder, q9 = LN + TC / KC
+#: (eq 28), with this design KC [N/m] while taut; 0: q9 from the position source
+CTRL_TENSION_K_C = 17
+CTRL_SIZE = 18
 
 # --- the winch PI's state (``winch``, ``control.paper``) ---------------------------------------
 WINCH_INTEGRAL = 0  # I_k of eq 56 [N s]

@@ -64,6 +64,16 @@ class Controller(ABC):
     def reset(self) -> None:
         """Clear internal state (integrators) before a run."""
 
+    def recorded(self) -> dict[str, np.ndarray]:
+        """Per-sample columns the controller adds to the result's ``extra`` (one value per
+        ``step`` since ``reset``); none by default.
+
+        Returns
+        -------
+        dict of str to ndarray
+        """
+        return {}
+
     @abstractmethod
     def step(self, t: float, measurement: Measurement) -> Command:
         """The command for the sample at time t [s].

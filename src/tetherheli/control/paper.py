@@ -20,6 +20,7 @@ from ..layout import (
     CTRL_REEL_RATE_LIMIT,
     CTRL_SIZE,
     CTRL_T_REF,
+    CTRL_TENSION_K_C,
     CTRL_U_MAX,
     CTRL_U_MIN,
     CTRL_WINCH,
@@ -92,17 +93,22 @@ def paper_control_sc(
     row commands the reel rate in place of the winch PI while the winch runs (rows 5-8, the
     free law, once it stops: a release or the free configuration). With
     ctrl[CTRL_ANTI_WINDUP] the integrators hold while a rotor command lies outside
-    [ctrl[CTRL_U_MIN + i], ctrl[CTRL_U_MAX + i]] (conditional integration).
+    [ctrl[CTRL_U_MIN + i], ctrl[CTRL_U_MAX + i]] (conditional integration). With
+    ctrl[CTRL_TENSION_K_C] = KC > 0 the tethered law takes q9 = LN + TC / KC (eq 28, measured
+    tension and drum encoder) while the measured tension is positive (``tension_q9``).
     """
     tethered_outputs_sc(x, sc, c, y)
     n_x = gain.shape[1] - 4
     winch_on = ctrl[CTRL_WINCH] > 0.5
     tether_law = gain.shape[0] > 4
     row0 = 5 if (tether_law and not winch_on) else 0
+    q9 = x[5]
+    if tether_law and winch_on:
+        q9 = tension_q9(x, measured_tension, ctrl)
     for i in range(4):
         acc = u0[i]
         for j in range(n_x):
-            acc -= gain[row0 + i, j] * (x[j] - x_ref[j])
+            acc -= gain[row0 + i, j] * ((q9 if j == 5 else x[j]) - x_ref[j])
         for j in range(4):
             acc -= gain[row0 + i, n_x + j] * z[j]
         inp[i] = acc
@@ -127,18 +133,31 @@ def paper_control_sc(
     if not winch_on:
         return 0.0
     if tether_law:
-        return reel_law_step(x, z, winch, ctrl, gain, x_ref, n_x)
+        return reel_law_step(x, q9, z, winch, ctrl, gain, x_ref, n_x)
     return winch_step(winch, measured_tension, ctrl)
 
 
 @_jit_inline
-def reel_law_step(x, z, winch, ctrl, gain, x_ref, n_x):
-    """The tethered LQI's reel-rate command (row 4 of the gain; the trim's rate is zero),
-    clamped to the winch's rate limit, then its acceleration limit relative to the previous
-    command, as ``winch_step`` does for the PI; returns the reel rate [m/s]."""
+def tension_q9(x, measured_tension, ctrl):
+    """The tether length [m] the tethered LQI feeds back: LN + TC / KC (eq 28 inverted, from
+    the load cell and the drum encoder LN = x[12]) when ctrl[CTRL_TENSION_K_C] = KC > 0 and the
+    measured tension is positive (taut), else the position source's q9 = x[5]. A GNSS-derived
+    q9 errs by metres, KC (q9 - LN) then by tens of newtons; the load cell's by millimetres."""
+    k_c = ctrl[CTRL_TENSION_K_C]
+    if k_c > 0.0 and measured_tension > 0.0:
+        return x[12] + measured_tension / k_c
+    return x[5]
+
+
+@_jit_inline
+def reel_law_step(x, q9, z, winch, ctrl, gain, x_ref, n_x):
+    """The tethered LQI's reel-rate command (row 4 of the gain; the trim's rate is zero) on
+    the state x with q9 in place of x[5] (``tension_q9``), clamped to the winch's rate limit,
+    then its acceleration limit relative to the previous command, as ``winch_step`` does for
+    the PI; returns the reel rate [m/s]."""
     acc = 0.0
     for j in range(n_x):
-        acc -= gain[4, j] * (x[j] - x_ref[j])
+        acc -= gain[4, j] * ((q9 if j == 5 else x[j]) - x_ref[j])
     for j in range(4):
         acc -= gain[4, n_x + j] * z[j]
     lim = ctrl[CTRL_REEL_RATE_LIMIT]

@@ -295,6 +295,35 @@ def _check(scenario: Scenario) -> None:
         )
 
 
+def _python_run(
+    scenario: Scenario, setup: EngineSetup, design_params: Params | None, summary: np.ndarray
+) -> tuple[int, int]:
+    """A run whose controller is a Python ``Controller`` (``control.mpc``, designed on
+    ``design_params`` when given), flown by ``simulate``'s loop; ``summary`` receives the
+    engine's on-line metrics of it (``engine.SUMMARY_FIELDS``, from the recorded samples at
+    or after ``metrics_start``). Returns (status, samples done)."""
+    from ..control.mpc import mpc_controller
+    from .closed_loop import simulate
+
+    result = simulate(scenario, controller=mpc_controller(scenario, setup, design_params))
+    summary[:] = 0.0
+    k0 = min(scenario.metrics_first_sample, result.time.size)
+    dev = result.outputs[k0:, :3] - result.trim_output[:3]
+    att = np.abs(result.states[k0:, :2] - result.trim_state[:2])
+    summary[_I["tension_min"]] = np.min(result.tension[k0:], initial=np.inf)
+    summary[_I["tension_max"]] = np.max(result.tension[k0:], initial=-np.inf)
+    for a in range(3):
+        summary[_I[f"peak_q{a + 1}"]] = np.max(np.abs(dev[:, a]), initial=0.0)
+        summary[_I[f"sumsq_q{a + 1}"]] = np.sum(dev[:, a] ** 2)
+    summary[_I["peak_q4"]] = np.max(att[:, 0], initial=0.0)
+    summary[_I["peak_q5"]] = np.max(att[:, 1], initial=0.0)
+    summary[_I["n_samples"]] = dev.shape[0]
+    release = (result.release_time, result.release_tension)
+    summary[_I["release_time"]] = math.nan if release[0] is None else release[0]
+    summary[_I["release_tension"]] = math.nan if release[1] is None else release[1]
+    return result.status, result.time.size
+
+
 def connect(address: str, timeout_s: float = 10.0) -> Any:
     """A ``dask.distributed.Client`` of the scheduler at ``address`` (e.g. "tcp://host:8786").
 
@@ -529,13 +558,25 @@ def run_batch(
             return None
 
     def run_one(i: int) -> None:
+        if scenarios[i].control.controller == "mpc":
+            return run_python(i)
         setup = set_up(i)
         if setup is not None:
             st, k = run_unrecorded(setup.engine_args(scenarios[i].n_samples), summaries[i])
             status[i] = st
             done[i] = k
 
+    def run_python(i: int) -> None:
+        """A run of a Python controller (the MPC): ``simulate``'s loop, then its summary."""
+        setup = set_up(i)
+        if setup is not None:
+            status[i], done[i] = _python_run(scenarios[i], setup, design_params, summaries[i])
+
     def run_lane_block(block: list[int]) -> None:
+        if scenarios[block[0]].control.controller == "mpc":
+            for i in block:
+                run_python(i)
+            return
         ready = [(i, s) for i in block if (s := set_up(i)) is not None]
         if not ready:
             return

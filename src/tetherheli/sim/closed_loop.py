@@ -18,6 +18,7 @@ import numpy as np
 
 from .._version import __version__
 from ..control.base import Controller, Measurement
+from ..control.mpc import mpc_controller
 from ..errors import ParameterError
 from ..layout import (
     CFG_ATTACHED,
@@ -35,6 +36,7 @@ from ..layout import (
 )
 from ..model import TrimPoint
 from ..model.kernels import angle_trig, angle_trig_from, tethered_outputs
+from ..params import Params
 from ..resources import check_memory
 from ..sensors import N_CHANNELS, N_GROUPS
 from ..status import Status
@@ -109,6 +111,7 @@ def simulate(
     controller: Controller | None = None,
     rtol: float = 1e-10,
     atol: float = 1e-12,
+    design_params: Params | None = None,
 ) -> SimulationResult:
     """Simulate a scenario in closed loop.
 
@@ -123,6 +126,9 @@ def simulate(
         feed-forward and PI winch).
     rtol, atol : float, optional
         Tolerances of the adaptive method.
+    design_params : Params, optional
+        Parameters the controller is designed on (default: the scenario's own), as
+        ``run_batch``'s: the plant and its trim keep the scenario's (a robustness run).
 
     Returns
     -------
@@ -135,12 +141,14 @@ def simulate(
     if method not in ("rk4", "adaptive"):
         raise ParameterError("method", method, "'rk4' or 'adaptive'")
     check_run_memory(scenario)
-    setup = engine_setup(scenario)
+    setup = engine_setup(scenario, design_params)
     trim, wind, noise = setup.trim, setup.wind, setup.noise
     n = scenario.n_samples
-    paper = controller is None
-    if paper:
-        controller = setup.paper_controller()
+    paper = controller is None and scenario.control.controller != "mpc"
+    if controller is None:  # the MPC is a Python controller (control.mpc)
+        controller = (
+            setup.paper_controller() if paper else mpc_controller(scenario, setup, design_params)
+        )
     rec = _Recorder(n, drum=scenario.winch.model == "drum")
     if scenario.tether.lumped:
         if not (method == "rk4" and wind is not None):
@@ -156,7 +164,10 @@ def simulate(
         rec.release[:] = rec.summary[SUMMARY_RELEASE_TIME : SUMMARY_RELEASE_TIME + 2]
     else:
         status, done = _python_loop(scenario, setup, controller, method, rec, rtol=rtol, atol=atol)
-    return rec.result(done, status, scenario, trim, method, sensed=noise.shape[0] > 0)
+    return rec.result(
+        done, status, scenario, trim, method, sensed=noise.shape[0] > 0,
+        columns=controller.recorded(),  # e.g. the MPC's fallbacks
+    )  # fmt: skip
 
 
 class _Recorder:
@@ -194,9 +205,10 @@ class _Recorder:
         method: str,
         *,
         sensed: bool = False,
+        columns: dict[str, np.ndarray] | None = None,
     ) -> SimulationResult:
         k = done
-        extra = {}
+        extra = {name: v[:k].copy() for name, v in (columns or {}).items()}
         if sensed:  # the controller's position estimate next to the truth
             for i, name in enumerate(("q1_est", "q2_est", "q3_est")):
                 extra[name] = self.y_est[:k, i].copy()

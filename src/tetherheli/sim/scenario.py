@@ -13,12 +13,14 @@ A scenario file::
     feedforward = true                # eq 55
     Qy = [1, 1, 1, 1, 10, 10, 10, 10] # eq 53 weights (paper)
     Ru = [1, 1, 1, 1]
-    controller = "paper"              # or "tether_lqi" (control.tether_lqi)
+    controller = "paper"              # or "tether_lqi" (control.tether_lqi), "mpc" (control.mpc)
     [control.tether_lqi]              # the tethered LQI's weights (TetherLQISettings)
     Qy = [...]                        # q1, q2, q3, q6 and their integrators
     q_tension = 0.0                   # [1/N^2] on the tension deviation
     Ru = [...]                        # fMR3, tMR1, tMR2, fTR2, reel rate
     anti_windup = true
+    [control.mpc]                     # the MPC's settings (MPCSettings)
+    horizon = 10                      # samples
     [winch]                           # the ground winch (WinchSettings)
     model = "ideal"                   # or "drum": drum inertia, speed loop, torque limit
     [limits]
@@ -66,6 +68,7 @@ __all__ = [
     "ActuatorSettings",
     "ControlSettings",
     "Limits",
+    "MPCSettings",
     "Scenario",
     "TetherLQISettings",
     "TetherSettings",
@@ -106,9 +109,10 @@ def field_key(cls: type, name: str) -> Key:
     return cls.__dataclass_fields__[name].metadata["key"]
 
 
-#: The controllers ``[control] controller`` selects: the paper's scheme (Sec. V) and the LQI
-#: on the tethered linearization with the reel rate as a fifth input (``control.tether_lqi``).
-CONTROLLERS: tuple[str, ...] = ("paper", "tether_lqi")
+#: The controllers ``[control] controller`` selects: the paper's scheme (Sec. V), the LQI
+#: on the tethered linearization with the reel rate as a fifth input (``control.tether_lqi``)
+#: and the constrained MPC on the same model (``control.mpc``).
+CONTROLLERS: tuple[str, ...] = ("paper", "tether_lqi", "mpc")
 
 
 @dataclass(frozen=True)
@@ -117,7 +121,7 @@ class TetherLQISettings:
 
     Parameters
     ----------
-    Qy, q_tension, Ru, anti_windup
+    Qy, q_tension, Ru, anti_windup, q9_from_tension
         The keys of a scenario's ``[control.tether_lqi]`` table; each field's ``Key`` gives
         its meaning, unit, default and allowed range. Defaults: the weights
         ``python benchmarks/tune_tether_lqi.py --evaluations 700`` found (see its header: the
@@ -143,6 +147,70 @@ class TetherLQISettings:
         Key("the integrators hold while a rotor command is outside its actuator limits",
             kind="bool"),
     )  # fmt: skip
+    q9_from_tension: bool = _key(
+        True,
+        Key("with imperfect [sensors], the law's tether length is LN + TC / KC (drum encoder, "
+            "load cell, design KC; eq 28) while taut, not the position source's",
+            kind="bool"),
+    )  # fmt: skip
+
+
+@dataclass(frozen=True)
+class MPCSettings:
+    """Settings of the constrained linear MPC (``[control.mpc]``, ``control.mpc``).
+
+    Parameters
+    ----------
+    horizon, Qy, q_tension, Ru, tension_bounds, slack_weight, disturbance_time_constant,
+    max_iterations, tolerance
+        The keys of a scenario's ``[control.mpc]`` table; each field's ``Key`` gives its
+        meaning, unit, default and allowed range. The weights are those of the tethered LQI
+        (its cost, with the DARE of the same weights as terminal cost); defaults from
+        ``python benchmarks/bench_mpc.py --tune`` (see its header). The rotor-input and winch
+        bounds come from ``[actuators]``.
+    """
+
+    horizon: int = _key(
+        10, Key("prediction and control horizon", "samples", kind="integer", low=1, high=400)
+    )
+    Qy: tuple[float, ...] = _key(
+        TetherLQISettings().Qy,
+        Key("diagonal of the output weight on [q1, q2, q3, q6] and their integrators",
+            kind="vector", length=8, low=0.0),
+    )  # fmt: skip
+    q_tension: float = _key(
+        TetherLQISettings().q_tension,
+        Key("weight on the tension deviation (not integrated)", "1/N^2", low=0.0),
+    )  # fmt: skip
+    Ru: tuple[float, ...] = _key(
+        TetherLQISettings().Ru,
+        Key("diagonal of the input weight on [fMR3, tMR1, tMR2, fTR2, reel rate]",
+            kind="vector", length=5, low=0.0, low_open=True),
+    )  # fmt: skip
+    tension_bounds: tuple[float, float] = _key(
+        (12.5, 37.5),
+        Key("soft bounds on the predicted tether tension (Tref/2, 1.5 Tref at the paper's "
+            "Tref)", "N", kind="vector", length=2, low=0.0, finite=False,
+            note="lower below upper"),
+    )  # fmt: skip
+    slack_weight: float = _key(
+        100.0,
+        Key("penalty on the tension bounds' slack s, per sample: w (s + s^2)", "1/N^2",
+            low=0.0, low_open=True),
+    )  # fmt: skip
+    disturbance_time_constant: float = _key(
+        0.1,
+        Key("time constant of the estimate of the wind force on HO (an input disturbance "
+            "of the model; 0: no estimate, integral action only)", "s", low=0.0),
+    )  # fmt: skip
+    max_iterations: int = _key(
+        200,
+        Key("OSQP's iteration limit per sample (beyond it the previous plan is flown)",
+            kind="integer", low=1, high=1_000_000),
+    )  # fmt: skip
+    tolerance: float = _key(
+        1e-4, Key("OSQP's absolute and relative tolerance", low=0.0, low_open=True, high=1.0)
+    )
 
 
 @dataclass(frozen=True)
@@ -151,10 +219,11 @@ class ControlSettings:
 
     Parameters
     ----------
-    dt, substeps, feedforward, Qy, Ru, controller, tether_lqi
+    dt, substeps, feedforward, Qy, Ru, controller, tether_lqi, mpc
         The keys of a scenario's ``[control]`` table: ``controller`` one of ``CONTROLLERS``;
         Qy, Ru and feedforward are the paper controller's, ``tether_lqi`` the tethered LQI's
-        (which flies without the feed-forward: its plant model contains the tether).
+        and ``mpc`` the MPC's (both fly without the feed-forward: their plant model contains
+        the tether).
         Each field's ``Key`` gives its meaning, unit, default and allowed range (printed
         in the scenario TOML reference, ``docs/scenario_reference.md``).
     """
@@ -182,11 +251,12 @@ class ControlSettings:
     )  # fmt: skip
     controller: str = _key(
         "paper",
-        Key("the controller flown: the paper's (Sec. V) or the LQI on the tethered "
-            "linearization with the reel rate as a fifth input", kind="text",
-            choices=CONTROLLERS),
+        Key("the controller flown: the paper's (Sec. V), the LQI on the tethered "
+            "linearization with the reel rate as a fifth input, or the constrained MPC on "
+            "that model", kind="text", choices=CONTROLLERS),
     )  # fmt: skip
     tether_lqi: TetherLQISettings = field(default_factory=TetherLQISettings)
+    mpc: MPCSettings = field(default_factory=MPCSettings)
 
 
 @dataclass(frozen=True)
@@ -664,7 +734,13 @@ def _validate(s: Scenario, source: str | None) -> None:
             source=source,
         )
     tether_lqi = _checked(TetherLQISettings, "control.tether_lqi", c.tether_lqi, source)
-    control = _checked(ControlSettings, "control", c, source, dt=dt, tether_lqi=tether_lqi)
+    mpc = _checked(MPCSettings, "control.mpc", c.mpc, source)
+    if not mpc.tension_bounds[0] < mpc.tension_bounds[1]:
+        raise ParameterError(
+            "control.mpc.tension_bounds", list(c.mpc.tension_bounds), "[lower, upper] with "
+            "lower < upper [N]", source=source,
+        )  # fmt: skip
+    control = _checked(ControlSettings, "control", c, source, dt=dt, tether_lqi=tether_lqi, mpc=mpc)
     lim = _checked(Limits, "limits", s.limits, source)
     a = s.actuators
     actuators = _checked(ActuatorSettings, "actuators", a, source)
@@ -809,6 +885,8 @@ def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Sc
         if "tether_lqi" in ctl:
             tl = _vectors(source, "control.tether_lqi", ctl["tether_lqi"], TetherLQISettings)
             ctl["tether_lqi"] = TetherLQISettings(**tl)
+        if "mpc" in ctl:
+            ctl["mpc"] = MPCSettings(**_vectors(source, "control.mpc", ctl["mpc"], MPCSettings))
         if "dt" in ctl:
             ctl["dt"] = field_key(ControlSettings, "dt").check(
                 "control.dt", ctl["dt"], source=source

@@ -60,6 +60,7 @@ from ..layout import (
     CTRL_REEL_RATE_LIMIT,
     CTRL_SIZE,
     CTRL_T_REF,
+    CTRL_TENSION_K_C,
     CTRL_U_MAX,
     CTRL_U_MIN,
     CTRL_WINCH,
@@ -208,6 +209,9 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
     ctrl[CTRL_DT] = c.dt
     ctrl[CTRL_FFWD] = float(tethered and c.feedforward and not lqi_on_tether)
     ctrl[CTRL_ANTI_WINDUP] = float(lqi_on_tether and c.tether_lqi.anti_windup)
+    if lqi_on_tether and tethered and c.tether_lqi.q9_from_tension:
+        # q9 from the load cell (``control.paper.tension_q9``) unless the sensors are perfect
+        ctrl[CTRL_TENSION_K_C] = 0.0 if scenario.sensors.is_perfect else design.tether.K_C
     ctrl[CTRL_U_MIN : CTRL_U_MIN + 4] = -math.inf
     ctrl[CTRL_U_MAX : CTRL_U_MAX + 4] = math.inf
     ctrl[CTRL_WINCH] = float(tethered)

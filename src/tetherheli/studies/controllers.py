@@ -130,7 +130,7 @@ def controller_metrics(result, u_trim: np.ndarray, cyclic_limit: float | None) -
     return out
 
 
-def fly(scenario: Scenario) -> tuple[Any, dict[str, Any]]:
+def fly(scenario: Scenario, design_params: Any = None) -> tuple[Any, dict[str, Any]]:
     """Simulate ``scenario`` (compiled engine) and measure it (``controller_metrics``, with the
     wall-clock time of ``simulate`` per control sample [us], its set-up and recording
     included: an upper bound of the controller's cost).
@@ -139,6 +139,8 @@ def fly(scenario: Scenario) -> tuple[Any, dict[str, Any]]:
     ----------
     scenario : Scenario
         The scenario to simulate.
+    design_params : Params, optional
+        Parameters the controller is designed on (default: the scenario's own).
 
     Returns
     -------
@@ -150,9 +152,9 @@ def fly(scenario: Scenario) -> tuple[Any, dict[str, Any]]:
     from ..sim import simulate
     from ..sim.setup import engine_setup
 
-    setup = engine_setup(scenario)
+    setup = engine_setup(scenario, design_params)
     t0 = time.perf_counter()
-    result = simulate(scenario)
+    result = simulate(scenario, design_params=design_params)
     elapsed = time.perf_counter() - t0
     metrics = controller_metrics(result, setup.trim.u_total, scenario_cyclic_limit(scenario))
     metrics["compute_us_per_sample"] = 1e6 * elapsed / max(1, result.time.size)

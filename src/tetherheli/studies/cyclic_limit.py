@@ -209,6 +209,7 @@ def minimum_cyclic_limit(
     tol: float = 1e-3,
     progress: bool = False,
     workers: int | None = None,
+    controller: str | None = None,
 ) -> LimitSearch:
     """The smallest symmetric cyclic limit tmax_MR1,2 [N m] (eq 40) with which ``scenario``
     completes and its ``metric`` (``sweep.METRICS``) stays within (1 + ``within``) times the
@@ -233,12 +234,19 @@ def minimum_cyclic_limit(
         Show progress on stderr (default False).
     workers : int, optional
         Threads of the batches (default all CPUs).
+    controller : str, optional
+        Fly every run (the reference included) under this controller
+        (``controllers.with_controller``); default: the scenario's own.
 
     Returns
     -------
     LimitSearch
         The interval and every run made.
     """
+    if controller is not None:
+        from .controllers import with_controller
+
+        scenario = with_controller(scenario, controller)
     with Progress("sweep --find-min", 1, "runs", enabled=progress) as bar:
         return _search(scenario, grid, within, metric, tol, bar, workers)
 

@@ -1,0 +1,638 @@
+"""A constrained linear MPC on the tethered model, offset-free, solved by OSQP every sample.
+
+Plant. The tethered linearization at Table V's trim (``tether_lqi.tethered_design``: 13
+states q4..q9, u1..u6, LN; inputs u = [fMR3, tMR1, tMR2, fTR2, RC]; the tension row
+dTC = KC (dq9 - dLN) of eq 28), ZOH-discretised (eq 46), with the wind force on HO as an
+input disturbance d (3,) [N] (``LinearModel.E_wind``):
+
+    x_{k+1} = G x_k + H u_k + H_d d_k,    d_{k+1} = d_k.
+
+On the free configuration the same on the free linearization (12 states, 4 inputs, no
+tension). The paper's integrators (eq 50), z_{k+1} = z_k + dt (r - y_k), augment the state
+as in ``lqi.augment_lqi``: xi = [x; z].
+
+Offset-free. Two routes together: (1) the integral action of eq 50 (a closed loop that
+settles has z constant, hence y = r whatever the model error); (2) an estimate of d, a
+Luenberger observer of the augmented model that uses the measured state: the one-step
+residual of the model gives a least-squares reading of d, d_raw = H_d^+ (x_k - G x_{k-1} -
+H u_{k-1}), and d_hat follows it with the time constant ``disturbance_time_constant``
+(gain 1 - exp(-dt / tau)). The estimate enters as a steady-state target (x_s, u_s):
+(I - G) x_s - H u_s = H_d d_hat, C x_s = 0, with the least u_s' Ru u_s + q_T (c_T' x_s)^2
+(the tension, the spare degree of freedom of five inputs and four outputs, priced as in the
+cost); the MPC then regulates dxi = [x - x_s; z], du = u - u_s, whose dynamics are exactly the
+LQI's augmented ones (G_LQI, H_LQI).
+
+Cost (the tethered LQI's, ``tether_lqi.design_tether_lqi``), over the horizon N:
+
+    J = sum_{j<N} (dxi_j' Qx dxi_j + du_j' Ru du_j) + dxi_N' P dxi_N + w sum_j (s_j + s_j^2),
+
+Qx = C_LQI' Qy C_LQI + q_T c_T c_T', P the DARE's solution of the same weights, so the
+unconstrained MPC equals the infinite-horizon LQ law (the tethered LQI's gain).
+
+Constraints: rotor inputs within ``[actuators] u_min, u_max`` (with ``--eq40``, eq 40's cyclic
+limit), |RC| <= ``reel_rate_limit``, |RC_j - RC_{j-1}| <= ``reel_acceleration_limit`` dt
+(the first against the rate applied at the previous sample), and the predicted tension
+T_j = T_ref + c_T' x_j, j = 1..N, within ``tension_bounds`` softened by slacks s_j >= 0.
+
+Formulation: condensed. The states are eliminated (xi_j = Phi_j xi_0 + Gamma_j U), leaving
+N m inputs and N slacks: with the default N = 10 that is 60 variables against 230 for the
+sparse form, a dense Hessian of 50 x 50 (condition number about 2.3) that OSQP factorises
+once. The Hessian and the constraint matrix do not depend on the sample, so OSQP is set up
+once per run and each sample only updates q, l, u (``OSQP.update``) and warm-starts from the
+previous plan, shifted. The horizon is short (0.1 s at dt = 10 ms) so the condensed
+prediction of the open-loop unstable hover stays well conditioned; a longer one also costs
+more per OSQP iteration (the dense block grows as N^2) and, on the paper's runs, did not fly
+better (N = 20 against N = 10: see ``benchmarks/bench_mpc.py``). OSQP's adaptive step is
+updated every 25 iterations (not by time), so a run gives the same numbers every time.
+
+If OSQP fails or reaches its iteration limit the controller flies the previous plan's next
+move (or, at the first sample, the LQ law), clipped to the bounds, and counts it
+(``MPCController.recorded``: the ``mpc_fallback`` column of the result). After a tether
+release it flies the paper's free law (``tether_lqi`` does the same).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+import osqp
+from scipy import sparse
+from scipy.linalg import solve_discrete_are
+
+from .._linalg import check_dt, discretize_zoh
+from ..errors import TetherheliError
+from ..model.kernels import tethered_outputs
+from .base import Command, Controller, Measurement
+from .lqi import _check_pd, _check_psd, augment_lqi
+
+__all__ = [
+    "MPCController",
+    "MPCDesign",
+    "design_mpc",
+    "mpc_controller",
+    "mpc_plant",
+]
+
+#: OSQP's adaptive step size is updated every this many iterations (a fixed count: OSQP's
+#: default sets it from the measured set-up time, which makes runs differ)
+ADAPTIVE_RHO_INTERVAL = 25
+
+
+@dataclass(frozen=True, eq=False)
+class MPCDesign:
+    """The MPC's condensed prediction and cost (``design_mpc``).
+
+    Parameters
+    ----------
+    G_aug, H_aug : ndarray, shapes (na, na), (na, m)
+        The LQI-augmented plant (eqs 51-53), na = n + 4.
+    Qx, Ru, P : ndarray
+        Stage weights on xi (na, na) and u (m, m), terminal weight (na, na).
+    K : ndarray, shape (m, na)
+        The unconstrained first move's gain, du_0 = -K dxi_0 (the LQ law when P is the DARE's).
+    Sx, Su : ndarray, shapes (N na, na), (N na, N m)
+        Predictions xi_1..xi_N = Sx xi_0 + Su U.
+    hessian, linear : ndarray, shapes (N m, N m), (N m, na)
+        J = U' hessian U + 2 xi_0' linear' U + const.
+    c_aug : ndarray, shape (na,), or None
+        The tension deviation's row on xi [N per unit] (None: free configuration).
+    Hd : ndarray, shape (n, 3)
+        The wind force's discrete input matrix.
+    target : ndarray, shape (n + m, 3)
+        (x_s, u_s) = target d for a disturbance d [N].
+    """
+
+    G_aug: np.ndarray
+    H_aug: np.ndarray
+    Qx: np.ndarray
+    Ru: np.ndarray
+    P: np.ndarray
+    K: np.ndarray
+    Sx: np.ndarray
+    Su: np.ndarray
+    hessian: np.ndarray
+    linear: np.ndarray
+    c_aug: np.ndarray | None
+    Hd: np.ndarray
+    target: np.ndarray
+
+    @property
+    def horizon(self) -> int:
+        """N, samples."""
+        return self.Su.shape[1] // self.Ru.shape[0]
+
+    @property
+    def n_inputs(self) -> int:
+        """m: 5 tethered (rotor inputs and reel rate), 4 free."""
+        return self.Ru.shape[0]
+
+    @property
+    def n_states(self) -> int:
+        """n: the plant's states (13 tethered, 12 free), without the integrators."""
+        return self.G_aug.shape[0] - 4
+
+
+def design_mpc(
+    G: np.ndarray,
+    H: np.ndarray,
+    C: np.ndarray,
+    Hd: np.ndarray,
+    dt: float,
+    *,
+    Qy: np.ndarray,
+    Ru: np.ndarray,
+    horizon: int,
+    c_tension: np.ndarray | None = None,
+    q_tension: float = 0.0,
+    terminal: np.ndarray | None = None,
+) -> MPCDesign:
+    """The condensed MPC of the module docstring on the discrete plant (G, H, C).
+
+    Parameters
+    ----------
+    G, H, C : ndarray, shapes (n, n), (n, m), (4, n)
+        Discrete plant and the integrated outputs (eqs 46, 50).
+    Hd : ndarray, shape (n, 3)
+        Discrete input matrix of the wind force on HO [per N].
+    dt : float
+        Sample time [s].
+    Qy : ndarray, shape (8, 8)
+        Weight on [y; z] (eq 47).
+    Ru : ndarray, shape (m, m)
+        Input weight, positive definite.
+    horizon : int
+        N >= 1 samples.
+    c_tension : ndarray, shape (n,), optional
+        The tension deviation's row (tethered; None: free).
+    q_tension : float, optional
+        Weight on the tension deviation [1/N^2].
+    terminal : ndarray, shape (n + 4, n + 4), optional
+        Terminal weight; default the DARE's solution of the same weights (infinite horizon).
+
+    Returns
+    -------
+    MPCDesign
+    """
+    dt = check_dt(dt)
+    G_a, H_a, C_a = augment_lqi(G, H, C, dt)
+    _check_psd("Qy", Qy)
+    _check_pd("Ru", Ru)
+    if not (isinstance(horizon, int) and horizon >= 1):
+        raise TetherheliError(f"horizon = {horizon!r}; allowed: an integer >= 1 [samples]")
+    n, m = H.shape
+    na = n + 4
+    c_aug = None
+    Qx = C_a.T @ Qy @ C_a
+    if c_tension is not None:
+        c_aug = np.zeros(na)
+        c_aug[:n] = c_tension
+        Qx = Qx + q_tension * np.outer(c_aug, c_aug)
+    if terminal is None:
+        try:
+            P = solve_discrete_are(G_a, H_a, Qx, Ru)
+        except (np.linalg.LinAlgError, ValueError) as exc:
+            raise TetherheliError(
+                f"no stabilising solution of the MPC's terminal DARE: {exc}"
+            ) from None
+        P = 0.5 * (P + P.T)
+    else:
+        P = np.asarray(terminal, dtype=float)
+        _check_psd("terminal", P)
+    N = horizon
+    Sx = np.zeros((N * na, na))
+    Su = np.zeros((N * na, N * m))
+    power = np.eye(na)
+    for j in range(N):  # xi_{j+1} = G_a xi_j + H_a u_j
+        power = G_a @ power
+        Sx[j * na : (j + 1) * na] = power
+        if j == 0:
+            Su[:na, :m] = H_a
+        else:
+            Su[j * na : (j + 1) * na] = G_a @ Su[(j - 1) * na : j * na]
+            Su[j * na : (j + 1) * na, j * m : (j + 1) * m] = H_a
+    Qbar = sparse.block_diag([Qx] * (N - 1) + [P]).toarray()
+    hessian = Su.T @ Qbar @ Su + np.kron(np.eye(N), Ru)
+    hessian = 0.5 * (hessian + hessian.T)
+    linear = Su.T @ Qbar @ Sx
+    K = np.linalg.solve(hessian, linear)[:m]
+    target = _target_map(G, H, C, Hd, Ru, c_tension, q_tension)
+    return MPCDesign(G_a, H_a, Qx, Ru, P, K, Sx, Su, hessian, linear, c_aug, Hd, target)
+
+
+def _target_map(G, H, C, Hd, Ru, c_tension, q_tension):
+    """(n + m, 3): the steady state and input (x_s, u_s) of a constant disturbance d with the
+    outputs at their references, least u_s' Ru u_s + q_T (c_T' x_s)^2: the KKT system of
+    min 1/2 v' W v s.t. E v = b, v = (x_s, u_s), E = [[I - G, -H], [C, 0]], b = [Hd d; 0]."""
+    n, m = H.shape
+    W = np.zeros((n + m, n + m))
+    W[n:, n:] = Ru
+    if c_tension is not None:
+        W[:n, :n] = q_tension * np.outer(c_tension, c_tension)
+    E = np.block([[np.eye(n) - G, -H], [C, np.zeros((C.shape[0], m))]])
+    kkt = np.block([[W, E.T], [E, np.zeros((E.shape[0], E.shape[0]))]])
+    rhs = np.zeros((kkt.shape[0], Hd.shape[1]))
+    rhs[n + m : n + m + n] = Hd
+    try:
+        sol = np.linalg.solve(kkt, rhs)
+    except np.linalg.LinAlgError:
+        raise TetherheliError("the MPC's steady-state target has no unique solution") from None
+    return sol[: n + m]
+
+
+def mpc_plant(params, configuration: str, T_ref: float, q9: float, dt: float) -> tuple:
+    """The MPC's design plant: (G, H, C, Hd, c_tension) at the hover trim, ZOH at dt [s].
+
+    Parameters
+    ----------
+    params : Params
+        Model parameters.
+    configuration : {"tethered", "free"}
+        Tethered: ``tether_lqi.tethered_design`` (13 states, 5 inputs, tension row); free:
+        the linearization at TC = 0 on q4..u6 (12 states, 4 inputs; c_tension None).
+    T_ref : float
+        Trim tension [N] (tethered).
+    q9 : float
+        Tether length at trim [m].
+    dt : float
+        Sample time [s].
+
+    Returns
+    -------
+    tuple
+        G (n, n), H (n, m), C (4, n), Hd (n, 3) [per N], c_tension (n,) or None.
+    """
+    return _mpc_plant(params, configuration, float(T_ref), float(q9), float(dt))
+
+
+@lru_cache(maxsize=16)
+def _mpc_plant(params, configuration, T_ref, q9, dt):
+    from ..model import TetheredHelicopter
+    from ..model.linearize import linearize
+    from ..names import TETHERED_STATE, WIND
+    from .tether_lqi import tethered_design
+
+    model = TetheredHelicopter(params)
+    if configuration == "tethered":
+        G, H, C, c_t = tethered_design(params, T_ref, q9, dt)
+        lin = linearize(model, model.trim(T_ref, q9))
+    else:
+        lin = linearize(model, model.trim(0.0, q9)).select(TETHERED_STATE[:12])
+        G, H = lin.discretize(dt)
+        C, c_t = lin.C, None
+    Hd = discretize_zoh(lin.A, lin.input_matrix(WIND), dt)[1]
+    return G, H, C, Hd, c_t
+
+
+@lru_cache(maxsize=16)
+def _cached_design(params, configuration, T_ref, q9, dt, Qy, Ru, q_tension, horizon):
+    G, H, C, Hd, c_t = mpc_plant(params, configuration, T_ref, q9, dt)
+    m = H.shape[1]
+    return design_mpc(
+        G, H, C, Hd, dt, Qy=np.diag(Qy), Ru=np.diag(Ru[:m]), horizon=horizon,
+        c_tension=c_t, q_tension=q_tension,
+    )  # fmt: skip
+
+
+class MPCController(Controller):
+    """The MPC of the module docstring as a ``Controller`` (flown by ``simulate``'s Python
+    loop); build it with ``mpc_controller``.
+
+    Parameters
+    ----------
+    design : MPCDesign
+        Prediction and cost.
+    x_ref : ndarray, shape (13,)
+        The windless trim's state (references; LN too when tethered).
+    y_ref : ndarray, shape (4,)
+        The trim's outputs [q1, q2, q3 in m, q6 in rad].
+    u_trim : ndarray, shape (4,)
+        The trim's total rotor input [N, N m, N m, N].
+    constants : ndarray
+        The model constants of ``kernels.tethered_outputs``.
+    dt : float
+        Sample time [s].
+    u_min, u_max : ndarray, shape (4,)
+        Rotor-input bounds [N, N m, N m, N] (+-inf: none).
+    reel_rate_limit, reel_acceleration_limit : float
+        Winch bounds [m/s], [m/s^2] (inf: none).
+    tension_ref : float
+        Trim tension [N].
+    tension_bounds : tuple of 2 floats
+        Soft bounds on the predicted tension [N].
+    slack_weight : float
+        w of the slack penalty w (s + s^2).
+    disturbance_time_constant : float
+        Of the disturbance estimate [s] (0: none).
+    max_iterations : int
+        OSQP's iteration limit.
+    tolerance : float
+        OSQP's absolute and relative tolerance.
+    free_gain : ndarray, shape (4, 16)
+        The paper's free law flown after a release (``sim.setup.paper_gain``).
+    free_trim_input : ndarray, shape (4,)
+        u0|F [N, N m, N m, N].
+    d_init : ndarray, shape (3,), optional
+        The disturbance estimate at the start [N] (the wind of the start trim).
+    """
+
+    def __init__(
+        self,
+        design: MPCDesign,
+        *,
+        x_ref: np.ndarray,
+        y_ref: np.ndarray,
+        u_trim: np.ndarray,
+        constants: np.ndarray,
+        dt: float,
+        u_min: np.ndarray,
+        u_max: np.ndarray,
+        reel_rate_limit: float = math.inf,
+        reel_acceleration_limit: float = math.inf,
+        tension_ref: float = 0.0,
+        tension_bounds: tuple[float, float] = (-math.inf, math.inf),
+        slack_weight: float = 100.0,
+        disturbance_time_constant: float = 0.0,
+        max_iterations: int = 400,
+        tolerance: float = 1e-5,
+        free_gain: np.ndarray | None = None,
+        free_trim_input: np.ndarray | None = None,
+        d_init: np.ndarray | None = None,
+    ) -> None:
+        self.design = design
+        n, m, N = design.n_states, design.n_inputs, design.horizon
+        self.tethered = design.c_aug is not None
+        self.x_ref = np.array(x_ref[:n], dtype=float)
+        self.y_ref = np.array(y_ref, dtype=float)
+        self.c = np.ascontiguousarray(constants, dtype=float)
+        self.dt = float(dt)
+        # input bounds as deviations from the trim (the reel's trim rate is 0)
+        lo = np.full(m, -math.inf)
+        hi = np.full(m, math.inf)
+        lo[:4] = np.asarray(u_min, dtype=float) - u_trim
+        hi[:4] = np.asarray(u_max, dtype=float) - u_trim
+        if m == 5:
+            lo[4], hi[4] = -reel_rate_limit, reel_rate_limit
+        self.u_trim = np.array(u_trim, dtype=float)
+        self.du_min, self.du_max = lo, hi
+        self.reel_step = reel_acceleration_limit * self.dt if m == 5 else math.inf
+        self.tension_ref = float(tension_ref)
+        self.tension_bounds = tuple(float(b) for b in tension_bounds)
+        self.slack_weight = float(slack_weight)
+        tau = float(disturbance_time_constant)
+        self.alpha = 0.0 if tau <= 0.0 else 1.0 - math.exp(-self.dt / tau)
+        self.Hd_pinv = np.linalg.pinv(design.Hd)
+        self.free_gain = None if free_gain is None else np.asarray(free_gain, dtype=float)
+        self.u0_free = None if free_trim_input is None else np.asarray(free_trim_input, float)
+        self.d_init = np.zeros(3) if d_init is None or self.alpha == 0.0 else np.array(d_init)
+        self.n, self.m, self.N = n, m, N
+        self.soft = self.tethered and any(math.isfinite(b) for b in self.tension_bounds)
+        self.reel_rows = m == 5 and math.isfinite(self.reel_step)
+        self._build_qp(max_iterations, tolerance)
+        self.reset()
+
+    # --- the QP, set up once ----------------------------------------------------------------
+
+    def _build_qp(self, max_iterations: int, tolerance: float) -> None:
+        d, m, N = self.design, self.m, self.N
+        nu = N * m
+        ns = N if self.soft else 0
+        self.n_var = nu + ns
+        blocks = [sparse.hstack([sparse.eye(nu), sparse.csc_matrix((nu, ns))])]
+        if self.reel_rows:  # RC_j - RC_{j-1}, j = 0..N-1 (RC_{-1}: the applied rate, in l, u)
+            D = np.zeros((N, nu))
+            for j in range(N):
+                D[j, j * m + 4] = 1.0
+                if j > 0:
+                    D[j, (j - 1) * m + 4] = -1.0
+            blocks.append(sparse.hstack([sparse.csc_matrix(D), sparse.csc_matrix((N, ns))]))
+        if self.soft:
+            na = d.G_aug.shape[0]
+            Ct = np.kron(np.eye(N), d.c_aug.reshape(1, na))  # (N, N na)
+            self.tension_x = Ct @ d.Sx  # (N, na): the tensions' response to xi_0
+            Tu = Ct @ d.Su  # (N, nu)
+            eye = np.eye(N)
+            blocks.append(sparse.csc_matrix(np.hstack([Tu, -eye])))  # <= upper + s
+            blocks.append(sparse.csc_matrix(np.hstack([Tu, eye])))  # >= lower - s
+            blocks.append(sparse.hstack([sparse.csc_matrix((N, nu)), sparse.eye(N)]))  # s >= 0
+        self.A = sparse.vstack(blocks, format="csc")
+        Pq = np.zeros((self.n_var, self.n_var))
+        Pq[:nu, :nu] = 2.0 * d.hessian
+        if self.soft:
+            Pq[nu:, nu:] = 2.0 * self.slack_weight * np.eye(N)
+        self.P_qp = sparse.csc_matrix(Pq)
+        self._q = np.zeros(self.n_var)
+        if self.soft:
+            self._q[nu:] = self.slack_weight
+        rows = self.A.shape[0]
+        self._l = np.full(rows, -np.inf)
+        self._u = np.full(rows, np.inf)
+        self.max_iterations = int(max_iterations)
+        self.tolerance = float(tolerance)
+        self._solver = osqp.OSQP()
+        self._solver.setup(
+            sparse.triu(self.P_qp, format="csc"), self._q, self.A, self._l, self._u,
+            eps_abs=self.tolerance, eps_rel=self.tolerance, max_iter=self.max_iterations,
+            warm_starting=True, polishing=False, verbose=False,
+            adaptive_rho_interval=ADAPTIVE_RHO_INTERVAL,
+        )  # fmt: skip
+
+    def qp_data(self) -> tuple:
+        """The last QP posed, (P, q, A, l, u) as OSQP took them (P full, not triangular), for
+        checks of its solution (KKT conditions).
+
+        Returns
+        -------
+        tuple
+            P (n_var, n_var) sparse, q (n_var,), A (rows, n_var) sparse, l (rows,), u (rows,).
+        """
+        return self.P_qp, self._q.copy(), self.A, self._l.copy(), self._u.copy()
+
+    # --- the Controller contract -------------------------------------------------------------
+
+    def reset(self) -> None:
+        """Integrators to zero, the disturbance estimate to ``d_init``, no previous plan."""
+        self.z = np.zeros(4)
+        self.d_hat = self.d_init.copy()
+        self._dx_prev: np.ndarray | None = None
+        self._du_prev = np.zeros(self.m)
+        self._plan: np.ndarray | None = None  # (N, m) deviations from trim
+        self.solution: tuple[np.ndarray, np.ndarray] | None = None  # last OSQP x, y
+        self.fallbacks: list[int] = []
+        self.iterations: list[int] = []
+        self.solve_times: list[float] = []  # wall clock of update + solve [s]
+        self.solve_cpu_times: list[float] = []  # this thread's CPU time of the same [s]
+
+    def recorded(self) -> dict[str, np.ndarray]:
+        """Per-sample columns for the result: ``mpc_fallback`` (1: OSQP failed or hit its
+        iteration limit and the previous plan flew) and ``mpc_iterations`` (OSQP's).
+
+        Returns
+        -------
+        dict of str to ndarray
+            One value per ``step`` call since ``reset``.
+        """
+        return {
+            "mpc_fallback": np.array(self.fallbacks, dtype=float),
+            "mpc_iterations": np.array(self.iterations, dtype=float),
+        }
+
+    def step(self, t: float, measurement: Measurement) -> Command:
+        """One sample of the MPC (module docstring); after a release the paper's free law.
+
+        Parameters
+        ----------
+        t : float
+            Sample time [s] (the law is time-invariant).
+        measurement : Measurement
+            The measured state, tension and attachment.
+
+        Returns
+        -------
+        Command
+            Rotor inputs [N, N m, N m, N] and reel rate [m/s]; no feed-forward.
+        """
+        x = np.asarray(measurement.state, dtype=float)
+        y = np.empty(4)
+        tethered_outputs(x, self.c, y)
+        if self.tethered and not measurement.attached:
+            return self._free_law(x, y)
+        n, m = self.n, self.m
+        dx = x[:n] - self.x_ref
+        if self._dx_prev is not None and self.alpha > 0.0:
+            G, H = self.design.G_aug[:n, :n], self.design.H_aug[:n]
+            d_raw = self.Hd_pinv @ (dx - G @ self._dx_prev - H @ self._du_prev)
+            self.d_hat += self.alpha * (d_raw - self.d_hat)
+        xu_s = self.design.target @ self.d_hat
+        x_s, u_s = xu_s[:n], xu_s[n:]
+        xi0 = np.concatenate([dx - x_s, self.z])
+        du = self._solve(xi0, x_s, u_s)
+        cmd = self.u_trim + du[:4]
+        rate = float(du[4]) if m == 5 else 0.0
+        self._dx_prev, self._du_prev = dx, du
+        self.z += self.dt * (self.y_ref - y)  # eq 50
+        return Command(inputs=cmd, reel_rate=rate)
+
+    def _solve(self, xi0: np.ndarray, x_s: np.ndarray, u_s: np.ndarray) -> np.ndarray:
+        """The first move (deviation from trim, (m,)) of the QP at xi0, or the fallback."""
+        d, m, N = self.design, self.m, self.N
+        nu = N * m
+        self._q[:nu] = 2.0 * (d.linear @ xi0)
+        us = np.tile(u_s, N)
+        self._l[:nu] = np.tile(self.du_min, N) - us
+        self._u[:nu] = np.tile(self.du_max, N) - us
+        row = nu
+        if self.reel_rows:
+            prev = self._du_prev[4] if m == 5 else 0.0
+            self._l[row : row + N] = -self.reel_step
+            self._u[row : row + N] = self.reel_step
+            self._l[row] += prev - u_s[4]
+            self._u[row] += prev - u_s[4]
+            row += N
+        if self.soft:
+            lo, hi = self.tension_bounds
+            # the predicted tensions without input: T_ref + c_T' (x_s + dx_j)
+            free = self.tension_ref + d.c_aug[: self.n] @ x_s + self.tension_x @ xi0
+            self._u[row : row + N] = hi - free
+            self._l[row + N : row + 2 * N] = lo - free
+            self._l[row + 2 * N : row + 3 * N] = 0.0
+        t0, c0 = time.perf_counter(), time.thread_time()
+        self._solver.update(q=self._q, l=self._l, u=self._u)
+        if self._plan is not None:
+            warm = np.zeros(self.n_var)
+            shifted = np.vstack([self._plan[1:], self._plan[-1:]]) - u_s
+            warm[:nu] = shifted.ravel()
+            self._solver.warm_start(x=warm)
+        res = self._solver.solve(raise_error=False)  # a failure is handled: the fallback
+        self.solve_times.append(time.perf_counter() - t0)
+        self.solve_cpu_times.append(time.thread_time() - c0)
+        self.iterations.append(int(res.info.iter))
+        ok = res.info.status_val == osqp.SolverStatus.OSQP_SOLVED and np.all(np.isfinite(res.x))
+        if ok:
+            U = res.x[:nu].reshape(N, m) + u_s
+            self.solution = (res.x.copy(), res.y.copy())
+            self.fallbacks.append(0)
+        else:
+            self.fallbacks.append(1)
+            if self._plan is not None:
+                U = np.vstack([self._plan[1:], self._plan[-1:]])
+            else:
+                U = np.tile(u_s - d.K @ xi0, (N, 1))
+        U = np.clip(U, self.du_min, self.du_max)
+        if m == 5:  # the winch's acceleration limit on the first move
+            prev = self._du_prev[4]
+            U[0, 4] = min(max(U[0, 4], prev - self.reel_step), prev + self.reel_step)
+        self._plan = U
+        return U[0].copy()
+
+    def _free_law(self, x: np.ndarray, y: np.ndarray) -> Command:
+        """After a release: the paper's free LQI about u0|F (as ``tether_lqi`` does), its
+        integrators continuing those of the MPC."""
+        K = self.free_gain
+        x_ref = self.x_ref[:12]
+        inp = self.u0_free - K[:, :12] @ (x[:12] - x_ref) - K[:, 12:] @ self.z
+        self.z += self.dt * (self.y_ref - y)
+        self.fallbacks.append(0)
+        self.iterations.append(0)
+        self.solve_times.append(0.0)
+        self.solve_cpu_times.append(0.0)
+        return Command(inputs=inp, reel_rate=0.0)
+
+
+def mpc_controller(scenario, setup, design_params=None) -> MPCController:
+    """The MPC of ``scenario``'s ``[control.mpc]`` on the run's set-up.
+
+    The model is designed on ``design_params`` (default the run's own parameters) at the
+    hover trim (Table V tethered, Table IV free); the references and the trim input are the
+    run's own trim (as for the paper's law); the bounds come from ``[actuators]``.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The run (``control.controller`` = "mpc").
+    setup : EngineSetup
+        Its set-up (``sim.setup.engine_setup``): trim, model constants, the paper's free
+        gain (flown after a release) and u0|F.
+    design_params : Params, optional
+        The parameters of the design model (a Monte Carlo's nominal ones).
+
+    Returns
+    -------
+    MPCController
+    """
+    from ..wind import initial_wind_force
+
+    s = scenario.control.mpc
+    a = scenario.actuators
+    tethered = scenario.configuration == "tethered"
+    params = scenario.params if design_params is None else design_params
+    T_ref = params.tension_control.T_ref if tethered else 0.0
+    design = _cached_design(
+        params, scenario.configuration, T_ref, scenario.q9, scenario.control.dt,
+        tuple(s.Qy), tuple(s.Ru), s.q_tension, s.horizon,
+    )  # fmt: skip
+    trim = setup.trim
+    return MPCController(
+        design,
+        x_ref=trim.x,
+        y_ref=trim.y,
+        u_trim=trim.u_total,
+        constants=setup.model.constants,
+        dt=scenario.control.dt,
+        u_min=np.array(a.u_min),
+        u_max=np.array(a.u_max),
+        reel_rate_limit=a.reel_rate_limit,
+        reel_acceleration_limit=a.reel_acceleration_limit,
+        tension_ref=scenario.params.tension_control.T_ref if tethered else 0.0,
+        tension_bounds=tuple(s.tension_bounds),
+        slack_weight=s.slack_weight,
+        disturbance_time_constant=s.disturbance_time_constant,
+        max_iterations=s.max_iterations,
+        tolerance=s.tolerance,
+        free_gain=np.asarray(setup.gain.K) if tethered else None,
+        free_trim_input=setup.u0_free,
+        d_init=initial_wind_force(scenario.wind),
+    )

@@ -1,0 +1,337 @@
+"""Robustness of the controllers (issue 14, item 3): each controller designed on the nominal
+plant and flown on the Monte Carlo's dispersed plants (``montecarlo_compare``), and the
+smallest cyclic limit each one needs (``controller_cyclic_limits``).
+
+Monte Carlo comparison. Draw i is the Monte Carlo's own (``montecarlo.draw`` with
+``draw_seed(seed, i)``: wind and plant dispersed, the dispersed plant's own hover trim); it is
+flown free under the paper's controller (the reference the tether is judged against) and
+tethered under every controller, each designed on the file's nominal parameters
+(``simulate(design_params=...)``, as ``run_batch`` does in ``tetherheli montecarlo``). With
+imperfect ``[sensors]`` each draw gets its own sensor noise: the scenario's ``seed`` becomes
+the first word of ``SeedSequence(seed, spawn_key=(i, 1))`` (the turbulence's stream is
+(i, 0)); with the tether as position source the free reference flies on the GNSS of the
+same presets. With ``eq40`` the cyclic torques saturate at eq 40's limit of the *nominal*
+parameters (an actuator's authority, not redrawn with the plant).
+
+Every run is measured by ``controllers.controller_metrics``; a run that fails in flight or
+whose plant cannot be set up is a failure, counted and placed in the failing tail of the
+percentiles (``montecarlo.statistics.with_failures``, ``tail_percentile``). The paired
+reduction against the free helicopter is ``statistics.paired_reduction`` per draw.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..errors import TetherheliError
+from ..sim.scenario import Scenario
+from .controllers import CONTROLLER_METRICS, eq40_saturated, fly, with_controller
+from .montecarlo import MonteCarloConfig, draw, draw_seed
+from .montecarlo.statistics import paired_reduction, tail_percentile, with_failures
+
+__all__ = [
+    "FREE",
+    "PERCENTILES",
+    "REDUCED",
+    "MonteCarloComparison",
+    "controller_cyclic_limits",
+    "montecarlo_compare",
+]
+
+#: the label of the free helicopter's runs (the paper's free law)
+FREE = "free"
+#: the percentiles reported [%]: the median and the failing tail
+PERCENTILES = (50.0, 95.0)
+#: the metrics whose paired reduction against the free helicopter is reported
+REDUCED = ("peak_q1", "peak_q2", "rms_q1", "rms_q2")
+#: the numeric measures summarised by percentiles (``CONTROLLER_METRICS`` but the flags)
+_MEASURES = tuple(m for m in CONTROLLER_METRICS if m not in ("completed", "cyclic_limit"))
+
+
+def _worst(metric: str) -> float:
+    """The value a failed run counts as: -inf where larger is better (the lowest tension)."""
+    return -math.inf if metric == "tension_min" else math.inf
+
+
+def _config(label: str) -> str:
+    return "free" if label == FREE else "tethered"
+
+
+def _sensor_seed(root: int, index: int) -> int:
+    return int(np.random.SeedSequence(root, spawn_key=(index, 1)).generate_state(1)[0])
+
+
+@dataclass(frozen=True)
+class MonteCarloComparison:
+    """The result of ``montecarlo_compare``.
+
+    Parameters
+    ----------
+    scenario_name : str
+        The nominal scenario's name.
+    runs : int
+        Draws N.
+    seed : int
+        The Monte Carlo's root seed.
+    labels : tuple of str
+        ``FREE`` then the controllers.
+    values : dict of str to dict of str to ndarray
+        label -> measure (``CONTROLLER_METRICS``) -> (N,) per draw (NaN where failed).
+    ok : dict of str to ndarray
+        label -> (N,) bool: the run completed.
+    statuses : dict of str to tuple of str
+        label -> each draw's status message (or why it could not be set up).
+    configuration : dict of str to object
+        The nominal scenario and the dispersions as plain data.
+    """
+
+    scenario_name: str
+    runs: int
+    seed: int
+    labels: tuple[str, ...]
+    values: dict[str, dict[str, np.ndarray]]
+    ok: dict[str, np.ndarray]
+    statuses: dict[str, tuple[str, ...]]
+    configuration: dict[str, Any] = field(default_factory=dict)
+
+    def failures(self, label: str) -> int:
+        """Draws of ``label`` that failed (in flight or at set-up).
+
+        Parameters
+        ----------
+        label : str
+            ``FREE`` or a controller.
+
+        Returns
+        -------
+        int
+        """
+        return int(np.count_nonzero(~self.ok[label]))
+
+    def percentiles(self, label: str) -> dict[str, np.ndarray]:
+        """``PERCENTILES`` of every measure of ``label``, failures as the worst value.
+
+        Parameters
+        ----------
+        label : str
+            ``FREE`` or a controller.
+
+        Returns
+        -------
+        dict of str to ndarray
+            measure -> (len(PERCENTILES),); +-inf where a percentile lies among failures.
+        """
+        ok = self.ok[label]
+        return {
+            m: tail_percentile(with_failures(self.values[label][m], ok, _worst(m)), PERCENTILES)
+            for m in _MEASURES
+        }
+
+    def reduction(self, label: str, metric: str) -> np.ndarray:
+        """The per-draw paired reduction of ``metric`` by ``label`` against the free run
+        (``statistics.paired_reduction``) [%].
+
+        Parameters
+        ----------
+        label : str
+            A controller.
+        metric : str
+            One of ``REDUCED``.
+
+        Returns
+        -------
+        ndarray, shape (N,)
+        """
+        return paired_reduction(
+            self.values[FREE][metric], self.values[label][metric], self.ok[FREE], self.ok[label]
+        )
+
+    def rows(self) -> list[dict[str, Any]]:
+        """One row per (label, percentile) in the comparison's columns (``compare``): the
+        ``scenario`` names the percentile, ``failures`` the count out of N; the paired
+        reductions' median and 5th percentile (the worst 5% of draws) as
+        ``reduction_<metric>_p50``, ``_p5`` [%].
+
+        Returns
+        -------
+        list of dict of str to object
+        """
+        out = []
+        for label in self.labels:
+            pct = self.percentiles(label)
+            red = {}
+            if label != FREE:
+                for m in REDUCED:
+                    r50, r5 = tail_percentile(self.reduction(label, m), [50.0, 5.0])
+                    red[f"reduction_{m}_p50"] = float(r50)
+                    red[f"reduction_{m}_p5"] = float(r5)
+            for k, p in enumerate(PERCENTILES):
+                row: dict[str, Any] = {
+                    "scenario": f"{self.scenario_name} {_config(label)} p{p:g}",
+                    "configuration": _config(label),
+                    "controller": "paper" if label == FREE else label,
+                    "status": f"{self.failures(label)}/{self.runs} failed",
+                    "failures": self.failures(label),
+                    "runs": self.runs,
+                    "completed": self.failures(label) == 0,
+                    "cyclic_limit": float(self.values[label]["cyclic_limit"][0]),
+                }
+                row.update({m: float(v[k]) for m, v in pct.items()})
+                row.update(red)
+                out.append(row)
+        return out
+
+    def as_dict(self) -> dict[str, Any]:
+        """Per-draw values, statuses and the configuration (JSON-friendly, NaN/inf as null).
+
+        Returns
+        -------
+        dict of str to object
+        """
+
+        def num(v: float) -> float | None:
+            return float(v) if math.isfinite(v) else None
+
+        return {
+            "scenario": self.scenario_name,
+            "runs": self.runs,
+            "seed": self.seed,
+            "percentiles": list(PERCENTILES),
+            "failures": {lab: self.failures(lab) for lab in self.labels},
+            "draws": {
+                lab: {
+                    "ok": self.ok[lab].tolist(),
+                    "status": list(self.statuses[lab]),
+                    **{m: [num(v) for v in self.values[lab][m]] for m in _MEASURES},
+                }
+                for lab in self.labels
+            },
+            "configuration": self.configuration,
+        }
+
+
+def montecarlo_compare(
+    base: Scenario,
+    config: MonteCarloConfig,
+    controllers: tuple[str, ...],
+    *,
+    runs: int | None = None,
+    eq40: bool = False,
+) -> MonteCarloComparison:
+    """Fly the first ``runs`` draws of a Monte Carlo free (paper) and tethered under each of
+    ``controllers``, all designed on ``base``'s nominal parameters (module docstring).
+
+    Parameters
+    ----------
+    base : Scenario
+        The nominal scenario (``montecarlo.load_montecarlo``).
+    config : MonteCarloConfig
+        The dispersions and the root seed.
+    controllers : tuple of str
+        Controller names (``sim.scenario.CONTROLLERS``).
+    runs : int, optional
+        Draws N (default ``config.runs``).
+    eq40 : bool, optional
+        Saturate tMR1, tMR2 at eq 40's limit of the nominal parameters (default False).
+
+    Returns
+    -------
+    MonteCarloComparison
+        Per-draw measures of every run, failures included.
+    """
+    n = config.runs if runs is None else int(runs)
+    if eq40:
+        base = eq40_saturated(base)
+    labels = (FREE, *controllers)
+    cols = {lab: {m: np.full(n, math.nan) for m in CONTROLLER_METRICS} for lab in labels}
+    ok = {lab: np.zeros(n, dtype=bool) for lab in labels}
+    statuses: dict[str, list[str]] = {lab: [""] * n for lab in labels}
+    noisy = not base.sensors.is_perfect
+    for lab in labels:  # compile and warm up each law on the nominal plant (not measured)
+        try:
+            fly(_flown(base, lab).replace(duration=min(base.duration, 1.0)))
+        except TetherheliError:  # the nominal plant cannot be set up: its draws will say why
+            pass
+    for i in range(n):
+        d = draw(base, config, draw_seed(config.seed, i), i)
+        for lab in labels:
+            if d.scenario is None:
+                statuses[lab][i] = f"set-up: {d.reason}"
+                continue
+            s = d.scenario.replace(seed=_sensor_seed(config.seed, i)) if noisy else d.scenario
+            try:
+                result, metrics = fly(_flown(s, lab), design_params=base.params)
+            except TetherheliError as exc:  # the dispersed plant cannot be set up
+                statuses[lab][i] = f"set-up: {str(exc).splitlines()[0]}"
+                continue
+            statuses[lab][i] = result.message
+            ok[lab][i] = bool(result.ok)
+            for m in CONTROLLER_METRICS:
+                cols[lab][m][i] = float(metrics[m]) if result.ok else math.nan
+    for lab in labels:  # the limit is a setting, not an outcome: kept for failed runs too
+        cols[lab]["cyclic_limit"][:] = _cyclic_limit(base)
+    return MonteCarloComparison(
+        base.name,
+        n,
+        config.seed,
+        labels,
+        cols,
+        ok,
+        {lab: tuple(v) for lab, v in statuses.items()},
+        configuration={"scenario": base.to_dict(), "montecarlo": config.to_dict()},
+    )
+
+
+def _cyclic_limit(scenario: Scenario) -> float:
+    from .sweep import scenario_cyclic_limit
+
+    lim = scenario_cyclic_limit(scenario)
+    return math.nan if lim is None else float(lim)
+
+
+def _flown(scenario: Scenario, label: str) -> Scenario:
+    """The run of ``label``: the free configuration under the paper's law, or tethered."""
+    if label == FREE:
+        if scenario.sensors.position_source == "tether":  # no tether: the GNSS instead
+            sensors = dataclasses.replace(scenario.sensors, position_source="gps")
+            scenario = scenario.replace(sensors=sensors)
+        return with_controller(scenario.replace(configuration="free"), "paper")
+    return with_controller(scenario.replace(configuration="tethered"), label)
+
+
+def controller_cyclic_limits(
+    scenario: Scenario,
+    controllers: tuple[str, ...],
+    grid: np.ndarray,
+    **search: Any,
+) -> dict[str, Any]:
+    """The smallest cyclic limit each controller needs on ``scenario``
+    (``cyclic_limit.minimum_cyclic_limit``'s criterion, with its ``controller``).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The scenario (its configuration kept).
+    controllers : tuple of str
+        Controller names.
+    grid : ndarray
+        The limits scanned [N m].
+    **search
+        ``minimum_cyclic_limit``'s keywords (``within``, ``metric``, ``tol``, ``workers``).
+
+    Returns
+    -------
+    dict of str to LimitSearch
+        controller -> its search.
+    """
+    from .cyclic_limit import minimum_cyclic_limit
+
+    return {
+        name: minimum_cyclic_limit(scenario, grid, controller=name, **search)
+        for name in controllers
+    }
