@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import csv
 import dataclasses
 
 import control
@@ -263,3 +264,23 @@ def test_bad_settings_are_refused_in_one_line(tmp_path, key, value):
     path.write_text(text)
     with pytest.raises(ParameterError, match=r"control\.mpc\.horizon"):
         load_scenario(path)
+
+
+def test_compare_flies_the_mpc_next_to_the_others(tmp_path):
+    """``tetherheli compare --controllers paper,tether_lqi,mpc --eq40``: one row per
+    controller, the MPC's peak cyclic torque within eq 40's limit."""
+    from tetherheli.cli import main
+
+    s = Scenario(name="short", duration=3.0, wind=Pulse(0.5, 1.0, 20.0, (0.0, 1.0, 0.0)))
+    path = tmp_path / "short.toml"
+    path.write_text(s.to_toml())
+    out = tmp_path / "out"
+    args = ["compare", str(path), "--controllers", "paper,tether_lqi,mpc", "--eq40"]
+    assert main([*args, "--out", str(out)]) == 0
+    with open(out / "compare.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert [r["controller"] for r in rows] == ["paper", "tether_lqi", "mpc"]
+    mpc = rows[2]
+    assert mpc["completed"] == "True"
+    assert float(mpc["peak_cyclic"]) <= paper_cyclic_limit(s.params) * (1 + 1e-12)
+    assert float(mpc["peak_q2"]) != float(rows[1]["peak_q2"])  # not the LQI's run
