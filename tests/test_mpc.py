@@ -284,3 +284,17 @@ def test_compare_flies_the_mpc_next_to_the_others(tmp_path):
     assert mpc["completed"] == "True"
     assert float(mpc["peak_cyclic"]) <= paper_cyclic_limit(s.params) * (1 + 1e-12)
     assert float(mpc["peak_q2"]) != float(rows[1]["peak_q2"])  # not the LQI's run
+
+
+def test_after_a_release_the_free_law_flies():
+    """The safety device releases the tether during a 20 N pulse (breaking tension 27 N,
+    Sec. IV-C): from then on the MPC solves no QP (the paper's free law flies, as the tethered
+    LQI does), the run completes free, and before it the MPC was solving."""
+    act = dataclasses.replace(Scenario().actuators, breaking_tension=27.0)
+    s = _scenario(duration=6.0).replace(actuators=act, wind=Pulse(0.5, 1.0, 20.0, (1.0, 0.0, 0.0)))
+    r = simulate(s)
+    assert r.ok and r.release_time is not None
+    k = round(r.release_time / DT)
+    it = r.extra["mpc_iterations"]
+    assert np.all(it[:k] > 0) and np.all(it[k:] == 0)
+    assert np.max(np.abs(r.outputs[-1, :3] - r.trim_output[:3])) < 1.0
