@@ -14,7 +14,8 @@ search): peak and RMS of q1 in sim 1 and of q2 in sim 2 against the free helicop
 paper's controller, as reductions 100 (1 - ratio) %; the RMS effort of each rotor input
 against the paper's tethered controller (and the tethered LQI's) on the same saturated runs;
 the tension range. ``--tune N`` runs a Nelder-Mead of N evaluations (each two 60 s runs) on
-the log10 of four factors applied to the shipped ``[control.mpc]``: the disturbance estimate's
+the log10 of four factors applied to ``start_settings()`` (the tethered LQI's weights and a
+0.1 s time constant; ``--start`` the factors' first values): the disturbance estimate's
 time constant, the position weights (q1 = q2 and their integrators), the cyclic input
 weights (tMR1 = tMR2) and the tail-rotor weight (first steps: 0.3 decade down, down, up,
 up); it prints the best as a ``[control.mpc]``
@@ -37,12 +38,20 @@ from tetherheli import simulate
 from tetherheli.control.mpc import mpc_controller
 from tetherheli.names import INPUT
 from tetherheli.sim import Scenario
-from tetherheli.sim.scenario import MPCSettings
+from tetherheli.sim.scenario import MPCSettings, TetherLQISettings
 from tetherheli.sim.setup import engine_setup
 from tetherheli.studies.controllers import fly, with_controller
 from tetherheli.studies.sweep import scenario_cyclic_limit
 
 STEP = 0.3  # the initial simplex's edge [decades]
+
+
+def start_settings() -> MPCSettings:
+    """Where ``--tune`` starts: the tethered LQI's shipped weights, a disturbance estimate of
+    time constant 0.1 s, the other keys at their defaults (fixed, so that the search is
+    reproducible whatever the shipped defaults are)."""
+    w = TetherLQISettings()
+    return MPCSettings(Qy=w.Qy, q_tension=w.q_tension, Ru=w.Ru, disturbance_time_constant=0.1)
 
 
 def with_mpc(scenario: Scenario, settings: MPCSettings) -> Scenario:
@@ -121,12 +130,14 @@ def report(sims: dict, settings: MPCSettings, what: str) -> float:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tune", type=int, default=0, metavar="EVALUATIONS")
+    parser.add_argument("--start", default="0,0,0,0", help="log10 factors the search starts at")
     args = parser.parse_args()
     if hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})  # one core
     sims = references()
     base = MPCSettings()
     if args.tune > 0:
+        base = start_settings()
         best = {"f": math.inf, "p": np.zeros(4)}
 
         def objective(p: np.ndarray) -> float:
@@ -136,11 +147,12 @@ def main() -> None:
                 print(f"best {f:.4f} at", ",".join(f"{v:.3f}" for v in p), flush=True)
             return f
 
-        p0 = np.zeros(4)
+        p0 = np.array([float(v) for v in args.start.split(",")])
         simplex = np.vstack([p0, p0 + STEP * np.diag([-1.0, -1.0, 1.0, 1.0])])
         minimize(objective, p0, method="Nelder-Mead", options={
             "maxfev": args.tune, "initial_simplex": simplex, "xatol": 1e-3})  # fmt: skip
         base = tuned(best["p"], base)
+        print("log10 factors:", ",".join(f"{v:.4f}" for v in best["p"]))
         print("[control.mpc]")
         for f in ("disturbance_time_constant", "Qy", "Ru"):
             v = getattr(base, f)

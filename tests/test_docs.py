@@ -46,6 +46,7 @@ def test_every_key_the_loader_accepts_is_documented():
     for table, cls in (
         ("control", scenario_module.ControlSettings),
         ("control.tether_lqi", scenario_module.TetherLQISettings),
+        ("control.mpc", scenario_module.MPCSettings),
         ("limits", scenario_module.Limits),
         ("actuators", scenario_module.ActuatorSettings),
     ):
