@@ -13,6 +13,8 @@ Constraints (a penalty per unit of violation; a failed run scores 10):
 - tension within [T_ref / 2, 1.5 T_ref] (taut, and no "swing the tension" solutions);
 - peak altitude deviation q3 <= ``MAX_Q3`` and peak off-axis deviation (q2 in sim 1, q1 in
   sim 2) <= ``MAX_OFF_AXIS`` (a search without them trades these for the metric).
+The objective is ``goal`` (``references`` flies the references), which
+``benchmarks/bench_mpc.py`` imports for the MPC.
 Search: Nelder-Mead (scipy) on the log10 of 11 diagonal weights (q1 = q2 tied, their
 integrators tied, tMR1 = tMR2 tied), from the start point below. It prints the best weights
 as a ``[control.tether_lqi]`` table and their four ratios, effort ratios and tension range.
@@ -25,13 +27,14 @@ from __future__ import annotations
 
 import argparse
 import math
+from collections.abc import Callable
 
 import numpy as np
 from scipy.optimize import minimize
 
 from tetherheli.errors import TetherheliError
 from tetherheli.names import INPUT
-from tetherheli.sim import load_scenario
+from tetherheli.sim import Scenario, load_scenario
 from tetherheli.sim.scenario import TetherLQISettings
 from tetherheli.studies.controllers import eq40_saturated, fly, with_controller
 
@@ -53,11 +56,9 @@ def weights(p: np.ndarray) -> dict:
     }
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--evaluations", type=int, default=400)
-    parser.add_argument("--start", default=",".join(map(str, START)))
-    args = parser.parse_args()
+def references() -> dict:
+    """The goal's references per simulation n (1, 2): (axis, free metrics, paper tethered
+    metrics with eq 40, the eq-40 tethered scenario); prints them."""
     sims = {}
     for n, axis in ((1, 0), (2, 1)):
         free = fly(load_scenario(SCENARIOS.format(n, "free")))[1]
@@ -71,34 +72,51 @@ def main() -> None:
             f"{100 * (1 - paper[f'peak_{q}'] / free[f'peak_{q}']):.1f}/"
             f"{100 * (1 - paper[f'rms_{q}'] / free[f'rms_{q}']):.1f} %"
         )
-    T_ref = sims[1][3].params.tension_control.T_ref
+    return sims
+
+
+def goal(sims: dict, flown: Callable[[Scenario], dict]) -> tuple[float, dict]:
+    """The objective of the module docstring: ``flown(scenario)`` flies an eq-40 tethered
+    paper run with the candidate controller and returns its ``controller_metrics`` (a
+    ``TetherheliError`` or an incomplete run scores 10). Returns (score, info: the four
+    ratios, the eight effort ratios, the tension ranges)."""
+    info: dict = {"ratios": [], "effort": [], "tension": []}
+    score, penalty = 0.0, 0.0
+    for axis, free, paper, scenario in sims.values():
+        try:
+            m = flown(scenario)
+        except TetherheliError:
+            return 10.0, info
+        if not m["completed"]:
+            return 10.0, info
+        T_ref = scenario.params.tension_control.T_ref
+        q = axis + 1
+        ratios = [m[f"peak_q{q}"] / free[f"peak_q{q}"], m[f"rms_q{q}"] / free[f"rms_q{q}"]]
+        info["ratios"] += ratios
+        score = max(score, *ratios)
+        eff = [m[f"rms_d{i}"] / paper[f"rms_d{i}"] for i in INPUT]
+        info["effort"] += eff
+        penalty += sum(max(0.0, e - 1.0) for e in eff)
+        info["tension"] += [m["tension_min"], m["tension_max"]]
+        penalty += max(0.0, 0.5 * T_ref - m["tension_min"]) / T_ref
+        penalty += max(0.0, m["tension_max"] - 1.5 * T_ref) / T_ref
+        penalty += max(0.0, m["peak_q3"] - MAX_Q3) / MAX_Q3
+        penalty += max(0.0, m[f"peak_q{2 - axis}"] - MAX_OFF_AXIS) / MAX_OFF_AXIS
+    return score + 5.0 * penalty, info
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--evaluations", type=int, default=400)
+    parser.add_argument("--start", default=",".join(map(str, START)))
+    args = parser.parse_args()
+    sims = references()
 
     def evaluate(p: np.ndarray) -> tuple[float, dict]:
         return evaluate_weights(weights(p))
 
     def evaluate_weights(w: dict) -> tuple[float, dict]:
-        info: dict = {"ratios": [], "effort": [], "tension": []}
-        score, penalty = 0.0, 0.0
-        for axis, free, paper, scenario in sims.values():
-            try:
-                m = fly(with_controller(scenario, "tether_lqi", **w))[1]
-            except TetherheliError:
-                return 10.0, info
-            if not m["completed"]:
-                return 10.0, info
-            q = axis + 1
-            ratios = [m[f"peak_q{q}"] / free[f"peak_q{q}"], m[f"rms_q{q}"] / free[f"rms_q{q}"]]
-            info["ratios"] += ratios
-            score = max(score, *ratios)
-            eff = [m[f"rms_d{i}"] / paper[f"rms_d{i}"] for i in INPUT]
-            info["effort"] += eff
-            penalty += sum(max(0.0, e - 1.0) for e in eff)
-            info["tension"] += [m["tension_min"], m["tension_max"]]
-            penalty += max(0.0, 0.5 * T_ref - m["tension_min"]) / T_ref
-            penalty += max(0.0, m["tension_max"] - 1.5 * T_ref) / T_ref
-            penalty += max(0.0, m["peak_q3"] - MAX_Q3) / MAX_Q3
-            penalty += max(0.0, m[f"peak_q{2 - axis}"] - MAX_OFF_AXIS) / MAX_OFF_AXIS
-        return score + 5.0 * penalty, info
+        return goal(sims, lambda s: fly(with_controller(s, "tether_lqi", **w))[1])
 
     best = {"f": math.inf}
 

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import csv
 import dataclasses
 
 import control
@@ -92,6 +93,7 @@ def test_dare_terminal_cost_gives_the_infinite_horizon_lq_gain():
     Q = np.zeros((n + 4, n + 4))
     Q[:n, :n] = C.T @ Qy[:4, :4] @ C + S.q_tension * np.outer(c_t, c_t)
     Q[n:, n:] = Qy[4:, 4:]
+    Q = 0.5 * (Q + Q.T)  # python-control wants it symmetric to the last bit
     sys = control.ss(G, H, C, np.zeros((4, 5)), DT)
     K_dlqr, _, _ = control.dlqr(sys, Q, np.diag(S.Ru), integral_action=-DT * C)
     lqi = design_tether_lqi(G, H, C, c_t, DT, Qy=Qy, q_tension=S.q_tension, Ru=np.diag(S.Ru))
@@ -263,3 +265,37 @@ def test_bad_settings_are_refused_in_one_line(tmp_path, key, value):
     path.write_text(text)
     with pytest.raises(ParameterError, match=r"control\.mpc\.horizon"):
         load_scenario(path)
+
+
+def test_compare_flies_the_mpc_next_to_the_others(tmp_path):
+    """``tetherheli compare --controllers paper,tether_lqi,mpc --eq40``: one row per
+    controller, the MPC's peak cyclic torque within eq 40's limit."""
+    from tetherheli.cli import main
+
+    s = Scenario(name="short", duration=3.0, wind=Pulse(0.5, 1.0, 20.0, (0.0, 1.0, 0.0)))
+    path = tmp_path / "short.toml"
+    path.write_text(s.to_toml())
+    out = tmp_path / "out"
+    args = ["compare", str(path), "--controllers", "paper,tether_lqi,mpc", "--eq40"]
+    assert main([*args, "--out", str(out)]) == 0
+    with open(out / "compare.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert [r["controller"] for r in rows] == ["paper", "tether_lqi", "mpc"]
+    mpc = rows[2]
+    assert mpc["completed"] == "True"
+    assert float(mpc["peak_cyclic"]) <= paper_cyclic_limit(s.params) * (1 + 1e-12)
+    assert float(mpc["peak_q2"]) != float(rows[1]["peak_q2"])  # not the LQI's run
+
+
+def test_after_a_release_the_free_law_flies():
+    """The safety device releases the tether during a 20 N pulse (breaking tension 25.05 N,
+    Sec. IV-C): from then on the MPC solves no QP (the paper's free law flies, as the tethered
+    LQI does), the run completes free, and before it the MPC was solving."""
+    act = dataclasses.replace(Scenario().actuators, breaking_tension=25.05)
+    s = _scenario(duration=6.0).replace(actuators=act, wind=Pulse(0.5, 1.0, 20.0, (1.0, 0.0, 0.0)))
+    r = simulate(s)
+    assert r.ok and r.release_time is not None
+    k = round(r.release_time / DT)
+    it = r.extra["mpc_iterations"]
+    assert np.all(it[:k] > 0) and np.all(it[k:] == 0)
+    assert np.max(np.abs(r.outputs[-1, :3] - r.trim_output[:3])) < 1.0

@@ -33,6 +33,7 @@ from .scenario import (
     ActuatorSettings,
     ControlSettings,
     Limits,
+    MPCSettings,
     Scenario,
     TetherLQISettings,
     TetherSettings,
@@ -44,6 +45,7 @@ __all__ = ["scenario_reference"]
 _TABLES = {
     "control": ControlSettings,
     "control.tether_lqi": TetherLQISettings,
+    "control.mpc": MPCSettings,
     "limits": Limits,
     "actuators": ActuatorSettings,
     "tether": TetherSettings,

@@ -164,17 +164,18 @@ class MPCSettings:
     horizon, Qy, q_tension, Ru, tension_bounds, slack_weight, disturbance_time_constant,
     max_iterations, tolerance
         The keys of a scenario's ``[control.mpc]`` table; each field's ``Key`` gives its
-        meaning, unit, default and allowed range. The weights are those of the tethered LQI
-        (its cost, with the DARE of the same weights as terminal cost); defaults from
-        ``python benchmarks/bench_mpc.py --tune`` (see its header). The rotor-input and winch
-        bounds come from ``[actuators]``.
+        meaning, unit, default and allowed range. The cost is the tethered LQI's (with the
+        DARE of the same weights as terminal cost). The weights and the time constant are
+        from ``python benchmarks/bench_mpc.py --tune 30`` (from the tethered LQI's weights
+        and 0.1 s), then ``--tune 16 --start=-1.274,-0.509,-0.346,-0.030`` (see its header).
+        The rotor-input and winch bounds come from ``[actuators]``.
     """
 
     horizon: int = _key(
         10, Key("prediction and control horizon", "samples", kind="integer", low=1, high=400)
     )
     Qy: tuple[float, ...] = _key(
-        TetherLQISettings().Qy,
+        (5.39899, 5.39899, 1.49411, 2.07043, 9.75105, 9.75105, 10.7023, 12.1298),
         Key("diagonal of the output weight on [q1, q2, q3, q6] and their integrators",
             kind="vector", length=8, low=0.0),
     )  # fmt: skip
@@ -183,7 +184,7 @@ class MPCSettings:
         Key("weight on the tension deviation (not integrated)", "1/N^2", low=0.0),
     )  # fmt: skip
     Ru: tuple[float, ...] = _key(
-        TetherLQISettings().Ru,
+        (0.632461, 0.401301, 0.401301, 1.02876, 0.510088),
         Key("diagonal of the input weight on [fMR3, tMR1, tMR2, fTR2, reel rate]",
             kind="vector", length=5, low=0.0, low_open=True),
     )  # fmt: skip
@@ -199,7 +200,7 @@ class MPCSettings:
             low=0.0, low_open=True),
     )  # fmt: skip
     disturbance_time_constant: float = _key(
-        0.1,
+        0.0024297,
         Key("time constant of the estimate of the wind force on HO (an input disturbance "
             "of the model; 0: no estimate, integral action only)", "s", low=0.0),
     )  # fmt: skip
