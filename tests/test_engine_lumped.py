@@ -336,3 +336,72 @@ def test_simulate_cli_runs_the_shipped_lumped_scenario(tmp_path, capsys):
     assert main(["simulate", str(bad), "--out", str(tmp_path / "o2"), "--quiet"]) != 0
     err = capsys.readouterr().err
     assert "tether.model" in err and "Traceback" not in err
+
+
+def test_helicopter_and_chain_conserve_energy_without_drag_damping_and_winch():
+    """Issue 13's conservation check: the joint helicopter + chain ODE (the generated
+    equations with the chain's force at P, ``tethered_derivative_force_at_P``, and the free
+    nodes) with no rotor inputs, no drag, no axial damping and the winch still (LN fixed)
+    conserves the helicopter's kinetic + potential energy (m, J of the Newton-Euler model in
+    tests/newton_euler.py, HO from ``tethered_HO_position``) plus the chain's
+    (``chain_energy``) plus the potential of the top half segment's weight carried at P, to
+    DOP853's tolerance, while the helicopter falls and swings on it."""
+    from tetherheli.model.kinematics import tethered_HO_position
+    from tetherheli.model.tether_lumped import chain_energy
+
+    from .newton_euler import NewtonEuler
+
+    s = Scenario(name="energy", duration=1.0, tether=_lumped(8, damping_ratio=0.0))
+    setup = engine_setup(s)
+    params = setup.model.params
+    ne = NewtonEuler(params)
+    x0 = setup.start.x.copy()
+    x0[6:12] = [0.8, -0.5, 0.3, 0.2, -0.1, 0.15]  # a push: u1..u3 [rad/s], u4..u6 [m/s]
+    nodes0 = setup.chain[CHAIN_NODES].copy()
+    p = setup.chain[CHAIN_PARAMS].copy()
+    p[3:5] = 0.0  # no normal and tangential drag (layout.LUMPED_CDN, LUMPED_CDT)
+    n = nodes0.shape[0] - 1
+    m_node = p[LUMPED_MU] * x0[12] / n
+    c = setup.model.constants
+    arm = params.helicopter.tether_arm
+    g = params.helicopter.g
+    F, T = np.empty((n + 1, 3)), np.empty(n)
+    K, C, D = (np.empty((n, 3, 3)) for _ in range(3))
+    air, pm, sc, out = np.zeros((n + 1, 3)), np.empty(6), np.empty(10), np.empty(13)
+
+    def ends(x):
+        engine.angle_trig(x, sc)
+        engine.p_motion(x, sc, arm, pm)
+        return pm[:3].copy(), pm[3:].copy()
+
+    def rhs(_t, y):
+        x = y[:13]
+        r = y[13 : 13 + 3 * (n - 1)].reshape(n - 1, 3)
+        v = y[13 + 3 * (n - 1) :].reshape(n - 1, 3)
+        top, top_v = ends(x)
+        xn = np.vstack([np.zeros(3), r, top])
+        vn = np.vstack([np.zeros(3), v, top_v])
+        chain_forces(xn, vn, air, x[12], p, F, T, K, C, D, False)
+        tethered_derivative_force_at_P(x, np.zeros(4), np.zeros(3), F[n].copy(), 0.0, c, arm, out)
+        return np.concatenate([out, v.ravel(), (F[1:n] / m_node).ravel()])
+
+    def energy(y):
+        x = y[:13]
+        top, top_v = ends(x)
+        xn = np.vstack([np.zeros(3), y[13 : 13 + 3 * (n - 1)].reshape(n - 1, 3), top])
+        vn = np.vstack([np.zeros(3), y[13 + 3 * (n - 1) :].reshape(n - 1, 3), top_v])
+        z_HO = tethered_HO_position(x[0], x[1], x[3], x[4], x[5], arm)[2]
+        heli = 0.5 * ne.m * x[6:9] @ x[6:9] + 0.5 * x[9:12] @ ne.J @ x[9:12] + ne.m * g * z_HO
+        # the top half segment's weight acts at P (tether_lumped's end forces), a constant
+        # force: its potential m_node / 2 g z_P belongs to the conserved sum
+        return heli + chain_energy(xn, vn, x[12], p) + 0.5 * m_node * g * top[2]
+
+    y0 = np.concatenate([x0, nodes0[1:n].ravel(), np.zeros(3 * (n - 1))])
+    sol = solve_ivp(rhs, (0.0, 1.0), y0, method="DOP853", rtol=1e-11, atol=1e-11,
+                    t_eval=np.linspace(0.0, 1.0, 21))  # fmt: skip
+    assert sol.success, sol.message
+    e = np.array([energy(y) for y in sol.y.T])
+    drop = sol.y[5, 0] - sol.y[5].min()
+    assert drop > 0.5  # it really fell and the chain really moved: not a still system
+    scale = ne.m * g * drop  # the energy exchanged between the terms
+    assert np.max(np.abs(e - e[0])) < 1e-7 * scale
