@@ -24,7 +24,6 @@ from ..layout import (
     CFG_ATTACHED,
     CFG_GUST_DT,
     CFG_N_SUB,
-    CFG_TENSION_GROUND,
     CHAIN_NODES,
     CTRL_SIZE,
     HELD_DRUM_SPEED_SAMPLED,
@@ -301,7 +300,7 @@ def _python_loop(scenario, setup, controller, method, rec, *, rtol, atol):
             rec.winch[k] = held[HELD_DRUM_SPEED_SAMPLED], held[HELD_MOTOR_TORQUE]
         rec.wind[k] = _wind_at(scenario.wind, wind, cfg, t, 1, x, wind_buf)
         tied = lumped and cfg[CFG_ATTACHED] > 0.5
-        rec.tension_ground[k] = cfg[CFG_TENSION_GROUND] if tied else tension
+        rec.tension_ground[k] = engine.winch_tension(cfg, tension)
         if rec.nodes.shape[0] > 0:
             rec.nodes[k] = chain[CHAIN_NODES]
         if k == n:
