@@ -165,6 +165,8 @@ API = {
                                       "TetherLQIGain", "pack_gain"],
     "tetherheli.control.mpc": ["design_mpc", "mpc_plant", "mpc_controller", "MPCDesign",
                                "MPCController"],
+    "tetherheli.control.observer": ["DisturbanceKalman", "measurement_covariance",
+                                    "steady_state_kalman"],
     "tetherheli.control.lqi": ["design_lqi", "augment_lqi", "LQIGain"],
     "tetherheli.control.base": ["Controller", "Command", "Measurement"],
     "tetherheli.control.paper": ["PaperController"],

@@ -19,8 +19,13 @@ H u_{k-1}), and d_hat follows it with the time constant ``disturbance_time_const
 (gain 1 - exp(-dt / tau)). The estimate enters as a steady-state target (x_s, u_s):
 (I - G) x_s - H u_s = H_d d_hat, C x_s = 0, with the least u_s' Ru u_s + q_T (c_T' x_s)^2
 (the tension, the spare degree of freedom of five inputs and four outputs, priced as in the
-cost); the MPC then regulates dxi = [x - x_s; z], du = u - u_s, whose dynamics are exactly the
-LQI's augmented ones (G_LQI, H_LQI).
+cost). With imperfect sensors the one-step residual turns their noise into hundreds of
+newtons (0.05 m/s of velocity noise over 10 ms is 5 m/s^2), so ``[control.mpc] observer``
+selects instead a steady-state Kalman filter of the same augmented model on the scenario's
+sensors (``control.observer``: it estimates x and d together, and the MPC starts from its
+estimate); "auto" takes it with imperfect sensors or the lumped tether. The MPC then
+regulates dxi = [x - x_s; z], du = u - u_s, whose dynamics are exactly the LQI's augmented
+ones (G_LQI, H_LQI).
 
 Cost (the tethered LQI's, ``tether_lqi.design_tether_lqi``), over the horizon N:
 
@@ -68,6 +73,7 @@ from ..errors import TetherheliError
 from ..model.kernels import tethered_outputs
 from .base import Command, Controller, Measurement
 from .lqi import _check_pd, _check_psd, augment_lqi
+from .observer import DisturbanceKalman, measurement_covariance
 
 __all__ = [
     "MPCController",
@@ -337,6 +343,10 @@ class MPCController(Controller):
         u0|F [N, N m, N m, N].
     d_init : ndarray, shape (3,), optional
         The disturbance estimate at the start [N] (the wind of the start trim).
+    kalman : DisturbanceKalman, optional
+        The estimator of state and disturbance from the measurements (``control.observer``);
+        None: the measured state as it is and the residual estimate of d
+        (``disturbance_time_constant``).
     """
 
     def __init__(
@@ -361,8 +371,10 @@ class MPCController(Controller):
         free_gain: np.ndarray | None = None,
         free_trim_input: np.ndarray | None = None,
         d_init: np.ndarray | None = None,
+        kalman: DisturbanceKalman | None = None,
     ) -> None:
         self.design = design
+        self.kalman = kalman
         n, m, N = design.n_states, design.n_inputs, design.horizon
         self.tethered = design.c_aug is not None
         self.x_ref = np.array(x_ref[:n], dtype=float)
@@ -387,7 +399,8 @@ class MPCController(Controller):
         self.Hd_pinv = np.linalg.pinv(design.Hd)
         self.free_gain = None if free_gain is None else np.asarray(free_gain, dtype=float)
         self.u0_free = None if free_trim_input is None else np.asarray(free_trim_input, float)
-        self.d_init = np.zeros(3) if d_init is None or self.alpha == 0.0 else np.array(d_init)
+        estimated = self.alpha > 0.0 or kalman is not None
+        self.d_init = np.zeros(3) if d_init is None or not estimated else np.array(d_init)
         self.n, self.m, self.N = n, m, N
         self.soft = self.tethered and any(math.isfinite(b) for b in self.tension_bounds)
         self.reel_rows = m == 5 and math.isfinite(self.reel_step)
@@ -457,6 +470,7 @@ class MPCController(Controller):
         """Integrators to zero, the disturbance estimate to ``d_init``, no previous plan."""
         self.z = np.zeros(4)
         self.d_hat = self.d_init.copy()
+        self._estimate: np.ndarray | None = None  # the Kalman filter's [dx; d]
         self._dx_prev: np.ndarray | None = None
         self._du_prev = np.zeros(self.m)
         self._plan: np.ndarray | None = None  # (N, m) deviations from trim
@@ -502,7 +516,9 @@ class MPCController(Controller):
             return self._free_law(x, y)
         n, m = self.n, self.m
         dx = x[:n] - self.x_ref
-        if self._dx_prev is not None and self.alpha > 0.0:
+        if self.kalman is not None:
+            dx, y = self._filter(x, dx, measurement.tension)
+        elif self._dx_prev is not None and self.alpha > 0.0:
             G, H = self.design.G_aug[:n, :n], self.design.H_aug[:n]
             d_raw = self.Hd_pinv @ (dx - G @ self._dx_prev - H @ self._du_prev)
             self.d_hat += self.alpha * (d_raw - self.d_hat)
@@ -515,6 +531,25 @@ class MPCController(Controller):
         self._dx_prev, self._du_prev = dx, du
         self.z += self.dt * (self.y_ref - y)  # eq 50
         return Command(inputs=cmd, reel_rate=rate)
+
+    def _filter(self, x: np.ndarray, dx_measured: np.ndarray, tension: float) -> tuple:
+        """The Kalman filter's sample (``control.observer``): sets ``d_hat``; returns the
+        estimated state deviation (n,) and the outputs (4,) of the estimated state."""
+        measured = dx_measured
+        if self.kalman.C.shape[0] > self.n:  # the load cell
+            measured = np.append(dx_measured, tension - self.tension_ref)
+        if self._estimate is None:
+            s = self.kalman.start(self.d_init, measured)
+        else:
+            s = self.kalman.update(self._estimate, self._du_prev, measured)
+        self._estimate = s
+        self.d_hat = s[self.n :].copy()
+        dx = s[: self.n]
+        x_est = x.copy()
+        x_est[: self.n] = self.x_ref + dx
+        y = np.empty(4)
+        tethered_outputs(x_est, self.c, y)
+        return dx, y
 
     def _solve(self, xi0: np.ndarray, x_s: np.ndarray, u_s: np.ndarray) -> np.ndarray:
         """The first move (deviation from trim, (m,)) of the QP at xi0, or the fallback."""
@@ -587,7 +622,9 @@ def mpc_controller(scenario, setup, design_params=None) -> MPCController:
 
     The model is designed on ``design_params`` (default the run's own parameters) at the
     hover trim (Table V tethered, Table IV free); the references and the trim input are the
-    run's own trim (as for the paper's law); the bounds come from ``[actuators]``.
+    run's own trim (as for the paper's law); the bounds come from ``[actuators]``; the
+    estimator from ``[control.mpc] observer`` (the Kalman filter's measurement noise from
+    ``[sensors]``, ``observer.measurement_covariance``).
 
     Parameters
     ----------
@@ -607,7 +644,9 @@ def mpc_controller(scenario, setup, design_params=None) -> MPCController:
 
     s = scenario.control.mpc
     a = scenario.actuators
+    dt = scenario.control.dt
     tethered = scenario.configuration == "tethered"
+    tension_ref = scenario.params.tension_control.T_ref if tethered else 0.0
     params = scenario.params if design_params is None else design_params
     T_ref = params.tension_control.T_ref if tethered else 0.0
     design = _cached_design(
@@ -615,6 +654,19 @@ def mpc_controller(scenario, setup, design_params=None) -> MPCController:
         tuple(s.Qy), tuple(s.Ru), s.q_tension, s.horizon,
     )  # fmt: skip
     trim = setup.trim
+    kalman = None
+    if _uses_kalman(scenario):
+        G, H, _, Hd, c_t = mpc_plant(params, scenario.configuration, T_ref, scenario.q9, dt)
+        load_cell = tethered and scenario.tether.model != "lumped"
+        R = measurement_covariance(
+            scenario.sensors, trim.x, tension_ref, scenario.params.helicopter.tether_arm, dt,
+            states=G.shape[0], load_cell=load_cell,
+        )  # fmt: skip
+        kalman = DisturbanceKalman.design(
+            G, H, Hd, c_t if load_cell else None, R, dt, force_std=s.kalman_force_std,
+            force_rate=s.kalman_force_rate, input_std=np.array(s.kalman_input_std),
+            coordinate_std=s.kalman_coordinate_std,
+        )  # fmt: skip
     return MPCController(
         design,
         x_ref=trim.x,
@@ -626,7 +678,7 @@ def mpc_controller(scenario, setup, design_params=None) -> MPCController:
         u_max=np.array(a.u_max),
         reel_rate_limit=a.reel_rate_limit,
         reel_acceleration_limit=a.reel_acceleration_limit,
-        tension_ref=scenario.params.tension_control.T_ref if tethered else 0.0,
+        tension_ref=tension_ref,
         tension_bounds=tuple(s.tension_bounds),
         slack_weight=s.slack_weight,
         disturbance_time_constant=s.disturbance_time_constant,
@@ -635,4 +687,15 @@ def mpc_controller(scenario, setup, design_params=None) -> MPCController:
         free_gain=np.asarray(setup.gain.K) if tethered else None,
         free_trim_input=setup.u0_free,
         d_init=initial_wind_force(scenario.wind),
+        kalman=kalman,
     )
+
+
+def _uses_kalman(scenario) -> bool:
+    """``[control.mpc] observer``: "auto" is the Kalman filter when the sensors are not
+    perfect or the tether is the lumped chain (the design model's massless tether misses its
+    waves and sag), else the residual estimate."""
+    observer = scenario.control.mpc.observer
+    if observer == "auto":
+        return not scenario.sensors.is_perfect or scenario.tether.model == "lumped"
+    return observer == "kalman"

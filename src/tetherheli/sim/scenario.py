@@ -113,6 +113,11 @@ def field_key(cls: type, name: str) -> Key:
 #: on the tethered linearization with the reel rate as a fifth input (``control.tether_lqi``)
 #: and the constrained MPC on the same model (``control.mpc``).
 CONTROLLERS: tuple[str, ...] = ("paper", "tether_lqi", "mpc")
+#: The MPC's estimators of state and wind force (``[control.mpc] observer``): the one-step
+#: residual of the measured state (``disturbance_time_constant``), the steady-state Kalman
+#: filter on the scenario's sensors (``control.observer``), or "auto": the Kalman filter when
+#: the sensors are not perfect or the tether is the lumped chain, else the residual.
+MPC_OBSERVERS: tuple[str, ...] = ("auto", "residual", "kalman")
 
 
 @dataclass(frozen=True)
@@ -162,13 +167,19 @@ class MPCSettings:
     Parameters
     ----------
     horizon, Qy, q_tension, Ru, tension_bounds, slack_weight, disturbance_time_constant,
+    observer, kalman_force_std, kalman_force_rate, kalman_input_std, kalman_coordinate_std,
     max_iterations, tolerance
         The keys of a scenario's ``[control.mpc]`` table; each field's ``Key`` gives its
         meaning, unit, default and allowed range. The cost is the tethered LQI's (with the
         DARE of the same weights as terminal cost). The weights and the time constant are
         from ``python benchmarks/bench_mpc.py --tune 30`` (from the tethered LQI's weights
         and 0.1 s), then ``--tune 16 --start=-1.274,-0.509,-0.346,-0.030`` (see its header).
-        The rotor-input and winch bounds come from ``[actuators]``.
+        The Kalman filter's noises (``control.observer``): the wind force's random walk of
+        1 N/sqrt(s) against a white 1 N flies every shipped scenario with sensors and the
+        lumped tether; 2 N/sqrt(s) flies the sensed runs closer but takes the lumped one to
+        0.87 m of altitude deviation, 3 N/sqrt(s) loses it (``python
+        benchmarks/mpc_observer.py``). The rotor-input and winch bounds come from
+        ``[actuators]``.
     """
 
     horizon: int = _key(
@@ -203,6 +214,34 @@ class MPCSettings:
         0.0024297,
         Key("time constant of the estimate of the wind force on HO (an input disturbance "
             "of the model; 0: no estimate, integral action only)", "s", low=0.0),
+    )  # fmt: skip
+    observer: str = _key(
+        "auto",
+        Key("the estimator of state and wind force: the measured state's one-step residual, "
+            "a steady-state Kalman filter on the scenario's sensors, or auto (the filter "
+            "with imperfect sensors or the lumped tether)", kind="text",
+            choices=MPC_OBSERVERS),
+    )  # fmt: skip
+    kalman_force_std: float = _key(
+        1.0,
+        Key("the Kalman filter's white force on HO per sample, per axis: what the linear "
+            "model misses over a sample", "N", low=0.0, low_open=True),
+    )  # fmt: skip
+    kalman_force_rate: float = _key(
+        1.0,
+        Key("the Kalman filter's wind force on HO as a random walk, density per axis",
+            "N/s^0.5", low=0.0, low_open=True),
+    )  # fmt: skip
+    kalman_input_std: tuple[float, ...] = _key(
+        (1.0, 0.1, 0.1, 0.1, 0.01),
+        Key("the Kalman filter's white error of each input per sample: [fMR3, tMR1, tMR2, "
+            "fTR2, reel rate] in N, N m, N m, N, m/s", kind="vector", length=5, low=0.0,
+            low_open=True),
+    )  # fmt: skip
+    kalman_coordinate_std: float = _key(
+        1e-3,
+        Key("the Kalman filter's white error of each coordinate q4..q9 per sample: the "
+            "linearized kinematics' error", "rad or m", low=0.0, low_open=True),
     )  # fmt: skip
     max_iterations: int = _key(
         200,
