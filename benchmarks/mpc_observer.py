@@ -61,7 +61,10 @@ def main() -> None:
     scenarios = filtered_scenarios()
     if args.eq40:
         scenarios = [eq40_saturated(s) for s in scenarios]
-    paper = {s.name: peaks(simulate(s))[0] for s in scenarios}
+    paper = {}
+    for s in scenarios:
+        r = simulate(s)
+        paper[s.name] = f"{peaks(r)[0]:.3f}" + ("" if r.ok else f" (failed at {r.end_time:.1f} s)")
     print("kalman_force_rate | scenario | outcome | peak q1 | peak q2 | peak q3 | RMS q1 "
           "| paper's peak q1")  # fmt: skip
     for rate in (float(r) for r in args.rates.split(",")):
@@ -75,7 +78,7 @@ def main() -> None:
             p1, p2, p3, rms = peaks(r)
             outcome = "completed" if r.ok else f"{r.message} at {r.end_time:.1f} s"
             print(f"{rate:g} | {s.name} | {outcome} | {p1:.3f} | {p2:.3f} | {p3:.3f} | "
-                  f"{rms:.3f} | {paper[s.name]:.3f}", flush=True)  # fmt: skip
+                  f"{rms:.3f} | {paper[s.name]}", flush=True)  # fmt: skip
 
 
 if __name__ == "__main__":
