@@ -1,7 +1,8 @@
 """The MPC (``[control] controller = "mpc"``) on the paper's runs 1 and 2, tethered, with eq 40's
 cyclic limit as saturation: OSQP's time per sample and the issue-14 goal.
 
-Run: PYTHONPATH=src python benchmarks/bench_mpc.py [--tune EVALUATIONS]
+Run: PYTHONPATH=src python benchmarks/bench_mpc.py [--tune EVALUATIONS] [--tension T_REF]
+     PYTHONPATH=src python benchmarks/bench_mpc.py --pareto OUT [--pareto-csv FILE]
 
 Timing (pinned to one CPU): each sample's OSQP update + solve, as wall-clock time and as the
 thread's CPU time (which a loaded machine does not inflate), median, 99th percentile and
@@ -252,26 +253,28 @@ def pareto_markdown(rows: list[dict], refs: dict[str, tuple[float, float]]) -> s
     ok = np.array([bool(r["admissible"]) for r in rows])
     front = pareto_front(np.where(ok, e, np.nan), np.where(ok, red, np.nan))
     head = ("| T_ref [N] | position x | cyclic x | worst reduction [%] | worst effort | "
-            "tension [N] | peak tether moment [N m] | hover fMR3 [N] |")  # fmt: skip
+            "tension [N] | peak tether moment [N m] | hover fMR3 [N] | "
+            "worst effort x fMR3 [N] |")  # fmt: skip
     lines = ["# The MPC's effort-performance trade-off (benchmarks/bench_mpc.py --pareto)", "",
              f"{len(rows)} designs, {int(ok.sum())} admissible; references: "
              + "; ".join(f"{k}: effort {v[0]:.3f}, reduction {v[1]:.1f} %"
                          for k, v in refs.items()),
              "", "## The Pareto front (admissible designs)", "", head,
-             "|---:|---:|---:|---:|---:|---|---:|---:|"]  # fmt: skip
+             "|---:|---:|---:|---:|---:|---|---:|---:|---:|"]  # fmt: skip
 
     def line(r: dict) -> str:
         return (f"| {r['T_ref']:g} | {10 ** r['log10_position']:.3g} | "
                 f"{10 ** r['log10_cyclic']:.3g} | {_fmt(r['worst_reduction'], 1)} | "
                 f"{_fmt(r['worst_effort'], 3)} | {_fmt(r['tension_min'], 1)}-"
                 f"{_fmt(r['tension_max'], 1)} | {_fmt(r['peak_tether_moment'], 2)} | "
-                f"{_fmt(r['trim_fMR3'], 2)} |")  # fmt: skip
+                f"{_fmt(r['trim_fMR3'], 2)} | "
+                f"{_fmt(r['worst_effort'] * r['trim_fMR3'], 1)} |")  # fmt: skip
 
     for i in np.flatnonzero(front)[np.argsort(e[front])]:
         lines.append(line(rows[i]))
     lines += ["", "## Per operating tension: the least worst effort at >= 50 % and the best "
               "reduction at effort <= 1 (admissible designs)", "", head,
-              "|---:|---:|---:|---:|---:|---|---:|---:|"]  # fmt: skip
+              "|---:|---:|---:|---:|---:|---|---:|---:|---:|"]  # fmt: skip
     answers = []
     for T in sorted({r["T_ref"] for r in rows}):
         at = [i for i, r in enumerate(rows) if r["T_ref"] == T and ok[i]]

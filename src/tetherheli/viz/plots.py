@@ -1,5 +1,5 @@
 """Every figure of the package: the paper's Figs. 6-9 (free and tethered overlaid), the
-sweep, the Monte Carlo and the sensing figures.
+sweep, the Monte Carlo, the sensing and the controller trade-off figures.
 
 These functions only read results and return Matplotlib ``Figure`` objects built without
 pyplot, so importing them leaves the process's Matplotlib backend alone (notebooks keep their
@@ -706,22 +706,27 @@ def figure_pareto(
     ok = np.asarray(admissible, dtype=bool) & np.isfinite(e) & np.isfinite(r)
     c = np.asarray(colour, dtype=float)
     drawn = np.isfinite(e) & np.isfinite(r)
-    shown = np.concatenate([e[drawn], [goal[0]], [v[0] for v in (references or {}).values()]])
-    lo, hi = float(shown.min()), float(shown.max())
-    pad = 0.05 * (hi - lo) if hi > lo else 0.05
-    top = float(
-        np.max(np.concatenate([r[drawn], [goal[1]], [v[1] for v in (references or {}).values()]]))
-    )
+    # the view: the admissible designs, the references and the goal's corner with a quarter
+    # of their span around (a far-off inadmissible design would squeeze the rest into a
+    # corner; it is counted, not drawn)
+    ref_x = [v[0] for v in (references or {}).values()]
+    ref_y = [v[1] for v in (references or {}).values()]
+    xs = np.concatenate([e[ok], [goal[0]], ref_x])
+    ys = np.concatenate([r[ok], [goal[1]], ref_y])
+    x_pad = 0.25 * max(float(np.ptp(xs)), 0.1)
+    y_pad = 0.25 * max(float(np.ptp(ys)), 10.0)
+    x_lim = (float(xs.min()) - x_pad, float(xs.max()) + x_pad)
+    y_lim = (float(ys.min()) - y_pad, float(ys.max()) + y_pad)
     ax.fill_between(
-        [lo - pad, goal[0]],
+        [x_lim[0], goal[0]],
         goal[1],
-        top + 5.0,
+        y_lim[1],
         color="tab:green",
         alpha=0.12,
         lw=0,
         label=f"goal: effort ratio <= {goal[0]:g}, reduction >= {goal[1]:g} %",
     )
-    vmin, vmax = float(np.nanmin(c[drawn])), float(np.nanmax(c[drawn]))
+    vmin, vmax = (float(np.min(c[ok])), float(np.max(c[ok]))) if ok.any() else (0.0, 1.0)
     art = ax.scatter(
         e[ok],
         r[ok],
@@ -734,14 +739,17 @@ def figure_pareto(
     )
     bad = drawn & ~ok
     if bad.any():
+        inside = (x_lim[0] <= e) & (e <= x_lim[1]) & (y_lim[0] <= r) & (r <= y_lim[1])
+        out = int((bad & ~inside).sum())
         ax.scatter(
-            e[bad],
-            r[bad],
+            e[bad & inside],
+            r[bad & inside],
             facecolors="none",
             edgecolors="0.5",
             s=22,
             lw=0.8,
-            label=f"inadmissible (tension, solver, off-axis; {int(bad.sum())})",
+            label=f"inadmissible (tension, solver, off-axis; {int(bad.sum())}"
+            + (f", {out} beyond the view)" if out else ")"),
         )
     front = pareto_front(np.where(ok, e, np.nan), np.where(ok, r, np.nan))
     order = np.argsort(e[front])
@@ -759,8 +767,8 @@ def figure_pareto(
     fig.colorbar(art, ax=ax, label=colour_label)
     ax.axvline(goal[0], color="tab:green", lw=0.8, ls="--")
     ax.axhline(goal[1], color="tab:green", lw=0.8, ls="--")
-    ax.set_xlim(lo - pad, hi + pad)
-    ax.set_ylim(top=top + 5.0)
+    ax.set_xlim(*x_lim)
+    ax.set_ylim(*y_lim)
     ax.set_xlabel("worst effort ratio (RMS input deviation / the paper's tethered controller's)")
     ax.set_ylabel("worst reduction against the free helicopter [%]")
     ax.legend(loc="lower right", fontsize=7)
