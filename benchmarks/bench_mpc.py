@@ -132,11 +132,34 @@ def timing(sims: dict, settings: MPCSettings) -> None:
               f"paper controller compiled {paper:.3f} s: {wall / paper:.0f}x")  # fmt: skip
 
 
+def gyroscopic_estimate(scenario: Scenario, result, window: tuple[float, float]) -> tuple:
+    """The cyclic torque a position hold needs against the wind over ``window`` [s] (the
+    README's "Why"): the thrust leans by F / fMR3, and a lean rate needs the rotor's
+    gyroscopic torque h times it (h = 2 I_MR11 |omega_MR|, eqs 21, 24), so RMS h F' / fMR3 with
+    F the recorded wind force along its axis. Returns (estimate, flown RMS of the cyclic input
+    that turns the thrust towards F: tMR1 for a wind along n1, tMR2 along n2) [N m]."""
+    hp = scenario.params.helicopter
+    h = 2.0 * hp.I_MR11 * abs(hp.omega_MR)
+    u_trim = engine_setup(scenario).trim.u_total
+    fMR3 = float(u_trim[0])
+    axis = int(np.argmax(np.abs(result.wind).max(axis=0)))
+    k = (result.time >= window[0]) & (result.time <= window[1])
+    rate = np.gradient(result.wind[:, axis], result.time)[k]
+    flown = result.inputs[k, 1 + axis] - u_trim[1 + axis]
+    return h * float(np.sqrt(np.mean(rate**2))) / fMR3, float(np.sqrt(np.mean(flown**2)))
+
+
+#: the paper's sine wind (Sec. VI: from t = 30 s to the end of the 60 s runs) [s]
+SINE_WINDOW = (30.0, 60.0)
+
+
 def report(sims: dict, settings: MPCSettings, what: str) -> float:
     flown = {}
+    runs = {}
 
     def fly_mpc(s: Scenario) -> dict:
-        flown[s.name] = fly(with_mpc(s, settings))[1]
+        s = with_mpc(s, settings)
+        runs[s.name], flown[s.name] = fly(s)
         return flown[s.name]
 
     score, info = goal(sims, fly_mpc)
@@ -154,6 +177,9 @@ def report(sims: dict, settings: MPCSettings, what: str) -> float:
         print(f"sim {n}: peak q3 {m['peak_q3']:.3f} m, off-axis peak q{2 - axis} "
               f"{m[f'peak_q{2 - axis}']:.3f} m, peak cyclic {m['peak_cyclic']:.3f} / "
               f"{scenario_cyclic_limit(scenario):.3f} N m")  # fmt: skip
+        est, rms = gyroscopic_estimate(scenario, runs[scenario.name], SINE_WINDOW)
+        print(f"sim {n}, {SINE_WINDOW[0]:g}-{SINE_WINDOW[1]:g} s (the sine): RMS d{INPUT[1 + axis]}"
+              f" {rms:.3f} N m; gyroscopic estimate h RMS(F') / fMR3 {est:.3f} N m")  # fmt: skip
     return score
 
 
