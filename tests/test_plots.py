@@ -189,3 +189,33 @@ def test_animation_colours_are_the_figures():
         plots.CONFIGURATION_COLOURS["free"],
     ]
     assert len(set(colours)) == 4
+
+
+def test_pareto_figure_joins_the_admissible_front_and_shades_the_goal():
+    effort = np.array([0.9, 1.1, 1.0, 0.95, 1.12, np.nan])
+    reduction = np.array([40.0, 70.0, 60.0, 30.0, 75.0, np.nan])
+    admissible = np.array([True, True, True, True, False, False])
+    refs = {"paper": (1.0, 33.0)}
+    fig = plots.figure_pareto(effort, reduction, admissible, np.arange(6.0), "T [N]",
+                              references=refs)  # fmt: skip
+    ax = fig.axes[0]
+    lines = {ln.get_label(): ln for ln in ax.get_lines()}
+    front = lines["Pareto front (3 designs)"]  # (0.9, 40), (1.0, 60), (1.1, 70); not (0.95, 30)
+    assert front.get_xdata().tolist() == [0.9, 1.0, 1.1]
+    assert front.get_ydata().tolist() == [40.0, 60.0, 70.0]
+    assert lines["paper"].get_xdata().tolist() == [1.0]
+    labels = [c.get_label() for c in ax.collections]
+    assert "admissible designs (4)" in labels
+    assert any(lb.startswith("inadmissible") and "; 1)" in lb for lb in labels)  # NaN: not drawn
+    assert "goal: effort ratio <= 1, reduction >= 50 %" in labels
+
+
+def test_pareto_figure_counts_a_far_off_design_instead_of_widening_the_view():
+    effort = np.array([0.9, 1.1, 8.0])
+    reduction = np.array([60.0, 70.0, -190.0])
+    fig = plots.figure_pareto(effort, reduction, np.array([True, True, False]), np.zeros(3),
+                              "T [N]")  # fmt: skip
+    ax = fig.axes[0]
+    assert ax.get_xlim()[1] < 2.0 and ax.get_ylim()[0] > 0.0
+    labels = [c.get_label() for c in ax.collections]
+    assert any("1 beyond the view" in lb for lb in labels)

@@ -8,6 +8,7 @@ Definitions (used by the report and summary.json):
   the samples; the tension range over the samples. "The samples" are every control sample
   from the scenario's ``metrics_start`` (default 0: the whole run, t = 0 .. duration) on;
 - reduction_percent = 100 (free - tethered) / free, positive when the tether helps;
+- pareto_front: the designs no other design beats on both a cost and a benefit;
 - tether_moment: the tether's moment about HO on f1, f2 at every sample (the C1, C2 of eqs
   33-34 and 55), from the recorded state and tension, against eq 40's worst case |arm| TC.
 """
@@ -28,6 +29,7 @@ __all__ = [
     "RunMetrics",
     "TetherMoment",
     "metric_samples",
+    "pareto_front",
     "reduction_percent",
     "run_metrics",
     "tether_moment",
@@ -138,6 +140,34 @@ def reduction_percent(free: float, tethered: float) -> float:
     if not (math.isfinite(free) and free > 0.0 and math.isfinite(tethered)):
         raise ValueError(f"free = {free!r}, tethered = {tethered!r}; allowed: finite, free > 0")
     return 100.0 * (free - tethered) / free
+
+
+def pareto_front(cost: np.ndarray, benefit: np.ndarray) -> np.ndarray:
+    """Which points are Pareto-optimal for "least cost, most benefit": point i is on the front
+    unless some point j has cost_j <= cost_i and benefit_j >= benefit_i with one of the two
+    strict. Points with a non-finite value are never on the front (and beat no point).
+
+    Parameters
+    ----------
+    cost, benefit : ndarray, shape (n,)
+        Each point's cost (smaller is better) and benefit (larger is better).
+
+    Returns
+    -------
+    ndarray of bool, shape (n,)
+        True for the points on the front (equal points are all kept).
+    """
+    c = np.asarray(cost, dtype=float)
+    b = np.asarray(benefit, dtype=float)
+    if c.shape != b.shape or c.ndim != 1:
+        raise ValueError(f"cost {c.shape} and benefit {b.shape}; allowed: equal shapes (n,)")
+    ok = np.isfinite(c) & np.isfinite(b)
+    front = ok.copy()
+    for i in np.flatnonzero(ok):
+        no_worse = ok & (c <= c[i]) & (b >= b[i])
+        better = (c < c[i]) | (b > b[i])
+        front[i] = not np.any(no_worse & better)
+    return front
 
 
 @dataclass(frozen=True)

@@ -1,5 +1,5 @@
 """Every figure of the package: the paper's Figs. 6-9 (free and tethered overlaid), the
-sweep, the Monte Carlo and the sensing figures.
+sweep, the Monte Carlo, the sensing and the controller trade-off figures.
 
 These functions only read results and return Matplotlib ``Figure`` objects built without
 pyplot, so importing them leaves the process's Matplotlib backend alone (notebooks keep their
@@ -37,6 +37,7 @@ __all__ = [
     "figure_montecarlo",
     "figure_outputs",
     "figure_paired",
+    "figure_pareto",
     "figure_release",
     "figure_sensing",
     "figure_sweep",
@@ -651,6 +652,126 @@ def figure_paired(
     ax.set_ylabel(f"tethered: {label}")
     ax.set_title(f"Monte Carlo: {metric} per draw, free against tethered", fontsize=9)
     ax.legend(loc="upper left", fontsize=7)
+    ax.grid(alpha=0.3)
+    return fig
+
+
+def figure_pareto(
+    effort: np.ndarray,
+    reduction: np.ndarray,
+    admissible: np.ndarray,
+    colour: np.ndarray,
+    colour_label: str,
+    *,
+    references: Mapping[str, tuple[float, float]] | None = None,
+    goal: tuple[float, float] = (1.0, 50.0),
+    ax: Any = None,
+) -> Figure:
+    """A controller design sweep's trade-off, on ``ax`` if given: each design at (worst effort
+    ratio, worst reduction), coloured by ``colour``; the inadmissible designs hollow; the
+    Pareto front of the admissible ones (``analysis.pareto_front``: least effort, most
+    reduction) joined by a line; the goal's corner (effort ratio <= goal[0], reduction >=
+    goal[1]) shaded green; ``references`` (e.g. the paper's controller) as labelled stars.
+
+    Parameters
+    ----------
+    effort : ndarray, shape (n,)
+        Each design's worst effort ratio (RMS input deviation against a reference controller's).
+    reduction : ndarray, shape (n,)
+        Each design's worst reduction against the free helicopter [%] (NaN: the run failed,
+        not drawn).
+    admissible : ndarray of bool, shape (n,)
+        Whether each design meets the side constraints (tension range, no solver fallback...).
+    colour : ndarray, shape (n,)
+        The value that colours each point (e.g. the operating tension [N]).
+    colour_label : str
+        Its colour bar's label, with the unit.
+    references : mapping of str to (float, float), optional
+        Labelled (effort ratio, reduction [%]) points drawn as stars.
+    goal : (float, float)
+        The goal's largest effort ratio and smallest reduction [%].
+    ax : matplotlib Axes, optional
+        Where to draw.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn (``ax``'s if given).
+    """
+    from ..analysis import pareto_front
+
+    fig, ax = _single_axes(ax, (6.4, 4.6))
+    e = np.asarray(effort, dtype=float)
+    r = np.asarray(reduction, dtype=float)
+    ok = np.asarray(admissible, dtype=bool) & np.isfinite(e) & np.isfinite(r)
+    c = np.asarray(colour, dtype=float)
+    drawn = np.isfinite(e) & np.isfinite(r)
+    # the view: the admissible designs, the references and the goal's corner with a quarter
+    # of their span around (a far-off inadmissible design would squeeze the rest into a
+    # corner; it is counted, not drawn)
+    ref_x = [v[0] for v in (references or {}).values()]
+    ref_y = [v[1] for v in (references or {}).values()]
+    xs = np.concatenate([e[ok], [goal[0]], ref_x])
+    ys = np.concatenate([r[ok], [goal[1]], ref_y])
+    x_pad = 0.25 * max(float(np.ptp(xs)), 0.1)
+    y_pad = 0.25 * max(float(np.ptp(ys)), 10.0)
+    x_lim = (float(xs.min()) - x_pad, float(xs.max()) + x_pad)
+    y_lim = (float(ys.min()) - y_pad, float(ys.max()) + y_pad)
+    ax.fill_between(
+        [x_lim[0], goal[0]],
+        goal[1],
+        y_lim[1],
+        color="tab:green",
+        alpha=0.12,
+        lw=0,
+        label=f"goal: effort ratio <= {goal[0]:g}, reduction >= {goal[1]:g} %",
+    )
+    vmin, vmax = (float(np.min(c[ok])), float(np.max(c[ok]))) if ok.any() else (0.0, 1.0)
+    art = ax.scatter(
+        e[ok],
+        r[ok],
+        c=c[ok],
+        cmap="viridis",
+        vmin=vmin,
+        vmax=vmax,
+        s=22,
+        label=f"admissible designs ({int(ok.sum())})",
+    )
+    bad = drawn & ~ok
+    if bad.any():
+        inside = (x_lim[0] <= e) & (e <= x_lim[1]) & (y_lim[0] <= r) & (r <= y_lim[1])
+        out = int((bad & ~inside).sum())
+        ax.scatter(
+            e[bad & inside],
+            r[bad & inside],
+            facecolors="none",
+            edgecolors="0.5",
+            s=22,
+            lw=0.8,
+            label=f"inadmissible (tension, solver, off-axis; {int(bad.sum())}"
+            + (f", {out} beyond the view)" if out else ")"),
+        )
+    front = pareto_front(np.where(ok, e, np.nan), np.where(ok, r, np.nan))
+    order = np.argsort(e[front])
+    if front.any():
+        ax.step(
+            e[front][order],
+            r[front][order],
+            where="post",
+            color="k",
+            lw=1.0,
+            label=f"Pareto front ({int(front.sum())} designs)",
+        )
+    for k, (name, (x, y)) in enumerate((references or {}).items()):
+        ax.plot(x, y, "*", ms=11, color=f"C{k + 1}", mec="k", mew=0.5, label=name)
+    fig.colorbar(art, ax=ax, label=colour_label)
+    ax.axvline(goal[0], color="tab:green", lw=0.8, ls="--")
+    ax.axhline(goal[1], color="tab:green", lw=0.8, ls="--")
+    ax.set_xlim(*x_lim)
+    ax.set_ylim(*y_lim)
+    ax.set_xlabel("worst effort ratio (RMS input deviation / the paper's tethered controller's)")
+    ax.set_ylabel("worst reduction against the free helicopter [%]")
+    ax.legend(loc="lower right", fontsize=7)
     ax.grid(alpha=0.3)
     return fig
 
