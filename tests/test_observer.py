@@ -207,6 +207,11 @@ def test_observer_auto_picks_the_filter_with_sensors_or_a_lumped_tether():
     assert k is not None and k.C.shape[0] == 13  # a chain's load cell reads its ground end
     assert observer(ideal, "kalman") is not None
     assert observer(sensed, "residual") is None
+    # kalman_tension_std: eq 28's error widens the load cell's row; a huge one mutes it
+    mpc = dataclasses.replace(sensed.control.mpc, kalman_tension_std=1e4)
+    wide = sensed.replace(control=dataclasses.replace(sensed.control, mpc=mpc))
+    muted = mpc_controller(wide, engine_setup(wide)).kalman
+    assert np.max(np.abs(muted.L[:, -1])) < 1e-3 * np.max(np.abs(observer(sensed).L[:, -1]))
 
 
 def test_mpc_flies_the_tether_sensed_run_better_than_the_paper():

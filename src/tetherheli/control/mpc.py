@@ -662,6 +662,8 @@ def mpc_controller(scenario, setup, design_params=None) -> MPCController:
             scenario.sensors, trim.x, tension_ref, scenario.params.helicopter.tether_arm, dt,
             states=G.shape[0], load_cell=load_cell,
         )  # fmt: skip
+        if load_cell:  # eq 28 as the design model knows it
+            R[-1, -1] += s.kalman_tension_std**2
         kalman = DisturbanceKalman.design(
             G, H, Hd, c_t if load_cell else None, R, dt, force_std=s.kalman_force_std,
             force_rate=s.kalman_force_rate, input_std=np.array(s.kalman_input_std),

@@ -167,7 +167,8 @@ class MPCSettings:
     Parameters
     ----------
     horizon, Qy, q_tension, Ru, tension_bounds, slack_weight, disturbance_time_constant,
-    observer, kalman_force_std, kalman_force_rate, kalman_input_std, kalman_coordinate_std,
+    observer, kalman_force_std, kalman_force_rate, kalman_input_std, kalman_tension_std,
+    kalman_coordinate_std,
     max_iterations, tolerance
         The keys of a scenario's ``[control.mpc]`` table; each field's ``Key`` gives its
         meaning, unit, default and allowed range. The cost is the tethered LQI's (with the
@@ -233,13 +234,19 @@ class MPCSettings:
             "N/s^0.5", low=0.0, low_open=True),
     )  # fmt: skip
     kalman_input_std: tuple[float, ...] = _key(
-        (1.0, 0.1, 0.1, 0.1, 0.01),
+        (1.0, 0.5, 0.5, 0.3, 0.01),
         Key("the Kalman filter's white error of each input per sample: [fMR3, tMR1, tMR2, "
             "fTR2, reel rate] in N, N m, N m, N, m/s", kind="vector", length=5, low=0.0,
             low_open=True),
     )  # fmt: skip
+    kalman_tension_std: float = _key(
+        0.0,
+        Key("the Kalman filter's error of eq 28's tension from the state, added to the load "
+            "cell's noise: the tether's stiffness and length as the design model knows them",
+            "N", low=0.0),
+    )  # fmt: skip
     kalman_coordinate_std: float = _key(
-        1e-3,
+        1e-2,
         Key("the Kalman filter's white error of each coordinate q4..q9 per sample: the "
             "linearized kinematics' error", "rad or m", low=0.0, low_open=True),
     )  # fmt: skip
