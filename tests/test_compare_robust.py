@@ -223,3 +223,21 @@ def test_cyclic_limit_search_per_controller_brackets_the_limit(controller):
     )
     assert meets(res.hi) and not meets(res.lo)
     assert math.isfinite(res.threshold)
+
+
+def test_compare_figure_leaves_failed_percentiles_out_without_warnings():
+    """A Monte Carlo percentile among the failures is inf (``compare.markdown_table`` says
+    "inf"); the bar chart draws no bar for it and Matplotlib is never handed inf (pytest turns
+    its RuntimeWarning into an error)."""
+    from tetherheli.compare import _figure
+
+    rows = [
+        {"scenario": "mc p50", "controller": "paper", "peak_q1": 1.2, "peak_q2": 0.4,
+         "peak_q3": 0.1, "rms_q1": 0.6, "rms_q2": 0.2, "rms_q3": 0.05},
+        {"scenario": "mc p95", "controller": "paper", "peak_q1": math.inf, "peak_q2": math.inf,
+         "peak_q3": math.inf, "rms_q1": math.inf, "rms_q2": math.inf, "rms_q3": math.inf},
+    ]  # fmt: skip
+    fig = _figure(rows)
+    fig.canvas.draw()
+    heights = [p.get_height() for p in fig.axes[0].patches]
+    assert heights[:1] == [1.2] and all(math.isnan(h) for h in heights[1::2])

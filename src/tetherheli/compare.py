@@ -94,7 +94,9 @@ def _figure(rows: list[dict[str, Any]]):
     x = np.arange(len(rows))
     for ax, kind in zip(axes, ("peak", "rms"), strict=True):
         for a, off in zip((1, 2, 3), (-0.27, 0.0, 0.27), strict=True):
-            vals = [r.get(f"{kind}_q{a}", np.nan) for r in rows]
+            # a percentile among a Monte Carlo's failures is inf: no bar (the table says so)
+            vals = np.array([r.get(f"{kind}_q{a}", np.nan) for r in rows], dtype=float)
+            vals[~np.isfinite(vals)] = np.nan
             ax.bar(x + off, vals, width=0.27, label=f"q{a}")
         ax.set_xticks(x, labels, rotation=60, ha="right", fontsize=7)
         ax.set_ylabel(f"{kind} deviation [m]")

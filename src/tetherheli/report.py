@@ -6,6 +6,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import platform
 import sys
@@ -21,7 +22,7 @@ from .errors import ParameterError
 from .names import POSITION
 from .sim import SimulationResult, simulate
 from .sim.result import check_result_format
-from .sim.scenario import Scenario, paper_scenario, scenario_toml
+from .sim.scenario import MPC_QY_GNSS, Scenario, paper_scenario, scenario_toml
 
 __all__ = [
     "PAPER_CLAIM_PERCENT",
@@ -579,11 +580,15 @@ def sensing_scenario(source: str) -> Scenario:
         else "the tether (encoders + altimeter + IMU, Sec. IV-F)"
     )
     lost = f", GNSS lost {outage[0]:g}-{outage[1]:g} s" if outage else ""
+    control = base.control
+    if position == "gps":  # the MPC's weights when it flies these files (MPC_QY_GNSS)
+        control = dataclasses.replace(control, mpc=dataclasses.replace(control.mpc, Qy=MPC_QY_GNSS))
     return base.replace(
         name=f"sensing_{source}",
         sensors=SensorConfig.flown(position, gps_outage=outage),
         seed=1,
         description=f"Paper simulation 1, tethered, position from {label}{lost}.",
+        control=control,
     )
 
 

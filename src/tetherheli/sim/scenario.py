@@ -64,6 +64,8 @@ from ..wind import (
 
 __all__ = [
     "CONTROLLERS",
+    "MPC_OBSERVERS",
+    "MPC_QY_GNSS",
     "WINCH_MODELS",
     "ActuatorSettings",
     "ControlSettings",
@@ -258,6 +260,16 @@ class MPCSettings:
     tolerance: float = _key(
         1e-4, Key("OSQP's absolute and relative tolerance", low=0.0, low_open=True, high=1.0)
     )
+
+
+#: The MPC's output weights for the consumer-GNSS sensing files (``report.sensing_scenario``,
+#: scenarios/sensing_gps*.toml): ``MPCSettings.Qy`` with ten times the weight on the yaw q6
+#: and its integrator. With the consumer GNSS and eq 40's cyclic limit the default weights
+#: let the yaw swing by 0.5 rad after the pulse and the run diverges; with these it completes
+#: (``python benchmarks/mpc_observer.py --eq40``).
+MPC_QY_GNSS: tuple[float, ...] = tuple(
+    10.0 * q if i in (3, 7) else q for i, q in enumerate(MPCSettings().Qy)
+)
 
 
 @dataclass(frozen=True)
