@@ -3,6 +3,7 @@ cyclic limit as saturation: OSQP's time per sample and the issue-14 goal.
 
 Run: PYTHONPATH=src python benchmarks/bench_mpc.py [--tune EVALUATIONS] [--tension T_REF]
      PYTHONPATH=src python benchmarks/bench_mpc.py --pareto OUT [--pareto-csv FILE]
+     PYTHONPATH=src python benchmarks/bench_mpc.py --robust N [--tension T_REF]
 
 Timing (pinned to one CPU): each sample's OSQP update + solve, as wall-clock time and as the
 thread's CPU time (which a loaded machine does not inflate), median, 99th percentile and
@@ -381,6 +382,35 @@ def read_pareto(path: str) -> tuple[list[dict], dict[str, tuple[float, float]]]:
     return rows, refs
 
 
+def robust(runs: int, tension: float | None) -> None:
+    """``--robust N``: the MPC (the shipped weights; at ``tension`` [N] with the tension
+    bounds ``TENSION_RANGE``) on the first N draws of the two Monte Carlo files with eq 40's
+    saturation, designed on the nominal plant (``studies.robust.montecarlo_compare``):
+    failures, paired reductions against the free helicopter (median / 5th percentile) and the
+    median RMS effort of each rotor input."""
+    from tetherheli.compare import markdown_reductions
+    from tetherheli.studies.montecarlo import load_montecarlo
+    from tetherheli.studies.robust import montecarlo_compare
+
+    settings = MPCSettings()
+    if tension is not None:
+        settings = dataclasses.replace(settings, tension_bounds=TENSION_RANGE)
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenarios")
+    results = []
+    for name in ("montecarlo_paper_sim1", "montecarlo_turbulence"):
+        base, config = load_montecarlo(os.path.join(root, f"{name}.toml"))
+        base = with_mpc(base, settings)
+        if tension is not None:
+            base = at_tension(base, tension)
+        mc = montecarlo_compare(base, config, ("mpc",), runs=runs, eq40=True)
+        results.append(mc)
+        for lab in mc.labels:
+            eff = [np.nanmedian(mc.values[lab][f"rms_d{u}"]) for u in INPUT]
+            print(f"{name} {lab}: failed {mc.failures(lab)}/{mc.runs}; median RMS effort "
+                  f"({', '.join(INPUT)}) " + ", ".join(f"{e:.3f}" for e in eff))  # fmt: skip
+    print(markdown_reductions(tuple(results)))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tune", type=int, default=0, metavar="EVALUATIONS")
@@ -390,7 +420,13 @@ def main() -> None:
     parser.add_argument("--tension", type=float, metavar="T_REF",
                         help="report at the operating tension T_REF [N] (tension bounds "
                         f"{TENSION_RANGE})")  # fmt: skip
+    parser.add_argument("--robust", type=int, metavar="N",
+                        help="only: the MPC (at --tension) on the first N draws of the "
+                        "sim-1 and turbulence Monte Carlos, eq 40")  # fmt: skip
     args = parser.parse_args()
+    if args.robust:
+        robust(args.robust, args.tension)
+        return
     if args.pareto_csv and not args.pareto:
         parser.error("--pareto-csv needs --pareto OUT")
     if hasattr(os, "sched_setaffinity"):
