@@ -18,11 +18,8 @@ import argparse
 import dataclasses
 from pathlib import Path
 
-import numpy as np
-
-from tetherheli import simulate
 from tetherheli.sim.scenario import Scenario, load_scenario
-from tetherheli.studies.controllers import eq40_saturated, with_controller
+from tetherheli.studies.controllers import eq40_saturated, fly, with_controller
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 
@@ -41,17 +38,6 @@ def filtered_scenarios() -> list[Scenario]:
     return out
 
 
-def peaks(result) -> tuple[float, float, float, float]:
-    dev = result.deviations()
-    q1 = dev["q1"]
-    return (
-        float(np.max(np.abs(q1))),
-        float(np.max(np.abs(dev["q2"]))),
-        float(np.max(np.abs(dev["q3"]))),
-        float(np.sqrt(np.mean(q1**2))),
-    )
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rates", default="1,2,3", help="kalman_force_rate values [N/s^0.5]")
@@ -63,8 +49,8 @@ def main() -> None:
         scenarios = [eq40_saturated(s) for s in scenarios]
     paper = {}
     for s in scenarios:
-        r = simulate(s)
-        paper[s.name] = f"{peaks(r)[0]:.3f}" + ("" if r.ok else f" (failed at {r.end_time:.1f} s)")
+        r, m = fly(s)
+        paper[s.name] = f"{m['peak_q1']:.3f}" + ("" if r.ok else f" (failed at {r.end_time:.1f} s)")
     print("kalman_force_rate | scenario | outcome | peak q1 | peak q2 | peak q3 | RMS q1 "
           "| paper's peak q1")  # fmt: skip
     for rate in (float(r) for r in args.rates.split(",")):
@@ -74,8 +60,8 @@ def main() -> None:
             )
             flown = with_controller(s, "mpc")
             flown = flown.replace(control=dataclasses.replace(flown.control, mpc=mpc))
-            r = simulate(flown)
-            p1, p2, p3, rms = peaks(r)
+            r, m = fly(flown)
+            p1, p2, p3, rms = (m[k] for k in ("peak_q1", "peak_q2", "peak_q3", "rms_q1"))
             outcome = "completed" if r.ok else f"{r.message} at {r.end_time:.1f} s"
             print(f"{rate:g} | {s.name} | {outcome} | {p1:.3f} | {p2:.3f} | {p3:.3f} | "
                   f"{rms:.3f} | {paper[s.name]}", flush=True)  # fmt: skip

@@ -510,18 +510,19 @@ class MPCController(Controller):
             Rotor inputs [N, N m, N m, N] and reel rate [m/s]; no feed-forward.
         """
         x = np.asarray(measurement.state, dtype=float)
-        y = np.empty(4)
-        tethered_outputs(x, self.c, y)
         if self.tethered and not measurement.attached:
-            return self._free_law(x, y)
+            return self._free_law(x, self._outputs(x))
         n, m = self.n, self.m
         dx = x[:n] - self.x_ref
         if self.kalman is not None:
-            dx, y = self._filter(x, dx, measurement.tension)
+            dx = self._filter(dx, measurement.tension)
+            x = x.copy()
+            x[:n] = self.x_ref + dx  # the outputs below are the estimate's
         elif self._dx_prev is not None and self.alpha > 0.0:
             G, H = self.design.G_aug[:n, :n], self.design.H_aug[:n]
             d_raw = self.Hd_pinv @ (dx - G @ self._dx_prev - H @ self._du_prev)
             self.d_hat += self.alpha * (d_raw - self.d_hat)
+        y = self._outputs(x)
         xu_s = self.design.target @ self.d_hat
         x_s, u_s = xu_s[:n], xu_s[n:]
         xi0 = np.concatenate([dx - x_s, self.z])
@@ -532,9 +533,15 @@ class MPCController(Controller):
         self.z += self.dt * (self.y_ref - y)  # eq 50
         return Command(inputs=cmd, reel_rate=rate)
 
-    def _filter(self, x: np.ndarray, dx_measured: np.ndarray, tension: float) -> tuple:
+    def _outputs(self, x: np.ndarray) -> np.ndarray:
+        """[q1, q2, q3, q6] (4,) of the state x (13,) (``kernels.tethered_outputs``)."""
+        y = np.empty(4)
+        tethered_outputs(x, self.c, y)
+        return y
+
+    def _filter(self, dx_measured: np.ndarray, tension: float) -> np.ndarray:
         """The Kalman filter's sample (``control.observer``): sets ``d_hat``; returns the
-        estimated state deviation (n,) and the outputs (4,) of the estimated state."""
+        estimated state deviation (n,)."""
         measured = dx_measured
         if self.kalman.C.shape[0] > self.n:  # the load cell
             measured = np.append(dx_measured, tension - self.tension_ref)
@@ -544,12 +551,7 @@ class MPCController(Controller):
             s = self.kalman.update(self._estimate, self._du_prev, measured)
         self._estimate = s
         self.d_hat = s[self.n :].copy()
-        dx = s[: self.n]
-        x_est = x.copy()
-        x_est[: self.n] = self.x_ref + dx
-        y = np.empty(4)
-        tethered_outputs(x_est, self.c, y)
-        return dx, y
+        return s[: self.n]
 
     def _solve(self, xi0: np.ndarray, x_s: np.ndarray, u_s: np.ndarray) -> np.ndarray:
         """The first move (deviation from trim, (m,)) of the QP at xi0, or the fallback."""
