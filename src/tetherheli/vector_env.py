@@ -82,7 +82,7 @@ from .sim import engine
 from .sim.setup import lane_program_into, sensor_tuple
 from .status import Status, status_message
 
-__all__ = ["TetheredHoverVectorEnv", "vector_step"]
+__all__ = ["TetheredHoverVectorEnv", "vector_restart", "vector_step"]
 
 _jit = compiled(error_model="numpy")
 
@@ -102,8 +102,8 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
     reward, status, tension, rate, y) receives the step's results.
     """
     (x, k, cfg, ctrl, z, winch, held, event, x_meas, sc_meas, sc_true, y_loop, y_est, inp,
-     ffwd, noise, noise_rows, ring, x_start, z_start) = copies  # fmt: skip
-    (x_trim, cfg0, ctrl0, act, c, law, source, arm, scratch, schedule, t_ref, weight, penalty,
+     ffwd, noise, noise_rows, ring, _, _) = copies  # fmt: skip
+    (x_trim, cfg0, _, act, c, law, source, arm, scratch, schedule, t_ref, weight, penalty,
      x_scr, y_scr) = shared  # fmt: skip
     x_l, sc_l, inp_l, rate_l, t0_l, h_l, attached_l, k_c_l, c_l, sc_park, work = lanes
     programs, n_rows, gusts, gust_rows, gust_dt, drag = wind
@@ -111,22 +111,8 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
     y_ref, u0 = law[LAW_Y_REF], law[LAW_U0]
     n = reset.shape[0]
     for i in range(n):
-        if reset[i]:  # TetheredHoverEnv.reset: the episode's start, a fresh loop state
-            k[i] = 0
-            x[i] = x_start[i]
-            x_meas[i] = x_start[i]
-            cfg[i] = cfg0
-            cfg[i, CFG_GUST_DT] = gust_dt[i]
-            ctrl[i] = ctrl0
-            z[i] = z_start[i]
-            ring[i] = 0.0
-            winch[i] = 0.0
-            held[i] = 0.0
-            event[i] = np.nan
-            inp[i] = np.nan
-            rate[i] = np.nan
-            reward[i] = 0.0
-            status[i] = engine.STATUS_OK
+        if reset[i]:
+            restart_copy(i, copies, shared, wind, out)
         else:
             sensors = (noise[i, : noise_rows[i]], source, arm, scratch, schedule, ring[i])
             loop = (
@@ -163,15 +149,76 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
                     x[i, v] = xb[v * LANES + j]
     for i in range(n):
         if reset[i]:
-            tension[i] = tether_tension(x[i], cfg[i])
-            tethered_outputs(x[i], c, y[i])
+            observe_start(i, copies, shared, out)
         else:
             k[i] += 1
             status[i], reward[i], tension[i] = finish_step(
                 x[i], a[i], cfg[i], c, y[i], y_ref, weight, penalty
             )
-        sensors = (noise[i, : noise_rows[i]], source, arm, scratch, schedule, ring[i])
-        observe_into(x[i], tension[i], k[i], sensors, c, x_trim, y_ref, t_ref, x_scr, y_scr, obs[i])
+            sensors = (noise[i, : noise_rows[i]], source, arm, scratch, schedule, ring[i])
+            observe_into(
+                x[i], tension[i], k[i], sensors, c, x_trim, y_ref, t_ref, x_scr, y_scr, obs[i]
+            )
+
+
+@_jit
+def restart_copy(i, copies, shared, wind, out):
+    """Copy i at its episode's start (``TetheredHoverEnv.reset``): state x and integrators
+    z0 of ``setup.start_point``, a fresh loop state and sensor history ring."""
+    (x, k, cfg, ctrl, z, winch, held, event, x_meas, _, _, _, _, inp, _, _, _, ring, x_start,
+     z_start) = copies  # fmt: skip
+    cfg0, ctrl0 = shared[1], shared[2]
+    gust_dt = wind[4]
+    _, reward, status, _, rate, _ = out
+    k[i] = 0
+    x[i] = x_start[i]
+    x_meas[i] = x_start[i]
+    cfg[i] = cfg0
+    cfg[i, CFG_GUST_DT] = gust_dt[i]
+    ctrl[i] = ctrl0
+    z[i] = z_start[i]
+    ring[i] = 0.0
+    winch[i] = 0.0
+    held[i] = 0.0
+    event[i] = np.nan
+    inp[i] = np.nan
+    rate[i] = np.nan
+    reward[i] = 0.0
+    status[i] = engine.STATUS_OK
+
+
+@_jit
+def observe_start(i, copies, shared, out):
+    """Tension, outputs and first observation of copy i just restarted."""
+    x, k, cfg, noise, noise_rows, ring = (
+        copies[0],
+        copies[1],
+        copies[2],
+        copies[15],
+        copies[16],
+        copies[17],
+    )
+    x_trim, c, law, source, arm, scratch, schedule, t_ref, x_scr, y_scr = (
+        shared[0], shared[4], shared[5], shared[6], shared[7], shared[8], shared[9],
+        shared[10], shared[13], shared[14],
+    )  # fmt: skip
+    obs, _, _, tension, _, y = out
+    tension[i] = tether_tension(x[i], cfg[i])
+    tethered_outputs(x[i], c, y[i])
+    sensors = (noise[i, : noise_rows[i]], source, arm, scratch, schedule, ring[i])
+    observe_into(
+        x[i], tension[i], k[i], sensors, c, x_trim, law[LAW_Y_REF], t_ref, x_scr, y_scr, obs[i]
+    )
+
+
+@_jit
+def vector_restart(mask, copies, shared, wind, out):
+    """Restart the copies of ``mask`` (N,) bool, leaving the others as they are, and write
+    their first observation (the same-step autoreset of Stable-Baselines3's ``VecEnv``)."""
+    for i in range(mask.shape[0]):
+        if mask[i]:
+            restart_copy(i, copies, shared, wind, out)
+            observe_start(i, copies, shared, out)
 
 
 class TetheredHoverVectorEnv(VectorEnv):
@@ -352,6 +399,31 @@ class TetheredHoverVectorEnv(VectorEnv):
             restart, a, command, mode, self._copies, self._shared, self._lanes, self._wind,
             self._out,
         )  # fmt: skip
+
+    def restart(self, mask: np.ndarray) -> np.ndarray:
+        """Start a new episode now in the copies of ``mask`` (num_envs,) bool (a new draw from
+        each one's generator), leaving the other copies untouched.
+
+        This is the same-step autoreset that Stable-Baselines3's ``VecEnv`` expects
+        (``tetherheli.sb3``); Gymnasium's own next-step autoreset needs no call.
+
+        Returns
+        -------
+        observations : ndarray, shape (num_envs, 13), float32
+            Every copy's current observation: the restarted copies' first one.
+        """
+        if not self._started:
+            raise RuntimeError("call reset() before restart()")
+        mask = np.asarray(mask, dtype=bool)
+        if mask.shape != (self.num_envs,):
+            raise ParameterError("mask", mask.shape, f"a bool array of shape ({self.num_envs},)")
+        for i in np.flatnonzero(mask):
+            self._start_episode(int(i), None)
+        if self._wind is None:
+            self._wind = self._lane_wind()
+        vector_restart(mask, self._copies, self._shared, self._wind, self._out)
+        self._autoreset = self._autoreset & ~mask
+        return self._obs.copy()
 
     def _infos(self) -> dict[str, Any]:
         """The single environment's info keys as arrays over the copies, with masks."""
