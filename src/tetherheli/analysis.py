@@ -29,6 +29,7 @@ __all__ = [
     "RunMetrics",
     "TetherMoment",
     "metric_samples",
+    "metric_window",
     "pareto_front",
     "reduction_percent",
     "run_metrics",
@@ -91,6 +92,22 @@ def metric_samples(result: SimulationResult) -> int:
         The number of samples at or after ``metrics_start``.
     """
     return max(0, result.time.size - _first_sample(result))
+
+
+def metric_window(result: SimulationResult) -> slice:
+    """The recorded samples the metrics cover: from ``metrics_start`` on.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        A recorded run.
+
+    Returns
+    -------
+    slice
+        ``slice(k0, None)``, k0 the first sample at or after ``metrics_start``.
+    """
+    return slice(_first_sample(result), None)
 
 
 def run_metrics(result: SimulationResult) -> RunMetrics:

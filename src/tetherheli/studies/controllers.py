@@ -92,7 +92,9 @@ def with_controller(scenario: Scenario, controller: str, **tether_lqi: Any) -> S
 
 def controller_metrics(result, u_trim: np.ndarray, cyclic_limit: float | None) -> dict[str, Any]:
     """The comparison's measures of a recorded run (``CONTROLLER_METRICS`` but the compute
-    time). ``u_trim`` (4,) is the trim's total rotor input; ``cyclic_limit`` [N m] or None.
+    time) over the samples from the scenario's ``metrics_start`` on, as every other metric
+    (``analysis.run_metrics``). ``u_trim`` (4,) is the trim's total rotor input;
+    ``cyclic_limit`` [N m] or None.
 
     Parameters
     ----------
@@ -110,22 +112,32 @@ def controller_metrics(result, u_trim: np.ndarray, cyclic_limit: float | None) -
         deviations [N, N m, N m, N], the peak cyclic [N m], its limit, the tension range
         [N] and ``completed``.
     """
-    d = result.outputs[:, :3] - result.trim_output[:3]
-    att = result.states[:, :2] - result.trim_state[:2]
-    du = result.inputs - np.asarray(u_trim)
+    from ..analysis import metric_samples, metric_window, run_metrics
+
+    if metric_samples(result) == 0:  # failed before metrics_start: nothing to measure
+        out = dict.fromkeys(CONTROLLER_METRICS[:-2], math.nan)
+        out["cyclic_limit"] = math.nan if cyclic_limit is None else float(cyclic_limit)
+        out["completed"] = bool(result.ok)
+        return out
+
+    # one source for the position, attitude and tension metrics and their window
+    # (``metrics_start``): analysis.run_metrics, as ``simulate``'s summaries use
+    m = run_metrics(result)
+    window = metric_window(result)
+    du = result.inputs[window] - np.asarray(u_trim)
     out: dict[str, Any] = {}
     for a in range(3):
-        out[f"peak_q{a + 1}"] = float(np.max(np.abs(d[:, a])))
-        out[f"rms_q{a + 1}"] = float(np.sqrt(np.mean(d[:, a] ** 2)))
-    out["peak_attitude_deg"] = float(np.degrees(np.max(np.abs(att))))
+        out[f"peak_q{a + 1}"] = m.peak_abs_dev[f"q{a + 1}"]
+        out[f"rms_q{a + 1}"] = m.rms_dev[f"q{a + 1}"]
+    out["peak_attitude_deg"] = max(m.peak_abs_dev["q4_deg"], m.peak_abs_dev["q5_deg"])
     for i, n in enumerate(INPUT):
         out[f"rms_d{n}"] = float(np.sqrt(np.mean(du[:, i] ** 2)))
     for i, n in enumerate(INPUT):
         out[f"peak_d{n}"] = float(np.max(np.abs(du[:, i])))
-    out["peak_cyclic"] = float(np.max(np.abs(result.inputs[:, 1:3])))
+    out["peak_cyclic"] = float(np.max(np.abs(result.inputs[window, 1:3])))
     out["cyclic_limit"] = math.nan if cyclic_limit is None else float(cyclic_limit)
-    out["tension_min"] = float(np.min(result.tension))
-    out["tension_max"] = float(np.max(result.tension))
+    out["tension_min"] = m.tension_min
+    out["tension_max"] = m.tension_max
     out["completed"] = bool(result.ok)
     return out
 
