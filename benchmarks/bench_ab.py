@@ -27,7 +27,10 @@ import numpy as np
 from tetherheli.sim import engine
 from tetherheli.sim.batch import run_batch
 from tetherheli.sim.scenario import paper_scenario
-from tetherheli.disturbances import Pulse, Sine
+try:
+    from tetherheli.wind import Pulse, Sine
+except ImportError:  # a baseline from before the wind package
+    from tetherheli.disturbances import Pulse, Sine
 
 s = paper_scenario(1, "tethered")
 try:

@@ -654,11 +654,11 @@ def test_turbulence_force_interpolates_and_uses_relative_velocity():
             turb.force(bad)
 
 
-def test_disturbances_module_is_the_wind_package():
-    """``tetherheli.disturbances`` (kept for compatibility) gives the wind package's objects."""
-    import tetherheli.disturbances
-    import tetherheli.wind
+def test_compatibility_modules_are_gone():
+    """The shims ``tetherheli.disturbances``, ``.montecarlo`` and ``.sweep`` are removed
+    (CHANGELOG): the wind is ``tetherheli.wind``, the studies ``tetherheli.studies``."""
+    import importlib
 
-    names = tetherheli.disturbances.__all__
-    assert set(names) <= set(tetherheli.wind.__all__)
-    assert all(getattr(tetherheli.disturbances, n) is getattr(tetherheli.wind, n) for n in names)
+    for name in ("disturbances", "montecarlo", "sweep"):
+        with pytest.raises(ModuleNotFoundError):
+            importlib.import_module(f"tetherheli.{name}")

@@ -20,7 +20,6 @@ from gymnasium.utils.env_checker import check_env  # noqa: E402
 from gymnasium.vector import AsyncVectorEnv, AutoresetMode, SyncVectorEnv  # noqa: E402
 
 from tetherheli import simulate  # noqa: E402
-from tetherheli.disturbances import Pulse  # noqa: E402
 from tetherheli.envs import (  # noqa: E402
     DEFAULT_EPISODE_TIME,
     ENV_ID,
@@ -32,6 +31,7 @@ from tetherheli.errors import ParameterError  # noqa: E402
 from tetherheli.sim.scenario import Scenario  # noqa: E402
 from tetherheli.vector_env import TetheredHoverVectorEnv  # noqa: E402
 from tetherheli.viz.animation import RunData, frame_rgb  # noqa: E402
+from tetherheli.wind import Pulse  # noqa: E402
 
 SRC = Path(__file__).resolve().parents[1] / "src"
 PULSE = Pulse(start=0.1, duration=0.3, magnitude=20.0, direction=(0.6, 0.8, 0.0))

@@ -17,7 +17,10 @@ import math
 import numpy as np
 import pytest
 
-from tetherheli.disturbances import (
+from tetherheli.sim.batch import METRIC_NAMES
+from tetherheli.sim.scenario import Scenario
+from tetherheli.studies.montecarlo import MonteCarloConfig, draw, draw_seed
+from tetherheli.wind import (
     ConstantForce,
     DragModel,
     GaussMarkovTurbulence,
@@ -26,9 +29,6 @@ from tetherheli.disturbances import (
     Step,
     Turbulence,
 )
-from tetherheli.sim.batch import METRIC_NAMES
-from tetherheli.sim.scenario import Scenario
-from tetherheli.studies.montecarlo import MonteCarloConfig, draw, draw_seed
 
 #: Nominal profiles. Their starts (>= 2 s) lie beyond four standard deviations of the 0.5 s
 #: jitter, so no draw below is clipped at t = 0 and the delay is exact.

@@ -14,9 +14,9 @@ from pathlib import Path
 import numpy as np
 
 from tetherheli import simulate
-from tetherheli.disturbances import Pulse
 from tetherheli.sensors import SensorConfig
 from tetherheli.sim.scenario import Scenario
+from tetherheli.wind import Pulse
 
 #: ``SimulationResult.to_csv`` / ``save``: time, the tethered state (names.TETHERED_STATE),
 #: HO's position, the applied inputs, the feed-forward torques of eq 55, tension, reel rate,

@@ -1,6 +1,6 @@
 """Gauss-Markov gusts calibrated from published turbulence models (``gust_calibration``):
 IEC 61400-1 ed. 3 (normal turbulence model, Kaimal spectra) and MIL-F-8785C / MIL-HDBK-1797
-low-altitude Dryden; the deprecated name "hover"; the shipped scenarios."""
+low-altitude Dryden; the removed name "hover"; the shipped scenarios."""
 
 from __future__ import annotations
 
@@ -196,18 +196,15 @@ def test_scenario_form_loads_round_trips_and_checks_the_mean_wind():
         disturbance_from_dict(_turbulence_table({**IEC_TABLE, "gain": [1.0, 1.0, 1.0]}))
 
 
-def test_hover_is_a_deprecated_alias_of_gauss_markov():
-    """Old scenario files (``type = "hover"``) still load, to the same model, with a
-    FutureWarning that names the new type; so does the old class name."""
+def test_old_hover_type_is_refused_naming_the_new_one():
+    """``type = "hover"`` (the old name of ``"gauss_markov"``, deprecated, now removed) is
+    refused in one line listing the allowed types; the old class name is gone too."""
     table = {"type": "hover", "gain": [1.5, 1.5, 0.7], "pole_rad_s": [0.5, 0.5, 0.5]}
-    with pytest.warns(FutureWarning, match="'gauss_markov'"):
-        old = disturbance_from_dict(_turbulence_table(table))
-    new = disturbance_from_dict(_turbulence_table({**table, "type": "gauss_markov"}))
-    assert old == new and type(old.model) is GaussMarkovTurbulence
+    with pytest.raises(ParameterError, match=r"wind\.model\.type.*'hover'.*gauss_markov"):
+        disturbance_from_dict(_turbulence_table(table))
     import tetherheli.wind as wind
 
-    with pytest.warns(FutureWarning, match="GaussMarkovTurbulence"):
-        assert wind.HoverTurbulence is GaussMarkovTurbulence
+    assert not hasattr(wind, "HoverTurbulence")
 
 
 @pytest.mark.parametrize(

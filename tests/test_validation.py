@@ -16,13 +16,13 @@ import pytest
 
 from tetherheli import ParameterError, Params, TetherParams
 from tetherheli._validation import check_number, check_vector, describe
-from tetherheli.disturbances import DragModel, GaussMarkovTurbulence, Pulse, Turbulence
 from tetherheli.envs import TetheredHoverEnv
 from tetherheli.sensors import SensorConfig, hover_error_std, noise_table
 from tetherheli.sim import ControlSettings, Limits, Scenario
 from tetherheli.sim.scenario import ActuatorSettings
 from tetherheli.studies.montecarlo import montecarlo_config_from_dict
 from tetherheli.viz.animation import animate, render_frame
+from tetherheli.wind import DragModel, GaussMarkovTurbulence, Pulse, Turbulence
 
 MISSING = Path("no-such-result-directory")
 DRAG = DragModel((0.1, 0.1, 0.1))

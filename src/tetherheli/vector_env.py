@@ -407,6 +407,11 @@ class TetheredHoverVectorEnv(VectorEnv):
         This is the same-step autoreset that Stable-Baselines3's ``VecEnv`` expects
         (``tetherheli.sb3``); Gymnasium's own next-step autoreset needs no call.
 
+        Parameters
+        ----------
+        mask : array_like of bool, shape (num_envs,)
+            The copies to restart.
+
         Returns
         -------
         observations : ndarray, shape (num_envs, 13), float32

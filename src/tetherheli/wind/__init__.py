@@ -55,11 +55,3 @@ __all__ = [
     "initial_wind_force",
     "paper_wind",
 ]
-
-
-def __getattr__(name: str) -> object:
-    if name == "HoverTurbulence":  # deprecated name, with its warning
-        from . import turbulence
-
-        return turbulence.HoverTurbulence
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -3,7 +3,6 @@ and on the field annotations."""
 
 from __future__ import annotations
 
-import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import MISSING, fields
 from typing import Any
@@ -33,8 +32,6 @@ _DISTURBANCES: dict[str, type] = {
     cls.type_name: cls for cls in (Pulse, Step, Sine, ConstantForce, NoWind, WindSum, Turbulence)
 }
 _GUST_MODELS: dict[str, type] = {cls.type_name: cls for cls in (DrydenGust, GaussMarkovTurbulence)}
-#: deprecated gust-model type names and the names that replace them
-_GUST_ALIASES = {"hover": "gauss_markov"}
 
 
 def _convert(kind: str, value: Any, where: str, source: str | None) -> Any:
@@ -101,15 +98,6 @@ def _build_typed(spec: Any, registry: dict[str, type], where: str, source: str |
     if not isinstance(spec, Mapping):
         raise ParameterError(where, spec, "a table with a 'type' key", source=source)
     kind = spec.get("type", _MISSING_VALUE)
-    if registry is _GUST_MODELS and kind in _GUST_ALIASES:
-        new = _GUST_ALIASES[kind]
-        warnings.warn(
-            f"{source + ': ' if source else ''}{where}.type = {kind!r} is deprecated: use "
-            f"{new!r} (the same first-order Gauss-Markov gust model)",
-            FutureWarning,
-            stacklevel=2,
-        )
-        kind = new
     if kind not in registry:
         raise ParameterError(f"{where}.type", kind, f"one of {sorted(registry)}", source=source)
     cls = registry[kind]
@@ -134,8 +122,8 @@ def disturbance_from_dict(
         ``{"type": "pulse", "start": 10.0, "duration": 1.0, "magnitude": 20.0,
         "direction": [1, 0, 0]}``; a list of tables gives their ``WindSum``. A turbulence
         table holds a ``model`` table (``type`` ``"dryden"`` or ``"gauss_markov"``, the latter
-        with ``gain`` and ``pole_rad_s`` or with a ``calibration`` and its inputs; the old
-        name ``"hover"`` still loads, with a ``FutureWarning``) and a ``drag`` table.
+        with ``gain`` and ``pole_rad_s`` or with a ``calibration`` and its inputs) and a
+        ``drag`` table.
         ``Disturbance.to_dict()`` gives tables of this form.
     source : str, optional
         Where the table came from (a file name), passed to the errors.

@@ -12,7 +12,6 @@ a time grid into a ``Disturbance``.
 from __future__ import annotations
 
 import math
-import warnings
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
@@ -634,18 +633,6 @@ def heading_axes(heading_rad: float) -> np.ndarray:
     """
     c, s = math.cos(heading_rad), math.sin(heading_rad)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-
-
-def __getattr__(name: str) -> Any:
-    if name == "HoverTurbulence":  # the old name (type "hover"), kept for old code
-        warnings.warn(
-            "HoverTurbulence is deprecated: it is GaussMarkovTurbulence (a first-order "
-            "Gauss-Markov gust model)",
-            FutureWarning,
-            stacklevel=2,
-        )
-        return GaussMarkovTurbulence
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 _MAX_SAMPLES = 20_000_000
