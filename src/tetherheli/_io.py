@@ -48,7 +48,7 @@ def read_toml(path: str | Path, what: str = "TOML file") -> dict[str, Any]:
     ------
     ParameterError
         One line naming the path: missing, unreadable (a directory, permissions), not UTF-8,
-        or not valid TOML.
+        not valid TOML, or nested deeper than the parser can follow.
     """
     source = str(path)
     try:
@@ -62,6 +62,10 @@ def read_toml(path: str | Path, what: str = "TOML file") -> dict[str, Any]:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ParameterError("file", source, f"valid TOML ({exc})") from None
+    except RecursionError:  # tomllib parses nested arrays and tables recursively
+        raise ParameterError(
+            "file", source, "valid TOML with arrays and tables nested a few levels deep"
+        ) from None
 
 
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")

@@ -327,6 +327,19 @@ def _report_failures(statuses: dict, out: str) -> int:
     return 1 if failed else 0
 
 
+def _named_source(path: str, run: Callable, *args: object, **kwargs: object):
+    """``run(*args, **kwargs)``, a ``ParameterError`` without a source (a set-up's: weights
+    with no stabilising design, limits the hover does not fit) named after ``path``."""
+    from .errors import ParameterError
+
+    try:
+        return run(*args, **kwargs)
+    except ParameterError as exc:
+        if exc.source is not None:
+            raise
+        raise type(exc)(exc.field, exc.value, exc.allowed, source=path) from None
+
+
 def _cmd_simulate(args: argparse.Namespace) -> int:
     from ._io import claim_output_directory
     from .report import write_comparison, write_run
@@ -344,7 +357,10 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     inputs = tuple(args.scenario)
     claim_output_directory(args.out, inputs=inputs, force=args.force)
     command = "tetherheli simulate " + " ".join(args.scenario)
-    results = [simulate(s, method=args.method) for s in scenarios]
+    results = [
+        _named_source(path, simulate, s, method=args.method)
+        for path, s in zip(args.scenario, scenarios, strict=True)
+    ]
     fmt = args.figure_format
     if len(results) == 1:
         write_run(

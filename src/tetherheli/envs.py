@@ -611,7 +611,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         Parameters
         ----------
         action : array_like
-            The action(s), reshapeable to ``shape``; finite (clipped to [-1, 1]).
+            The action(s), of shape ``shape`` exactly, finite (then clipped to [-1, 1]).
         shape : tuple of int, optional
             The shape (..., 4) of the action array (default (4,); the vector environment
             passes (N, 4)).
@@ -626,9 +626,18 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         mode : int
             ``engine.ACTION_ADD`` (residual) or ``engine.ACTION_REPLACE``.
         """
-        a = np.clip(np.asarray(action, dtype=float).reshape(shape), -1.0, 1.0)
-        if not np.all(np.isfinite(a)):
-            raise ParameterError("action", action, f"finite numbers of shape {shape}")
+        allowed = f"finite numbers of shape {shape}"
+        try:
+            raw = np.asarray(action, dtype=float)
+        except (TypeError, ValueError):
+            raise ParameterError("action", action, allowed) from None
+        # never reshaped: a (2, 2) for 4 inputs or a 12-vector for 3 copies is refused, not
+        # flown scrambled; never clipped from inf: the contract is finite
+        if raw.shape != tuple(shape):
+            raise ParameterError("action", action, f"{allowed}, not {raw.shape}")
+        if not np.all(np.isfinite(raw)):
+            raise ParameterError("action", action, allowed)
+        a = np.clip(raw, -1.0, 1.0)
         if self.residual:
             return a, self.action_scale * a, engine.ACTION_ADD
         return a, self._u_trim_total + self.action_scale * a, engine.ACTION_REPLACE

@@ -69,7 +69,7 @@ from scipy import sparse
 from scipy.linalg import solve_discrete_are
 
 from .._linalg import check_dt, discretize_zoh
-from ..errors import TetherheliError
+from ..errors import DesignError, TetherheliError, design_failure
 from ..model.kernels import tethered_outputs
 from .base import Command, Controller, Measurement
 from .lqi import _check_pd, _check_psd, augment_lqi
@@ -201,7 +201,7 @@ def design_mpc(
         try:
             P = solve_discrete_are(G_a, H_a, Qx, Ru)
         except (np.linalg.LinAlgError, ValueError) as exc:
-            raise TetherheliError(
+            raise DesignError(
                 f"no stabilising solution of the MPC's terminal DARE: {exc}"
             ) from None
         P = 0.5 * (P + P.T)
@@ -651,10 +651,17 @@ def mpc_controller(scenario, setup, design_params=None) -> MPCController:
     tension_ref = scenario.params.tension_control.T_ref if tethered else 0.0
     params = scenario.params if design_params is None else design_params
     T_ref = params.tension_control.T_ref if tethered else 0.0
-    design = _cached_design(
-        params, scenario.configuration, T_ref, scenario.q9, scenario.control.dt,
-        tuple(s.Qy), tuple(s.Ru), s.q_tension, s.horizon,
-    )  # fmt: skip
+    try:
+        design = _cached_design(
+            params, scenario.configuration, T_ref, scenario.q9, scenario.control.dt,
+            tuple(s.Qy), tuple(s.Ru), s.q_tension, s.horizon,
+        )  # fmt: skip
+    except DesignError as exc:
+        raise design_failure(
+            "control.mpc.Qy/q_tension/Ru",
+            f"Qy = {list(s.Qy)}, q_tension = {s.q_tension!r}, Ru = {list(s.Ru)}",
+            exc,
+        ) from None
     trim = setup.trim
     kalman = None
     if _uses_kalman(scenario):
