@@ -297,13 +297,17 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     mc_files = tuple(args.montecarlo or ())
     if not args.scenarios and not mc_files:
         raise ParameterError("scenarios", "none", "scenario files or --montecarlo FILE")
+    from .studies.montecarlo import load_montecarlo
+    from .studies.montecarlo.config import MAX_RUNS
+    from .studies.robust import check_comparison_memory
+
     if args.runs is not None:
-        check_integer("--runs", args.runs, low=1)
+        check_integer("--runs", args.runs, low=1, high=MAX_RUNS)
     mc_inputs = []
     for path in mc_files:  # read them all before any run: a bad file fails fast
-        from .studies.montecarlo import load_montecarlo
-
         mc_inputs.append(load_montecarlo(path))
+    for _, config in mc_inputs:  # and refuse what cannot fit, before the first run
+        check_comparison_memory(config.runs if args.runs is None else args.runs, 1 + len(names))
     inputs = (*args.scenarios, *mc_files)
     claim_output_directory(args.out, inputs=inputs, force=args.force)
     rows = compare(list(args.scenarios), names, eq40=args.eq40)

@@ -31,9 +31,8 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.linalg import solve_discrete_are
 
-from .._linalg import check_dt, discretize_zoh, real_matrix
+from .._linalg import check_dt, discretize_zoh, real_matrix, solve_dare
 from ..errors import DesignError, TetherheliError
 
 __all__ = [
@@ -370,7 +369,7 @@ def design_lqi(
     Qx = C_lqi.T @ Qy @ C_lqi  # eq 49's Qx = C' Qy C on the augmented system
 
     try:
-        P = solve_discrete_are(G_lqi, H_lqi, Qx, Ru)
+        P = solve_dare(G_lqi, H_lqi, Qx, Ru)
     except (np.linalg.LinAlgError, ValueError) as exc:
         msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise DesignError(

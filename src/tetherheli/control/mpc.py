@@ -66,9 +66,8 @@ from functools import lru_cache
 import numpy as np
 import osqp
 from scipy import sparse
-from scipy.linalg import solve_discrete_are
 
-from .._linalg import check_dt, discretize_zoh
+from .._linalg import check_dt, discretize_zoh, solve_dare
 from ..errors import DesignError, TetherheliError, design_failure
 from ..model.kernels import tethered_outputs
 from .base import Command, Controller, Measurement
@@ -199,7 +198,7 @@ def design_mpc(
         Qx = Qx + q_tension * np.outer(c_aug, c_aug)
     if terminal is None:
         try:
-            P = solve_discrete_are(G_a, H_a, Qx, Ru)
+            P = solve_dare(G_a, H_a, Qx, Ru)
         except (np.linalg.LinAlgError, ValueError) as exc:
             raise DesignError(
                 f"no stabilising solution of the MPC's terminal DARE: {exc}"

@@ -20,9 +20,8 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-from scipy.linalg import solve_discrete_are
 
-from .._linalg import check_dt, discretize_zoh
+from .._linalg import check_dt, discretize_zoh, solve_dare
 from ..errors import DesignError, TetherheliError
 from .lqi import LQIGain, _check_pd, _check_psd, augment_lqi
 
@@ -133,7 +132,7 @@ def design_tether_lqi(
     c_aug[: G.shape[0]] = c_tension
     Qx = C_lqi.T @ Qy @ C_lqi + q_tension * np.outer(c_aug, c_aug)
     try:
-        P = solve_discrete_are(G_lqi, H_lqi, Qx, Ru)
+        P = solve_dare(G_lqi, H_lqi, Qx, Ru)
     except (np.linalg.LinAlgError, ValueError) as exc:
         raise DesignError(
             f"no stabilising solution of the tethered LQI's Riccati equation (eq 49): {exc}"
