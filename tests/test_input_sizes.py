@@ -120,3 +120,42 @@ def test_a_huge_toml_file_is_refused_before_parsing(tmp_path, capsys, monkeypatc
     small = tmp_path / "small.toml"
     small.write_text("duration = 1.0\n" + block)
     assert load_scenario(small).duration == 1.0  # an ordinary file still loads
+
+
+# --- the MPC's horizon ----------------------------------------------------------------------
+
+
+def test_long_mpc_horizon_announces_its_run_time_before_starting():
+    """horizon = 400 (allowed) takes about 0.37 s per sample: a 60 s run is announced as
+    about 37 minutes before its design (warnings are errors here: nothing runs)."""
+    from tetherheli.control.mpc import mpc_sample_seconds
+    from tetherheli.resources import SlowJobWarning
+    from tetherheli.sim import simulate
+    from tetherheli.sim.scenario import ControlSettings, MPCSettings
+
+    assert mpc_sample_seconds(400) == pytest.approx(0.37, rel=0.01)
+    assert mpc_sample_seconds(10) < 1e-3
+    control = ControlSettings(controller="mpc", mpc=MPCSettings(horizon=400))
+    s = Scenario(duration=60.0, control=control)
+    t0 = time.perf_counter()
+    with pytest.raises(SlowJobWarning, match=r"control\.mpc\.horizon = 400 over 6000 samples "
+                       r"will take about 37 min; shorten control\.mpc\.horizon"):  # fmt: skip
+        simulate(s)
+    assert time.perf_counter() - t0 < 30.0
+
+
+@pytest.mark.filterwarnings("default::tetherheli.resources.SlowJobWarning")
+def test_slow_job_warning_is_one_line_from_the_cli(tmp_path, capsys, monkeypatch):
+    import tetherheli.resources as resources
+    from tetherheli.sim.scenario import ControlSettings
+
+    monkeypatch.setattr(resources, "SLOW_JOB_SECONDS", 0.0)  # any run is "slow" here
+    s = Scenario(name="short", duration=0.05, control=ControlSettings(controller="mpc"))
+    path = tmp_path / "s.toml"
+    path.write_text(s.to_toml())
+    assert main(["simulate", str(path), "--out", str(tmp_path / "o")]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [
+        "tetherheli: warning: run short: the MPC with control.mpc.horizon = 10 over 5 samples "
+        "will take about 0 min; shorten control.mpc.horizon (default 10) or the duration"
+    ]

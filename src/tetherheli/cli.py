@@ -13,6 +13,7 @@ import functools
 import json
 import math
 import sys
+import warnings
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
@@ -248,6 +249,23 @@ def main(argv: Sequence[str] | None = None) -> int:
     """
     argv = _join_negative_values(list(sys.argv[1:] if argv is None else argv))
     debug = "--debug" in argv
+    with warnings.catch_warnings():
+        warnings.showwarning = _show_warning  # restored on return
+        return _main(argv, debug)
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning as one line on stderr: ``tetherheli: warning: ...`` for the package's own
+    (``resources.SlowJobWarning``), Python's format for the others."""
+    from .resources import SlowJobWarning
+
+    if issubclass(category, SlowJobWarning):
+        print(f"tetherheli: warning: {message}", file=sys.stderr)
+    else:
+        sys.stderr.write(warnings.formatwarning(message, category, filename, lineno, line))
+
+
+def _main(argv: list[str], debug: bool) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
