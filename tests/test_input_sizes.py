@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import time
 import tracemalloc
+from pathlib import Path
 
 import pytest
 
@@ -17,7 +18,7 @@ from tetherheli.sensors import SensorConfig
 from tetherheli.sim import load_scenario
 from tetherheli.sim.scenario import Scenario
 
-MONTECARLO = "scenarios/montecarlo_paper_sim1.toml"
+MONTECARLO = str(Path(__file__).resolve().parents[1] / "scenarios" / "montecarlo_paper_sim1.toml")
 
 
 def _one_error_line(capsys) -> str:
