@@ -10,7 +10,7 @@ from scipy.linalg import expm
 
 from .errors import ParameterError, TetherheliError
 
-__all__ = ["check_dt", "discretize_zoh", "real_matrix"]
+__all__ = ["check_dt", "discretize_zoh", "real_matrix", "solve_dare"]
 
 
 def check_dt(dt: float) -> float:
@@ -78,3 +78,33 @@ def discretize_zoh(A: ArrayLike, B: ArrayLike, dt: float) -> tuple[np.ndarray, n
     block[:n, n:] = B * dt
     phi = expm(block)
     return phi[:n, :n].copy(), phi[:n, n:].copy()
+
+
+def solve_dare(A: np.ndarray, B: np.ndarray, Q: np.ndarray, R: np.ndarray) -> np.ndarray:
+    """``scipy.linalg.solve_discrete_are(A, B, Q, R)`` without its floating-point warnings:
+    weights far apart (e.g. 1e200 next to 1) overflow inside its balancing, which warns
+    before it fails; the callers check the solution (finite, stabilising) and name the
+    weights (``errors.DesignError``).
+
+    Parameters
+    ----------
+    A, B, Q, R : ndarray
+        As for ``scipy.linalg.solve_discrete_are``.
+
+    Returns
+    -------
+    ndarray
+        The solution P.
+
+    Raises
+    ------
+    numpy.linalg.LinAlgError, ValueError
+        As ``solve_discrete_are`` does.
+    """
+    import warnings
+
+    from scipy.linalg import solve_discrete_are
+
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore", RuntimeWarning)
+        return solve_discrete_are(A, B, Q, R)

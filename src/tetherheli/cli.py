@@ -13,6 +13,7 @@ import functools
 import json
 import math
 import sys
+import warnings
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
@@ -248,6 +249,23 @@ def main(argv: Sequence[str] | None = None) -> int:
     """
     argv = _join_negative_values(list(sys.argv[1:] if argv is None else argv))
     debug = "--debug" in argv
+    with warnings.catch_warnings():
+        warnings.showwarning = _show_warning  # restored on return
+        return _main(argv, debug)
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning as one line on stderr: ``tetherheli: warning: ...`` for the package's own
+    (``resources.SlowJobWarning``), Python's format for the others."""
+    from .resources import SlowJobWarning
+
+    if issubclass(category, SlowJobWarning):
+        print(f"tetherheli: warning: {message}", file=sys.stderr)
+    else:
+        sys.stderr.write(warnings.formatwarning(message, category, filename, lineno, line))
+
+
+def _main(argv: list[str], debug: bool) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
@@ -327,6 +345,19 @@ def _report_failures(statuses: dict, out: str) -> int:
     return 1 if failed else 0
 
 
+def _named_source(path: str, run: Callable, *args: object, **kwargs: object):
+    """``run(*args, **kwargs)``, a ``ParameterError`` without a source (a set-up's: weights
+    with no stabilising design, limits the hover does not fit) named after ``path``."""
+    from .errors import ParameterError
+
+    try:
+        return run(*args, **kwargs)
+    except ParameterError as exc:
+        if exc.source is not None:
+            raise
+        raise type(exc)(exc.field, exc.value, exc.allowed, source=path) from None
+
+
 def _cmd_simulate(args: argparse.Namespace) -> int:
     from ._io import claim_output_directory
     from .report import write_comparison, write_run
@@ -344,7 +375,10 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     inputs = tuple(args.scenario)
     claim_output_directory(args.out, inputs=inputs, force=args.force)
     command = "tetherheli simulate " + " ".join(args.scenario)
-    results = [simulate(s, method=args.method) for s in scenarios]
+    results = [
+        _named_source(path, simulate, s, method=args.method)
+        for path, s in zip(args.scenario, scenarios, strict=True)
+    ]
     fmt = args.figure_format
     if len(results) == 1:
         write_run(

@@ -241,6 +241,10 @@ def _figure_montecarlo(montecarlo: tuple[Any, ...]):
     return fig
 
 
+#: The columns of ``markdown_table``.
+_MD_COLUMNS = 17
+
+
 def markdown_table(rows: list[dict[str, Any]]) -> str:
     """The comparison's main columns as a Markdown table (lengths [m], attitude [deg],
     efforts [N, N m, N m, N], tension [N], failed runs out of those flown, compute time [us]).
@@ -250,12 +254,13 @@ def markdown_table(rows: list[dict[str, Any]]) -> str:
         "| peak att. | RMS dfMR3 | RMS dtMR1 | RMS dtMR2 | RMS dfTR2 | peak cyclic / limit "
         "| tension | failed | us/sample |\n"
     )
-    head += "|" + "---|" * 17 + "\n"
+    head += "|" + "---|" * _MD_COLUMNS + "\n"
     lines = []
     for r in rows:
         failed = f"{r.get('failures', 0 if r.get('completed') else 1)}/{r.get('runs', 1)}"
         if "peak_q1" not in r:
-            lines.append(f"| {r['scenario']} | {r['controller']} |" + " |" * 14 + f" {failed} | |")
+            cells = [r["scenario"], r["controller"], *([""] * (_MD_COLUMNS - 4)), failed, ""]
+            lines.append("| " + " | ".join(cells) + " |")
             continue
         lim = r["cyclic_limit"]
         cyc = f"{r['peak_cyclic']:.2f} / {lim:.2f}" if lim == lim else f"{r['peak_cyclic']:.2f}"
@@ -292,13 +297,17 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     mc_files = tuple(args.montecarlo or ())
     if not args.scenarios and not mc_files:
         raise ParameterError("scenarios", "none", "scenario files or --montecarlo FILE")
+    from .studies.montecarlo import load_montecarlo
+    from .studies.montecarlo.config import MAX_RUNS
+    from .studies.robust import check_comparison_memory
+
     if args.runs is not None:
-        check_integer("--runs", args.runs, low=1)
+        check_integer("--runs", args.runs, low=1, high=MAX_RUNS)
     mc_inputs = []
     for path in mc_files:  # read them all before any run: a bad file fails fast
-        from .studies.montecarlo import load_montecarlo
-
         mc_inputs.append(load_montecarlo(path))
+    for _, config in mc_inputs:  # and refuse what cannot fit, before the first run
+        check_comparison_memory(config.runs if args.runs is None else args.runs, 1 + len(names))
     inputs = (*args.scenarios, *mc_files)
     claim_output_directory(args.out, inputs=inputs, force=args.force)
     rows = compare(list(args.scenarios), names, eq40=args.eq40)

@@ -4,6 +4,39 @@ while running rather than bad input, exits 1)."""
 
 from __future__ import annotations
 
+import reprlib
+
+#: The longest value a message shows whole; a longer one (or one nested too deep for
+#: ``repr``) is shortened by ``reprlib`` to its first items and levels.
+_MAX_VALUE_CHARS = 240
+
+
+def shown_value(value: object) -> str:
+    """``repr(value)`` for a message: whole up to ``_MAX_VALUE_CHARS``, else shortened (a
+    value from input can be megabytes long or nested thousands of levels deep).
+
+    Parameters
+    ----------
+    value : object
+        The value refused.
+
+    Returns
+    -------
+    str
+        Its representation on one line.
+    """
+    try:
+        text = repr(value)
+    except RecursionError:
+        text = None
+    if text is None or len(text) > _MAX_VALUE_CHARS:
+        short = reprlib.Repr()
+        short.maxlevel = 3
+        short.maxstring = short.maxother = 80
+        short.maxlist = short.maxtuple = short.maxdict = short.maxset = 10
+        text = short.repr(value)
+    return text.replace("\n", " ")
+
 
 class TetherheliError(ValueError):
     """Base of the package's user-facing errors (a ValueError, so callers may catch either)."""
@@ -32,7 +65,7 @@ class ParameterError(TetherheliError):
         self.allowed = allowed
         self.source = source
         where = f"{source}: " if source else ""
-        super().__init__(f"{where}{field} = {value!r} is invalid; allowed: {allowed}")
+        super().__init__(f"{where}{field} = {shown_value(value)} is invalid; allowed: {allowed}")
 
 
 class InfeasibleError(ParameterError):
@@ -47,9 +80,42 @@ class InfeasibleError(ParameterError):
     """
 
 
+class DesignError(TetherheliError):
+    """A controller design with no stabilising solution (a Riccati equation that has none,
+    or a closed loop that is not stable). The design functions raise it about their matrix
+    arguments; a scenario's set-up turns it into an ``InfeasibleError`` naming the weights
+    the user wrote (``sim.setup.design_error``)."""
+
+
 class SingularConfigurationError(TetherheliError):
     """The state lies on a coordinate singularity (|q5| or |q8| = 90 deg, q9 <= 0)."""
 
 
 class ClusterError(TetherheliError):
     """The Dask scheduler was lost during a run, or it had no worker for too long."""
+
+
+def design_failure(field: str, value: object, exc: DesignError) -> InfeasibleError:
+    """The ``InfeasibleError`` that names the weights a failed design (``exc``) was given.
+
+    Parameters
+    ----------
+    field : str
+        The weights' keys as the user wrote them, e.g. ``"control.Qy/Ru"``.
+    value : object
+        Their values.
+    exc : DesignError
+        The design's failure, whose first line is kept as the reason.
+
+    Returns
+    -------
+    InfeasibleError
+        To raise ``from None``.
+    """
+    reason = str(exc).splitlines()[0]
+    return InfeasibleError(
+        field,
+        value,
+        "weights whose design has a stabilising solution, e.g. every entry within about 1e10 "
+        f"of the others (here: {reason})",
+    )

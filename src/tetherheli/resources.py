@@ -11,16 +11,20 @@ from __future__ import annotations
 import math
 import os
 import re
+import warnings
 
 from .errors import TetherheliError
 
 __all__ = [
     "DEFAULT_MEMORY_LIMIT",
     "MEMORY_LIMIT_ENV",
+    "SLOW_JOB_SECONDS",
     "ResourceLimitError",
+    "SlowJobWarning",
     "check_memory",
     "format_bytes",
     "memory_limit",
+    "warn_slow",
 ]
 
 #: Environment variable that sets the budget.
@@ -111,3 +115,31 @@ def check_memory(what: str, needed_bytes: float, *, hint: str = "") -> None:
             f"{format_bytes(limit)}{more}, or raise the budget with {MEMORY_LIMIT_ENV} "
             "(e.g. 16G)"
         )
+
+
+#: A job estimated to run longer than this [s] is announced (``warn_slow``) before it starts.
+SLOW_JOB_SECONDS = 600.0
+
+
+class SlowJobWarning(UserWarning):
+    """A valid job whose estimated run time exceeds ``SLOW_JOB_SECONDS`` (one-line message)."""
+
+
+def warn_slow(what: str, seconds: float, *, hint: str = "") -> None:
+    """Warn (``SlowJobWarning``) before a job estimated to take more than
+    ``SLOW_JOB_SECONDS``: what it is, the estimate and how to make it shorter.
+
+    Parameters
+    ----------
+    what : str
+        The job and the input that sizes it, for the message.
+    seconds : float
+        The job's estimated run time [s].
+    hint : str
+        How to make the job shorter, appended to the message.
+    """
+    if seconds > SLOW_JOB_SECONDS:
+        more = f"; {hint}" if hint else ""
+        minutes = seconds / 60.0
+        took = f"{minutes:.0f} min" if minutes < 120 else f"{minutes / 60.0:.1f} h"
+        warnings.warn(f"{what} will take about {took}{more}", SlowJobWarning, stacklevel=3)

@@ -58,6 +58,7 @@ from .envs import (
     OBSERVATION_NAMES,
     RenderModeError,
     TetheredHoverEnv,
+    check_env_memory,
     finish_step,
     observe_into,
     tether_tension,
@@ -264,6 +265,7 @@ class TetheredHoverVectorEnv(VectorEnv):
         if render_mode is not None:
             raise RenderModeError("render_mode", render_mode, "None (the copies are not drawn)")
         self.env = env = TetheredHoverEnv(scenario, **kwargs)
+        check_env_memory(env.scenario, n, env.gust_dt)  # all copies, before any is allocated
         self.render_mode = None
         self._step_limit = env.n_max
         if max_episode_steps is not None:

@@ -31,10 +31,9 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.linalg import solve_discrete_are
 
-from .._linalg import check_dt, discretize_zoh, real_matrix
-from ..errors import TetherheliError
+from .._linalg import check_dt, discretize_zoh, real_matrix, solve_dare
+from ..errors import DesignError, TetherheliError
 
 __all__ = [
     "PAPER_QY",
@@ -370,21 +369,21 @@ def design_lqi(
     Qx = C_lqi.T @ Qy @ C_lqi  # eq 49's Qx = C' Qy C on the augmented system
 
     try:
-        P = solve_discrete_are(G_lqi, H_lqi, Qx, Ru)
+        P = solve_dare(G_lqi, H_lqi, Qx, Ru)
     except (np.linalg.LinAlgError, ValueError) as exc:
         msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        raise TetherheliError(
+        raise DesignError(
             f"no stabilising solution of the LQI Riccati equation (eq 49): {msg}; "
             "check that (G_LQI, H_LQI) is stabilisable and Qx detectable"
         ) from None
     if not np.all(np.isfinite(P)):
-        raise TetherheliError("the LQI Riccati solution (eq 49) is not finite")
+        raise DesignError("the LQI Riccati solution (eq 49) is not finite")
     P = 0.5 * (P + P.T)
     K = np.linalg.solve(Ru + H_lqi.T @ P @ H_lqi, H_lqi.T @ P @ G_lqi)  # eq 48
     gain = LQIGain(K=K, dt=dt, Qy=Qy, Ru=Ru, P=P, G_lqi=G_lqi, H_lqi=H_lqi)
     rho = gain.spectral_radius
     if not rho < 1.0:
-        raise TetherheliError(
+        raise DesignError(
             f"the LQI closed loop G_LQI - H_LQI K has spectral radius {rho:.6g} >= 1; "
             "check that (G_LQI, H_LQI) is stabilisable and Qx detectable"
         )

@@ -66,11 +66,11 @@ from functools import lru_cache
 import numpy as np
 import osqp
 from scipy import sparse
-from scipy.linalg import solve_discrete_are
 
-from .._linalg import check_dt, discretize_zoh
-from ..errors import TetherheliError
+from .._linalg import check_dt, discretize_zoh, solve_dare
+from ..errors import DesignError, TetherheliError, design_failure
 from ..model.kernels import tethered_outputs
+from ..resources import warn_slow
 from .base import Command, Controller, Measurement
 from .lqi import _check_pd, _check_psd, augment_lqi
 from .observer import DisturbanceKalman, measurement_covariance
@@ -81,6 +81,7 @@ __all__ = [
     "design_mpc",
     "mpc_controller",
     "mpc_plant",
+    "mpc_sample_seconds",
 ]
 
 #: OSQP's adaptive step size is updated every this many iterations (a fixed count: OSQP's
@@ -199,9 +200,9 @@ def design_mpc(
         Qx = Qx + q_tension * np.outer(c_aug, c_aug)
     if terminal is None:
         try:
-            P = solve_discrete_are(G_a, H_a, Qx, Ru)
+            P = solve_dare(G_a, H_a, Qx, Ru)
         except (np.linalg.LinAlgError, ValueError) as exc:
-            raise TetherheliError(
+            raise DesignError(
                 f"no stabilising solution of the MPC's terminal DARE: {exc}"
             ) from None
         P = 0.5 * (P + P.T)
@@ -619,6 +620,30 @@ class MPCController(Controller):
         return Command(inputs=inp, reel_rate=0.0)
 
 
+#: Seconds per control sample of the MPC: Python's loop and OSQP's set-up, and the QP's
+#: condensed Hessian of (horizon x inputs)^2 entries; 0.37 s at horizon = 400 (issue 22's
+#: measurement on the paper's tethered run).
+_SAMPLE_BASE_S = 5e-4
+_SAMPLE_AT_400_S = 0.37
+
+
+def mpc_sample_seconds(horizon: int) -> float:
+    """The estimated compute time of one MPC sample at ``horizon`` [s] (the QP's size grows
+    with the horizon; OSQP's work with its square).
+
+    Parameters
+    ----------
+    horizon : int
+        ``[control.mpc] horizon`` [samples].
+
+    Returns
+    -------
+    float
+        Seconds per control sample.
+    """
+    return _SAMPLE_BASE_S + _SAMPLE_AT_400_S * (horizon / 400.0) ** 2
+
+
 def mpc_controller(scenario, setup, design_params=None) -> MPCController:
     """The MPC of ``scenario``'s ``[control.mpc]`` on the run's set-up.
 
@@ -647,14 +672,27 @@ def mpc_controller(scenario, setup, design_params=None) -> MPCController:
     s = scenario.control.mpc
     a = scenario.actuators
     dt = scenario.control.dt
+    n = scenario.n_samples
+    warn_slow(  # before the design: a long horizon is allowed, and said what it costs
+        f"run {scenario.name}: the MPC with control.mpc.horizon = {s.horizon} over {n} samples",
+        n * mpc_sample_seconds(s.horizon),
+        hint="shorten control.mpc.horizon (default 10) or the duration",
+    )
     tethered = scenario.configuration == "tethered"
     tension_ref = scenario.params.tension_control.T_ref if tethered else 0.0
     params = scenario.params if design_params is None else design_params
     T_ref = params.tension_control.T_ref if tethered else 0.0
-    design = _cached_design(
-        params, scenario.configuration, T_ref, scenario.q9, scenario.control.dt,
-        tuple(s.Qy), tuple(s.Ru), s.q_tension, s.horizon,
-    )  # fmt: skip
+    try:
+        design = _cached_design(
+            params, scenario.configuration, T_ref, scenario.q9, scenario.control.dt,
+            tuple(s.Qy), tuple(s.Ru), s.q_tension, s.horizon,
+        )  # fmt: skip
+    except DesignError as exc:
+        raise design_failure(
+            "control.mpc.Qy/q_tension/Ru",
+            f"Qy = {list(s.Qy)}, q_tension = {s.q_tension!r}, Ru = {list(s.Ru)}",
+            exc,
+        ) from None
     trim = setup.trim
     kalman = None
     if _uses_kalman(scenario):

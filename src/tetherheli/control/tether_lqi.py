@@ -20,10 +20,9 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-from scipy.linalg import solve_discrete_are
 
-from .._linalg import check_dt, discretize_zoh
-from ..errors import TetherheliError
+from .._linalg import check_dt, discretize_zoh, solve_dare
+from ..errors import DesignError, TetherheliError
 from .lqi import LQIGain, _check_pd, _check_psd, augment_lqi
 
 __all__ = [
@@ -133,16 +132,16 @@ def design_tether_lqi(
     c_aug[: G.shape[0]] = c_tension
     Qx = C_lqi.T @ Qy @ C_lqi + q_tension * np.outer(c_aug, c_aug)
     try:
-        P = solve_discrete_are(G_lqi, H_lqi, Qx, Ru)
+        P = solve_dare(G_lqi, H_lqi, Qx, Ru)
     except (np.linalg.LinAlgError, ValueError) as exc:
-        raise TetherheliError(
+        raise DesignError(
             f"no stabilising solution of the tethered LQI's Riccati equation (eq 49): {exc}"
         ) from None
     P = 0.5 * (P + P.T)
     K = np.linalg.solve(Ru + H_lqi.T @ P @ H_lqi, H_lqi.T @ P @ G_lqi)
     gain = LQIGain(K=K, dt=dt, Qy=Qy, Ru=Ru, P=P, G_lqi=G_lqi, H_lqi=H_lqi)
     if not gain.spectral_radius < 1.0:
-        raise TetherheliError(
+        raise DesignError(
             f"the tethered LQI's closed loop has spectral radius {gain.spectral_radius:.6g} >= 1"
         )
     return gain

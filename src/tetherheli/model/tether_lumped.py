@@ -751,7 +751,13 @@ def chain_energy(x: np.ndarray, v: np.ndarray, L0: float, p: np.ndarray) -> floa
 
 
 def static_chain(
-    r_winch: np.ndarray, r_P: np.ndarray, L0: float, tether: LumpedTether, g: float
+    r_winch: np.ndarray,
+    r_P: np.ndarray,
+    L0: float,
+    tether: LumpedTether,
+    g: float,
+    *,
+    ground_tension_N: float | None = None,
 ) -> np.ndarray:
     """The lumped chain's exact static equilibrium (no wind, at rest) between the winch and P:
     the discrete catenary. Every free node carries W = mu l0 g, so segment s pulls its lower
@@ -769,6 +775,10 @@ def static_chain(
         The tether (N segments, mu, EA).
     g : float
         Gravity [m/s^2].
+    ground_tension_N : float, optional
+        The tension at the winch of a vertical chain (P straight above the winch) when it is
+        known (``hover_trim_lumped``): the start value of the solve instead of the elastic
+        catenary's, which a stiff cable cannot give (its stretch is below rounding).
 
     Returns
     -------
@@ -784,7 +794,12 @@ def static_chain(
     l0 = L0 / n
     W = tether.mass_per_length_kg_m * l0 * g
     EA = tether.EA_N
-    cat = elastic_catenary(a, d[2], tether.mass_per_length_kg_m * g, EA, unstretched_length_m=L0)
+    vertical_guess = a == 0.0 and ground_tension_N is not None
+    cat = (
+        ElasticCatenary(0.0, d[2], tether.mass_per_length_kg_m * g, EA, L0, 0.0, ground_tension_N)
+        if vertical_guess
+        else elastic_catenary(a, d[2], tether.mass_per_length_kg_m * g, EA, unstretched_length_m=L0)
+    )
     vert = np.arange(n) * W
 
     def segments(H, V):
@@ -1140,25 +1155,23 @@ def hover_trim_lumped(
     EA = tether.EA_N
     b = 1.0 + T_g / EA
     L0 = 2.0 * q9 / (b + math.sqrt(b * b + 2.0 * w * q9 / EA))  # the root of the quadratic
-    cat = elastic_catenary(0.0, q9, w, EA, unstretched_length_m=L0)
+    # the vertical catenary with V = T_g at the winch, as solved (not recomputed from L0:
+    # (q9 - L0) EA / L0 cancels to nothing for a stiff cable, e.g. EA = 1e30 N)
+    cat = ElasticCatenary(0.0, q9, w, EA, L0, 0.0, T_g)
     top = cat.tension_B_N
     trim = windless_trim(params, top, q9, L0)
     u = trim.u_total
-    names = ("fMR3", "tMR1", "tMR2", "fTR2")
-    for bound, low in ((u_min, True), (u_max, False)):
-        if bound is None:
-            continue
-        lim = np.asarray(bound, dtype=float)
-        for i, name in enumerate(names):
-            if (u[i] <= lim[i]) if low else (u[i] >= lim[i]):
-                raise InfeasibleError(
-                    "ground_tension_N",
-                    T_g,
-                    f"a tension whose hover fits the rotor limits: {name} = {u[i]:.6g} at a "
-                    f"tension of {top:.6g} N at P is outside u_{'min' if low else 'max'} = "
-                    f"{lim[i]:g}",
-                )
-    nodes = static_chain(np.zeros(3), np.array([0.0, 0.0, q9]), L0, tether, g)
+    lo = np.full(4, -np.inf) if u_min is None else np.asarray(u_min, dtype=float)
+    hi = np.full(4, np.inf) if u_max is None else np.asarray(u_max, dtype=float)
+    for i, name in enumerate(("fMR3", "tMR1", "tMR2", "fTR2")):
+        if not lo[i] < u[i] < hi[i]:  # named as actuator_array names the massless hover's
+            raise InfeasibleError(
+                "actuators.u_min/u_max",
+                f"{name} in [{lo[i]:g}, {hi[i]:g}]",
+                f"limits around the hover need {name} = {u[i]:.6g} (the hover with the "
+                f"cable's weight and {top:.6g} N at P, {T_g:g} N at the winch)",
+            )
+    nodes = static_chain(np.zeros(3), np.array([0.0, 0.0, q9]), L0, tether, g, ground_tension_N=T_g)
     return LumpedTrim(trim=trim, catenary=cat, force_P=np.array([0.0, 0.0, -top]), nodes=nodes)
 
 

@@ -57,7 +57,15 @@ _RECORDED_FLOATS = 34
 _RECORDED_PEAK_FACTOR = 3
 
 
-def check_run_memory(scenario: Scenario, *, record: bool = True, concurrent: int = 1) -> int:
+def check_run_memory(
+    scenario: Scenario,
+    *,
+    record: bool = True,
+    concurrent: int = 1,
+    per_run_bytes: float = 0,
+    what: str | None = None,
+    hint: str = "shorten the duration or lengthen control.dt",
+) -> int:
     """Estimate the bytes one run of ``scenario`` allocates (recorded signals when ``record``,
     sensor-noise table, ``concurrent`` runs at once) and refuse it (``ResourceLimitError``,
     before anything is allocated) above the memory budget (``tetherheli.resources``).
@@ -70,6 +78,12 @@ def check_run_memory(scenario: Scenario, *, record: bool = True, concurrent: int
         Whether the run records its signals at every sample.
     concurrent : int
         Number of such runs held in memory at once, >= 1.
+    per_run_bytes : float, optional
+        What each run holds besides its per-sample arrays (an environment copy's state).
+    what : str, optional
+        The job as the message names it (default: the run, its duration and dt).
+    hint : str, optional
+        How to make the job smaller, for the message.
 
     Returns
     -------
@@ -92,15 +106,15 @@ def check_run_memory(scenario: Scenario, *, record: bool = True, concurrent: int
         if scenario.tether.lumped:  # the winch's tension, and the nodes on request
             nodes = 3 * (scenario.tether.segments + 1) if scenario.tether.record_nodes else 0
             per_run += rows * (1 + nodes) * 8 * _RECORDED_PEAK_FACTOR
-    needed = per_run * concurrent
+    needed = (per_run + per_run_bytes) * concurrent
     at_once = f", {concurrent} runs at once" if concurrent > 1 else ""
-    check_memory(
-        f"run {scenario.name}: duration = {scenario.duration:g} s at dt = "
-        f"{scenario.control.dt:g} s ({rows} samples{at_once})",
-        needed,
-        hint="shorten the duration or lengthen control.dt",
-    )
-    return needed
+    if what is None:
+        what = (
+            f"run {scenario.name}: duration = {scenario.duration:g} s at dt = "
+            f"{scenario.control.dt:g} s ({rows} samples{at_once})"
+        )
+    check_memory(what, needed, hint=hint)
+    return int(needed)
 
 
 def simulate(

@@ -846,6 +846,14 @@ def _validate(s: Scenario, source: str | None) -> None:
             f"a reference below limits.max_tension ({lim.max_tension} N)",
             source=source,
         )
+    if tether.lumped and not s.params.tension_control.T_ref > 0.0:
+        raise ParameterError(
+            "params.tension_control.T_ref",
+            s.params.tension_control.T_ref,
+            "a tension > 0 [N] with [tether] model = 'lumped' (the chain hangs from P with "
+            "T_ref at the winch; at 0 N its bottom is slack)",
+            source=source,
+        )
     if s.configuration == "tethered":  # the trim's natural length must be sensible
         s.params.tether.check_tension(
             s.params.tension_control.T_ref, s.q9, "params.tension_control.T_ref", source=source
@@ -919,7 +927,37 @@ def _table(source, key, value, allowed_cls) -> dict[str, Any]:
 
 
 def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Scenario:
-    """Build a validated Scenario from parsed TOML data."""
+    """Build a validated Scenario from parsed TOML data.
+
+    Parameters
+    ----------
+    data : dict of str to object
+        The scenario's tables, as ``tomllib`` gives them.
+    source : str, optional
+        Where they came from (a file name), put in front of an error's message.
+
+    Returns
+    -------
+    Scenario
+
+    Raises
+    ------
+    ParameterError
+        One line naming the first bad key; also for data nested deeper than the validation
+        can follow (e.g. thousands of ``sum`` winds inside each other).
+    """
+    try:
+        return _scenario_from_dict(data, source=source)
+    except RecursionError:
+        raise ParameterError(
+            "scenario",
+            "nested too deep",
+            "tables and lists nested a few levels deep",
+            source=source,
+        ) from None
+
+
+def _scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Scenario:
     for k in data:
         if k not in _TOP_KEYS:
             raise ParameterError(k, data[k], f"one of {sorted(_TOP_KEYS)}", source=source)

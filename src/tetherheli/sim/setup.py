@@ -24,7 +24,7 @@ import numpy as np
 from ..control.lqi import LQIGain, design_lqi
 from ..control.paper import PaperController
 from ..control.tether_lqi import TetherLQIGain, tether_lqi_gain
-from ..errors import InfeasibleError
+from ..errors import DesignError, InfeasibleError, design_failure
 from ..layout import (
     ACT_BREAK,
     ACT_DRUM,
@@ -197,14 +197,26 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
         trim = model.trim(T_ref, scenario.q9)
     c = scenario.control
     design = params if design_params is None else design_params
-    gain = paper_gain(design, c.dt, tuple(c.Qy), tuple(c.Ru), scenario.q9)
+    try:
+        gain = paper_gain(design, c.dt, tuple(c.Qy), tuple(c.Ru), scenario.q9)
+    except DesignError as exc:
+        raise design_failure(
+            "control.Qy/Ru", f"Qy = {list(c.Qy)}, Ru = {list(c.Ru)}", exc
+        ) from None
     lqi_on_tether = c.controller == "tether_lqi"
     if lqi_on_tether:  # its plant contains the tether: no feed-forward (eq 55), no PI (eq 56)
         w = c.tether_lqi
-        gain = tether_lqi_gain(
-            design, design.tension_control.T_ref, scenario.q9, c.dt,
-            tuple(w.Qy), w.q_tension, tuple(w.Ru), gain,
-        )  # fmt: skip
+        try:
+            gain = tether_lqi_gain(
+                design, design.tension_control.T_ref, scenario.q9, c.dt,
+                tuple(w.Qy), w.q_tension, tuple(w.Ru), gain,
+            )  # fmt: skip
+        except DesignError as exc:
+            raise design_failure(
+                "control.tether_lqi.Qy/q_tension/Ru",
+                f"Qy = {list(w.Qy)}, q_tension = {w.q_tension!r}, Ru = {list(w.Ru)}",
+                exc,
+            ) from None
     ctrl = np.zeros(CTRL_SIZE)
     ctrl[CTRL_DT] = c.dt
     ctrl[CTRL_FFWD] = float(tethered and c.feedforward and not lqi_on_tether)
@@ -316,7 +328,8 @@ def chain_start(scenario: Scenario, trim: TrimPoint) -> tuple:
     tether = lumped_tether(scenario)
     g = scenario.params.helicopter.g
     q9, L0 = float(trim.x[5]), float(trim.x[12])
-    nodes = static_chain(np.zeros(3), np.array([0.0, 0.0, q9]), L0, tether, g)
+    T_g = scenario.params.tension_control.T_ref  # hover_trim_lumped's tension at the winch
+    nodes = static_chain(np.zeros(3), np.array([0.0, 0.0, q9]), L0, tether, g, ground_tension_N=T_g)
     return (nodes, np.zeros_like(nodes), tether.packed(g), ros2_work(tether.segments))
 
 

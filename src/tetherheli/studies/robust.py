@@ -28,10 +28,13 @@ from typing import Any
 
 import numpy as np
 
+from .._validation import check_integer
 from ..errors import TetherheliError
+from ..resources import check_memory
 from ..sim.scenario import Scenario
 from .controllers import CONTROLLER_METRICS, eq40_saturated, fly, with_controller
 from .montecarlo import MonteCarloConfig, draw, draw_seed
+from .montecarlo.config import MAX_RUNS
 from .montecarlo.statistics import paired_reduction, tail_percentile, with_failures
 
 __all__ = [
@@ -39,6 +42,7 @@ __all__ = [
     "PERCENTILES",
     "REDUCED",
     "MonteCarloComparison",
+    "check_comparison_memory",
     "controller_cyclic_limits",
     "montecarlo_compare",
 ]
@@ -215,6 +219,44 @@ class MonteCarloComparison:
         }
 
 
+#: Memory per (draw, run kind) of a comparison: the measures' arrays, the status, and
+#: summary.json's copy (``MonteCarloComparison.as_dict``: Python floats in lists, then the
+#: indented JSON text) of about 18 measures; about 1.4 kB, margin kept.
+_COMPARED_RUN_BYTES = 2_048
+
+
+def check_comparison_memory(runs: int, kinds: int) -> int:
+    """Estimate the bytes a Monte Carlo comparison of ``runs`` draws and ``kinds`` run kinds
+    (the free reference and each controller) holds, its results and its summary.json, and
+    refuse it (``ResourceLimitError``) above the memory budget (``tetherheli.resources``),
+    before any draw is flown.
+
+    Parameters
+    ----------
+    runs : int
+        Draws N.
+    kinds : int
+        Run kinds per draw (``FREE`` and the controllers).
+
+    Returns
+    -------
+    int
+        The estimated bytes.
+
+    Raises
+    ------
+    ResourceLimitError
+        The estimate exceeds the budget.
+    """
+    needed = runs * kinds * _COMPARED_RUN_BYTES
+    check_memory(
+        f"a Monte Carlo comparison of runs = {runs} draws x {kinds} run kinds",
+        needed,
+        hint="compare fewer draws (--runs)",
+    )
+    return needed
+
+
 def montecarlo_compare(
     base: Scenario,
     config: MonteCarloConfig,
@@ -244,10 +286,11 @@ def montecarlo_compare(
     MonteCarloComparison
         Per-draw measures of every run, failures included.
     """
-    n = config.runs if runs is None else int(runs)
+    n = check_integer("runs", config.runs if runs is None else runs, low=1, high=MAX_RUNS)
+    labels = (FREE, *controllers)
+    check_comparison_memory(n, len(labels))
     if eq40:
         base = eq40_saturated(base)
-    labels = (FREE, *controllers)
     cols = {lab: {m: np.full(n, math.nan) for m in CONTROLLER_METRICS} for lab in labels}
     ok = {lab: np.zeros(n, dtype=bool) for lab in labels}
     statuses: dict[str, list[str]] = {lab: [""] * n for lab in labels}

@@ -483,6 +483,19 @@ def _turbulence(configuration: str, q9: float):
     return scenario_from_dict(data, source=f"shipped scenario {name} at q9 = {q9:g} m")
 
 
+def _checked_duration(duration_s: float, scenario: Any) -> float:
+    """``duration_s`` checked as the study's ``duration`` of ``scenario``'s runs: at least one
+    and a whole number of its control samples, at most its own duration [s]."""
+    dt, longest = scenario.control.dt, scenario.duration
+    allowed = (
+        f"a duration in [{dt:g}, {longest:g}] s, a whole number of the runs' control.dt = {dt:g} s"
+    )
+    d = check_number("duration", duration_s, low=dt, high=longest, allowed=allowed)
+    if abs(d / dt - round(d / dt)) > 1e-9 * d / dt:
+        raise ParameterError("duration", duration_s, allowed)
+    return d
+
+
 def study_scenarios(
     cable: StudyCable,
     length_m: float,
@@ -565,8 +578,7 @@ def study_scenarios(
             else:
                 s = s.replace(params=params)
             if duration_s is not None:
-                s = s.replace(duration=check_number("duration_s", duration_s, low=0.0,
-                                                    low_open=True, high=s.duration))  # fmt: skip
+                s = s.replace(duration=_checked_duration(duration_s, s))
             if case == "turbulence" and s.duration > 2.0 * TURBULENCE_SETTLE_S:
                 s = s.replace(metrics_start=TURBULENCE_SETTLE_S)
             out[f"{case}_{conf}"] = s
@@ -862,8 +874,10 @@ def run_tether_study(
         raise ParameterError("model", model, f"one of {list(TETHER_MODELS)}")
     if winch_gain not in WINCH_GAINS:
         raise ParameterError("winch_gain", winch_gain, f"one of {list(WINCH_GAINS)}")
-    if duration_s is not None:  # fail before any work: at most the shortest scenario's 60 s
-        duration_s = check_number("duration", duration_s, low=0.0, low_open=True, high=60.0)
+    if duration_s is not None:  # fail before any work: the paper's runs (60 s) are the shortest
+        from ..sim.scenario import paper_scenario
+
+        duration_s = _checked_duration(duration_s, paper_scenario(1, "free"))
     claim_output_directory(out, force=force)
     params = Params.paper()
     if max_thrust_N is None:
