@@ -850,6 +850,20 @@ def _validate(s: Scenario, source: str | None) -> None:
         s.params.tether.check_tension(
             s.params.tension_control.T_ref, s.q9, "params.tension_control.T_ref", source=source
         )
+    if s.configuration == "free" and s.control.controller == "tether_lqi":
+        raise ParameterError(
+            "control.controller", "tether_lqi", "'paper' or 'mpc' in the free configuration "
+            "(the tethered LQI needs a tether: configuration = 'tethered')", source=source,
+        )  # fmt: skip
+    bounds = s.control.mpc.tension_bounds
+    T_ref = s.params.tension_control.T_ref
+    if s.configuration == "tethered" and s.control.controller == "mpc":
+        if not bounds[0] < T_ref < bounds[1]:  # the MPC would fight its own reference
+            raise ParameterError(
+                "control.mpc.tension_bounds", list(bounds), f"bounds around "
+                f"params.tension_control.T_ref = {T_ref:g} N (e.g. [{T_ref / 2:g}, "
+                f"{1.5 * T_ref:g}], Tref/2 and 1.5 Tref)", source=source,
+            )  # fmt: skip
     if s.configuration == "tethered" and s.tether.lumped and s.tether.EA > 0.0:
         # the same strain limit for the chain: its top carries T_ref and its own weight
         top = (
