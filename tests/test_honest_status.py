@@ -171,3 +171,31 @@ def test_monte_carlo_compare_of_a_lumped_study_flies_its_free_reference():
     )  # fmt: skip
     r = simulate(_flown(lumped, FREE))
     assert r.ok and np.all(np.isfinite(r.states))
+
+
+def test_tether_study_calls_a_hover_beyond_the_thrust_limit_failed():
+    """A negative thrust margin (1000 m of power cable, or --max-thrust 100) is never a
+    "completed" dynamic row."""
+    import math
+
+    from tetherheli.params import Params
+    from tetherheli.studies.tether_study import (
+        DYNAMIC_CASES,
+        STUDY_CABLES,
+        mark_thrust_infeasible,
+        static_rows,
+    )
+
+    cable = STUDY_CABLES[0]
+    static = static_rows(Params.paper(), [cable], [10.0], max_thrust_N=100.0)
+    assert static[0]["lift_margin_N"] < 0.0
+    dynamic = [{"cable": cable.key, "length_m": 10.0, "completed": True}]
+    for case, metrics in DYNAMIC_CASES:
+        dynamic[0][f"{case}_status"] = "completed"
+        for m in metrics:
+            dynamic[0][f"{case}_{m}_reduction_pct"] = 50.0
+    mark_thrust_infeasible(static, dynamic, 100.0)
+    row = dynamic[0]
+    assert row["completed"] is False
+    assert "exceeds the maximum thrust 100 N" in row["sim1_status"]
+    assert math.isnan(row["sim1_peak_q1_reduction_pct"])

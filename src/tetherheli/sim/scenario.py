@@ -858,7 +858,7 @@ def _validate(s: Scenario, source: str | None) -> None:
     bounds = s.control.mpc.tension_bounds
     T_ref = s.params.tension_control.T_ref
     if s.configuration == "tethered" and s.control.controller == "mpc":
-        if not bounds[0] < T_ref < bounds[1]:  # the MPC would fight its own reference
+        if not bounds[0] <= T_ref <= bounds[1]:  # the MPC would fight its own reference
             raise ParameterError(
                 "control.mpc.tension_bounds", list(bounds), f"bounds around "
                 f"params.tension_control.T_ref = {T_ref:g} N (e.g. [{T_ref / 2:g}, "
