@@ -22,6 +22,7 @@ from tetherheli.params import Params
 from tetherheli.sim.batch import run_batch
 from tetherheli.sim.scenario import MPCSettings, Scenario, load_scenario
 from tetherheli.sim.setup import engine_setup
+from tetherheli.status import Status
 from tetherheli.studies.controllers import eq40_saturated
 from tetherheli.studies.sweep import paper_cyclic_limit
 from tetherheli.wind.profiles import Pulse, Step
@@ -171,13 +172,16 @@ def test_bounds_hold_over_a_paper_run_with_eq40():
 
 def test_iteration_limit_falls_back_to_the_previous_plan_and_counts_it():
     """OSQP limited to 1 iteration cannot converge: every sample flies the previous plan's
-    next move (the LQ law at the first), the run completes, no NaN, and the result's
-    ``mpc_fallback`` column counts every sample."""
+    next move (the LQ law at the first), the run reaches its end, no NaN, the result's
+    ``mpc_fallback`` column counts every sample, and the run is a failure
+    (``Status.SOLVER_FAILED``: more than 10 % of the samples fell back), never "completed"."""
     s = _scenario(duration=2.0, max_iterations=1).replace(
         wind=Pulse(0.5, 0.5, 10.0, (1.0, 0.0, 0.0))
     )
     r = simulate(s)
-    assert r.ok and np.all(np.isfinite(r.inputs))
+    assert not r.ok and r.status == Status.SOLVER_FAILED and np.all(np.isfinite(r.inputs))
+    assert "100 % (more than 10 %) of the samples" in r.message
+    assert r.end_time == pytest.approx(r.time[-1])  # flown to its end, not stopped
     np.testing.assert_array_equal(r.extra["mpc_fallback"], 1.0)
     assert r.extra["mpc_fallback"].size == r.time.size
 

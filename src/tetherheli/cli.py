@@ -364,6 +364,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from .sim import load_scenario, simulate
     from .sim.closed_loop import check_run_memory
     from .sim.result import check_result_format
+    from .status import ran_to_end
 
     check_result_format(args.data_format)  # before the runs
     scenarios = [load_scenario(path) for path in args.scenario]  # all validated first
@@ -400,8 +401,9 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
             print(f"tetherheli: run {r.name}: {r.release_note()}", file=sys.stderr)
     failed = [r for r in results if not r.ok]
     for r in failed:
+        ended = "ended" if ran_to_end(r.status) else "stopped"
         print(
-            f"tetherheli: run {r.name} stopped at t = {r.end_time:g} s: {r.message} "
+            f"tetherheli: run {r.name} {ended} at t = {r.end_time:g} s: {r.message} "
             f"(partial results in {args.out})",
             file=sys.stderr,
         )

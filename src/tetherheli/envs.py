@@ -454,6 +454,11 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
                 "scenario.tether.model", scenario.tether.model, "'elastic' (the environments "
                 "fly eq 28's massless tether)"
             )  # fmt: skip
+        if scenario.control.controller != "paper":  # never substitute the paper's law
+            raise ParameterError(
+                "scenario.control.controller", scenario.control.controller, "'paper' (the "
+                "environments fly the paper's controller; the action corrects or replaces it)"
+            )  # fmt: skip
         max_episode_time = check_number(
             "max_episode_time", max_episode_time, low=0.0, low_open=True
         )

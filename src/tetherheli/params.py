@@ -29,6 +29,7 @@ __all__ = [
     "TensionControlParams",
     "TetherParams",
     "check_tether_length",
+    "check_tether_strain",
 ]
 
 #: Tether lengths [m] with a physical meaning for the model (q9, L0N): at least 0.5 m, so the
@@ -69,6 +70,44 @@ def check_tether_length(value: Any, field: str = "q9", source: str | None = None
     lo, hi = TETHER_LENGTH_RANGE
     allowed = f"a tether length in [{lo:g}, {hi:g}] m"
     return check_number(field, value, low=lo, high=hi, allowed=allowed, source=source)
+
+
+def check_tether_strain(
+    tension: float, EA: float, field: str, value: Any, source: str | None = None
+) -> None:
+    """Refuse a tether that ``tension`` [N] stretches by more than ``MAX_TETHER_STRAIN`` of
+    its natural length at axial stiffness ``EA`` [N]: strain = tension / EA. This is the one
+    rule of a physical tether in every model: the massless one (EA = K_C LN, eq 28,
+    ``TetherParams.check_tension``), the lumped chain and the drum winch's.
+
+    Parameters
+    ----------
+    tension : float
+        The largest hover tension along the tether [N].
+    EA : float
+        Axial stiffness [N].
+    field : str
+        The user's field put in the error message.
+    value : object
+        Its value, as the user wrote it.
+    source : str, optional
+        Where the value came from (a file name), put in front of the message.
+
+    Raises
+    ------
+    InfeasibleError
+        Naming ``field``, with the smallest stiffness that holds ``tension``.
+    """
+    if not tension <= MAX_TETHER_STRAIN * EA:
+        raise InfeasibleError(
+            field,
+            value,
+            f"an axial stiffness EA >= {tension / MAX_TETHER_STRAIN:.6g} N: the hover "
+            f"tension {tension:.6g} N would stretch the tether by {100 * tension / EA:.4g}% "
+            f"of its natural length (at most {100 * MAX_TETHER_STRAIN:g}% for a physical "
+            "tether)",
+            source=source,
+        )
 
 
 def _meta(

@@ -3,6 +3,13 @@
 The compiled engine returns the integer value; ``Status(code).message`` says what it means.
 A tether released by the safety device is an event of a run, not a status: it is added to
 the message by ``status_message`` so a released run never reads as a plain "completed".
+
+A controller that solves an optimisation each sample (the MPC) can fail to solve it and fly
+a fallback instead (``control.mpc``: the ``mpc_fallback`` column). ``solver_status`` turns
+the fraction of such samples into the run's status: above ``DEGRADED_FALLBACK_FRACTION``
+(1 %) of the samples the run is ``DEGRADED``, above ``FAILED_FALLBACK_FRACTION`` (10 %) it
+``SOLVER_FAILED``. Only ``OK`` is a success: a degraded or failed run is never "completed",
+counts as a failure in every table and tally, and makes the command's exit code 1.
 """
 
 from __future__ import annotations
@@ -10,7 +17,23 @@ from __future__ import annotations
 import enum
 import math
 
-__all__ = ["Status", "release_sentence", "status_message"]
+__all__ = [
+    "DEGRADED_FALLBACK_FRACTION",
+    "FAILED_FALLBACK_FRACTION",
+    "FALLBACK_COLUMN",
+    "Status",
+    "ran_to_end",
+    "release_sentence",
+    "solver_status",
+    "status_message",
+]
+
+#: The result column (``SimulationResult.extra``) marking the samples a fallback flew.
+FALLBACK_COLUMN = "mpc_fallback"
+#: Above this fraction of control samples flown by a solver's fallback a run is DEGRADED.
+DEGRADED_FALLBACK_FRACTION = 0.01
+#: Above this fraction of control samples flown by a solver's fallback a run SOLVER_FAILED.
+FAILED_FALLBACK_FRACTION = 0.10
 
 
 class Status(enum.IntEnum):
@@ -36,6 +59,15 @@ class Status(enum.IntEnum):
     SETUP : int
         6: the run could not be set up (never returned by the engine;
         ``run_batch(record_setup_failures=True)``).
+    TETHER_LENGTH : int
+        7: the tether's natural (unstretched) length reached zero (LN <= 0): no physical
+        tether.
+    DEGRADED : int
+        8: the run reached its end, but the controller's solver failed (a fallback flew) on
+        more than ``DEGRADED_FALLBACK_FRACTION`` of the samples (``solver_status``).
+    SOLVER_FAILED : int
+        9: the controller's solver failed on more than ``FAILED_FALLBACK_FRACTION`` of the
+        samples (``solver_status``).
     """
 
     OK = 0
@@ -45,6 +77,9 @@ class Status(enum.IntEnum):
     DIVERGED = 4
     SINGULAR = 5
     SETUP = 6  # never returned by the engine: run_batch(record_setup_failures=True)
+    TETHER_LENGTH = 7
+    DEGRADED = 8  # never returned by the engine: solver_status of a controller's fallbacks
+    SOLVER_FAILED = 9  # never returned by the engine: solver_status
 
     @property
     def message(self) -> str:
@@ -65,12 +100,79 @@ _MESSAGES = {
     Status.SETUP: (
         "the run could not be set up (no hover trim within the parameters and actuator limits)"
     ),
+    Status.TETHER_LENGTH: (
+        "the tether's natural length reached zero (LN <= 0: no physical tether is that short)"
+    ),
+    Status.DEGRADED: (
+        f"degraded: the controller's solver failed on more than "
+        f"{100 * DEGRADED_FALLBACK_FRACTION:g} % of the samples (a fallback flew them)"
+    ),
+    Status.SOLVER_FAILED: (
+        f"failed: the controller's solver failed on more than "
+        f"{100 * FAILED_FALLBACK_FRACTION:g} % of the samples (a fallback flew them)"
+    ),
 }
 
 
-def status_message(status: int, release_time: float | None = None) -> str:
+#: the statuses of a run that reached its end with too many fallbacks, and their limits
+_LIMITS = {
+    Status.DEGRADED: DEGRADED_FALLBACK_FRACTION,
+    Status.SOLVER_FAILED: FAILED_FALLBACK_FRACTION,
+}
+
+
+def ran_to_end(status: int) -> bool:
+    """Whether a run of ``status`` was flown to its end (``OK``, ``DEGRADED``,
+    ``SOLVER_FAILED``), rather than stopped at a failure.
+
+    Parameters
+    ----------
+    status : int
+        A ``Status`` code.
+
+    Returns
+    -------
+    bool
+        True for a run that reached its last sample.
+    """
+    return int(status) == Status.OK or int(status) in _LIMITS
+
+
+def solver_status(status: int, fallbacks) -> int:
+    """The status of a run whose controller flew a fallback on the samples ``fallbacks``
+    marks: ``status`` unless it is ``OK`` and the fallback fraction exceeds
+    ``DEGRADED_FALLBACK_FRACTION`` (``DEGRADED``) or ``FAILED_FALLBACK_FRACTION``
+    (``SOLVER_FAILED``). A run that stopped keeps its own status.
+
+    Parameters
+    ----------
+    status : int
+        The run's status as the loop ended it.
+    fallbacks : sequence of float
+        One value per control sample, 1 where the fallback flew, else 0 (may be empty).
+
+    Returns
+    -------
+    int
+        The run's status.
+    """
+    n = len(fallbacks)
+    if status != Status.OK or n == 0:
+        return int(status)
+    fraction = float(sum(fallbacks)) / n
+    if fraction > FAILED_FALLBACK_FRACTION:
+        return int(Status.SOLVER_FAILED)
+    if fraction > DEGRADED_FALLBACK_FRACTION:
+        return int(Status.DEGRADED)
+    return int(status)
+
+
+def status_message(
+    status: int, release_time: float | None = None, fallback_fraction: float | None = None
+) -> str:
     """The message of a run's status; a tether release (at ``release_time`` [s], None or NaN:
-    none) is part of it, so a released run is never a plain "completed".
+    none) is part of it, so a released run is never a plain "completed", and so is the
+    fraction of samples a solver's fallback flew when there were any.
 
     Parameters
     ----------
@@ -78,13 +180,25 @@ def status_message(status: int, release_time: float | None = None) -> str:
         A ``Status`` code.
     release_time : float, optional
         The tether release time [s]; None or NaN (default None): no release.
+    fallback_fraction : float, optional
+        The fraction of control samples a solver's fallback flew (``solver_status``); None or
+        0 (default None): none, nothing added.
 
     Returns
     -------
     str
         The one-line message.
     """
-    message = Status(int(status)).message
+    status = Status(int(status))
+    message = status.message
+    if fallback_fraction is not None and fallback_fraction > 0.0:
+        share = f"{100 * fallback_fraction:.3g} %"
+        if status in _LIMITS:
+            message = message.replace("more than", f"{share} (more than", 1).replace(
+                "% of the samples", "%) of the samples", 1
+            )
+        else:
+            message += f" (solver fallback on {share} of the samples)"
     if release_time is None or not math.isfinite(release_time):
         return message
     if status == Status.OK:

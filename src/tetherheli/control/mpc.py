@@ -52,7 +52,9 @@ updated every 25 iterations (not by time), so a run gives the same numbers every
 
 If OSQP fails or reaches its iteration limit the controller flies the previous plan's next
 move (or, at the first sample, the LQ law), clipped to the bounds, and counts it
-(``MPCController.recorded``: the ``mpc_fallback`` column of the result). After a tether
+(``MPCController.recorded``: the ``mpc_fallback`` column of the result); more than 1 % of
+the samples so flown make the run ``DEGRADED``, more than 10 % ``SOLVER_FAILED``
+(``status.solver_status``). After a tether
 release it flies the paper's free law (``tether_lqi`` does the same).
 """
 
@@ -71,6 +73,7 @@ from .._linalg import check_dt, discretize_zoh, solve_dare
 from ..errors import DesignError, TetherheliError, design_failure
 from ..model.kernels import tethered_outputs
 from ..resources import warn_slow
+from ..status import FALLBACK_COLUMN
 from .base import Command, Controller, Measurement
 from .lqi import _check_pd, _check_psd, augment_lqi
 from .observer import DisturbanceKalman, measurement_covariance
@@ -491,7 +494,7 @@ class MPCController(Controller):
             One value per ``step`` call since ``reset``.
         """
         return {
-            "mpc_fallback": np.array(self.fallbacks, dtype=float),
+            FALLBACK_COLUMN: np.array(self.fallbacks, dtype=float),
             "mpc_iterations": np.array(self.iterations, dtype=float),
         }
 

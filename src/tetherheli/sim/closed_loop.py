@@ -38,7 +38,7 @@ from ..model.kernels import angle_trig, angle_trig_from, tethered_outputs
 from ..params import Params
 from ..resources import check_memory
 from ..sensors import N_CHANNELS, N_GROUPS
-from ..status import Status
+from ..status import FALLBACK_COLUMN, Status, solver_status
 from . import engine
 from .result import DRUM_COLUMNS, TENSION_GROUND_COLUMN, SimulationResult
 from .scenario import Scenario
@@ -177,9 +177,11 @@ def simulate(
         rec.release[:] = rec.summary[SUMMARY_RELEASE_TIME : SUMMARY_RELEASE_TIME + 2]
     else:
         status, done = _python_loop(scenario, setup, controller, method, rec, rtol=rtol, atol=atol)
+    columns = controller.recorded()  # e.g. the MPC's fallbacks
+    # a run whose solver failed too often is degraded or failed (status.solver_status)
+    status = solver_status(status, columns.get(FALLBACK_COLUMN, ())[:done])
     return rec.result(
-        done, status, scenario, trim, method, sensed=noise.shape[0] > 0,
-        columns=controller.recorded(),  # e.g. the MPC's fallbacks
+        done, status, scenario, trim, method, sensed=noise.shape[0] > 0, columns=columns
     )  # fmt: skip
 
 

@@ -150,6 +150,7 @@ STATUS_MAX_TENSION = int(Status.MAX_TENSION)
 STATUS_DIVERGED = int(Status.DIVERGED)
 STATUS_SINGULAR = int(Status.SINGULAR)
 STATUS_SETUP = int(Status.SETUP)
+STATUS_TETHER_LENGTH = int(Status.TETHER_LENGTH)
 STATUS_MESSAGES = tuple(status.message for status in Status)
 
 #: no command override (``paper_sample``'s ``action_mode``): the paper's controller alone
@@ -333,6 +334,9 @@ def check_state_sc(x, sc, y, y_ref, tension, cfg):
     for i in range(x.shape[0]):
         if not math.isfinite(x[i]):
             return STATUS_NONFINITE
+    # an attached tether's natural (unstretched) length LN = x[12] <= 0 is no physical tether
+    if cfg[CFG_ATTACHED] > 0.5 and x[12] <= 0.0:
+        return STATUS_TETHER_LENGTH
     # HO below the ground, or the attachment point P touching it (z_P = q9 c7 c8 < 1 cm,
     # which also covers the spherical singularities q9 -> 0 and |q8| -> 90 deg near ground)
     if y[2] < 0.0 or x[5] * sc[8] * sc[9] < 0.01:

@@ -22,7 +22,7 @@ from ..names import (
     TETHERED_STATE_UNITS,
     WIND,
 )
-from ..status import Status, release_sentence, status_message
+from ..status import FALLBACK_COLUMN, Status, ran_to_end, release_sentence, status_message
 
 __all__ = [
     "DRUM_COLUMNS",
@@ -209,8 +209,11 @@ class SimulationResult:
 
     @property
     def message(self) -> str:
-        """What happened: the status, with the tether release if there was one."""
-        return status_message(self.status, self.release_time)
+        """What happened: the status, with the tether release and the fraction of samples a
+        solver's fallback flew (``status.solver_status``) if there were any."""
+        fallbacks = self.extra.get(FALLBACK_COLUMN)
+        fraction = None if fallbacks is None or fallbacks.size == 0 else float(fallbacks.mean())
+        return status_message(self.status, self.release_time, fraction)
 
     @property
     def released(self) -> bool:
@@ -223,7 +226,7 @@ class SimulationResult:
         control sample at which the failure was detected (the first one not recorded: its
         state failed the checks, or the integration towards it failed)."""
         dt = self.configuration.get("control", {}).get("dt")
-        if self.ok or dt is None:
+        if ran_to_end(self.status) or dt is None:
             return float(self.time[-1]) if self.time.size else 0.0
         return self.time.size * float(dt)
 

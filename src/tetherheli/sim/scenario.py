@@ -52,7 +52,7 @@ from .._io import dumps_toml, read_toml
 from .._validation import Key
 from ..control import lqi
 from ..errors import ParameterError
-from ..params import TETHER_LENGTH_RANGE, Params, check_tether_length
+from ..params import TETHER_LENGTH_RANGE, Params, check_tether_length, check_tether_strain
 from ..sensors import SensorConfig, sensor_config_from_dict
 from ..wind import (
     Disturbance,
@@ -858,6 +858,26 @@ def _validate(s: Scenario, source: str | None) -> None:
         s.params.tether.check_tension(
             s.params.tension_control.T_ref, s.q9, "params.tension_control.T_ref", source=source
         )
+    if s.configuration == "free" and s.control.controller == "tether_lqi":
+        raise ParameterError(
+            "control.controller", "tether_lqi", "'paper' or 'mpc' in the free configuration "
+            "(the tethered LQI needs a tether: configuration = 'tethered')", source=source,
+        )  # fmt: skip
+    bounds = s.control.mpc.tension_bounds
+    T_ref = s.params.tension_control.T_ref
+    if s.configuration == "tethered" and s.control.controller == "mpc":
+        if not bounds[0] <= T_ref <= bounds[1]:  # the MPC would fight its own reference
+            raise ParameterError(
+                "control.mpc.tension_bounds", list(bounds), f"bounds around "
+                f"params.tension_control.T_ref = {T_ref:g} N (e.g. [{T_ref / 2:g}, "
+                f"{1.5 * T_ref:g}], Tref/2 and 1.5 Tref)", source=source,
+            )  # fmt: skip
+    if s.configuration == "tethered" and s.tether.lumped and s.tether.EA > 0.0:
+        # the same strain limit for the chain: its top carries T_ref and its own weight
+        top = (
+            s.params.tension_control.T_ref + s.tether.mass_per_length * s.params.helicopter.g * s.q9
+        )
+        check_tether_strain(top, s.tether.EA, "tether.EA", s.tether.EA, source=source)
     if not isinstance(s.wind, Disturbance):
         raise ParameterError("wind", s.wind, "a tetherheli Disturbance", source=source)
     check_wind_covers(s.wind, s.duration, source=source)

@@ -31,7 +31,7 @@ import numpy as np
 from .._validation import check_integer
 from ..errors import TetherheliError
 from ..resources import check_memory
-from ..sim.scenario import Scenario
+from ..sim.scenario import Scenario, TetherSettings
 from .controllers import CONTROLLER_METRICS, eq40_saturated, fly, with_controller
 from .montecarlo import MonteCarloConfig, draw, draw_seed
 from .montecarlo.config import MAX_RUNS
@@ -338,12 +338,14 @@ def _cyclic_limit(scenario: Scenario) -> float:
 
 
 def _flown(scenario: Scenario, label: str) -> Scenario:
-    """The run of ``label``: the free configuration under the paper's law, or tethered."""
+    """The run of ``label``: the free helicopter under the paper's law (no tether at all, so
+    none of a lumped study's chain: ``[tether]`` at its defaults), or tethered."""
     if label == FREE:
         if scenario.sensors.position_source == "tether":  # no tether: the GNSS instead
             sensors = dataclasses.replace(scenario.sensors, position_source="gps")
             scenario = scenario.replace(sensors=sensors)
-        return with_controller(scenario.replace(configuration="free"), "paper")
+        free = scenario.replace(configuration="free", tether=TetherSettings())
+        return with_controller(free, "paper")
     return with_controller(scenario.replace(configuration="tethered"), label)
 
 

@@ -686,6 +686,39 @@ def dynamic_rows(
     return rows, configs
 
 
+def mark_thrust_infeasible(
+    static: Sequence[dict[str, Any]], dynamic: Sequence[dict[str, Any]], max_thrust_N: float
+) -> None:
+    """Mark as failed (in place) every dynamic row whose static hover needs more thrust than
+    ``max_thrust_N`` (a negative ``lift_margin_N``): such a hover cannot be flown, whatever
+    the dynamic run did, so it is never "completed" and yields no reduction.
+
+    Parameters
+    ----------
+    static : sequence of dict
+        ``static_rows``' rows (``cable``, ``length_m``, ``fMR3_N``, ``lift_margin_N``).
+    dynamic : sequence of dict
+        ``dynamic_rows``' rows, changed in place: ``completed`` False, each case's status
+        saying why, its reductions NaN.
+    max_thrust_N : float
+        The thrust limit the margin was computed against [N].
+    """
+    short = {(r["cable"], r["length_m"]): r for r in static if not r["lift_margin_N"] >= 0.0}
+    for row in dynamic:
+        st = short.get((row["cable"], row["length_m"]))
+        if st is None:
+            continue
+        why = (
+            f"infeasible hover: fMR3 = {st['fMR3_N']:.6g} N exceeds the maximum thrust "
+            f"{max_thrust_N:.6g} N (thrust margin {st['lift_margin_N']:.4g} N)"
+        )
+        row["completed"] = False
+        for case, metrics in DYNAMIC_CASES:
+            row[f"{case}_status"] = why
+            for m in metrics:
+                row[f"{case}_{m}_reduction_pct"] = math.nan
+
+
 def _finite_or_none(x: Any) -> Any:
     if isinstance(x, float) and not math.isfinite(x):
         return None
@@ -895,6 +928,7 @@ def run_tether_study(
             workers=workers,
             on_done=bar.update,
         )
+    mark_thrust_infeasible(static, dynamic, max_thrust_N)
     g = params.helicopter.g
     sensing = sensing_study(cables, lengths, winds, elevations, PAPER_TENSION_N, g)
     labels = {c.key: c.label for c in cables}

@@ -1,0 +1,201 @@
+"""Issue 22, class 4: a failure is never "completed" (solver fallbacks, impossible tethers,
+controllers a configuration cannot fly, settings that cannot work together)."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from tetherheli.cli import main
+from tetherheli.errors import ParameterError
+from tetherheli.sim.scenario import Scenario, TetherSettings, load_scenario
+from tetherheli.status import (
+    DEGRADED_FALLBACK_FRACTION,
+    FAILED_FALLBACK_FRACTION,
+    Status,
+    ran_to_end,
+    solver_status,
+    status_message,
+)
+from tetherheli.wind.profiles import Pulse
+
+
+def _write(tmp_path, text: str, name: str = "s.toml"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def test_fallback_fraction_sets_the_status_by_the_documented_rule():
+    n = 1000
+    assert DEGRADED_FALLBACK_FRACTION == 0.01 and FAILED_FALLBACK_FRACTION == 0.10
+    at = lambda k: [1.0] * k + [0.0] * (n - k)  # noqa: E731
+    assert solver_status(Status.OK, at(0)) == Status.OK
+    assert solver_status(Status.OK, at(10)) == Status.OK  # 1 %: not above
+    assert solver_status(Status.OK, at(11)) == Status.DEGRADED
+    assert solver_status(Status.OK, at(100)) == Status.DEGRADED  # 10 %: not above
+    assert solver_status(Status.OK, at(101)) == Status.SOLVER_FAILED
+    assert solver_status(Status.GROUND, at(1000)) == Status.GROUND  # a stop keeps its own
+    assert solver_status(Status.OK, []) == Status.OK
+    assert ran_to_end(Status.DEGRADED) and ran_to_end(Status.SOLVER_FAILED)
+    assert not ran_to_end(Status.GROUND)
+    msg = status_message(Status.DEGRADED, None, 0.05)
+    assert msg.startswith("degraded") and "5 % (more than 1 %)" in msg
+    assert "completed" not in status_message(Status.SOLVER_FAILED, None, 0.9)
+
+
+MPC_FAILING = """
+name = "mpc_fails"
+configuration = "tethered"
+duration = 1.0
+q9 = 10.0
+[control]
+dt = 0.01
+controller = "mpc"
+[control.mpc]
+max_iterations = 1
+[[wind]]
+type = "pulse"
+start = 0.2
+duration = 0.5
+magnitude = 20.0
+direction = [1.0, 0.0, 0.0]
+"""
+
+
+def test_mpc_whose_solver_fails_is_a_failed_run_through_the_cli(tmp_path, capsys):
+    """``max_iterations = 1`` (allowed): every sample falls back; exit 1, the summary says
+    failed, the message names the fraction."""
+    import json
+
+    path = _write(tmp_path, MPC_FAILING)
+    out = tmp_path / "out"
+    assert main(["simulate", str(path), "--out", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert "mpc_fails ended at t = 1 s" in err and "100 % (more than 10 %)" in err
+    text = json.dumps(json.loads(next(out.rglob("*.json")).read_text()))
+    assert '"completed": true' not in text.replace(" ", "").replace('"completed":true', "")
+
+
+def test_lumped_tether_obeys_the_strain_rule(tmp_path, capsys):
+    """EA = 1e-30 (inside the key's range) stretches the chain beyond 100 %: refused at
+    set-up, naming tether.EA, as the massless tether refuses a T_ref above its limit."""
+    s = Scenario().replace(configuration="tethered")
+    with pytest.raises(ParameterError, match=r"tether\.EA = 1e-30.*EA >= 26\.9") as err:
+        s.replace(tether=TetherSettings(model="lumped", EA=1e-30))
+    assert len(str(err.value).splitlines()) == 1
+    s.replace(tether=TetherSettings(model="lumped", EA=375.0))  # the paper's holds
+    text = Scenario(name="lumped").to_toml().replace("[tether]\n", "[tether]\n", 1)
+    text = text.replace('model = "elastic"', 'model = "lumped"').replace("EA = 0.0", "EA = 1e-30")
+    assert "EA = 1e-30" in text
+    path = _write(tmp_path, text)
+    assert main(["simulate", str(path), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "tether.EA" in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_natural_length_at_zero_ends_the_run():
+    """LN <= 0 of an attached tether is ``Status.TETHER_LENGTH`` (engine.check_state)."""
+    from tetherheli.sim import engine
+    from tetherheli.sim.setup import engine_setup
+
+    setup = engine_setup(Scenario())
+    x = setup.start.x.copy()
+    y = setup.trim.y.copy()
+    assert engine.check_state(x, y, y, 25.0, setup.cfg) == Status.OK
+    x[12] = -1e-6
+    assert engine.check_state(x, y, y, 25.0, setup.cfg) == Status.TETHER_LENGTH
+    assert "natural length" in Status.TETHER_LENGTH.message
+
+
+def test_tether_lqi_on_a_free_configuration_is_refused(tmp_path, capsys):
+    c = dataclasses.replace(Scenario().control, controller="tether_lqi")
+    with pytest.raises(ParameterError, match=r"control\.controller = 'tether_lqi'"):
+        Scenario(configuration="free", control=c)
+    text = Scenario(name="free", configuration="free").to_toml()
+    text = text.replace('controller = "paper"', 'controller = "tether_lqi"')
+    assert 'controller = "tether_lqi"' in text
+    path = _write(tmp_path, text)
+    with pytest.raises(ParameterError, match=r"control\.controller"):
+        load_scenario(path)
+    assert main(["simulate", str(path), "--out", str(tmp_path / "o")]) == 2
+    assert "control.controller" in capsys.readouterr().err
+
+
+def test_the_environment_refuses_a_controller_it_does_not_fly():
+    from tetherheli.envs import TetheredHoverEnv
+
+    c = dataclasses.replace(Scenario().control, controller="mpc")
+    with pytest.raises(ParameterError, match=r"scenario\.control\.controller = 'mpc'"):
+        TetheredHoverEnv(Scenario(control=c))
+
+
+def test_mpc_tension_bounds_that_exclude_T_ref_are_refused(tmp_path, capsys):
+    """T_ref = 45 N with the default bounds [12.5, 37.5] N crashed at t = 12.6 s: refused at
+    set-up, naming both fields."""
+    s = Scenario(name="t45")
+    c = dataclasses.replace(s.control, controller="mpc")
+    tc = dataclasses.replace(s.params.tension_control, T_ref=45.0)
+    p = dataclasses.replace(s.params, tension_control=tc)
+    with pytest.raises(ParameterError, match=r"control\.mpc\.tension_bounds.*T_ref = 45"):
+        s.replace(control=c, params=p)
+    text = s.replace(control=c).to_toml().replace("T_ref = 25.0", "T_ref = 45.0")
+    assert "T_ref = 45.0" in text
+    path = _write(tmp_path, text)
+    assert main(["simulate", str(path), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "control.mpc.tension_bounds" in err and "[22.5, 67.5]" in err
+
+
+def test_the_free_reference_of_a_lumped_study_is_the_free_helicopter():
+    from tetherheli.studies.robust import FREE, _flown
+
+    lumped = Scenario(tether=TetherSettings(model="lumped"))
+    free = _flown(lumped, FREE)
+    assert free.configuration == "free" and not free.tether.lumped
+    assert free.control.controller == "paper"
+    assert _flown(lumped, "paper").tether.lumped
+
+
+def test_monte_carlo_compare_of_a_lumped_study_flies_its_free_reference():
+    """compare --montecarlo's free draws of a lumped study are set up and fly (they were all
+    refused, and every controller showed a 100 % reduction)."""
+    from tetherheli.sim import simulate
+    from tetherheli.studies.robust import FREE, _flown
+
+    lumped = Scenario(
+        duration=1.0, tether=TetherSettings(model="lumped"),
+        wind=Pulse(0.2, 0.3, 5.0, (1.0, 0.0, 0.0)),
+    )  # fmt: skip
+    r = simulate(_flown(lumped, FREE))
+    assert r.ok and np.all(np.isfinite(r.states))
+
+
+def test_tether_study_calls_a_hover_beyond_the_thrust_limit_failed():
+    """A negative thrust margin (1000 m of power cable, or --max-thrust 100) is never a
+    "completed" dynamic row."""
+    import math
+
+    from tetherheli.params import Params
+    from tetherheli.studies.tether_study import (
+        DYNAMIC_CASES,
+        STUDY_CABLES,
+        mark_thrust_infeasible,
+        static_rows,
+    )
+
+    cable = STUDY_CABLES[0]
+    static = static_rows(Params.paper(), [cable], [10.0], max_thrust_N=100.0)
+    assert static[0]["lift_margin_N"] < 0.0
+    dynamic = [{"cable": cable.key, "length_m": 10.0, "completed": True}]
+    for case, metrics in DYNAMIC_CASES:
+        dynamic[0][f"{case}_status"] = "completed"
+        for m in metrics:
+            dynamic[0][f"{case}_{m}_reduction_pct"] = 50.0
+    mark_thrust_infeasible(static, dynamic, 100.0)
+    row = dynamic[0]
+    assert row["completed"] is False
+    assert "exceeds the maximum thrust 100 N" in row["sim1_status"]
+    assert math.isnan(row["sim1_peak_q1_reduction_pct"])
