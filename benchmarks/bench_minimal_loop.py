@@ -52,7 +52,7 @@ from tetherheli.sim.setup import engine_setup
 from tetherheli.wind import Pulse, Sine
 
 
-@njit(error_model="numpy", inline="always")
+@njit(error_model="numpy", inline="always", cache=True)
 def _derivative(x, inp, rate, t, side, k_c, c, program, sc, wind, out):
     """dx/dt of the tethered plant with the built-in wind profiles' force at t."""
     angle_trig(x, sc)
@@ -64,7 +64,7 @@ def _derivative(x, inp, rate, t, side, k_c, c, program, sc, wind, out):
     out[12] = rate
 
 
-@njit(error_model="numpy")
+@njit(error_model="numpy", cache=True)
 def minimal_loop(x0, n_samples, dt, n_sub, k_c, kp, ki, t_ref, c, gain, x_ref, y_ref, u0, program):
     """The paper's closed loop in one function; returns the peak |q1..q3 - ref| [m] (3,)."""
     x = x0.copy()
@@ -121,7 +121,7 @@ def minimal_loop(x0, n_samples, dt, n_sub, k_c, kp, ki, t_ref, c, gain, x_ref, y
     return peak
 
 
-@njit(error_model="numpy", parallel=True)
+@njit(error_model="numpy", parallel=True, cache=True)
 def minimal_batch(x0, n_samples, dt, n_sub, k_c, kp, ki, t_ref, c, gain, x_ref, y_ref, u0,
                   programs):  # fmt: skip
     """``minimal_loop`` of each wind program of programs (N, rows, columns) over the cores."""
