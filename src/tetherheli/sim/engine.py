@@ -511,8 +511,7 @@ def _paper_sample(
 ):  # fmt: skip
     # ``paper_sample`` on the members of its tuples, unpacked by the caller. The compiled loop
     # unpacks them once per run: every array taken out of a tuple is a reference count
-    # raised and dropped by an atomic instruction, which inside the loop cost the paper run
-    # ~40 % of its time on Intel processors (issue 24)
+    # raised and dropped by an atomic instruction (issue 24; measured within noise, ~4 %)
     dt = cfg[CFG_DT]
     tension, measured = _sense(x, k, k * dt, cfg, ctrl, act, sensors, sensed, event, x_meas)
     u0 = u0_tethered if cfg[CFG_ATTACHED] > 0.5 else u0_free
