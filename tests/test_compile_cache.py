@@ -68,3 +68,32 @@ def test_fingerprint_covers_every_source_file(tmp_path: Path):
     assert second != first
     (root / "sub" / "c.py").write_text("")
     assert _compile.source_fingerprint(root) not in (first, second)
+
+
+def test_warm_up_jobs_fly_their_runs():
+    """Issue 24, item 6: each job of the suite's cache warm-up (``tests/warm_cache.py``, run
+    by conftest on the xdist controller) flies its short runs without error."""
+    from tests import warm_cache
+
+    assert set(warm_cache.JOBS) == {"single", "batch", "lumped"}
+    for job in warm_cache.JOBS.values():
+        job()
+
+
+def test_help_builds_no_compiled_engine():
+    """Issue 24, item 5: ``tetherheli --help`` and ``trim --help`` import neither the compiled
+    engine nor Matplotlib (the parser needs names only)."""
+    probe = (
+        "import sys, contextlib, io\n"
+        "from tetherheli import cli\n"
+        "for argv in (['--help'], ['trim', '--help']):\n"
+        "    with contextlib.suppress(SystemExit), contextlib.redirect_stdout(io.StringIO()):\n"
+        "        cli.main(argv)\n"
+        "heavy = ('tetherheli.sim.engine', 'tetherheli.sim.closed_loop', 'matplotlib')\n"
+        "print(sorted(m for m in heavy if m in sys.modules))\n"
+    )
+    env = {**os.environ, "PYTHONPATH": str(PACKAGE.parent)}
+    done = subprocess.run(
+        [sys.executable, "-c", probe], env=env, capture_output=True, text=True, check=True
+    )
+    assert done.stdout.strip() == "[]"

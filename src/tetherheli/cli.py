@@ -434,7 +434,7 @@ _dt_arg_pulse = _seconds_arg("a duration", 20.0)
 
 
 def _add_figure_format(p: argparse.ArgumentParser) -> None:
-    from .viz.plots import FIGURE_FORMATS, PRINT_DPI
+    from .viz.formats import FIGURE_FORMATS, PRINT_DPI
 
     p.add_argument(
         "--figure-format",
@@ -778,9 +778,9 @@ def _add_workers(p: argparse.ArgumentParser) -> None:
 
 
 def _montecarlo_metrics() -> tuple[str, ...]:
-    from .studies.montecarlo.runner import METRICS
+    from .names import MONTECARLO_METRICS  # light: the command line's help builds no engine
 
-    return METRICS
+    return MONTECARLO_METRICS
 
 
 def _register_animate(sub: argparse._SubParsersAction) -> None:

@@ -8,6 +8,8 @@ __all__ = [
     "FREE_STATE_UNITS",
     "INPUT",
     "INPUT_UNITS",
+    "METRIC_NAMES",
+    "MONTECARLO_METRICS",
     "OUTPUT",
     "OUTPUT_UNITS",
     "POSITION",
@@ -50,3 +52,20 @@ UNITS: dict[str, str] = {
     REEL_RATE: REEL_RATE_UNITS,
     **dict(zip(WIND, WIND_UNITS, strict=True)),
 }
+
+#: Names of the metrics derived from a summary (``sim.batch.summary_metrics``), in table order.
+METRIC_NAMES = (
+    "peak_q1",
+    "peak_q2",
+    "peak_q3",
+    "peak_q4_deg",
+    "peak_q5_deg",
+    "rms_q1",
+    "rms_q2",
+    "rms_q3",
+    "tension_min",
+    "tension_max",
+    "n_samples",
+)
+#: The Monte Carlo table's metrics (``studies.montecarlo.runner.METRICS``): all but the count
+MONTECARLO_METRICS = tuple(m for m in METRIC_NAMES if m != "n_samples")

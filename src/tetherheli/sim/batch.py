@@ -48,6 +48,7 @@ from .._compile import compiled
 from .._validation import check_integer
 from ..errors import ClusterError, ParameterError, TetherheliError
 from ..layout import LANES
+from ..names import METRIC_NAMES
 from ..params import Params
 from ..status import Status, status_message
 from ..wind import compile_wind
@@ -69,21 +70,6 @@ __all__ = [
 
 _N_SUMMARY = len(engine.SUMMARY_FIELDS)
 _I = {name: i for i, name in enumerate(engine.SUMMARY_FIELDS)}
-
-#: Names of the metrics derived from a summary (``summary_metrics``), in table order.
-METRIC_NAMES = (
-    "peak_q1",
-    "peak_q2",
-    "peak_q3",
-    "peak_q4_deg",
-    "peak_q5_deg",
-    "rms_q1",
-    "rms_q2",
-    "rms_q3",
-    "tension_min",
-    "tension_max",
-    "n_samples",
-)
 
 
 @compiled(nogil=True)

@@ -5,16 +5,21 @@ The function ``sweep`` is not re-exported here: it would shadow the module
 ``tetherheli.studies.sweep``; use ``from tetherheli.studies.sweep import sweep``.
 """
 
-from .montecarlo import (
-    Draw,
-    MonteCarloConfig,
-    draw,
-    draw_seed,
-    load_montecarlo,
-    montecarlo_config_from_dict,
-    run_montecarlo,
-)
-from .sweep import METRICS, SweepResult, paper_cyclic_limit, tension_bound, write_sweep
+import importlib
+from typing import Any
+
+# the names below load on first use (PEP 562), so that importing one study (the command
+# line's ``tether_study.register``) does not import the Monte Carlo and its engine
+_HOMES = {
+    **dict.fromkeys(
+        ("Draw", "MonteCarloConfig", "draw", "draw_seed", "load_montecarlo",
+         "montecarlo_config_from_dict", "run_montecarlo"),
+        ".montecarlo",
+    ),
+    **dict.fromkeys(
+        ("METRICS", "SweepResult", "paper_cyclic_limit", "tension_bound", "write_sweep"), ".sweep"
+    ),
+}  # fmt: skip
 
 __all__ = [
     "METRICS",
@@ -30,3 +35,15 @@ __all__ = [
     "tension_bound",
     "write_sweep",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _HOMES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(_HOMES[name], __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -25,6 +25,7 @@ from .._io import atomic_write_bytes
 from ..errors import ParameterError
 from ..names import INPUT, INPUT_UNITS
 from ..sim.result import SimulationResult
+from .formats import FIGURE_FORMATS, PRINT_DPI
 
 __all__ = [
     "CONFIGURATION_COLOURS",
@@ -48,10 +49,6 @@ __all__ = [
 
 #: The colour of each configuration in every figure and the animation.
 CONFIGURATION_COLOURS = {"free": "tab:red", "tethered": "tab:blue"}
-#: The formats ``save_figure`` writes (by the file's suffix).
-FIGURE_FORMATS = ("png", "pdf", "svg")
-#: Resolution of the saved raster figures [dots per inch]: print quality.
-PRINT_DPI = 300
 
 _STYLE = {cfg: dict(color=c, lw=1.1, label=cfg) for cfg, c in CONFIGURATION_COLOURS.items()}
 

@@ -28,6 +28,7 @@ from ..._io import (
 from ..._validation import check_integer
 from ..._version import __version__
 from ...errors import ParameterError, TetherheliError
+from ...names import MONTECARLO_METRICS
 from ...progress import Progress
 from ...resources import check_memory
 from ...sim.batch import METRIC_NAMES, run_batch
@@ -41,7 +42,7 @@ from .draws import draw, draw_seed
 __all__ = ["FIGURE_KINDS", "METRICS", "RESULT_FILES", "result_files", "run_montecarlo"]
 
 #: The metrics a Monte Carlo can plot (``metric=``): every per-run metric of the table.
-METRICS = tuple(m for m in METRIC_NAMES if m != "n_samples")
+METRICS = MONTECARLO_METRICS
 #: The figures of a metric: ``<metric>_<kind>.<format>`` (``viz.plots.figure_montecarlo``,
 #: ``figure_paired``).
 FIGURE_KINDS = ("hist", "cdf", "paired")

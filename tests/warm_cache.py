@@ -1,0 +1,73 @@
+"""Compile the engine's hot functions into the Numba cache once, before the test workers start.
+
+``tests/conftest.py`` runs this module in a subprocess on the pytest-xdist controller, so that
+the workers load the engine from the cache instead of both compiling the same functions at the
+same time (issue 24: the suite from an empty cache was ~70 % compilation). Each job below
+flies a short run through one of the engine's entry points with the argument types the tests
+use; the jobs run in two processes, one per core. ``TETHERHELI_NO_WARM=1`` skips the warm-up.
+
+Run: python -m tests.warm_cache [JOB ...] (no job: all of them, two at a time).
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from concurrent.futures import ThreadPoolExecutor
+
+
+def _single() -> None:
+    from tetherheli import simulate
+    from tetherheli.report import sensing_scenario
+    from tetherheli.shipped import shipped_scenario
+
+    for name in ("paper_sim1_tethered", "paper_sim1_free", "paper_sim1_drum"):
+        simulate(shipped_scenario(name).replace(duration=0.2))
+    simulate(sensing_scenario("tether").replace(duration=0.2))
+
+
+def _lumped() -> None:
+    from tetherheli import simulate
+    from tetherheli.shipped import shipped_scenario
+
+    simulate(shipped_scenario("paper_sim1_lumped").replace(duration=0.2))
+
+
+def _batch() -> None:
+    from tetherheli.shipped import shipped_scenario
+    from tetherheli.sim.batch import run_batch
+
+    run_batch([shipped_scenario("paper_sim1_tethered").replace(duration=0.2)] * 2)
+
+
+#: the warm-up's jobs, heaviest first
+JOBS = {"single": _single, "batch": _batch, "lumped": _lumped}
+
+
+def warm(jobs: list[str] | None = None, processes: int = 2) -> None:
+    """Run each job in its own Python process, ``processes`` at a time.
+
+    Parameters
+    ----------
+    jobs : list of str, optional
+        Keys of ``JOBS`` (default: all).
+    processes : int
+        Processes at a time.
+    """
+    names = list(JOBS) if not jobs else jobs
+    command = [sys.executable, "-m", "tests.warm_cache"]
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+    def run(name: str) -> None:
+        subprocess.run([*command, name], cwd=root, check=False, capture_output=True)
+
+    with ThreadPoolExecutor(processes) as pool:
+        list(pool.map(run, names))
+
+
+if __name__ == "__main__":
+    if len(sys.argv) == 2:
+        JOBS[sys.argv[1]]()
+    else:
+        warm(sys.argv[1:] or None)
