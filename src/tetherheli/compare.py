@@ -83,14 +83,13 @@ def compare(paths: list[str], controllers: tuple[str, ...], *, eq40: bool) -> li
 
 
 def _figure(rows: list[dict[str, Any]]):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     import numpy as np
 
+    from .viz.plots import InlineFigure
+
     labels = [f"{r['scenario']}\n{r['controller']}" for r in rows]
-    fig, axes = plt.subplots(1, 2, figsize=(max(8.0, 1.1 * len(rows) + 4), 4.5))
+    fig = InlineFigure(figsize=(max(8.0, 1.1 * len(rows) + 4), 4.5))  # no pyplot, no backend
+    axes = fig.subplots(1, 2)
     x = np.arange(len(rows))
     for ax, kind in zip(axes, ("peak", "rms"), strict=True):
         for a, off in zip((1, 2, 3), (-0.27, 0.0, 0.27), strict=True):
@@ -220,14 +219,10 @@ def markdown_reductions(montecarlo: tuple[Any, ...]) -> str:
 
 def _figure_montecarlo(montecarlo: tuple[Any, ...]):
     """Box plots of peak and RMS q1 per run kind (completed runs; failures in the labels)."""
-    import matplotlib
+    from .viz.plots import InlineFigure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(
-        len(montecarlo), 2, figsize=(9.0, 3.2 * len(montecarlo)), squeeze=False
-    )
+    fig = InlineFigure(figsize=(9.0, 3.2 * len(montecarlo)))  # no pyplot, no backend
+    axes = fig.subplots(len(montecarlo), 2, squeeze=False)
     for row, mc in zip(axes, montecarlo, strict=True):
         labels = [f"{lab}\n{mc.failures(lab)}/{mc.runs} failed" for lab in mc.labels]
         for ax, metric in zip(row, ("peak_q1", "rms_q1"), strict=True):
