@@ -63,10 +63,11 @@ Rendering
 
 ``import tetherheli`` registers ``ENV_ID`` with Gymnasium (:func:`register_envs`, which
 imports neither this module nor Numba), so ``gymnasium.make("tetherheli/TetheredHover-v0",
-...)`` works after ``import tetherheli``; ``gymnasium.make("tetherheli:tetherheli/TetheredHover-v0")``
-works in a fresh process (Gymnasium 1.x imports the module named before the colon; it no
-longer loads plugins from entry points, which older Gymnasium does through the
-``gymnasium.envs`` entry point of ``pyproject.toml``). ``gymnasium.make_vec(..., num_envs=N, vectorization_mode="vector_entry_point")``
+...)`` works after ``import tetherheli``, and
+``gymnasium.make("tetherheli:tetherheli/TetheredHover-v0")`` in a fresh process (Gymnasium 1.x
+imports the module named before the colon; it no longer loads plugins from entry points,
+which older Gymnasium does through the ``gymnasium.envs`` entry point of ``pyproject.toml``).
+``gymnasium.make_vec(..., num_envs=N, vectorization_mode="vector_entry_point")``
 gives N copies stepped in one compiled call
 (:class:`tetherheli.vector_env.TetheredHoverVectorEnv`). The observation (``observe_into``)
 and the step's reward and failure check (``finish_step``) are compiled functions that both

@@ -3,7 +3,8 @@ sweep, the Monte Carlo, the sensing and the controller trade-off figures.
 
 These functions only read results and return Matplotlib figures built without pyplot
 (``InlineFigure``, which shows itself inline in Jupyter as a cell's last expression), so
-importing or calling them leaves the process's Matplotlib backend alone. Each takes an optional ``fig`` (an empty figure to draw into, e.g. one from
+importing or calling them leaves the process's Matplotlib backend alone.
+Each takes an optional ``fig`` (an empty figure to draw into, e.g. one from
 ``plt.figure()`` in a notebook) or, for the one-panel figures, ``ax`` (axes to draw on), and
 returns the figure. ``save_figure`` writes one as PNG (at ``PRINT_DPI``), PDF or SVG by the
 file's suffix. Free runs are drawn in red and tethered runs in blue everywhere
@@ -29,9 +30,9 @@ from ..sim.result import SimulationResult
 __all__ = [
     "CONFIGURATION_COLOURS",
     "FIGURE_FORMATS",
-    "InlineFigure",
     "PLOT_LIMIT",
     "PRINT_DPI",
+    "InlineFigure",
     "check_figure_format",
     "figure_inputs",
     "figure_limit_search",
