@@ -26,7 +26,7 @@ CELLS = [
     # write_compare (which draws compare.png) leaves the backend alone ...
     "from tetherheli.compare import write_compare\n"
     "row = {'scenario': 's', 'controller': 'c', 'completed': False, 'runs': 1, 'failures': 1}\n"
-    f"write_compare([row], {{out!r}}, command='test', inputs=())\n"
+    "write_compare([row], {out!r}, command='test', inputs=())\n"
     "assert matplotlib.get_backend() == backend, (backend, matplotlib.get_backend())\n"
     "print(backend)",
     # ... so a figure made after it still shows

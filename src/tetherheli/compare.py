@@ -113,6 +113,7 @@ def write_compare(
     inputs: tuple[str, ...],
     force: bool = False,
     montecarlo: tuple[Any, ...] = (),
+    figure_format: str = "png",
 ) -> None:
     """compare.csv (every measure), compare.md (the main columns), compare.png and
     summary.json, written whole or not at all (``_io.output_directory``); with Monte Carlo
@@ -134,6 +135,8 @@ def write_compare(
     montecarlo : tuple of MonteCarloComparison, optional
         The Monte Carlo comparisons (``studies.robust.montecarlo_compare``) whose rows are
         in ``rows``.
+    figure_format : {"png", "pdf", "svg"}, optional
+        File format of the figures (default "png").
 
     Returns
     -------
@@ -158,7 +161,7 @@ def write_compare(
     fig = _figure([r for r in rows if r.get("runs", 1) == 1] or rows)
     fig_mc = _figure_montecarlo(montecarlo) if montecarlo else None
     with output_directory(out_dir, writer="compare", inputs=inputs, force=force) as tmp:
-        save_figure(fig, tmp / "compare.png")
+        save_figure(fig, tmp / f"compare.{figure_format}")
         atomic_write_text(tmp / "compare.csv", buf.getvalue())
         atomic_write_text(tmp / "compare.md", markdown_table(rows))
         info = {
@@ -167,7 +170,7 @@ def write_compare(
             "command": command,
         }
         if montecarlo:
-            save_figure(fig_mc, tmp / "compare_montecarlo.png")
+            save_figure(fig_mc, tmp / f"compare_montecarlo.{figure_format}")
             atomic_write_text(tmp / "compare_montecarlo.md", markdown_reductions(montecarlo))
             info["montecarlo"] = [mc.as_dict() for mc in montecarlo]
         atomic_write_text(tmp / "summary.json", json.dumps(info, indent=2) + "\n")
@@ -307,7 +310,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     command = "tetherheli compare " + " ".join(sys.argv[2:])
     write_compare(
         rows, args.out, command=command, inputs=inputs, force=args.force,
-        montecarlo=tuple(montecarlo),
+        montecarlo=tuple(montecarlo), figure_format=args.figure_format,
     )  # fmt: skip
     print(markdown_table(rows), end="")
     if montecarlo:
@@ -350,5 +353,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--runs", type=int, help="Monte Carlo draws N (default: the file's [montecarlo] runs)"
     )
     p.add_argument("--out", required=True, help="output folder")
-    p.add_argument("--force", action="store_true", help="replace this command's earlier output")
+    from .cli import _add_figure_format, _add_force
+
+    _add_force(p)
+    _add_figure_format(p)
     p.set_defaults(func=_cmd_compare)
