@@ -1,13 +1,38 @@
-"""Shared fixtures: the paper's parameters and models; the compile cache warmed once."""
+"""Shared fixtures: the paper's parameters and models; the compile cache warmed once.
+
+Before anything imports Matplotlib, its config and cache go to a temporary folder of this
+test process (``MPLCONFIGDIR``, ``XDG_CONFIG_HOME``, ``XDG_CACHE_HOME``): no test then
+depends on the user's HOME, on what an earlier test left there, or on test order (a test
+that points HOME at a scratch folder would otherwise find Matplotlib's font cache in it).
+"""
 
 from __future__ import annotations
 
+import atexit
 import os
+import shutil
+import tempfile
 
-import numpy as np
-import pytest
+# The compiled engine's cache stays where the package would put it (``_compile._cache_base``),
+# so isolating XDG_CACHE_HOME below does not make every test process compile afresh.
+os.environ.setdefault(
+    "NUMBA_CACHE_DIR",
+    os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"),
+)
+_ISOLATED = tempfile.mkdtemp(prefix="tetherheli-tests-")
+atexit.register(shutil.rmtree, _ISOLATED, ignore_errors=True)
+for _var, _sub in (
+    ("MPLCONFIGDIR", "mpl"),
+    ("XDG_CONFIG_HOME", "config"),
+    ("XDG_CACHE_HOME", "cache"),
+):
+    os.makedirs(os.path.join(_ISOLATED, _sub))
+    os.environ[_var] = os.path.join(_ISOLATED, _sub)
 
-from tetherheli import FreeHelicopter, Params, TetheredHelicopter
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+from tetherheli import FreeHelicopter, Params, TetheredHelicopter  # noqa: E402
 
 
 def pytest_configure(config: pytest.Config) -> None:

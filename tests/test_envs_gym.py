@@ -207,3 +207,59 @@ def test_sb3_make_vec_env():
     assert obs.shape == (2, 13)
     assert vec.render_mode == "rgb_array"
     vec.close()
+
+
+def test_check_env_of_made_env_passes_headless(monkeypatch):
+    """Issue 25, item 2: on a machine without a display, ``check_env`` of ``gymnasium.make``'s
+    env re-makes it in every listed render mode; "human" is listed only where a window can
+    open, so the checker passes (it raised ``RenderModeError`` before)."""
+    import matplotlib
+
+    monkeypatch.setattr(matplotlib, "get_backend", lambda: "agg")
+    env = gymnasium.make(ENV_ID, max_episode_time=0.2)
+    assert env.unwrapped.metadata["render_modes"] == ["rgb_array"]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        check_env(env.unwrapped)
+    assert [str(w.message) for w in caught] == []
+    env.close()
+    monkeypatch.setattr(matplotlib, "get_backend", lambda: "qtagg")
+    assert TetheredHoverEnv(max_episode_time=0.1).metadata["render_modes"] == [
+        "human",
+        "rgb_array",
+    ]
+
+
+def test_import_tetherheli_registers_the_ids_without_the_compiled_stack():
+    """``import tetherheli`` registers ``ENV_ID`` (Gymnasium 1.x loads no plugins) and imports
+    neither Numba nor the environment module; ``make`` then imports them."""
+    out = _fresh(
+        "import sys, gymnasium\n"
+        f"assert {ENV_ID!r} not in gymnasium.registry\n"
+        "import tetherheli\n"
+        "print('numba' in sys.modules, 'tetherheli.envs' in sys.modules,"
+        f" {ENV_ID!r} in gymnasium.registry)\n"
+        f"env = gymnasium.make({ENV_ID!r}, max_episode_time=0.1)\n"
+        "print(type(env.unwrapped).__name__)\n"
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["False", "False", "True", "TetheredHoverEnv"]
+
+
+def test_the_gymnasium_entry_point_registers_the_ids(monkeypatch):
+    """``pyproject.toml``'s ``gymnasium.envs`` entry point names a function that registers
+    ``ENV_ID`` with the registration ``envs`` itself uses."""
+    import importlib
+    import tomllib
+
+    from tetherheli import _gym_registration
+
+    pyproject = tomllib.loads((SRC.parent / "pyproject.toml").read_text())
+    target = pyproject["project"]["entry-points"]["gymnasium.envs"]["tetherheli"]
+    module, _, name = target.partition(":")
+    register = getattr(importlib.import_module(module), name)
+    assert register is _gym_registration.register_envs
+    monkeypatch.delitem(gymnasium.registry, ENV_ID)
+    register()
+    assert gymnasium.spec(ENV_ID).max_episode_steps == MAX_EPISODE_STEPS
+    assert gymnasium.spec(ENV_ID).entry_point == "tetherheli.envs:TetheredHoverEnv"

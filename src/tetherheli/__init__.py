@@ -11,6 +11,7 @@ The public names below are imported lazily (on first use), so that light command
 from __future__ import annotations
 
 import importlib
+import importlib.util
 from typing import TYPE_CHECKING, Any
 
 from ._version import __version__
@@ -60,6 +61,18 @@ __all__ = [
     "load_scenario",
     "simulate",
 ]
+
+
+def _register_gymnasium_ids() -> None:
+    """Register the Gymnasium ids (``_gym_registration``) when Gymnasium is installed; this
+    imports Gymnasium alone, never the compiled stack."""
+    if importlib.util.find_spec("gymnasium") is not None:
+        from ._gym_registration import register_envs
+
+        register_envs()
+
+
+_register_gymnasium_ids()
 
 
 def __getattr__(name: str) -> Any:

@@ -12,6 +12,7 @@ import argparse
 import functools
 import json
 import math
+import os
 import sys
 import warnings
 from collections.abc import Callable, Sequence
@@ -269,7 +270,12 @@ def _main(argv: list[str], debug: bool) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
-        return int(args.func(args) or 0)
+        code = int(args.func(args) or 0)
+        sys.stdout.flush()  # a closed pipe (``| head -1``) surfaces here, not at exit
+        return code
+    except BrokenPipeError:  # the reader of stdout has gone (``| head -1``): end quietly
+        _drop_stdout()
+        return 0
     except _UsageError as exc:
         print(str(exc), file=sys.stderr)
         return EXIT_USAGE
@@ -286,6 +292,18 @@ def _main(argv: list[str], debug: bool) -> int:
         return EXIT_INTERRUPTED
     except Exception as exc:
         return _internal_error(exc, debug)
+
+
+def _drop_stdout() -> None:
+    """Point stdout at the null device after its reader closed the pipe, so that the
+    interpreter's final flush does not fail again ("Exception ignored ... BrokenPipeError")."""
+    import contextlib
+    import io
+
+    with contextlib.suppress(OSError, ValueError, io.UnsupportedOperation):
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
 
 
 def _internal_error(exc: BaseException, debug: bool) -> int:

@@ -83,14 +83,13 @@ def compare(paths: list[str], controllers: tuple[str, ...], *, eq40: bool) -> li
 
 
 def _figure(rows: list[dict[str, Any]]):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     import numpy as np
 
+    from .viz.plots import InlineFigure
+
     labels = [f"{r['scenario']}\n{r['controller']}" for r in rows]
-    fig, axes = plt.subplots(1, 2, figsize=(max(8.0, 1.1 * len(rows) + 4), 4.5))
+    fig = InlineFigure(figsize=(max(8.0, 1.1 * len(rows) + 4), 4.5))  # no pyplot, no backend
+    axes = fig.subplots(1, 2)
     x = np.arange(len(rows))
     for ax, kind in zip(axes, ("peak", "rms"), strict=True):
         for a, off in zip((1, 2, 3), (-0.27, 0.0, 0.27), strict=True):
@@ -114,6 +113,7 @@ def write_compare(
     inputs: tuple[str, ...],
     force: bool = False,
     montecarlo: tuple[Any, ...] = (),
+    figure_format: str = "png",
 ) -> None:
     """compare.csv (every measure), compare.md (the main columns), compare.png and
     summary.json, written whole or not at all (``_io.output_directory``); with Monte Carlo
@@ -135,6 +135,8 @@ def write_compare(
     montecarlo : tuple of MonteCarloComparison, optional
         The Monte Carlo comparisons (``studies.robust.montecarlo_compare``) whose rows are
         in ``rows``.
+    figure_format : {"png", "pdf", "svg"}, optional
+        File format of the figures (default "png").
 
     Returns
     -------
@@ -159,7 +161,7 @@ def write_compare(
     fig = _figure([r for r in rows if r.get("runs", 1) == 1] or rows)
     fig_mc = _figure_montecarlo(montecarlo) if montecarlo else None
     with output_directory(out_dir, writer="compare", inputs=inputs, force=force) as tmp:
-        save_figure(fig, tmp / "compare.png")
+        save_figure(fig, tmp / f"compare.{figure_format}")
         atomic_write_text(tmp / "compare.csv", buf.getvalue())
         atomic_write_text(tmp / "compare.md", markdown_table(rows))
         info = {
@@ -168,7 +170,7 @@ def write_compare(
             "command": command,
         }
         if montecarlo:
-            save_figure(fig_mc, tmp / "compare_montecarlo.png")
+            save_figure(fig_mc, tmp / f"compare_montecarlo.{figure_format}")
             atomic_write_text(tmp / "compare_montecarlo.md", markdown_reductions(montecarlo))
             info["montecarlo"] = [mc.as_dict() for mc in montecarlo]
         atomic_write_text(tmp / "summary.json", json.dumps(info, indent=2) + "\n")
@@ -220,14 +222,10 @@ def markdown_reductions(montecarlo: tuple[Any, ...]) -> str:
 
 def _figure_montecarlo(montecarlo: tuple[Any, ...]):
     """Box plots of peak and RMS q1 per run kind (completed runs; failures in the labels)."""
-    import matplotlib
+    from .viz.plots import InlineFigure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(
-        len(montecarlo), 2, figsize=(9.0, 3.2 * len(montecarlo)), squeeze=False
-    )
+    fig = InlineFigure(figsize=(9.0, 3.2 * len(montecarlo)))  # no pyplot, no backend
+    axes = fig.subplots(len(montecarlo), 2, squeeze=False)
     for row, mc in zip(axes, montecarlo, strict=True):
         labels = [f"{lab}\n{mc.failures(lab)}/{mc.runs} failed" for lab in mc.labels]
         for ax, metric in zip(row, ("peak_q1", "rms_q1"), strict=True):
@@ -321,7 +319,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     command = "tetherheli compare " + " ".join(sys.argv[2:])
     write_compare(
         rows, args.out, command=command, inputs=inputs, force=args.force,
-        montecarlo=tuple(montecarlo),
+        montecarlo=tuple(montecarlo), figure_format=args.figure_format,
     )  # fmt: skip
     print(markdown_table(rows), end="")
     if montecarlo:
@@ -364,5 +362,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--runs", type=int, help="Monte Carlo draws N (default: the file's [montecarlo] runs)"
     )
     p.add_argument("--out", required=True, help="output folder")
-    p.add_argument("--force", action="store_true", help="replace this command's earlier output")
+    from .cli import _add_figure_format, _add_force
+
+    _add_force(p)
+    _add_figure_format(p)
     p.set_defaults(func=_cmd_compare)

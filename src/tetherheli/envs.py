@@ -55,15 +55,19 @@ Rendering
     (:func:`tetherheli.viz.animation.frame_rgb`, the drawing of ``tetherheli animate``) of the
     episode so far as an (H, W, 3) uint8 array; ``"human"`` shows that frame in a Matplotlib
     window after every reset and step (needs a display: an interactive Matplotlib backend).
+    An instance's ``metadata["render_modes"]`` lists "human" only where a window can open,
+    so Gymnasium's ``check_env`` passes on a headless machine (clusters, CI).
     ``metadata["render_fps"]`` is 1 / dt, one frame per step. Rendering records the episode
     (one row per step) and redraws the whole scene per frame (a fraction of a second): it is
     for looking at a policy, not for training.
 
-Importing this module registers ``ENV_ID`` with Gymnasium (:func:`register_envs`), so
-``gymnasium.make("tetherheli/TetheredHover-v0", ...)`` works after ``import tetherheli.envs``
-and ``gymnasium.make("tetherheli.envs:tetherheli/TetheredHover-v0")`` works in a fresh process
-(Gymnasium 1.x imports the module named before the colon; it no longer loads plugins from
-entry points). ``gymnasium.make_vec(..., num_envs=N, vectorization_mode="vector_entry_point")``
+``import tetherheli`` registers ``ENV_ID`` with Gymnasium (:func:`register_envs`, which
+imports neither this module nor Numba), so ``gymnasium.make("tetherheli/TetheredHover-v0",
+...)`` works after ``import tetherheli``, and
+``gymnasium.make("tetherheli:tetherheli/TetheredHover-v0")`` in a fresh process (Gymnasium 1.x
+imports the module named before the colon; it no longer loads plugins from entry points,
+which older Gymnasium does through the ``gymnasium.envs`` entry point of ``pyproject.toml``).
+``gymnasium.make_vec(..., num_envs=N, vectorization_mode="vector_entry_point")``
 gives N copies stepped in one compiled call
 (:class:`tetherheli.vector_env.TetheredHoverVectorEnv`). The observation (``observe_into``)
 and the step's reward and failure check (``finish_step``) are compiled functions that both
@@ -81,6 +85,7 @@ import numpy as np
 from gymnasium import spaces
 
 from ._compile import compiled
+from ._gym_registration import ENV_ID, MAX_EPISODE_STEPS, register_envs
 from ._validation import check_bool, check_number, check_vector
 from .errors import ParameterError
 from .layout import (
@@ -139,9 +144,6 @@ __all__ = [
     "tether_tension",
 ]
 
-#: Gymnasium id under which :func:`register_envs` registers :class:`TetheredHoverEnv`.
-ENV_ID = "tetherheli/TetheredHover-v0"
-
 #: Names of the observation entries (all deviations from trim).
 OBSERVATION_NAMES = (*FREE_STATE, "tension")
 
@@ -174,15 +176,21 @@ class RenderModeError(ParameterError, gymnasium.error.UnsupportedMode):
     """
 
 
-def _check_display() -> None:
-    """Refuse ``render_mode="human"`` (``RenderModeError``) unless Matplotlib's backend is
-    interactive, i.e. a window can be shown."""
+def _display_backend() -> tuple[bool, str]:
+    """Whether Matplotlib's backend can open a window (interactive), and its name."""
     import matplotlib
     from matplotlib.backends import BackendFilter, backend_registry
 
     backend = matplotlib.get_backend()  # resolves the automatic choice (no window opened)
     interactive = backend.lower() in backend_registry.list_builtin(BackendFilter.INTERACTIVE)
-    if not interactive and not (backend.startswith("module://") and "inline" not in backend):
+    return interactive or (backend.startswith("module://") and "inline" not in backend), backend
+
+
+def _check_display() -> None:
+    """Refuse ``render_mode="human"`` (``RenderModeError``) unless Matplotlib's backend is
+    interactive, i.e. a window can be shown."""
+    can_open, backend = _display_backend()
+    if not can_open:
         raise RenderModeError(
             "render_mode",
             "human",
@@ -492,7 +500,8 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._act = actuator_array(self.scenario, trim, ctrl)  # rejects limits below hover need
         self.trim = trim
         self.dt = self.scenario.control.dt
-        self.metadata = {**self.metadata, "render_fps": 1.0 / self.dt}
+        modes = [m for m in RENDER_MODES if m != "human" or _display_backend()[0]]
+        self.metadata = {**self.metadata, "render_modes": modes, "render_fps": 1.0 / self.dt}
         self.n_max = self.scenario.n_samples
         self._c = np.ascontiguousarray(model.constants)
         self._ctrl_base = ctrl
@@ -973,34 +982,6 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
     def time(self) -> float:
         """Simulated time since the reset [s]."""
         return self._k * self.dt
-
-
-#: ``max_episode_steps`` of the registration: the default episode (``DEFAULT_EPISODE_TIME`` at
-#: the default sample time ``Scenario().control.dt``).
-MAX_EPISODE_STEPS = round(DEFAULT_EPISODE_TIME / Scenario().control.dt)
-
-
-def register_envs() -> None:
-    """Register ``ENV_ID`` ("tetherheli/TetheredHover-v0") with Gymnasium (idempotent; done
-    when this module is imported).
-
-    Keyword arguments of ``gymnasium.make`` go to :class:`TetheredHoverEnv`. The registration
-    has ``max_episode_steps = MAX_EPISODE_STEPS`` (3000: 30 s at 10 ms), so ``make`` adds
-    Gymnasium's ``TimeLimit`` wrapper, which agrees with the environment's own truncation at
-    the defaults; an episode ends at whichever comes first, so a longer ``max_episode_time``
-    needs ``max_episode_steps`` too (``gymnasium.make(ENV_ID, max_episode_time=60,
-    max_episode_steps=6000)``). The vector entry point is
-    :class:`tetherheli.vector_env.TetheredHoverVectorEnv`
-    (``gymnasium.make_vec(ENV_ID, num_envs=N, vectorization_mode="vector_entry_point")``),
-    which truncates at the same step.
-    """
-    if ENV_ID not in gymnasium.registry:
-        gymnasium.register(
-            id=ENV_ID,
-            entry_point="tetherheli.envs:TetheredHoverEnv",
-            vector_entry_point="tetherheli.vector_env:TetheredHoverVectorEnv",
-            max_episode_steps=MAX_EPISODE_STEPS,
-        )
 
 
 register_envs()

@@ -850,6 +850,7 @@ def run_tether_study(
     command: str = "",
     force: bool = False,
     progress: bool = True,
+    figure_format: str = "png",
 ) -> dict[str, Any]:
     """Run the whole study and write it to ``out`` (whole or not at all,
     ``_io.output_directory``): study.md (the main table and the hover limits), static.csv,
@@ -882,6 +883,8 @@ def run_tether_study(
         Replace this command's earlier output in ``out``.
     progress : bool, optional
         Progress on stderr.
+    figure_format : {"png", "pdf", "svg"}, optional
+        File format of the three figures (default "png").
 
     Returns
     -------
@@ -971,9 +974,9 @@ def run_tether_study(
         "scenarios": configs,
     }
     figures = {
-        "reduction.png": figure_study_reduction(dynamic, labels),
-        "static.png": figure_study_static(static, labels, max_thrust_N),
-        "sensing.png": figure_study_sensing(sensing, labels),
+        f"reduction.{figure_format}": figure_study_reduction(dynamic, labels),
+        f"static.{figure_format}": figure_study_static(static, labels, max_thrust_N),
+        f"sensing.{figure_format}": figure_study_sensing(sensing, labels),
     }
     with output_directory(out, writer="tether-study", force=force) as tmp:
         for name, fig in figures.items():
@@ -1019,6 +1022,7 @@ def _cmd(args: Any) -> int:
         command="tetherheli tether-study " + " ".join(sys.argv[2:]),
         force=args.force,
         progress=not args.quiet,
+        figure_format=args.figure_format,
     )
     failed = [r for r in summary["dynamic"] if not r["completed"]]
     print(f"wrote {args.out}/ (study.md, static.csv, dynamic.csv, sensing.csv, figures)")
@@ -1045,7 +1049,7 @@ def register(sub: Any) -> None:
     """
     p = sub.add_parser(
         "tether-study",
-        help="does the tether's benefit survive at 10-100 m of real cable? (issue 13)",
+        help="does the tether's benefit survive at 10-100 m of real cable?",
     )
     p.add_argument("--out", default="tether_study_out", help="output directory")
     p.add_argument(
@@ -1095,8 +1099,9 @@ def register(sub: Any) -> None:
         default="paper",
         help="eq 56's gains: the paper's, or scaled to the paper's tension loop gain",
     )
-    p.add_argument("--workers", type=int, default=None, help="threads (default: all CPUs)")
-    p.add_argument(
-        "--force", action="store_true", help="replace this command's earlier output in --out"
-    )
+    from ..cli import _add_figure_format, _add_force, _add_workers
+
+    _add_workers(p)
+    _add_force(p)
+    _add_figure_format(p)
     p.set_defaults(func=_cmd)

@@ -1,9 +1,10 @@
 """Every figure of the package: the paper's Figs. 6-9 (free and tethered overlaid), the
 sweep, the Monte Carlo, the sensing and the controller trade-off figures.
 
-These functions only read results and return Matplotlib ``Figure`` objects built without
-pyplot, so importing them leaves the process's Matplotlib backend alone (notebooks keep their
-inline figures). Each takes an optional ``fig`` (an empty figure to draw into, e.g. one from
+These functions only read results and return Matplotlib figures built without pyplot
+(``InlineFigure``, which shows itself inline in Jupyter as a cell's last expression), so
+importing or calling them leaves the process's Matplotlib backend alone.
+Each takes an optional ``fig`` (an empty figure to draw into, e.g. one from
 ``plt.figure()`` in a notebook) or, for the one-panel figures, ``ax`` (axes to draw on), and
 returns the figure. ``save_figure`` writes one as PNG (at ``PRINT_DPI``), PDF or SVG by the
 file's suffix. Free runs are drawn in red and tethered runs in blue everywhere
@@ -32,6 +33,7 @@ __all__ = [
     "FIGURE_FORMATS",
     "PLOT_LIMIT",
     "PRINT_DPI",
+    "InlineFigure",
     "check_figure_format",
     "figure_inputs",
     "figure_limit_search",
@@ -147,10 +149,27 @@ class _Plotter:
         ax.plot(t, clean, **style)
 
 
+class InlineFigure(Figure):
+    """A Matplotlib ``Figure`` built without pyplot that shows itself in Jupyter: as a cell's
+    last expression it renders as a PNG (``_repr_png_``, at the figure's own dpi) in any
+    kernel and backend, where a plain ``Figure`` prints ``<Figure size ... with n Axes>``.
+    It is not registered with pyplot, so ``plt.show()`` and the inline backend never show
+    it twice, and making one never changes the process's backend."""
+
+    def _repr_png_(self) -> bytes:
+        """The figure as PNG bytes (IPython's display protocol)."""
+        import io
+
+        buf = io.BytesIO()
+        self.savefig(buf, format="png")
+        return buf.getvalue()
+
+
 def _new_figure(fig: Figure | None, size: tuple[float, float]) -> Figure:
-    """``fig`` (a caller's empty figure) or a new constrained-layout figure (no pyplot)."""
+    """``fig`` (a caller's empty figure) or a new constrained-layout ``InlineFigure`` (no
+    pyplot)."""
     if fig is None:
-        return Figure(figsize=size, layout="constrained")
+        return InlineFigure(figsize=size, layout="constrained")
     if fig.axes:
         raise ParameterError("fig", "a figure with axes", "an empty figure")
     return fig
@@ -160,7 +179,7 @@ def _single_axes(ax: Any, size: tuple[float, float]) -> tuple[Figure, Any]:
     """``ax`` and its figure, or a new figure with one axes."""
     if ax is not None:
         return ax.get_figure(), ax
-    fig = Figure(figsize=size, layout="constrained")
+    fig = InlineFigure(figsize=size, layout="constrained")
     return fig, fig.add_subplot()
 
 
