@@ -159,20 +159,20 @@ def test_internal_damping_gives_the_continuous_cables_ratio(n):
 
 
 def test_both_dampings_are_refused_and_bad_input_names_the_field():
-    with pytest.raises(ParameterError, match="cable.internal_damping"):
+    with pytest.raises(ParameterError, match=r"cable.internal_damping"):
         Cable(unstretched_length=10.0, EA=375.0, damping_ratio=0.1, internal_damping=1.0)
-    with pytest.raises(ParameterError, match="tether.internal_damping_Ns"):
+    with pytest.raises(ParameterError, match=r"tether.internal_damping_Ns"):
         LumpedTether(damping_ratio=0.1, internal_damping_Ns=1.0)
-    with pytest.raises(ParameterError, match="cable.unstretched_length"):
+    with pytest.raises(ParameterError, match=r"cable.unstretched_length"):
         Cable(unstretched_length=0.0, EA=375.0)
-    with pytest.raises(ParameterError, match="cable.EA_N"):
+    with pytest.raises(ParameterError, match=r"cable.EA_N"):
         Cable(unstretched_length=1.0, EA=-1.0)
-    with pytest.raises(ParameterError, match="^dt"):
+    with pytest.raises(ParameterError, match=r"^dt"):
         drive_cable(PAPER, anchor=(0, 0, 0), top=lambda t: ((0, 0, 10), (0, 0, 0)),
                     duration=1.0, dt=0.0)  # fmt: skip
-    with pytest.raises(ParameterError, match="^top"):
+    with pytest.raises(ParameterError, match=r"^top"):
         drive_cable(PAPER, anchor=(0, 0, 0), top=lambda t: 3, duration=1.0, dt=0.01)
-    with pytest.raises(ParameterError, match="^start"):
+    with pytest.raises(ParameterError, match=r"^start"):
         drive_cable(PAPER, anchor=(0, 0, 0), top=lambda t: ((0, 0, 10), (0, 0, 0)),
                     duration=1.0, dt=0.01, start="moving")  # fmt: skip
 
@@ -180,5 +180,5 @@ def test_both_dampings_are_refused_and_bad_input_names_the_field():
 def test_scenario_refuses_both_dampings():
     from tetherheli.sim.scenario import Scenario, TetherSettings
 
-    with pytest.raises(ParameterError, match="tether.internal_damping"):
+    with pytest.raises(ParameterError, match=r"tether.internal_damping"):
         Scenario(tether=TetherSettings(model="lumped", internal_damping=1.0))

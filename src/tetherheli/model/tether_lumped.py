@@ -79,18 +79,18 @@ if TYPE_CHECKING:
     from .trim import TrimPoint
 
 __all__ = [
+    "CHAIN_OMEGA_H",
     "ROS2_GAMMA",
     "ElasticCatenary",
     "LumpedTether",
     "LumpedTrim",
     "StaticCable",
-    "CHAIN_OMEGA_H",
     "catenary_position_estimate",
     "chain_energy",
+    "chain_forces",
     "chain_interval",
     "chain_omega_max",
     "chain_substeps",
-    "chain_forces",
     "elastic_catenary",
     "end_forces",
     "force_at_P_as_loads",
@@ -680,7 +680,7 @@ def chain_substeps(p, L0, n, h):
     int
         The sub-step count m.
     """
-    m = int(math.ceil(h * chain_omega_max(p, L0, n) / CHAIN_OMEGA_H - 1e-9))
+    m = int(h * chain_omega_max(p, L0, n) / CHAIN_OMEGA_H - 1e-9) + 1  # the ceiling
     if m < 1:
         return 1
     if m > CHAIN_MAX_SUBSTEPS:

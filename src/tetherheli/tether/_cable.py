@@ -225,8 +225,9 @@ def drive_cable(
         if start not in STARTS:
             raise ParameterError("start", start, f"one of {STARTS} or node positions (N+1, 3)")
         if np.allclose(r0, a):
-            raise ParameterError("top", f"top(0) = {r0.tolist()}",
-                                 "a start position away from the anchor for start='static'")  # fmt: skip
+            raise ParameterError(
+                "top", f"top(0) = {r0.tolist()}", "a start away from the anchor (start='static')"
+            )
         x = static_chain(a, r0, L0, tether, g)
     else:
         x = np.array(start, dtype=float)
@@ -237,7 +238,7 @@ def drive_cable(
     v[n] = v0
     air = np.tile(w, (n + 1, 1))
     work = ros2_work(n)
-    k_max = int(math.floor(duration / dt + 1e-9))
+    k_max = math.floor(duration / dt + 1e-9)
     h = dt / n_sub
     t = np.arange(k_max + 1) * dt
     nodes = np.empty((k_max + 1, n + 1, 3))
