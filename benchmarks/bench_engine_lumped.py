@@ -1,12 +1,14 @@
 """Cost of a closed-loop run with the lumped-mass tether in the engine (issue 13, item 4).
 
-Run: python benchmarks/bench_engine_lumped.py [--repeat R] [--coupling]
+Run: python benchmarks/bench_engine_lumped.py [--repeat R] [--EA N] [--coupling]
 Prints, measured in this run: the milliseconds of one 60 s run of the paper's simulation 1
 (tethered, dt = 10 ms, 2 substeps; ``sim.batch.run_unrecorded``, the compiled loop without
 recording) with eq 28's massless tether and with the lumped chain of N = 5, 10, 20, 40
 segments (20 g/m, 5 mm, the paper's stiffness), side by side, and each one's ratio to the
-massless run. Timings vary with the machine; no test asserts them. With ``--coupling``
-instead: the coupled step's error against SciPy's Radau on the joint helicopter + chain ODE
+massless run, and the chain's ROS2 sub-steps per RK4 step (issue 23's step-size rule,
+``tether_lumped.chain_substeps``; ``--EA`` another stiffness). Timings vary with the
+machine; no test asserts them. With ``--coupling`` instead: the coupled step's error
+against SciPy's Radau on the joint helicopter + chain ODE
 (``tests/test_engine_lumped.py``'s ``coupling_errors``: 2 s open loop, 10 N on HO) for the
 staggered and the condensed coupling, EA = 375 N at N = 10 and 20, 20 kN at N = 10 (a few
 minutes).
@@ -23,6 +25,8 @@ import numpy as np
 # the timer of bench_derivative.py (this folder is on sys.path when a script here runs)
 from bench_derivative import best_of
 
+from tetherheli.layout import CHAIN_PARAMS
+from tetherheli.model.tether_lumped import chain_substeps
 from tetherheli.sim import engine
 from tetherheli.sim.batch import run_unrecorded
 from tetherheli.sim.scenario import TetherSettings, paper_scenario
@@ -64,19 +68,26 @@ def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--repeat", type=int, default=5, help="runs per case (best taken)")
     parser.add_argument("--coupling", action="store_true", help="the coupling's error instead")
+    parser.add_argument("--EA", type=float, default=0.0,
+                        help="the lumped cable's EA [N] (0: the paper's stiffness)")  # fmt: skip
     opts = parser.parse_args()
     if opts.coupling:
         coupling_table()
         return
     base = paper_scenario(1, "tethered")
-    rows = [("massless (eq 28)", _ms_per_run(base, opts.repeat))]
+    rows = [("massless (eq 28)", _ms_per_run(base, opts.repeat), 0)]
     for n in SEGMENTS:
-        lumped = base.replace(tether=TetherSettings(model="lumped", segments=n))
-        rows.append((f"lumped, N = {n}", _ms_per_run(lumped, opts.repeat)))
-    print("one 60 s run of paper simulation 1 (tethered), dt = 10 ms, 2 substeps, unrecorded")
-    print(f"{'tether':<20} {'ms per run':>11} {'ratio':>7}")
-    for name, ms in rows:
-        print(f"{name:<20} {ms:>11.1f} {ms / rows[0][1]:>7.1f}")
+        lumped = base.replace(tether=TetherSettings(model="lumped", segments=n, EA=opts.EA))
+        setup = engine_setup(lumped)
+        L0 = setup.start.x[12]
+        h = lumped.control.dt / lumped.control.substeps
+        m = chain_substeps(setup.chain[CHAIN_PARAMS], L0, n, h)  # issue 23's step-size rule
+        rows.append((f"lumped, N = {n}", _ms_per_run(lumped, opts.repeat), m))
+    print("one 60 s run of paper simulation 1 (tethered), dt = 10 ms, 2 substeps, unrecorded;")
+    print(f"EA = {opts.EA:g} N (0: the paper's); chain ROS2 sub-steps per RK4 step (issue 23)")
+    print(f"{'tether':<20} {'ms per run':>11} {'ratio':>7} {'chain sub-steps':>16}")
+    for name, ms, m in rows:
+        print(f"{name:<20} {ms:>11.1f} {ms / rows[0][1]:>7.1f} {m:>16d}")
 
 
 if __name__ == "__main__":

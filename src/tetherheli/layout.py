@@ -62,11 +62,12 @@ CHAIN_SIZE = 4
 # --- the lumped-mass tether's parameters (``lumped``, ``model.tether_lumped``) ---------------
 LUMPED_MU = 0  # mass per unstretched length [kg/m]
 LUMPED_EA = 1  # axial stiffness EA [N]
-LUMPED_ZETA = 2  # axial damping as a fraction of each segment's critical damping
+LUMPED_DAMPING = 2  # a segment's axial dashpot from the damping ratio [N s/m] (any length)
 LUMPED_CDN = 3  # 0.5 rho d Cd: normal drag per length per speed^2 [kg/m^2]
 LUMPED_CDT = 4  # 0.5 rho pi d Ct: tangential drag per length per speed^2 [kg/m^2]
 LUMPED_G = 5  # gravity [m/s^2], along -n3
-LUMPED_SIZE = 6
+LUMPED_BA = 6  # internal damping BA [N s]: a segment's dashpot is BA / l0 [N s/m]
+LUMPED_SIZE = 7
 
 # --- the paper controller's settings (``ctrl``, ``control.paper``) ---------------------------
 CTRL_DT = 0  # sample time [s]

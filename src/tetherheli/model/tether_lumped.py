@@ -14,9 +14,14 @@ step), node N is the attachment point P (driven: its position and velocity are g
   force (their weight), not as inertia of the chain.
 - Axial force of segment s (nodes s, s+1; d = x[s+1] - x[s], l = |d|, e = d / l):
   T = k (l - l0) + c dl/dt with k = EA / l0 when l > l0 and T >= 0, else 0 (slack: no
-  compression, no pushing damper). c = 2 zeta sqrt(k mu l0) = 2 zeta sqrt(EA mu): zeta is the
-  fraction of the critical damping of one segment's mass on its spring (so c does not depend
-  on N).
+  compression, no pushing damper). The dashpot c is a property of the cable (issue 23): from
+  the internal damping BA [N s] (force per unit strain rate, MoorDyn's BA), c = BA / l0; from
+  the damping ratio zeta of the cable's fundamental axial mode (both ends fixed),
+  c = zeta sqrt(EA mu) / sin(pi / (2 N)). The chain's damping matrix is then (c / k) times
+  its stiffness matrix, so mode j has the ratio c omega_j / (2 k), and the fundamental one,
+  omega_1 = 2 sqrt(k / m) sin(pi / (2 N)), exactly zeta for every N and every length (the
+  continuous cable: BA = 2 zeta L0 sqrt(EA mu) / pi). (Before issue 23 zeta was the ratio of
+  one segment, c = 2 zeta sqrt(EA mu), so the cable's damping fell as N grew.)
 - Drag on segment s from the air-relative velocity at its middle, u = (v[s] + v[s+1]) / 2 -
   (w[s] + w[s+1]) / 2 (w: the wind per node): normal part u_n = u - (u.e) e, tangential part
   u_t = (u.e) e; F = -0.5 rho d l Cd |u_n| u_n - 0.5 rho pi d l Ct |u_t| u_t (the normal drag
@@ -58,13 +63,14 @@ from .._compile import compiled
 from .._validation import check_integer, check_number
 from ..errors import InfeasibleError, ParameterError
 from ..layout import (
+    LUMPED_BA,
     LUMPED_CDN,
     LUMPED_CDT,
+    LUMPED_DAMPING,
     LUMPED_EA,
     LUMPED_G,
     LUMPED_MU,
     LUMPED_SIZE,
-    LUMPED_ZETA,
 )
 from . import kernels
 
@@ -73,6 +79,7 @@ if TYPE_CHECKING:
     from .trim import TrimPoint
 
 __all__ = [
+    "CHAIN_OMEGA_H",
     "ROS2_GAMMA",
     "ElasticCatenary",
     "LumpedTether",
@@ -81,6 +88,9 @@ __all__ = [
     "catenary_position_estimate",
     "chain_energy",
     "chain_forces",
+    "chain_interval",
+    "chain_omega_max",
+    "chain_substeps",
     "elastic_catenary",
     "end_forces",
     "force_at_P_as_loads",
@@ -118,8 +128,12 @@ class LumpedTether:
     EA_N : float
         Axial stiffness EA [N], > 0. ``from_paper_stiffness`` derives it from the paper's
         K_C: EA = K_C L0N (the whole tether's spring constant at its trim natural length).
-    damping_ratio : float
-        Axial damping as a fraction of each segment's critical damping, >= 0.
+    damping_ratio : float or None
+        Damping ratio of the cable's fundamental axial mode (both ends fixed), >= 0, the same
+        for every N (module docstring). None with ``internal_damping_Ns`` None: 0.1.
+    internal_damping_Ns : float or None
+        Internal damping BA [N s], >= 0: axial damping force per unit strain rate (MoorDyn's
+        BA). Give this or ``damping_ratio``, not both.
     diameter_m : float
         Cable diameter d [m], > 0.
     drag_coefficient : float
@@ -128,24 +142,42 @@ class LumpedTether:
         Skin-friction coefficient Ct on the wetted area pi d l, >= 0 (0: no tangential drag).
     air_density_kg_m3 : float
         rho [kg/m^3], > 0.
+    field_prefix : str
+        The table named in error messages ("tether"; ``tether.Cable``: "cable").
     """
 
     segments: int = 10
     mass_per_length_kg_m: float = 0.02
     EA_N: float = 375.0
-    damping_ratio: float = 0.1
+    damping_ratio: float | None = None
     diameter_m: float = 0.005
     drag_coefficient: float = 1.1
     tangential_drag_coefficient: float = 0.0
     air_density_kg_m3: float = AIR_DENSITY_KG_M3
+    internal_damping_Ns: float | None = None
+    field_prefix: str = "tether"
 
     def __post_init__(self) -> None:
-        s = "tether"
+        s = self.field_prefix
+        names = {"damping_ratio": "damping_ratio", "internal_damping_Ns": "internal_damping"}
+        if s == "tether":
+            names = {k: k for k in names}
+        if self.damping_ratio is not None and self.internal_damping_Ns is not None:
+            raise ParameterError(
+                f"{s}.{names['internal_damping_Ns']}",
+                self.internal_damping_Ns,
+                f"no value when {s}.{names['damping_ratio']} is given (one or the other)",
+            )
+        if self.damping_ratio is None and self.internal_damping_Ns is None:
+            object.__setattr__(self, "damping_ratio", 0.1)
+        for name in ("damping_ratio", "internal_damping_Ns"):
+            if getattr(self, name) is not None:
+                value = check_number(f"{s}.{names[name]}", getattr(self, name), low=0.0)
+                object.__setattr__(self, name, value)
         check_integer(f"{s}.segments", self.segments, low=1)
         for name, low_open in (
             ("mass_per_length_kg_m", True),
             ("EA_N", True),
-            ("damping_ratio", False),
             ("diameter_m", True),
             ("drag_coefficient", True),
             ("tangential_drag_coefficient", False),
@@ -154,6 +186,23 @@ class LumpedTether:
             value = check_number(f"{s}.{name}", getattr(self, name), low=0.0, low_open=low_open)
             object.__setattr__(self, name, value)
         object.__setattr__(self, "segments", int(self.segments))
+
+    def segment_dashpot(self, unstretched_length_m: float) -> float:
+        """A segment's axial dashpot c [N s/m] at the unstretched length L0 (module
+        docstring): zeta sqrt(EA mu) / sin(pi / (2 N)) or BA N / L0.
+
+        Parameters
+        ----------
+        unstretched_length_m : float
+            L0 [m], > 0.
+
+        Returns
+        -------
+        float
+            c [N s/m].
+        """
+        p = self.packed(0.0)
+        return p[LUMPED_DAMPING] + p[LUMPED_BA] * self.segments / unstretched_length_m
 
     @classmethod
     def from_paper_stiffness(cls, K_C: float, natural_length_m: float, **kw) -> LumpedTether:
@@ -189,13 +238,21 @@ class LumpedTether:
         Returns
         -------
         ndarray, shape (LUMPED_SIZE,)
-            mu [kg/m], EA [N], damping ratio, the normal and tangential drag factors
-            rho d Cd / 2 and rho pi d Ct / 2 [kg/m^2], g [m/s^2].
+            mu [kg/m], EA [N], the damping ratio's segment dashpot
+            zeta sqrt(EA mu) / sin(pi / (2 N)) [N s/m], the normal and tangential drag factors
+            rho d Cd / 2 and rho pi d Ct / 2 [kg/m^2], g [m/s^2], the internal damping BA
+            [N s] (one of the two dampings is zero).
         """
         p = np.empty(LUMPED_SIZE)
         p[LUMPED_MU] = self.mass_per_length_kg_m
         p[LUMPED_EA] = self.EA_N
-        p[LUMPED_ZETA] = self.damping_ratio
+        zeta = self.damping_ratio or 0.0
+        p[LUMPED_DAMPING] = (
+            zeta
+            * math.sqrt(self.EA_N * self.mass_per_length_kg_m)
+            / math.sin(math.pi / (2.0 * self.segments))
+        )
+        p[LUMPED_BA] = self.internal_damping_Ns or 0.0
         p[LUMPED_CDN] = 0.5 * self.air_density_kg_m3 * self.diameter_m * self.drag_coefficient
         p[LUMPED_CDT] = (
             0.5 * self.air_density_kg_m3 * math.pi * self.diameter_m
@@ -244,7 +301,7 @@ def chain_forces(x, v, wind, L0, p, F, T, K, Cax, D, jac):
     l0 = L0 / n
     mu = p[LUMPED_MU]
     k = p[LUMPED_EA] / l0
-    c = 2.0 * p[LUMPED_ZETA] * math.sqrt(p[LUMPED_EA] * mu)
+    c = p[LUMPED_DAMPING] + p[LUMPED_BA] / l0
     cdn = p[LUMPED_CDN]
     cdt = p[LUMPED_CDT]
     w_half = 0.5 * mu * l0 * p[LUMPED_G]
@@ -423,7 +480,7 @@ def ros2_work_size(segments):
         The scratch length.
     """
     n = segments
-    return 3 * (n + 1) + n + 27 * n + 18 * n + 24 * n + 6 * (n + 1) + 18
+    return 3 * (n + 1) + n + 27 * n + 18 * n + 24 * n + 6 * (n + 1) + 18 + 6
 
 
 def ros2_work(segments: int) -> np.ndarray:
@@ -566,6 +623,133 @@ def ros2_step(x, v, wind, L0, p, h, xP1, vP1, work):
         for j in range(3):
             x[i + 1, j] = x0[i + 1, j] + 1.5 * k1r[i, j] + 0.5 * k2r[i, j]
             v[i + 1, j] = v0[i + 1, j] + 1.5 * k1v[i, j] + 0.5 * k2v[i, j]
+
+
+#: the chain's step-size rule (``chain_substeps``): sub-steps of h_c <= CHAIN_OMEGA_H / omega_max,
+#: omega_max = 2 sqrt(k / m) = (2 N / L0) sqrt(EA / mu) the highest axial frequency of the
+#: chain (a fixed-fixed spring-mass chain's limit). ROS2 is L-stable, so a larger step stays
+#: stable but damps the modes it cannot resolve; at 0.2 the paper's cable driven at 3 Hz is
+#: within 3 % of a converged run (0.37: 7 %, 0.73: 16 %, at N = 10) (issue 23;
+#: ``tests/test_tether_cable.py``, ``tests/test_engine_lumped.py``).
+CHAIN_OMEGA_H = 0.2
+#: at most this many chain sub-steps per helicopter step (a guard on absurd stiffness)
+CHAIN_MAX_SUBSTEPS = 4096
+
+
+@_jit
+def chain_omega_max(p, L0, n):
+    """The chain's highest axial angular frequency [rad/s]: 2 sqrt(k / m) with k = EA / l0,
+    m = mu l0 (l0 = L0 / n), i.e. (2 n / L0) sqrt(EA / mu).
+
+    Parameters
+    ----------
+    p : ndarray, shape (LUMPED_SIZE,)
+        ``LumpedTether.packed(g)``.
+    L0 : float
+        Unstretched length [m], > 0.
+    n : int
+        Number of segments.
+
+    Returns
+    -------
+    float
+        omega_max [rad/s].
+    """
+    return 2.0 * n / L0 * math.sqrt(p[LUMPED_EA] / p[LUMPED_MU])
+
+
+@_jit
+def chain_substeps(p, L0, n, h):
+    """The number of ROS2 sub-steps ``chain_interval`` takes over a step h [s]: the least m
+    with (h / m) omega_max <= CHAIN_OMEGA_H (``chain_omega_max``), at least 1, at most
+    CHAIN_MAX_SUBSTEPS.
+
+    Parameters
+    ----------
+    p : ndarray, shape (LUMPED_SIZE,)
+        ``LumpedTether.packed(g)``.
+    L0 : float
+        Unstretched length [m], > 0.
+    n : int
+        Number of segments.
+    h : float
+        The step to cover [s].
+
+    Returns
+    -------
+    int
+        The sub-step count m.
+    """
+    m = int(h * chain_omega_max(p, L0, n) / CHAIN_OMEGA_H - 1e-9) + 1  # the ceiling
+    if m < 1:
+        return 1
+    if m > CHAIN_MAX_SUBSTEPS:
+        return CHAIN_MAX_SUBSTEPS
+    return m
+
+
+@_jit
+def chain_interval(x, v, wind, L0, p, h, xP1, vP1, work):
+    """Advance the chain over h [s] as ``ros2_step`` does, in ``chain_substeps`` ROS2
+    sub-steps, the top node on the cubic Hermite curve from its start (row N of x, v) to
+    (xP1, vP1) at t + h: the step the engine takes (``engine.lumped_interval``) and
+    ``tether.drive_cable`` too. Arguments as ``ros2_step``'s.
+
+    Parameters
+    ----------
+    x, v : ndarray, shape (N+1, 3)
+        Node positions [m] and velocities [m/s] at t (row N: P at t), updated in place.
+    wind : ndarray, shape (N+1, 3)
+        Wind at the nodes [m/s], held over the step.
+    L0 : float
+        Unstretched length [m], held over the step.
+    p : ndarray, shape (LUMPED_SIZE,)
+        ``LumpedTether.packed(g)``.
+    h : float
+        Step [s].
+    xP1, vP1 : ndarray, shape (3,)
+        P's position [m] and velocity [m/s] at t + h.
+    work : ndarray
+        Scratch, ``ros2_work(N)``.
+
+    Returns
+    -------
+    None
+    """
+    n = x.shape[0] - 1
+    m = chain_substeps(p, L0, n, h)
+    if m == 1:
+        ros2_step(x, v, wind, L0, p, h, xP1, vP1, work)
+        return
+    size = work.shape[0]
+    top = work[size - 6 : size]
+    p0x, p0y, p0z = x[n, 0], x[n, 1], x[n, 2]
+    v0x, v0y, v0z = v[n, 0], v[n, 1], v[n, 2]
+    hs = h / m
+    for j in range(1, m + 1):
+        s = j / m
+        s2 = s * s
+        s3 = s2 * s
+        h00 = 2.0 * s3 - 3.0 * s2 + 1.0
+        h10 = (s3 - 2.0 * s2 + s) * h
+        h01 = -2.0 * s3 + 3.0 * s2
+        h11 = (s3 - s2) * h
+        d00 = (6.0 * s2 - 6.0 * s) / h
+        d10 = 3.0 * s2 - 4.0 * s + 1.0
+        d01 = (-6.0 * s2 + 6.0 * s) / h
+        d11 = 3.0 * s2 - 2.0 * s
+        if j == m:
+            for a in range(3):
+                top[a] = xP1[a]
+                top[3 + a] = vP1[a]
+        else:
+            top[0] = h00 * p0x + h10 * v0x + h01 * xP1[0] + h11 * vP1[0]
+            top[1] = h00 * p0y + h10 * v0y + h01 * xP1[1] + h11 * vP1[1]
+            top[2] = h00 * p0z + h10 * v0z + h01 * xP1[2] + h11 * vP1[2]
+            top[3] = d00 * p0x + d10 * v0x + d01 * xP1[0] + d11 * vP1[0]
+            top[4] = d00 * p0y + d10 * v0y + d01 * xP1[1] + d11 * vP1[1]
+            top[5] = d00 * p0z + d10 * v0z + d01 * xP1[2] + d11 * vP1[2]
+        ros2_step(x, v, wind, L0, p, hs, top[0:3], top[3:6], work)
 
 
 @_jit

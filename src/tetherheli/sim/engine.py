@@ -105,7 +105,7 @@ from ..model.kernels import (
     tethered_rhs_lanes,
     tethered_rhs_sc,
 )
-from ..model.tether_lumped import chain_forces, ros2_step
+from ..model.tether_lumped import chain_forces, chain_interval
 from ..model.winch import drum_step
 from ..sensors import measure_sampled
 from ..status import Status, release_sentence, status_message
@@ -818,9 +818,10 @@ def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work, ch
                     coupling):  # fmt: skip
     """Advance the helicopter x and its lumped chain over one control sample [t0, t0 + dt]:
     per substep h = dt / n_sub, ``chain_ends`` (the force on P at the step's start), one RK4
-    step of the helicopter under that force, then one ROS2 step of the chain
-    (``tether_lumped.ros2_step``) with its top driven to P's new position and velocity and
-    L0 = x[12] held at the step's start value.
+    step of the helicopter under that force, then the chain's step
+    (``tether_lumped.chain_interval``: ROS2 sub-steps of the chain's step-size rule, issue 23)
+    with its top driven to P's new position and velocity and L0 = x[12] held at the step's
+    start value.
 
     ``coupling`` COUPLING_STAGGERED holds the force on P over the RK4 step;
     COUPLING_CONDENSED corrects it within the stages by the top segment's stiffness and
@@ -903,7 +904,7 @@ def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work, ch
             x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         angle_trig(x, sc0)
         p_motion(x, sc0, cfg[CFG_ARM], pm)
-        ros2_step(nodes, vel, air, L0, p, h, pm[:3], pm[3:], rwork)
+        chain_interval(nodes, vel, air, L0, p, h, pm[:3], pm[3:], rwork)
 
 
 # --- the lane engine: a block of LANES runs advanced together ----------------------------------

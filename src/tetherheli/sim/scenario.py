@@ -424,7 +424,8 @@ class TetherSettings:
 
     Parameters
     ----------
-    model, segments, mass_per_length, EA, damping_ratio, diameter, drag_coefficient,
+    model, segments, mass_per_length, EA, damping_ratio, internal_damping, diameter,
+    drag_coefficient,
     tangential_drag_coefficient, record_nodes
         The keys of a scenario's ``[tether]`` table; each field's ``Key`` gives its meaning,
         unit, default and allowed range.
@@ -449,8 +450,13 @@ class TetherSettings:
             "q9 - T_ref / K_C", "N", low=0.0),
     )  # fmt: skip
     damping_ratio: float = _key(
-        0.1, Key("axial damping as a fraction of a segment's critical damping", low=0.0)
-    )
+        0.1, Key("damping ratio of the cable's fundamental axial mode (ends fixed), whatever "
+                 "N; 0 with internal_damping > 0", low=0.0),
+    )  # fmt: skip
+    internal_damping: float = _key(
+        0.0, Key("internal damping BA: axial damping force per unit strain rate (MoorDyn's "
+                 "BA); 0: damping_ratio gives the damping", "N s", low=0.0),
+    )  # fmt: skip
     diameter: float = _key(0.005, Key("cable diameter", "m", low=0.0, low_open=True))
     drag_coefficient: float = _key(
         1.1, Key("normal (cross-flow) drag coefficient of the cable", low=0.0, low_open=True)
@@ -826,6 +832,12 @@ def _validate(s: Scenario, source: str | None) -> None:
         raise ParameterError(
             "tether.model", tether.model, "'elastic' in the free configuration (no tether)",
             source=source,
+        )  # fmt: skip
+    if tether.internal_damping > 0.0 and tether.damping_ratio > 0.0:
+        raise ParameterError(
+            "tether.internal_damping", tether.internal_damping,
+            "0 while tether.damping_ratio > 0 (one or the other: set damping_ratio = 0 to "
+            "give internal_damping)", source=source,
         )  # fmt: skip
     _set(s, "tether", tether)
     _set(s, "winch", winch)

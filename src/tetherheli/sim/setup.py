@@ -294,7 +294,8 @@ def lumped_tether(scenario: Scenario) -> LumpedTether:
     kw = dict(
         segments=t.segments,
         mass_per_length_kg_m=t.mass_per_length,
-        damping_ratio=t.damping_ratio,
+        damping_ratio=t.damping_ratio if t.internal_damping == 0.0 else None,
+        internal_damping_Ns=t.internal_damping if t.internal_damping > 0.0 else None,
         diameter_m=t.diameter,
         drag_coefficient=t.drag_coefficient,
         tangential_drag_coefficient=t.tangential_drag_coefficient,

@@ -1,0 +1,262 @@
+"""``Cable`` and ``drive_cable``: the lumped-mass chain of ``model.tether_lumped`` on its own,
+bottom node fixed at an anchor, top node on a prescribed motion, advanced with the engine's
+chain step (``tether_lumped.chain_interval``: ROS2 sub-steps chosen by the chain's step-size
+rule inside each of the engine's RK4 steps)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._validation import check_integer, check_number, check_vector
+from ..errors import ParameterError
+from ..model.tether_lumped import (
+    LumpedTether,
+    chain_forces,
+    chain_interval,
+    ros2_work,
+    static_chain,
+)
+
+__all__ = ["Cable", "CableRun", "drive_cable"]
+
+#: ``start`` values ``drive_cable`` takes besides an array of node positions
+STARTS = ("static",)
+
+
+@dataclass(frozen=True)
+class Cable:
+    """A lumped-mass cable: the keys of a scenario's ``[tether]`` table (``model`` and
+    ``record_nodes`` aside) plus its unstretched length.
+
+    Parameters
+    ----------
+    unstretched_length : float
+        Unstretched length L0 [m], > 0.
+    EA : float
+        Axial stiffness [N], > 0.
+    segments : int
+        Number of segments N >= 1.
+    mass_per_length : float
+        Mass per unstretched length mu [kg/m], > 0.
+    damping_ratio : float or None
+        Damping ratio of the cable's fundamental axial mode (fixed ends), >= 0, whatever N.
+        None with ``internal_damping`` None: 0.1 (the ``[tether]`` default).
+    internal_damping : float or None
+        Internal (Kelvin-Voigt) damping BA [N s]: axial damping force per unit strain rate,
+        as MoorDyn's BA, >= 0. Give this or ``damping_ratio``, not both.
+    diameter : float
+        Diameter d [m], > 0.
+    drag_coefficient : float
+        Normal drag coefficient Cd, > 0.
+    tangential_drag_coefficient : float
+        Tangential drag coefficient Ct on the wetted area, >= 0.
+    """
+
+    unstretched_length: float
+    EA: float
+    segments: int = 10
+    mass_per_length: float = 0.02
+    damping_ratio: float | None = None
+    internal_damping: float | None = None
+    diameter: float = 0.005
+    drag_coefficient: float = 1.1
+    tangential_drag_coefficient: float = 0.0
+
+    def __post_init__(self) -> None:
+        s = "cable"
+        check_number(f"{s}.unstretched_length", self.unstretched_length, low=0.0, low_open=True,
+                     unit="[m]")  # fmt: skip
+        # LumpedTether validates the others and refuses both dampings
+        object.__setattr__(self, "segments", check_integer(f"{s}.segments", self.segments, low=1))
+        self.lumped_tether()
+
+    def lumped_tether(self, rho: float = 1.225) -> LumpedTether:
+        """The chain's parameters (``model.tether_lumped.LumpedTether``).
+
+        Parameters
+        ----------
+        rho : float
+            Air density [kg/m^3], > 0.
+
+        Returns
+        -------
+        LumpedTether
+            The same cable at air density ``rho``.
+        """
+        return LumpedTether(
+            segments=self.segments,
+            mass_per_length_kg_m=self.mass_per_length,
+            EA_N=self.EA,
+            damping_ratio=self.damping_ratio,
+            internal_damping_Ns=self.internal_damping,
+            diameter_m=self.diameter,
+            drag_coefficient=self.drag_coefficient,
+            tangential_drag_coefficient=self.tangential_drag_coefficient,
+            air_density_kg_m3=rho,
+            field_prefix="cable",
+        )
+
+
+@dataclass(frozen=True)
+class CableRun:
+    """``drive_cable``'s result, at the samples t_k = k dt (frame N).
+
+    Parameters
+    ----------
+    t : ndarray, shape (n,)
+        Sample times [s].
+    top_force : ndarray, shape (n, 3)
+        The cable's force on the top point [N] (with half the top segment's weight and drag,
+        the force the engine applies at P).
+    anchor_force : ndarray, shape (n, 3)
+        The cable's force on the anchor [N] (with half the bottom segment's weight and drag).
+    nodes : ndarray, shape (n, N + 1, 3)
+        Node positions [m], node 0 the anchor, node N the top.
+    velocities : ndarray, shape (n, N + 1, 3)
+        Node velocities [m/s].
+    cable : Cable
+        The cable flown.
+    dt : float
+        The sample time [s].
+    substeps : int
+        The engine's RK4 steps per sample (the chain's step covers dt / substeps).
+    """
+
+    t: np.ndarray
+    top_force: np.ndarray
+    anchor_force: np.ndarray
+    nodes: np.ndarray
+    velocities: np.ndarray
+    cable: Cable
+    dt: float
+    substeps: int
+
+
+def _top_at(top, t):
+    try:
+        r, v = top(t)
+        r = np.array(r, dtype=float).reshape(3)
+        v = np.array(v, dtype=float).reshape(3)
+    except (TypeError, ValueError) as err:
+        raise ParameterError(
+            "top", top, "a function top(t) -> (position[3] [m], velocity[3] [m/s])"
+        ) from err
+    if not (np.all(np.isfinite(r)) and np.all(np.isfinite(v))):
+        raise ParameterError("top", f"top({t:g}) = ({r.tolist()}, {v.tolist()})",
+                             "finite positions [m] and velocities [m/s]")  # fmt: skip
+    return r, v
+
+
+def drive_cable(
+    cable: Cable,
+    *,
+    anchor: object,
+    top: Callable[[float], tuple[object, object]],
+    duration: float,
+    dt: float,
+    wind: object = (0.0, 0.0, 0.0),
+    rho: float = 1.225,
+    start: object = "static",
+    substeps: int = 2,
+    g: float = 9.81,
+) -> CableRun:
+    """Fly the cable with its bottom node fixed at ``anchor`` and its top node on the
+    prescribed motion ``top(t)``, with the engine's chain step at the sample time ``dt``:
+    per sample ``substeps`` steps of dt / substeps (the engine's ``[simulation] substeps``),
+    each ``tether_lumped.chain_interval`` (ROS2 sub-steps of the chain's step-size rule, the
+    top on the cubic Hermite curve between its values at the step's ends).
+
+    Parameters
+    ----------
+    cable : Cable
+        The cable.
+    anchor : array_like, shape (3,)
+        The fixed bottom node [m], frame N (n3 up).
+    top : callable
+        top(t [s]) -> (position (3,) [m], velocity (3,) [m/s]) of the top node in N.
+    duration : float
+        Run length [s], > 0 (samples t = 0, dt, ..., the last <= duration).
+    dt : float
+        Sample time [s], > 0 (the engine's control sample; its default 0.01 s).
+    wind : array_like, shape (3,)
+        Uniform steady wind [m/s].
+    rho : float
+        Air density [kg/m^3], > 0.
+    start : "static" or array_like, shape (N + 1, 3)
+        "static": at rest in the chain's static shape (``static_chain``) between the anchor
+        and top(0); an array: those node positions at rest (rows 0 and N are replaced by the
+        anchor and top(0)).
+    substeps : int
+        The engine's RK4 steps per sample, >= 1 (its default 2).
+    g : float
+        Gravity [m/s^2], >= 0 (the paper's 9.81).
+
+    Returns
+    -------
+    CableRun
+        Times, end forces, nodes and velocities at the samples.
+
+    Raises
+    ------
+    ParameterError
+        Bad input (one line naming the argument).
+    """
+    if not isinstance(cable, Cable):
+        raise ParameterError("cable", cable, "a tetherheli.tether.Cable")
+    a = np.array(check_vector("anchor", anchor, 3), dtype=float)
+    duration = check_number("duration", duration, low=0.0, low_open=True, unit="[s]")
+    dt = check_number("dt", dt, low=0.0, low_open=True, unit="[s]")
+    w = np.array(check_vector("wind", wind, 3), dtype=float)
+    rho = check_number("rho", rho, low=0.0, low_open=True, unit="[kg/m^3]")
+    n_sub = check_integer("substeps", substeps, low=1)
+    g = check_number("g", g, low=0.0, unit="[m/s^2]")
+    if not callable(top):
+        raise ParameterError("top", top, "a function top(t) -> (position[3], velocity[3])")
+    tether = cable.lumped_tether(rho)
+    p = tether.packed(g)
+    n = cable.segments
+    L0 = cable.unstretched_length
+    r0, v0 = _top_at(top, 0.0)
+    if isinstance(start, str):
+        if start not in STARTS:
+            raise ParameterError("start", start, f"one of {STARTS} or node positions (N+1, 3)")
+        if np.allclose(r0, a):
+            raise ParameterError(
+                "top", f"top(0) = {r0.tolist()}", "a start away from the anchor (start='static')"
+            )
+        x = static_chain(a, r0, L0, tether, g)
+    else:
+        x = np.array(start, dtype=float)
+        if x.shape != (n + 1, 3) or not np.all(np.isfinite(x)):
+            raise ParameterError("start", start, f"'static' or finite node positions ({n + 1}, 3)")
+    x[0], x[n] = a, r0
+    v = np.zeros_like(x)
+    v[n] = v0
+    air = np.tile(w, (n + 1, 1))
+    work = ros2_work(n)
+    k_max = math.floor(duration / dt + 1e-9)
+    h = dt / n_sub
+    t = np.arange(k_max + 1) * dt
+    nodes = np.empty((k_max + 1, n + 1, 3))
+    vels = np.empty_like(nodes)
+    f_top = np.empty((k_max + 1, 3))
+    f_anchor = np.empty((k_max + 1, 3))
+    F = np.empty((n + 1, 3))
+    T = np.empty(n)
+    J = np.empty((n, 3, 3))
+    for k in range(k_max + 1):
+        chain_forces(x, v, air, L0, p, F, T, J, J, J, False)
+        nodes[k], vels[k], f_top[k], f_anchor[k] = x, v, F[n], F[0]
+        if k == k_max:
+            break
+        for j in range(n_sub):
+            r1, v1 = _top_at(top, k * dt + (j + 1) * h)
+            chain_interval(x, v, air, L0, p, h, r1, v1, work)
+            if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
+                raise FloatingPointError(f"drive_cable: the chain diverged at t = {t[k]:g} s")
+    return CableRun(t=t, top_force=f_top, anchor_force=f_anchor, nodes=nodes,
+                    velocities=vels, cable=cable, dt=dt, substeps=n_sub)  # fmt: skip
