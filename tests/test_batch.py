@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 from tetherheli.analysis import run_metrics
-from tetherheli.disturbances import Pulse, Sine
 from tetherheli.errors import ParameterError
 from tetherheli.sim import engine, simulate
 from tetherheli.sim.batch import METRIC_NAMES, run_batch, summary_metrics
 from tetherheli.sim.scenario import Limits, paper_scenario
+from tetherheli.wind import Pulse, Sine
 
 
 def _short(configuration: str, magnitude: float, angle: float, m_F: float):

@@ -5,8 +5,8 @@ from __future__ import annotations
 from PIL import Image
 
 from tetherheli.cli import main
-from tetherheli.disturbances import Pulse
 from tetherheli.sim import Scenario, simulate
+from tetherheli.wind import Pulse
 
 
 def test_animate_cli_errors(tmp_path, capsys):

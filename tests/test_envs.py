@@ -13,7 +13,6 @@ gymnasium = pytest.importorskip("gymnasium")
 from gymnasium.utils.env_checker import check_env  # noqa: E402
 
 from tetherheli import simulate  # noqa: E402
-from tetherheli.disturbances import Pulse  # noqa: E402
 from tetherheli.envs import (  # noqa: E402
     ENV_ID,
     OBSERVATION_NAMES,
@@ -23,6 +22,7 @@ from tetherheli.envs import (  # noqa: E402
 from tetherheli.errors import ParameterError  # noqa: E402
 from tetherheli.sim import engine  # noqa: E402
 from tetherheli.sim.scenario import Scenario  # noqa: E402
+from tetherheli.wind import Pulse  # noqa: E402
 
 
 def _rollout(env: TetheredHoverEnv, actions: np.ndarray, seed: int):

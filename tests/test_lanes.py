@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 
 from tetherheli.analysis import run_metrics
-from tetherheli.disturbances import Pulse, Sine, Step
 from tetherheli.layout import LANES, SUMMARY_FIELDS
 from tetherheli.model.kernels import SIN_BRANCHLESS_MAX_ARG, sin_branchless
 from tetherheli.sensors import SensorConfig
@@ -20,7 +19,7 @@ from tetherheli.sim.batch import run_batch
 from tetherheli.sim.scenario import ActuatorSettings, load_scenario, paper_scenario
 from tetherheli.sim.setup import engine_setup, lane_block
 from tetherheli.status import Status
-from tetherheli.wind import DragModel, GaussMarkovTurbulence, Turbulence
+from tetherheli.wind import DragModel, GaussMarkovTurbulence, Pulse, Sine, Step, Turbulence
 
 
 def _dispersed_runs() -> list:

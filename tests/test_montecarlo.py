@@ -258,8 +258,8 @@ direction_std_deg = 90.0
 def test_turbulence_gets_a_fresh_series_per_draw(tmp_path):
     """Gust statistics: draw i flies gusts from SeedSequence(seed) with spawn key (i, 0),
     its mean wind rotated by the direction draw; rows equal the drawn scenarios run alone."""
-    from tetherheli.disturbances import Turbulence
     from tetherheli.studies.montecarlo import draw
+    from tetherheli.wind import Turbulence
 
     f = tmp_path / "t.toml"
     f.write_text(TURBULENT)

@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 from tetherheli.control.paper import PaperController
-from tetherheli.disturbances import Pulse, Step
 from tetherheli.sim import Scenario, simulate
 from tetherheli.sim.scenario import ActuatorSettings
 from tetherheli.sim.setup import engine_setup
 from tetherheli.status import Status, status_message
+from tetherheli.wind import Pulse, Step
 
 # every actuator effect at once: saturation that binds during the pulse, a lag, the winch's
 # rate and acceleration limits binding after the pulse, and a release by the safety device

@@ -378,7 +378,7 @@ def test_importing_tetherheli_leaves_the_matplotlib_backend_alone():
     code = (
         "import matplotlib; matplotlib.use('svg'); "
         "import tetherheli.viz.plots, tetherheli.viz.animation, tetherheli.report, "
-        "tetherheli.sweep, tetherheli.montecarlo; print(matplotlib.get_backend())"
+        "tetherheli.studies.sweep, tetherheli.studies.montecarlo; print(matplotlib.get_backend())"
     )
     import subprocess
     import sys

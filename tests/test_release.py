@@ -8,10 +8,10 @@ import pytest
 
 from tetherheli import FreeHelicopter, TetheredHelicopter, simulate
 from tetherheli.control.paper import PaperController
-from tetherheli.disturbances import Pulse
 from tetherheli.sim.scenario import ActuatorSettings, Scenario, paper_scenario
 from tetherheli.sim.setup import engine_setup
 from tetherheli.studies.release import altitude_excursion, release_comparison
+from tetherheli.wind import Pulse
 
 
 def _upward_pulse(duration: float = 40.0) -> Scenario:

@@ -11,10 +11,10 @@ import pytest
 
 import tetherheli
 from tetherheli import ParameterError, load_result
-from tetherheli.disturbances import Step
 from tetherheli.sensors import SensorConfig
 from tetherheli.sim import Scenario, SimulationResult, list_results, simulate
 from tetherheli.sim.scenario import ActuatorSettings
+from tetherheli.wind import Step
 
 _ARRAYS = [f.name for f in dataclasses.fields(SimulationResult) if f.type == "np.ndarray"]
 

@@ -14,11 +14,10 @@ import pytest
 
 from tetherheli import simulate
 from tetherheli._io import OUTPUT_RECORD, dumps_toml, read_toml
-from tetherheli.disturbances import Pulse
 from tetherheli.errors import ParameterError
 from tetherheli.report import SCENARIO_FILE, write_comparison, write_run
 from tetherheli.sim.scenario import Scenario, load_scenario, scenario_from_dict
-from tetherheli.wind import Disturbance
+from tetherheli.wind import Disturbance, Pulse
 
 SCENARIOS = sorted((Path(__file__).parent.parent / "scenarios").glob("*.toml"))
 PULSE = Pulse(start=0.1, duration=0.2, magnitude=20.0, direction=(0.6, 0.8, 0.0))

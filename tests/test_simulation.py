@@ -14,10 +14,10 @@ import tetherheli
 from tetherheli import FreeHelicopter, Scenario, TetheredHelicopter, linearize, simulate
 from tetherheli.control.base import Command, Controller, Measurement
 from tetherheli.control.paper import PaperController
-from tetherheli.disturbances import ConstantForce, Pulse, Step
 from tetherheli.sim import ControlSettings, Limits, paper_gain
 from tetherheli.sim.scenario import paper_scenario
 from tetherheli.sim.setup import LQI_STATES, run_setup
+from tetherheli.wind import ConstantForce, Pulse, Step
 
 DT = 0.01
 ROOT = Path(__file__).resolve().parents[1]
@@ -277,7 +277,7 @@ def test_many_substeps_and_a_python_disturbance_agree():
     TRIG_CHAIN_STEPS steps) over 7 substeps per sample still agrees with the adaptive
     reference; a Python-side disturbance (the plug-in path) flies the built-in pulse's
     trajectory to rounding."""
-    from tetherheli.disturbances import Disturbance
+    from tetherheli.wind import Disturbance
 
     pulse = Pulse(1.0, 1.0, 20.0, (0.6, 0.8, 0.0))
     s = Scenario(duration=4.0, wind=pulse, control=ControlSettings(substeps=7))
@@ -304,7 +304,7 @@ def test_rk4_converges_at_fourth_order(configuration):
     order 4: halving the step from 20 to 10 to 5 ms (40 ms control sample, smooth sine wind)
     divides the error against the adaptive DOP853 reference by ~16. Measured log-log slopes:
     3.82 and 4.01 tethered, 3.82 and 3.99 free."""
-    from tetherheli.disturbances import Sine
+    from tetherheli.wind import Sine
 
     wind = Sine(20.0, 0.5, 0.0, (0.6, 0.8, 0.0))
 

@@ -14,10 +14,10 @@ import pytest
 
 from tetherheli import load_scenario, simulate
 from tetherheli.cli import main
-from tetherheli.disturbances import Step
 from tetherheli.sim import engine
 from tetherheli.sim.batch import run_batch
 from tetherheli.sim.scenario import ActuatorSettings, Scenario
+from tetherheli.wind import Step
 
 BREAK = 25.5  # [N]: the upward step below pulls the tension to 25.71 N, the tether gives way
 
@@ -420,7 +420,7 @@ def test_short_gust_grid_refused_in_every_path(tmp_path, capsys):
     check (``check_wind_covers``): the scenario (both integrators, batch, sweep, Monte
     Carlo use it) and the Gymnasium environment; one grid covering the run is accepted."""
     from tetherheli import ParameterError
-    from tetherheli.disturbances import (
+    from tetherheli.wind import (
         DragModel,
         GaussMarkovTurbulence,
         Turbulence,

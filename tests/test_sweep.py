@@ -122,18 +122,3 @@ def test_sweep_actuator_settings_and_batch_equals_simulate():
     assert lag.metric[0] != lag.metric[1]
     with pytest.raises(ParameterError, match=r"actuators\.cyclic_limit"):
         sweep(s, "actuators.cyclic_limit", np.array([-1.0]))
-
-
-def test_compatibility_modules_give_the_studies_objects():
-    """``tetherheli.sweep`` and ``tetherheli.montecarlo`` (kept for compatibility) give the
-    objects of ``tetherheli.studies``."""
-    import tetherheli.montecarlo
-    import tetherheli.studies.montecarlo
-    import tetherheli.studies.sweep
-    import tetherheli.sweep
-
-    for old, new in (
-        (tetherheli.sweep, tetherheli.studies.sweep),
-        (tetherheli.montecarlo, tetherheli.studies.montecarlo),
-    ):
-        assert all(getattr(old, n) is getattr(new, n) for n in old.__all__)
