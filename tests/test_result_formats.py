@@ -48,6 +48,25 @@ def test_parquet_round_trips_like_csv(run, tmp_path):
     pd.testing.assert_frame_equal(from_csv, table, check_exact=True)
 
 
+def test_parquet_fields_carry_units_and_descriptions_for_pyarrow_alone(run, tmp_path):
+    """Issue 25, item 7: each Arrow field of the saved Parquet carries its unit and
+    description (before: units only in pandas' attrs blob); pandas still gets df.attrs."""
+    import pyarrow.parquet as pq
+
+    from tetherheli.sim.result import RESULT_DESCRIPTIONS
+
+    path = run.save(tmp_path, format="parquet")["parquet"]
+    schema = pq.read_schema(path)
+    assert schema.field("q1").metadata[b"units"] == b"m"
+    assert schema.field("q1").metadata[b"description"].startswith(b"position of HO in N")
+    units = run.column_units()
+    for name in RESULT_COLUMNS:
+        meta = schema.field(name).metadata
+        assert meta[b"units"].decode() == units[name], name
+        assert meta[b"description"].decode() == RESULT_DESCRIPTIONS[name] != "", name
+    assert pd.read_parquet(path).attrs["units"] == units
+
+
 def test_bad_format_and_both_files_are_refused(run, tmp_path, monkeypatch):
     with pytest.raises(ParameterError, match="format = 'xlsx'"):
         run.save(tmp_path, format="xlsx")

@@ -28,6 +28,7 @@ __all__ = [
     "DRUM_COLUMNS",
     "EXTRA_UNITS",
     "RESULT_COLUMNS",
+    "RESULT_DESCRIPTIONS",
     "RESULT_FORMATS",
     "RESULT_UNITS",
     "SimulationResult",
@@ -76,6 +77,42 @@ RESULT_UNITS[TENSION_GROUND_COLUMN] = "N"
 #: and the motor torque averaged over the sample that follows it, with their units.
 DRUM_COLUMNS: tuple[str, ...] = ("drum_speed", "motor_torque")
 EXTRA_UNITS: dict[str, str] = {"drum_speed": "rad/s", "motor_torque": "N m"}
+#: What each column means (docs/notation.md), written with its unit into a Parquet file's
+#: Arrow field metadata (``SimulationResult.to_parquet``); an estimate ``<name>_est`` is
+#: "estimate of" its signal's description.
+RESULT_DESCRIPTIONS: dict[str, str] = {
+    "t": "time since the start of the run",
+    "q1": "position of HO in N, axis n1 (eq 4)",
+    "q2": "position of HO in N, axis n2 (eq 4)",
+    "q3": "position of HO in N, axis n3 (eq 4)",
+    "q4": "roll of F, body-1-2-3 Euler angle (Table I)",
+    "q5": "pitch of F, body-1-2-3 Euler angle (Table I)",
+    "q6": "yaw of F, body-1-2-3 Euler angle (Table I)",
+    "q7": "tether angle q7",
+    "q8": "tether angle q8",
+    "q9": "tether length q9",
+    "u1": "velocity of HO in N, component 1 (eq 7)",
+    "u2": "velocity of HO in N, component 2 (eq 7)",
+    "u3": "velocity of HO in N, component 3 (eq 7)",
+    "u4": "angular velocity of F in N, in F, component 1 (eq 8)",
+    "u5": "angular velocity of F in N, in F, component 2 (eq 8)",
+    "u6": "angular velocity of F in N, in F, component 3 (eq 8)",
+    "LN": "tether natural length (eqs 28, 37)",
+    "fMR3": "main rotor thrust fMR,3 (input, eq 42)",
+    "tMR1": "main rotor torque tMR,1 (input, eq 42)",
+    "tMR2": "main rotor torque tMR,2 (input, eq 42)",
+    "fTR2": "tail rotor force fTR,2 (input, eq 42)",
+    "C1_ffwd": "tension feed-forward torque about F1 (eq 55)",
+    "C2_ffwd": "tension feed-forward torque about F2 (eq 55)",
+    "TC": "tether tension at P (eq 28)",
+    "RC": "reel rate dLN/dt (eq 37)",
+    "Fw1": "wind force on HO, component 1",
+    "Fw2": "wind force on HO, component 2",
+    "Fw3": "wind force on HO, component 3",
+    TENSION_GROUND_COLUMN: "tether tension at the winch (the load cell)",
+    "drum_speed": "drum speed of the winch",
+    "motor_torque": "winch motor torque, averaged over the following sample",
+}
 #: File formats of a saved run's time series (``SimulationResult.save``): ``<stem>.csv`` (the
 #: default, text) or ``<stem>.parquet`` (Apache Parquet through pandas + pyarrow, the
 #: ``data`` extra); ``load_result`` reads either.
@@ -326,6 +363,26 @@ class SimulationResult:
             units[name] = RESULT_UNITS.get(name, EXTRA_UNITS.get(name, RESULT_UNITS.get(base, "")))
         return units
 
+    def column_descriptions(self) -> dict[str, str]:
+        """What each of ``columns()`` means.
+
+        Returns
+        -------
+        dict of str to str
+            Column name -> description (``RESULT_DESCRIPTIONS``; "estimate of ..." for an
+            estimate ``<name>_est``; "" for an extra column not described there).
+        """
+        out = {}
+        for name in self.columns():
+            base = name.removesuffix(_ESTIMATE_SUFFIX)
+            if name in RESULT_DESCRIPTIONS:
+                out[name] = RESULT_DESCRIPTIONS[name]
+            elif base != name and base in RESULT_DESCRIPTIONS:
+                out[name] = "estimate of " + RESULT_DESCRIPTIONS[base]
+            else:
+                out[name] = ""
+        return out
+
     def to_dataframe(self) -> Any:
         """The sampled signals as a pandas DataFrame (``pip install tetherheli[data]``).
 
@@ -400,8 +457,11 @@ class SimulationResult:
 
     def to_parquet(self, path: str | Path) -> Path:
         """Write the time series as Apache Parquet, atomically: the columns of ``to_csv``
-        (``t`` first), float64, with the units in the pandas metadata (``df.attrs``). Needs
-        pandas and pyarrow (``pip install tetherheli[data]``).
+        (``t`` first), float64. Each Arrow field carries its ``units`` and ``description``
+        in its metadata, readable by pyarrow alone
+        (``pyarrow.parquet.read_schema(path).field("q1").metadata[b"units"]`` is ``b"m"``);
+        pandas' ``df.attrs`` (units among them) round-trip through ``pandas.read_parquet``.
+        Needs pandas and pyarrow (``pip install tetherheli[data]``).
 
         Parameters
         ----------
@@ -413,10 +473,21 @@ class SimulationResult:
         pathlib.Path
             The file written.
         """
-        _optional("pyarrow")
+        pa = _optional("pyarrow")
+        import pyarrow.parquet as pq
+
         df = self.to_dataframe().reset_index()
+        table = pa.Table.from_pandas(df, preserve_index=False)
+        units, descriptions = self.column_units(), self.column_descriptions()
+        fields = [
+            f.with_metadata({"units": units[f.name], "description": descriptions[f.name]})
+            for f in table.schema
+        ]
+        # pandas.DataFrame.to_parquet keeps df.attrs under this key; read_parquet restores them
+        metadata = {**(table.schema.metadata or {}), b"PANDAS_ATTRS": json.dumps(df.attrs)}
+        table = pa.Table.from_arrays(table.columns, schema=pa.schema(fields, metadata=metadata))
         with atomic_path(Path(path)) as tmp:
-            df.to_parquet(tmp, engine="pyarrow", index=False)
+            pq.write_table(table, tmp)
         return Path(path)
 
     def metadata(self) -> dict[str, Any]:
