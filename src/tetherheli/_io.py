@@ -3,7 +3,9 @@
 Input files (TOML) are read by ``read_toml``, whose every failure is one line naming the
 path. Output files are written whole or not at all and are on disk (file and directory
 fsync) when the call returns; an output directory never loses a file that tetherheli did not
-write (``output_directory``)."""
+write, is changed all or nothing, and is never written through a link inside it
+(``output_directory``); temporary files carry a tag and the writer's process id so that the
+next run recognises and removes what a killed one left (``recover_output_directory``)."""
 
 from __future__ import annotations
 
@@ -13,6 +15,7 @@ import math
 import os
 import re
 import shutil
+import stat
 import tempfile
 import tomllib
 from collections.abc import Callable, Iterable, Iterator
@@ -156,6 +159,79 @@ def _fsync_directory(path: Path) -> None:
         os.close(fd)
 
 
+# --- own temporary files: named so that the next run knows them ------------------------------
+
+#: The tag in the name of every temporary file or folder tetherheli makes:
+#: ``.<name>.tetherheli-<pid>-<random>.tmp`` beside a file being written (``.tmp.<suffix>``
+#: for writers that pick a format by suffix) and ``.<folder>.tetherheli-<pid>-<random>.partial``
+#: beside an output folder being built. No scenario name starts with '.', so no result is ever
+#: named so; a killed run's temporaries are recognised by the name and removed by the next run
+#: that writes there (``clean_own_temporaries``), once the process ``<pid>`` is gone.
+TEMPORARY_TAG = "tetherheli"
+_TEMPORARY = re.compile(
+    rf"\.(?P<of>.+)\.{TEMPORARY_TAG}-(?P<pid>[0-9]+)-[a-z0-9_]+\.(?P<kind>tmp(?:\.[^.]+)?|partial)"
+)
+
+
+def _temporary_prefix(name: str) -> str:
+    return f".{name}.{TEMPORARY_TAG}-{os.getpid()}-"
+
+
+def is_own_temporary(name: str) -> bool:
+    """True when the file name ``name`` is one tetherheli gives its temporary files and
+    folders (``TEMPORARY_TAG``)."""
+    return _TEMPORARY.fullmatch(name) is not None
+
+
+def _writer_gone(name: str) -> bool:
+    """True when the process that made the own temporary ``name`` no longer runs (this
+    process's own temporaries are in use)."""
+    pid = int(_TEMPORARY.fullmatch(name)["pid"])  # type: ignore[index]
+    if pid == os.getpid():
+        return False
+    if os.name != "posix":  # pragma: no cover - no signal 0 to ask with
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return True
+    except OSError:  # another user's live process
+        return False
+    return False
+
+
+def clean_own_temporaries(directory: Path) -> list[str]:
+    """Remove what killed runs left below ``directory`` (never following a link): temporary
+    files, and the folders of output directories being built there, whose interrupted swap
+    is undone first (``_recover_build``); returns their relative paths."""
+    removed = []
+    for root, dirs, files in os.walk(directory):
+        for name in [*files, *dirs]:
+            path = Path(root, name)
+            if not is_own_temporary(name) or not _writer_gone(name):
+                continue
+            if name in dirs and not path.is_symlink():
+                _recover_build(path)
+            else:
+                with contextlib.suppress(FileNotFoundError):
+                    path.unlink()
+            removed.append(path.relative_to(directory).as_posix())
+        dirs[:] = [d for d in dirs if not (Path(root, d).is_symlink() or is_own_temporary(d))]
+    return removed
+
+
+def _name_target(exc: OSError, path: Path) -> OSError:
+    """``exc`` about the temporary file, re-raised about ``path``, the file being written."""
+    return type(exc)(exc.errno, exc.strerror, str(path))
+
+
+def _mkstemp(path: Path, suffix: str) -> tuple[int, str]:
+    try:
+        return tempfile.mkstemp(dir=path.parent, prefix=_temporary_prefix(path.name), suffix=suffix)
+    except OSError as exc:
+        raise _name_target(exc, path) from None
+
+
 def _commit(fh: IO, tmp: str, path: Path) -> None:
     """Flush and fsync the open temporary file ``fh``, close it, and rename it to ``path``;
     then fsync the folder, so that after a crash ``path`` is the old file or the whole new one."""
@@ -168,18 +244,25 @@ def _commit(fh: IO, tmp: str, path: Path) -> None:
 def _rename_into_place(tmp: str, path: Path) -> None:
     """Give the synced temporary file ``tmp`` the usual permissions, rename it to ``path`` and
     fsync the folder."""
-    os.chmod(tmp, 0o666 & ~_umask())  # mkstemp creates 0600; give the usual permissions
-    os.replace(tmp, path)
+    try:
+        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp creates 0600; give the usual permissions
+        os.replace(tmp, path)
+    except OSError as exc:
+        raise _name_target(exc, path) from None
     _fsync_directory(path.parent)
 
 
 def atomic_write_bytes(path: Path, data: bytes) -> None:
-    """Write a file whole or not at all (temporary file in the same folder, fsync, rename)."""
+    """Write a file whole or not at all (temporary file in the same folder, fsync, rename).
+    An OSError names ``path``, not the temporary file."""
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    fd, tmp = _mkstemp(path, ".tmp")
     try:
         with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
+            try:
+                fh.write(data)
+            except OSError as exc:
+                raise _name_target(exc, path) from None
             _commit(fh, tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
@@ -198,7 +281,7 @@ def atomic_open(path: str | Path, mode: str = "w") -> Iterator[IO]:
     if mode not in ("w", "wb"):
         raise ValueError(f"mode = {mode!r} is invalid; allowed: 'w' or 'wb'")
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    fd, tmp = _mkstemp(path, ".tmp")
     try:
         kw = {"encoding": "utf-8", "newline": ""} if mode == "w" else {}
         with os.fdopen(fd, mode, **kw) as fh:
@@ -216,7 +299,7 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
     ``path`` as by ``atomic_write_bytes``; on any error it is removed and ``path`` is
     untouched."""
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=path.suffix)
+    fd, tmp = _mkstemp(path, ".tmp" + path.suffix)
     os.close(fd)
     try:
         yield Path(tmp)
@@ -237,6 +320,17 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
 #: relative path -> size, modification time and the command that wrote it. A file that is not
 #: listed, or whose size or time changed since, is the user's and is never removed or replaced.
 OUTPUT_RECORD = ".tetherheli-output.json"
+#: The stems of the files tetherheli writes where a run's name also names a file or a folder:
+#: ``simulate``'s summary.json, report.md, outputs.<fmt> and inputs.<fmt> beside the runs'
+#: ``<name>.csv``/``<name>.json`` or ``<name>/`` folders, and ``animate``'s animation.gif. No
+#: scenario may be named so (alone or followed by a suffix, in any letter case), and no name
+#: starts with '.' as the record and the temporary files do (``sim.scenario.check_name``): a
+#: run's file or folder can never be one of tetherheli's own. (scenario.toml needs no guard:
+#: no run writes a .toml file, and it lies inside each run's folder.)
+OWN_FILE_STEMS = ("animation", "inputs", "outputs", "report", "summary")
+#: Inside a folder being built (``output_directory``): the record to be put in place (its
+#: rename is the commit), the journal of the swap and the files it replaces, until the end.
+_SWAP = ".tetherheli-swap"
 
 
 class OutputPathError(TetherheliError):
@@ -287,21 +381,30 @@ def _home() -> Path | None:
 
 
 def _stamp(path: Path) -> dict[str, int]:
-    st = path.stat()
+    st = os.lstat(path)
     return {"size": st.st_size, "mtime_ns": st.st_mtime_ns}
+
+
+def _read_record(directory: Path) -> dict[str, dict[str, Any]] | None:
+    """The files of ``directory``'s record, None unless it holds a record (a regular file,
+    not a link, of JSON with a ``files`` table)."""
+    path = directory / OUTPUT_RECORD
+    try:
+        if not stat.S_ISREG(os.lstat(path).st_mode):
+            return None
+        data = json.loads(path.read_text(encoding="utf-8"))
+        files = data["files"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    if not isinstance(files, dict):
+        return None
+    return {k: v for k, v in files.items() if isinstance(v, dict) and _is_relative_name(k)}
 
 
 def read_output_record(directory: Path) -> dict[str, dict[str, Any]]:
     """The files tetherheli wrote in ``directory`` (relative path -> stamp and writer); {} for a
     directory without a readable record."""
-    try:
-        data = json.loads((directory / OUTPUT_RECORD).read_text(encoding="utf-8"))
-        files = data["files"]
-    except (OSError, ValueError, KeyError, TypeError):
-        return {}
-    if not isinstance(files, dict):
-        return {}
-    return {k: v for k, v in files.items() if isinstance(v, dict) and _is_relative_name(k)}
+    return _read_record(directory) or {}
 
 
 def _is_relative_name(rel: str) -> bool:
@@ -309,27 +412,51 @@ def _is_relative_name(rel: str) -> bool:
     return bool(parts) and not Path(rel).is_absolute() and ".." not in parts
 
 
+def _link_below(directory: Path, rel: str) -> str | None:
+    """The first folder on the way from ``directory`` to ``rel`` that is a link or not a
+    folder (relative to ``directory``); None when every existing one is a real folder."""
+    path = directory
+    for part in Path(rel).parts[:-1]:
+        path = path / part
+        try:
+            mode = os.lstat(path).st_mode
+        except FileNotFoundError:
+            return None  # the rest is new
+        if not stat.S_ISDIR(mode):
+            return path.relative_to(directory).as_posix()
+    return None
+
+
 def is_own_file(directory: Path, rel: str, record: dict[str, dict[str, Any]]) -> bool:
-    """True when ``directory/rel`` is listed in the record and unchanged since written."""
+    """True when ``directory/rel`` is listed in the record and unchanged since written: a
+    regular file reached through real folders (no link on the way)."""
     entry = record.get(rel)
-    path = directory / rel
-    if entry is None or path.is_symlink() or not path.is_file():
+    if entry is None or _link_below(directory, rel) is not None:
         return False
-    stamp = _stamp(path)
-    return stamp["size"] == entry.get("size") and stamp["mtime_ns"] == entry.get("mtime_ns")
+    try:
+        st = os.lstat(directory / rel)
+    except OSError:
+        return False
+    return (
+        stat.S_ISREG(st.st_mode)
+        and st.st_size == entry.get("size")
+        and st.st_mtime_ns == entry.get("mtime_ns")
+    )
 
 
 def _files_below(directory: Path) -> list[str]:
-    """Relative paths of the files (and links) below ``directory``, the record excepted."""
+    """Relative paths of the files (and links) below ``directory``, but not its record nor
+    tetherheli's temporary files and folders (``is_own_temporary``)."""
     found = []
+    record = _read_record(directory) is not None
     for root, dirs, files in os.walk(directory):
         base = Path(root)
         links = [d for d in dirs if (base / d).is_symlink()]
         files = files + links  # a link to a folder is a foreign entry, not a folder to enter
-        dirs[:] = [d for d in dirs if d not in links]
+        dirs[:] = [d for d in dirs if d not in links and not is_own_temporary(d)]
         for name in files:
             rel = (base / name).relative_to(directory).as_posix()
-            if rel != OUTPUT_RECORD:
+            if not is_own_temporary(name) and not (record and rel == OUTPUT_RECORD):
                 found.append(rel)
     return sorted(found)
 
@@ -363,9 +490,12 @@ def claim_output_directory(
     a directory that tetherheli did not create (no ``OUTPUT_RECORD``) must be empty unless
     ``force``; ``own`` marks further files as the caller's, e.g. a resumable job's partial
     results. In a directory tetherheli created, the user's added files are simply kept.
-    Returns the resolved directory."""
+
+    What a killed run left is put right first (``recover_output_directory``): an interrupted
+    swap is undone, and temporary files are removed. Returns the resolved directory."""
     target = check_output_location(path, option=option, inputs=inputs)
-    if force or (target / OUTPUT_RECORD).is_file():
+    recover_output_directory(target, option=option)
+    if force or _read_record(target) is not None:
         return target
     foreign = [rel for rel in foreign_files(target) if not own(rel)]
     if foreign:
@@ -388,9 +518,9 @@ def _write_record(directory: Path, record: dict[str, dict[str, Any]]) -> None:
 
 
 def _recording_folder(path: Path) -> Path | None:
-    """The nearest folder above ``path`` that holds an ``OUTPUT_RECORD``, if any."""
+    """The nearest folder above ``path`` that holds a record (``OUTPUT_RECORD``), if any."""
     for folder in path.parents:
-        if (folder / OUTPUT_RECORD).is_file():
+        if _read_record(folder) is not None:
             return folder
     return None
 
@@ -402,6 +532,11 @@ def check_output_file(path: str | Path, *, option: str = "--out") -> Path:
     target = _resolved(path)
     if target.is_dir():
         raise OutputPathError(f"{option} {path} is a directory; allowed: a file name")
+    if target.name == OUTPUT_RECORD or is_own_temporary(target.name):
+        raise OutputPathError(
+            f"{option} {path} is a name tetherheli keeps for its own bookkeeping; allowed: "
+            "another file name"
+        )
     if target.exists() or target.is_symlink():
         folder = _recording_folder(target)
         rel = target.relative_to(folder).as_posix() if folder else ""
@@ -430,63 +565,241 @@ def output_directory(
     option: str = "--out",
     inputs: Iterable[str | Path] = (),
     force: bool = False,
+    own: Callable[[str], bool] = lambda rel: False,
+    remove_earlier: bool = True,
 ) -> Iterator[Path]:
     """Build a command's output in a temporary sibling folder and put it in place on success.
 
     ``path`` is checked first (``claim_output_directory``: a dedicated location with no foreign
-    files unless ``force``). A new directory is moved into place whole. In an existing one,
-    each new file replaces its namesake, files that ``writer`` wrote on an earlier run and
-    did not write now are removed, and every other file (the user's, or another command's
-    such as an animation) is kept; a foreign file where a new one would go is refused. On
-    any error nothing in ``path`` changes. The record ``OUTPUT_RECORD`` lists what was written.
+    files unless ``force``; ``own`` marks the caller's further files). A new directory is
+    moved into place whole. In an existing one, each new file replaces its namesake, files
+    that ``writer`` wrote on an earlier run and did not write now are removed (unless not
+    ``remove_earlier``), and every other file (the user's, or another command's such as an
+    animation) is kept; a foreign file where a new one would go, or a link on the way to one,
+    is refused before anything is moved. The replaced files are moved aside into the
+    temporary folder and the new record's rename is the commit: on any error, and after a
+    killed run at the next claim, the swap is undone, so nothing in ``path`` changes. The
+    record ``OUTPUT_RECORD`` lists what was written.
     """
-    target = claim_output_directory(path, option=option, inputs=inputs, force=force)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(dir=target.parent, prefix=f".{target.name}.", suffix=".partial"))
-    os.chmod(tmp, 0o777 & ~_umask())
+    target = claim_output_directory(path, option=option, inputs=inputs, force=force, own=own)
+    shown = f"{option} {path}"
+    created = _make_folders(target.parent)
     try:
-        yield tmp
-        new = _files_below(tmp)
-        if not target.exists():
-            _write_record(tmp, {rel: {**_stamp(tmp / rel), "writer": writer} for rel in new})
-            os.replace(tmp, target)
-            _fsync_directory(target.parent)
-            return
-        record = read_output_record(target)
-        clash = [
-            rel
-            for rel in new
-            if ((target / rel).exists() or (target / rel).is_symlink())
-            and not is_own_file(target, rel, record)
-        ]
-        if clash:
-            raise OutputPathError(
-                f"{option} {path}: {clash[0]} was not written by tetherheli, or was changed "
-                "since; allowed: move it away or choose another directory (tetherheli never "
-                "overwrites it)"
+        build = Path(
+            tempfile.mkdtemp(
+                dir=target.parent, prefix=_temporary_prefix(target.name), suffix=".partial"
             )
-        for rel in new:
-            (target / rel).parent.mkdir(parents=True, exist_ok=True)
-            os.replace(tmp / rel, target / rel)
-            _fsync_directory((target / rel).parent)
-        kept = {}
-        for rel, entry in record.items():
-            if rel in new or not is_own_file(target, rel, record):
-                continue
-            if entry.get("writer") == writer:
-                _remove_file_and_empty_parents(target, rel)
-            else:
-                kept[rel] = entry
-        kept.update({rel: {**_stamp(target / rel), "writer": writer} for rel in new})
-        _write_record(target, kept)
+        )
+    except OSError as exc:  # e.g. a file where the parent folder should be
+        raise _name_target(exc, target.parent) from None
+    os.chmod(build, 0o777 & ~_umask())
+    keep = False  # the temporary folder holds the only copy of replaced files
+    try:
+        try:
+            yield build
+        except OSError as exc:  # a write into the folder being built: name the file, not it
+            where = Path(exc.filename) if isinstance(exc.filename, str) else None
+            if where is None or build not in where.parents:
+                raise
+            rel = where.relative_to(build).as_posix()
+            raise OutputPathError(
+                f"{shown}: {rel} could not be written ({exc.strerror or exc}); nothing in "
+                f"{path} changed"
+            ) from None
+        _install(build, target, writer=writer, shown=shown, remove_earlier=remove_earlier)
+    except _UndoFailed:
+        keep = True
+        raise
     finally:
-        shutil.rmtree(tmp, ignore_errors=True)  # the temporary folder is ours alone
+        if not keep:
+            shutil.rmtree(build, ignore_errors=True)  # the temporary folder is ours alone
+        if not target.exists():
+            for folder in reversed(created):
+                with contextlib.suppress(OSError):
+                    folder.rmdir()
 
 
-def _remove_file_and_empty_parents(directory: Path, rel: str) -> None:
-    path = directory / rel
-    path.unlink()
-    for parent in path.parents:
+def _make_folders(folder: Path) -> list[Path]:
+    """Create ``folder`` and its missing parents; the ones created, outermost first."""
+    missing = []
+    while not folder.exists() and folder != folder.parent:
+        missing.append(folder)
+        folder = folder.parent
+    for f in reversed(missing):
+        f.mkdir(exist_ok=True)
+    return missing[::-1]
+
+
+class _UndoFailed(OutputPathError):
+    """An interrupted swap could not be undone: the temporary folder keeps the replaced files."""
+
+
+def _install(build: Path, target: Path, *, writer: str, shown: str, remove_earlier: bool) -> None:
+    """Put the files built in ``build`` into ``target`` (``output_directory``)."""
+    new = _files_below(build)
+    stamps = {rel: _stamp(build / rel) for rel in new}
+    if not os.path.lexists(target):
+        _write_record(build, {rel: {**stamps[rel], "writer": writer} for rel in new})
+        try:
+            os.replace(build, target)
+        except OSError as exc:
+            raise OutputPathError(
+                f"{shown} could not be put in place ({exc.strerror or exc}); nothing was written"
+            ) from None
+        _fsync_directory(target.parent)
+        return
+    record = _read_record(target)
+    if record is None and os.path.lexists(target / OUTPUT_RECORD):
+        _refuse_clash(shown, OUTPUT_RECORD)
+    record = record or {}
+    for rel in new:
+        link = _link_below(target, rel)
+        if link is not None:
+            kind = "a link" if (target / link).is_symlink() else "not a folder"
+            raise OutputPathError(
+                f"{shown}: {link} is {kind} (tetherheli never writes through a link, nor over "
+                "a file, inside an output folder); allowed: remove it, or choose another "
+                "directory"
+            )
+        if os.path.lexists(target / rel) and not is_own_file(target, rel, record):
+            _refuse_clash(shown, rel)
+    earlier = [
+        rel
+        for rel, entry in record.items()
+        if remove_earlier
+        and rel not in stamps
+        and entry.get("writer") == writer
+        and is_own_file(target, rel, record)
+    ]
+    kept = {
+        rel: entry
+        for rel, entry in record.items()
+        if rel not in stamps and rel not in earlier and is_own_file(target, rel, record)
+    }
+    kept.update({rel: {**stamps[rel], "writer": writer} for rel in new})
+    folders = sorted(
+        {p for rel in new for p in Path(rel).parents if p.parts and not (target / p).exists()},
+        key=lambda p: len(p.parts),
+    )
+    swap = build / _SWAP
+    old = swap / "old"
+    aside = [rel for rel in new if os.path.lexists(target / rel)] + earlier
+    journal = {"new": stamps, "aside": aside, "folders": [p.as_posix() for p in folders]}
+    try:
+        swap.mkdir()
+        _write_record(swap, kept)  # staged: its rename into target is the commit
+        atomic_write_text(swap / "journal.json", json.dumps(journal) + "\n")  # then moves
+        for p in folders:
+            (target / p).mkdir()
+        for rel in aside:
+            (old / rel).parent.mkdir(parents=True, exist_ok=True)
+            os.replace(target / rel, old / rel)
+        for rel in new:
+            os.replace(build / rel, target / rel)
+        for folder in {(target / rel).parent for rel in new}:
+            _fsync_directory(folder)
+        _fsync_directory(old)
+        os.replace(swap / OUTPUT_RECORD, target / OUTPUT_RECORD)  # the commit
+        _fsync_directory(target)
+    except BaseException as exc:
+        _undo_swap(build, target, shown=shown)
+        if isinstance(exc, OSError):
+            where = exc.filename2 if isinstance(exc.filename2, str) else exc.filename
+            rel = _relative(where, target, build)
+            raise OutputPathError(
+                f"{shown}: {rel} could not be replaced ({exc.strerror or exc}); nothing in it "
+                "changed"
+            ) from None
+        raise
+    for rel in earlier:
+        _remove_empty_parents(target, rel)
+
+
+def _relative(where: object, target: Path, build: Path) -> str:
+    """``where`` (a path an OSError names) relative to the output folder, if it lies there."""
+    if not isinstance(where, str):
+        return "a file"
+    path = Path(where)
+    for base in (target, build / _SWAP / "old"):
+        if base in path.parents:
+            return path.relative_to(base).as_posix()
+    if build / _SWAP in path.parents or path == build / _SWAP:
+        return f"its record ({OUTPUT_RECORD})"
+    if build in path.parents:
+        return path.relative_to(build).as_posix()
+    return str(path)
+
+
+def _refuse_clash(shown: str, rel: str) -> None:
+    raise OutputPathError(
+        f"{shown}: {rel} was not written by tetherheli, or was changed since; allowed: move it "
+        "away or choose another directory (tetherheli never overwrites it)"
+    )
+
+
+def _undo_swap(build: Path, target: Path, *, shown: str) -> None:
+    """Undo what the journal in ``build`` says a swap into ``target`` may have done (in this
+    process after an error, or after a killed run): new files put in place go, the files
+    moved aside come back, the folders made for new files go if empty. Nothing to undo
+    without a journal (no file was moved yet) or without the staged record (committed)."""
+    swap = build / _SWAP
+    try:
+        journal = json.loads((swap / "journal.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return
+    if not (swap / OUTPUT_RECORD).is_file():
+        return
+    try:
+        for rel, stamp in journal["new"].items():
+            dest = target / rel
+            if not os.path.lexists(build / rel) and os.path.lexists(dest):
+                if _link_below(target, rel) is None and _stamp(dest) == stamp:
+                    dest.unlink()
+        for rel in journal["aside"]:
+            if os.path.lexists(swap / "old" / rel):
+                os.replace(swap / "old" / rel, target / rel)
+        for p in reversed(journal["folders"]):
+            with contextlib.suppress(OSError):
+                (target / p).rmdir()
+        _fsync_directory(target)
+    except (OSError, KeyError, TypeError, AttributeError) as exc:
+        raise _UndoFailed(
+            f"{shown}: an interrupted write could not be undone ({exc}); the files it replaced "
+            f"are in {swap / 'old'}"
+        ) from None
+
+
+def recover_output_directory(target: Path, *, option: str = "--out") -> None:
+    """Put right what killed runs left at the output directory ``target``: an interrupted
+    swap from a temporary folder beside it is undone (``_undo_swap``) and the folder
+    removed, and the temporary files below it are removed (``clean_own_temporaries``). Only
+    what a process that no longer runs left is touched."""
+    parent = target.parent
+    if parent.is_dir():
+        for entry in sorted(os.listdir(parent)):
+            found = _TEMPORARY.fullmatch(entry)
+            if found is None or found["of"] != target.name or found["kind"] != "partial":
+                continue
+            if _writer_gone(entry):
+                path = parent / entry
+                if path.is_symlink() or not path.is_dir():
+                    path.unlink()
+                else:
+                    _recover_build(path, option=option)
+    if target.is_dir() and not target.is_symlink():
+        clean_own_temporaries(target)
+
+
+def _recover_build(build: Path, *, option: str = "--out") -> None:
+    """Undo the interrupted swap of the temporary folder ``build`` of a killed run into the
+    output directory it is named after, then remove it."""
+    target = build.parent / _TEMPORARY.fullmatch(build.name)["of"]  # type: ignore[index]
+    _undo_swap(build, target, shown=f"{option} {target}")
+    shutil.rmtree(build, ignore_errors=True)
+
+
+def _remove_empty_parents(directory: Path, rel: str) -> None:
+    for parent in (directory / rel).parents:
         if parent == directory:
             break
         try:

@@ -383,12 +383,11 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from .sim.closed_loop import check_run_memory
     from .sim.result import check_result_format
     from .status import ran_to_end
+    from .sim.scenario import check_distinct_names
 
     check_result_format(args.data_format)  # before the runs
     scenarios = [load_scenario(path) for path in args.scenario]  # all validated first
-    names = [s.name for s in scenarios]
-    if len(set(names)) != len(names):
-        raise _UsageError(f"tetherheli simulate: scenario names must differ, got {names}")
+    check_distinct_names(s.name for s in scenarios)  # one file or folder each
     for s in scenarios:  # refuse what cannot fit before the first run
         check_run_memory(s)
     inputs = tuple(args.scenario)

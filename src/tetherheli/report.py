@@ -22,7 +22,13 @@ from .errors import ParameterError
 from .names import POSITION
 from .sim import SimulationResult, simulate
 from .sim.result import check_result_format
-from .sim.scenario import MPC_QY_GNSS, Scenario, paper_scenario, scenario_toml
+from .sim.scenario import (
+    MPC_QY_GNSS,
+    Scenario,
+    check_distinct_names,
+    paper_scenario,
+    scenario_toml,
+)
 
 __all__ = [
     "PAPER_CLAIM_PERCENT",
@@ -512,6 +518,7 @@ def write_comparison(
 
     check_result_format(data_format)
     ext = check_figure_format(figure_format)
+    check_distinct_names(r.name for r in results)  # each run its own folder
     with output_directory(out_dir, writer="simulate", inputs=inputs, force=force) as tmp:
         infos = {
             r.name: _write_run_files(r, tmp / r.name, command, data_format, ext) for r in results
@@ -641,6 +648,7 @@ def run_sensing(
         runs = [load_scenario(p) for p in scenarios]
     else:  # the shipped scenarios/sensing_*.toml, built here (a test checks equality)
         runs = [sensing_scenario(key) for key in SENSING_RUNS]
+    check_distinct_names(s.name for s in runs)  # each run its own files
     for s in runs:
         if s.sensors.is_perfect:
             raise ParameterError("sensors", s.name, "a scenario with noisy sensors ([sensors])")

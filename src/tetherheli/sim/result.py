@@ -10,7 +10,13 @@ from typing import Any
 
 import numpy as np
 
-from .._io import atomic_open, atomic_path, atomic_write_bytes, atomic_write_text
+from .._io import (
+    OutputPathError,
+    atomic_open,
+    atomic_path,
+    atomic_write_bytes,
+    atomic_write_text,
+)
 from ..errors import ParameterError
 from ..names import (
     INPUT,
@@ -531,7 +537,7 @@ class SimulationResult:
         Parameters
         ----------
         directory : str or pathlib.Path
-            An existing directory.
+            The directory (created with its parents if missing).
         stem : str, optional
             The files' stem (default: the scenario's name).
         format : {"csv", "parquet"}, optional
@@ -541,9 +547,22 @@ class SimulationResult:
         -------
         dict of str to pathlib.Path
             ``{format: path of the time series, "json": path of the metadata}``.
+
+        Raises
+        ------
+        OutputPathError
+            ``directory`` cannot be created (a file is in the way, no permission): one line
+            naming it.
         """
         check_result_format(format)
         directory = Path(directory)
+        try:
+            directory.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise OutputPathError(
+                f"directory {str(directory)!r} cannot be created ({exc.strerror or exc}: "
+                f"{exc.filename}); allowed: an existing directory or a path where one can be made"
+            ) from None
         stem = stem or self.name
         series = directory / f"{stem}.{format}"
         if format == "parquet":

@@ -42,13 +42,14 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
 
-from .._io import dumps_toml, read_toml
+from .._io import OWN_FILE_STEMS, dumps_toml, read_toml
 from .._validation import Key
 from ..control import lqi
 from ..errors import ParameterError
@@ -75,6 +76,8 @@ __all__ = [
     "TetherLQISettings",
     "TetherSettings",
     "WinchSettings",
+    "check_distinct_names",
+    "check_name",
     "load_scenario",
     "metrics_first_sample",
     "paper_scenario",
@@ -593,7 +596,8 @@ class Scenario:
         Key(
             "the run's name, a file stem",
             kind="text",
-            note="1-100 letters, digits, '_', '.' or '-', not '.' or '..'",
+            note="1-100 letters, digits, '_', '.' or '-', not starting with '.', not one of "
+            f"{', '.join(OWN_FILE_STEMS)} (alone or before a '.')",
         ),
     )
     configuration: Literal["free", "tethered"] = _key(
@@ -749,17 +753,55 @@ def metrics_first_sample(metrics_start: float, dt: float) -> int:
 
 
 def check_name(key: str, value: object, *, source: str | None = None) -> str:
-    """A name that becomes a file stem or a folder: 1-100 letters, digits, '_', '.', '-',
-    not '.' or '..' (never a path); else ParameterError naming ``key``."""
-    if not isinstance(value, str) or not _NAME_PATTERN.fullmatch(value) or value in (".", ".."):
+    """A name that becomes a file stem or a folder: 1-100 letters, digits, '_', '.', '-'
+    (never a path), not starting with '.' (tetherheli's record and temporary files do), and
+    not one of the stems of tetherheli's own files (``_io.OWN_FILE_STEMS``, alone or before a
+    '.', in any letter case), so that no run's file or folder is ever one of them; else
+    ParameterError naming ``key``."""
+    if (
+        not isinstance(value, str)
+        or not _NAME_PATTERN.fullmatch(value)
+        or value.startswith(".")
+        or value.casefold().partition(".")[0] in OWN_FILE_STEMS
+    ):
         raise ParameterError(
             key,
             value,
-            "a plain name of 1-100 letters, digits, '_', '.' or '-' (not '.' or '..'; no "
-            "path separators)",
+            "a plain name of 1-100 letters, digits, '_', '.' or '-' (no path separators), "
+            "not starting with '.' and not one of tetherheli's own file names "
+            f"({', '.join(OWN_FILE_STEMS)}, with or without a suffix)",
             source=source,
         )
     return value
+
+
+def check_distinct_names(names: Iterable[str], *, key: str = "name") -> None:
+    """Refuse runs whose names would share a file or folder: equal names, or names equal
+    but for letter case (one file on a case-insensitive file system).
+
+    Parameters
+    ----------
+    names : iterable of str
+        The runs' names (already ``check_name``-ed).
+    key : str, optional
+        The field to name in the error (default "name").
+
+    Raises
+    ------
+    ParameterError
+        Two names that clash, both named.
+    """
+    seen: dict[str, str] = {}
+    for name in names:
+        other = seen.get(name.casefold())
+        seen[name.casefold()] = name
+        if other is not None:
+            raise ParameterError(
+                key,
+                name,
+                f"a name that differs from every other run's (it clashes with {other!r}; "
+                "names must differ, also in more than letter case)",
+            )
 
 
 def _validate(s: Scenario, source: str | None) -> None:

@@ -9,7 +9,9 @@ import hashlib
 import io
 import json
 import math
+import os
 import re
+import stat
 from array import array
 from collections.abc import Iterator
 from pathlib import Path
@@ -18,12 +20,13 @@ from typing import Any
 import numpy as np
 
 from ..._io import (
+    OutputPathError,
     atomic_open,
     atomic_path,
     atomic_write_text,
     check_output_file,
     claim_output_directory,
-    record_outputs,
+    output_directory,
 )
 from ..._validation import check_integer
 from ..._version import __version__
@@ -239,14 +242,24 @@ class _BadChunk(Exception):
     """A chunk file that fails verification; the message says how."""
 
 
-def _chunk_rows(path: Path, lo: int, hi: int, n_columns: int) -> str:
-    """The verified rows of the chunk file of draws ``lo`` .. ``hi - 1``.
+def _chunk_rows(path: Path, lo: int, hi: int, header: list[str], seed: int) -> str:
+    """The verified rows of the chunk file of draws ``lo`` .. ``hi - 1`` of the job with root
+    seed ``seed``: every row is the run it should be (draw index, seed entropy, spawn key and
+    configuration, in the table's order), not only a sealed text.
 
     Raises
     ------
     _BadChunk
-        Unreadable, empty, truncated, garbled (checksum), rows or draws other than expected.
+        Not a regular file (a link, a folder), unreadable, empty, truncated, garbled
+        (checksum), rows or draws other than expected.
     """
+    try:
+        mode = os.lstat(path).st_mode
+    except OSError as exc:
+        raise _BadChunk(f"cannot be read ({exc.strerror or exc})") from None
+    if not stat.S_ISREG(mode):
+        kind = "a link" if stat.S_ISLNK(mode) else "a folder" if stat.S_ISDIR(mode) else "special"
+        raise _BadChunk(f"is {kind}, not a chunk file")
     try:
         data = path.read_bytes()
     except OSError as exc:
@@ -273,10 +286,28 @@ def _chunk_rows(path: Path, lo: int, hi: int, n_columns: int) -> str:
     table = list(csv.reader(io.StringIO(rows)))
     if len(table) != expected:
         raise _BadChunk(f"has {len(table)} rows, not {expected}")
+    where = [header.index(c) for c in ("run", "seed_entropy", "spawn_key", "configuration")]
     for j, row in enumerate(table):
-        if len(row) != n_columns or row[0] != str(lo + j // len(CONFIGURATIONS)):
-            raise _BadChunk(f"is garbled (row {j + 1})")
+        i, cfg = lo + j // len(CONFIGURATIONS), CONFIGURATIONS[j % len(CONFIGURATIONS)]
+        if len(row) != len(header) or [row[k] for k in where] != [str(i), str(seed), str(i), cfg]:
+            raise _BadChunk(f"is garbled (row {j + 1} is not draw {i}'s {cfg} run)")
     return rows
+
+
+def _make_way(path: Path) -> None:
+    """Remove what stands where a chunk file is to be written again: a link (the link
+    itself, never what it points to), an empty folder, a bad chunk file is replaced by the
+    rename; a folder that holds files is refused (it may be a user's)."""
+    if path.is_symlink():
+        path.unlink()
+    elif path.is_dir():
+        try:
+            path.rmdir()
+        except OSError:
+            raise OutputPathError(
+                f"{path} is a folder that holds files, where a chunk file of the job belongs; "
+                "allowed: move it away"
+            ) from None
 
 
 def run_montecarlo(
@@ -359,7 +390,10 @@ def run_montecarlo(
     A draw whose plant cannot be set up (no hover trim, actuator limits it cannot hover
     within) is a failed row (``Status.SETUP``, the error in ``reason``); the job goes
     on. On every call each finished chunk file is verified against its last line (draw range,
-    row count, SHA-256); one that fails is named in one line on stderr and computed again.
+    row count, SHA-256) and by its rows (each the draw index, seed and configuration it should
+    be); one that fails, or a link or an empty folder in its place, is named in one line on
+    stderr and computed again. ``out/partial`` may not be a link. The results, summary and
+    figures are built aside and swapped in whole (``_io.output_directory``).
     """
     if not isinstance(config, MonteCarloConfig):
         raise TypeError("config must be a MonteCarloConfig")
@@ -382,10 +416,15 @@ def run_montecarlo(
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise ParameterError("out", str(out), "a directory (new, or of the same job)")
+    part = out / "partial"
+    if part.is_symlink():
+        raise OutputPathError(
+            f"{part} is a link (tetherheli never writes through a link inside an output "
+            "folder); allowed: remove the link, or choose another directory"
+        )
     claim_output_directory(out, inputs=inputs, force=force, own=lambda rel: _is_job_file(out, rel))
     for name in files:  # refused now, not after the runs
         check_output_file(out / name)
-    part = out / "partial"
     part.mkdir(parents=True, exist_ok=True)
     fp = _fingerprint(base, config, chunk_size)
     fp_path = part / "job.json"
@@ -414,10 +453,11 @@ def run_montecarlo(
     with Progress("montecarlo", n, "draws", enabled=progress) as bar:
         for lo, hi in _chunks(n, chunk_size):
             path = _chunk_path(part, lo, hi)
-            if path.exists():
+            if os.path.lexists(path):
                 try:
-                    _chunk_rows(path, lo, hi, len(header))
+                    _chunk_rows(path, lo, hi, header, config.seed)
                 except _BadChunk as exc:
+                    _make_way(path)
                     bar.note(f"tetherheli: {path} {exc}; computing it again")
                 else:
                     bar.update_to(hi)
@@ -435,7 +475,7 @@ def run_montecarlo(
         for lo, hi in _chunks(n, chunk_size):
             path = _chunk_path(part, lo, hi)
             try:
-                text = _chunk_rows(path, lo, hi, len(header))
+                text = _chunk_rows(path, lo, hi, header, config.seed)
             except _BadChunk as exc:
                 raise TetherheliError(
                     f"{path} {exc} after it was verified (changed by another process?); "
@@ -444,26 +484,34 @@ def run_montecarlo(
             table.add(text)
             yield text
 
+    # built aside and swapped in whole (the figures of another metric or format stay);
     # streamed: one chunk in memory at a time
-    if table_format == "parquet":
-        import pyarrow.parquet as pq
+    with output_directory(
+        out,
+        writer="montecarlo",
+        inputs=inputs,
+        force=force,
+        own=lambda rel: _is_job_file(out, rel),
+        remove_earlier=False,
+    ) as build:
+        if table_format == "parquet":
+            import pyarrow.parquet as pq
 
-        schema = _parquet_schema(header)
-        with atomic_path(out / files[0]) as tmp:
-            with pq.ParquetWriter(tmp, schema) as writer:
+            schema = _parquet_schema(header)
+            with atomic_path(build / files[0]) as tmp:
+                with pq.ParquetWriter(tmp, schema) as writer:
+                    for text in verified_chunks():
+                        writer.write_table(_parquet_chunk(text, schema))
+        else:
+            with atomic_open(build / files[0]) as fh:
+                fh.write(",".join(header) + "\n")
                 for text in verified_chunks():
-                    writer.write_table(_parquet_chunk(text, schema))
-    else:
-        with atomic_open(out / files[0]) as fh:
-            fh.write(",".join(header) + "\n")
-            for text in verified_chunks():
-                fh.write(text)
-    columns = table.arrays()
-    text = json.dumps(_summarize(base, config, columns), indent=2) + "\n"
-    atomic_write_text(out / "summary.json", text)
-    summary: dict[str, Any] = json.loads(text)
-    _figures(out, columns, metric, figure_format)
-    record_outputs(out, files, writer="montecarlo")
+                    fh.write(text)
+        columns = table.arrays()
+        text = json.dumps(_summarize(base, config, columns), indent=2) + "\n"
+        atomic_write_text(build / "summary.json", text)
+        summary: dict[str, Any] = json.loads(text)
+        _figures(build, columns, metric, figure_format)
     return summary
 
 
