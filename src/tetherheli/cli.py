@@ -382,8 +382,8 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from .sim import load_scenario, simulate
     from .sim.closed_loop import check_run_memory
     from .sim.result import check_result_format
-    from .status import ran_to_end
     from .sim.scenario import check_distinct_names
+    from .status import ran_to_end
 
     check_result_format(args.data_format)  # before the runs
     scenarios = [load_scenario(path) for path in args.scenario]  # all validated first
