@@ -35,6 +35,7 @@ __all__ = [
     "atomic_write_text",
     "check_output_file",
     "check_output_location",
+    "check_real_folders",
     "claim_output_directory",
     "dumps_toml",
     "foreign_files",
@@ -427,6 +428,19 @@ def _link_below(directory: Path, rel: str) -> str | None:
     return None
 
 
+def check_real_folders(directory: Path, rel: str, *, shown: str) -> None:
+    """Refuse, in one line starting with ``shown``, to write ``directory/rel`` when a folder
+    on the way is a link or a file (``_link_below``): tetherheli never writes through a link
+    inside an output folder."""
+    link = _link_below(directory, rel)
+    if link is not None:
+        kind = "a link" if (directory / link).is_symlink() else "not a folder"
+        raise OutputPathError(
+            f"{shown}: {link} is {kind} (tetherheli never writes through a link, nor over a "
+            "file, inside an output folder); allowed: remove it, or choose another directory"
+        )
+
+
 def is_own_file(directory: Path, rel: str, record: dict[str, dict[str, Any]]) -> bool:
     """True when ``directory/rel`` is listed in the record and unchanged since written: a
     regular file reached through real folders (no link on the way)."""
@@ -653,14 +667,7 @@ def _install(build: Path, target: Path, *, writer: str, shown: str, remove_earli
         _refuse_clash(shown, OUTPUT_RECORD)
     record = record or {}
     for rel in new:
-        link = _link_below(target, rel)
-        if link is not None:
-            kind = "a link" if (target / link).is_symlink() else "not a folder"
-            raise OutputPathError(
-                f"{shown}: {link} is {kind} (tetherheli never writes through a link, nor over "
-                "a file, inside an output folder); allowed: remove it, or choose another "
-                "directory"
-            )
+        check_real_folders(target, rel, shown=shown)
         if os.path.lexists(target / rel) and not is_own_file(target, rel, record):
             _refuse_clash(shown, rel)
     earlier = [

@@ -25,6 +25,7 @@ from ..._io import (
     atomic_path,
     atomic_write_text,
     check_output_file,
+    check_real_folders,
     claim_output_directory,
     output_directory,
 )
@@ -417,11 +418,7 @@ def run_montecarlo(
     if out.exists() and not out.is_dir():
         raise ParameterError("out", str(out), "a directory (new, or of the same job)")
     part = out / "partial"
-    if part.is_symlink():
-        raise OutputPathError(
-            f"{part} is a link (tetherheli never writes through a link inside an output "
-            "folder); allowed: remove the link, or choose another directory"
-        )
+    check_real_folders(out, "partial/job.json", shown=f"--out {out}")
     claim_output_directory(out, inputs=inputs, force=force, own=lambda rel: _is_job_file(out, rel))
     for name in files:  # refused now, not after the runs
         check_output_file(out / name)
