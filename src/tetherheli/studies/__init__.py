@@ -5,8 +5,7 @@ The function ``sweep`` is not re-exported here: it would shadow the module
 ``tetherheli.studies.sweep``; use ``from tetherheli.studies.sweep import sweep``.
 """
 
-import importlib
-from typing import Any
+from .._lazy import lazy_getattr
 
 # the names below load on first use (PEP 562), so that importing one study (the command
 # line's ``tether_study.register``) does not import the Monte Carlo and its engine
@@ -37,12 +36,7 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
-    if name not in _HOMES:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(_HOMES[name], __name__), name)
-    globals()[name] = value
-    return value
+__getattr__ = lazy_getattr(__name__, _HOMES)
 
 
 def __dir__() -> list[str]:
