@@ -4,13 +4,15 @@ controllers a configuration cannot fly, settings that cannot work together)."""
 from __future__ import annotations
 
 import dataclasses
+import json
+import tomllib
 
 import numpy as np
 import pytest
 
 from tetherheli.cli import main
 from tetherheli.errors import ParameterError
-from tetherheli.sim.scenario import Scenario, TetherSettings, load_scenario
+from tetherheli.sim.scenario import Scenario, TetherSettings, load_scenario, scenario_from_dict
 from tetherheli.status import (
     DEGRADED_FALLBACK_FRACTION,
     FAILED_FALLBACK_FRACTION,
@@ -132,11 +134,51 @@ def test_the_environment_refuses_a_controller_it_does_not_fly():
         TetheredHoverEnv(Scenario(control=c))
 
 
-def test_mpc_tension_bounds_that_exclude_T_ref_are_refused(tmp_path, capsys):
-    """T_ref = 45 N with the default bounds [12.5, 37.5] N crashed at t = 12.6 s: refused at
-    set-up, naming both fields."""
+def test_mpc_tension_bounds_follow_T_ref_unless_given():
+    """Unset, the bounds are [T_ref/2, 1.5 T_ref] of the scenario's own T_ref (their doc): the
+    paper's [12.5, 37.5] N at 25 N, [22.5, 67.5] N at 45 N (which with the old fixed default
+    crashed into the ground at t = 12.6 s); given, they are used as written."""
+    from tetherheli.control.mpc import mpc_controller
+    from tetherheli.sim.setup import engine_setup
+
     s = Scenario(name="t45")
+    assert s.control.mpc.tension_bounds is None
+    assert s.control.mpc.bounds_about(25.0) == (12.5, 37.5)
     c = dataclasses.replace(s.control, controller="mpc")
+    tc = dataclasses.replace(s.params.tension_control, T_ref=45.0)
+    p = dataclasses.replace(s.params, tension_control=tc)
+    s45 = s.replace(control=c, params=p)
+    assert mpc_controller(s45, engine_setup(s45)).tension_bounds == (22.5, 67.5)
+    given = dataclasses.replace(c.mpc, tension_bounds=(30.0, 60.0))
+    s_given = s45.replace(control=dataclasses.replace(c, mpc=given))
+    assert mpc_controller(s_given, engine_setup(s_given)).tension_bounds == (30.0, 60.0)
+    # unset is written as absent and read back as unset; given bounds round-trip
+    assert "tension_bounds" not in s45.to_toml()
+    back = scenario_from_dict(tomllib.loads(s45.to_toml()))
+    assert back.control.mpc.tension_bounds is None and back == s45
+    back = scenario_from_dict(tomllib.loads(s_given.to_toml()))
+    assert back.control.mpc.tension_bounds == (30.0, 60.0)
+    # and the run's JSON record (None kept as null) reads back unset
+    assert scenario_from_dict(json.loads(json.dumps(s45.to_dict()))) == s45
+
+
+def test_the_mpc_at_45_N_with_default_bounds_flies_past_the_old_crash(tmp_path, capsys):
+    """The issue's case through the CLI: T_ref = 45 N, the MPC, the default bounds, past
+    t = 12.6 s where the old fixed bounds put it on the ground."""
+    s = Scenario(name="t45", duration=15.0)
+    c = dataclasses.replace(s.control, controller="mpc")
+    text = s.replace(control=c).to_toml().replace("T_ref = 25.0", "T_ref = 45.0")
+    assert "T_ref = 45.0" in text
+    path = _write(tmp_path, text)
+    assert main(["simulate", str(path), "--out", str(tmp_path / "o")]) == 0
+    assert "completed" in capsys.readouterr().out
+
+
+def test_mpc_tension_bounds_that_exclude_T_ref_are_refused(tmp_path, capsys):
+    """Bounds given that exclude T_ref are refused at set-up, naming both fields."""
+    s = Scenario(name="t45")
+    mpc = dataclasses.replace(s.control.mpc, tension_bounds=(12.5, 37.5))
+    c = dataclasses.replace(s.control, controller="mpc", mpc=mpc)
     tc = dataclasses.replace(s.params.tension_control, T_ref=45.0)
     p = dataclasses.replace(s.params, tension_control=tc)
     with pytest.raises(ParameterError, match=r"control\.mpc\.tension_bounds.*T_ref = 45"):

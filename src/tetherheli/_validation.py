@@ -220,6 +220,9 @@ class Key:
     note : str, optional
         A rule the range alone does not state (a bound set by another key), shown in the
         reference after the range.
+    unset : str, optional
+        When given, the key may be left unset (None; absent from a TOML file), and this says
+        what then holds (a default that follows another key, e.g. ``"[T_ref/2, 1.5 T_ref]"``).
     """
 
     doc: str
@@ -234,6 +237,7 @@ class Key:
     length: int = 0
     choices: tuple[str, ...] = ()
     note: str = ""
+    unset: str = ""
 
     def _unit(self) -> str:
         return f"[{self.unit}]" if self.unit else ""
@@ -246,6 +250,10 @@ class Key:
         -------
         str
         """
+        text = self._allowed()
+        return f"{text} or unset ({self.unset})" if self.unset else text
+
+    def _allowed(self) -> str:
         if self.kind == "bool":
             return "true or false"
         if self.kind == "text":
@@ -286,8 +294,8 @@ class Key:
 
         Returns
         -------
-        float, int, bool, str or tuple of float
-            The checked value as plain Python data.
+        float, int, bool, str, tuple of float or None
+            The checked value as plain Python data (None: unset, where ``unset`` allows it).
 
         Raises
         ------
@@ -298,6 +306,9 @@ class Key:
         high = bounds.get("high", self.high)
         low_open = bounds.get("low_open", self.low_open)
         high_open = bounds.get("high_open", self.high_open)
+        if value is None and self.unset:
+            return None
+        allowed = self.allowed() if self.unset else None  # the message names "unset" too
         if self.kind == "bool":
             return check_bool(field, value, source=source)
         if self.kind == "text":
@@ -309,9 +320,10 @@ class Key:
         if self.kind == "vector":
             return check_vector(
                 field, value, self.length, low=low, high=high, low_open=low_open,
-                finite=self.finite, unit=self._unit(), source=source,
+                finite=self.finite, unit=self._unit(), allowed=allowed, source=source,
             )  # fmt: skip
         return check_number(
             field, value, low=low, high=high, low_open=low_open, high_open=high_open,
-            finite=self.finite, nonzero=self.nonzero, unit=self._unit(), source=source,
+            finite=self.finite, nonzero=self.nonzero, unit=self._unit(), allowed=allowed,
+            source=source,
         )  # fmt: skip

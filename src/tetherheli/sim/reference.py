@@ -66,6 +66,8 @@ def _value(value: Any) -> str:
         if math.isinf(value):
             return "inf" if value > 0 else "-inf"
         return f"{value:g}"
+    if value is None:  # an unset key (``Key.unset``): absent from the file
+        return "unset"
     if isinstance(value, str):
         return f'"{value}"'
     if isinstance(value, (tuple, list)):

@@ -205,11 +205,13 @@ class MPCSettings:
         Key("diagonal of the input weight on [fMR3, tMR1, tMR2, fTR2, reel rate]",
             kind="vector", length=5, low=0.0, low_open=True),
     )  # fmt: skip
-    tension_bounds: tuple[float, float] = _key(
-        (12.5, 37.5),
-        Key("soft bounds on the predicted tether tension (Tref/2, 1.5 Tref at the paper's "
-            "Tref)", "N", kind="vector", length=2, low=0.0, finite=False,
-            note="lower below upper"),
+    tension_bounds: tuple[float, float] | None = _key(
+        None,
+        Key("soft bounds on the predicted tether tension [lower, upper]; unset, they follow "
+            "the scenario's reference: [T_ref/2, 1.5 T_ref] ([12.5, 37.5] at the paper's 25 "
+            "N)", "N", kind="vector", length=2, low=0.0, finite=False,
+            note="lower below upper, around params.tension_control.T_ref",
+            unset="[T_ref/2, 1.5 T_ref]"),
     )  # fmt: skip
     slack_weight: float = _key(
         100.0,
@@ -263,6 +265,24 @@ class MPCSettings:
     tolerance: float = _key(
         1e-4, Key("OSQP's absolute and relative tolerance", low=0.0, low_open=True, high=1.0)
     )
+
+    def bounds_about(self, T_ref: float) -> tuple[float, float]:
+        """The tension bounds the MPC uses with the reference ``T_ref`` [N]: ``tension_bounds``
+        when given, else [T_ref/2, 1.5 T_ref].
+
+        Parameters
+        ----------
+        T_ref : float
+            The tension reference (``params.tension_control.T_ref``) [N].
+
+        Returns
+        -------
+        tuple of 2 floats
+            Lower and upper soft bound [N].
+        """
+        if self.tension_bounds is not None:
+            return self.tension_bounds
+        return (0.5 * T_ref, 1.5 * T_ref)
 
 
 #: The MPC's output weights for the consumer-GNSS sensing files (``report.sensing_scenario``,
@@ -731,7 +751,17 @@ def scenario_toml(configuration: dict[str, Any]) -> str:
     wind = configuration.get("wind", {})
     if wind.get("type") == "custom":
         raise ParameterError("wind", wind.get("class"), "a disturbance with to_dict (TOML)")
-    return dumps_toml(configuration)
+    return dumps_toml(_without_unset(configuration))
+
+
+def _without_unset(data: Any) -> Any:
+    """``data`` without its unset keys (None: ``Key.unset``, e.g. MPC tension bounds that follow
+    T_ref): TOML has no None, and an absent key reads back as unset."""
+    if isinstance(data, dict):
+        return {k: _without_unset(v) for k, v in data.items() if v is not None}
+    if isinstance(data, (list, tuple)):
+        return [_without_unset(v) for v in data]
+    return data
 
 
 def metrics_first_sample(metrics_start: float, dt: float) -> int:
@@ -842,7 +872,7 @@ def _validate(s: Scenario, source: str | None) -> None:
         )
     tether_lqi = _checked(TetherLQISettings, "control.tether_lqi", c.tether_lqi, source)
     mpc = _checked(MPCSettings, "control.mpc", c.mpc, source)
-    if not mpc.tension_bounds[0] < mpc.tension_bounds[1]:
+    if mpc.tension_bounds is not None and not mpc.tension_bounds[0] < mpc.tension_bounds[1]:
         raise ParameterError(
             "control.mpc.tension_bounds", list(c.mpc.tension_bounds), "[lower, upper] with "
             "lower < upper [N]", source=source,
@@ -919,7 +949,7 @@ def _validate(s: Scenario, source: str | None) -> None:
         )  # fmt: skip
     bounds = s.control.mpc.tension_bounds
     T_ref = s.params.tension_control.T_ref
-    if s.configuration == "tethered" and s.control.controller == "mpc":
+    if s.configuration == "tethered" and s.control.controller == "mpc" and bounds is not None:
         if not bounds[0] <= T_ref <= bounds[1]:  # the MPC would fight its own reference
             raise ParameterError(
                 "control.mpc.tension_bounds", list(bounds), f"bounds around "
@@ -982,10 +1012,13 @@ def _vectors(source, key, value, cls) -> dict[str, Any]:
         spec = f.metadata.get("key")
         if spec is None or spec.kind != "vector" or f.name not in table:
             continue
+        if table[f.name] is None and spec.unset:  # unset (a JSON record's null)
+            continue
         if not isinstance(table[f.name], list):
             raise ParameterError(
-                f"{key}.{f.name}", table[f.name], f"a list of {spec.length} numbers", source=source
-            )
+                f"{key}.{f.name}", table[f.name], spec.allowed() if spec.unset else
+                f"a list of {spec.length} numbers", source=source,
+            )  # fmt: skip
         table[f.name] = tuple(table[f.name])
     return table
 
