@@ -116,13 +116,19 @@ def test_montecarlo_comparison_counts_the_failures(short_mc):
         failed = ~mc.ok[lab]
         assert failed.sum() > 3, "more than half the tethered draws cannot hover"
         assert all(mc.statuses[lab][i].startswith("set-up:") for i in np.flatnonzero(failed))
-        assert np.all(mc.reduction(lab, "peak_q1")[failed] == -np.inf)
+        red = mc.reduction(lab, "peak_q1")
+        free_ok = mc.ok[FREE]
+        assert np.all(red[failed & free_ok] == -np.inf)
+        # a failed free run is no reference: no reduction, never 100 % (issue 22, class 4)
+        assert np.isnan(red[~free_ok]).all() and np.isfinite(red[free_ok & ~failed]).all()
         assert np.isinf(mc.percentiles(lab)["peak_q1"]).all()  # p50 and p95 among failures
         assert mc.percentiles(lab)["tension_min"][0] == -np.inf
         row = next(
             r for r in mc.rows() if r["controller"] == lab and r["configuration"] == "tethered"
         )
         assert row["failures"] == failed.sum() and not row["completed"]
+        assert f"{mc.failures(FREE)}/6 without a free reference" in row["status"]
+        assert row["reduction_peak_q1_p50"] != 100.0
 
 
 def test_compare_cli_writes_the_montecarlo_rows(tmp_path, short_mc):

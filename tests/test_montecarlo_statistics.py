@@ -55,8 +55,10 @@ def test_paired_reduction_follows_its_definition():
     f_ok = np.array([True, True, True, False, False, True, True, True])
     t_ok = np.array([True, True, False, True, False, True, True, True])
     r = paired_reduction(free, teth, f_ok, t_ok)
-    assert r.tolist() == [50.0, -25.0, -math.inf, 100.0, -math.inf, 0.0, -math.inf, 100.0]
-    assert not np.isnan(r).any()
+    # a failed free run is no reference (NaN), never a 100 % reduction (issue 22, class 4)
+    np.testing.assert_array_equal(
+        r, [50.0, -25.0, -math.inf, np.nan, np.nan, 0.0, -math.inf, 100.0]
+    )
 
 
 def _hand_bootstrap(x: np.ndarray, q: float, seed: int, n: int, level: float):

@@ -776,6 +776,11 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
             f"% (95% CI {value(lo, '.1f')} .. {value(hi, '.1f')}), "
             f"5th percentile {value(r['p5'], '.1f')} %"
         )
+        if r["draws_with_reference"] < r["draws"]:
+            print(
+                f"  ({r['draws'] - r['draws_with_reference']} of {r['draws']} draws have no "
+                "reduction: their free reference failed)"
+            )
     if failed:
         print(
             f"tetherheli: {failed} run{'s' if failed > 1 else ''} failed (status, message and "

@@ -16,7 +16,9 @@ parameters (an actuator's authority, not redrawn with the plant).
 Every run is measured by ``controllers.controller_metrics``; a run that fails in flight or
 whose plant cannot be set up is a failure, counted and placed in the failing tail of the
 percentiles (``montecarlo.statistics.with_failures``, ``tail_percentile``). The paired
-reduction against the free helicopter is ``statistics.paired_reduction`` per draw.
+reduction against the free helicopter is ``statistics.paired_reduction`` per draw; a draw whose
+free run failed has no reference and no reduction: the reductions' percentiles cover the other
+draws, and a controller's status counts the draws without a reference.
 """
 
 from __future__ import annotations
@@ -171,15 +173,20 @@ class MonteCarloComparison:
             red = {}
             if label != FREE:
                 for m in REDUCED:
-                    r50, r5 = tail_percentile(self.reduction(label, m), [50.0, 5.0])
+                    r = self.reduction(label, m)
+                    r = r[~np.isnan(r)]  # the draws with a completed free reference
+                    r50, r5 = tail_percentile(r, [50.0, 5.0]) if r.size else (np.nan, np.nan)
                     red[f"reduction_{m}_p50"] = float(r50)
                     red[f"reduction_{m}_p5"] = float(r5)
+            status = f"{self.failures(label)}/{self.runs} failed"
+            if label != FREE and self.failures(FREE):
+                status += f", {self.failures(FREE)}/{self.runs} without a free reference"
             for k, p in enumerate(PERCENTILES):
                 row: dict[str, Any] = {
                     "scenario": f"{self.scenario_name} {_config(label)} p{p:g}",
                     "configuration": _config(label),
                     "controller": "paper" if label == FREE else label,
-                    "status": f"{self.failures(label)}/{self.runs} failed",
+                    "status": status,
                     "failures": self.failures(label),
                     "runs": self.runs,
                     "completed": self.failures(label) == 0,

@@ -614,11 +614,18 @@ def _summarize(
         free_ok, teth_ok = pairs["ok"][:, 0], pairs["ok"][:, 1]
         r = paired_reduction(pairs[m][:, 0], pairs[m][:, 1], free_ok, teth_ok)
         done = np.isfinite(r) & free_ok & teth_ok
+        referenced = r[free_ok]  # a draw whose free run failed has no reduction
         reduction[m] = {
             "draws": int(r.size),
+            "draws_with_reference": int(referenced.size),
             "both_completed": int(done.sum()),
             "mean_both_completed": float(r[done].mean()) if done.any() else None,
-        } | _percentile_entry(r, config.seed + 1000 + k)
+        }
+        if referenced.size >= 2:  # the bootstrap needs two draws
+            reduction[m] |= _percentile_entry(referenced, config.seed + 1000 + k)
+        else:  # no reduction to speak of: every percentile and interval null
+            reduction[m] |= {f"p{p}": None for p in _PCTS}
+            reduction[m]["ci95"] = {f"p{p}": [None, None] for p in _PCTS}
         failed_draws = {
             "free_only": int((~free_ok & teth_ok).sum()),
             "tethered_only": int((free_ok & ~teth_ok).sum()),
@@ -628,8 +635,9 @@ def _summarize(
         "description": "Monte Carlo: per-configuration percentiles over all runs, a failed "
         "run counted as the worst value (+inf; -inf for tension_min), so a percentile among "
         "the failures is null; mean and max over completed runs; the paired per-draw "
-        "reduction 100 (free - tethered) / free [%] (a failed tethered run: -inf, a failed "
-        "free run with a completed tethered one: 100); ci95: bootstrap confidence intervals",
+        "reduction 100 (free - tethered) / free [%] over the draws whose free run completed "
+        "(a failed tethered run: -inf; a failed free run is no reference: its draw has no "
+        "reduction and is counted in failed_draws); ci95: bootstrap confidence intervals",
         "version": __version__,
         "N": config.runs,
         "seed": config.seed,

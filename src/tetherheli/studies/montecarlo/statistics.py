@@ -12,10 +12,10 @@ Definitions:
   ``numpy.percentile`` (its default "linear" method, Hyndman and Fan's definition 7); a
   percentile whose interpolation touches an infinite value is that value;
 - the paired reduction of draw i is 100 (free_i - tethered_i) / free_i [%] (positive: the
-  tether reduced the metric). A failed tethered run gives -inf (the worst side), a failed
-  free run with a completed tethered one gives 100 (the limit of the formula as free_i grows
-  without bound); a draw with both failed gives -inf (no evidence for the tether); free_i = 0
-  gives 0 when tethered_i = 0, else -inf;
+  tether reduced the metric). A failed free run is no reference: its draw has no reduction
+  (NaN; the percentiles of the reduction cover the draws whose free run completed, and the
+  draws without a reference are counted beside them); a failed tethered run with a completed
+  free one gives -inf (the worst side); free_i = 0 gives 0 when tethered_i = 0, else -inf;
 - the confidence interval of a percentile is ``scipy.stats.bootstrap``'s percentile method
   over the draws (``n_resamples`` resamples, seeded by the Monte Carlo's seed so the numbers
   are reproducible). A bound beyond every finite value of the sample is infinite.
@@ -111,7 +111,8 @@ def paired_reduction(
     free: np.ndarray, tethered: np.ndarray, free_ok: np.ndarray, tethered_ok: np.ndarray
 ) -> np.ndarray:
     """The tether's reduction of a metric per draw, 100 (free - tethered) / free [%], with the
-    failed runs placed as the module docstring says.
+    failed runs placed as the module docstring says: no reduction (NaN) without a completed
+    free reference, -inf for a failed tethered run against a completed one.
 
     Parameters
     ----------
@@ -123,7 +124,7 @@ def paired_reduction(
     Returns
     -------
     (n,) float array
-        Finite, 100, or -inf; never NaN.
+        Finite or -inf where the free run completed; NaN where it failed.
     """
     f = np.asarray(free, dtype=float)
     t = np.asarray(tethered, dtype=float)
@@ -132,8 +133,8 @@ def paired_reduction(
     with np.errstate(divide="ignore", invalid="ignore"):
         r = 100.0 * (f - t) / f
     r = np.where(fo & to & (f == 0.0), np.where(t == 0.0, 0.0, -np.inf), r)
-    r = np.where(~fo & to, 100.0, r)
-    return np.where(to, r, -np.inf)
+    r = np.where(to, r, -np.inf)
+    return np.where(fo, r, np.nan)
 
 
 def bootstrap_interval(
