@@ -241,3 +241,42 @@ def test_tether_study_calls_a_hover_beyond_the_thrust_limit_failed():
     assert row["completed"] is False
     assert "exceeds the maximum thrust 100 N" in row["sim1_status"]
     assert math.isnan(row["sim1_peak_q1_reduction_pct"])
+
+
+@pytest.mark.parametrize("shipped, extra", [
+    ("montecarlo_sensing", ""),  # position from the tether: the free draw flies the GNSS
+    ("montecarlo_paper_sim1", '\n[tether]\nmodel = "lumped"\nsegments = 5\n'),
+])  # fmt: skip
+def test_montecarlo_free_runs_are_the_free_helicopter(tmp_path, capsys, shipped, extra):
+    """Each draw's free run is ``free_reference`` of the draw: no tether table, GNSS in place
+    of the tether as position source. A lumped study was refused with a message blaming a
+    free configuration the file never wrote, and the shipped sensed Monte Carlo could not run
+    at all (its free draw kept position_source = "tether")."""
+    from tetherheli.shipped import shipped_scenario_text
+
+    text = shipped_scenario_text(shipped).replace("duration = 60.0", "duration = 1.0")
+    path = _write(tmp_path, text.replace("runs = 1000", "runs = 2") + extra)
+    out = tmp_path / "o"
+    assert main(["montecarlo", str(path), "--out", str(out), "--quiet"]) == 0, capsys.readouterr()
+    rows = (out / "results.csv").read_text().splitlines()
+    header = rows[0].split(",")
+    status = header.index("status")
+    assert len(rows) == 5 and all(r.split(",")[status] == "0" for r in rows[1:])
+
+
+def test_free_reference_removes_the_tether_and_its_sensor():
+    from tetherheli.sensors import SensorConfig
+    from tetherheli.studies.montecarlo.draws import free_reference
+
+    s = Scenario(
+        tether=TetherSettings(model="lumped"),
+        sensors=SensorConfig.from_presets(
+            "consumer_gnss", "joint_encoders", "laser_altimeter", position_source="tether"
+        ),
+    )
+    s = s.replace(control=dataclasses.replace(s.control, controller="tether_lqi"))
+    free = free_reference(s)
+    assert free.configuration == "free" and free.tether == TetherSettings()
+    assert free.sensors.position_source == "gps"
+    assert dataclasses.replace(free.sensors, position_source="tether") == s.sensors
+    assert free.control.controller == "paper"

@@ -23,7 +23,6 @@ draws, and a controller's status counts the draws without a reference.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -33,10 +32,11 @@ import numpy as np
 from .._validation import check_integer
 from ..errors import TetherheliError
 from ..resources import check_memory
-from ..sim.scenario import Scenario, TetherSettings
+from ..sim.scenario import Scenario
 from .controllers import CONTROLLER_METRICS, eq40_saturated, fly, with_controller
 from .montecarlo import MonteCarloConfig, draw, draw_seed
 from .montecarlo.config import MAX_RUNS
+from .montecarlo.draws import free_reference
 from .montecarlo.statistics import paired_reduction, tail_percentile, with_failures
 
 __all__ = [
@@ -348,11 +348,7 @@ def _flown(scenario: Scenario, label: str) -> Scenario:
     """The run of ``label``: the free helicopter under the paper's law (no tether at all, so
     none of a lumped study's chain: ``[tether]`` at its defaults), or tethered."""
     if label == FREE:
-        if scenario.sensors.position_source == "tether":  # no tether: the GNSS instead
-            sensors = dataclasses.replace(scenario.sensors, position_source="gps")
-            scenario = scenario.replace(sensors=sensors)
-        free = scenario.replace(configuration="free", tether=TetherSettings())
-        return with_controller(free, "paper")
+        return with_controller(free_reference(scenario), "paper")
     return with_controller(scenario.replace(configuration="tethered"), label)
 
 

@@ -13,7 +13,7 @@ import numpy as np
 
 from ...errors import TetherheliError
 from ...params import Params
-from ...sim.scenario import Scenario
+from ...sim.scenario import Scenario, TetherSettings
 from ...wind import (
     ConstantForce,
     Disturbance,
@@ -25,7 +25,32 @@ from ...wind import (
 )
 from .config import MonteCarloConfig, _wind_parts
 
-__all__ = ["Draw", "draw", "draw_seed"]
+__all__ = ["Draw", "draw", "draw_seed", "free_reference"]
+
+
+def free_reference(scenario: Scenario) -> Scenario:
+    """The free helicopter a tethered scenario is judged against (each draw's free run, the
+    comparisons' reference): no tether at all (``[tether]`` at its defaults, so none of a
+    lumped chain), the GNSS in place of the tether as position source (the free helicopter
+    has no tether encoders; the same sensor presets otherwise), and the paper's law in place
+    of the tethered LQI, which needs a tether.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The tethered (or nominal) scenario.
+
+    Returns
+    -------
+    Scenario
+        Its free configuration.
+    """
+    changes: dict = {"configuration": "free", "tether": TetherSettings()}
+    if scenario.sensors.position_source == "tether":
+        changes["sensors"] = dataclasses.replace(scenario.sensors, position_source="gps")
+    if scenario.control.controller == "tether_lqi":
+        changes["control"] = dataclasses.replace(scenario.control, controller="paper")
+    return scenario.replace(**changes)
 
 
 @dataclass(frozen=True)

@@ -41,7 +41,7 @@ from ...sim.scenario import Scenario
 from ...status import Status
 from ...wind import Turbulence
 from .config import CONFIGURATIONS, MAX_RUNS, MonteCarloConfig, _wind_parts
-from .draws import draw, draw_seed
+from .draws import draw, draw_seed, free_reference
 
 __all__ = ["FIGURE_KINDS", "METRICS", "RESULT_FILES", "result_files", "run_montecarlo"]
 
@@ -169,7 +169,7 @@ def _run_chunk(
 ) -> str:
     draws = [draw(base, config, ch, start + j) for j, ch in enumerate(children)]
     scenarios = [
-        d.scenario.replace(configuration=cfg)
+        free_reference(d.scenario) if cfg == "free" else d.scenario.replace(configuration=cfg)
         for d in draws
         if d.scenario is not None
         for cfg in CONFIGURATIONS
