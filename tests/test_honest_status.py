@@ -280,3 +280,66 @@ def test_free_reference_removes_the_tether_and_its_sensor():
     assert free.sensors.position_source == "gps"
     assert dataclasses.replace(free.sensors, position_source="tether") == s.sensors
     assert free.control.controller == "paper"
+
+
+def test_compare_counts_a_failed_solver_as_a_failure(tmp_path, capsys):
+    """The fallback rule through ``compare``: the MPC with ``max_iterations = 1`` is a failed
+    run in the table (it said "failed 0/1"), exit 1; so is each of its Monte Carlo draws
+    (counted in the table; a Monte Carlo's failures are its results, exit 0)."""
+    import csv
+
+    path = _write(tmp_path, MPC_FAILING)
+    out = tmp_path / "c"
+    assert main(["compare", str(path), "--controllers", "mpc", "--out", str(out), "--quiet"]) == 1
+    rows = list(csv.DictReader((out / "compare.csv").read_text().splitlines()))
+    (row,) = [r for r in rows if r["controller"] == "mpc"]
+    assert row["completed"] == "False" and "solver failed" in row["status"]
+    mc = _write(
+        tmp_path,
+        MPC_FAILING + "[montecarlo]\nruns = 2\nseed = 3\namplitude_std_percent = 10.0\n",
+        "mc.toml",
+    )
+    out = tmp_path / "m"
+    code = main(["compare", "--montecarlo", str(mc), "--controllers", "mpc", "--out", str(out),
+                 "--quiet"])  # fmt: skip
+    assert code == 0
+    rows = list(csv.DictReader((out / "compare.csv").read_text().splitlines()))
+    mpc_rows = [r for r in rows if r["controller"] == "mpc"]
+    assert mpc_rows and all(r["failures"] == "2" and r["status"].startswith("2/2 failed")
+                            for r in mpc_rows)  # fmt: skip
+
+
+def test_weights_without_a_design_are_refused_by_every_study_naming_the_file(tmp_path, capsys):
+    """Extreme weights (no stabilising solution of eq 49's DARE) are the file's error: compare
+    recorded a failed row naming no file (exit 1), montecarlo and compare --montecarlo ran
+    every draw into a set-up failure and then crashed (exit 70). Now each refuses them at
+    set-up, exit 2, one line naming the file and the weights, nothing written."""
+    from tetherheli.errors import WeightsError
+    from tetherheli.shipped import shipped_scenario_text
+    from tetherheli.studies.controllers import check_design
+
+    bad_qy = "Qy = [1e300, 1.0, 1.0, 1.0, 10.0, 10.0, 10.0, 10.0]"
+    text = shipped_scenario_text("paper_sim1_tethered")
+    single = _write(tmp_path, _with_line(text, "Qy = ", bad_qy), "bad.toml")
+    text = shipped_scenario_text("montecarlo_paper_sim1").replace("runs = 1000", "runs = 2")
+    mc = _write(tmp_path, _with_line(text, "Qy = ", bad_qy), "badmc.toml")
+    for args in (
+        ["compare", str(single)],
+        ["montecarlo", str(mc)],
+        ["compare", "--montecarlo", str(mc)],
+    ):
+        out = tmp_path / f"out{len(args)}{args[0]}"
+        assert main([*args, "--out", str(out), "--quiet"]) == 2, args
+        err = capsys.readouterr().err.strip()
+        path = args[-1]
+        assert err.startswith(f"tetherheli: error: {path}: control.Qy/Ru = "), err
+        assert len(err.splitlines()) == 1 and not out.exists()
+    with pytest.raises(WeightsError, match="control.Qy/Ru"):
+        check_design(load_scenario(single))
+
+
+def _with_line(text: str, prefix: str, line: str) -> str:
+    lines = text.splitlines()
+    (k,) = [i for i, x in enumerate(lines) if x.startswith(prefix)]
+    lines[k] = line
+    return "\n".join(lines) + "\n"

@@ -19,7 +19,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from ._version import __version__
-from .errors import TetherheliError
+from .errors import TetherheliError, named_source
 from .params import Params
 
 __all__ = ["main"]
@@ -363,19 +363,6 @@ def _report_failures(statuses: dict, out: str) -> int:
     return 1 if failed else 0
 
 
-def _named_source(path: str, run: Callable, *args: object, **kwargs: object):
-    """``run(*args, **kwargs)``, a ``ParameterError`` without a source (a set-up's: weights
-    with no stabilising design, limits the hover does not fit) named after ``path``."""
-    from .errors import ParameterError
-
-    try:
-        return run(*args, **kwargs)
-    except ParameterError as exc:
-        if exc.source is not None:
-            raise
-        raise type(exc)(exc.field, exc.value, exc.allowed, source=path) from None
-
-
 def _cmd_simulate(args: argparse.Namespace) -> int:
     from ._io import claim_output_directory
     from .report import write_comparison, write_run
@@ -394,7 +381,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     claim_output_directory(args.out, inputs=inputs, force=args.force)
     command = "tetherheli simulate " + " ".join(args.scenario)
     results = [
-        _named_source(path, simulate, s, method=args.method)
+        named_source(path, simulate, s, method=args.method)
         for path, s in zip(args.scenario, scenarios, strict=True)
     ]
     fmt = args.figure_format
@@ -706,9 +693,10 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
     from .errors import ClusterError
     from .sim.batch import connect, disconnect
     from .studies.montecarlo import CONFIGURATIONS, load_montecarlo, run_montecarlo
-    from .studies.montecarlo.runner import result_files
+    from .studies.montecarlo.runner import check_nominal_designs, result_files
 
     base, config = load_montecarlo(args.scenario)
+    named_source(args.scenario, check_nominal_designs, base)
     if args.runs is not None:
         config = dataclasses.replace(config, runs=args.runs)
     if args.seed is not None:
@@ -762,8 +750,11 @@ def _cmd_montecarlo(args: argparse.Namespace) -> int:
     failed = 0
     for cfg in CONFIGURATIONS:
         s = summary["statistics"][cfg]
-        p = s[m]
         failed += s["failed"]
+        if m not in s:  # no completed run: the counts say it all
+            print(f"  {cfg:<9} completed {s['completed']}/{s['runs']}")
+            continue
+        p = s[m]
         print(
             f"  {cfg:<9} completed {s['completed']}/{s['runs']}, {m} median "
             f"{value(p['p50'])} {unit}, p95 {value(p['p95'])} {unit}"

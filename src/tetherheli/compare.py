@@ -51,9 +51,9 @@ def compare(paths: list[str], controllers: tuple[str, ...], *, eq40: bool) -> li
         One row per (scenario, controller); a run that could not be set up has its error's
         first line as ``status`` and ``completed`` False.
     """
-    from .errors import TetherheliError
+    from .errors import TetherheliError, WeightsError, named_source
     from .sim import load_scenario
-    from .studies.controllers import eq40_saturated, fly, with_controller
+    from .studies.controllers import check_design, eq40_saturated, fly, with_controller
 
     rows = []
     for path in paths:
@@ -61,6 +61,8 @@ def compare(paths: list[str], controllers: tuple[str, ...], *, eq40: bool) -> li
         if eq40:
             base = eq40_saturated(base)
         names = controllers if base.configuration == "tethered" else ("paper",)
+        for name in names:  # weights without a design are the file's error: refused, named
+            named_source(path, check_design, with_controller(base, name))
         for name in names:
             row: dict[str, Any] = {
                 "scenario": base.name,
@@ -73,6 +75,8 @@ def compare(paths: list[str], controllers: tuple[str, ...], *, eq40: bool) -> li
                 result, metrics = fly(scenario)
                 row["status"] = result.message
                 row.update(metrics)
+            except WeightsError:
+                raise
             except TetherheliError as exc:
                 row["status"] = str(exc).splitlines()[0]
                 row["completed"] = False
@@ -196,7 +200,6 @@ def markdown_reductions(montecarlo: tuple[Any, ...]) -> str:
     str
         A Markdown table.
     """
-    from .studies.montecarlo.statistics import tail_percentile
     from .studies.robust import FREE, REDUCED
 
     head = "| Monte Carlo | controller | failed (free) | failed |"
@@ -214,8 +217,8 @@ def markdown_reductions(montecarlo: tuple[Any, ...]) -> str:
                 f"{mc.failures(lab)}/{mc.runs} ({100.0 * mc.failures(lab) / mc.runs:.1f}%)",
             ]
             for m in REDUCED:
-                r50, r5 = (float(v) for v in tail_percentile(mc.reduction(lab, m), [50.0, 5.0]))
-                cells.append(f"{r50:.1f} / {r5:.1f}")
+                r50, r5 = mc.reduction_percentiles(lab, m)
+                cells.append(" / ".join("n/a" if math.isnan(v) else f"{v:.1f}" for v in (r50, r5)))
             lines.append("| " + " | ".join(cells) + " |")
     return head + "\n".join(lines) + "\n"
 
@@ -295,8 +298,11 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     mc_files = tuple(args.montecarlo or ())
     if not args.scenarios and not mc_files:
         raise ParameterError("scenarios", "none", "scenario files or --montecarlo FILE")
+    from .errors import named_source
+    from .studies.controllers import check_design, with_controller
     from .studies.montecarlo import load_montecarlo
     from .studies.montecarlo.config import MAX_RUNS
+    from .studies.montecarlo.draws import free_reference
     from .studies.robust import check_comparison_memory
 
     if args.runs is not None:
@@ -304,6 +310,12 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     mc_inputs = []
     for path in mc_files:  # read them all before any run: a bad file fails fast
         mc_inputs.append(load_montecarlo(path))
+        base = mc_inputs[-1][0]
+        for name in ("paper", *names):  # the free reference's and each controller's design
+            flown = (
+                free_reference(base) if name == "paper" else base.replace(configuration="tethered")
+            )
+            named_source(path, check_design, with_controller(flown, name))
     for _, config in mc_inputs:  # and refuse what cannot fit, before the first run
         check_comparison_memory(config.runs if args.runs is None else args.runs, 1 + len(names))
     inputs = (*args.scenarios, *mc_files)

@@ -5,6 +5,8 @@ while running rather than bad input, exits 1)."""
 from __future__ import annotations
 
 import reprlib
+from collections.abc import Callable
+from typing import Any
 
 #: The longest value a message shows whole; a longer one (or one nested too deep for
 #: ``repr``) is shortened by ``reprlib`` to its first items and levels.
@@ -80,6 +82,45 @@ class InfeasibleError(ParameterError):
     """
 
 
+class WeightsError(InfeasibleError):
+    """Weights the user wrote whose controller design has no stabilising solution
+    (``design_failure``). Unlike another ``InfeasibleError`` it does not depend on a draw's
+    dispersed plant (every controller is designed on the nominal one), so the studies refuse
+    it at set-up, naming the file, instead of recording every run as failed.
+
+    Parameters
+    ----------
+    field, value, allowed, source
+        As for ``ParameterError``.
+    """
+
+
+def named_source(path: str, run: Callable[..., Any], *args: object, **kwargs: object) -> Any:
+    """``run(*args, **kwargs)``, with a ``ParameterError`` that has no source (a set-up's:
+    weights with no stabilising design, limits the hover does not fit) named after ``path``.
+
+    Parameters
+    ----------
+    path : str
+        The input file the run's settings came from.
+    run : callable
+        The work.
+    *args, **kwargs
+        Its arguments.
+
+    Returns
+    -------
+    object
+        What ``run`` returns.
+    """
+    try:
+        return run(*args, **kwargs)
+    except ParameterError as exc:
+        if exc.source is not None:
+            raise
+        raise type(exc)(exc.field, exc.value, exc.allowed, source=str(path)) from None
+
+
 class DesignError(TetherheliError):
     """A controller design with no stabilising solution (a Riccati equation that has none,
     or a closed loop that is not stable). The design functions raise it about their matrix
@@ -95,8 +136,8 @@ class ClusterError(TetherheliError):
     """The Dask scheduler was lost during a run, or it had no worker for too long."""
 
 
-def design_failure(field: str, value: object, exc: DesignError) -> InfeasibleError:
-    """The ``InfeasibleError`` that names the weights a failed design (``exc``) was given.
+def design_failure(field: str, value: object, exc: DesignError) -> WeightsError:
+    """The ``WeightsError`` that names the weights a failed design (``exc``) was given.
 
     Parameters
     ----------
@@ -109,11 +150,11 @@ def design_failure(field: str, value: object, exc: DesignError) -> InfeasibleErr
 
     Returns
     -------
-    InfeasibleError
+    WeightsError
         To raise ``from None``.
     """
     reason = str(exc).splitlines()[0]
-    return InfeasibleError(
+    return WeightsError(
         field,
         value,
         "weights whose design has a stabilising solution, e.g. every entry within about 1e10 "

@@ -24,6 +24,7 @@ from .sweep import paper_cyclic_limit, scenario_cyclic_limit
 
 __all__ = [
     "CONTROLLER_METRICS",
+    "check_design",
     "controller_metrics",
     "eq40_saturated",
     "fly",
@@ -37,6 +38,37 @@ CONTROLLER_METRICS: tuple[str, ...] = (
     "peak_cyclic", "cyclic_limit", "tension_min", "tension_max", "completed",
     "compute_us_per_sample",
 )  # fmt: skip
+
+
+def check_design(scenario: Scenario) -> None:
+    """Design ``scenario``'s controller on its own (nominal) parameters and raise the
+    ``WeightsError`` of weights that have no stabilising design: a study whose every run is
+    designed on the nominal plant refuses them at set-up (naming the file) instead of
+    recording every run as failed. A plant that cannot hover is left to the runs, where it is
+    a failure of that run (a dispersed draw may hover where the nominal one cannot).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The nominal run, with its controller.
+
+    Raises
+    ------
+    WeightsError
+        The controller's weights have no stabilising design.
+    """
+    from ..control.mpc import mpc_controller
+    from ..errors import WeightsError
+    from ..sim.setup import engine_setup
+
+    try:
+        setup = engine_setup(scenario)
+        if scenario.control.controller == "mpc":
+            mpc_controller(scenario, setup)
+    except WeightsError:
+        raise
+    except ParameterError:  # infeasible nominal plant: each run says so
+        return
 
 
 def eq40_saturated(scenario: Scenario) -> Scenario:

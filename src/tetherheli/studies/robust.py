@@ -157,6 +157,29 @@ class MonteCarloComparison:
             self.values[FREE][metric], self.values[label][metric], self.ok[FREE], self.ok[label]
         )
 
+    def reduction_percentiles(self, label: str, metric: str) -> tuple[float, float]:
+        """The median and 5th percentile (the worst 5 % of draws) of ``reduction`` over the
+        draws with a completed free reference (NaN where none has one) [%].
+
+        Parameters
+        ----------
+        label : str
+            A controller.
+        metric : str
+            One of ``REDUCED``.
+
+        Returns
+        -------
+        (float, float)
+            p50 and p5; -inf where it lies among the controller's failures.
+        """
+        r = self.reduction(label, metric)
+        r = r[~np.isnan(r)]  # a failed free run is no reference
+        if not r.size:
+            return math.nan, math.nan
+        r50, r5 = tail_percentile(r, [50.0, 5.0])
+        return float(r50), float(r5)
+
     def rows(self) -> list[dict[str, Any]]:
         """One row per (label, percentile) in the comparison's columns (``compare``): the
         ``scenario`` names the percentile, ``failures`` the count out of N; the paired
@@ -173,11 +196,9 @@ class MonteCarloComparison:
             red = {}
             if label != FREE:
                 for m in REDUCED:
-                    r = self.reduction(label, m)
-                    r = r[~np.isnan(r)]  # the draws with a completed free reference
-                    r50, r5 = tail_percentile(r, [50.0, 5.0]) if r.size else (np.nan, np.nan)
-                    red[f"reduction_{m}_p50"] = float(r50)
-                    red[f"reduction_{m}_p5"] = float(r5)
+                    r50, r5 = self.reduction_percentiles(label, m)
+                    red[f"reduction_{m}_p50"] = r50
+                    red[f"reduction_{m}_p5"] = r5
             status = f"{self.failures(label)}/{self.runs} failed"
             if label != FREE and self.failures(FREE):
                 status += f", {self.failures(FREE)}/{self.runs} without a free reference"

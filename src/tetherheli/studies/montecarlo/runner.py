@@ -311,6 +311,22 @@ def _make_way(path: Path) -> None:
             ) from None
 
 
+def check_nominal_designs(base: Scenario) -> None:
+    """Refuse (``WeightsError``) weights that have no stabilising design on the nominal plant,
+    on which every draw's free and tethered controller is designed: without this every run
+    would be a set-up failure (``studies.controllers.check_design``).
+
+    Parameters
+    ----------
+    base : Scenario
+        The nominal scenario.
+    """
+    from ..controllers import check_design
+
+    check_design(free_reference(base))
+    check_design(base.replace(configuration="tethered"))
+
+
 def run_montecarlo(
     base: Scenario,
     config: MonteCarloConfig,
@@ -398,6 +414,7 @@ def run_montecarlo(
     """
     if not isinstance(config, MonteCarloConfig):
         raise TypeError("config must be a MonteCarloConfig")
+    check_nominal_designs(base)
     from ...viz.plots import check_figure_format
 
     check_integer("runs", config.runs, low=1, high=MAX_RUNS)
