@@ -20,8 +20,9 @@ import numpy as np
 from ._cable import Cable, CableRun, drive_cable
 from ._moordyn import buoyant_gravity, drive_moordyn
 
-__all__ = ["MOORDYN_CASES", "PAPER_CABLE", "CaseFigures", "MoorDynCase", "compare_case",
-           "relative_rms", "shaking_top"]  # fmt: skip
+__all__ = ["HEAVY_CABLE", "MOORDYN_CASES", "PAPER_CABLE", "CaseFigures", "MoorDynCase",
+           "compare_case", "half_segment_inertia", "relative_rms", "shaking_top", "slack_push",
+           "steady_state"]  # fmt: skip
 
 #: the paper's cable: EA = K_C L0N = 40 N/m x 9.375 m (Table III), 20 g/m, 5 mm, N = 10
 PAPER_CABLE = Cable(unstretched_length=9.375, EA=375.0, segments=10)
@@ -295,3 +296,80 @@ def compare_case(
         ours=ours,
         reference=ref,
     )
+
+
+def slack_push(run: CableRun) -> tuple[np.ndarray, np.ndarray]:
+    """Where a run's segments are slack and what MoorDyn's dashpot does there: its force
+    BA (dl/dt) / l0 on a slack segment, positive when it pushes (ours: none, by design).
+
+    Parameters
+    ----------
+    run : CableRun
+        A run (MoorDyn's for the push to be real).
+
+    Returns
+    -------
+    slack : ndarray of bool, shape (n, N)
+        l < l0 per sample and segment.
+    push : ndarray, shape (n, N)
+        -BA (dl/dt) / l0 on the slack segments, 0 elsewhere [N].
+    """
+    cable = run.cable
+    l0 = cable.unstretched_length / cable.segments
+    ba = cable.lumped_tether().segment_dashpot(cable.unstretched_length) * l0
+    d = np.diff(run.nodes, axis=1)
+    length = np.linalg.norm(d, axis=2)
+    ldot = np.sum(np.diff(run.velocities, axis=1) * d / length[..., None], axis=2)
+    slack = length < l0
+    return slack, np.where(slack, -ba * ldot / l0, 0.0)
+
+
+def steady_state(run: CableRun, settle: float) -> tuple[np.ndarray, np.ndarray, float]:
+    """A run's means over t >= settle: the force at the top, the middle node's position and
+    the mean stretch l / l0 of the segments.
+
+    Parameters
+    ----------
+    run : CableRun
+        A run.
+    settle : float
+        Start of the averages [s].
+
+    Returns
+    -------
+    force : ndarray, shape (3,)
+        Mean force at the top [N].
+    middle : ndarray, shape (3,)
+        Mean position of node N // 2 [m].
+    stretch : float
+        Mean l / l0 over segments and samples.
+    """
+    s = run.t >= settle - 1e-9
+    nodes = run.nodes[s]
+    l0 = run.cable.unstretched_length / run.cable.segments
+    stretch = float(np.mean(np.linalg.norm(np.diff(nodes, axis=1), axis=2)) / l0)
+    return run.top_force[s].mean(axis=0), nodes[:, run.cable.segments // 2].mean(axis=0), stretch
+
+
+def half_segment_inertia(case: MoorDynCase, force_std: float) -> float:
+    """The top half-segment's inertial force, RMS over t >= settle, over the force's spread:
+    (mu l0 / 2) RMS(a_top) / force_std (the force neither code includes).
+
+    Parameters
+    ----------
+    case : MoorDynCase
+        A moving case.
+    force_std : float
+        The reference force's spread [N] (``CaseFigures.force_std``).
+
+    Returns
+    -------
+    float
+        The ratio.
+    """
+    cable = case.cable
+    half = 0.5 * cable.mass_per_length * cable.unstretched_length / cable.segments
+    w = 2.0 * math.pi * case.frequency
+    t = np.linspace(case.settle, case.duration, 4001)
+    a_top = case.amplitude * w**2 * np.sin(w * t)
+    return float(half * np.sqrt(np.mean(a_top**2)) / force_std)
