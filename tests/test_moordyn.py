@@ -7,10 +7,10 @@ that ``benchmarks/moordyn_validation.py`` writes into ``docs/studies/moordyn.md`
 
 Figures: the relative RMS difference of the force at the top (difference RMS over MoorDyn's
 standard deviation, ``relative_rms``), ours at the engine's default 10 ms sample against
-MoorDyn at dtM = 1e-4 s (RK4; converged to 1e-5 of the variation at 20 couplings per
-sample; its stationary solver at threshIC = 1e-7 for the start), after the 1 s ramp of the
-motion. Our chain flies with MoorDyn's net weight (``buoyant_gravity``: MoorDyn weighs the
-displaced air, 0.12 % of the paper cable's weight).
+MoorDyn at dtM = 1e-4 s (RK4; within 1e-4 of the variation of a run with 80 couplings
+per sample at 20, the docs page's; its stationary solver at threshIC = 1e-7 for the
+start), after the 1 s ramp of the motion. Our chain flies with MoorDyn's net weight
+(``buoyant_gravity``: MoorDyn weighs the displaced air, 0.12 % of the paper cable's weight).
 """
 
 from __future__ import annotations
@@ -46,8 +46,8 @@ from tetherheli.tether._moordyn_cases import (
     steady_state,
 )
 
-#: MoorDyn Step calls per 10 ms sample in the tests (the docs page's 20 converge to 1e-5;
-#: 10 to about 4e-4 of the variation, far below every tolerance here)
+#: MoorDyn Step calls per 10 ms sample in the tests (against 80: 2e-5..8e-5 of the
+#: variation at the docs page's 20, 1e-5..3.5e-4 at 10, far below every tolerance here)
 COUPLING = 10
 
 
