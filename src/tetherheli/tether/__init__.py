@@ -1,6 +1,8 @@
 """The cable alone (issue 23): a lumped-mass cable (``Cable``) flown between a fixed anchor
-and a prescribed top motion with the very chain step the engine uses (``drive_cable``)."""
+and a prescribed top motion with the very chain step the engine uses (``drive_cable``), and
+the same cable in MoorDyn v2 (``drive_moordyn``; the optional ``validation`` extra)."""
 
 from ._cable import Cable, CableRun, drive_cable
+from ._moordyn import buoyant_gravity, drive_moordyn, moordyn_input
 
-__all__ = ["Cable", "CableRun", "drive_cable"]
+__all__ = ["Cable", "CableRun", "buoyant_gravity", "drive_cable", "drive_moordyn", "moordyn_input"]

@@ -1,0 +1,342 @@
+"""The same cable in MoorDyn v2 (issue 23 item 6): ``drive_moordyn`` flies a ``Cable`` with
+MoorDyn-C's Python API (``pip install "tetherheli[validation]"``) between the same fixed
+anchor and prescribed top motion as ``drive_cable``, and returns a ``CableRun`` to compare.
+
+MoorDyn models a line in water; in air it is set up as (``moordyn_input``): fluid density
+rho (the air's), added mass Ca = CaAx = 0, bending stiffness EI = 0, MoorDyn's BA the
+segment dashpot times l0 (``LumpedTether.segment_dashpot``: the same axial damping force per
+unit strain rate), the tangential drag coefficient CdAx = Ct (both on the wetted area
+pi d l), the whole chain ``depth`` below MoorDyn's still surface and far above its seabed
+(nodes above the surface would get no drag), a uniform steady current for the wind
+(``Currents 1``, a ``current_profile.txt`` beside the input file), MoorDyn's stationary
+solver for the initial shape. MoorDyn weighs the displaced fluid (buoyancy rho A g per unit
+length, A = pi d^2 / 4); ours does not: ``buoyant_gravity`` is the g that gives our chain the
+same net weight.
+
+Differences by design (measured in ``docs/studies/moordyn.md``): a slack segment carries no
+tension and no damping in ours, while MoorDyn's dashpot BA (dl/dt) / l0 acts slack or taut (it
+can push); ours takes the drag per stretched length at the segment midpoints, MoorDyn per
+unstretched length at the nodes (with the node tangent); both report the force at the top
+without the top half-segment's inertia (MoorDyn gives that mass to the coupled point:
+``moordyn.GetPointM``; the engine leaves it out).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import itertools
+import math
+import os
+import sys
+import tempfile
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+import numpy as np
+
+from .._validation import check_integer, check_number, check_vector
+from ..errors import ParameterError
+from ..model.tether_lumped import chain_omega_max
+from ._cable import Cable, CableRun, _top_at
+
+__all__ = ["MOORDYN_DEPTH_M", "buoyant_gravity", "drive_moordyn", "import_moordyn",
+           "moordyn_input"]  # fmt: skip
+
+#: the length of the last MoorDyn step before each sample [s] (module docstring)
+_EVAL_S = 1e-9
+#: the largest MoorDyn step of the stationary solver [s] (at most 1 / omega_max of the chain)
+_IC_DT_S = 1e-3
+#: how far below MoorDyn's still water surface the anchor sits [m] (the seabed is 3x lower)
+MOORDYN_DEPTH_M = 1000.0
+
+
+def import_moordyn():
+    """The ``moordyn`` module (MoorDyn-C's Python API).
+
+    Returns
+    -------
+    module
+        ``moordyn``.
+
+    Raises
+    ------
+    ImportError
+        One line naming the package to install when it is missing.
+    """
+    try:
+        import moordyn
+    except ImportError:
+        raise ImportError(
+            "moordyn is needed for the MoorDyn comparison and is not installed: pip install "
+            '"tetherheli[validation]" (or pip install moordyn)'
+        ) from None
+    return moordyn
+
+
+def buoyant_gravity(cable: Cable, rho: float = 1.225, g: float = 9.81) -> float:
+    """The gravity that gives our chain (no buoyancy) MoorDyn's net weight per unit length in a
+    fluid of density rho: g (1 - rho A / mu), A = pi d^2 / 4.
+
+    Parameters
+    ----------
+    cable : Cable
+        The cable (diameter d, mass per length mu).
+    rho : float
+        Fluid density [kg/m^3], >= 0.
+    g : float
+        Gravity [m/s^2], >= 0.
+
+    Returns
+    -------
+    float
+        The buoyancy-corrected gravity [m/s^2].
+    """
+    rho = check_number("rho", rho, low=0.0, unit="[kg/m^3]")
+    g = check_number("g", g, low=0.0, unit="[m/s^2]")
+    area = math.pi * cable.diameter**2 / 4.0
+    return g * (1.0 - rho * area / cable.mass_per_length)
+
+
+def _f(x: float) -> str:
+    return repr(float(x))
+
+
+def moordyn_input(
+    cable: Cable,
+    anchor: np.ndarray,
+    top: np.ndarray,
+    *,
+    rho: float,
+    g: float,
+    dt_moordyn: float,
+    current: bool,
+    drag_scale: float = 1.0,
+) -> str:
+    """The text of a MoorDyn v2 input file for the cable between a fixed anchor and a coupled
+    top point (module docstring: the set-up in air).
+
+    Parameters
+    ----------
+    cable : Cable
+        The cable.
+    anchor, top : ndarray, shape (3,)
+        The anchor and the top's start position in MoorDyn's frame [m] (z up, 0 at the surface).
+    rho : float
+        Fluid density [kg/m^3].
+    g : float
+        Gravity [m/s^2].
+    dt_moordyn : float
+        MoorDyn's step dtM [s] (RK4; ``drive_moordyn`` writes the stationary solver's and sets
+        the run's after it).
+    current : bool
+        Whether MoorDyn reads a steady current (``Currents 1``: ``current_profile.txt`` beside
+        the input file).
+    drag_scale : float
+        Factor on both drag coefficients (the per-length drag comparison of the study).
+
+    Returns
+    -------
+    str
+        The input file's text.
+    """
+    lt = cable.lumped_tether(rho)
+    ba = lt.segment_dashpot(cable.unstretched_length) * cable.unstretched_length / cable.segments
+    cd = cable.drag_coefficient * drag_scale
+    ct = cable.tangential_drag_coefficient * drag_scale
+    a, b = anchor, top
+    return f"""--------------------- MoorDyn Input File ------------------------------------
+tetherheli: a cable in air (tetherheli.tether.moordyn_input)
+---------------------- LINE TYPES -----------------------------------
+TypeName Diam Mass/m EA BA/-zeta EI Cd Ca CdAx CaAx
+(name) (m) (kg/m) (N) (N-s/-) (N-m^2) (-) (-) (-) (-)
+cable {_f(cable.diameter)} {_f(cable.mass_per_length)} {_f(cable.EA)} {_f(ba)} 0 {_f(cd)} 0 {_f(ct)} 0
+---------------------- POINTS ---------------------------------------
+ID Attachment X Y Z Mass Volume CdA Ca
+(#) (-) (m) (m) (m) (kg) (m^3) (m^2) (-)
+1 Fixed {_f(a[0])} {_f(a[1])} {_f(a[2])} 0 0 0 0
+2 Coupled {_f(b[0])} {_f(b[1])} {_f(b[2])} 0 0 0 0
+---------------------- LINES ----------------------------------------
+ID LineType AttachA AttachB UnstrLen NumSegs LineOutputs
+(#) (name) (#) (#) (m) (-) (-)
+1 cable 1 2 {_f(cable.unstretched_length)} {cable.segments} -
+---------------------- OPTIONS -----------------------------------------
+0 writeLog
+{_f(dt_moordyn)} dtM
+RK4 tScheme
+{_f(g)} g
+{_f(rho)} rho
+{_f(3.0 * MOORDYN_DEPTH_M)} WtrDpth
+{1 if current else 0} Currents
+1e-7 threshIC
+2000 TmaxIC
+0 ICgenDynamic
+1 disableOutput
+1 disableOutTime
+------------------------- need this line -------------------------------------
+"""  # noqa: E501
+
+
+@contextlib.contextmanager
+def _quiet_stdout() -> Iterator[None]:
+    """MoorDyn-C prints its banner on the process's standard output: send it to devnull."""
+    sys.stdout.flush()
+    try:
+        fd = sys.stdout.fileno()
+    except (AttributeError, OSError, ValueError):
+        yield
+        return
+    saved = os.dup(fd)
+    try:
+        with open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), fd)
+            yield
+    finally:
+        sys.stdout.flush()
+        os.dup2(saved, fd)
+        os.close(saved)
+
+
+def drive_moordyn(
+    cable: Cable,
+    *,
+    anchor: object,
+    top: Callable[[float], tuple[object, object]],
+    duration: float,
+    dt: float,
+    wind: object = (0.0, 0.0, 0.0),
+    rho: float = 1.225,
+    g: float = 9.81,
+    dt_moordyn: float = 1e-4,
+    coupling: int = 20,
+    drag_scale: float = 1.0,
+) -> CableRun:
+    """Fly the cable in MoorDyn v2 between ``anchor`` and the prescribed ``top(t)``, sampled as
+    ``drive_cable`` (t_k = k dt), from MoorDyn's static shape for top(0) (in the wind, if any).
+
+    Each sample is ``coupling`` MoorDyn ``Step`` calls of h = dt / coupling, each in sub-steps
+    of at most ``dt_moordyn`` (RK4; the stationary solver of the start relaxes with the
+    larger min(1 ms, 1 / omega_max), omega_max the chain's highest axial frequency). MoorDyn
+    moves a coupled point linearly over a call, from the position given at its start with
+    the velocity given: the calls follow the chords
+    between top(t) and top(t + h) (the top's velocity errs by O(h) about a zero mean, a second
+    order error). MoorDyn's force at the top is that of its last RK4 stage, whose state is
+    first order in the step, and the chord's velocity lags by h / 2: the last call of each
+    sample is therefore split, its last 1e-9 s at the sample's own position and velocity
+    top(t_k), top'(t_k), so the force read is the sample's state's.
+
+    Parameters
+    ----------
+    cable : Cable
+        The cable.
+    anchor : array_like, shape (3,)
+        The fixed bottom node [m], frame N (n3 up).
+    top : callable
+        top(t [s]) -> (position (3,) [m], velocity (3,) [m/s]) of the top node in N.
+    duration : float
+        Run length [s], > 0.
+    dt : float
+        Sample time [s], > 0.
+    wind : array_like, shape (3,)
+        Uniform steady wind [m/s] (MoorDyn's current).
+    rho : float
+        Air density [kg/m^3], > 0 (MoorDyn's fluid density: drag and buoyancy).
+    g : float
+        Gravity [m/s^2], >= 0.
+    dt_moordyn : float
+        MoorDyn's largest step dtM [s], > 0.
+    coupling : int
+        MoorDyn ``Step`` calls per sample, >= 1.
+    drag_scale : float
+        Factor on MoorDyn's drag coefficients, > 0 (1: the cable's).
+
+    Returns
+    -------
+    CableRun
+        Times, end forces (the top's from ``GetPointForce``, the anchor's the net force on
+        the line's node 0), nodes and velocities at the samples; ``substeps`` = ``coupling``.
+
+    Raises
+    ------
+    ParameterError
+        Bad input (one line naming the argument).
+    ImportError
+        ``moordyn`` is not installed.
+    RuntimeError
+        MoorDyn failed (its error code).
+    """
+    if not isinstance(cable, Cable):
+        raise ParameterError("cable", cable, "a tetherheli.tether.Cable")
+    a = np.array(check_vector("anchor", anchor, 3), dtype=float)
+    duration = check_number("duration", duration, low=0.0, low_open=True, unit="[s]")
+    dt = check_number("dt", dt, low=0.0, low_open=True, unit="[s]")
+    w = np.array(check_vector("wind", wind, 3), dtype=float)
+    rho = check_number("rho", rho, low=0.0, low_open=True, unit="[kg/m^3]")
+    g = check_number("g", g, low=0.0, unit="[m/s^2]")
+    dtm = check_number("dt_moordyn", dt_moordyn, low=0.0, low_open=True, unit="[s]")
+    m = check_integer("coupling", coupling, low=1)
+    drag_scale = check_number("drag_scale", drag_scale, low=0.0, low_open=True)
+    if not callable(top):
+        raise ParameterError("top", top, "a function top(t) -> (position[3], velocity[3])")
+    md = import_moordyn()
+    n = cable.segments
+    off = np.array([0.0, 0.0, -MOORDYN_DEPTH_M]) - a  # ours -> MoorDyn's frame
+    r0 = _top_at(top, 0.0)[0]
+    if np.allclose(r0, a):
+        raise ParameterError("top", f"top(0) = {r0.tolist()}", "a start away from the anchor")
+    k_max = math.floor(duration / dt + 1e-9)
+    h = dt / m
+    t = np.arange(k_max + 1) * dt
+    nodes = np.empty((k_max + 1, n + 1, 3))
+    vels = np.empty_like(nodes)
+    f_top = np.empty((k_max + 1, 3))
+    f_anchor = np.empty((k_max + 1, 3))
+    with tempfile.TemporaryDirectory(prefix="tetherheli-moordyn-") as folder:
+        path = Path(folder) / "cable.txt"
+        current = bool(np.any(w != 0.0))
+        if current:
+            z = (-4.0 * MOORDYN_DEPTH_M, 0.0)
+            rows = "".join(f"{_f(zi)} {_f(w[0])} {_f(w[1])} {_f(w[2])}\n" for zi in z)
+            (Path(folder) / "current_profile.txt").write_text(
+                "--- MoorDyn steady currents (tetherheli) ---\nuniform\nz ux uy uz\n" + rows
+            )
+        # the stationary solver relaxes with dtM: the file has min(_IC_DT_S, 1 / omega_max),
+        # the run's dt_moordyn is set after it (SetDt)
+        p = cable.lumped_tether(rho).packed(g)
+        ic_dt = min(_IC_DT_S, 1.0 / chain_omega_max(p, cable.unstretched_length, n))
+        path.write_text(moordyn_input(cable, a + off, r0 + off, rho=rho, g=g, dt_moordyn=ic_dt,
+                                      current=current, drag_scale=drag_scale))  # fmt: skip
+        with _quiet_stdout():
+            system = md.Create(str(path))
+            err = md.Init(system, list(r0 + off), [0.0, 0.0, 0.0])
+        if err != 0:
+            md.Close(system)
+            raise RuntimeError(f"moordyn.Init failed with error code {err}")
+        md.SetDt(system, dtm)
+    point = md.GetPoint(system, 2)
+    line = md.GetLine(system, 1)
+    try:
+        for k in range(k_max + 1):
+            for i in range(n + 1):
+                nodes[k, i] = md.GetLineNodePos(line, i)
+                vels[k, i] = md.GetLineNodeVel(line, i)
+            f_top[k] = md.GetPointForce(point)
+            f_anchor[k] = md.GetLineNodeForce(line, 0)
+            if k == k_max:
+                break
+            # chords over [ta, tb]; the last call ends with a step of _EVAL_S at the sample's
+            # velocity: its last RK4 stage, hence the force read, is the sample's state
+            ends = [k * dt + j * h for j in range(m)] + [(k + 1) * dt - _EVAL_S, (k + 1) * dt]
+            for ta, tb in itertools.pairwise(ends):
+                rb, vb = _top_at(top, tb)
+                if tb < ends[-1]:
+                    ra = _top_at(top, ta)[0]
+                    vb = (rb - ra) / (tb - ta)
+                md.Step(system, list(rb - vb * (tb - ta) + off), list(vb), ta, tb - ta)
+            if not (np.all(np.isfinite(nodes[k])) and np.all(np.isfinite(f_top[k]))):
+                raise FloatingPointError(f"drive_moordyn: MoorDyn diverged at t = {t[k]:g} s")
+    finally:
+        with _quiet_stdout():
+            md.Close(system)
+    nodes -= off
+    return CableRun(t=t, top_force=f_top, anchor_force=f_anchor, nodes=nodes,
+                    velocities=vels, cable=cable, dt=dt, substeps=m)  # fmt: skip
