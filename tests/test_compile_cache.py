@@ -1,5 +1,6 @@
 """Issue 10, item 2: Numba's on-disk cache cannot go stale. Numba keys a cached function on
-its own file only; tetherheli keys its whole cache on a fingerprint of every source file."""
+its own file only; tetherheli keys its whole cache on a fingerprint of the source files the
+compiled code depends on (issue 24, item 5: an edit elsewhere keeps the cache)."""
 
 from __future__ import annotations
 
@@ -49,25 +50,101 @@ def test_an_edit_to_a_compiled_dependency_takes_effect_with_no_manual_step(tmp_p
     cache = tmp_path / "cache"
     assert _probe(copy_root, cache) == "0"  # STATUS_OK, compiled and cached
     assert _probe(copy_root, cache) == "0"  # ... loaded from the cache
-    assert len(list((cache / "tetherheli-numba").iterdir())) == 1
+    assert len([p for p in (cache / "tetherheli-numba").iterdir() if p.is_dir()]) == 1
     with (copy_root / "tetherheli" / "model" / "kernels.py").open("a") as fh:
         fh.write(EDIT)
     assert _probe(copy_root, cache) != "0"  # the edit took effect: no stale machine code
-    assert len(list((cache / "tetherheli-numba").iterdir())) == 2
+    assert len([p for p in (cache / "tetherheli-numba").iterdir() if p.is_dir()]) == 2
 
 
-def test_fingerprint_covers_every_source_file(tmp_path: Path):
+def test_fingerprint_covers_the_compiled_code_and_what_it_reads(tmp_path: Path):
+    """Issue 24, item 5: the cache is keyed on the files compiled code depends on. In a
+    small package: a compiled function, the constant it reads (through an import and a
+    module-level expression), the function it calls in a third file; a command-line file
+    beside them that no compiled code uses."""
     root = tmp_path / "pkg"
     (root / "sub").mkdir(parents=True)
-    (root / "a.py").write_text("x = 1\n")
-    (root / "sub" / "b.py").write_text("y = 2\n")
+    (root / "__init__.py").write_text("")
+    (root / "sub" / "__init__.py").write_text("")
+    (root / "_compile.py").write_text("def compiled(**kw):\n    return lambda f: f\n")
+    (root / "layout.py").write_text("BASE = 2\nSIZE = BASE + 1\n")
+    (root / "sub" / "helper.py").write_text(
+        "from .._compile import compiled\n@compiled()\ndef twice(x):\n    return 2 * x\n"
+    )
+    (root / "kernel.py").write_text(
+        "from ._compile import compiled\nfrom .layout import SIZE\nfrom .sub import helper\n"
+        "_jit = compiled()\n\n@_jit\ndef f(x):\n    return helper.twice(x) + SIZE\n"
+    )
+    (root / "cli.py").write_text("from .kernel import f\n\ndef main():\n    print(f(1))\n")
+    rel = sorted(p.relative_to(root).as_posix() for p in _compile.compiled_sources(root))
+    assert rel == ["_compile.py", "kernel.py", "layout.py", "sub/helper.py"]
     first = _compile.source_fingerprint(root)
     assert _compile.source_fingerprint(root) == first
-    (root / "sub" / "b.py").write_text("y = 3\n")
+    (root / "cli.py").write_text("from .kernel import f\n\ndef main():\n    print(f(2))\n")
+    assert _compile.source_fingerprint(root) == first  # no compiled code changed
+    (root / "layout.py").write_text("BASE = 3\nSIZE = BASE + 1\n")
     second = _compile.source_fingerprint(root)
-    assert second != first
-    (root / "sub" / "c.py").write_text("")
+    assert second != first  # a constant the compiled code reads
+    (root / "sub" / "helper.py").write_text(
+        "from .._compile import compiled\n@compiled()\ndef twice(x):\n    return 3 * x\n"
+    )
     assert _compile.source_fingerprint(root) not in (first, second)
+    (root / "kernel.py").write_text(  # a star import: the walk cannot tell, so every file
+        "from ._compile import compiled\nfrom .layout import *\n\n"
+        "@compiled()\ndef f(x):\n    return x + SIZE\n"
+    )
+    assert len(_compile.compiled_sources(root)) == len(list(root.rglob("*.py")))
+
+
+def test_every_compiled_function_and_what_it_calls_is_in_the_key():
+    """A second route to ``compiled_sources``: the package's Numba dispatchers themselves,
+    imported. Each one's own file, and the file of every package function, dispatcher or
+    module that its code names, are in the key."""
+    import importlib
+    import inspect
+    import types
+
+    from numba.core.registry import CPUDispatcher
+
+    keyed = {p.resolve() for p in _compile.compiled_sources()}
+    assert len(keyed) < len(list(PACKAGE.rglob("*.py")))  # the CLI and studies are not
+    for mod in ("sim.engine", "sim.batch", "vector_env", "envs", "model.kernels", "sensors",
+                "model.tether_lumped", "model.winch", "control.paper"):  # fmt: skip
+        importlib.import_module(f"tetherheli.{mod}")
+    dispatchers = {
+        id(v): v
+        for name, m in list(sys.modules.items())
+        if name.startswith("tetherheli") and m is not None
+        for v in vars(m).values()
+        if isinstance(v, CPUDispatcher)
+    }
+    assert len(dispatchers) > 50
+
+    def names(code: types.CodeType):
+        yield from code.co_names
+        for c in code.co_consts:
+            if isinstance(c, types.CodeType):
+                yield from names(c)
+
+    def source(obj) -> Path | None:
+        if isinstance(obj, CPUDispatcher):
+            obj = obj.py_func
+        if isinstance(obj, types.ModuleType):
+            path = getattr(obj, "__file__", None)
+        elif inspect.isfunction(obj):
+            path = inspect.getsourcefile(obj)
+        else:
+            return None
+        if path is None or not Path(path).resolve().is_relative_to(PACKAGE):
+            return None
+        return Path(path).resolve()
+
+    for d in dispatchers.values():
+        assert source(d) in keyed, d.py_func.__qualname__
+        for n in names(d.py_func.__code__):
+            value = d.py_func.__globals__.get(n)
+            path = source(value) if value is not None else None
+            assert path is None or path in keyed, (d.py_func.__qualname__, n, path)
 
 
 def test_warm_up_jobs_fly_their_runs():

@@ -4,9 +4,13 @@ Numba keys a cached function on its own source file only, so a compiled function
 inlines or calls compiled code from another file (the engine inlines the controller, the
 sensors and the generated model) would keep stale machine code after that other file
 changes. Here every compiled function of the package is cached in one folder named after a
-fingerprint of *all* the package's source files (and the Numba and Python versions): an edit
-anywhere selects a fresh folder on the next import, so the edit takes effect with no manual
-step. The folder is ``$NUMBA_CACHE_DIR`` (else ``$XDG_CACHE_HOME``, else ``~/.cache``)
+fingerprint of the source files the compiled code depends on (``compiled_sources``: each
+file that defines a compiled function, and every file that the names used in compiled code,
+or in the constants they read, come from, followed through imports; with the Numba and
+Python versions): an edit to any of them selects a fresh folder on the next import, so the
+edit takes effect with no manual step, while an edit to the command line, the studies, the
+plots or the docs keeps the cache. The folder is ``$NUMBA_CACHE_DIR`` (else
+``$XDG_CACHE_HOME``, else ``~/.cache``)
 ``/tetherheli-numba/<fingerprint>``; folders of other fingerprints unused for
 ``STALE_AFTER_DAYS`` are removed. Where no cache folder can be written, functions compile
 in memory (never from a stale cache).
@@ -21,8 +25,10 @@ test compares lanes bit for bit with single runs).
 
 from __future__ import annotations
 
+import ast
 import contextlib
 import hashlib
+import json
 import os
 import shutil
 import sys
@@ -36,7 +42,13 @@ import llvmlite.binding as llvm
 import numba
 from numba import njit
 
-__all__ = ["PACKAGE_ROOT", "cache_directory", "compiled", "source_fingerprint"]
+__all__ = [
+    "PACKAGE_ROOT",
+    "cache_directory",
+    "compiled",
+    "compiled_sources",
+    "source_fingerprint",
+]
 
 PACKAGE_ROOT = Path(__file__).resolve().parent
 STALE_AFTER_DAYS = 14
@@ -53,16 +65,257 @@ for _option in VECTORIZER_OPTIONS:
 
 
 def source_fingerprint(root: Path = PACKAGE_ROOT) -> str:
-    """sha256 (16 hex digits) of every ``*.py`` below ``root`` (paths and contents), with
-    the Numba and Python versions, the LLVM options and a ``TETHERHELI_LANES`` override."""
+    """sha256 (16 hex digits) of the ``*.py`` below ``root`` that compiled code depends on
+    (``compiled_sources``; paths and contents), with the Numba and Python versions, the LLVM
+    options and a ``TETHERHELI_LANES`` override."""
     lanes = os.environ.get("TETHERHELI_LANES", "")  # ``layout.LANES``: a compiled constant
     digest = hashlib.sha256(
         f"{numba.__version__} {sys.version} {VECTORIZER_OPTIONS} {lanes}".encode()
     )
-    for path in sorted(root.rglob("*.py")):
+    for path in compiled_sources(root):
         digest.update(path.relative_to(root).as_posix().encode() + b"\0")
         digest.update(path.read_bytes() + b"\0")
     return digest.hexdigest()[:16]
+
+
+#: the decorator factory whose products mark a function as compiled (``compiled``, Numba's)
+_DECORATORS = frozenset({"compiled", "njit", "jit"})
+
+
+def compiled_sources(root: Path = PACKAGE_ROOT) -> list[Path]:
+    """The source files below ``root`` whose edit can change compiled machine code, sorted.
+
+    A walk over the syntax trees (``ast``), conservative where it cannot tell: it starts at
+    every function that a module compiles (decorated by ``compiled``/``njit`` or a name bound
+    to one, or passed to such a name, e.g. ``kernels.free_rhs = _jit(gen.free_rhs)``) and
+    follows each name such a function uses to where it is defined: a function or class (its
+    whole body followed), a module-level assignment (its value followed), an import from a
+    module below ``root`` (that module's file, and the name there), a module (the attribute
+    used). ``_compile.py`` itself is always included (the options); a file that cannot be
+    parsed, or a star import, falls back to every file.
+
+    Parameters
+    ----------
+    root : Path
+        The package folder.
+
+    Returns
+    -------
+    list of Path
+    """
+    root = Path(root)
+    every = sorted(root.rglob("*.py"))
+    # the walk parses a dozen files (about 0.5 s): its answer is kept beside the caches,
+    # keyed on every file's path, size and modification time
+    stamps = hashlib.sha256(str(root.resolve()).encode())
+    for path in every:
+        st = path.stat()
+        stamps.update(f"{path.relative_to(root).as_posix()} {st.st_size} {st.st_mtime_ns}\n"
+                      .encode())  # fmt: skip
+    record = _cache_base() / f"sources-{stamps.hexdigest()[:16]}.json"
+    with contextlib.suppress(OSError, ValueError):
+        return [root / rel for rel in json.loads(record.read_text(encoding="utf-8"))]
+    try:
+        files = _DependencyWalk(root).files()
+    except _Unsure:
+        files = every
+    with contextlib.suppress(OSError):
+        record.parent.mkdir(parents=True, exist_ok=True)
+        tmp = record.with_name(f".{record.name}.{os.getpid()}.tmp")
+        tmp.write_text(json.dumps([f.relative_to(root).as_posix() for f in files]))
+        os.replace(tmp, record)
+    return files
+
+
+class _Unsure(Exception):
+    """The walk cannot tell a dependency: fall back to every file."""
+
+
+class _Module:
+    """The top-level bindings of one source file."""
+
+    def __init__(self, path: Path, name: str, package: str) -> None:
+        self.path = path
+        self.tree = ast.parse(path.read_bytes(), filename=str(path))
+        self.defs: dict[str, list[ast.AST]] = {}  # name -> definitions and assignments
+        self.imports: dict[str, tuple[str, str | None]] = {}  # name -> (module, attribute)
+        self.factories: set[str] = set(_DECORATORS)  # names bound to compiled(...)
+        for node in self.tree.body:
+            self._bind(node, name, package)
+
+    def _bind(self, node: ast.AST, name: str, package: str) -> None:
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            self.defs.setdefault(node.name, []).append(node)
+        elif isinstance(node, (ast.Assign, ast.AnnAssign, ast.AugAssign)):
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+            for t in targets:
+                for n in ast.walk(t):
+                    if isinstance(n, ast.Name):
+                        self.defs.setdefault(n.id, []).append(node)
+            value = node.value
+            if isinstance(value, ast.Call) and _called_name(value.func) in _DECORATORS:
+                for t in targets:
+                    if isinstance(t, ast.Name):
+                        self.factories.add(t.id)
+        elif isinstance(node, ast.ImportFrom):
+            base = _absolute(node, name, package)
+            for a in node.names:
+                if a.name == "*":
+                    raise _Unsure
+                self.imports[a.asname or a.name] = (base, a.name)
+        elif isinstance(node, ast.Import):
+            for a in node.names:
+                if a.asname:
+                    self.imports[a.asname] = (a.name, None)
+                else:
+                    self.imports[a.name.partition(".")[0]] = (a.name.partition(".")[0], None)
+        elif isinstance(node, (ast.If, ast.Try, ast.With)):
+            for child in ast.iter_child_nodes(node):
+                if isinstance(child, ast.stmt):
+                    self._bind(child, name, package)
+
+    def compiled_roots(self) -> list[ast.AST]:
+        """The compiled functions' definitions and the calls that compile a function."""
+        roots: list[ast.AST] = []
+        for node in ast.walk(self.tree):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                if any(_called_name(d) in self.factories for d in node.decorator_list):
+                    roots.append(node)
+            elif isinstance(node, ast.Call) and _called_name(node.func) in self.factories:
+                roots.extend(node.args)  # _jit(gen.free_rhs), compiled(...)(function)
+                if isinstance(node.func, ast.Call):
+                    roots.extend(node.func.args)
+        return roots
+
+
+def _called_name(node: ast.AST) -> str | None:
+    """The name a decorator or call refers to: ``f``, ``m.f``, ``f(...)`` -> ``f``."""
+    if isinstance(node, ast.Call):
+        return _called_name(node.func)
+    if isinstance(node, ast.Attribute):
+        return node.attr
+    if isinstance(node, ast.Name):
+        return node.id
+    return None
+
+
+def _absolute(node: ast.ImportFrom, name: str, package: str) -> str:
+    if not node.level:
+        return node.module or ""
+    parts = package.split(".")
+    base = parts[: len(parts) - node.level + 1]
+    return ".".join(base + ([node.module] if node.module else []))
+
+
+class _DependencyWalk:
+    def __init__(self, root: Path) -> None:
+        self.root = root
+        self.top = root.name
+        self.modules: dict[str, _Module | None] = {}
+        self.seen: set[tuple[str, str | None]] = set()
+        self.needed: set[Path] = {root / "_compile.py"}
+
+    def module(self, name: str) -> _Module | None:
+        """The module ``name`` if it lies below the root (parsed once), else None."""
+        if name in self.modules:
+            return self.modules[name]
+        found = None
+        if name == self.top or name.startswith(self.top + "."):
+            rel = Path(*name.split(".")[1:])
+            package_init = self.root / rel / "__init__.py"
+            module_file = (self.root / rel).with_suffix(".py") if rel.parts else None
+            try:
+                if package_init.is_file():
+                    found = _Module(package_init, name, name)
+                elif module_file is not None and module_file.is_file():
+                    found = _Module(module_file, name, name.rpartition(".")[0])
+            except SyntaxError:
+                raise _Unsure from None
+        self.modules[name] = found
+        return found
+
+    def files(self) -> list[Path]:
+        for path in sorted(self.root.rglob("*.py")):
+            rel = path.relative_to(self.root).with_suffix("")
+            parts = [self.top, *rel.parts]
+            if parts[-1] == "__init__":
+                parts.pop()
+            name = ".".join(parts)
+            text = path.read_text(encoding="utf-8", errors="replace")
+            if not any(d in text for d in _DECORATORS):
+                continue
+            m = self.module(name)
+            if m is None:
+                continue
+            roots = m.compiled_roots()
+            if roots:
+                self.needed.add(m.path)
+                for node in roots:
+                    self.follow_node(name, m, node)
+        return sorted(self.needed)
+
+    def follow_node(self, name: str, m: _Module, node: ast.AST) -> None:
+        """Follow every name that ``node`` (a definition, an expression) uses in module m."""
+        for n in ast.walk(node):
+            if isinstance(n, ast.Attribute):
+                chain = []
+                base: ast.AST = n
+                while isinstance(base, ast.Attribute):
+                    chain.append(base.attr)
+                    base = base.value
+                if isinstance(base, ast.Name):
+                    self.follow_attribute(name, m, base.id, chain[::-1])
+            elif isinstance(n, ast.Name):
+                self.follow(name, n.id)
+
+    def follow_attribute(self, name: str, m: _Module, head: str, attrs: list[str]) -> None:
+        """``head.a.b`` in module m: a module alias's attribute, else ``head`` itself."""
+        target = m.imports.get(head)
+        if target is not None:
+            module, attr = target
+            dotted = module if attr is None else f"{module}.{attr}"
+            for a in attrs:  # the longest module prefix, then the name in it
+                if self.module(f"{dotted}.{a}") is None:
+                    if self.module(dotted) is not None:
+                        self.follow(dotted, a)
+                    break
+                dotted = f"{dotted}.{a}"
+            else:
+                if self.module(dotted) is not None:
+                    self.needed.add(self.modules[dotted].path)  # type: ignore[union-attr]
+        self.follow(name, head)
+
+    def follow(self, name: str, symbol: str) -> None:
+        """The definition of ``symbol`` in module ``name``, followed once."""
+        if (name, symbol) in self.seen:
+            return
+        self.seen.add((name, symbol))
+        m = self.module(name)
+        if m is None:
+            return
+        if symbol in m.defs:
+            self.needed.add(m.path)
+            for node in m.defs[symbol]:
+                value = (
+                    node
+                    if not isinstance(node, (ast.Assign, ast.AnnAssign, ast.AugAssign))
+                    else node.value
+                )
+                if value is not None:
+                    self.follow_node(name, m, value)
+        if symbol in m.imports:
+            module, attr = m.imports[symbol]
+            if attr is None:
+                if self.module(module) is not None:
+                    self.needed.add(self.modules[module].path)  # type: ignore[union-attr]
+                return
+            sub = self.module(f"{module}.{attr}")
+            if sub is not None:  # ``from . import layout``: the module itself
+                self.needed.add(sub.path)
+                return
+            if self.module(module) is not None:
+                self.needed.add(self.modules[module].path)  # type: ignore[union-attr]
+                self.follow(module, attr)
 
 
 def _cache_base() -> Path:
@@ -87,12 +340,17 @@ def cache_directory() -> Path | None:
 
 
 def _prune(base: Path, keep: Path) -> None:
-    """Remove the cache folders of other source trees unused for ``STALE_AFTER_DAYS``."""
+    """Remove the cache folders of other source trees unused for ``STALE_AFTER_DAYS`` (and
+    ``compiled_sources``' records as old)."""
     cutoff = time.time() - STALE_AFTER_DAYS * 86400
     with contextlib.suppress(OSError):
         for folder in base.iterdir():
-            if folder != keep and folder.is_dir() and folder.stat().st_mtime < cutoff:
+            if folder == keep or folder.stat().st_mtime >= cutoff:
+                continue
+            if folder.is_dir():
                 shutil.rmtree(folder, ignore_errors=True)
+            elif folder.name.startswith("sources-"):  # ``compiled_sources``' records
+                folder.unlink()
 
 
 @contextlib.contextmanager
