@@ -64,7 +64,7 @@ from tetherheli.cli import main  # noqa: E402
 from tetherheli.sim.result import load_result  # noqa: E402
 
 _ON_DEMAND = int(os.environ.get("TETHERHELI_FUZZ_EXAMPLES", "0") or 0)
-_CI_EXAMPLES = 100
+_CI_EXAMPLES = 120
 _SETTINGS = settings(
     max_examples=_ON_DEMAND or _CI_EXAMPLES,
     derandomize=not _ON_DEMAND,
@@ -193,15 +193,17 @@ def _unpin(path: Path) -> None:
 # --- the earlier runs, once per session -----------------------------------------------------
 
 
-@dataclass(frozen=True)
 class Earlier:
-    inputs: Path  # the scenario files
-    folders: dict[str, Path]  # command -> its fresh output folder (copied as a start state)
-    records: dict[str, dict[str, dict]]  # command -> the files its fresh folder's record lists
-    dead: int  # the id of a process that has ended
-    live: int  # the id of another process that runs (this one's parent)
+    """The session's earlier runs (a plain class: Hypothesis prints it by its repr)."""
 
-    def __repr__(self) -> str:  # Hypothesis prints the fixtures of a failing example
+    def __init__(self, inputs: Path, folders: dict[str, Path], dead: int, live: int) -> None:
+        self.inputs = inputs  # the scenario files
+        self.folders = folders  # command -> its fresh output folder (copied as a start state)
+        self.records = {c: _record(f) for c, f in folders.items()}  # -> what each lists
+        self.dead = dead  # the id of a process that has ended
+        self.live = live  # the id of another process that runs (this one's parent)
+
+    def __repr__(self) -> str:
         return f"Earlier({self.inputs.parent})"
 
 
@@ -213,16 +215,16 @@ def earlier(tmp_path_factory: pytest.TempPathFactory) -> Earlier:
     for name, cfg in (("one", "tethered"), ("a", "free"), ("b", "tethered")):
         (inputs / f"{name}.toml").write_text(SCENARIO.format(name=name, cfg=cfg))
     (inputs / "mc.toml").write_text(MONTECARLO)
-    folders, records = {}, {}
+    folders = {}
     with pytest.MonkeyPatch.context() as m:
         _blank_figures(m)
         for command in COMMANDS:
             folders[command] = base / command
             code = main(_argv(command, inputs, folders[command], force=False))
             assert code == 0, command
-            records[command] = _record(folders[command])
-            assert records[command], command
-    return Earlier(inputs, folders, records, _dead_pid(), os.getppid())
+    done = Earlier(inputs, folders, _dead_pid(), os.getppid())
+    assert all(done.records.values()), done.records
+    return done
 
 
 # --- the folder states ----------------------------------------------------------------------
@@ -258,6 +260,7 @@ OPS = (
     "link_file",
     "file_for_dir",
     "pin",
+    "pin",  # twice: a pinned entry is what makes a swap fail half-way
     "dead_partial",
     "dead_partial_file",
     "dead_tmp",
@@ -279,10 +282,12 @@ class State:
 @st.composite
 def folder_states(draw) -> State:
     ops = tuple(o for o in OPS if o != "pin" or PINNING is not None)
+    command = draw(st.sampled_from(sorted(COMMANDS)))
     return State(
-        command=draw(st.sampled_from(sorted(COMMANDS))),
+        command=command,
         start=draw(st.sampled_from(STARTS)),
-        start_of=draw(st.sampled_from(sorted(COMMANDS))),
+        # mostly a re-run of the same command (the usual workflow), sometimes another's folder
+        start_of=draw(st.sampled_from([command, command, *sorted(COMMANDS)])),
         force=draw(st.booleans()),
         ops=tuple(
             draw(
@@ -379,8 +384,9 @@ def _apply(
         else:
             path.unlink()
     elif op in ("link_dir", "link_file", "file_for_dir"):
-        choices = entries if op != "file_for_dir" else dirs
-        path = choices[pick % len(choices)] if choices and pick % 3 else at
+        # a folder by a link to a folder or by a file; a file by a link to a file
+        choices = [p for p in (files if op == "link_file" else dirs) if p.parent == real]
+        path = choices[pick // 2 % len(choices)] if choices and pick % 2 else at
         if any(p in pinned for p in (path, path.parent, *path.parents)):
             return
         if path in entries:
@@ -400,15 +406,17 @@ def _apply(
         else:
             path.write_bytes(b"a file where a folder was\n")
     elif op == "pin":
+        near = pick % 2 == 0  # half the time the folder itself or an entry at its top
         choices = [p for p in [real, *entries] if os.path.lexists(p) and not p.is_symlink()]
+        choices = [p for p in choices if p == real or p.parent == real or not near]
         if choices:
-            path = choices[pick % len(choices)]
+            path = choices[pick // 2 % len(choices)]
             _pin(path)
             pinned.append(path)
     elif op in ("dead_partial", "dead_partial_file"):
         path = real.parent / f".{real.name}.{TEMPORARY_TAG}-{earlier.dead}-x{pick}.partial"
-        if op == "dead_partial":
-            path.mkdir(exist_ok=True)
+        if op == "dead_partial" and not os.path.lexists(path):
+            path.mkdir()
             (path / "one.csv").write_text("half a run\n")
         elif not os.path.lexists(path):
             path.write_text("a killed run's\n")
@@ -502,8 +510,15 @@ def _dead_temporary(rel: str, dead: int, out_rel: str) -> bool:
     return False
 
 
+#: A Monte Carlo's note on a chunk it computes again (docs/cli.md): a line before the error.
+_RECOMPUTED = re.compile(r"tetherheli: \S+/partial/chunk_[0-9_]+\.csv .*; computing it again")
+
+
 def _check_refusal(code: int, out: str, stdout: str, err: str) -> None:
     assert code == 2, (code, err)
+    notes = err.splitlines()[:-1]
+    assert all(_RECOMPUTED.fullmatch(n) for n in notes), err
+    err = err.splitlines(True)[-1]
     assert err.count("\n") == 1 and err.startswith("tetherheli: error: "), err
     assert "Traceback" not in err and f"{TEMPORARY_TAG}-{os.getpid()}-" not in err, err
     assert "--out" in err or out.split("/OUT")[0] in err, err
@@ -571,6 +586,10 @@ def _check_whole(
         if own or (state.command == "mc" and _CHUNK.fullmatch(inner)):
             continue
         assert after.get(rel) == entry, f"{inner}, not tetherheli's, changed"
+    # nothing new outside the folder (a write through a link would land there)
+    for rel in sorted(set(after) - set(before)):
+        inside = rel.startswith(out_rel + "/") or rel == out_rel
+        assert inside, f"{rel} appeared outside the folder"
     # what a process that no longer runs left is gone (unless pinned in place)
     for rel in after:
         if _dead_temporary(rel, earlier.dead, out_rel):
