@@ -11,7 +11,10 @@ goes), an own file edited (bytes appended, or only its time changed) or removed,
 replaced by a link to a folder or a file outside, or by a file where a folder was, an entry
 pinned read-only, leftover temporaries of a dead process (``.OUT.tetherheli-<pid>-<r>.partial``
 beside it, as a folder or a file; ``.results.csv.tetherheli-<pid>-<r>.tmp`` and nested build
-folders inside), a live process's temporary and a user's file that only looks like one.
+folders inside), a live process's temporary and a user's file that only looks like one; and
+last, now and then, a run of the command killed at its n-th rename (no undo, no clean-up;
+its temporaries renamed to a dead process's), which the next run must undo or find
+committed.
 
 The property (docs/cli.md, "Output directories"): exit 0 means the folder holds the whole
 run (its record lists every file it wrote, each unchanged; the runs load through
@@ -21,7 +24,8 @@ of a process that no longer runs is left; any other exit is 2 with one line on s
 ``--out`` or a path (no traceback), and the whole scratch tree (the folder and the link
 targets outside it) is as before, to the byte, mode and file time, except that a dead
 process's temporaries may be gone (and a Monte Carlo's resumable ``partial/`` chunks and
-``job.json`` may have been written or recomputed). Trees are compared by walking with
+``job.json`` may have been written or recomputed); after a killed run the tree may instead
+be as it was before that run began. Trees are compared by walking with
 ``os.lstat``, never following a link.
 
 Read-only: root ignores file modes, so an entry is pinned with ``chattr +i`` where that
@@ -113,6 +117,8 @@ COMMANDS = {
 #: The run names each simulate command writes (load_result stems) and where.
 RUNS = {"single": {"one": "."}, "pair": {"a": "a", "b": "b"}}
 
+#: The journal a swap keeps in its temporary folder (``_io.output_directory``).
+_SWAP_JOURNAL = ".tetherheli-swap/journal.json"
 _CHUNK = re.compile(r"partial/(chunk_[0-9]+_[0-9]+\.csv|job\.json)")
 
 
@@ -277,6 +283,7 @@ class State:
     start_of: str  # which earlier run an "own" or "link" start copies
     force: bool
     ops: tuple[tuple[str, int, str], ...]  # (operation, which entry, which place)
+    kill: int | None = None  # last, a run of the command killed at this rename of os.replace
 
 
 @st.composite
@@ -301,6 +308,7 @@ def folder_states(draw) -> State:
                 )
             )
         ),
+        kill=draw(st.none() | st.integers(0, 24)),
     )
 
 
@@ -621,13 +629,51 @@ def _unpin_all(pinned: list[Path], ex: Path) -> None:
                 p.chmod(stat.S_IMODE(os.lstat(p).st_mode) | 0o700)
 
 
+class _Killed(BaseException):
+    """SIGKILL, as far as the run can tell: nothing of it runs after (no undo, no clean-up)."""
+
+
+def _kill_a_run(state: State, out: Path, ex: Path, earlier: Earlier) -> None:
+    """Leave what a run of the command killed at rename ``state.kill`` leaves: its swap
+    half done, its temporary folder and files in place, named after a process now gone."""
+    import tetherheli._io as io
+
+    replace, calls = os.replace, []
+
+    def replace_or_die(a, b):
+        calls.append(b)
+        if len(calls) > state.kill:
+            raise _Killed
+        replace(a, b)
+
+    with pytest.MonkeyPatch.context() as m:
+        _blank_figures(m)
+        m.setattr(io.os, "replace", replace_or_die)
+        m.setattr(io, "_undo_swap", lambda *a, **k: None)
+        m.setattr(io.shutil, "rmtree", lambda *a, **k: None)
+        try:
+            main(_argv(state.command, earlier.inputs, out, state.force))
+        except _Killed:
+            pass
+    mine = f"-{os.getpid()}-"
+    for root, dirs, files in os.walk(ex, topdown=False):
+        for name in dirs + files:
+            if is_own_temporary(name) and mine in name:
+                os.rename(Path(root, name), Path(root, name.replace(mine, f"-{earlier.dead}-")))
+
+
 def _run_state(state: State, ex: Path, earlier: Earlier, capsys) -> None:
     out, pinned = _build(state, ex, earlier)
     try:
         real = Path(os.path.realpath(out))
         out_rel = real.relative_to(ex).as_posix()
         record0 = _record(real) if real.is_dir() else {}
-        before = _snapshot(ex)
+        before = killed = _snapshot(ex)
+        if state.kill is not None and not pinned and real.is_dir():
+            _kill_a_run(state, out, ex, earlier)
+            before = _snapshot(ex)  # the killed run's state; ``killed`` the one before it
+            swap = any(r.endswith(f"/{_SWAP_JOURNAL}") for r in before)
+            event("a killed run's swap left" if swap else "a killed run, no swap begun")
         capsys.readouterr()
         with pytest.MonkeyPatch.context() as m:
             _blank_figures(m)
@@ -635,11 +681,16 @@ def _run_state(state: State, ex: Path, earlier: Earlier, capsys) -> None:
         stdout, err = capsys.readouterr()
         after = _snapshot(ex)
         event(f"{state.command}: exit {code}")  # pytest --hypothesis-show-statistics
-        if code == 0:
-            _check_whole(before, after, state, earlier, real, ex, record0)
+        if code == 0:  # what the killed run did is undone first, or was committed whole
+            _check_whole(killed, after, state, earlier, real, ex, record0)
         else:
             _check_refusal(code, str(out), stdout, err)
-            _check_unchanged(before, after, state, earlier, out_rel)
+            try:  # refused before the killed run was undone (or it had committed) ...
+                _check_unchanged(before, after, state, earlier, out_rel)
+            except AssertionError:  # ... or after: the folder as before the killed run
+                if killed is before:
+                    raise
+                _check_unchanged(killed, after, state, earlier, out_rel)
     finally:
         _unpin_all(pinned, ex)
 
