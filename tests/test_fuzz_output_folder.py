@@ -63,7 +63,12 @@ hypothesis = pytest.importorskip("hypothesis")
 from hypothesis import HealthCheck, event, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
-from tetherheli._io import OUTPUT_RECORD, TEMPORARY_TAG, is_own_temporary  # noqa: E402
+from tetherheli._io import (  # noqa: E402
+    OUTPUT_RECORD,
+    TEMPORARY_TAG,
+    claim_output_directory,
+    is_own_temporary,
+)
 from tetherheli.cli import main  # noqa: E402
 from tetherheli.sim.result import load_result  # noqa: E402
 
@@ -662,6 +667,25 @@ def _kill_a_run(state: State, out: Path, ex: Path, earlier: Earlier) -> None:
                 os.rename(Path(root, name), Path(root, name.replace(mine, f"-{earlier.dead}-")))
 
 
+def _check_recovery(
+    state: State, ex: Path, out_rel: str, killed: dict, before: dict, earlier: Earlier
+) -> None:
+    """On a copy of the killed state, the recovery alone (``claim_output_directory``, which
+    puts right what killed runs left before it checks anything): a swap begun and not
+    committed gives the tree as before the killed run; otherwise only the dead process's
+    temporaries go."""
+    copy = ex.parent / f"{ex.name}-recovered"
+    shutil.copytree(ex, copy, symlinks=True)
+    try:
+        claim_output_directory(copy / out_rel, force=True)
+        recovered = _snapshot(copy)
+    finally:
+        shutil.rmtree(copy)
+    begun = any(r.endswith(f"/{_SWAP_JOURNAL}") for r in before)
+    staged = any(r.endswith(f"/.tetherheli-swap/{OUTPUT_RECORD}") for r in before)
+    _check_unchanged(killed if begun and staged else before, recovered, state, earlier, out_rel)
+
+
 def _run_state(state: State, ex: Path, earlier: Earlier, capsys) -> None:
     out, pinned = _build(state, ex, earlier)
     try:
@@ -674,6 +698,7 @@ def _run_state(state: State, ex: Path, earlier: Earlier, capsys) -> None:
             before = _snapshot(ex)  # the killed run's state; ``killed`` the one before it
             swap = any(r.endswith(f"/{_SWAP_JOURNAL}") for r in before)
             event("a killed run's swap left" if swap else "a killed run, no swap begun")
+            _check_recovery(state, ex, out_rel, killed, before, earlier)
         capsys.readouterr()
         with pytest.MonkeyPatch.context() as m:
             _blank_figures(m)
