@@ -67,7 +67,29 @@ LUMPED_CDN = 3  # 0.5 rho d Cd: normal drag per length per speed^2 [kg/m^2]
 LUMPED_CDT = 4  # 0.5 rho pi d Ct: tangential drag per length per speed^2 [kg/m^2]
 LUMPED_G = 5  # gravity [m/s^2], along -n3
 LUMPED_BA = 6  # internal damping BA [N s]: a segment's dashpot is BA / l0 [N s/m]
-LUMPED_SIZE = 7
+#: the ground z = 0 under the free nodes (MoorDyn's seabed): normal stiffness and damping per
+#: unit penetration of a node's contact patch d l0 (kbot d [N/m^2], cbot d [N s/m^2]), and the
+#: regularised Coulomb friction: coefficient mu_f and the speed below which it is viscous [m/s]
+LUMPED_GROUND_K = 7
+LUMPED_GROUND_C = 8
+LUMPED_FRICTION = 9
+LUMPED_FRICTION_SPEED = 10
+LUMPED_SIZE = 11
+# the ground's default constants (``LumpedTether``, ``[tether] ground_*``)
+#: the ground's normal stiffness kbot [Pa/m]: MoorDyn's default seabed (3e6 Pa/m); the
+#: default cable (20 g/m, 5 mm) then sinks in by mu g / (kbot d) = 13 um and its contact
+#: mode has sqrt(kbot d / mu) = 866 rad/s
+GROUND_STIFFNESS_PA_M = 3.0e6
+#: the ground's normal damping cbot [Pa s/m]: 2 sqrt(kbot mu / d) rounded, the critically
+#: damped contact of the default cable (MoorDyn's 3e5 Pa s/m, sized for heavy mooring
+#: lines, would be 43 times critical here)
+GROUND_DAMPING_PA_S_M = 7.0e3
+#: Coulomb friction coefficient of cable on ground (soil, grass: about 0.5; MoorDyn's
+#: default is none)
+GROUND_FRICTION = 0.5
+#: the friction's regularisation speed v_f [m/s]: viscous below it, mu_f F_n / v_f per
+#: m/s (MoorDyn's FricDamp plays the same part)
+GROUND_FRICTION_SPEED_M_S = 0.01
 
 # --- the paper controller's settings (``ctrl``, ``control.paper``) ---------------------------
 CTRL_DT = 0  # sample time [s]

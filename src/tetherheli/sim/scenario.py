@@ -53,6 +53,12 @@ from .._io import OWN_FILE_STEMS, dumps_toml, read_toml
 from .._validation import Key
 from ..control import lqi
 from ..errors import ParameterError
+from ..layout import (
+    GROUND_DAMPING_PA_S_M,
+    GROUND_FRICTION,
+    GROUND_FRICTION_SPEED_M_S,
+    GROUND_STIFFNESS_PA_M,
+)
 from ..params import TETHER_LENGTH_RANGE, Params, check_tether_length, check_tether_strain
 from ..sensors import SensorConfig, sensor_config_from_dict
 from ..wind import (
@@ -428,10 +434,11 @@ class TetherSettings:
     Parameters
     ----------
     model, segments, mass_per_length, EA, damping_ratio, internal_damping, diameter,
-    drag_coefficient,
-    tangential_drag_coefficient, record_nodes
+    drag_coefficient, tangential_drag_coefficient, ground_stiffness, ground_damping,
+    ground_friction, ground_friction_speed, record_nodes
         The keys of a scenario's ``[tether]`` table; each field's ``Key`` gives its meaning,
-        unit, default and allowed range.
+        unit, default and allowed range. The ground keys are the plane z = 0 through the
+        winch under the chain's free nodes (MoorDyn's seabed; ``model.tether_lumped``).
     """
 
     model: str = _key(
@@ -467,6 +474,26 @@ class TetherSettings:
     tangential_drag_coefficient: float = _key(
         0.0, Key("tangential (skin-friction) drag coefficient on the wetted area", low=0.0)
     )
+    ground_stiffness: float = _key(
+        GROUND_STIFFNESS_PA_M,
+        Key("the ground's normal stiffness kbot under the chain's free nodes, per contact "
+            "area d l0 (MoorDyn's seabed default; a cable at rest sinks in by "
+            "mass_per_length g / (kbot diameter))", "Pa/m", low=0.0, low_open=True),
+    )  # fmt: skip
+    ground_damping: float = _key(
+        GROUND_DAMPING_PA_S_M,
+        Key("the ground's normal damping cbot per contact area (the default: the default "
+            "cable's critically damped contact)", "Pa s/m", low=0.0),
+    )  # fmt: skip
+    ground_friction: float = _key(
+        GROUND_FRICTION,
+        Key("Coulomb friction coefficient of the cable on the ground (0: none)", low=0.0),
+    )
+    ground_friction_speed: float = _key(
+        GROUND_FRICTION_SPEED_M_S,
+        Key("the friction's regularisation speed: viscous below it", "m/s", low=0.0,
+            low_open=True),
+    )  # fmt: skip
     record_nodes: bool = _key(
         False, Key("record the chain's node positions at every sample (result extras)",
                    kind="bool"),

@@ -299,6 +299,10 @@ def lumped_tether(scenario: Scenario) -> LumpedTether:
         diameter_m=t.diameter,
         drag_coefficient=t.drag_coefficient,
         tangential_drag_coefficient=t.tangential_drag_coefficient,
+        ground_stiffness_Pa_m=t.ground_stiffness,
+        ground_damping_Pa_s_m=t.ground_damping,
+        ground_friction=t.ground_friction,
+        ground_friction_speed_m_s=t.ground_friction_speed,
     )
     if t.EA > 0.0:
         return LumpedTether(EA_N=t.EA, **kw)
