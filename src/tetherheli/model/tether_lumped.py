@@ -111,6 +111,7 @@ __all__ = [
     "chain_interval",
     "chain_omega_max",
     "chain_substeps",
+    "coupling_substeps",
     "elastic_catenary",
     "end_forces",
     "force_at_P_as_loads",
@@ -795,6 +796,16 @@ def ros2_step(x, v, wind, L0, p, h, xP1, vP1, work):
 CHAIN_OMEGA_H = 0.2
 #: at most this many chain sub-steps per helicopter step (a guard on absurd stiffness)
 CHAIN_MAX_SUBSTEPS = 4096
+#: the coupled step's rule (``coupling_substeps``): the helicopter's RK4 steps of a lumped run
+#: are at most COUPLING_OMEGA_H / omega_max long, so that the condensed coupling's Taylor
+#: model of the top interior node (``engine.lumped_interval``) spans at most about half of
+#: its axial period 2 pi / (omega_max / 2). Issue 23 item 2b: with drag, damping and the winch
+#: off, the closed-loop engine's energy over 20 s at the default 10 ms, 2 substeps drifted by
+#: 1.06 % of the push for a 20 kN cable (N = 10: h omega_max = 10.7); this rule takes it to 5
+#: RK4 steps per sample, and the paper's cable (h omega_max = 1.46 at N = 10, 2.9 at N = 20)
+#: keeps its 2 (``tests/test_engine_lumped.py``; measured figures in
+#: ``docs/studies/lumped_tether.md``).
+COUPLING_OMEGA_H = 2.5
 
 
 @_jit
@@ -844,6 +855,38 @@ def chain_substeps(p, L0, n, h):
     m = int(h * chain_omega_max(p, L0, n) / CHAIN_OMEGA_H - 1e-9) + 1  # the ceiling
     if m < 1:
         return 1
+    if m > CHAIN_MAX_SUBSTEPS:
+        return CHAIN_MAX_SUBSTEPS
+    return m
+
+
+@_jit
+def coupling_substeps(p, L0, n, dt, n_sub):
+    """The helicopter's RK4 steps per control sample of a lumped run: ``n_sub`` (the
+    scenario's substeps) or more, the least m with (dt / m) omega_max <= COUPLING_OMEGA_H
+    (``chain_omega_max``), at most CHAIN_MAX_SUBSTEPS.
+
+    Parameters
+    ----------
+    p : ndarray, shape (LUMPED_SIZE,)
+        ``LumpedTether.packed(g)``.
+    L0 : float
+        Unstretched length [m], > 0.
+    n : int
+        Number of segments.
+    dt : float
+        The control sample [s].
+    n_sub : int
+        The scenario's RK4 steps per sample, >= 1.
+
+    Returns
+    -------
+    int
+        The RK4 steps per sample.
+    """
+    m = int(dt * chain_omega_max(p, L0, n) / COUPLING_OMEGA_H - 1e-9) + 1
+    if m < n_sub:
+        return n_sub
     if m > CHAIN_MAX_SUBSTEPS:
         return CHAIN_MAX_SUBSTEPS
     return m

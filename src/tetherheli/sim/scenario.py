@@ -58,6 +58,7 @@ from ..layout import (
     GROUND_FRICTION,
     GROUND_FRICTION_SPEED_M_S,
     GROUND_STIFFNESS_PA_M,
+    WINCH_MIN_LENGTH_M,
 )
 from ..params import TETHER_LENGTH_RANGE, Params, check_tether_length, check_tether_strain
 from ..sensors import SensorConfig, sensor_config_from_dict
@@ -530,9 +531,11 @@ class WinchSettings:
     Parameters
     ----------
     model, drum_radius, drum_inertia, torque_limit, viscous_friction, coulomb_friction,
-    speed_loop_bandwidth, tension_feedforward
+    speed_loop_bandwidth, tension_feedforward, min_length, max_length
         The keys of a scenario's ``[winch]`` table; each field's ``Key`` gives its meaning,
-        unit, default and allowed range. The drum keys are used by ``model = "drum"`` only.
+        unit, default and allowed range. The drum keys are used by ``model = "drum"`` only;
+        the payout limits by both models and both tethers (``engine.winch_limits``: reaching
+        one brakes the reel, the run goes on and records it, ``SimulationResult.winch_limit``).
     """
 
     model: str = _key(
@@ -570,6 +573,18 @@ class WinchSettings:
         True,
         Key("the drive adds the load cell's torque r T_meas to the speed loop's (removes the "
             "loop's steady speed error under the tether's load)", kind="bool"),
+    )  # fmt: skip
+    min_length: float = _key(
+        WINCH_MIN_LENGTH_M,
+        Key("shortest natural length L_N the winch reels in to (a brake stops the reel "
+            "there; the run records it): keeps every natural length positive", "m",
+            low=0.0, low_open=True),
+    )  # fmt: skip
+    max_length: float = _key(
+        _INF,
+        Key("longest natural length L_N the winch pays out to, the drum's capacity (a brake "
+            "stops the reel there; the run records it); inf: no limit", "m", low=0.0,
+            low_open=True),
     )  # fmt: skip
 
 
@@ -885,6 +900,11 @@ def _validate(s: Scenario, source: str | None) -> None:
     if not isinstance(s.winch, WinchSettings):
         raise ParameterError("winch", s.winch, "a WinchSettings", source=source)
     winch = _checked(WinchSettings, "winch", s.winch, source)
+    if not winch.min_length < winch.max_length:
+        raise ParameterError(
+            "winch.max_length", s.winch.max_length,
+            f"a length above winch.min_length ({winch.min_length:g} m)", source=source,
+        )  # fmt: skip
     if winch.model == "drum" and math.isfinite(actuators.reel_acceleration_limit):
         raise ParameterError(
             "actuators.reel_acceleration_limit",
