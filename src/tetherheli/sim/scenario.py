@@ -584,7 +584,7 @@ class WinchSettings:
         _INF,
         Key("longest natural length L_N the winch pays out to, the drum's capacity (a brake "
             "stops the reel there; the run records it); inf: no limit", "m", low=0.0,
-            low_open=True),
+            low_open=True, finite=False),
     )  # fmt: skip
 
 
