@@ -189,8 +189,8 @@ def status_message(
         0 (default None): none, nothing added.
     winch_limit : dict, optional
         The first stop of the reel at a payout limit, ``{"time", "limit", "length"}`` (s,
-        "min_length" or "max_length", m; ``SimulationResult.winch_limit``); None (default):
-        none, nothing added.
+        "min_length" or "max_length", m, the length optional; ``SimulationResult.winch_limit``);
+        None (default): none, nothing added.
 
     Returns
     -------
@@ -208,9 +208,11 @@ def status_message(
         else:
             message += f" (solver fallback on {share} of the samples)"
     if winch_limit is not None:
+        length = winch_limit.get("length")
+        value = "" if length is None else f" = {length:g} m"
         message += (
-            f" (the winch stopped at [winch] {winch_limit['limit']} = "
-            f"{winch_limit['length']:g} m at t = {winch_limit['time']:g} s)"
+            f" (the winch stopped at [winch] {winch_limit['limit']}{value} at "
+            f"t = {winch_limit['time']:g} s)"
         )
     if release_time is None or not math.isfinite(release_time):
         return message

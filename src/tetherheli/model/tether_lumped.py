@@ -465,8 +465,9 @@ def ground_force(z, vx, vy, vz, kg, cg, p):
 @_jit
 def ground_jacobian(x, v, L0, p, h, Gk, Gc):
     """The ground's blocks of the ROS2 matrix W for the free nodes, Gk (N+1,) [N/m] the
-    normal stiffness -dF_z/dz and Gc (N+1, 3, 3) [N s/m] the damping -dF/dv (normal damping
-    and the friction's velocity derivative at the normal force max(F_n, the node's weight)),
+    normal stiffness -dF_z/dz and Gc (N+1, 3, 3) [N s/m] the damping -dF/dv (normal damping,
+    and the friction as a horizontal viscous damper mu_f F_n / max(|v_t|, v_f) at the normal
+    force max(F_n, the node's weight)),
     for every node in the ground or reaching it within 2 h at its velocity (so that a step
     that hits the ground stays implicit, as a slack segment's W does); zero elsewhere.
 
@@ -505,20 +506,12 @@ def ground_jacobian(x, v, L0, p, h, Gk, Gc):
             continue
         Gk[i] = kg
         Gc[i, 2, 2] = cg
+        # the friction as the viscous damper it equals at this speed, mu_f F_n / max(|v_t|, v_f)
+        # in both directions (a secant, not the tangent, whose along-motion part is zero: with
+        # it a sliding node stalls at a speed where the stages' friction flips sign)
         fn = max(-kg * z - cg * v[i, 2], weight)
         speed = math.sqrt(v[i, 0] ** 2 + v[i, 1] ** 2)
-        mu = p[LUMPED_FRICTION] * fn
-        if speed <= vf:
-            Gc[i, 0, 0] = mu / vf
-            Gc[i, 1, 1] = mu / vf
-        else:
-            tx = v[i, 0] / speed
-            ty = v[i, 1] / speed
-            f = mu / speed
-            Gc[i, 0, 0] = f * (1.0 - tx * tx)
-            Gc[i, 0, 1] = -f * tx * ty
-            Gc[i, 1, 0] = -f * tx * ty
-            Gc[i, 1, 1] = f * (1.0 - ty * ty)
+        Gc[i, 0, 0] = Gc[i, 1, 1] = p[LUMPED_FRICTION] * fn / max(speed, vf)
 
 
 @_jit
