@@ -147,12 +147,14 @@ def test_bad_limits_are_refused_naming_the_key(tmp_path, capsys):
 
 
 def test_cli_run_reports_the_limit(tmp_path, capsys):
-    """A CLI run that reaches a limit completes (exit 0) and its saved metadata records it."""
+    """A CLI run that reaches a limit completes (exit 0), prints the stop in its line, and its
+    saved metadata records it."""
     path = tmp_path / "limited.toml"
     path.write_text(_sim1(12.0, min_length=L_START - 0.01).to_toml())
     out = tmp_path / "out"
     assert cli.main(["simulate", str(path), "--out", str(out), "--quiet"]) == 0
-    (meta_path,) = out.glob("*.json")
-    meta = json.loads(meta_path.read_text())
+    printed = capsys.readouterr().out
+    assert "completed (the winch stopped at [winch] min_length = 9.365 m at t = " in printed
+    meta = json.loads((out / "paper_sim1_tethered.json").read_text())
     assert meta["winch_limit"]["limit"] == "min_length"
     assert "the winch stopped at [winch] min_length" in meta["message"]

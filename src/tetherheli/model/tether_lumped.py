@@ -794,10 +794,11 @@ CHAIN_MAX_SUBSTEPS = 4096
 #: model of the top interior node (``engine.lumped_interval``) spans at most about half of
 #: its axial period 2 pi / (omega_max / 2). Issue 23 item 2b: with drag, damping and the winch
 #: off, the closed-loop engine's energy over 20 s at the default 10 ms, 2 substeps drifted by
-#: 1.06 % of the push for a 20 kN cable (N = 10: h omega_max = 10.7); this rule takes it to 5
-#: RK4 steps per sample, and the paper's cable (h omega_max = 1.46 at N = 10, 2.9 at N = 20)
-#: keeps its 2 (``tests/test_engine_lumped.py``; measured figures in
-#: ``docs/studies/lumped_tether.md``).
+#: 1.06 % of the push for a 20 kN cable (N = 10: h omega_max = 10.7 at h = 5 ms); this rule
+#: takes it to 9 RK4 steps per sample (0.53 %). The paper's cable keeps its 2 steps at N <= 10
+#: and takes 3 at N = 20, 5 at N = 40; the chain's own sub-steps shrink in step, so the
+#: chain's work per sample barely changes (``tests/test_engine_lumped.py``; measured figures
+#: in ``docs/studies/lumped_tether.md``).
 COUPLING_OMEGA_H = 2.5
 
 
