@@ -154,7 +154,7 @@ def test_ground_keys_are_validated_with_their_names():
     from tetherheli.sim.scenario import Scenario, TetherSettings
 
     with pytest.raises(ParameterError, match=r"tether\.ground_stiffness"):
-        Scenario(tether=TetherSettings(model="lumped", ground_stiffness=0.0))
+        Scenario(tether=TetherSettings(model="lumped", ground_stiffness=-1.0))
     with pytest.raises(ParameterError, match=r"tether\.ground_friction"):
         Scenario(tether=TetherSettings(model="lumped", ground_friction=-0.1))
     with pytest.raises(ParameterError, match=r"cable\.ground_friction_speed"):

@@ -35,7 +35,7 @@ step), node N is the attachment point P (driven: its position and velocity are g
   regularised Coulomb friction F_f = -mu_f F_n v_t / max(|v_t|, v_f) on its horizontal
   velocity v_t (viscous below the speed v_f; it never does work on the node, F_f . v_t <= 0).
   A cable lying still sinks in by its static penetration mu g / (kbot d) (a test checks
-  it); the spring's energy 1/2 kbot A z^2 belongs to ``chain_energy``.
+  it); the spring's energy 1/2 kbot A z^2 belongs to ``chain_energy``. kbot = 0: no ground.
 - End forces: the force the tether exerts on P is -T e of the top segment plus half the top
   segment's weight and drag; on the winch, +T e of the bottom segment plus half the bottom
   segment's weight and drag. With this convention the static chain converges to the elastic
@@ -166,8 +166,9 @@ class LumpedTether:
     air_density_kg_m3 : float
         rho [kg/m^3], > 0.
     ground_stiffness_Pa_m : float
-        The ground's normal stiffness kbot [Pa/m] per contact area d l0, > 0 (module
-        docstring; ``GROUND_STIFFNESS_PA_M``).
+        The ground's normal stiffness kbot [Pa/m] per contact area d l0, >= 0 (module
+        docstring; ``GROUND_STIFFNESS_PA_M``); 0: no ground (the chain passes through z = 0,
+        the airborne cable of the tests of its mechanics).
     ground_damping_Pa_s_m : float
         The ground's normal damping cbot [Pa s/m], >= 0 (``GROUND_DAMPING_PA_S_M``).
     ground_friction : float
@@ -230,7 +231,7 @@ class LumpedTether:
             object.__setattr__(self, name, value)
         object.__setattr__(self, "segments", int(self.segments))
         for name, low_open in (
-            ("ground_stiffness_Pa_m", True),
+            ("ground_stiffness_Pa_m", False),
             ("ground_damping_Pa_s_m", False),
             ("ground_friction", False),
             ("ground_friction_speed_m_s", True),
@@ -425,7 +426,7 @@ def chain_forces(x, v, wind, L0, p, F, T, K, Cax, D, jac):
     kg = p[LUMPED_GROUND_K] * l0
     cg = p[LUMPED_GROUND_C] * l0
     for i in range(1, n):
-        if x[i, 2] < 0.0:
+        if kg > 0.0 and x[i, 2] < 0.0:
             fx, fy, fz = ground_force(x[i, 2], v[i, 0], v[i, 1], v[i, 2], kg, cg, p)
             F[i, 0] += fx
             F[i, 1] += fy
@@ -502,7 +503,7 @@ def ground_jacobian(x, v, L0, p, h, Gk, Gc):
             for b in range(3):
                 Gc[i, a, b] = 0.0
         z = x[i, 2]
-        if i == 0 or i == n or z + 2.0 * h * min(v[i, 2], 0.0) >= 0.0:
+        if kg == 0.0 or i == 0 or i == n or z + 2.0 * h * min(v[i, 2], 0.0) >= 0.0:
             continue
         Gk[i] = kg
         Gc[i, 2, 2] = cg

@@ -479,7 +479,7 @@ class TetherSettings:
         GROUND_STIFFNESS_PA_M,
         Key("the ground's normal stiffness kbot under the chain's free nodes, per contact "
             "area d l0 (MoorDyn's seabed default; a cable at rest sinks in by "
-            "mass_per_length g / (kbot diameter))", "Pa/m", low=0.0, low_open=True),
+            "mass_per_length g / (kbot diameter)); 0: no ground", "Pa/m", low=0.0),
     )  # fmt: skip
     ground_damping: float = _key(
         GROUND_DAMPING_PA_S_M,

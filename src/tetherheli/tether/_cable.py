@@ -62,7 +62,7 @@ class Cable:
         Tangential drag coefficient Ct on the wetted area, >= 0.
     ground_stiffness : float
         The ground's normal stiffness kbot [Pa/m] under the free nodes (the plane z = 0 of
-        N; the anchor at z = 0 lies on it), > 0 (``[tether] ground_stiffness``).
+        N; the anchor at z = 0 lies on it), >= 0 (``[tether] ground_stiffness``; 0: none).
     ground_damping : float
         The ground's normal damping cbot [Pa s/m], >= 0.
     ground_friction : float
