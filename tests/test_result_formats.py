@@ -138,3 +138,15 @@ def test_montecarlo_results_table_in_parquet_equals_the_csv(tmp_path):
             np.testing.assert_array_equal(mine, [float(r[name]) for r in rows], err_msg=name)
     record = json.loads((tmp_path / "p" / ".tetherheli-output.json").read_text())
     assert "results.parquet" in json.dumps(record)
+    # the units (issue 25, item 7): in the Arrow schema, readable by pyarrow alone, and in
+    # summary.json for the CSV, from the parameters' own documentation and names.METRIC_UNITS
+    import pyarrow.parquet as pq
+
+    schema = pq.read_schema(tmp_path / "p" / "results.parquet")
+    units = {f.name: f.metadata[b"units"].decode() for f in schema}
+    summary = json.loads((tmp_path / "c" / "summary.json").read_text())
+    assert summary["units"] == units and set(units) == set(rows[0])
+    assert units["peak_q1"] == "m" and units["peak_q4_deg"] == "deg"
+    assert units["tension_max"] == "N" and units["release_time"] == "s"
+    assert units["value:helicopter.m_F"] == "kg" and units["factor:helicopter.m_F"] == "1"
+    assert units["value:tether.K_C"] == "N/m" and units["configuration"] == ""

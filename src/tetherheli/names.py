@@ -9,6 +9,7 @@ __all__ = [
     "INPUT",
     "INPUT_UNITS",
     "METRIC_NAMES",
+    "METRIC_UNITS",
     "MONTECARLO_METRICS",
     "OUTPUT",
     "OUTPUT_UNITS",
@@ -67,5 +68,11 @@ METRIC_NAMES = (
     "tension_max",
     "n_samples",
 )
+#: Unit of every metric of ``METRIC_NAMES`` (deviations from the trim in m or deg, tensions).
+METRIC_UNITS: dict[str, str] = {
+    m: "N" if m.startswith("tension") else "deg" if m.endswith("_deg") else
+    "1" if m == "n_samples" else "m"
+    for m in METRIC_NAMES
+}  # fmt: skip
 #: The Monte Carlo table's metrics (``studies.montecarlo.runner.METRICS``): all but the count
 MONTECARLO_METRICS = tuple(m for m in METRIC_NAMES if m != "n_samples")

@@ -32,7 +32,7 @@ from ..._io import (
 from ..._validation import check_integer
 from ..._version import __version__
 from ...errors import ParameterError, TetherheliError
-from ...names import MONTECARLO_METRICS
+from ...names import METRIC_UNITS, MONTECARLO_METRICS
 from ...progress import Progress
 from ...resources import check_memory
 from ...sim.batch import METRIC_NAMES, run_batch
@@ -85,6 +85,47 @@ _TEXT_COLUMNS = ("seed_entropy", "spawn_key", "configuration", "message", "reaso
 _INT_COLUMNS = ("run", "status")
 
 
+#: Units of the results table's fixed columns ("": text or a count; "1": dimensionless)
+_UNITS = {
+    "run": "", "seed_entropy": "", "spawn_key": "", "amplitude_scale": "1",
+    "direction_deg": "deg", "phase_rad": "rad", "start_shift_s": "s", "configuration": "",
+    "status": "", "message": "", "reason": "", "release_time": "s", "release_tension": "N",
+    **METRIC_UNITS,
+}  # fmt: skip
+
+
+def column_units(header: list[str]) -> dict[str, str]:
+    """The unit of each column of a Monte Carlo results table: the draws' dispersions, the
+    parameter factors ("1") and drawn values (the parameter's own unit, ``Params``), the run
+    metrics (``names.METRIC_UNITS``), the release. Written into ``summary.json`` ("units") and
+    into the Parquet schema's field metadata.
+
+    Parameters
+    ----------
+    header : list of str
+        The table's columns.
+
+    Returns
+    -------
+    dict of str to str
+        Column -> unit ("" for text and counts, "1" for dimensionless).
+    """
+    from ...params import Params
+
+    docs = Params.field_docs()
+    units = {}
+    for c in header:
+        kind, _, name = c.partition(":")
+        if kind == "factor":
+            units[c] = "1"
+        elif kind == "value":
+            found = re.search(r"\[([^\]]+)\]", docs.get(name, ""))
+            units[c] = found.group(1) if found else "1"
+        else:
+            units[c] = _UNITS.get(c, "")
+    return units
+
+
 def _parquet_schema(header: list[str]) -> Any:
     import pyarrow as pa
 
@@ -93,7 +134,8 @@ def _parquet_schema(header: list[str]) -> Any:
             return pa.string()
         return pa.int64() if c in _INT_COLUMNS else pa.float64()
 
-    return pa.schema([(c, kind(c)) for c in header])
+    units = column_units(header)
+    return pa.schema([pa.field(c, kind(c), metadata={"units": units[c]}) for c in header])
 
 
 def _parquet_chunk(rows_text: str, schema: Any) -> Any:
@@ -667,6 +709,7 @@ def _summarize(
         "montecarlo": config.to_dict(),
         "scenario": base.to_dict(),
         "controller": "LQI gain designed on the nominal parameters; plant dispersed",
+        "units": column_units(_columns(config)),
         "failed_draws": failed_draws,
         "statistics": stats,
         "reduction_percent": reduction,
