@@ -38,7 +38,9 @@ def test_normalized_squares_by_hand():
     assert math.isnan(out[2])
     P = np.array([[2.0, 1.0], [1.0, 3.0]])  # inverse [[3, -1], [-1, 2]] / 5
     x, y = e[1]
-    assert normalized_squares(e[1:2], P)[0] == pytest.approx((3 * x * x - 2 * x * y + 2 * y * y) / 5)
+    assert normalized_squares(e[1:2], P)[0] == pytest.approx(
+        (3 * x * x - 2 * x * y + 2 * y * y) / 5
+    )
     # one covariance per sample gives the same
     per = normalized_squares(e[:2], np.stack([P, P]))
     np.testing.assert_allclose(per, normalized_squares(e[:2], P))
@@ -133,7 +135,7 @@ def test_a_run_without_the_filter_is_refused():
     s = dataclasses.replace(s, duration=1.0)
     r = simulate(s)
     assert KALMAN_NIS_COLUMN not in r.extra
-    with pytest.raises(TetherheliError, match="sensing_tether.*no Kalman estimate"):
+    with pytest.raises(TetherheliError, match=r"sensing_tether.*no Kalman estimate"):
         kalman_consistency(r, s)
 
 

@@ -603,8 +603,12 @@ def kalman_consistency(
     TetherheliError
         The run has no recorded Kalman estimate (another controller or observer).
     """
-    from .control.mpc import KALMAN_FORCE_COLUMNS, KALMAN_NIS_COLUMN, KALMAN_STATE_COLUMNS
-    from .control.mpc import mpc_kalman
+    from .control.mpc import (
+        KALMAN_FORCE_COLUMNS,
+        KALMAN_NIS_COLUMN,
+        KALMAN_STATE_COLUMNS,
+        mpc_kalman,
+    )
     from .sim.setup import engine_setup
 
     if KALMAN_NIS_COLUMN not in result.extra:
@@ -625,11 +629,9 @@ def kalman_consistency(
     force = normalized_squares(err[:, n:], P[n:, n:])
     closed = (np.eye(kalman.A.shape[0]) - kalman.L @ kalman.C) @ kalman.A
     rho = float(np.max(np.abs(np.linalg.eigvals(closed))))
-    dt = scenario.control.dt
     stride = 1 if rho <= 0.0 else max(1, math.ceil(-1.0 / math.log(min(rho, 1.0 - 1e-12))))
     nis = np.asarray(result.extra[KALMAN_NIS_COLUMN], dtype=float)
     p = kalman.C.shape[0]
-    del dt
     return KalmanConsistency(
         time=result.time.copy(),
         nees=ConsistencyTest(nees, n + 3, stride, confidence),

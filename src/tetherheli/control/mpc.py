@@ -711,7 +711,6 @@ def mpc_controller(scenario, setup, design_params=None) -> MPCController:
 
     s = scenario.control.mpc
     a = scenario.actuators
-    dt = scenario.control.dt
     n = scenario.n_samples
     warn_slow(  # before the design: a long horizon is allowed, and said what it costs
         f"run {scenario.name}: the MPC with control.mpc.horizon = {s.horizon} over {n} samples",
