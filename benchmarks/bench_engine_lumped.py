@@ -5,8 +5,9 @@ Prints, measured in this run: the milliseconds of one 60 s run of the paper's si
 (tethered, dt = 10 ms, 2 substeps; ``sim.batch.run_unrecorded``, the compiled loop without
 recording) with eq 28's massless tether and with the lumped chain of N = 5, 10, 20, 40
 segments (20 g/m, 5 mm, the paper's stiffness), side by side, and each one's ratio to the
-massless run, and the chain's ROS2 sub-steps per RK4 step (issue 23's step-size rule,
-``tether_lumped.chain_substeps``; ``--EA`` another stiffness). Timings vary with the
+massless run, the helicopter's RK4 steps per sample (the coupled step's rule,
+``tether_lumped.coupling_substeps``) and the chain's ROS2 sub-steps per RK4 step (issue 23's
+step-size rule, ``tether_lumped.chain_substeps``; ``--EA`` another stiffness). Timings vary with the
 machine; no test asserts them. With ``--coupling`` instead: the coupled step's error
 against SciPy's Radau on the joint helicopter + chain ODE
 (``tests/test_engine_lumped.py``'s ``coupling_errors``: 2 s open loop, 10 N on HO) for the
@@ -26,7 +27,7 @@ import numpy as np
 from bench_derivative import best_of
 
 from tetherheli.layout import CHAIN_PARAMS
-from tetherheli.model.tether_lumped import chain_substeps
+from tetherheli.model.tether_lumped import chain_substeps, coupling_substeps
 from tetherheli.sim import engine
 from tetherheli.sim.batch import run_unrecorded
 from tetherheli.sim.scenario import TetherSettings, paper_scenario
@@ -75,19 +76,23 @@ def main() -> None:
         coupling_table()
         return
     base = paper_scenario(1, "tethered")
-    rows = [("massless (eq 28)", _ms_per_run(base, opts.repeat), 0)]
+    rows = [("massless (eq 28)", _ms_per_run(base, opts.repeat), base.control.substeps, 0)]
     for n in SEGMENTS:
         lumped = base.replace(tether=TetherSettings(model="lumped", segments=n, EA=opts.EA))
         setup = engine_setup(lumped)
         L0 = setup.start.x[12]
-        h = lumped.control.dt / lumped.control.substeps
-        m = chain_substeps(setup.chain[CHAIN_PARAMS], L0, n, h)  # issue 23's step-size rule
-        rows.append((f"lumped, N = {n}", _ms_per_run(lumped, opts.repeat), m))
+        p = setup.chain[CHAIN_PARAMS]
+        rk4 = coupling_substeps(p, L0, n, lumped.control.dt, lumped.control.substeps)
+        m = chain_substeps(p, L0, n, lumped.control.dt / rk4)  # issue 23's step-size rule
+        rows.append((f"lumped, N = {n}", _ms_per_run(lumped, opts.repeat), rk4, m))
     print("one 60 s run of paper simulation 1 (tethered), dt = 10 ms, 2 substeps, unrecorded;")
-    print(f"EA = {opts.EA:g} N (0: the paper's); chain ROS2 sub-steps per RK4 step (issue 23)")
-    print(f"{'tether':<20} {'ms per run':>11} {'ratio':>7} {'chain sub-steps':>16}")
-    for name, ms, m in rows:
-        print(f"{name:<20} {ms:>11.1f} {ms / rows[0][1]:>7.1f} {m:>16d}")
+    print(f"EA = {opts.EA:g} N (0: the paper's); RK4 steps per sample, chain ROS2 sub-steps per")
+    print("RK4 step (issue 23)")
+    print(
+        f"{'tether':<20} {'ms per run':>11} {'ratio':>7} {'RK4 steps':>10} {'chain sub-steps':>16}"
+    )
+    for name, ms, rk4, m in rows:
+        print(f"{name:<20} {ms:>11.1f} {ms / rows[0][1]:>7.1f} {rk4:>10d} {m:>16d}")
 
 
 if __name__ == "__main__":

@@ -217,6 +217,7 @@ def table_montecarlo(work: Path, figures: Path | None) -> None:
 
     from tetherheli.sim import simulate
     from tetherheli.studies.montecarlo import draw, draw_seed, load_montecarlo
+    from tetherheli.studies.montecarlo.draws import free_reference
 
     path = SCENARIOS / "montecarlo_paper_sim1.toml"
     out = work / "mc_out"
@@ -247,7 +248,8 @@ def table_montecarlo(work: Path, figures: Path | None) -> None:
                 continue
             i = int(row["run"])
             d = draw(base, config, draw_seed(20261122, i), i)
-            r = simulate(d.scenario.replace(configuration=row["configuration"]))
+            free = row["configuration"] == "free"
+            r = simulate(free_reference(d.scenario) if free else d.scenario)
             force = np.linalg.norm(r.wind, axis=1)
             print(
                 f"failed draw {i} ({row['configuration']}): amplitude scale "

@@ -149,7 +149,7 @@ API = {
     "tetherheli.model.trim": ["TrimPoint", "hover_trim", "windless_trim"],
     "tetherheli.model.kinematics": ["HelicopterPoints", "helicopter_points", "direction_cosines",
                                     "tethered_HO_position", "tether_length_from_altitude"],
-    "tetherheli.model.linearize": ["LinearModel", "linearize"],
+    "tetherheli.model.linearization": ["LinearModel", "linearize"],
     "tetherheli.model.winch": ["drum_step"],
     "tetherheli.sim.scenario": ["Scenario", "ControlSettings", "TetherLQISettings",
                                 "MPCSettings", "Limits", "ActuatorSettings", "WinchSettings",
@@ -328,3 +328,17 @@ def test_numpydoc_check_fails_on_a_bare_docstring():
         "member OK undocumented",
         "member FAILED undocumented",
     ]
+
+
+def test_no_submodule_shadows_a_lazy_name():
+    """Importing a submodule sets its package's attribute of that name: a lazy name equal to a
+    submodule's (``tetherheli.model.linearize`` was both) became the module once any test had
+    imported the submodule, and later callers got "'module' object is not callable"."""
+    import importlib
+    import pkgutil
+
+    for package in ("tetherheli", "tetherheli.model", "tetherheli.sim", "tetherheli.studies"):
+        pkg = importlib.import_module(package)
+        submodules = {m.name for m in pkgutil.iter_modules(pkg.__path__)}
+        lazy = set(getattr(pkg, "__all__", ()))
+        assert not lazy & submodules, (package, lazy & submodules)

@@ -334,7 +334,7 @@ def test_weights_without_a_design_are_refused_by_every_study_naming_the_file(tmp
         path = args[-1]
         assert err.startswith(f"tetherheli: error: {path}: control.Qy/Ru = "), err
         assert len(err.splitlines()) == 1 and not out.exists()
-    with pytest.raises(WeightsError, match="control.Qy/Ru"):
+    with pytest.raises(WeightsError, match=r"control\.Qy/Ru"):
         check_design(load_scenario(single))
 
 

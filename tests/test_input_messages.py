@@ -206,18 +206,28 @@ def _cells(line: str) -> int:
     return line.count("|") - 1
 
 
-def test_compare_table_of_a_failed_design_has_one_cell_per_column(tmp_path, capsys):
+def test_compare_table_of_a_failed_run_has_one_cell_per_column(tmp_path, capsys):
+    """A run that cannot be set up (a main-rotor limit of 100 N, below the hover's thrust) is
+    a failed row of 17 cells under 17 columns (it had 18). Weights without a design are the
+    file's error instead: refused, exit 2, naming the file."""
     from tetherheli.compare import markdown_table
 
     row = {"scenario": "s", "controller": "paper", "status": "bad", "completed": False}
     lines = markdown_table([row]).splitlines()
     assert {_cells(line) for line in lines} == {_cells(lines[0])} == {17}
-    s = Scenario(name="bad_weights", duration=0.1, control=ControlSettings(Qy=EXTREME_QY))
+    a = ActuatorSettings()
+    s = Scenario(name="no_hover", duration=0.1, actuators=dataclasses.replace(
+        a, u_max=(100.0, *a.u_max[1:])))  # fmt: skip
     path = _write(tmp_path, s)
     out = tmp_path / "o"
     assert main(["compare", str(path), "--controllers", "paper", "--out", str(out)]) == 1
     printed = capsys.readouterr()
-    assert "control.Qy/Ru" in printed.err
+    assert "actuators" in printed.err
     for text in (printed.out, (out / "compare.md").read_text()):
         lines = [line for line in text.splitlines() if line.startswith("|")]
         assert len(lines) == 3 and {_cells(line) for line in lines} == {17}
+    s = Scenario(name="bad_weights", duration=0.1, control=ControlSettings(Qy=EXTREME_QY))
+    path = _write(tmp_path, s)
+    assert main(["compare", str(path), "--controllers", "paper", "--out", str(out) + "2"]) == 2
+    err = capsys.readouterr().err
+    assert f"{path}: control.Qy/Ru" in err and not (tmp_path / "o2").exists()

@@ -336,6 +336,10 @@ def test_ten_million_runs_start_in_bounded_memory(short_file, tmp_path):
 
     base, config = load_montecarlo(short_file)
     huge = config.__class__(**{**config.__dict__, "runs": 10_000_000})
+    # the nominal designs' check (O(1), before the draws) imports the design stack once
+    from tetherheli.studies.montecarlo.runner import check_nominal_designs
+
+    check_nominal_designs(base)
     tracemalloc.start()
     try:
         got = run_montecarlo(base, huge, tmp_path / "h", chunk_size=2, max_chunks=0)

@@ -16,7 +16,7 @@ from tetherheli.control.mpc import MPCController, design_mpc, mpc_controller, mp
 from tetherheli.control.tether_lqi import design_tether_lqi
 from tetherheli.errors import ParameterError
 from tetherheli.model import TetheredHelicopter
-from tetherheli.model.linearize import linearize
+from tetherheli.model.linearization import linearize
 from tetherheli.names import WIND
 from tetherheli.params import Params
 from tetherheli.sim.batch import run_batch

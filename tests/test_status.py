@@ -106,7 +106,8 @@ def test_batch_records_release_per_run():
     assert b.release(1) is None and math.isnan(b.release_time[1])
     assert b.messages() == [one.message, "completed"]
     # the release slots extend the summary; the metrics keep their meaning
-    assert engine.SUMMARY_FIELDS[-2:] == ("release_time", "release_tension")
+    assert engine.SUMMARY_FIELDS[-4:-2] == ("release_time", "release_tension")
+    assert engine.SUMMARY_FIELDS[-2:] == ("winch_limit_time", "winch_limit")
     assert b.metrics(0)["n_samples"] == one.time.size
 
 

@@ -24,7 +24,10 @@ MU = 0.02  # the paper-scale cable [kg/m] (probes.md)
 
 
 def _tether(n: int, **kw) -> tl.LumpedTether:
-    base = dict(segments=n, mass_per_length_kg_m=MU, EA_N=375.0, damping_ratio=0.0)
+    """The airborne cable: no ground (``ground_stiffness_Pa_m = 0``; the shapes and modes
+    here pass below the winch's level, z = 0; tests/test_tether_ground.py has the ground)."""
+    base = dict(segments=n, mass_per_length_kg_m=MU, EA_N=375.0, damping_ratio=0.0,
+                ground_stiffness_Pa_m=0.0)  # fmt: skip
     base.update(kw)
     return tl.LumpedTether(**base)
 

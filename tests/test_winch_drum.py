@@ -40,11 +40,12 @@ def _act(winch: WinchSettings) -> np.ndarray:
     return act
 
 
-def _actuate(act, held, rate_cmd, tension, measured=None):
-    """The engine's actuator phase for the winch alone (rotor inputs unused)."""
+def _actuate(act, held, rate_cmd, tension, measured=None, length=1e6):
+    """The engine's actuator phase for the winch alone (rotor inputs unused), at a natural
+    length ``length`` [m] (default: far from the payout limits)."""
     inp = np.zeros(4)
     measured = tension if measured is None else measured
-    return engine.actuate(inp, held, rate_cmd, act, DT, False, tension, measured)
+    return engine.actuate(inp, held, rate_cmd, act, DT, False, tension, measured, length, 0.0)
 
 
 # --- the drum alone ------------------------------------------------------------------------

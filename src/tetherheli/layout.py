@@ -67,7 +67,29 @@ LUMPED_CDN = 3  # 0.5 rho d Cd: normal drag per length per speed^2 [kg/m^2]
 LUMPED_CDT = 4  # 0.5 rho pi d Ct: tangential drag per length per speed^2 [kg/m^2]
 LUMPED_G = 5  # gravity [m/s^2], along -n3
 LUMPED_BA = 6  # internal damping BA [N s]: a segment's dashpot is BA / l0 [N s/m]
-LUMPED_SIZE = 7
+#: the ground z = 0 under the free nodes (MoorDyn's seabed): normal stiffness and damping per
+#: unit penetration of a node's contact patch d l0 (kbot d [N/m^2], cbot d [N s/m^2]), and the
+#: regularised Coulomb friction: coefficient mu_f and the speed below which it is viscous [m/s]
+LUMPED_GROUND_K = 7
+LUMPED_GROUND_C = 8
+LUMPED_FRICTION = 9
+LUMPED_FRICTION_SPEED = 10
+LUMPED_SIZE = 11
+# the ground's default constants (``LumpedTether``, ``[tether] ground_*``)
+#: the ground's normal stiffness kbot [Pa/m]: MoorDyn's default seabed (3e6 Pa/m); the
+#: default cable (20 g/m, 5 mm) then sinks in by mu g / (kbot d) = 13 um and its contact
+#: mode has sqrt(kbot d / mu) = 866 rad/s
+GROUND_STIFFNESS_PA_M = 3.0e6
+#: the ground's normal damping cbot [Pa s/m]: 2 sqrt(kbot mu / d) rounded, the critically
+#: damped contact of the default cable (MoorDyn's 3e5 Pa s/m, sized for heavy mooring
+#: lines, would be 43 times critical here)
+GROUND_DAMPING_PA_S_M = 7.0e3
+#: Coulomb friction coefficient of cable on ground (soil, grass: about 0.5; MoorDyn's
+#: default is none)
+GROUND_FRICTION = 0.5
+#: the friction's regularisation speed v_f [m/s]: viscous below it, mu_f F_n / v_f per
+#: m/s (MoorDyn's FricDamp plays the same part)
+GROUND_FRICTION_SPEED_M_S = 0.01
 
 # --- the paper controller's settings (``ctrl``, ``control.paper``) ---------------------------
 CTRL_DT = 0  # sample time [s]
@@ -98,7 +120,13 @@ HELD_REEL_RATE = 4  # the reel rate applied over the last sample [m/s] (the winc
 HELD_DRUM_SPEED = 5  # the drum's speed w [rad/s], advanced by ``actuate`` to the next sample
 HELD_DRUM_SPEED_SAMPLED = 6  # w at the sample's instant, before that update [rad/s]
 HELD_MOTOR_TORQUE = 7  # the motor torque averaged over the last sample [N m]
-HELD_SIZE = 8
+#: the payout limits (``[winch] min_length``, ``max_length``; ``sim.engine.actuate``): the limit
+#: the reel is stopped at now (-1 min_length, +1 max_length, 0 none), the first stop's limit
+#: (0: none yet) and time [s] (the sample at whose end the length reaches the limit)
+HELD_AT_LIMIT = 8
+HELD_LIMIT_WHICH = 9
+HELD_LIMIT_TIME = 10
+HELD_SIZE = 11
 
 # --- one run's loop state (``sim.engine.new_loop_state``): a tuple of arrays -------------------
 LOOP_Z = 0  # (4,) the LQI's output-error integral (eq 50)
@@ -144,7 +172,11 @@ ACT_DRUM_VISCOUS = 15  # b [N m s/rad]
 ACT_DRUM_COULOMB = 16  # tau_c [N m]
 ACT_DRUM_SPEED_GAIN = 17  # K_w = J omega_w, the speed loop's gain [N m s/rad]
 ACT_DRUM_TENSION_FFWD = 18  # 1: the drive adds the load cell's torque r T_meas
-ACT_SIZE = 19
+#: the payout limits of both winch models [m]: the natural length L_N = x[12] stays within
+#: [min, max]; reaching one stops the reel (``sim.engine.actuate``)
+ACT_MIN_LENGTH = 19
+ACT_MAX_LENGTH = 20
+ACT_SIZE = 21
 
 
 def empty_chain() -> tuple:
@@ -158,20 +190,29 @@ def empty_chain() -> tuple:
     return (np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(LUMPED_SIZE), np.zeros(0))
 
 
+#: the shortest natural length the winch reels in to by default [m] (``[winch] min_length``):
+#: the lower end of ``params.TETHER_LENGTH_RANGE``, the closest the helicopter is flown to
+#: the winch; a positive length, so no natural length reaches zero
+WINCH_MIN_LENGTH_M = 0.5
+
+
 def default_actuators() -> np.ndarray:
     """Ideal actuators: no limits, no lag, an unbreakable tether.
 
     Returns
     -------
     numpy.ndarray, shape (ACT_SIZE,)
-        The actuator array (``ACT_*``): input bounds at -inf/+inf, breaking tension and
-        reel acceleration infinite, all else 0.
+        The actuator array (``ACT_*``): input bounds at -inf/+inf, breaking tension,
+        reel acceleration and the longest payout infinite, the shortest
+        ``WINCH_MIN_LENGTH_M``, all else 0.
     """
     act = np.zeros(ACT_SIZE)
     act[ACT_U_MIN : ACT_U_MIN + 4] = -math.inf
     act[ACT_U_MAX : ACT_U_MAX + 4] = math.inf
     act[ACT_BREAK] = math.inf
     act[ACT_REEL_ACCEL] = math.inf
+    act[ACT_MIN_LENGTH] = WINCH_MIN_LENGTH_M
+    act[ACT_MAX_LENGTH] = math.inf
     return act
 
 
@@ -186,7 +227,7 @@ WIND_COLUMNS = 9
 SUMMARY_FIELDS = (
     "peak_q1", "peak_q2", "peak_q3", "peak_q4", "peak_q5",
     "sumsq_q1", "sumsq_q2", "sumsq_q3", "tension_min", "tension_max", "n_samples",
-    "release_time", "release_tension",
+    "release_time", "release_tension", "winch_limit_time", "winch_limit",
 )  # fmt: skip
 SUMMARY_PEAK_Q1 = SUMMARY_FIELDS.index("peak_q1")  # (3,) max |q1..q3 - trim| [m]
 SUMMARY_PEAK_Q4 = SUMMARY_FIELDS.index("peak_q4")  # max |q4 - trim| [rad]
@@ -206,3 +247,7 @@ assert SUMMARY_FIELDS[SUMMARY_SUMSQ_Q1 : SUMMARY_SUMSQ_Q1 + 3] == (
     "sumsq_q3",
 )
 assert SUMMARY_RELEASE_TENSION == SUMMARY_RELEASE_TIME + 1  # one (2,) event slice
+#: the first stop of the reel at a payout limit (``HELD_LIMIT_*``): the time [s] the length
+#: reached it and which (-1 ``[winch] min_length``, +1 ``max_length``); both NaN without one
+SUMMARY_WINCH_LIMIT_TIME = SUMMARY_FIELDS.index("winch_limit_time")
+SUMMARY_WINCH_LIMIT = SUMMARY_FIELDS.index("winch_limit")

@@ -168,11 +168,15 @@ def solver_status(status: int, fallbacks) -> int:
 
 
 def status_message(
-    status: int, release_time: float | None = None, fallback_fraction: float | None = None
+    status: int,
+    release_time: float | None = None,
+    fallback_fraction: float | None = None,
+    winch_limit: dict | None = None,
 ) -> str:
     """The message of a run's status; a tether release (at ``release_time`` [s], None or NaN:
     none) is part of it, so a released run is never a plain "completed", and so is the
-    fraction of samples a solver's fallback flew when there were any.
+    fraction of samples a solver's fallback flew when there were any, and the winch's stop at
+    a payout limit (``winch_limit``).
 
     Parameters
     ----------
@@ -183,6 +187,10 @@ def status_message(
     fallback_fraction : float, optional
         The fraction of control samples a solver's fallback flew (``solver_status``); None or
         0 (default None): none, nothing added.
+    winch_limit : dict, optional
+        The first stop of the reel at a payout limit, ``{"time", "limit", "length"}`` (s,
+        "min_length" or "max_length", m, the length optional; ``SimulationResult.winch_limit``);
+        None (default): none, nothing added.
 
     Returns
     -------
@@ -199,6 +207,13 @@ def status_message(
             )
         else:
             message += f" (solver fallback on {share} of the samples)"
+    if winch_limit is not None:
+        length = winch_limit.get("length")
+        value = "" if length is None else f" = {length:g} m"
+        message += (
+            f" (the winch stopped at [winch] {winch_limit['limit']}{value} at "
+            f"t = {winch_limit['time']:g} s)"
+        )
     if release_time is None or not math.isfinite(release_time):
         return message
     if status == Status.OK:

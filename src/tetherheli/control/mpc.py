@@ -294,7 +294,7 @@ def mpc_plant(params, configuration: str, T_ref: float, q9: float, dt: float) ->
 @lru_cache(maxsize=16)
 def _mpc_plant(params, configuration, T_ref, q9, dt):
     from ..model import TetheredHelicopter
-    from ..model.linearize import linearize
+    from ..model.linearization import linearize
     from ..names import TETHERED_STATE, WIND
     from .tether_lqi import tethered_design
 

@@ -2,7 +2,7 @@
 
 The paper designs its LQI on the free helicopter (Sec. V-A) and leaves the tether to a
 feed-forward (eq 55) and a tension PI (eq 56). Here the plant of eq 46 is the tethered model
-linearized at Table V's trim (``model.linearize``: 13 states q4..u6 and LN, the tension
+linearized at Table V's trim (``model.linearization``: 13 states q4..u6 and LN, the tension
 TC = KC (q9 - LN) of eq 28 inside A), with inputs u = [fMR3, tMR1, tMR2, fTR2, RC]
 (RC = dLN/dt, eq 37). The integrators of eq 50 act on the paper's outputs [q1, q2, q3, q6];
 the cost of eq 47 adds a weight on the tension deviation dTC = KC (dq9 - dLN), which is
@@ -182,7 +182,7 @@ def tethered_design(params, T_ref: float, q9: float, dt: float):
 @lru_cache(maxsize=32)
 def _tethered_design(params, T_ref, q9, dt):
     from ..model import TetheredHelicopter
-    from ..model.linearize import linearize
+    from ..model.linearization import linearize
     from ..names import INPUT, REEL_RATE
 
     model = TetheredHelicopter(params)

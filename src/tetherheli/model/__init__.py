@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from .dynamics import INPUT, OUTPUT, FreeHelicopter, TetheredHelicopter, state_index
-    from .linearize import EXPORT_INPUTS, LinearModel, discretize_zoh, linearize
+    from .linearization import EXPORT_INPUTS, LinearModel, discretize_zoh, linearize
     from .trim import TrimPoint, hover_trim
 
 _LAZY = {
@@ -20,10 +20,10 @@ _LAZY = {
     "FreeHelicopter": ".dynamics",
     "TetheredHelicopter": ".dynamics",
     "state_index": ".dynamics",
-    "EXPORT_INPUTS": ".linearize",
-    "LinearModel": ".linearize",
-    "discretize_zoh": ".linearize",
-    "linearize": ".linearize",
+    "EXPORT_INPUTS": ".linearization",
+    "LinearModel": ".linearization",
+    "discretize_zoh": ".linearization",
+    "linearize": ".linearization",
     "TrimPoint": ".trim",
     "hover_trim": ".trim",
 }
@@ -48,8 +48,8 @@ def __getattr__(name: str) -> Any:
     if module is None:
         raise AttributeError(f"module 'tetherheli.model' has no attribute {name!r}")
     mod = importlib.import_module(module, __name__)
-    # bind every name of that module at once: importing ``.linearize`` sets this package's
-    # attribute ``linearize`` to the submodule, which would shadow the function of that name
+    # bind every name of that module at once (no submodule bears a name of ``_LAZY``: the
+    # linearization lives in ``.linearization``, so its import cannot shadow ``linearize``)
     for other, where in _LAZY.items():
         if where == module:
             globals()[other] = getattr(mod, other)

@@ -28,6 +28,14 @@ step), node N is the attachment point P (driven: its position and velocity are g
   on the projected area d l, the tangential on the wetted area pi d l; Hoerner's cross-flow
   principle), half of it on each end node.
 - Gravity -g n3 (SPEC.md: n3 up).
+- Ground: the plane z = 0 of N through the winch (node 0), under the free nodes 1..N-1 only
+  (P is the helicopter's, whose ground contact is a failure status). As MoorDyn's seabed
+  (Hall, MoorDyn v2 theory), a node below it rests on its contact patch A = d l0 with the
+  normal force F_n = max(0, kbot A (-z) - cbot A v_z) (kbot [Pa/m], cbot [Pa s/m]) and the
+  regularised Coulomb friction F_f = -mu_f F_n v_t / max(|v_t|, v_f) on its horizontal
+  velocity v_t (viscous below the speed v_f; it never does work on the node, F_f . v_t <= 0).
+  A cable lying still sinks in by its static penetration mu g / (kbot d) (a test checks
+  it); the spring's energy 1/2 kbot A z^2 belongs to ``chain_energy``. kbot = 0: no ground.
 - End forces: the force the tether exerts on P is -T e of the top segment plus half the top
   segment's weight and drag; on the winch, +T e of the bottom segment plus half the bottom
   segment's weight and drag. With this convention the static chain converges to the elastic
@@ -63,12 +71,20 @@ from .._compile import compiled
 from .._validation import check_integer, check_number
 from ..errors import InfeasibleError, ParameterError
 from ..layout import (
+    GROUND_DAMPING_PA_S_M,
+    GROUND_FRICTION,
+    GROUND_FRICTION_SPEED_M_S,
+    GROUND_STIFFNESS_PA_M,
     LUMPED_BA,
     LUMPED_CDN,
     LUMPED_CDT,
     LUMPED_DAMPING,
     LUMPED_EA,
+    LUMPED_FRICTION,
+    LUMPED_FRICTION_SPEED,
     LUMPED_G,
+    LUMPED_GROUND_C,
+    LUMPED_GROUND_K,
     LUMPED_MU,
     LUMPED_SIZE,
 )
@@ -80,6 +96,10 @@ if TYPE_CHECKING:
 
 __all__ = [
     "CHAIN_OMEGA_H",
+    "GROUND_DAMPING_PA_S_M",
+    "GROUND_FRICTION",
+    "GROUND_FRICTION_SPEED_M_S",
+    "GROUND_STIFFNESS_PA_M",
     "ROS2_GAMMA",
     "ElasticCatenary",
     "LumpedTether",
@@ -91,9 +111,12 @@ __all__ = [
     "chain_interval",
     "chain_omega_max",
     "chain_substeps",
+    "coupling_substeps",
     "elastic_catenary",
     "end_forces",
     "force_at_P_as_loads",
+    "ground_force",
+    "ground_jacobian",
     "hover_trim_lumped",
     "initial_chain",
     "ros2_step",
@@ -142,6 +165,16 @@ class LumpedTether:
         Skin-friction coefficient Ct on the wetted area pi d l, >= 0 (0: no tangential drag).
     air_density_kg_m3 : float
         rho [kg/m^3], > 0.
+    ground_stiffness_Pa_m : float
+        The ground's normal stiffness kbot [Pa/m] per contact area d l0, >= 0 (module
+        docstring; ``GROUND_STIFFNESS_PA_M``); 0: no ground (the chain passes through z = 0,
+        the airborne cable of the tests of its mechanics).
+    ground_damping_Pa_s_m : float
+        The ground's normal damping cbot [Pa s/m], >= 0 (``GROUND_DAMPING_PA_S_M``).
+    ground_friction : float
+        Coulomb friction coefficient mu_f on the ground, >= 0 (``GROUND_FRICTION``).
+    ground_friction_speed_m_s : float
+        The friction's regularisation speed v_f [m/s], > 0 (``GROUND_FRICTION_SPEED_M_S``).
     field_prefix : str
         The table named in error messages ("tether"; ``tether.Cable``: "cable").
     """
@@ -155,11 +188,22 @@ class LumpedTether:
     tangential_drag_coefficient: float = 0.0
     air_density_kg_m3: float = AIR_DENSITY_KG_M3
     internal_damping_Ns: float | None = None
+    ground_stiffness_Pa_m: float = GROUND_STIFFNESS_PA_M
+    ground_damping_Pa_s_m: float = GROUND_DAMPING_PA_S_M
+    ground_friction: float = GROUND_FRICTION
+    ground_friction_speed_m_s: float = GROUND_FRICTION_SPEED_M_S
     field_prefix: str = "tether"
 
     def __post_init__(self) -> None:
         s = self.field_prefix
-        names = {"damping_ratio": "damping_ratio", "internal_damping_Ns": "internal_damping"}
+        names = {
+            "damping_ratio": "damping_ratio",
+            "internal_damping_Ns": "internal_damping",
+            "ground_stiffness_Pa_m": "ground_stiffness",
+            "ground_damping_Pa_s_m": "ground_damping",
+            "ground_friction": "ground_friction",
+            "ground_friction_speed_m_s": "ground_friction_speed",
+        }
         if s == "tether":
             names = {k: k for k in names}
         if self.damping_ratio is not None and self.internal_damping_Ns is not None:
@@ -186,6 +230,15 @@ class LumpedTether:
             value = check_number(f"{s}.{name}", getattr(self, name), low=0.0, low_open=low_open)
             object.__setattr__(self, name, value)
         object.__setattr__(self, "segments", int(self.segments))
+        for name, low_open in (
+            ("ground_stiffness_Pa_m", False),
+            ("ground_damping_Pa_s_m", False),
+            ("ground_friction", False),
+            ("ground_friction_speed_m_s", True),
+        ):
+            value = check_number(f"{s}.{names[name]}", getattr(self, name), low=0.0,
+                                 low_open=low_open)  # fmt: skip
+            object.__setattr__(self, name, value)
 
     def segment_dashpot(self, unstretched_length_m: float) -> float:
         """A segment's axial dashpot c [N s/m] at the unstretched length L0 (module
@@ -241,7 +294,8 @@ class LumpedTether:
             mu [kg/m], EA [N], the damping ratio's segment dashpot
             zeta sqrt(EA mu) / sin(pi / (2 N)) [N s/m], the normal and tangential drag factors
             rho d Cd / 2 and rho pi d Ct / 2 [kg/m^2], g [m/s^2], the internal damping BA
-            [N s] (one of the two dampings is zero).
+            [N s] (one of the two dampings is zero), the ground's kbot d [N/m^2] and
+            cbot d [N s/m^2], mu_f and v_f [m/s].
         """
         p = np.empty(LUMPED_SIZE)
         p[LUMPED_MU] = self.mass_per_length_kg_m
@@ -258,6 +312,10 @@ class LumpedTether:
             0.5 * self.air_density_kg_m3 * math.pi * self.diameter_m
         ) * self.tangential_drag_coefficient
         p[LUMPED_G] = check_number("g", g, low=0.0)
+        p[LUMPED_GROUND_K] = self.ground_stiffness_Pa_m * self.diameter_m
+        p[LUMPED_GROUND_C] = self.ground_damping_Pa_s_m * self.diameter_m
+        p[LUMPED_FRICTION] = self.ground_friction
+        p[LUMPED_FRICTION_SPEED] = self.ground_friction_speed_m_s
         return p
 
 
@@ -365,14 +423,104 @@ def chain_forces(x, v, wind, L0, p, F, T, K, Cax, D, jac):
                     D[s, a, b] = (
                         cdn * length * (speed_n * proj + un[a] * un[b] * inv_speed) + 2.0 * at * eab
                     )
+    kg = p[LUMPED_GROUND_K] * l0
+    cg = p[LUMPED_GROUND_C] * l0
+    for i in range(1, n):
+        if kg > 0.0 and x[i, 2] < 0.0:
+            fx, fy, fz = ground_force(x[i, 2], v[i, 0], v[i, 1], v[i, 2], kg, cg, p)
+            F[i, 0] += fx
+            F[i, 1] += fy
+            F[i, 2] += fz
 
 
 @_jit
-def _factor(n_free, m_node, K, Cax, D, cm, cc, ck, Dinv, B, piv, db):
+def ground_force(z, vx, vy, vz, kg, cg, p):
+    """The ground's force (3,) [N] on a free node at height z < 0 [m] moving at (vx, vy, vz)
+    [m/s] (module docstring): F_n = max(0, -kg z - cg vz) along n3 and the regularised
+    Coulomb friction -mu_f F_n v_t / max(|v_t|, v_f) on the horizontal velocity v_t.
+
+    Parameters
+    ----------
+    z : float
+        The node's height [m], < 0 (in the ground).
+    vx, vy, vz : float
+        The node's velocity [m/s].
+    kg, cg : float
+        The node's contact stiffness kbot d l0 [N/m] and damping cbot d l0 [N s/m].
+    p : ndarray, shape (LUMPED_SIZE,)
+        ``LumpedTether.packed(g)`` (mu_f, v_f).
+
+    Returns
+    -------
+    tuple of float
+        (F_x, F_y, F_z) [N].
+    """
+    fn = -kg * z - cg * vz
+    if fn <= 0.0:
+        return 0.0, 0.0, 0.0
+    speed = math.sqrt(vx * vx + vy * vy)
+    scale = p[LUMPED_FRICTION] * fn / max(speed, p[LUMPED_FRICTION_SPEED])
+    return -scale * vx, -scale * vy, fn
+
+
+@_jit
+def ground_jacobian(x, v, L0, p, h, Gk, Gc):
+    """The ground's blocks of the ROS2 matrix W for the free nodes, Gk (N+1,) [N/m] the
+    normal stiffness -dF_z/dz and Gc (N+1, 3, 3) [N s/m] the damping -dF/dv (normal damping,
+    and the friction as a horizontal viscous damper mu_f F_n / max(|v_t|, v_f) at the normal
+    force max(F_n, the node's weight)),
+    for every node in the ground or reaching it within 2 h at its velocity (so that a step
+    that hits the ground stays implicit, as a slack segment's W does); zero elsewhere.
+
+    Parameters
+    ----------
+    x, v : ndarray, shape (N+1, 3)
+        Node positions [m] and velocities [m/s].
+    L0 : float
+        Unstretched length [m].
+    p : ndarray, shape (LUMPED_SIZE,)
+        ``LumpedTether.packed(g)``.
+    h : float
+        The step [s].
+    Gk : ndarray, shape (N+1,)
+        Receives the normal stiffness [N/m].
+    Gc : ndarray, shape (N+1, 3, 3)
+        Receives the damping blocks [N s/m].
+
+    Returns
+    -------
+    None
+    """
+    n = x.shape[0] - 1
+    l0 = L0 / n
+    kg = p[LUMPED_GROUND_K] * l0
+    cg = p[LUMPED_GROUND_C] * l0
+    weight = p[LUMPED_MU] * l0 * p[LUMPED_G]
+    vf = p[LUMPED_FRICTION_SPEED]
+    for i in range(n + 1):
+        Gk[i] = 0.0
+        for a in range(3):
+            for b in range(3):
+                Gc[i, a, b] = 0.0
+        z = x[i, 2]
+        if kg == 0.0 or i == 0 or i == n or z + 2.0 * h * min(v[i, 2], 0.0) >= 0.0:
+            continue
+        Gk[i] = kg
+        Gc[i, 2, 2] = cg
+        # the friction as the viscous damper it equals at this speed, mu_f F_n / max(|v_t|, v_f)
+        # in both directions (a secant, not the tangent, whose along-motion part is zero: with
+        # it a sliding node stalls at a speed where the stages' friction flips sign)
+        fn = max(-kg * z - cg * v[i, 2], weight)
+        speed = math.sqrt(v[i, 0] ** 2 + v[i, 1] ** 2)
+        Gc[i, 0, 0] = Gc[i, 1, 1] = p[LUMPED_FRICTION] * fn / max(speed, vf)
+
+
+@_jit
+def _factor(n_free, m_node, K, Cax, D, Gk, Gc, cm, cc, ck, Dinv, B, piv, db):
     """Factor the symmetric block-tridiagonal matrix A = cm M + cc C + ck Kn of the free nodes
-    (Kn = dF/dx, C = dF/dv assembled from the segment blocks) by block Thomas: Dinv (n_free,
-    3, 3) the inverted pivots, B (n_free, 3, 3) the super-diagonal blocks A[i, i+1]; piv,
-    db (3, 3) scratch."""
+    (Kn = dF/dx, C = dF/dv assembled from the segment blocks and the ground's node blocks Gk,
+    Gc of ``ground_jacobian``) by block Thomas: Dinv (n_free, 3, 3) the inverted pivots,
+    B (n_free, 3, 3) the super-diagonal blocks A[i, i+1]; piv, db (3, 3) scratch."""
     for i in range(n_free):
         s_lo = i  # segment below free node i (nodes i, i+1 of the chain)
         s_hi = i + 1  # segment above
@@ -380,7 +528,10 @@ def _factor(n_free, m_node, K, Cax, D, cm, cc, ck, Dinv, B, piv, db):
             for b in range(3):
                 # dF/dx diagonal: -(K_lo + K_hi); dF/dv diagonal: -(Cax + D/4) of both
                 kd = -(K[s_lo, a, b] + K[s_hi, a, b])
+                if a == 2 and b == 2:
+                    kd -= Gk[i + 1]
                 cd = -(Cax[s_lo, a, b] + Cax[s_hi, a, b]) - 0.25 * (D[s_lo, a, b] + D[s_hi, a, b])
+                cd -= Gc[i + 1, a, b]
                 piv[a, b] = cc * cd + ck * kd + (cm * m_node if a == b else 0.0)
                 # off-diagonal (i, i+1) through segment s_hi: dF/dx = +K, dF/dv = Cax - D/4
                 B[i, a, b] = ck * K[s_hi, a, b] + cc * (Cax[s_hi, a, b] - 0.25 * D[s_hi, a, b])
@@ -480,7 +631,7 @@ def ros2_work_size(segments):
         The scratch length.
     """
     n = segments
-    return 3 * (n + 1) + n + 27 * n + 18 * n + 24 * n + 6 * (n + 1) + 18 + 6
+    return 3 * (n + 1) + n + 27 * n + 18 * n + 24 * n + 6 * (n + 1) + 18 + 10 * (n + 1) + 6
 
 
 def ros2_work(segments: int) -> np.ndarray:
@@ -573,11 +724,16 @@ def ros2_step(x, v, wind, L0, p, h, xP1, vP1, work):
     piv = work[o : o + 9].reshape((3, 3))
     o += 9
     db = work[o : o + 9].reshape((3, 3))
+    o += 9
+    Gk = work[o : o + n + 1]
+    o += n + 1
+    Gc = work[o : o + 9 * (n + 1)].reshape((n + 1, 3, 3))
     g = ROS2_GAMMA
     m_node = p[LUMPED_MU] * L0 / n
     chain_forces(x, v, wind, L0, p, F, T, K, Cax, Dd, True)
+    ground_jacobian(x, v, L0, p, h, Gk, Gc)
     # (M - g h C - g^2 h^2 Kn) kv = M b + g h Kn a, kr = a + g h kv  for (I - g h J) k = (a, b)
-    _factor(nf, m_node, K, Cax, Dd, 1.0, -g * h, -g * g * h * h, Dinv, B, piv, db)
+    _factor(nf, m_node, K, Cax, Dd, Gk, Gc, 1.0, -g * h, -g * g * h * h, Dinv, B, piv, db)
     # the driven top point: d(F_{N-1})/dt = K_top vP + C_top aP, with aP over the step
     top = n - 1
     ft0 = 0.0
@@ -597,7 +753,7 @@ def ros2_step(x, v, wind, L0, p, h, xP1, vP1, work):
     rb[nf - 1, 0] += scale_t * ft0
     rb[nf - 1, 1] += scale_t * ft1
     rb[nf - 1, 2] += scale_t * ft2
-    _stage(nf, m_node, K, g * h, ra, rb, Dinv, B, k1r, k1v, rhs)
+    _stage(nf, m_node, K, Gk, g * h, ra, rb, Dinv, B, k1r, k1v, rhs)
     # stage 2 at t + h, y + k1 (Verwer's form: (I - g h J) k2 = h f(y + k1) - 2 k1 - g h^2 f_t)
     for i in range(n + 1):
         for j in range(3):
@@ -618,7 +774,7 @@ def ros2_step(x, v, wind, L0, p, h, xP1, vP1, work):
     rb[nf - 1, 0] -= scale_t * ft0
     rb[nf - 1, 1] -= scale_t * ft1
     rb[nf - 1, 2] -= scale_t * ft2
-    _stage(nf, m_node, K, g * h, ra, rb, Dinv, B, k2r, k2v, rhs)
+    _stage(nf, m_node, K, Gk, g * h, ra, rb, Dinv, B, k2r, k2v, rhs)
     for i in range(nf):
         for j in range(3):
             x[i + 1, j] = x0[i + 1, j] + 1.5 * k1r[i, j] + 0.5 * k2r[i, j]
@@ -634,6 +790,17 @@ def ros2_step(x, v, wind, L0, p, h, xP1, vP1, work):
 CHAIN_OMEGA_H = 0.2
 #: at most this many chain sub-steps per helicopter step (a guard on absurd stiffness)
 CHAIN_MAX_SUBSTEPS = 4096
+#: the coupled step's rule (``coupling_substeps``): the helicopter's RK4 steps of a lumped run
+#: are at most COUPLING_OMEGA_H / omega_max long, so that the condensed coupling's Taylor
+#: model of the top interior node (``engine.lumped_interval``) spans at most about half of
+#: its axial period 2 pi / (omega_max / 2). Issue 23 item 2b: with drag, damping and the winch
+#: off, the closed-loop engine's energy over 20 s at the default 10 ms, 2 substeps drifted by
+#: 1.06 % of the push for a 20 kN cable (N = 10: h omega_max = 10.7 at h = 5 ms); this rule
+#: takes it to 9 RK4 steps per sample (0.53 %). The paper's cable keeps its 2 steps at N <= 10
+#: and takes 3 at N = 20, 5 at N = 40; the chain's own sub-steps shrink in step, so the
+#: chain's work per sample barely changes (``tests/test_engine_lumped.py``; measured figures
+#: in ``docs/studies/lumped_tether.md``).
+COUPLING_OMEGA_H = 2.5
 
 
 @_jit
@@ -683,6 +850,38 @@ def chain_substeps(p, L0, n, h):
     m = int(h * chain_omega_max(p, L0, n) / CHAIN_OMEGA_H - 1e-9) + 1  # the ceiling
     if m < 1:
         return 1
+    if m > CHAIN_MAX_SUBSTEPS:
+        return CHAIN_MAX_SUBSTEPS
+    return m
+
+
+@_jit
+def coupling_substeps(p, L0, n, dt, n_sub):
+    """The helicopter's RK4 steps per control sample of a lumped run: ``n_sub`` (the
+    scenario's substeps) or more, the least m with (dt / m) omega_max <= COUPLING_OMEGA_H
+    (``chain_omega_max``), at most CHAIN_MAX_SUBSTEPS.
+
+    Parameters
+    ----------
+    p : ndarray, shape (LUMPED_SIZE,)
+        ``LumpedTether.packed(g)``.
+    L0 : float
+        Unstretched length [m], > 0.
+    n : int
+        Number of segments.
+    dt : float
+        The control sample [s].
+    n_sub : int
+        The scenario's RK4 steps per sample, >= 1.
+
+    Returns
+    -------
+    int
+        The RK4 steps per sample.
+    """
+    m = int(dt * chain_omega_max(p, L0, n) / COUPLING_OMEGA_H - 1e-9) + 1
+    if m < n_sub:
+        return n_sub
     if m > CHAIN_MAX_SUBSTEPS:
         return CHAIN_MAX_SUBSTEPS
     return m
@@ -753,9 +952,10 @@ def chain_interval(x, v, wind, L0, p, h, xP1, vP1, work):
 
 
 @_jit
-def _stage(nf, m_node, K, gh, ra, rb, Dinv, B, kr, kv, rhs):
+def _stage(nf, m_node, K, Gk, gh, ra, rb, Dinv, B, kr, kv, rhs):
     """Solve (I - gh J) (kr, kv) = (ra, rb) for J = [[0, I], [Kn/m, C/m]]: the factored A =
-    M - gh C - gh^2 Kn takes kv from M rb + gh Kn ra, then kr = ra + gh kv (rhs: scratch)."""
+    M - gh C - gh^2 Kn takes kv from M rb + gh Kn ra, then kr = ra + gh kv (rhs: scratch;
+    Kn with the ground's normal stiffness Gk)."""
     for i in range(nf):
         s_lo = i
         s_hi = i + 1
@@ -768,6 +968,8 @@ def _stage(nf, m_node, K, gh, ra, rb, Dinv, B, kr, kv, rhs):
                 if i < nf - 1:
                     kn += K[s_hi, a, b] * ra[i + 1, b]
                 acc += gh * kn
+            if a == 2:
+                acc -= gh * Gk[i + 1] * ra[i, 2]
             rhs[i, a] = acc
     _solve(Dinv, B, rhs, kv)
     for i in range(nf):
@@ -908,8 +1110,10 @@ def end_forces(
 
 
 def chain_energy(x: np.ndarray, v: np.ndarray, L0: float, p: np.ndarray) -> float:
-    """Kinetic + gravitational + elastic energy [J] of the free nodes and the segments (the
-    end nodes' half-segment masses are not counted: it is conserved with fixed ends).
+    """Kinetic + gravitational + elastic energy [J] of the free nodes and the segments, with
+    the ground's spring 1/2 kbot d l0 z^2 of every free node below z = 0 (the end nodes'
+    half-segment masses are not counted: it is conserved with fixed ends, no damping, no
+    drag and no ground contact; the ground's damping and friction only take energy out).
 
     Parameters
     ----------
@@ -931,7 +1135,9 @@ def chain_energy(x: np.ndarray, v: np.ndarray, L0: float, p: np.ndarray) -> floa
     kinetic = 0.5 * m * float(np.sum(v[1:-1] ** 2))
     gravity = m * p[LUMPED_G] * float(np.sum(x[1:-1, 2]))
     stretch = np.maximum(np.linalg.norm(np.diff(x, axis=0), axis=1) - l0, 0.0)
-    return kinetic + gravity + 0.5 * (p[LUMPED_EA] / l0) * float(np.sum(stretch**2))
+    sunk = np.minimum(x[1:-1, 2], 0.0)  # the free nodes' penetration of the ground
+    ground = 0.5 * p[LUMPED_GROUND_K] * l0 * float(np.sum(sunk**2))
+    return kinetic + gravity + 0.5 * (p[LUMPED_EA] / l0) * float(np.sum(stretch**2)) + ground
 
 
 def static_chain(

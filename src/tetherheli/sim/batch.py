@@ -54,6 +54,7 @@ from ..status import Status, status_message
 from ..wind import compile_wind
 from . import engine
 from .closed_loop import check_run_memory
+from .result import WINCH_LIMITS
 from .scenario import Scenario
 from .setup import EngineSetup, engine_setup, lane_block
 
@@ -233,7 +234,29 @@ class BatchResult:
         str
             One line, e.g. "completed" or why the run stopped.
         """
-        return status_message(int(self.status[i]), float(self.release_time[i]))
+        return status_message(
+            int(self.status[i]), float(self.release_time[i]), winch_limit=self.winch_limit(i)
+        )
+
+    def winch_limit(self, i: int) -> dict[str, Any] | None:
+        """Run ``i``'s first stop of the reel at a payout limit (``[winch] min_length``,
+        ``max_length``), ``{"time", "limit"}`` (s, the key's name), or None.
+
+        Parameters
+        ----------
+        i : int
+            Run index, 0 <= i < N.
+
+        Returns
+        -------
+        dict or None
+            When the natural length reached the limit and which; None if none was reached.
+        """
+        t = float(self.summaries[i, engine.SUMMARY_WINCH_LIMIT_TIME])
+        if math.isnan(t):
+            return None
+        which = int(self.summaries[i, engine.SUMMARY_WINCH_LIMIT])
+        return {"time": t, "limit": WINCH_LIMITS[which]}
 
     def messages(self) -> list[str]:
         """The status message of every run (a tether release included).
@@ -307,6 +330,10 @@ def _python_run(
     release = (result.release_time, result.release_tension)
     summary[_I["release_time"]] = math.nan if release[0] is None else release[0]
     summary[_I["release_tension"]] = math.nan if release[1] is None else release[1]
+    limit = result.winch_limit
+    summary[_I["winch_limit_time"]] = math.nan if limit is None else limit["time"]
+    codes = {name: code for code, name in WINCH_LIMITS.items()}
+    summary[_I["winch_limit"]] = math.nan if limit is None else codes[limit["limit"]]
     return result.status, result.time.size
 
 
@@ -508,6 +535,7 @@ def run_batch(
     summaries = np.zeros((n, _N_SUMMARY))
     # no release event until a run records one (a run that is never set up has none)
     summaries[:, [engine.SUMMARY_RELEASE_TIME, engine.SUMMARY_RELEASE_TENSION]] = np.nan
+    summaries[:, [engine.SUMMARY_WINCH_LIMIT_TIME, engine.SUMMARY_WINCH_LIMIT]] = np.nan
     status = np.zeros(n, dtype=np.int64)
     done = np.zeros(n, dtype=np.int64)
     reasons = [""] * n

@@ -31,6 +31,8 @@ from ..layout import (
     HELD_SIZE,
     SUMMARY_FIELDS,
     SUMMARY_RELEASE_TIME,
+    SUMMARY_WINCH_LIMIT,
+    SUMMARY_WINCH_LIMIT_TIME,
     WIND_CONSTANT,
 )
 from ..model import TrimPoint
@@ -40,7 +42,7 @@ from ..resources import check_memory
 from ..sensors import N_CHANNELS, N_GROUPS
 from ..status import FALLBACK_COLUMN, Status, solver_status
 from . import engine
-from .result import DRUM_COLUMNS, TENSION_GROUND_COLUMN, SimulationResult
+from .result import DRUM_COLUMNS, TENSION_GROUND_COLUMN, SimulationResult, winch_limit_info
 from .scenario import Scenario
 from .setup import engine_setup
 
@@ -177,6 +179,7 @@ def simulate(
         rec.release[:] = rec.summary[SUMMARY_RELEASE_TIME : SUMMARY_RELEASE_TIME + 2]
     else:
         status, done = _python_loop(scenario, setup, controller, method, rec, rtol=rtol, atol=atol)
+        engine.winch_limit_into(rec.held, rec.summary)
     columns = controller.recorded()  # e.g. the MPC's fallbacks
     # a run whose solver failed too often is degraded or failed (status.solver_status)
     status = solver_status(status, columns.get(FALLBACK_COLUMN, ())[:done])
@@ -198,6 +201,7 @@ class _Recorder:
         # the drum's speed [rad/s] and mean motor torque [N m]; one unused row without a drum
         self.winch = np.zeros((n + 1 if drum else 1, len(DRUM_COLUMNS)))
         self.release = np.full(2, np.nan)  # tether release: time [s], tension [N]
+        self.held = np.zeros(HELD_SIZE)  # the Python loop's actuators (``layout.HELD_*``)
         self.summary = np.zeros(len(SUMMARY_FIELDS))
         self.tension_ground = np.zeros(n + 1)  # at the winch (= tension when massless)
         self.nodes = np.zeros((0, 0, 3))  # the chain's nodes (``record_nodes``)
@@ -255,6 +259,11 @@ class _Recorder:
             extra=extra,
             release_time=None if math.isnan(self.release[0]) else float(self.release[0]),
             release_tension=None if math.isnan(self.release[1]) else float(self.release[1]),
+            winch_limit=winch_limit_info(
+                self.summary[SUMMARY_WINCH_LIMIT_TIME],
+                self.summary[SUMMARY_WINCH_LIMIT],
+                scenario.winch,
+            ),
         )
 
 
@@ -271,7 +280,7 @@ def _python_loop(scenario, setup, controller, method, rec, *, rtol, atol):
     sensors = setup.sensors
     x = setup.start.x.copy()  # the trim in the air at t = 0 (``setup.start_point``)
     x_meas = np.empty(13)
-    held = np.zeros(HELD_SIZE)
+    held = rec.held
     y = np.empty(4)
     work = np.empty((engine.RK4_WORK_ROWS, 13))
     wind_buf = np.empty(3)
@@ -302,7 +311,7 @@ def _python_loop(scenario, setup, controller, method, rec, *, rtol, atol):
         finite = bool(np.all(np.isfinite(inp)) and math.isfinite(rate))
         if finite:
             ground = engine.winch_tension(cfg, tension)
-            rate = engine.actuate(inp, held, rate, act, dt, k == 0, ground, measured)
+            rate = engine.actuate(inp, held, rate, act, dt, k == 0, ground, measured, x[12], t)
         tethered_outputs(x_meas, c, rec.y_est[k])
         tethered_outputs(x, c, y)
         status = engine.check_state(x, y, trim.y, tension, cfg)

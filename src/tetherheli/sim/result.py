@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -43,6 +44,7 @@ __all__ = [
     "check_result_format",
     "list_results",
     "load_result",
+    "winch_limit_info",
 ]
 
 STATE_NAMES, STATE_UNITS = TETHERED_STATE, TETHERED_STATE_UNITS
@@ -202,6 +204,11 @@ class SimulationResult:
         The safety device released the tether at this control sample (s), the tension (N)
         having exceeded the breaking tension (None: not released); the run then continued
         free, and ``message`` says so.
+    winch_limit : dict or None, optional
+        The first stop of the reel at a payout limit (``winch_limit_info``): ``{"time",
+        "limit", "length"}``, the time [s] the natural length reached the limit, which one
+        ("min_length" or "max_length" of ``[winch]``) and its value [m]; None: no limit was
+        reached. The run goes on with the length held (not a failure); ``message`` says so.
     """
 
     time: np.ndarray
@@ -222,6 +229,7 @@ class SimulationResult:
     extra: dict[str, np.ndarray] = field(default_factory=dict)
     release_time: float | None = None
     release_tension: float | None = None
+    winch_limit: dict[str, Any] | None = None
 
     def __post_init__(self) -> None:
         for name in (
@@ -256,7 +264,7 @@ class SimulationResult:
         solver's fallback flew (``status.solver_status``) if there were any."""
         fallbacks = self.extra.get(FALLBACK_COLUMN)
         fraction = None if fallbacks is None or fallbacks.size == 0 else float(fallbacks.mean())
-        return status_message(self.status, self.release_time, fraction)
+        return status_message(self.status, self.release_time, fraction, self.winch_limit)
 
     @property
     def released(self) -> bool:
@@ -502,13 +510,15 @@ class SimulationResult:
         Returns
         -------
         dict
-            Version, status, message, tether release, method, configuration, trim and units.
+            Version, status, message, tether release, winch limit, method, configuration,
+            trim and units.
         """
         return {
             "tetherheli_version": self.version,
             "status": self.status,
             "message": self.message,
             "tether_release": self.release_info(),
+            "winch_limit": self.winch_limit,
             "method": self.method,
             "configuration": self.configuration,
             "trim": {
@@ -764,6 +774,50 @@ def _release(meta: dict[str, Any], source: str) -> tuple[float | None, float | N
         ) from None
 
 
+#: ``winch_limit``'s codes (``layout.HELD_LIMIT_WHICH``) and the ``[winch]`` keys they name
+WINCH_LIMITS = {-1: "min_length", 1: "max_length"}
+
+
+def winch_limit_info(time: float, which: float, winch: Any) -> dict[str, Any] | None:
+    """The first stop of the reel at a payout limit as plain data (``SimulationResult``'s
+    ``winch_limit``), from the engine's summary slots ``winch_limit_time``, ``winch_limit``.
+
+    Parameters
+    ----------
+    time : float
+        When the natural length reached the limit [s]; NaN: no limit reached.
+    which : float
+        -1 ``min_length``, +1 ``max_length`` (NaN: none).
+    winch : WinchSettings
+        The run's ``[winch]`` table (the limit's value).
+
+    Returns
+    -------
+    dict or None
+        ``{"time", "limit", "length"}`` (s, the key's name, m), or None.
+    """
+    if not math.isfinite(float(time)) or not math.isfinite(float(which)):
+        return None
+    limit = WINCH_LIMITS[int(which)]
+    return {"time": float(time), "limit": limit, "length": float(getattr(winch, limit))}
+
+
+def _winch_limit(meta: dict[str, Any], source: str) -> dict[str, Any] | None:
+    info = meta.get("winch_limit")
+    if info is None:
+        return None
+    try:
+        out = {"time": float(info["time"]), "limit": info["limit"], "length": float(info["length"])}
+    except (KeyError, TypeError, ValueError):
+        out = None
+    if out is None or out["limit"] not in WINCH_LIMITS.values():
+        raise ParameterError(
+            "winch_limit", info, "null or a table with time [s], limit ('min_length' or "
+            "'max_length') and length [m]", source=source,
+        )  # fmt: skip
+    return out
+
+
 def load_result(directory: str | Path, stem: str | None = None) -> SimulationResult:
     """Read a run saved by ``SimulationResult.save(directory, stem)``.
 
@@ -847,4 +901,5 @@ def load_result(directory: str | Path, stem: str | None = None) -> SimulationRes
         extra={name: v for name, v in cols.items() if name not in RESULT_COLUMNS},
         release_time=release_time,
         release_tension=release_tension,
+        winch_limit=_winch_limit(meta, source),
     )

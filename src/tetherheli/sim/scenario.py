@@ -53,6 +53,13 @@ from .._io import OWN_FILE_STEMS, dumps_toml, read_toml
 from .._validation import Key
 from ..control import lqi
 from ..errors import ParameterError
+from ..layout import (
+    GROUND_DAMPING_PA_S_M,
+    GROUND_FRICTION,
+    GROUND_FRICTION_SPEED_M_S,
+    GROUND_STIFFNESS_PA_M,
+    WINCH_MIN_LENGTH_M,
+)
 from ..params import TETHER_LENGTH_RANGE, Params, check_tether_length, check_tether_strain
 from ..sensors import SensorConfig, sensor_config_from_dict
 from ..wind import (
@@ -461,10 +468,11 @@ class TetherSettings:
     Parameters
     ----------
     model, segments, mass_per_length, EA, damping_ratio, internal_damping, diameter,
-    drag_coefficient,
-    tangential_drag_coefficient, record_nodes
+    drag_coefficient, tangential_drag_coefficient, ground_stiffness, ground_damping,
+    ground_friction, ground_friction_speed, record_nodes
         The keys of a scenario's ``[tether]`` table; each field's ``Key`` gives its meaning,
-        unit, default and allowed range.
+        unit, default and allowed range. The ground keys are the plane z = 0 through the
+        winch under the chain's free nodes (MoorDyn's seabed; ``model.tether_lumped``).
     """
 
     model: str = _key(
@@ -500,6 +508,26 @@ class TetherSettings:
     tangential_drag_coefficient: float = _key(
         0.0, Key("tangential (skin-friction) drag coefficient on the wetted area", low=0.0)
     )
+    ground_stiffness: float = _key(
+        GROUND_STIFFNESS_PA_M,
+        Key("the ground's normal stiffness kbot under the chain's free nodes, per contact "
+            "area d l0 (MoorDyn's seabed default; a cable at rest sinks in by "
+            "mass_per_length g / (kbot diameter)); 0: no ground", "Pa/m", low=0.0),
+    )  # fmt: skip
+    ground_damping: float = _key(
+        GROUND_DAMPING_PA_S_M,
+        Key("the ground's normal damping cbot per contact area (the default: the default "
+            "cable's critically damped contact)", "Pa s/m", low=0.0),
+    )  # fmt: skip
+    ground_friction: float = _key(
+        GROUND_FRICTION,
+        Key("Coulomb friction coefficient of the cable on the ground (0: none)", low=0.0),
+    )
+    ground_friction_speed: float = _key(
+        GROUND_FRICTION_SPEED_M_S,
+        Key("the friction's regularisation speed: viscous below it", "m/s", low=0.0,
+            low_open=True),
+    )  # fmt: skip
     record_nodes: bool = _key(
         False, Key("record the chain's node positions at every sample (result extras)",
                    kind="bool"),
@@ -536,9 +564,11 @@ class WinchSettings:
     Parameters
     ----------
     model, drum_radius, drum_inertia, torque_limit, viscous_friction, coulomb_friction,
-    speed_loop_bandwidth, tension_feedforward
+    speed_loop_bandwidth, tension_feedforward, min_length, max_length
         The keys of a scenario's ``[winch]`` table; each field's ``Key`` gives its meaning,
-        unit, default and allowed range. The drum keys are used by ``model = "drum"`` only.
+        unit, default and allowed range. The drum keys are used by ``model = "drum"`` only;
+        the payout limits by both models and both tethers (``engine.winch_limits``: reaching
+        one brakes the reel, the run goes on and records it, ``SimulationResult.winch_limit``).
     """
 
     model: str = _key(
@@ -576,6 +606,18 @@ class WinchSettings:
         True,
         Key("the drive adds the load cell's torque r T_meas to the speed loop's (removes the "
             "loop's steady speed error under the tether's load)", kind="bool"),
+    )  # fmt: skip
+    min_length: float = _key(
+        WINCH_MIN_LENGTH_M,
+        Key("shortest natural length L_N the winch reels in to (a brake stops the reel "
+            "there; the run records it): keeps every natural length positive", "m",
+            low=0.0, low_open=True),
+    )  # fmt: skip
+    max_length: float = _key(
+        _INF,
+        Key("longest natural length L_N the winch pays out to, the drum's capacity (a brake "
+            "stops the reel there; the run records it); inf: no limit", "m", low=0.0,
+            low_open=True, finite=False),
     )  # fmt: skip
 
 
@@ -901,6 +943,11 @@ def _validate(s: Scenario, source: str | None) -> None:
     if not isinstance(s.winch, WinchSettings):
         raise ParameterError("winch", s.winch, "a WinchSettings", source=source)
     winch = _checked(WinchSettings, "winch", s.winch, source)
+    if not winch.min_length < winch.max_length:
+        raise ParameterError(
+            "winch.max_length", s.winch.max_length,
+            f"a length above winch.min_length ({winch.min_length:g} m)", source=source,
+        )  # fmt: skip
     if winch.model == "drum" and math.isfinite(actuators.reel_acceleration_limit):
         raise ParameterError(
             "actuators.reel_acceleration_limit",

@@ -24,7 +24,7 @@ import numpy as np
 from ..control.lqi import LQIGain, design_lqi
 from ..control.paper import PaperController
 from ..control.tether_lqi import TetherLQIGain, tether_lqi_gain
-from ..errors import DesignError, InfeasibleError, design_failure
+from ..errors import DesignError, InfeasibleError, ParameterError, design_failure
 from ..layout import (
     ACT_BREAK,
     ACT_DRUM,
@@ -35,6 +35,8 @@ from ..layout import (
     ACT_DRUM_TENSION_FFWD,
     ACT_DRUM_TORQUE_LIMIT,
     ACT_DRUM_VISCOUS,
+    ACT_MAX_LENGTH,
+    ACT_MIN_LENGTH,
     ACT_REEL_ACCEL,
     ACT_TAU,
     ACT_U_MAX,
@@ -299,6 +301,10 @@ def lumped_tether(scenario: Scenario) -> LumpedTether:
         diameter_m=t.diameter,
         drag_coefficient=t.drag_coefficient,
         tangential_drag_coefficient=t.tangential_drag_coefficient,
+        ground_stiffness_Pa_m=t.ground_stiffness,
+        ground_damping_Pa_s_m=t.ground_damping,
+        ground_friction=t.ground_friction,
+        ground_friction_speed_m_s=t.ground_friction_speed,
     )
     if t.EA > 0.0:
         return LumpedTether(EA_N=t.EA, **kw)
@@ -528,7 +534,9 @@ def _reel_at_rest(model, trim, K, force, q9, windy, z0, integrators):
 
 def actuator_array(scenario: Scenario, trim: TrimPoint, ctrl: np.ndarray) -> np.ndarray:
     """The engine's actuator array (``layout.ACT_*``); also sets the winch limits in ``ctrl``.
-    Rejects limits the hover input does not fit in (``InfeasibleError``).
+    Rejects limits the hover input does not fit in (``InfeasibleError``) and payout limits
+    ``[winch] min_length``, ``max_length`` the start's natural length is outside of
+    (``ParameterError``).
 
     Parameters
     ----------
@@ -552,6 +560,21 @@ def actuator_array(scenario: Scenario, trim: TrimPoint, ctrl: np.ndarray) -> np.
     act[ACT_BREAK] = a.breaking_tension
     act[ACT_REEL_ACCEL] = a.reel_acceleration_limit
     winch_into(act, scenario.winch)
+    w = scenario.winch
+    act[ACT_MIN_LENGTH] = w.min_length
+    act[ACT_MAX_LENGTH] = w.max_length
+    if scenario.configuration == "tethered":  # the start's natural length within the limits
+        L = float(trim.x[12])
+        if L < w.min_length:
+            raise ParameterError(
+                "winch.min_length", w.min_length,
+                f"a length at or below the start's natural length L_N = {L:.6g} m",
+            )  # fmt: skip
+        if L > w.max_length:
+            raise ParameterError(
+                "winch.max_length", w.max_length,
+                f"a length at or above the start's natural length L_N = {L:.6g} m",
+            )  # fmt: skip
     ctrl[CTRL_REEL_RATE_LIMIT] = a.reel_rate_limit
     ctrl[CTRL_REEL_ACCEL] = a.reel_acceleration_limit
     ctrl[CTRL_U_MIN : CTRL_U_MIN + 4] = a.u_min  # for the anti-windup (CTRL_ANTI_WINDUP)

@@ -13,6 +13,12 @@ import numpy as np
 
 from .._validation import check_integer, check_number, check_vector
 from ..errors import ParameterError
+from ..layout import (
+    GROUND_DAMPING_PA_S_M,
+    GROUND_FRICTION,
+    GROUND_FRICTION_SPEED_M_S,
+    GROUND_STIFFNESS_PA_M,
+)
 from ..model.tether_lumped import (
     LumpedTether,
     chain_forces,
@@ -54,6 +60,15 @@ class Cable:
         Normal drag coefficient Cd, > 0.
     tangential_drag_coefficient : float
         Tangential drag coefficient Ct on the wetted area, >= 0.
+    ground_stiffness : float
+        The ground's normal stiffness kbot [Pa/m] under the free nodes (the plane z = 0 of
+        N; the anchor at z = 0 lies on it), >= 0 (``[tether] ground_stiffness``; 0: none).
+    ground_damping : float
+        The ground's normal damping cbot [Pa s/m], >= 0.
+    ground_friction : float
+        Coulomb friction coefficient on the ground, >= 0.
+    ground_friction_speed : float
+        The friction's regularisation speed [m/s], > 0.
     """
 
     unstretched_length: float
@@ -65,6 +80,10 @@ class Cable:
     diameter: float = 0.005
     drag_coefficient: float = 1.1
     tangential_drag_coefficient: float = 0.0
+    ground_stiffness: float = GROUND_STIFFNESS_PA_M
+    ground_damping: float = GROUND_DAMPING_PA_S_M
+    ground_friction: float = GROUND_FRICTION
+    ground_friction_speed: float = GROUND_FRICTION_SPEED_M_S
 
     def __post_init__(self) -> None:
         s = "cable"
@@ -97,6 +116,10 @@ class Cable:
             drag_coefficient=self.drag_coefficient,
             tangential_drag_coefficient=self.tangential_drag_coefficient,
             air_density_kg_m3=rho,
+            ground_stiffness_Pa_m=self.ground_stiffness,
+            ground_damping_Pa_s_m=self.ground_damping,
+            ground_friction=self.ground_friction,
+            ground_friction_speed_m_s=self.ground_friction_speed,
             field_prefix="cable",
         )
 
