@@ -25,7 +25,7 @@ from tetherheli.sim.scenario import load_scenario
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 #: every shipped scenario with flown sensors (``tetherheli scenarios``: sensing_*,
-#: turbulence_sensing_*; montecarlo_sensing's nominal draw is sensing_tether's)
+#: turbulence_sensing_*; montecarlo_sensing's draws are in docs/studies/controllers.md)
 SENSED = sorted(p.stem for p in SCENARIOS.glob("*sensing*.toml") if "montecarlo" not in p.stem)
 
 
