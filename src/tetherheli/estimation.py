@@ -43,7 +43,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from .errors import ParameterError
+from .errors import ParameterError, TetherheliError
 from .sensors import (
     CH_ALTIMETER,
     CH_ATTITUDE,
@@ -60,10 +60,15 @@ from .sensors import (
 
 __all__ = [
     "FUSIONS",
+    "ConsistencyTest",
     "EstimateResult",
     "Fixes",
+    "KalmanConsistency",
     "PositionFilter",
+    "chi2_mean_band",
     "estimate_run",
+    "kalman_consistency",
+    "normalized_squares",
     "position_filter",
     "run_filter",
 ]
@@ -407,3 +412,229 @@ def estimate_run(result: Any, scenario: Any, fusion: str) -> EstimateResult:
         fixes.append(Fixes(j, values, lag, H, np.maximum(R, 1e-12)))
     position, _, position_std = run_filter(model, accel, fixes, result.trim_output[:3])
     return EstimateResult(fusion, result.time.copy(), position, position_std, truth.copy())
+
+
+# --- the consistency of the MPC's Kalman filter (NEES, NIS) ----------------------------------
+
+
+def normalized_squares(errors: np.ndarray, covariance: np.ndarray) -> np.ndarray:
+    """e_k' P^-1 e_k per row of ``errors`` (n, d): the NEES of estimation errors with the
+    filter's covariance P (or the NIS of innovations with theirs). A consistent filter has
+    them chi-square with d degrees of freedom, mean d.
+
+    Parameters
+    ----------
+    errors : ndarray, shape (n, d)
+        Estimate minus truth (or innovations) per sample.
+    covariance : ndarray, shape (d, d) or (n, d, d)
+        The filter's covariance of them, one for all samples or one per sample.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The normalized squares (NaN where a row is not finite).
+    """
+    e = np.atleast_2d(np.asarray(errors, dtype=float))
+    P = np.asarray(covariance, dtype=float)
+    if P.ndim == 2:
+        sol = np.linalg.solve(P, np.where(np.isfinite(e), e, 0.0).T).T
+    else:
+        sol = np.linalg.solve(P, np.where(np.isfinite(e), e, 0.0)[:, :, None])[:, :, 0]
+    out = np.einsum("ij,ij->i", e, sol)
+    out[~np.all(np.isfinite(e), axis=1)] = np.nan
+    return out
+
+
+def chi2_mean_band(dim: int, samples: int, confidence: float = 0.95) -> tuple[float, float]:
+    """The two-sided ``confidence`` band of the mean of ``samples`` independent chi-square
+    variables with ``dim`` degrees of freedom: samples * mean ~ chi2(samples * dim), so the
+    band is chi2.ppf((1 -+ confidence) / 2, samples dim) / samples (Bar-Shalom, Li and
+    Kirubarajan, Estimation with Applications to Tracking and Navigation, Sec. 5.4.2).
+
+    Parameters
+    ----------
+    dim : int
+        Degrees of freedom of one sample (the state's or the measurement's dimension).
+    samples : int
+        Independent samples averaged, >= 1.
+    confidence : float, optional
+        Probability of the band, in (0, 1).
+
+    Returns
+    -------
+    tuple of 2 floats
+        (lower, upper) of the mean.
+    """
+    from scipy.stats import chi2
+
+    if samples < 1:
+        raise ParameterError("samples", samples, "an integer >= 1")
+    if not 0.0 < confidence < 1.0:
+        raise ParameterError("confidence", confidence, "a probability in (0, 1)")
+    dof = dim * samples
+    tail = 0.5 * (1.0 - confidence)
+    return float(chi2.ppf(tail, dof) / samples), float(chi2.ppf(1.0 - tail, dof) / samples)
+
+
+@dataclass(frozen=True)
+class ConsistencyTest:
+    """The time-averaged chi-square test of one normalized square (NEES or NIS) over a run.
+
+    Parameters
+    ----------
+    values : ndarray, shape (n,)
+        Per sample (NaN where not defined: the first sample's NIS, after a release).
+    dim : int
+        Degrees of freedom of one sample.
+    stride : int
+        Samples between the ones taken as independent (the filter's error correlation time
+        in samples, ``KalmanConsistency``).
+    confidence : float
+        Probability of the band.
+    """
+
+    values: np.ndarray
+    dim: int
+    stride: int
+    confidence: float = 0.95
+
+    @property
+    def mean(self) -> float:
+        """The mean over every defined sample."""
+        v = self.values[np.isfinite(self.values)]
+        return float(np.mean(v)) if v.size else math.nan
+
+    @property
+    def samples(self) -> int:
+        """The independent samples the band counts: the defined ones / ``stride``."""
+        return max(1, int(np.count_nonzero(np.isfinite(self.values))) // self.stride)
+
+    @property
+    def band(self) -> tuple[float, float]:
+        """The ``confidence`` band of the mean (``chi2_mean_band`` with ``samples``)."""
+        return chi2_mean_band(self.dim, self.samples, self.confidence)
+
+    @property
+    def band_independent(self) -> tuple[float, float]:
+        """The band if every sample were independent (narrower; correlated errors break it)."""
+        n = max(1, int(np.count_nonzero(np.isfinite(self.values))))
+        return chi2_mean_band(self.dim, n, self.confidence)
+
+    @property
+    def consistent(self) -> bool:
+        """Whether the mean lies in ``band``."""
+        lo, hi = self.band
+        return bool(lo <= self.mean <= hi)
+
+    def summary(self) -> str:
+        """One line: the mean, its dimension and band, and the verdict.
+
+        Returns
+        -------
+        str
+        """
+        lo, hi = self.band
+        verdict = "consistent" if self.consistent else "NOT consistent"
+        return (
+            f"mean {self.mean:.2f} (dimension {self.dim}; 95 % band [{lo:.2f}, {hi:.2f}] over "
+            f"{self.samples} independent samples, 1 per {self.stride}): {verdict}"
+        )
+
+
+@dataclass(frozen=True)
+class KalmanConsistency:
+    """NEES and NIS of the MPC's Kalman filter over a run (``kalman_consistency``).
+
+    Parameters
+    ----------
+    time : ndarray, shape (n,)
+        Sample times [s].
+    nees : ConsistencyTest
+        The estimation error of [x; d] (the plant's n states and the wind force on HO) with
+        the filter's posterior covariance; dimension n + 3 (16 tethered, 15 free).
+    nis : ConsistencyTest
+        The innovations with their covariance S = C P C' + R; dimension p.
+    force_nees : ConsistencyTest
+        The wind force's part alone (dimension 3).
+    """
+
+    time: np.ndarray
+    nees: ConsistencyTest
+    nis: ConsistencyTest
+    force_nees: ConsistencyTest
+
+
+def kalman_consistency(
+    result: Any, scenario: Any, *, confidence: float = 0.95
+) -> KalmanConsistency:
+    """NEES and NIS per sample of the MPC's Kalman filter over a recorded run, with their
+    chi-square tests.
+
+    The estimate is the one the MPC recorded (``control.mpc.KALMAN_STATE_COLUMNS``,
+    ``KALMAN_FORCE_COLUMNS``); the truth is the run's state and its wind force on HO
+    (``result.wind``: the force the design model's disturbance stands for); the covariances
+    are the steady-state filter's, rebuilt from ``scenario`` (``control.mpc.mpc_kalman``):
+    NEES e' P+^-1 e with the posterior P+ (its [x; d] block), NIS with
+    ``DisturbanceKalman.innovation_covariance`` (recorded by the MPC, ``kalman_nis``).
+
+    Correlation: the errors of successive samples are correlated (the filter's error decays
+    at the slowest eigenvalue of (I - L C) A), so the mean over n samples is not the mean
+    of n independent chi-square variables. The test counts one independent sample per
+    ``stride`` = ceil(tau / dt) samples, tau = -dt / ln |lambda_max| (the error's slowest
+    time constant), and the band is that of their mean (``ConsistencyTest.band``);
+    ``band_independent`` gives the narrower band of n independent samples.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        A run of ``scenario`` with ``[control] controller = "mpc"`` and its Kalman filter.
+    scenario : Scenario
+        The run's scenario.
+    confidence : float, optional
+        Probability of the bands.
+
+    Returns
+    -------
+    KalmanConsistency
+        NEES (dimension n + 3), its force part (3) and NIS (p) per sample and their tests.
+
+    Raises
+    ------
+    TetherheliError
+        The run has no recorded Kalman estimate (another controller or observer).
+    """
+    from .control.mpc import (
+        KALMAN_FORCE_COLUMNS,
+        KALMAN_NIS_COLUMN,
+        KALMAN_STATE_COLUMNS,
+        mpc_kalman,
+    )
+    from .sim.setup import engine_setup
+
+    if KALMAN_NIS_COLUMN not in result.extra:
+        raise TetherheliError(
+            f"run {scenario.name} has no Kalman estimate ({KALMAN_NIS_COLUMN}); allowed: a "
+            'run with [control] controller = "mpc" and its Kalman filter ([control.mpc] '
+            'observer = "kalman", or "auto" with sensors)'
+        )
+    kalman = mpc_kalman(scenario, engine_setup(scenario))
+    n = kalman.n_states
+    est = np.column_stack(
+        [result.extra[c] for c in KALMAN_STATE_COLUMNS[:n] + KALMAN_FORCE_COLUMNS]
+    )
+    truth = np.column_stack([result.states[:, :n], result.wind])
+    err = est - truth
+    P = kalman.posterior[: n + 3, : n + 3]
+    nees = normalized_squares(err, P)
+    force = normalized_squares(err[:, n:], P[n:, n:])
+    closed = (np.eye(kalman.A.shape[0]) - kalman.L @ kalman.C) @ kalman.A
+    rho = float(np.max(np.abs(np.linalg.eigvals(closed))))
+    stride = 1 if rho <= 0.0 else max(1, math.ceil(-1.0 / math.log(min(rho, 1.0 - 1e-12))))
+    nis = np.asarray(result.extra[KALMAN_NIS_COLUMN], dtype=float)
+    p = kalman.C.shape[0]
+    return KalmanConsistency(
+        time=result.time.copy(),
+        nees=ConsistencyTest(nees, n + 3, stride, confidence),
+        nis=ConsistencyTest(nis, p, stride, confidence),
+        force_nees=ConsistencyTest(force, 3, stride, confidence),
+    )

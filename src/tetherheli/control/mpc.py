@@ -72,6 +72,7 @@ from scipy import sparse
 from .._linalg import check_dt, discretize_zoh, solve_dare
 from ..errors import DesignError, TetherheliError, design_failure
 from ..model.kernels import tethered_outputs
+from ..names import TETHERED_STATE
 from ..resources import warn_slow
 from ..status import FALLBACK_COLUMN
 from .base import Command, Controller, Measurement
@@ -79,13 +80,25 @@ from .lqi import _check_pd, _check_psd, augment_lqi
 from .observer import DisturbanceKalman, measurement_covariance
 
 __all__ = [
+    "KALMAN_FORCE_COLUMNS",
+    "KALMAN_NIS_COLUMN",
+    "KALMAN_STATE_COLUMNS",
     "MPCController",
     "MPCDesign",
     "design_mpc",
     "mpc_controller",
+    "mpc_kalman",
     "mpc_plant",
     "mpc_sample_seconds",
 ]
+
+#: The recorded columns of the Kalman filter's state estimate (``MPCController.recorded``):
+#: ``<state>_est`` for q4..q9, u1..u6, LN (the free configuration's 12 stop at u6) and the
+#: wind force on HO, with the units and descriptions of their signals (``sim.result``)
+KALMAN_STATE_COLUMNS: tuple[str, ...] = tuple(f"{name}_est" for name in TETHERED_STATE)
+KALMAN_FORCE_COLUMNS: tuple[str, ...] = ("Fw1_est", "Fw2_est", "Fw3_est")
+#: The recorded column of the Kalman filter's normalized innovation squared per sample
+KALMAN_NIS_COLUMN = "kalman_nis"
 
 #: OSQP's adaptive step size is updated every this many iterations (a fixed count: OSQP's
 #: default sets it from the measured set-up time, which makes runs differ)
@@ -379,6 +392,8 @@ class MPCController(Controller):
     ) -> None:
         self.design = design
         self.kalman = kalman
+        if kalman is not None:
+            self._S_inv = np.linalg.inv(kalman.innovation_covariance)
         n, m, N = design.n_states, design.n_inputs, design.horizon
         self.tethered = design.c_aug is not None
         self.x_ref = np.array(x_ref[:n], dtype=float)
@@ -483,20 +498,38 @@ class MPCController(Controller):
         self.iterations: list[int] = []
         self.solve_times: list[float] = []  # wall clock of update + solve [s]
         self.solve_cpu_times: list[float] = []  # this thread's CPU time of the same [s]
+        self._estimates: list[np.ndarray] = []  # the filter's [x; d] per sample (absolute x)
+        self._nis: list[float] = []
 
     def recorded(self) -> dict[str, np.ndarray]:
         """Per-sample columns for the result: ``mpc_fallback`` (1: OSQP failed or hit its
         iteration limit and the previous plan flew) and ``mpc_iterations`` (OSQP's).
+
+        With the Kalman filter also its estimate at every sample (after the sample's
+        measurements): ``<state>_est`` for the model's states (q4..q9, u1..u6 and, tethered,
+        LN; ``KALMAN_STATE_COLUMNS``), ``Fw1_est``..``Fw3_est`` (the wind force on HO [N]) and
+        ``kalman_nis`` (the innovation's NIS, ``KALMAN_NIS_COLUMN``); NaN after a release.
 
         Returns
         -------
         dict of str to ndarray
             One value per ``step`` call since ``reset``.
         """
-        return {
+        out = {
             FALLBACK_COLUMN: np.array(self.fallbacks, dtype=float),
             "mpc_iterations": np.array(self.iterations, dtype=float),
         }
+        if self.kalman is not None:
+            k = len(self.fallbacks)
+            est = np.full((k, self.n + 3), np.nan)
+            nis = np.full(k, np.nan)
+            if self._estimates:
+                est[: len(self._estimates)] = self._estimates
+                nis[: len(self._nis)] = self._nis
+            for i, name in enumerate(KALMAN_STATE_COLUMNS[: self.n] + KALMAN_FORCE_COLUMNS):
+                out[name] = est[:, i]
+            out[KALMAN_NIS_COLUMN] = nis
+        return out
 
     def step(self, t: float, measurement: Measurement) -> Command:
         """One sample of the MPC (module docstring); after a release the paper's free law.
@@ -551,10 +584,14 @@ class MPCController(Controller):
             measured = np.append(dx_measured, tension - self.tension_ref)
         if self._estimate is None:
             s = self.kalman.start(self.d_init, measured)
+            nis = math.nan  # no prediction at the first sample
         else:
-            s = self.kalman.update(self._estimate, self._du_prev, measured)
+            s, nu = self.kalman.step(self._estimate, self._du_prev, measured)
+            nis = float(nu @ self._S_inv @ nu)
         self._estimate = s
-        self.d_hat = s[self.n :].copy()
+        self._estimates.append(np.concatenate([self.x_ref + s[: self.n], s[self.n : self.n + 3]]))
+        self._nis.append(nis)
+        self.d_hat = s[self.n : self.n + 3].copy()
         return s[: self.n]
 
     def _solve(self, xi0: np.ndarray, x_s: np.ndarray, u_s: np.ndarray) -> np.ndarray:
@@ -674,7 +711,6 @@ def mpc_controller(scenario, setup, design_params=None) -> MPCController:
 
     s = scenario.control.mpc
     a = scenario.actuators
-    dt = scenario.control.dt
     n = scenario.n_samples
     warn_slow(  # before the design: a long horizon is allowed, and said what it costs
         f"run {scenario.name}: the MPC with control.mpc.horizon = {s.horizon} over {n} samples",
@@ -697,21 +733,7 @@ def mpc_controller(scenario, setup, design_params=None) -> MPCController:
             exc,
         ) from None
     trim = setup.trim
-    kalman = None
-    if _uses_kalman(scenario):
-        G, H, _, Hd, c_t = mpc_plant(params, scenario.configuration, T_ref, scenario.q9, dt)
-        load_cell = tethered and scenario.tether.model != "lumped"
-        R = measurement_covariance(
-            scenario.sensors, trim.x, tension_ref, scenario.params.helicopter.tether_arm, dt,
-            states=G.shape[0], load_cell=load_cell,
-        )  # fmt: skip
-        if load_cell:  # eq 28 as the design model knows it
-            R[-1, -1] += s.kalman_tension_std**2
-        kalman = DisturbanceKalman.design(
-            G, H, Hd, c_t if load_cell else None, R, dt, force_std=s.kalman_force_std,
-            force_rate=s.kalman_force_rate, input_std=np.array(s.kalman_input_std),
-            coordinate_std=s.kalman_coordinate_std,
-        )  # fmt: skip
+    kalman = mpc_kalman(scenario, setup, design_params)
     return MPCController(
         design,
         x_ref=trim.x,
@@ -734,6 +756,48 @@ def mpc_controller(scenario, setup, design_params=None) -> MPCController:
         d_init=initial_wind_force(scenario.wind),
         kalman=kalman,
     )
+
+
+def mpc_kalman(scenario, setup, design_params=None) -> DisturbanceKalman | None:
+    """The MPC's Kalman filter on ``scenario`` (``control.observer``), or None when
+    ``[control.mpc] observer`` does not select it (``_uses_kalman``).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The run.
+    setup : EngineSetup
+        Its set-up (``sim.setup.engine_setup``; the trim).
+    design_params : Params, optional
+        The parameters of the design model (default the run's own).
+
+    Returns
+    -------
+    DisturbanceKalman or None
+        The filter designed on the ``[control.mpc] kalman_*`` noises and the sensors' R.
+    """
+    if not _uses_kalman(scenario):
+        return None
+    s = scenario.control.mpc
+    dt = scenario.control.dt
+    tethered = scenario.configuration == "tethered"
+    tension_ref = scenario.params.tension_control.T_ref if tethered else 0.0
+    params = scenario.params if design_params is None else design_params
+    T_ref = params.tension_control.T_ref if tethered else 0.0
+    G, H, _, Hd, c_t = mpc_plant(params, scenario.configuration, T_ref, scenario.q9, dt)
+    load_cell = tethered and scenario.tether.model != "lumped"
+    R = measurement_covariance(
+        scenario.sensors, setup.trim.x, tension_ref, scenario.params.helicopter.tether_arm, dt,
+        states=G.shape[0], load_cell=load_cell,
+    )  # fmt: skip
+    if load_cell:  # eq 28 as the design model knows it
+        R[-1, -1] += s.kalman_tension_std**2
+    return DisturbanceKalman.design(
+        G, H, Hd, c_t if load_cell else None, R, dt, force_std=s.kalman_force_std,
+        force_rate=s.kalman_force_rate, input_std=np.array(s.kalman_input_std),
+        coordinate_std=s.kalman_coordinate_std, force_accel=s.kalman_force_accel,
+        tether_angle_std=s.kalman_tether_angle_std,
+    )  # fmt: skip
 
 
 def _uses_kalman(scenario) -> bool:

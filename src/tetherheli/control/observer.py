@@ -9,9 +9,17 @@ w (3,) white [N], std ``force_std`` per axis: the force the linear model misses 
 (unmodelled dynamics, linearization error, a lumped tether's waves, the gusts' fast part); a
 (m,) white, std ``input_std``: the inputs' error (actuator lag and saturation, the rotor's
 model error); c (6,) white on the coordinates q4..q9, std ``coordinate_std``: the
-linearized kinematics' error; v
+linearized kinematics' error (``tether_angle_std`` on the tether's angles q7, q8); v
 (3,) white, std ``force_rate`` sqrt(dt) per axis [N]: the wind force as a random walk of
-density ``force_rate`` [N/sqrt(s)]. Measurements, every sample: the controller's measured
+density ``force_rate`` [N/sqrt(s)]. With ``force_accel`` > 0 the force also has a rate r
+(3,) [N/s], a random walk of density ``force_accel`` [N/s^1.5]:
+
+    d_{k+1} = d_k + dt r_k + v_k,    r_{k+1} = r_k + a_k,    Var a = force_accel^2 dt,
+
+a force that follows a ramp or a sine without lag and a step as fast as its noise lets it
+(a random-walk force alone lags a 12.6 N/s sine and a 20 N pulse by several of its sigmas:
+mean NEES 40 for 16 states on the shipped pulse-and-sine runs, ``estimation.kalman_consistency``).
+Measurements, every sample: the controller's measured
 state (``sensors.measure_sampled``: 13 tethered or free-configuration channels) and, on the
 tethered configuration, the load cell,
 
@@ -171,11 +179,16 @@ class DisturbanceKalman:
     Parameters
     ----------
     A, B, C : ndarray
-        The augmented model s = [x; d]: (n + 3, n + 3), (n + 3, m), (p, n + 3).
-    L : ndarray, shape (n + 3, p)
+        The augmented model s = [x; d(; r)]: (ns, ns), (ns, m), (p, ns), ns = n + 3 (n + 6
+        with the force's rate r, ``force_accel`` > 0).
+    L : ndarray, shape (ns, p)
         The steady-state update gain (``steady_state_kalman``).
-    P : ndarray, shape (n + 3, n + 3)
-        The predicted covariance (reported, not used by the filter).
+    P : ndarray, shape (ns, ns)
+        The predicted (a priori) covariance.
+    R : ndarray, shape (p, p)
+        The measurement covariance the filter was designed with.
+    force_states : int
+        The disturbance's states after x: 3 (the force d) or 6 (d and its rate r).
     """
 
     A: np.ndarray
@@ -183,6 +196,8 @@ class DisturbanceKalman:
     C: np.ndarray
     L: np.ndarray
     P: np.ndarray
+    R: np.ndarray
+    force_states: int = 3
 
     @classmethod
     def design(
@@ -198,6 +213,8 @@ class DisturbanceKalman:
         force_rate: float,
         input_std: np.ndarray,
         coordinate_std: float,
+        force_accel: float = 0.0,
+        tether_angle_std: float | None = None,
     ) -> DisturbanceKalman:
         """The filter on the discrete design model (G, H, Hd) and the measurement noise R.
 
@@ -224,32 +241,64 @@ class DisturbanceKalman:
             linearized kinematics' error (e.g. the yaw rate's dependence on roll and pitch,
             eq 13), which otherwise accumulates in an estimate that trusts the model's
             integration of the measured rates over the measured angles.
+        force_accel : float, optional
+            Density of the random walk of the wind force's rate r [N/s^1.5], >= 0: with it
+            the force is d_{k+1} = d_k + dt r_k + v_k, r_{k+1} = r_k + a_k (Var a = force_accel^2
+            dt per axis), a model that follows a ramp or a sine without lag; 0 (the default):
+            no rate state, d a random walk.
+        tether_angle_std : float, optional
+            The coordinate error of the tether's angles q7, q8 [rad] when it differs from
+            ``coordinate_std`` (their kinematics is the velocity's integral, which the
+            linearization keeps; the attitude's eq 13 it does not); None: ``coordinate_std``.
 
         Returns
         -------
         DisturbanceKalman
         """
         n, m = H.shape
-        A = np.block([[G, Hd], [np.zeros((3, n)), np.eye(3)]])
-        B = np.vstack([H, np.zeros((3, m))])
-        C = np.hstack([np.eye(n), np.zeros((n, 3))])
+        nf = 6 if force_accel > 0.0 else 3
+        F = np.eye(nf)
+        if nf == 6:
+            F[:3, 3:] = dt * np.eye(3)
+        Hf = np.hstack([Hd, np.zeros((n, nf - 3))])
+        A = np.block([[G, Hf], [np.zeros((nf, n)), F]])
+        B = np.vstack([H, np.zeros((nf, m))])
+        C = np.hstack([np.eye(n), np.zeros((n, nf))])
         if c_tension is not None:
-            C = np.vstack([C, np.concatenate([c_tension, np.zeros(3)])])
+            C = np.vstack([C, np.concatenate([c_tension, np.zeros(nf)])])
         if R.shape != (C.shape[0], C.shape[0]):
             raise TetherheliError(f"R has shape {R.shape}; allowed: {(C.shape[0],) * 2}")
-        Gw = np.vstack([Hd, np.zeros((3, 3))])
+        Gw = np.vstack([Hd, np.zeros((nf, 3))])
         input_std = np.asarray(input_std, dtype=float)[:m]
         Q = force_std**2 * (Gw @ Gw.T)
         Q[:n, :n] += (H * input_std**2) @ H.T
         Q[:6, :6] += coordinate_std**2 * np.eye(6)
-        Q[n:, n:] += force_rate**2 * dt * np.eye(3)
+        if tether_angle_std is not None and n > 12:  # q7, q8: the tethered model's
+            Q[3:5, 3:5] += (tether_angle_std**2 - coordinate_std**2) * np.eye(2)
+        Q[n : n + 3, n : n + 3] += force_rate**2 * dt * np.eye(3)
+        if nf == 6:
+            Q[n + 3 :, n + 3 :] += force_accel**2 * dt * np.eye(3)
         P, L = steady_state_kalman(A, C, Q, R)
-        return cls(A, B, C, L, P)
+        return cls(A, B, C, L, P, np.array(R, dtype=float), nf)
+
+    @property
+    def posterior(self) -> np.ndarray:
+        """The covariance of the estimate after a sample's measurements, (ns, ns): (I - L C)
+        P (I - L C)' + L R L' (Joseph's form; P's with the steady gain)."""
+        IKC = np.eye(self.A.shape[0]) - self.L @ self.C
+        out = IKC @ self.P @ IKC.T + self.L @ self.R @ self.L.T
+        return 0.5 * (out + out.T)
+
+    @property
+    def innovation_covariance(self) -> np.ndarray:
+        """S = C P C' + R (p, p): the covariance of a sample's innovation m - C s_pred."""
+        S = self.C @ self.P @ self.C.T + self.R
+        return 0.5 * (S + S.T)
 
     @property
     def n_states(self) -> int:
-        """n: the plant's states (the disturbance's 3 not counted)."""
-        return self.A.shape[0] - 3
+        """n: the plant's states (the disturbance's ``force_states`` not counted)."""
+        return self.A.shape[0] - self.force_states
 
     def start(self, d_init: np.ndarray, measured: np.ndarray) -> np.ndarray:
         """The estimate at the first sample: the prior [0; d_init] (a run starts at its trim,
@@ -266,9 +315,10 @@ class DisturbanceKalman:
 
         Returns
         -------
-        ndarray, shape (n + 3,)
+        ndarray, shape (ns,)
         """
-        prior = np.concatenate([np.zeros(self.n_states), d_init])
+        prior = np.zeros(self.A.shape[0])
+        prior[self.n_states : self.n_states + 3] = d_init
         return prior + self.L @ (measured - self.C @ prior)
 
     def update(self, s: np.ndarray, u_prev: np.ndarray, measured: np.ndarray) -> np.ndarray:
@@ -277,7 +327,7 @@ class DisturbanceKalman:
 
         Parameters
         ----------
-        s : ndarray, shape (n + 3,)
+        s : ndarray, shape (ns,)
             The previous sample's estimate.
         u_prev : ndarray, shape (m,)
             The input (deviation) applied over the previous sample.
@@ -286,8 +336,33 @@ class DisturbanceKalman:
 
         Returns
         -------
-        ndarray, shape (n + 3,)
-            The estimate [x; d].
+        ndarray, shape (ns,)
+            The estimate [x; d(; r)].
+        """
+        return self.step(s, u_prev, measured)[0]
+
+    def step(
+        self, s: np.ndarray, u_prev: np.ndarray, measured: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """``update`` that also returns the innovation (for its NIS, with
+        ``innovation_covariance``).
+
+        Parameters
+        ----------
+        s : ndarray, shape (ns,)
+            The previous sample's estimate.
+        u_prev : ndarray, shape (m,)
+            The input (deviation) applied over the previous sample.
+        measured : ndarray, shape (p,)
+            This sample's measurements.
+
+        Returns
+        -------
+        estimate : ndarray, shape (ns,)
+            The estimate [x; d(; r)].
+        innovation : ndarray, shape (p,)
+            measured - C s_pred.
         """
         pred = self.A @ s + self.B @ u_prev
-        return pred + self.L @ (measured - self.C @ pred)
+        innovation = measured - self.C @ pred
+        return pred + self.L @ innovation, innovation
