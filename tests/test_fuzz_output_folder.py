@@ -96,22 +96,15 @@ magnitude = 10.0
 direction = [1.0, 0.0, 0.0]
 """
 
-MONTECARLO = """
-name = "mc_fuzz"
-duration = 1.0
-[control]
-dt = 0.01
-[[wind]]
-type = "pulse"
-start = 0.2
-duration = 0.3
-magnitude = 10.0
-direction = [1.0, 0.0, 0.0]
-[montecarlo]
+#: the same short run with a small Monte Carlo table
+MONTECARLO = (
+    SCENARIO.format(name="mc_fuzz", cfg="tethered")
+    + """[montecarlo]
 runs = 2
 seed = 7
 amplitude_std_percent = 20.0
 """
+)
 
 #: command -> (input files, extra arguments, writer recorded)
 COMMANDS = {

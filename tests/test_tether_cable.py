@@ -182,3 +182,15 @@ def test_scenario_refuses_both_dampings():
 
     with pytest.raises(ParameterError, match=r"tether.internal_damping"):
         Scenario(tether=TetherSettings(model="lumped", internal_damping=1.0))
+
+
+def test_a_cable_run_too_large_is_refused_before_it_is_allocated():
+    """duration / dt sizes the record (nodes and velocities per sample): refused in one line
+    naming it, before anything is allocated or flown (``resources.check_memory``)."""
+    from tetherheli.resources import ResourceLimitError
+
+    def top(t):
+        return (0.0, 0.0, 10.0), (0.0, 0.0, 0.0)
+
+    with pytest.raises(ResourceLimitError, match=r"duration = 1e\+09 s at dt = 1e-06 s"):
+        drive_cable(PAPER, anchor=(0.0, 0.0, 0.0), top=top, duration=1e9, dt=1e-6)

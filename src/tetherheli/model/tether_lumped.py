@@ -847,9 +847,16 @@ def chain_substeps(p, L0, n, h):
     int
         The sub-step count m.
     """
-    m = int(h * chain_omega_max(p, L0, n) / CHAIN_OMEGA_H - 1e-9) + 1  # the ceiling
-    if m < 1:
-        return 1
+    return _steps_for(h * chain_omega_max(p, L0, n), CHAIN_OMEGA_H, 1)
+
+
+@_jit
+def _steps_for(h_omega, omega_h, least):
+    # the least m with (h / m) omega_max <= omega_h (h_omega = h omega_max), within
+    # [least, CHAIN_MAX_SUBSTEPS]: the step rule of the chain and of the coupling
+    m = int(h_omega / omega_h - 1e-9) + 1  # the ceiling
+    if m < least:
+        return least
     if m > CHAIN_MAX_SUBSTEPS:
         return CHAIN_MAX_SUBSTEPS
     return m
@@ -879,12 +886,7 @@ def coupling_substeps(p, L0, n, dt, n_sub):
     int
         The RK4 steps per sample.
     """
-    m = int(dt * chain_omega_max(p, L0, n) / COUPLING_OMEGA_H - 1e-9) + 1
-    if m < n_sub:
-        return n_sub
-    if m > CHAIN_MAX_SUBSTEPS:
-        return CHAIN_MAX_SUBSTEPS
-    return m
+    return _steps_for(dt * chain_omega_max(p, L0, n), COUPLING_OMEGA_H, n_sub)
 
 
 @_jit

@@ -26,6 +26,7 @@ from ..model.tether_lumped import (
     ros2_work,
     static_chain,
 )
+from ..resources import check_memory
 
 __all__ = ["Cable", "CableRun", "drive_cable"]
 
@@ -159,6 +160,38 @@ class CableRun:
     substeps: int
 
 
+def _drive_arguments(cable, anchor, top, duration, dt, wind, rho, g) -> tuple:
+    """The arguments ``drive_cable`` and ``tether.drive_moordyn`` share, checked (one line
+    naming the argument): (anchor (3,), duration, dt, wind (3,), rho, g)."""
+    if not isinstance(cable, Cable):
+        raise ParameterError("cable", cable, "a tetherheli.tether.Cable")
+    a = np.array(check_vector("anchor", anchor, 3), dtype=float)
+    duration = check_number("duration", duration, low=0.0, low_open=True, unit="[s]")
+    dt = check_number("dt", dt, low=0.0, low_open=True, unit="[s]")
+    w = np.array(check_vector("wind", wind, 3), dtype=float)
+    rho = check_number("rho", rho, low=0.0, low_open=True, unit="[kg/m^3]")
+    g = check_number("g", g, low=0.0, unit="[m/s^2]")
+    if not callable(top):
+        raise ParameterError("top", top, "a function top(t) -> (position[3], velocity[3])")
+    return a, duration, dt, w, rho, g
+
+
+def _run_record(cable: Cable, duration: float, dt: float) -> tuple:
+    """The sample times t = 0, dt, ..., (the last <= duration) and the empty arrays of a
+    ``CableRun`` over them: (t, nodes, velocities, top_force, anchor_force). Their size is
+    refused (``ResourceLimitError``) above the memory budget before it is allocated."""
+    k_max = math.floor(duration / dt + 1e-9)
+    n = cable.segments
+    check_memory(
+        f"a cable run: duration = {duration:g} s at dt = {dt:g} s with {n} segments",
+        (k_max + 1) * (2 * (n + 1) + 3) * 3 * 8,
+        hint="shorten the duration, lengthen dt or use fewer segments",
+    )
+    nodes = np.empty((k_max + 1, n + 1, 3))
+    return (np.arange(k_max + 1) * dt, nodes, np.empty_like(nodes), np.empty((k_max + 1, 3)),
+            np.empty((k_max + 1, 3)))  # fmt: skip
+
+
 def _top_at(top, t):
     try:
         r, v = top(t)
@@ -228,17 +261,8 @@ def drive_cable(
     ParameterError
         Bad input (one line naming the argument).
     """
-    if not isinstance(cable, Cable):
-        raise ParameterError("cable", cable, "a tetherheli.tether.Cable")
-    a = np.array(check_vector("anchor", anchor, 3), dtype=float)
-    duration = check_number("duration", duration, low=0.0, low_open=True, unit="[s]")
-    dt = check_number("dt", dt, low=0.0, low_open=True, unit="[s]")
-    w = np.array(check_vector("wind", wind, 3), dtype=float)
-    rho = check_number("rho", rho, low=0.0, low_open=True, unit="[kg/m^3]")
+    a, duration, dt, w, rho, g = _drive_arguments(cable, anchor, top, duration, dt, wind, rho, g)
     n_sub = check_integer("substeps", substeps, low=1)
-    g = check_number("g", g, low=0.0, unit="[m/s^2]")
-    if not callable(top):
-        raise ParameterError("top", top, "a function top(t) -> (position[3], velocity[3])")
     tether = cable.lumped_tether(rho)
     p = tether.packed(g)
     n = cable.segments
@@ -261,13 +285,9 @@ def drive_cable(
     v[n] = v0
     air = np.tile(w, (n + 1, 1))
     work = ros2_work(n)
-    k_max = math.floor(duration / dt + 1e-9)
+    t, nodes, vels, f_top, f_anchor = _run_record(cable, duration, dt)
+    k_max = t.size - 1
     h = dt / n_sub
-    t = np.arange(k_max + 1) * dt
-    nodes = np.empty((k_max + 1, n + 1, 3))
-    vels = np.empty_like(nodes)
-    f_top = np.empty((k_max + 1, 3))
-    f_anchor = np.empty((k_max + 1, 3))
     F = np.empty((n + 1, 3))
     T = np.empty(n)
     J = np.empty((n, 3, 3))

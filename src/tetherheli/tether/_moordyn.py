@@ -34,10 +34,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .._validation import check_integer, check_number, check_vector
+from .._validation import check_integer, check_number
 from ..errors import ParameterError
 from ..model.tether_lumped import chain_omega_max
-from ._cable import Cable, CableRun, _top_at
+from ._cable import Cable, CableRun, _drive_arguments, _run_record, _top_at
 
 __all__ = ["MOORDYN_DEPTH_M", "buoyant_gravity", "drive_moordyn", "import_moordyn",
            "moordyn_input"]  # fmt: skip
@@ -264,32 +264,19 @@ def drive_moordyn(
     RuntimeError
         MoorDyn failed (its error code).
     """
-    if not isinstance(cable, Cable):
-        raise ParameterError("cable", cable, "a tetherheli.tether.Cable")
-    a = np.array(check_vector("anchor", anchor, 3), dtype=float)
-    duration = check_number("duration", duration, low=0.0, low_open=True, unit="[s]")
-    dt = check_number("dt", dt, low=0.0, low_open=True, unit="[s]")
-    w = np.array(check_vector("wind", wind, 3), dtype=float)
-    rho = check_number("rho", rho, low=0.0, low_open=True, unit="[kg/m^3]")
-    g = check_number("g", g, low=0.0, unit="[m/s^2]")
+    a, duration, dt, w, rho, g = _drive_arguments(cable, anchor, top, duration, dt, wind, rho, g)
     dtm = check_number("dt_moordyn", dt_moordyn, low=0.0, low_open=True, unit="[s]")
     m = check_integer("coupling", coupling, low=1)
     drag_scale = check_number("drag_scale", drag_scale, low=0.0, low_open=True)
-    if not callable(top):
-        raise ParameterError("top", top, "a function top(t) -> (position[3], velocity[3])")
     md = import_moordyn()
     n = cable.segments
     off = np.array([0.0, 0.0, -MOORDYN_DEPTH_M]) - a  # ours -> MoorDyn's frame
     r0 = _top_at(top, 0.0)[0]
     if np.allclose(r0, a):
         raise ParameterError("top", f"top(0) = {r0.tolist()}", "a start away from the anchor")
-    k_max = math.floor(duration / dt + 1e-9)
+    t, nodes, vels, f_top, f_anchor = _run_record(cable, duration, dt)
+    k_max = t.size - 1
     h = dt / m
-    t = np.arange(k_max + 1) * dt
-    nodes = np.empty((k_max + 1, n + 1, 3))
-    vels = np.empty_like(nodes)
-    f_top = np.empty((k_max + 1, 3))
-    f_anchor = np.empty((k_max + 1, 3))
     with tempfile.TemporaryDirectory(prefix="tetherheli-moordyn-") as folder:
         path = Path(folder) / "cable.txt"
         current = bool(np.any(w != 0.0))
