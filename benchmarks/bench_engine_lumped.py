@@ -6,8 +6,8 @@ Prints, measured in this run: the milliseconds of one 60 s run of the paper's si
 recording) with eq 28's massless tether and with the lumped chain of N = 5, 10, 20, 40
 segments (20 g/m, 5 mm, the paper's stiffness), side by side, and each one's ratio to the
 massless run, the helicopter's RK4 steps per sample (the coupled step's rule,
-``tether_lumped.coupling_substeps``) and the chain's ROS2 sub-steps per RK4 step (issue 23's
-step-size rule, ``tether_lumped.chain_substeps``; ``--EA`` another stiffness). Timings vary with the
+``tether.lumped.coupling_substeps``) and the chain's ROS2 sub-steps per RK4 step (issue 23's
+step-size rule, ``tether.lumped.chain_substeps``; ``--EA`` another stiffness). Timings vary with the
 machine; no test asserts them. With ``--coupling`` instead: the coupled step's error
 against SciPy's Radau on the joint helicopter + chain ODE
 (``tests/test_engine_lumped.py``'s ``coupling_errors``: 2 s open loop, 10 N on HO) for the
@@ -27,11 +27,11 @@ import numpy as np
 from bench_derivative import best_of
 
 from tetherheli.layout import CHAIN_PARAMS
-from tetherheli.model.tether_lumped import chain_substeps, coupling_substeps
 from tetherheli.sim import engine
 from tetherheli.sim.batch import run_unrecorded
 from tetherheli.sim.scenario import TetherSettings, paper_scenario
 from tetherheli.sim.setup import engine_setup
+from tetherheli.tether.lumped import chain_substeps, coupling_substeps
 
 SEGMENTS = (5, 10, 20, 40)
 #: (EA [N], N) of ``--coupling``: the stiff cable at N = 20 is left out, its Radau reference

@@ -2,7 +2,7 @@
 
 Run: python benchmarks/bench_tether_lumped.py [--accuracy]
 Prints, measured in this run: the time of one ROS2 step of the tether's free nodes
-(``model.tether_lumped.ros2_step``, P moving, wind, drag) for N = 5, 10, 20, 40 segments and of
+(``tether.lumped.ros2_step``, P moving, wind, drag) for N = 5, 10, 20, 40 segments and of
 one derivative of today's tethered helicopter with its massless tether
 (``model.kernels.tethered_derivative``; an RK4 step of the helicopter is four of them), and the
 ratio. With ``--accuracy`` also the largest node-position error and the relative error of the
@@ -25,7 +25,7 @@ from numba import njit
 from scipy.integrate import solve_ivp
 
 from tetherheli import TetheredHelicopter
-from tetherheli.model import tether_lumped as tl
+from tetherheli.tether import lumped as tl
 
 G = 9.81
 H = 0.01  # the control sample [s]

@@ -1,5 +1,5 @@
-"""The MPC's Kalman filter's consistency (``estimation.kalman_consistency``) on every shipped
-scenario with sensors, flown by the MPC (``[control] controller = "mpc"``).
+"""The MPC's Kalman filter's consistency (``sensing.estimation.kalman_consistency``) on every
+shipped scenario with sensors, flown by the MPC (``[control] controller = "mpc"``).
 
 Run: PYTHONPATH=src python benchmarks/kalman_consistency.py [--set key=value ...]
 
@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from tetherheli import simulate
-from tetherheli.estimation import kalman_consistency
+from tetherheli.sensing.estimation import kalman_consistency
 from tetherheli.sim.scenario import load_scenario
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"

@@ -5,7 +5,7 @@ Run: python benchmarks/tether_sag.py
 Prints two tables, computed in this run (a few tens of seconds):
 
 1. The hover trim with the tether hanging straight down from P to the winch
-   (``tether_lumped.hover_trim_lumped``) at the paper's ground tension of 25 N, for tether
+   (``tether.lumped_trim.hover_trim_lumped``) at the paper's ground tension of 25 N, for tether
    heights 10-100 m and two cables: the unstretched length, the tension at P, the main rotor's
    thrust fMR3 and the extra thrust over the paper's tethered trim with a massless tether.
 2. The position error of Sec. IV-F's straight-tether estimate from the winch tangent
@@ -25,8 +25,14 @@ import numpy as np
 
 from tetherheli import Params
 from tetherheli.errors import InfeasibleError
-from tetherheli.model import tether_lumped as tl
 from tetherheli.model.trim import hover_trim
+from tetherheli.tether import lumped as tl
+from tetherheli.tether.catenary import (
+    catenary_position_estimate,
+    static_cable,
+    straight_tether_estimates,
+)
+from tetherheli.tether.lumped_trim import hover_trim_lumped
 
 TENSION_N = 25.0  # the paper's ground tension (Table V)
 LENGTHS_M = (10.0, 25.0, 50.0, 100.0)
@@ -52,7 +58,7 @@ def trim_table(params: Params) -> None:
     print("|---|---:|---:|---:|---:|---:|")
     for name, tether in CABLES.items():
         for q9 in LENGTHS_M:
-            lt = tl.hover_trim_lumped(params, tether, TENSION_N, q9)
+            lt = hover_trim_lumped(params, tether, TENSION_N, q9)
             f = lt.trim.u_total[0]
             print(
                 f"| {name} | {q9:g} | {lt.unstretched_length_m:.2f} | {lt.top_tension_N:.2f} "
@@ -75,15 +81,15 @@ def sensor_table(g: float) -> None:
                 for wind in WINDS_M_S:
                     r_P = length * e
                     try:
-                        cab = tl.static_cable(r_P, TENSION_N, tether, g, (wind, 0.0, 0.0))
+                        cab = static_cable(r_P, TENSION_N, tether, g, (wind, 0.0, 0.0))
                     except InfeasibleError:
                         print(f"| {name} | {elev:g} | {length:g} | {wind:g} | no static cable |")
                         continue
-                    alt, by_len = tl.straight_tether_estimates(cab, tether.EA_N)
+                    alt, by_len = straight_tether_estimates(cab, tether.EA_N)
                     args = (*cab.encoder_angles, TENSION_N, cab.unstretched_length_m, tether, g)
-                    ignored = tl.catenary_position_estimate(*args)
+                    ignored = catenary_position_estimate(*args)
                     low = max(wind - 1.0, 0.0)
-                    known = tl.catenary_position_estimate(*args, wind=(low, 0.0, 0.0))
+                    known = catenary_position_estimate(*args, wind=(low, 0.0, 0.0))
                     cols = [alt, by_len, ignored, known]
                     errs = " | ".join(f"{_horizontal(c - r_P):.3f}" for c in cols)
                     print(f"| {name} | {elev:g} | {length:g} | {wind:g} | {errs} |")

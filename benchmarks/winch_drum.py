@@ -10,7 +10,7 @@ tension range, and the disturbance reduction against the free helicopter (the pa
 is lost, found by bisection (the smallest limit whose peak reduction keeps half the ideal
 winch's). All runs go through ``run_batch`` (the lane engine).
 
-``--reference``: the error of the engine's per-sample drum update (``model.winch.drum_step``,
+``--reference``: the error of the engine's per-sample drum update (``tether.winch.drum_step``,
 the tension held over the sample) against an adaptive solution of the joint helicopter,
 tether and drum ODE (DOP853, rtol 1e-9, atol 1e-11; the drum speed a state, the tension
 continuous, Coulomb stick and slip switched by events), both flying the same

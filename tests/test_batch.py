@@ -115,7 +115,7 @@ def test_design_params_setup_changes_only_the_gain(configuration):
 
 
 def test_batch_with_actuators_and_sensor_noise_equals_single():
-    from tetherheli.sensors import SensorConfig
+    from tetherheli.sensing.config import SensorConfig
     from tetherheli.sim.scenario import ActuatorSettings
 
     s = _short("tethered", 20.0, 0.2, 12.0).replace(

@@ -18,7 +18,7 @@ from tetherheli.control.paper import tension_q9
 from tetherheli.errors import TetherheliError
 from tetherheli.layout import CTRL_SIZE, CTRL_TENSION_K_C
 from tetherheli.model.kernels import tension_from_state
-from tetherheli.sensors import hover_error_std
+from tetherheli.sensing.sensors import hover_error_std
 from tetherheli.sim import load_scenario, simulate
 from tetherheli.sim.batch import run_batch
 from tetherheli.studies.controllers import eq40_saturated, with_controller
@@ -180,7 +180,8 @@ def test_tension_q9_inverts_eq_28():
 def test_tether_lqi_flies_with_the_tether_as_position_sensor():
     """sensing_tether.toml (Sec. IV-F: encoders, altimeter, IMU) under the tethered LQI: the
     run completes, the tether stays taut and the controller's position estimate stays within
-    5 sigma of the predicted first-order error (``sensors.hover_error_std``) on every axis."""
+    5 sigma of the predicted first-order error (``sensing.sensors.hover_error_std``) on every
+    axis."""
     s = with_controller(load_scenario(_shipped("sensing_tether.toml")), "tether_lqi")
     r = simulate(s.replace(duration=20.0))
     assert r.ok and r.tension.min() > 0.0

@@ -193,7 +193,7 @@ def test_sensors_feed_controller_and_observation():
     """With the scenario's sensors the paper's controller and the observation see
     measurements: a zero residual with the episode's noise table equals ``simulate`` with the
     same table; equal seeds give equal noisy episodes; the reward uses the true position."""
-    from tetherheli.sensors import SensorConfig
+    from tetherheli.sensing.config import SensorConfig
     from tetherheli.sim.setup import sensor_noise
 
     pulse = Pulse(start=0.5, duration=1.0, magnitude=20.0, direction=(0.6, 0.8, 0.0))

@@ -17,7 +17,7 @@ pytest.importorskip("gymnasium")
 
 from tetherheli.envs import TetheredHoverEnv
 from tetherheli.params import Params
-from tetherheli.sensors import SensorConfig
+from tetherheli.sensing.config import SensorConfig
 from tetherheli.sim import engine
 from tetherheli.sim.scenario import Limits, Scenario
 from tetherheli.wind import Pulse

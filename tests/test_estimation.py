@@ -1,4 +1,4 @@
-"""The position Kalman filter (tetherheli.estimation) against independent routes: its
+"""The position Kalman filter (tetherheli.sensing.estimation) against independent routes: its
 steady-state covariance against scipy.linalg.solve_discrete_are (a fix every sample, and a fix
 every 20 samples through the lifted 20-step system), its error variance over a long run
 against its own predicted covariance, its handling of late fixes against a filter re-run from
@@ -14,9 +14,10 @@ import pytest
 from scipy.linalg import solve_discrete_are
 
 from tetherheli.errors import ParameterError
-from tetherheli.estimation import Fixes, estimate_run, position_filter, run_filter
 from tetherheli.report import sensing_scenario
-from tetherheli.sensors import SensorConfig, random_walk
+from tetherheli.sensing.config import SensorConfig
+from tetherheli.sensing.estimation import Fixes, estimate_run, position_filter, run_filter
+from tetherheli.sensing.noise import random_walk
 from tetherheli.sim import simulate
 
 DT = 0.01

@@ -265,7 +265,7 @@ def test_montecarlo_free_runs_are_the_free_helicopter(tmp_path, capsys, shipped,
 
 
 def test_free_reference_removes_the_tether_and_its_sensor():
-    from tetherheli.sensors import SensorConfig
+    from tetherheli.sensing.config import SensorConfig
     from tetherheli.studies.montecarlo.draws import free_reference
 
     s = Scenario(

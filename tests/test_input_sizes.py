@@ -14,7 +14,7 @@ import pytest
 from tetherheli.cli import main
 from tetherheli.errors import ParameterError
 from tetherheli.resources import ResourceLimitError
-from tetherheli.sensors import SensorConfig
+from tetherheli.sensing.config import SensorConfig
 from tetherheli.sim import load_scenario
 from tetherheli.sim.scenario import Scenario
 

@@ -1,5 +1,5 @@
 """The consistency of the MPC's Kalman filter (issue 23, item 7): NEES and NIS
-(``estimation.kalman_consistency``) against hand-computed cases and a linear system whose
+(``sensing.estimation.kalman_consistency``) against hand-computed cases and a linear system whose
 noises are the filter's own, then the shipped sensed scenarios flown by the MPC."""
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from tetherheli import simulate
 from tetherheli.control.mpc import KALMAN_NIS_COLUMN
 from tetherheli.control.observer import DisturbanceKalman
 from tetherheli.errors import ParameterError, TetherheliError
-from tetherheli.estimation import (
+from tetherheli.sensing.estimation import (
     ConsistencyTest,
     chi2_mean_band,
     kalman_consistency,

@@ -17,7 +17,7 @@ from tetherheli.model.kinematics import (
     tether_length_from_altitude,
     tethered_HO_position,
 )
-from tetherheli.sensors import (
+from tetherheli.sensing.config import (
     CH_ALTIMETER,
     CH_ENCODER_Q7,
     CH_ENCODER_Q8,
@@ -25,9 +25,8 @@ from tetherheli.sensors import (
     N_CHANNELS,
     SOURCE_GPS,
     SOURCE_TETHER,
-    measure,
-    tether_position_estimate,
 )
+from tetherheli.sensing.sensors import measure, tether_position_estimate
 
 from .newton_euler import dcm_table_i
 

@@ -13,7 +13,7 @@ import pytest
 from tetherheli.analysis import run_metrics
 from tetherheli.layout import LANES, SUMMARY_FIELDS
 from tetherheli.model.kernels import SIN_BRANCHLESS_MAX_ARG, sin_branchless
-from tetherheli.sensors import SensorConfig
+from tetherheli.sensing.config import SensorConfig
 from tetherheli.sim import engine, simulate
 from tetherheli.sim.batch import run_batch
 from tetherheli.sim.scenario import ActuatorSettings, load_scenario, paper_scenario

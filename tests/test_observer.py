@@ -17,7 +17,8 @@ from tetherheli.control.observer import (
     steady_state_kalman,
 )
 from tetherheli.params import Params
-from tetherheli.sensors import CH_GPS, N_CHANNELS, SensorConfig, measure
+from tetherheli.sensing.config import CH_GPS, N_CHANNELS, SensorConfig
+from tetherheli.sensing.sensors import measure
 from tetherheli.sim.scenario import MPCSettings, Scenario, load_scenario
 from tetherheli.sim.setup import engine_setup
 from tetherheli.studies.controllers import with_controller
@@ -139,7 +140,7 @@ def _sensors(gnss: str = "consumer_gnss") -> SensorConfig:
 
 @pytest.mark.parametrize("source", ["gps", "tether"])
 def test_measurement_covariance_matches_sampled_noise_through_measure(source):
-    """R by linear propagation against the sample covariance of ``sensors.measure`` (the
+    """R by linear propagation against the sample covariance of ``sensing.sensors.measure`` (the
     nonlinear measurement) over 20 000 draws of the noise channels with the variances R
     assumes (white std and Gauss-Markov sigma added in quadrature): diagonal within 4 %,
     correlations within 0.03. With an RTK fix (centimetres), where the linearization holds;

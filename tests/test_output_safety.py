@@ -228,7 +228,7 @@ def test_oversized_runs_are_refused_before_allocating(workdir: Path, capsys, mon
 
 
 def test_budget_counts_sensor_noise_and_concurrent_batch_runs(monkeypatch):
-    from tetherheli.sensors import SensorConfig
+    from tetherheli.sensing.config import SensorConfig
 
     s = Scenario(name="n", duration=100.0, sensors=SensorConfig.typical_gps())
     monkeypatch.setenv(MEMORY_LIMIT_ENV, "1M")  # 10001 rows x 17 channels x 8 B = 1.36 MB

@@ -9,7 +9,8 @@ import pytest
 
 from tetherheli import ParameterError, load_scenario, simulate
 from tetherheli.report import sensing_scenario
-from tetherheli.sensors import SensorConfig, hover_error_std
+from tetherheli.sensing.config import SensorConfig
+from tetherheli.sensing.sensors import hover_error_std
 from tetherheli.sim.scenario import ActuatorSettings, paper_scenario
 
 INF = np.inf

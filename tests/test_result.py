@@ -11,7 +11,7 @@ import pytest
 
 import tetherheli
 from tetherheli import ParameterError, load_result
-from tetherheli.sensors import SensorConfig
+from tetherheli.sensing.config import SensorConfig
 from tetherheli.sim import Scenario, SimulationResult, list_results, simulate
 from tetherheli.sim.scenario import ActuatorSettings
 from tetherheli.wind import Step

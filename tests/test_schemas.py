@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from tetherheli import simulate
-from tetherheli.sensors import SensorConfig
+from tetherheli.sensing.config import SensorConfig
 from tetherheli.sim.scenario import Scenario
 from tetherheli.wind import Pulse
 

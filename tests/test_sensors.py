@@ -1,4 +1,4 @@
-"""Tests of tetherheli.sensors: the measurement model, the tether as a position sensor
+"""Tests of tetherheli.sensing: the measurement model, the tether as a position sensor
 (Sec. IV-F, eqs 43-45), its predicted accuracy, the noise tables and the strict configuration."""
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ import pytest
 
 from tetherheli import Params, TetheredHelicopter
 from tetherheli.errors import ParameterError
-from tetherheli.sensors import (
+from tetherheli.sensing.config import (
     CH_ALTIMETER,
     CH_ATTITUDE,
     CH_ENCODER_Q7,
@@ -27,11 +27,13 @@ from tetherheli.sensors import (
     SOURCE_TETHER,
     SOURCE_TRUE,
     SensorConfig,
+    sensor_config_from_dict,
+)
+from tetherheli.sensing.noise import noise_table
+from tetherheli.sensing.sensors import (
     hover_error_std,
     measure,
     measure_batch,
-    noise_table,
-    sensor_config_from_dict,
     tether_position_estimate,
 )
 

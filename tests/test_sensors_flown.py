@@ -1,4 +1,4 @@
-"""Sensors as they are flown (tetherheli.sensors): the exact discretisation of the
+"""Sensors as they are flown (tetherheli.sensing): the exact discretisation of the
 time-correlated errors against their analytic processes, white noise from a density against
 the angle-random-walk definition, the sample-and-hold / latency schedule against its rule,
 the engine's history ring against the NumPy replay, the presets and their validation, and
@@ -15,22 +15,18 @@ import pytest
 from tetherheli.errors import ParameterError
 from tetherheli.model.kernels import tethered_outputs
 from tetherheli.report import SENSING_RUNS, sensing_scenario
-from tetherheli.sensors import (
+from tetherheli.sensing.config import (
     CH_GPS,
     CH_GYRO,
     G_GPS,
     SENSOR_GROUPS,
-    SENSOR_PRESETS,
     SensorConfig,
-    gauss_markov,
-    group_samples,
-    measured_channels,
-    noise_table,
-    random_walk,
-    sample_schedule,
     sensor_config_from_dict,
-    tether_position_estimate,
 )
+from tetherheli.sensing.noise import gauss_markov, noise_table, random_walk
+from tetherheli.sensing.presets import SENSOR_PRESETS
+from tetherheli.sensing.schedules import group_samples, sample_schedule
+from tetherheli.sensing.sensors import measured_channels, tether_position_estimate
 from tetherheli.sim import load_scenario, simulate
 from tetherheli.sim.setup import sensor_noise, sensor_schedule
 

@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from tetherheli.errors import ParameterError
-from tetherheli.model.tether_lumped import (
+from tetherheli.tether import Cable, CableRun, drive_cable
+from tetherheli.tether.lumped import (
     CHAIN_OMEGA_H,
     LumpedTether,
     chain_forces,
@@ -21,7 +22,6 @@ from tetherheli.model.tether_lumped import (
     ros2_work,
     static_chain,
 )
-from tetherheli.tether import Cable, CableRun, drive_cable
 
 #: the paper's cable: EA = K_C L0N = 40 N/m x 9.375 m (Table III), 20 g/m, P 10 m up
 PAPER = Cable(unstretched_length=9.375, EA=375.0, segments=10)

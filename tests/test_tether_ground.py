@@ -1,5 +1,5 @@
 """The lumped chain's ground (issue 23, item 4): the plane z = 0 under the free nodes, a
-spring-damper with regularised Coulomb friction (``model.tether_lumped``, MoorDyn's
+spring-damper with regularised Coulomb friction (``tether.lumped``, MoorDyn's
 seabed). Independent routes: the static penetration weight / stiffness, Coulomb's sliding
 distance v^2 / (2 mu g), the energy balance (the ground only takes energy out), and a
 falling helicopter's chain that piles up on the ground without leaving it finite or
@@ -21,13 +21,8 @@ from tetherheli.layout import (
     LUMPED_CDT,
     LUMPED_DAMPING,
 )
-from tetherheli.model.tether_lumped import (
-    LumpedTether,
-    chain_energy,
-    chain_interval,
-    ros2_work,
-)
 from tetherheli.tether import Cable, drive_cable
+from tetherheli.tether.lumped import LumpedTether, chain_energy, chain_interval, ros2_work
 
 G = 9.81
 MU, D = 0.02, 0.005  # the default cable [kg/m, m]

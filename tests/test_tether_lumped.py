@@ -1,4 +1,4 @@
-"""The lumped-mass tether (model.tether_lumped) against independent routes: Irvine's elastic
+"""The lumped-mass tether (tether.lumped) against independent routes: Irvine's elastic
 catenary (Cable Structures, MIT Press 1981, ch. 2), the wave speeds of a taut string and rod
 (e.g. Graff, Wave Motion in Elastic Solids, ch. 1-2), energy conservation, SciPy's adaptive
 integrators (Radau, DOP853), and for the coupling the tethered model (eq 28) and the
@@ -15,7 +15,15 @@ from scipy.integrate import solve_ivp
 from tetherheli import ParameterError, TetheredHelicopter
 from tetherheli.layout import LUMPED_CDN, LUMPED_CDT, LUMPED_G
 from tetherheli.model import kernels
-from tetherheli.model import tether_lumped as tl
+from tetherheli.tether import lumped as tl
+from tetherheli.tether.catenary import (
+    catenary_position_estimate,
+    elastic_catenary,
+    initial_chain,
+    static_cable,
+    straight_tether_estimates,
+)
+from tetherheli.tether.lumped_trim import hover_trim_lumped
 
 from .newton_euler import NewtonEuler, dcm_table_i
 
@@ -55,7 +63,7 @@ def test_static_chain_converges_to_irvine_elastic_catenary(geometry, tol20):
     chain's equilibrium nodes (at s = i L0/N) and end forces (with half an end segment's
     weight) converge to it at order 2 in N; the chain's own force balance vanishes there."""
     a, b, L0 = geometry
-    cat = tl.elastic_catenary(a, b, MU * G, 375.0, unstretched_length_m=L0)
+    cat = elastic_catenary(a, b, MU * G, 375.0, unstretched_length_m=L0)
     errors, force_errors = [], []
     for n in (10, 20, 40):
         t = _tether(n)
@@ -86,7 +94,7 @@ def test_vertical_chain_is_the_exact_catenary():
     """Hanging vertically (a = 0, H = 0) the tension grows linearly with s, so the lumped chain
     with the half-segment convention is exact at any N (Irvine's z(s) = s + (V s + w s^2/2)/EA)."""
     L0 = 9.375
-    cat = tl.elastic_catenary(0.0, 10.0, MU * G, 375.0, unstretched_length_m=L0)
+    cat = elastic_catenary(0.0, 10.0, MU * G, 375.0, unstretched_length_m=L0)
     t = _tether(5)
     x = tl.static_chain(np.zeros(3), np.array([0.0, 0.0, 10.0]), L0, t, G)
     _, zs = cat.position(np.linspace(0.0, L0, 6))
@@ -108,7 +116,7 @@ def test_end_tensions_differ_by_the_cables_weight(geometry):
     zero = np.zeros_like(x)
     force_winch, force_P, _ = tl.end_forces(x, zero, zero, L0, t.packed(G))
     assert force_winch[2] + force_P[2] == pytest.approx(-MU * G * L0, rel=1e-12)
-    cat = tl.elastic_catenary(a, b, MU * G, 375.0, unstretched_length_m=L0)
+    cat = elastic_catenary(a, b, MU * G, 375.0, unstretched_length_m=L0)
     difference = np.linalg.norm(force_P) - np.linalg.norm(force_winch)
     assert difference == pytest.approx(cat.tension_B_N - cat.tension_A_N, abs=2e-3)
     # the inextensible statics T_B - T_A = w b holds to the cable's strain T/EA
@@ -298,7 +306,7 @@ def test_relaxation_from_the_static_shape_stays_put():
         L0 = 9.375 if EA < 1000 else 9.99
         for start, tol in (
             (tl.static_chain(np.zeros(3), P, L0, t, G), 1e-9),
-            (tl.initial_chain(np.zeros(3), P, L0, t, G), 1e-4),
+            (initial_chain(np.zeros(3), P, L0, t, G), 1e-4),
         ):
             x = start.copy()
             v = np.zeros_like(x)
@@ -340,13 +348,11 @@ def test_catenary_needs_exactly_one_of_length_and_tension():
     """elastic_catenary takes L0 or H, not both, not neither; H with a given span solves for
     the L0 that gives it back."""
     with pytest.raises(ParameterError, match="exactly one"):
-        tl.elastic_catenary(5.0, 5.0, 0.2, 375.0)
+        elastic_catenary(5.0, 5.0, 0.2, 375.0)
     with pytest.raises(ParameterError, match="exactly one"):
-        tl.elastic_catenary(
-            5.0, 5.0, 0.2, 375.0, unstretched_length_m=8.0, horizontal_tension_N=1.0
-        )
-    cat = tl.elastic_catenary(30.0, 5.0, MU * G, 375.0, unstretched_length_m=35.0)
-    back = tl.elastic_catenary(30.0, 5.0, MU * G, 375.0, horizontal_tension_N=cat.H_N)
+        elastic_catenary(5.0, 5.0, 0.2, 375.0, unstretched_length_m=8.0, horizontal_tension_N=1.0)
+    cat = elastic_catenary(30.0, 5.0, MU * G, 375.0, unstretched_length_m=35.0)
+    back = elastic_catenary(30.0, 5.0, MU * G, 375.0, horizontal_tension_N=cat.H_N)
     assert back.unstretched_length_m == pytest.approx(35.0, rel=1e-10)
     assert back.V_N == pytest.approx(cat.V_N, rel=1e-9)
 
@@ -458,7 +464,7 @@ def test_hover_trim_lumped_massless_limit_is_table_v(paper):
     """mu -> 0: Table V's tethered trim (TC = 25 N, q9 = 10 m: fMR3 = 148.6568 N, tMR1 =
     1.3132 N m, tMR2 = 0, fTR2 = 13.7645 N, q4 = 5.29 deg) and eq 28's LN = q9 - TC / KC with
     EA = KC LN0 (Table III: 40 N/m x 9.375 m)."""
-    lt = tl.hover_trim_lumped(paper, _tether(10, mass_per_length_kg_m=1e-12), 25.0, 10.0)
+    lt = hover_trim_lumped(paper, _tether(10, mass_per_length_kg_m=1e-12), 25.0, 10.0)
     assert lt.trim.u == pytest.approx([148.6568, 1.3132, 0.0, 13.7645], abs=5e-5)
     assert math.degrees(lt.trim.x[0]) == pytest.approx(5.29, abs=0.005)
     assert lt.top_tension_N == pytest.approx(25.0, abs=1e-9)
@@ -473,7 +479,7 @@ def test_hover_trim_lumped_balance(paper, q9):
     nodes (chain_forces) are the catenary's; (iv) the helicopter's derivative with the force at
     P as loads (tethered_derivative_force_at_P, not eq 28) vanishes."""
     tether = _tether(20, mass_per_length_kg_m=0.03)
-    lt = tl.hover_trim_lumped(paper, tether, 25.0, q9)
+    lt = hover_trim_lumped(paper, tether, 25.0, q9)
     h = paper.helicopter
 
     def vertical_rotor_force(trim):
@@ -509,18 +515,18 @@ def test_hover_trim_lumped_refusals(paper):
 
     tether = _tether(10, mass_per_length_kg_m=0.1)
     for call in (
-        lambda: tl.hover_trim_lumped(paper, tether, 0.0),
-        lambda: tl.hover_trim_lumped(paper, "cable", 25.0),
-        lambda: tl.hover_trim_lumped(paper, tether, 25.0, -5.0),
+        lambda: hover_trim_lumped(paper, tether, 0.0),
+        lambda: hover_trim_lumped(paper, "cable", 25.0),
+        lambda: hover_trim_lumped(paper, tether, 25.0, -5.0),
     ):
         with pytest.raises(ParameterError) as err:
             call()
         assert "\n" not in str(err.value)
     # 100 m of 0.1 kg/m (98 N) on top of 25 N: fMR3 ~ 232 N > 170 N; fine at 10 m (158 N)
     with pytest.raises(InfeasibleError, match="fMR3") as err:
-        tl.hover_trim_lumped(paper, tether, 25.0, 100.0, u_max=(170.0, 10.0, 10.0, 50.0))
+        hover_trim_lumped(paper, tether, 25.0, 100.0, u_max=(170.0, 10.0, 10.0, 50.0))
     assert "\n" not in str(err.value)
-    tl.hover_trim_lumped(paper, tether, 25.0, 10.0, u_max=(170.0, 10.0, 10.0, 50.0))
+    hover_trim_lumped(paper, tether, 25.0, 10.0, u_max=(170.0, 10.0, 10.0, 50.0))
 
 
 # ----------------------------------------------------------------------------------------------
@@ -533,11 +539,9 @@ def test_static_cable_is_the_elastic_catenary():
     same ends with the same L0: its ground tension vector is (H, V)."""
     tether = _tether(10, mass_per_length_kg_m=0.03)
     d = np.array([30.0, -20.0, 60.0])
-    cab = tl.static_cable(d, 25.0, tether, G)
+    cab = static_cable(d, 25.0, tether, G)
     a = math.hypot(d[0], d[1])
-    cat = tl.elastic_catenary(
-        a, d[2], 0.03 * G, 375.0, unstretched_length_m=cab.unstretched_length_m
-    )
+    cat = elastic_catenary(a, d[2], 0.03 * G, 375.0, unstretched_length_m=cab.unstretched_length_m)
     T0 = cab.ground_tension
     assert math.hypot(T0[0], T0[1]) == pytest.approx(cat.H_N, rel=1e-8)
     assert T0[2] == pytest.approx(cat.V_N, rel=1e-8)
@@ -551,15 +555,15 @@ def test_sensor_sag_bias_and_correction():
     limit, biased with sag (P at 60 deg elevation, 50 m, 0.03 kg/m); the catenary estimator
     (tension, tangent, L0) recovers P to solver tolerance, and with the known wind too."""
     d = 50.0 * np.array([0.5, 0.0, math.sqrt(0.75)])
-    light = tl.static_cable(d, 25.0, _tether(10, mass_per_length_kg_m=1e-9), G)
-    alt, _ = tl.straight_tether_estimates(light, 375.0)
+    light = static_cable(d, 25.0, _tether(10, mass_per_length_kg_m=1e-9), G)
+    alt, _ = straight_tether_estimates(light, 375.0)
     assert np.abs(alt - d).max() < 1e-6
     for mu, wind in ((0.03, None), (0.03, (6.0, 3.0, 0.0))):
         tether = _tether(10, mass_per_length_kg_m=mu)
-        cab = tl.static_cable(d, 25.0, tether, G, wind if wind is not None else (0.0, 0.0, 0.0))
-        alt, _ = tl.straight_tether_estimates(cab, 375.0)
+        cab = static_cable(d, 25.0, tether, G, wind if wind is not None else (0.0, 0.0, 0.0))
+        alt, _ = straight_tether_estimates(cab, 375.0)
         assert np.abs(alt - d).max() > 1.0  # metres of bias
-        est = tl.catenary_position_estimate(
+        est = catenary_position_estimate(
             *cab.encoder_angles, 25.0, cab.unstretched_length_m, tether, G, wind
         )
         assert np.abs(est - d).max() < 1e-8
@@ -570,10 +574,10 @@ def test_sensor_vertical_no_wind_unbiased():
     the tangent is the chord and the IV-F estimate is exact; a side wind biases it downwind."""
     tether = _tether(10, mass_per_length_kg_m=0.03)
     d = np.array([0.0, 0.0, 40.0])
-    alt, _ = tl.straight_tether_estimates(tl.static_cable(d, 25.0, tether, G), 375.0)
+    alt, _ = straight_tether_estimates(static_cable(d, 25.0, tether, G), 375.0)
     assert np.abs(alt - d).max() < 1e-9
-    windy = tl.static_cable(d, 25.0, tether, G, (5.0, 0.0, 0.0))
-    alt, _ = tl.straight_tether_estimates(windy, 375.0)
+    windy = static_cable(d, 25.0, tether, G, (5.0, 0.0, 0.0))
+    alt, _ = straight_tether_estimates(windy, 375.0)
     assert alt[0] > 0.5
 
 
@@ -583,5 +587,5 @@ def test_static_cable_refuses_a_cable_on_the_ground():
     from tetherheli.errors import InfeasibleError
 
     with pytest.raises(InfeasibleError, match="ground_tension_N") as err:
-        tl.static_cable((90.0, 0.0, 10.0), 5.0, _tether(10, mass_per_length_kg_m=0.1), G)
+        static_cable((90.0, 0.0, 10.0), 5.0, _tether(10, mass_per_length_kg_m=0.1), G)
     assert "\n" not in str(err.value)

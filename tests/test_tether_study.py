@@ -18,11 +18,13 @@ import pytest
 from tetherheli.analysis import run_metrics
 from tetherheli.cli import main
 from tetherheli.errors import ParameterError
-from tetherheli.model import tether_lumped as tl
 from tetherheli.sim import simulate
 from tetherheli.sim.scenario import paper_scenario
 from tetherheli.studies import tether_sensing as sn
 from tetherheli.studies import tether_study as ts
+from tetherheli.tether import lumped as tl
+from tetherheli.tether.catenary import elastic_catenary, static_cable
+from tetherheli.tether.lumped_trim import hover_trim_lumped
 
 G = 9.81
 
@@ -38,10 +40,10 @@ def test_lateral_stiffness_against_static_cable(key, q9):
     static cable (``static_cable``: shooting on the ODE of the cable) with P moved sideways by
     dx = 1e-4 q9 at the same winch tension: within 1e-3."""
     t = _cable(key).tether
-    vertical = tl.static_cable((0.0, 0.0, q9), 25.0, t, G)
+    vertical = static_cable((0.0, 0.0, q9), 25.0, t, G)
     k = ts.lateral_stiffness(25.0, t, G, vertical.unstretched_length_m)
     dx = 1e-4 * q9
-    moved = tl.static_cable((dx, 0.0, q9), 25.0, t, G)
+    moved = static_cable((dx, 0.0, q9), 25.0, t, G)
     assert k == pytest.approx(moved.top_tension[0] / dx, rel=1e-3)
     # and more than the massless pendulum T / q9 the paper's tether gives (heavier at the top)
     assert k > 25.0 / q9
@@ -61,7 +63,7 @@ def test_ground_tension_for_25N_at_P_against_irvine(paper):
     rows = ts.static_rows(paper, [_cable("paper"), _cable("power")], [10.0, 70.0])
     for r in rows:
         t = _cable(r["cable"]).tether
-        cat = tl.elastic_catenary(
+        cat = elastic_catenary(
             0.0, r["length_m"], t.mass_per_length_kg_m * G, t.EA_N,
             unstretched_length_m=r["L0_m"],
         )  # fmt: skip
@@ -87,13 +89,13 @@ def test_hover_limits_hand_calculation(paper):
     (lim,) = ts.hover_limits(paper, [_cable("paper")], max_thrust_N=170.0)
     L0 = 25.0 / (0.02 * G)
     assert lim["max_length_top_tension_m"] == pytest.approx(L0 * (1 + 25.0 / 750.0), rel=1e-12)
-    lt = tl.hover_trim_lumped(paper, _cable("paper").tether, 1e-9, lim["max_length_top_tension_m"])
+    lt = hover_trim_lumped(paper, _cable("paper").tether, 1e-9, lim["max_length_top_tension_m"])
     assert lt.top_tension_N == pytest.approx(25.0, rel=1e-6)
     q9 = lim["max_length_thrust_m"]
     from tetherheli.model.trim import hover_trim
 
     massless = hover_trim(paper, 25.0, q9).u_total[0]
-    lt = tl.hover_trim_lumped(paper, _cable("paper").tether, 25.0, q9)
+    lt = hover_trim_lumped(paper, _cable("paper").tether, 25.0, q9)
     assert 170.0 - massless == pytest.approx(0.02 * G * lt.unstretched_length_m, rel=5e-3)
 
 

@@ -17,7 +17,9 @@ import pytest
 from tetherheli import ParameterError, Params, TetherParams
 from tetherheli._validation import check_number, check_vector, describe
 from tetherheli.envs import TetheredHoverEnv
-from tetherheli.sensors import SensorConfig, hover_error_std, noise_table
+from tetherheli.sensing.config import SensorConfig
+from tetherheli.sensing.noise import noise_table
+from tetherheli.sensing.sensors import hover_error_std
 from tetherheli.sim import ControlSettings, Limits, Scenario
 from tetherheli.sim.scenario import ActuatorSettings
 from tetherheli.studies.montecarlo import montecarlo_config_from_dict

@@ -19,7 +19,7 @@ from gymnasium.vector.utils import batch_space  # noqa: E402
 from tetherheli.envs import ENV_ID, TetheredHoverEnv, register_envs  # noqa: E402
 from tetherheli.errors import ParameterError  # noqa: E402
 from tetherheli.layout import LANES  # noqa: E402
-from tetherheli.sensors import SensorConfig  # noqa: E402
+from tetherheli.sensing.config import SensorConfig  # noqa: E402
 from tetherheli.sim.scenario import ActuatorSettings, Scenario  # noqa: E402
 from tetherheli.status import Status  # noqa: E402
 from tetherheli.vector_env import TetheredHoverVectorEnv  # noqa: E402
@@ -141,8 +141,8 @@ def test_replacing_actions_match_single_envs():
 
 def test_flown_timed_sensors_match_single_envs():
     """Sensors as flown (``SensorConfig.flown``: datasheet presets at their own rates and
-    latencies, position from the tether; ``sensors.measure_sampled`` with each copy's history
-    ring) in turbulence, pulse and sine winds: every copy equals its single environment,
+    latencies, position from the tether; ``sensing.sensors.measure_sampled`` with each copy's
+    history ring) in turbulence, pulse and sine winds: every copy equals its single environment,
     observations included, through an autoreset (a fresh ring per episode)."""
     scenario = Scenario().replace(sensors=SensorConfig.flown("tether"))
     n = 5

@@ -1,4 +1,4 @@
-"""The drum winch (``[winch] model = "drum"``, ``model.winch``), each check against an
+"""The drum winch (``[winch] model = "drum"``, ``tether.winch``), each check against an
 independent route: the static balance, the analytic first-order response of the speed loop,
 the Coulomb stick/slip thresholds and the analytic stopping time, the constant acceleration at
 the torque limit, the drum's energy balance by quadrature, and the limit of a stiff, light
@@ -15,7 +15,6 @@ import pytest
 from tetherheli import cli
 from tetherheli.errors import ParameterError
 from tetherheli.layout import HELD_DRUM_SPEED, HELD_MOTOR_TORQUE, HELD_SIZE, default_actuators
-from tetherheli.model.winch import drum_step
 from tetherheli.sim import engine
 from tetherheli.sim.batch import run_batch
 from tetherheli.sim.closed_loop import simulate
@@ -28,6 +27,7 @@ from tetherheli.sim.scenario import (
     scenario_from_dict,
 )
 from tetherheli.sim.setup import engine_setup, winch_into
+from tetherheli.tether.winch import drum_step
 from tetherheli.wind import NoWind
 
 DT = 0.01

@@ -99,7 +99,9 @@ from .layout import (
 )
 from .model.kernels import tension_from_state, tethered_outputs
 from .names import FREE_STATE
-from .sensors import N_CHANNELS, measure_sampled, noise_table
+from .sensing.config import N_CHANNELS
+from .sensing.noise import noise_table
+from .sensing.sensors import measure_sampled
 from .sim import engine
 from .sim.scenario import Scenario
 from .sim.setup import (

@@ -56,10 +56,10 @@ CFG_SIZE = 13
 CHAIN_NODES = 0  # (N+1, 3) node positions [m], row 0 the winch (origin), row N the point P
 CHAIN_VELOCITIES = 1  # (N+1, 3) node velocities [m/s]
 CHAIN_PARAMS = 2  # (LUMPED_SIZE,) ``LumpedTether.packed(g)``
-CHAIN_WORK = 3  # ``tether_lumped.ros2_work(N)``
+CHAIN_WORK = 3  # ``tether.lumped.ros2_work(N)``
 CHAIN_SIZE = 4
 
-# --- the lumped-mass tether's parameters (``lumped``, ``model.tether_lumped``) ---------------
+# --- the lumped-mass tether's parameters (``lumped``, ``tether.lumped``) ---------------
 LUMPED_MU = 0  # mass per unstretched length [kg/m]
 LUMPED_EA = 1  # axial stiffness EA [N]
 LUMPED_DAMPING = 2  # a segment's axial dashpot from the damping ratio [N s/m] (any length)
@@ -116,7 +116,7 @@ WINCH_SIZE = 2
 # --- what the actuators hold between samples (``held``, ``sim.engine.actuate``) ---------------
 HELD_INPUTS = 0  # (4,) the rotor inputs applied over the last sample (the lag's state)
 HELD_REEL_RATE = 4  # the reel rate applied over the last sample [m/s] (the winch starts at rest)
-#: the drum winch (``[winch] model = "drum"``, ``model.winch``; zero for the ideal winch):
+#: the drum winch (``[winch] model = "drum"``, ``tether.winch``; zero for the ideal winch):
 HELD_DRUM_SPEED = 5  # the drum's speed w [rad/s], advanced by ``actuate`` to the next sample
 HELD_DRUM_SPEED_SAMPLED = 6  # w at the sample's instant, before that update [rad/s]
 HELD_MOTOR_TORQUE = 7  # the motor torque averaged over the last sample [N m]
@@ -163,7 +163,7 @@ ACT_U_MAX = 4  # (4,) upper input limits
 ACT_TAU = 8  # first-order actuator time constant [s] (0: none)
 ACT_BREAK = 9  # tether breaking / release tension [N] (inf: never)
 ACT_REEL_ACCEL = 10  # |d(reel rate)/dt| bound of the winch [m/s^2] (inf: none)
-#: the drum winch (``sim.scenario.WinchSettings``, ``model.winch.drum_step``)
+#: the drum winch (``sim.scenario.WinchSettings``, ``tether.winch.drum_step``)
 ACT_DRUM = 11  # 1: the drum winch, 0: the ideal winch (the reel rate applied as commanded)
 ACT_DRUM_RADIUS = 12  # r [m]
 ACT_DRUM_INERTIA = 13  # J, drum and motor reflected [kg m^2]

@@ -575,7 +575,7 @@ def sensing_scenario(source: str) -> Scenario:
     Scenario
         The scenario, named ``sensing_<source>``.
     """
-    from .sensors import SensorConfig
+    from .sensing.config import SensorConfig
 
     if source not in SENSING_RUNS:
         raise ParameterError("source", source, f"one of {sorted(SENSING_RUNS)}")
@@ -610,7 +610,7 @@ def run_sensing(
     """The tether as a GPS-free position sensor (Sec. IV-F): fly the shipped
     ``sensing_*`` scenarios (``SENSING_RUNS``, or the given ones), compare the controller's
     position-estimate error and the true deviation from trim, and run the Kalman filter
-    (``estimation.estimate_run``) fusing the IMU with the GNSS, the tether or both on each
+    (``sensing.estimation.estimate_run``) fusing the IMU with the GNSS, the tether or both on each
     run's recorded sensors (its error RMS over the run and, with a GNSS outage, over it).
 
     A failed run is recorded, not raised: its row holds its status (``run_status``), its
@@ -638,7 +638,7 @@ def run_sensing(
         and true deviation RMS along n1, n2, n3 [m], and the Kalman filters' error RMS and
         final 1-sigma [m].
     """
-    from .estimation import FUSIONS, estimate_run
+    from .sensing.estimation import FUSIONS, estimate_run
     from .sim import load_scenario
     from .viz.plots import check_figure_format, figure_sensing, save_figure
 

@@ -78,7 +78,7 @@ from .layout import (
     WIND_COLUMNS,
 )
 from .model.kernels import angle_trig, tethered_outputs
-from .sensors import N_CHANNELS
+from .sensing.config import N_CHANNELS
 from .sim import engine
 from .sim.setup import lane_program_into, sensor_tuple
 from .status import Status, status_message

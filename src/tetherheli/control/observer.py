@@ -18,9 +18,10 @@ density ``force_rate`` [N/sqrt(s)]. With ``force_accel`` > 0 the force also has 
 
 a force that follows a ramp or a sine without lag and a step as fast as its noise lets it
 (a random-walk force alone lags a 12.6 N/s sine and a 20 N pulse by several of its sigmas:
-mean NEES 40 for 16 states on the shipped pulse-and-sine runs, ``estimation.kalman_consistency``).
+mean NEES 40 for 16 states on the shipped pulse-and-sine runs,
+``sensing.estimation.kalman_consistency``).
 Measurements, every sample: the controller's measured
-state (``sensors.measure_sampled``: 13 tethered or free-configuration channels) and, on the
+state (``sensing.sensors.measure_sampled``: 13 tethered or free-configuration channels) and, on the
 tethered configuration, the load cell,
 
     m_k = [x_k; c_T' x_k] + e_k,    Cov e = R = J S J',
@@ -28,7 +29,7 @@ tethered configuration, the load cell,
 (the load cell's row only with the massless tether, whose tension eq 28 gives from the state;
 a lumped chain's load cell reads its ground end, which the design model does not describe),
 
-with J the Jacobian of ``sensors.measure`` (the measured state and tension) with respect to
+with J the Jacobian of ``sensing.sensors.measure`` (the measured state and tension) with respect to
 the sensors' noise channels at the trim (central differences: the measurement is nonlinear
 only through the attitude's rotation of the GNSS fix and the tether geometry) and S the
 channels' per-sample variances (``measurement_covariance``). The filter's gain is the
@@ -53,14 +54,8 @@ import numpy as np
 from scipy.linalg import solve_discrete_are
 
 from ..errors import TetherheliError
-from ..sensors import (
-    CH_ALTIMETER,
-    CH_GPS,
-    CHANNEL_GROUP,
-    N_CHANNELS,
-    SensorConfig,
-    measure,
-)
+from ..sensing.config import CH_ALTIMETER, CH_GPS, CHANNEL_GROUP, N_CHANNELS, SensorConfig
+from ..sensing.sensors import measure
 
 __all__ = [
     "DisturbanceKalman",
@@ -86,7 +81,7 @@ def measurement_covariance(
 ) -> np.ndarray:
     """R: the covariance of the measured state (and, tethered, the load cell's tension) about
     the trim, by linear propagation of the sensors' per-channel noise through
-    ``sensors.measure`` (module docstring).
+    ``sensing.sensors.measure`` (module docstring).
 
     Parameters
     ----------

@@ -17,9 +17,9 @@ sigma_a = accel_density / sqrt(dt)). Exact discretisation of the simulated proce
     p+ = p + dt v + dt^2/2 (a_m - b),  v+ = v + dt (a_m - b),  b+ = b + w_b,  e+ = phi e + w_e
 
 with Var w_b = accel_random_walk^2 dt, phi = exp(-dt / tau), Var w_e = sigma^2 (1 - phi^2)
-(``sensors.random_walk``, ``sensors.gauss_markov``), and Q = sigma_a^2 B B' + diag(0, 0,
+(``sensing.noise.random_walk``, ``sensing.noise.gauss_markov``), and Q = sigma_a^2 B B' + diag(0, 0,
 Var w_b, Var w_e), B = [dt^2/2, dt, 0, 0]. Fixes: GNSS z = p + e + white (R = gps_std^2);
-tether z = p + white (R from ``sensors.hover_error_std``): n1, n2 at the encoders' samples,
+tether z = p + white (R from ``sensing.sensors.hover_error_std``): n1, n2 at the encoders' samples,
 n3 at the altimeter's own (plus its Gauss-Markov variance, which the filter treats as white).
 
 Latency: a fix taken at sample j reaches the filter at j + L. The filter then goes back to
@@ -29,7 +29,7 @@ arrived by k, as a filter with a state history does on board.
 
 The IMU's acceleration here is HO's acceleration in N (the recorded velocity's change over
 each sample, as a delta-velocity IMU output, rotated with the true attitude) plus the
-accelerometer's errors (``sensors.accelerometer_errors``); the error the attitude estimate
+accelerometer's errors (``sensing.noise.accelerometer_errors``); the error the attitude estimate
 adds by projecting gravity is not modelled (it acts as a slowly varying bias, which the bias
 state absorbs while fixes arrive).
 """
@@ -43,20 +43,11 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from .errors import ParameterError, TetherheliError
-from .sensors import (
-    CH_ALTIMETER,
-    CH_ATTITUDE,
-    CH_ENCODER_Q7,
-    CH_ENCODER_Q8,
-    CH_GPS,
-    SensorConfig,
-    accelerometer_errors,
-    group_samples,
-    hover_error_std,
-    measured_channels,
-    tether_position_estimate,
-)
+from ..errors import ParameterError, TetherheliError
+from .config import CH_ALTIMETER, CH_ATTITUDE, CH_ENCODER_Q7, CH_ENCODER_Q8, CH_GPS, SensorConfig
+from .noise import accelerometer_errors
+from .schedules import group_samples
+from .sensors import hover_error_std, measured_channels, tether_position_estimate
 
 __all__ = [
     "FUSIONS",
@@ -332,7 +323,7 @@ def estimate_run(result: Any, scenario: Any, fusion: str) -> EstimateResult:
     recorded run of ``scenario`` (a ``SimulationResult`` of ``simulate(scenario)``).
 
     The sensors' readings are replayed from the run's true states and tension with the
-    run's own noise table and schedule (``sensors.measured_channels``: what the controller
+    run's own noise table and schedule (``sensing.sensors.measured_channels``: what the controller
     read); the accelerometer's errors come from the scenario's seed's first spawned
     generator. The filter's noise figures are the scenario's ``[sensors]``.
 
@@ -350,7 +341,7 @@ def estimate_run(result: Any, scenario: Any, fusion: str) -> EstimateResult:
     EstimateResult
         The estimate of HO's position [m] with its 1-sigma and the truth.
     """
-    from .sim.setup import sensor_noise, sensor_schedule
+    from ..sim.setup import sensor_noise, sensor_schedule
 
     if fusion not in FUSIONS:
         raise ParameterError("fusion", fusion, f"one of {FUSIONS}")
@@ -603,13 +594,13 @@ def kalman_consistency(
     TetherheliError
         The run has no recorded Kalman estimate (another controller or observer).
     """
-    from .control.mpc import (
+    from ..control.mpc import (
         KALMAN_FORCE_COLUMNS,
         KALMAN_NIS_COLUMN,
         KALMAN_STATE_COLUMNS,
         mpc_kalman,
     )
-    from .sim.setup import engine_setup
+    from ..sim.setup import engine_setup
 
     if KALMAN_NIS_COLUMN not in result.extra:
         raise TetherheliError(

@@ -39,7 +39,7 @@ from ..model import TrimPoint
 from ..model.kernels import angle_trig, angle_trig_from, tethered_outputs
 from ..params import Params
 from ..resources import check_memory
-from ..sensors import N_CHANNELS, N_GROUPS
+from ..sensing.config import N_CHANNELS, N_GROUPS
 from ..status import FALLBACK_COLUMN, Status, solver_status
 from . import engine
 from .result import DRUM_COLUMNS, TENSION_GROUND_COLUMN, SimulationResult, winch_limit_info

@@ -113,10 +113,10 @@ from ..model.kernels import (
     tethered_rhs_lanes,
     tethered_rhs_sc,
 )
-from ..model.tether_lumped import chain_forces, chain_interval, coupling_substeps
-from ..model.winch import drum_step
-from ..sensors import measure_sampled
+from ..sensing.sensors import measure_sampled
 from ..status import Status, release_sentence, status_message
+from ..tether.lumped import chain_forces, chain_interval, coupling_substeps
+from ..tether.winch import drum_step
 
 __all__ = [
     "ACT_SIZE",

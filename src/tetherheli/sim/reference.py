@@ -26,7 +26,8 @@ from typing import Any
 from .._docstrings import parameter_docs
 from .._validation import Key
 from ..params import HelicopterParams, Params, TensionControlParams, TetherParams
-from ..sensors import _NUMERIC_FIELDS, POSITION_SOURCES, SENSOR_PRESETS, SensorConfig
+from ..sensing.config import _NUMERIC_FIELDS, POSITION_SOURCES, SensorConfig
+from ..sensing.presets import SENSOR_PRESETS
 from ..wind import loader as wind_loader
 from .scenario import (
     _TOP_KEYS,

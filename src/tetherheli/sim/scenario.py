@@ -61,7 +61,7 @@ from ..layout import (
     WINCH_MIN_LENGTH_M,
 )
 from ..params import TETHER_LENGTH_RANGE, Params, check_tether_length, check_tether_strain
-from ..sensors import SensorConfig, sensor_config_from_dict
+from ..sensing.config import SensorConfig, sensor_config_from_dict
 from ..wind import (
     Disturbance,
     NoWind,
@@ -444,7 +444,7 @@ class ActuatorSettings:
 
 
 #: The tether models ``[tether] model`` selects: the paper's massless elastic tether (eq 28)
-#: and the lumped-mass chain (``model.tether_lumped``).
+#: and the lumped-mass chain (``tether.lumped``).
 TETHER_MODELS: tuple[str, ...] = ("elastic", "lumped")
 
 
@@ -452,7 +452,7 @@ TETHER_MODELS: tuple[str, ...] = ("elastic", "lumped")
 class TetherSettings:
     """The tether model (``[tether]``; issue 13). "elastic" is the paper's massless straight
     tether (eq 28, stiffness ``params.tether.K_C``); "lumped" the chain of
-    ``model.tether_lumped`` (point masses, axial elasticity slack in compression, axial
+    ``tether.lumped`` (point masses, axial elasticity slack in compression, axial
     damping, gravity, normal and tangential drag in the gust table's air), whose bottom node
     is the winch and whose top node moves with P. The other keys apply to "lumped" only.
 
@@ -476,13 +476,13 @@ class TetherSettings:
     ground_friction, ground_friction_speed, record_nodes
         The keys of a scenario's ``[tether]`` table; each field's ``Key`` gives its meaning,
         unit, default and allowed range. The ground keys are the plane z = 0 through the
-        winch under the chain's free nodes (MoorDyn's seabed; ``model.tether_lumped``).
+        winch under the chain's free nodes (MoorDyn's seabed; ``tether.lumped``).
     """
 
     model: str = _key(
         "elastic",
         Key("the tether model: the paper's massless elastic tether (eq 28) or a lumped-mass "
-            "chain with sag and drag (model.tether_lumped)", kind="text",
+            "chain with sag and drag (tether.lumped)", kind="text",
             choices=TETHER_MODELS),
     )  # fmt: skip
     segments: int = _key(
@@ -544,7 +544,7 @@ class TetherSettings:
 
 
 #: The winch models ``[winch] model`` selects: the paper's (the reel rate of eq 56 applied as
-#: commanded, dL_N/dt = R_C, eq 37) and a drum driven by a speed loop (``model.winch``).
+#: commanded, dL_N/dt = R_C, eq 37) and a drum driven by a speed loop (``tether.winch``).
 WINCH_MODELS: tuple[str, ...] = ("ideal", "drum")
 
 
@@ -552,7 +552,7 @@ WINCH_MODELS: tuple[str, ...] = ("ideal", "drum")
 class WinchSettings:
     """The ground winch (``[winch]``): ideal (the paper's) or a drum with inertia, friction
     and a torque-limited drive whose speed loop follows the reel rate of eq 56
-    (``model.winch``: J w' = r T_g - tau_m - b w - tau_c sign(w), dL_N/dt = r w, w > 0
+    (``tether.winch``: J w' = r T_g - tau_m - b w - tau_c sign(w), dL_N/dt = r w, w > 0
     paying out, the motor torque tau_m > 0 hauling in).
 
     Default drum, a small tether winch sized for the paper's Tref = 25 N: radius 0.05 m;
@@ -578,7 +578,7 @@ class WinchSettings:
     model: str = _key(
         "ideal",
         Key("the winch: the paper's, which applies the reel rate of eq 56 as commanded, or a "
-            "drum with inertia, friction and a torque-limited speed loop (model.winch)",
+            "drum with inertia, friction and a torque-limited speed loop (tether.winch)",
             kind="text", choices=WINCH_MODELS),
     )  # fmt: skip
     drum_radius: float = _key(

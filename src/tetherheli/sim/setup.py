@@ -74,10 +74,13 @@ from ..layout import (
     empty_chain,
 )
 from ..model import TetheredHelicopter, TrimPoint, kernels, linearize
-from ..model.tether_lumped import LumpedTether, hover_trim_lumped, ros2_work, static_chain
 from ..names import INPUT, TETHERED_STATE
 from ..params import Params
-from ..sensors import N_CHANNELS, N_GROUPS, SensorConfig, noise_table, ring_rows, sample_schedule
+from ..sensing.config import N_CHANNELS, N_GROUPS, SensorConfig
+from ..sensing.noise import noise_table
+from ..sensing.schedules import ring_rows, sample_schedule
+from ..tether.lumped import LumpedTether, ros2_work, static_chain
+from ..tether.lumped_trim import hover_trim_lumped
 from ..wind import CompiledWind, compile_wind, initial_wind_force
 from ..wind.profiles import Disturbance
 from .scenario import Scenario, WinchSettings
@@ -314,7 +317,7 @@ def lumped_tether(scenario: Scenario) -> LumpedTether:
 
 def chain_start(scenario: Scenario, trim: TrimPoint) -> tuple:
     """The run's ``chain`` (``layout.CHAIN_*``): for a lumped tether the static chain hanging
-    from P straight down to the winch at rest (``tether_lumped.static_chain``, the discrete
+    from P straight down to the winch at rest (``tether.lumped.static_chain``, the discrete
     catenary whose winch tension equals hover_trim_lumped's), fresh arrays; otherwise
     ``layout.empty_chain()``.
 
@@ -625,7 +628,7 @@ def sensor_noise(scenario: Scenario) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (n_samples + 1, N_CHANNELS) or (0, N_CHANNELS)
-        ``sensors.noise_table`` of the run, units per channel.
+        ``sensing.noise.noise_table`` of the run, units per channel.
     """
     if scenario.sensors.is_perfect:
         return np.zeros((0, N_CHANNELS))
@@ -634,7 +637,7 @@ def sensor_noise(scenario: Scenario) -> np.ndarray:
 
 
 def sensor_schedule(config: SensorConfig, dt: float, n_samples: int) -> np.ndarray:
-    """``sensors.sample_schedule`` of a run, empty, (0, N_GROUPS), for perfect sensors (no
+    """``sensing.schedules.sample_schedule`` of a run, empty, (0, N_GROUPS), for perfect sensors (no
     measurement).
 
     Parameters
@@ -657,10 +660,10 @@ def sensor_schedule(config: SensorConfig, dt: float, n_samples: int) -> np.ndarr
 
 
 def sensor_tuple(noise: np.ndarray, source: int, arm: float, schedule: np.ndarray) -> tuple:
-    """The ``sensors`` argument of the engine's ``sense`` (``sensors.measure_sampled``), for
-    every loop (compiled, Python, Gymnasium): (noise table, position-source code, tether arm,
-    a (4, 3) scratch, schedule, a fresh history ring of ``sensors.ring_rows(schedule) + 1``
-    rows).
+    """The ``sensors`` argument of the engine's ``sense`` (``sensing.sensors.measure_sampled``),
+    for every loop (compiled, Python, Gymnasium): (noise table, position-source code, tether
+    arm, a (4, 3) scratch, schedule, a fresh history ring of
+    ``sensing.schedules.ring_rows(schedule) + 1`` rows).
 
     Parameters
     ----------

@@ -1,8 +1,8 @@
 """The tether as a position sensor with sag (issue 13, item 5): how far Sec. IV-F's
 straight-tether estimate of P is off when the cable has weight and wind drag, and what the
-catenary estimator (``model.tether_lumped.catenary_position_estimate``) leaves.
+catenary estimator (``tether.catenary.catenary_position_estimate``) leaves.
 
-The truth is the static cable from the winch to P (``tether_lumped.static_cable``: the
+The truth is the static cable from the winch to P (``tether.catenary.static_cable``: the
 elastic catenary with steady drag). The encoders read its tangent at the winch (q7, q8), the
 load cell its tension there, the winch its paid-out unstretched length L0, the altimeter and
 the IMU give the height of P. The estimates compared (``ESTIMATES``):
@@ -32,7 +32,8 @@ import numpy as np
 
 from .._validation import check_number
 from ..errors import InfeasibleError
-from ..model import tether_lumped as tl
+from ..tether import lumped as tl
+from ..tether.catenary import catenary_position_estimate, static_cable, straight_tether_estimates
 
 __all__ = [
     "ESTIMATES",
@@ -103,18 +104,18 @@ def sensing_errors(
     e = np.array([math.cos(el), 0.0, math.sin(el)])
     r_P = L * e
     n1 = np.array([1.0, 0.0, 0.0])
-    cab = tl.static_cable(r_P, ground_tension_N, tether, g, W * n1)
+    cab = static_cable(r_P, ground_tension_N, tether, g, W * n1)
     q7, q8 = cab.encoder_angles
     T_g = float(np.linalg.norm(cab.ground_tension))
     args = (q7, q8, T_g, cab.unstretched_length_m, tether, g)
-    ivf, _ = tl.straight_tether_estimates(cab, tether.EA_N)
+    ivf, _ = straight_tether_estimates(cab, tether.EA_N)
 
     out = {
         "ivf": _horizontal(ivf - r_P),
-        "catenary_wind_known": _horizontal(tl.catenary_position_estimate(*args, wind=W * n1) - r_P),
-        "catenary_wind_ignored": _horizontal(tl.catenary_position_estimate(*args) - r_P),
+        "catenary_wind_known": _horizontal(catenary_position_estimate(*args, wind=W * n1) - r_P),
+        "catenary_wind_ignored": _horizontal(catenary_position_estimate(*args) - r_P),
         "catenary_wind_1ms": max(
-            _horizontal(tl.catenary_position_estimate(*args, wind=(W + s * dW) * n1) - r_P)
+            _horizontal(catenary_position_estimate(*args, wind=(W + s * dW) * n1) - r_P)
             for s in (-1.0, 1.0)
         ),
     }

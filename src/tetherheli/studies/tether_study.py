@@ -3,7 +3,7 @@ of real cable, and what ground tension and cable does it need?
 
 Static half (``static_rows``, ``hover_limits``), for each cable hanging straight down from P
 to the winch (the paper's geometry; the vertical elastic catenary of
-``tether_lumped.hover_trim_lumped``):
+``tether.lumped_trim.hover_trim_lumped``):
 
 - the ground tension that keeps the paper's 25 N at P: T_g = T_P - mu g L0, with L0 the
   unstretched length from q9 = L0 + (T_P L0 - mu g L0^2 / 2) / EA;
@@ -57,8 +57,9 @@ from scipy import optimize
 from .._validation import check_number
 from ..analysis import reduction_percent
 from ..errors import ParameterError
-from ..model import tether_lumped as tl
 from ..params import TETHER_LENGTH_RANGE, Params
+from ..tether import lumped as tl
+from ..tether.lumped_trim import hover_trim_lumped
 
 __all__ = [
     "DEFAULT_ELEVATIONS_DEG",
@@ -385,7 +386,7 @@ def static_rows(
             massless = float(hover_trim(params, Tg, q9).u_total[0])
             L0_top = _top_tension_length(q9, Tp, w, t.EA_N)
             Tg_top = Tp - w * L0_top if L0_top == L0_top else math.nan
-            lt = tl.hover_trim_lumped(params, t, Tg, q9)
+            lt = hover_trim_lumped(params, t, Tg, q9)
             f = float(lt.trim.u_total[0])
             rows.append(
                 {
@@ -445,7 +446,7 @@ def hover_limits(
         q9_top = L0 * (1.0 + Tp / (2.0 * t.EA_N))
 
         def excess(q9: float, t: tl.LumpedTether = t) -> float:
-            lt = tl.hover_trim_lumped(params, t, ground_tension_N, q9)
+            lt = hover_trim_lumped(params, t, ground_tension_N, q9)
             return float(lt.trim.u_total[0]) - fmax
 
         lo, hi = TETHER_LENGTH_RANGE

@@ -1,6 +1,6 @@
-"""``Cable`` and ``drive_cable``: the lumped-mass chain of ``model.tether_lumped`` on its own,
+"""``Cable`` and ``drive_cable``: the lumped-mass chain of ``tether.lumped`` on its own,
 bottom node fixed at an anchor, top node on a prescribed motion, advanced with the engine's
-chain step (``tether_lumped.chain_interval``: ROS2 sub-steps chosen by the chain's step-size
+chain step (``tether.lumped.chain_interval``: ROS2 sub-steps chosen by the chain's step-size
 rule inside each of the engine's RK4 steps)."""
 
 from __future__ import annotations
@@ -19,14 +19,8 @@ from ..layout import (
     GROUND_FRICTION_SPEED_M_S,
     GROUND_STIFFNESS_PA_M,
 )
-from ..model.tether_lumped import (
-    LumpedTether,
-    chain_forces,
-    chain_interval,
-    ros2_work,
-    static_chain,
-)
 from ..resources import check_memory
+from .lumped import LumpedTether, chain_forces, chain_interval, ros2_work, static_chain
 
 __all__ = ["Cable", "CableRun", "drive_cable"]
 
@@ -95,7 +89,7 @@ class Cable:
         self.lumped_tether()
 
     def lumped_tether(self, rho: float = 1.225) -> LumpedTether:
-        """The chain's parameters (``model.tether_lumped.LumpedTether``).
+        """The chain's parameters (``tether.lumped.LumpedTether``).
 
         Parameters
         ----------
@@ -223,7 +217,7 @@ def drive_cable(
     """Fly the cable with its bottom node fixed at ``anchor`` and its top node on the
     prescribed motion ``top(t)``, with the engine's chain step at the sample time ``dt``:
     per sample ``substeps`` steps of dt / substeps (the engine's ``[simulation] substeps``),
-    each ``tether_lumped.chain_interval`` (ROS2 sub-steps of the chain's step-size rule, the
+    each ``tether.lumped.chain_interval`` (ROS2 sub-steps of the chain's step-size rule, the
     top on the cubic Hermite curve between its values at the step's ends).
 
     Parameters

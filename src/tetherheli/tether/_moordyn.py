@@ -36,8 +36,8 @@ import numpy as np
 
 from .._validation import check_integer, check_number
 from ..errors import ParameterError
-from ..model.tether_lumped import chain_omega_max
 from ._cable import Cable, CableRun, _drive_arguments, _run_record, _top_at
+from .lumped import chain_omega_max
 
 __all__ = ["MOORDYN_DEPTH_M", "buoyant_gravity", "drive_moordyn", "import_moordyn",
            "moordyn_input"]  # fmt: skip

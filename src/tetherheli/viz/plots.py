@@ -800,7 +800,7 @@ def figure_sensing(
 ) -> Figure:
     """Sec. IV-F: the controller's q1 estimate error and the true q1 deviation of runs with
     different position sources (``extra["q1_est"]``); with ``estimates`` (run name ->
-    fusion -> ``estimation.EstimateResult``) a middle panel with the Kalman filter's q1
+    fusion -> ``sensing.estimation.EstimateResult``) a middle panel with the Kalman filter's q1
     error for each fusion on the first run with a GNSS outage (else the first run), the
     outage shaded. Drawn into ``fig`` if given.
 
