@@ -44,7 +44,7 @@ except ImportError:  # a baseline tree from before the set-up was public (0ac318
 
     def prepare(scenario):
         return _prepare(scenario, None)
-from tetherheli.report import sensing_scenario
+from tetherheli.report.paper import sensing_scenario
 
 summary = np.zeros(len(engine.SUMMARY_FIELDS))
 

@@ -51,9 +51,9 @@ from scipy.optimize import minimize
 from tune_tether_lqi import MAX_OFF_AXIS, MAX_Q3, goal, references
 
 from tetherheli import simulate
-from tetherheli.control.mpc import mpc_controller
 from tetherheli.names import INPUT
 from tetherheli.sim import Scenario
+from tetherheli.sim.mpc_setup import mpc_controller
 from tetherheli.sim.scenario import MPCSettings, TetherLQISettings
 from tetherheli.sim.setup import engine_setup
 from tetherheli.studies.controllers import fly, with_controller

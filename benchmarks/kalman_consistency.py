@@ -1,4 +1,4 @@
-"""The MPC's Kalman filter's consistency (``sensing.estimation.kalman_consistency``) on every
+"""The MPC's Kalman filter's consistency (``studies.estimation.kalman_consistency``) on every
 shipped scenario with sensors, flown by the MPC (``[control] controller = "mpc"``).
 
 Run: PYTHONPATH=src python benchmarks/kalman_consistency.py [--set key=value ...]
@@ -21,8 +21,8 @@ from pathlib import Path
 import numpy as np
 
 from tetherheli import simulate
-from tetherheli.sensing.estimation import kalman_consistency
 from tetherheli.sim.scenario import load_scenario
+from tetherheli.studies.estimation import kalman_consistency
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 

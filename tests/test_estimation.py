@@ -14,11 +14,12 @@ import pytest
 from scipy.linalg import solve_discrete_are
 
 from tetherheli.errors import ParameterError
-from tetherheli.report import sensing_scenario
+from tetherheli.report.paper import sensing_scenario
 from tetherheli.sensing.config import SensorConfig
-from tetherheli.sensing.estimation import Fixes, estimate_run, position_filter, run_filter
+from tetherheli.sensing.estimation import Fixes, position_filter, run_filter
 from tetherheli.sensing.noise import random_walk
 from tetherheli.sim import simulate
+from tetherheli.studies.estimation import estimate_run
 
 DT = 0.01
 IMU = SensorConfig.from_presets("mems_imu")

@@ -138,7 +138,7 @@ def test_mpc_tension_bounds_follow_T_ref_unless_given():
     """Unset, the bounds are [T_ref/2, 1.5 T_ref] of the scenario's own T_ref (their doc): the
     paper's [12.5, 37.5] N at 25 N, [22.5, 67.5] N at 45 N (which with the old fixed default
     crashed into the ground at t = 12.6 s); given, they are used as written."""
-    from tetherheli.control.mpc import mpc_controller
+    from tetherheli.sim.mpc_setup import mpc_controller
     from tetherheli.sim.setup import engine_setup
 
     s = Scenario(name="t45")

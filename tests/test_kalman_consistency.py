@@ -1,6 +1,6 @@
 """The consistency of the MPC's Kalman filter (issue 23, item 7): NEES and NIS
-(``sensing.estimation.kalman_consistency``) against hand-computed cases and a linear system whose
-noises are the filter's own, then the shipped sensed scenarios flown by the MPC."""
+(``studies.estimation.kalman_consistency``) against hand-computed cases and a linear system
+whose noises are the filter's own, then the shipped sensed scenarios flown by the MPC."""
 
 from __future__ import annotations
 
@@ -15,13 +15,9 @@ from tetherheli import simulate
 from tetherheli.control.mpc import KALMAN_NIS_COLUMN
 from tetherheli.control.observer import DisturbanceKalman
 from tetherheli.errors import ParameterError, TetherheliError
-from tetherheli.sensing.estimation import (
-    ConsistencyTest,
-    chi2_mean_band,
-    kalman_consistency,
-    normalized_squares,
-)
+from tetherheli.sensing.estimation import ConsistencyTest, chi2_mean_band, normalized_squares
 from tetherheli.sim.scenario import load_scenario
+from tetherheli.studies.estimation import kalman_consistency
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 #: every shipped scenario with flown sensors (``tetherheli scenarios``: sensing_*,

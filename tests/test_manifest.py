@@ -15,7 +15,7 @@ import pytest
 import scipy
 
 from tetherheli import _version
-from tetherheli.report import _manifest
+from tetherheli.report.paper import _manifest
 from tetherheli.sim.scenario import Scenario
 
 

@@ -12,7 +12,7 @@ import pytest
 
 from tetherheli import simulate
 from tetherheli.control.base import Measurement
-from tetherheli.control.mpc import MPCController, design_mpc, mpc_controller, mpc_plant
+from tetherheli.control.mpc import MPCController, design_mpc, mpc_plant
 from tetherheli.control.tether_lqi import design_tether_lqi
 from tetherheli.errors import ParameterError
 from tetherheli.model import TetheredHelicopter
@@ -20,6 +20,7 @@ from tetherheli.model.linearization import linearize
 from tetherheli.names import WIND
 from tetherheli.params import Params
 from tetherheli.sim.batch import run_batch
+from tetherheli.sim.mpc_setup import mpc_controller
 from tetherheli.sim.scenario import MPCSettings, Scenario, load_scenario
 from tetherheli.sim.setup import engine_setup
 from tetherheli.status import Status

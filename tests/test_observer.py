@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from tetherheli import simulate
-from tetherheli.control.mpc import mpc_controller, mpc_plant
+from tetherheli.control.mpc import mpc_plant
 from tetherheli.control.observer import (
     DisturbanceKalman,
     measurement_covariance,
@@ -19,6 +19,7 @@ from tetherheli.control.observer import (
 from tetherheli.params import Params
 from tetherheli.sensing.config import CH_GPS, N_CHANNELS, SensorConfig
 from tetherheli.sensing.sensors import measure
+from tetherheli.sim.mpc_setup import mpc_controller
 from tetherheli.sim.scenario import MPCSettings, Scenario, load_scenario
 from tetherheli.sim.setup import engine_setup
 from tetherheli.studies.controllers import with_controller

@@ -143,7 +143,7 @@ def test_names_equal_but_for_case_are_refused(workdir: Path, capsys):
     err = one_line(capsys.readouterr().err)
     assert "name = 'Short'" in err and "names must differ" in err
     assert not (workdir / "r").exists()
-    from tetherheli.report import write_comparison
+    from tetherheli.report.paper import write_comparison
 
     runs = [simulate(Scenario(name=n, duration=0.05)) for n in ("run", "RUN")]
     with pytest.raises(ParameterError, match="names must differ"):

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from tetherheli import ParameterError, load_scenario, simulate
-from tetherheli.report import sensing_scenario
+from tetherheli.report.paper import sensing_scenario
 from tetherheli.sensing.config import SensorConfig
 from tetherheli.sensing.sensors import hover_error_std
 from tetherheli.sim.scenario import ActuatorSettings, paper_scenario

@@ -15,7 +15,7 @@ import pytest
 from tetherheli import simulate
 from tetherheli._io import OUTPUT_RECORD, dumps_toml, read_toml
 from tetherheli.errors import ParameterError
-from tetherheli.report import SCENARIO_FILE, write_comparison, write_run
+from tetherheli.report.paper import SCENARIO_FILE, write_comparison, write_run
 from tetherheli.sim.scenario import Scenario, load_scenario, scenario_from_dict
 from tetherheli.wind import Disturbance, Pulse
 

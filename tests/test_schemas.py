@@ -98,7 +98,8 @@ def test_run_csv_with_sensors_appends_the_estimate(tmp_path):
 
 
 def test_sweep_csv_columns(tmp_path):
-    from tetherheli.studies.sweep import sweep, write_sweep
+    from tetherheli.report.sweep import write_sweep
+    from tetherheli.studies.sweep import sweep
 
     s = Scenario(duration=0.2)
     r = sweep(s, "tether.K_C", np.array([30.0, 40.0]), "peak_q1")

@@ -14,7 +14,7 @@ import pytest
 
 from tetherheli.errors import ParameterError
 from tetherheli.model.kernels import tethered_outputs
-from tetherheli.report import SENSING_RUNS, sensing_scenario
+from tetherheli.report.paper import SENSING_RUNS, sensing_scenario
 from tetherheli.sensing.config import (
     CH_GPS,
     CH_GYRO,

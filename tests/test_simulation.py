@@ -243,7 +243,7 @@ def test_our_measured_sec_vi_figures_regression():
     """Sec. VI runs: our measured peak and RMS deviations and reductions (a regression pin,
     not the paper's numbers); each reduction is 100 (free - tethered) / free of the runs'
     own metrics (the README's definition, computed here)."""
-    from tetherheli.report import paper_summary
+    from tetherheli.report.paper import paper_summary
 
     results = {
         f"sim{s}_{c}": simulate(paper_scenario(s, c)) for s in (1, 2) for c in ("free", "tethered")

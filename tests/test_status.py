@@ -231,7 +231,7 @@ def test_paper_with_coarse_dt_reports_failures(tmp_path, capsys):
 
 def test_paper_summary_of_successful_runs_records_completed_statuses():
     """The four paper runs complete; summary's statuses say so (numbers as before)."""
-    from tetherheli.report import paper_summary
+    from tetherheli.report.paper import paper_summary
     from tetherheli.sim.scenario import paper_scenario
 
     results = {

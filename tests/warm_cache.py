@@ -19,7 +19,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 def _single() -> None:
     from tetherheli import simulate
-    from tetherheli.report import sensing_scenario
+    from tetherheli.report.paper import sensing_scenario
     from tetherheli.shipped import shipped_scenario
 
     for name in ("paper_sim1_tethered", "paper_sim1_free", "paper_sim1_drum"):

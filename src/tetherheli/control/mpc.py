@@ -70,10 +70,9 @@ import osqp
 from scipy import sparse
 
 from .._linalg import check_dt, discretize_zoh, solve_dare
-from ..errors import DesignError, TetherheliError, design_failure
+from ..errors import DesignError, TetherheliError
 from ..model.kernels import tethered_outputs
 from ..names import TETHERED_STATE
-from ..resources import warn_slow
 from ..status import FALLBACK_COLUMN
 from .base import Command, Controller, Measurement
 from .lqi import _check_pd, _check_psd, augment_lqi
@@ -86,8 +85,8 @@ __all__ = [
     "MPCController",
     "MPCDesign",
     "design_mpc",
-    "mpc_controller",
-    "mpc_kalman",
+    "design_mpc_kalman",
+    "hover_design",
     "mpc_plant",
     "mpc_sample_seconds",
 ]
@@ -322,7 +321,7 @@ def _cached_design(params, configuration, T_ref, q9, dt, Qy, Ru, q_tension, hori
 
 class MPCController(Controller):
     """The MPC of the module docstring as a ``Controller`` (flown by ``simulate``'s Python
-    loop); build it with ``mpc_controller``.
+    loop); a scenario's is built by ``sim.mpc_setup.mpc_controller``.
 
     Parameters
     ----------
@@ -684,127 +683,132 @@ def mpc_sample_seconds(horizon: int) -> float:
     return _SAMPLE_BASE_S + _SAMPLE_AT_400_S * (horizon / 400.0) ** 2
 
 
-def mpc_controller(scenario, setup, design_params=None) -> MPCController:
-    """The MPC of ``scenario``'s ``[control.mpc]`` on the run's set-up.
-
-    The model is designed on ``design_params`` (default the run's own parameters) at the
-    hover trim (Table V tethered, Table IV free); the references and the trim input are the
-    run's own trim (as for the paper's law); the bounds come from ``[actuators]``; the
-    estimator from ``[control.mpc] observer`` (the Kalman filter's measurement noise from
-    ``[sensors]``, ``observer.measurement_covariance``).
-
-    Parameters
-    ----------
-    scenario : Scenario
-        The run (``control.controller`` = "mpc").
-    setup : EngineSetup
-        Its set-up (``sim.setup.engine_setup``): trim, model constants, the paper's free
-        gain (flown after a release) and u0|F.
-    design_params : Params, optional
-        The parameters of the design model (a Monte Carlo's nominal ones).
-
-    Returns
-    -------
-    MPCController
-    """
-    from ..wind import initial_wind_force
-
-    s = scenario.control.mpc
-    a = scenario.actuators
-    n = scenario.n_samples
-    warn_slow(  # before the design: a long horizon is allowed, and said what it costs
-        f"run {scenario.name}: the MPC with control.mpc.horizon = {s.horizon} over {n} samples",
-        n * mpc_sample_seconds(s.horizon),
-        hint="shorten control.mpc.horizon (default 10) or the duration",
-    )
-    tethered = scenario.configuration == "tethered"
-    tension_ref = scenario.params.tension_control.T_ref if tethered else 0.0
-    params = scenario.params if design_params is None else design_params
-    T_ref = params.tension_control.T_ref if tethered else 0.0
-    try:
-        design = _cached_design(
-            params, scenario.configuration, T_ref, scenario.q9, scenario.control.dt,
-            tuple(s.Qy), tuple(s.Ru), s.q_tension, s.horizon,
-        )  # fmt: skip
-    except DesignError as exc:
-        raise design_failure(
-            "control.mpc.Qy/q_tension/Ru",
-            f"Qy = {list(s.Qy)}, q_tension = {s.q_tension!r}, Ru = {list(s.Ru)}",
-            exc,
-        ) from None
-    trim = setup.trim
-    kalman = mpc_kalman(scenario, setup, design_params)
-    return MPCController(
-        design,
-        x_ref=trim.x,
-        y_ref=trim.y,
-        u_trim=trim.u_total,
-        constants=setup.model.constants,
-        dt=scenario.control.dt,
-        u_min=np.array(a.u_min),
-        u_max=np.array(a.u_max),
-        reel_rate_limit=a.reel_rate_limit,
-        reel_acceleration_limit=a.reel_acceleration_limit,
-        tension_ref=tension_ref,
-        tension_bounds=s.bounds_about(tension_ref),
-        slack_weight=s.slack_weight,
-        disturbance_time_constant=s.disturbance_time_constant,
-        max_iterations=s.max_iterations,
-        tolerance=s.tolerance,
-        free_gain=np.asarray(setup.gain.K) if tethered else None,
-        free_trim_input=setup.u0_free,
-        d_init=initial_wind_force(scenario.wind),
-        kalman=kalman,
-    )
-
-
-def mpc_kalman(scenario, setup, design_params=None) -> DisturbanceKalman | None:
-    """The MPC's Kalman filter on ``scenario`` (``control.observer``), or None when
-    ``[control.mpc] observer`` does not select it (``_uses_kalman``).
+def hover_design(
+    params,
+    configuration: str,
+    T_ref: float,
+    q9: float,
+    dt: float,
+    *,
+    Qy: tuple[float, ...],
+    Ru: tuple[float, ...],
+    q_tension: float,
+    horizon: int,
+) -> MPCDesign:
+    """The MPC's design at the hover trim (``mpc_plant``, ``design_mpc`` with diagonal
+    weights), cached per set of arguments (a Monte Carlo designs the same model many times).
 
     Parameters
     ----------
-    scenario : Scenario
-        The run.
-    setup : EngineSetup
-        Its set-up (``sim.setup.engine_setup``; the trim).
-    design_params : Params, optional
-        The parameters of the design model (default the run's own).
+    params : Params
+        The parameters of the design model.
+    configuration : {"tethered", "free"}
+        The configuration (``mpc_plant``).
+    T_ref : float
+        Trim tension [N] of the design model (0 for the free configuration).
+    q9 : float
+        Tether length at trim [m].
+    dt : float
+        Sample time [s].
+    Qy : tuple of float, length 8
+        Diagonal of the weight on [y; z] (eq 47).
+    Ru : tuple of float, length >= m
+        Diagonal of the input weight; its first m entries are used (4 free, 5 tethered).
+    q_tension : float
+        Weight on the tension deviation [1/N^2].
+    horizon : int
+        N >= 1 samples.
 
     Returns
     -------
-    DisturbanceKalman or None
-        The filter designed on the ``[control.mpc] kalman_*`` noises and the sensors' R.
+    MPCDesign
+
+    Raises
+    ------
+    DesignError
+        The weights admit no stabilising design.
     """
-    if not _uses_kalman(scenario):
-        return None
-    s = scenario.control.mpc
-    dt = scenario.control.dt
-    tethered = scenario.configuration == "tethered"
-    tension_ref = scenario.params.tension_control.T_ref if tethered else 0.0
-    params = scenario.params if design_params is None else design_params
-    T_ref = params.tension_control.T_ref if tethered else 0.0
-    G, H, _, Hd, c_t = mpc_plant(params, scenario.configuration, T_ref, scenario.q9, dt)
-    load_cell = tethered and scenario.tether.model != "lumped"
+    return _cached_design(
+        params, configuration, T_ref, q9, dt, tuple(Qy), tuple(Ru), q_tension, horizon
+    )
+
+
+def design_mpc_kalman(
+    params,
+    configuration: str,
+    T_ref: float,
+    q9: float,
+    dt: float,
+    *,
+    sensors,
+    x_trim: np.ndarray,
+    tension_ref: float,
+    tether_arm: float,
+    load_cell: bool,
+    tension_std: float,
+    force_std: float,
+    force_rate: float,
+    input_std: np.ndarray,
+    coordinate_std: float,
+    force_accel: float,
+    tether_angle_std: float,
+) -> DisturbanceKalman:
+    """The MPC's steady-state Kalman filter (``observer.DisturbanceKalman``) on the design
+    plant (``mpc_plant``) with the sensors' measurement noise
+    (``observer.measurement_covariance``).
+
+    Parameters
+    ----------
+    params : Params
+        The parameters of the design model.
+    configuration : {"tethered", "free"}
+        The configuration (``mpc_plant``).
+    T_ref : float
+        Trim tension [N] of the design model (0 for the free configuration).
+    q9 : float
+        Tether length at trim [m].
+    dt : float
+        Sample time [s].
+    sensors : SensorConfig
+        The run's sensors (their noise sets R).
+    x_trim : ndarray, shape (13,)
+        The run's trim state (where R is evaluated).
+    tension_ref : float
+        The run's reference tension [N] (0 for the free configuration).
+    tether_arm : float
+        dO-P,3 - dO-HO,3 of the run's helicopter [m].
+    load_cell : bool
+        Whether the load cell's tension is a measurement (eq 28's tension as the design
+        model knows it; not with the lumped tether).
+    tension_std : float
+        Std of eq 28's tension model error added to the load cell's variance [N].
+    force_std : float
+        Std of the white force on HO per sample [N] (``DisturbanceKalman.design``).
+    force_rate : float
+        Density of the wind force's random walk [N/sqrt(s)].
+    input_std : ndarray, shape (m,)
+        Std of a white error of each input per sample, units of the inputs.
+    coordinate_std : float
+        Std of a white error per sample of each coordinate q4..q9 [rad, m].
+    force_accel : float
+        Density of the random walk of the wind force's rate [N/s^1.5] (0: no rate state).
+    tether_angle_std : float
+        The coordinate error of the tether's angles q7, q8 [rad].
+
+    Returns
+    -------
+    DisturbanceKalman
+        The filter.
+    """
+    G, H, _, Hd, c_t = mpc_plant(params, configuration, T_ref, q9, dt)
     R = measurement_covariance(
-        scenario.sensors, setup.trim.x, tension_ref, scenario.params.helicopter.tether_arm, dt,
-        states=G.shape[0], load_cell=load_cell,
-    )  # fmt: skip
+        sensors, x_trim, tension_ref, tether_arm, dt, states=G.shape[0], load_cell=load_cell
+    )
     if load_cell:  # eq 28 as the design model knows it
-        R[-1, -1] += s.kalman_tension_std**2
+        R[-1, -1] += tension_std**2
     return DisturbanceKalman.design(
-        G, H, Hd, c_t if load_cell else None, R, dt, force_std=s.kalman_force_std,
-        force_rate=s.kalman_force_rate, input_std=np.array(s.kalman_input_std),
-        coordinate_std=s.kalman_coordinate_std, force_accel=s.kalman_force_accel,
-        tether_angle_std=s.kalman_tether_angle_std,
+        G, H, Hd, c_t if load_cell else None, R, dt, force_std=force_std,
+        force_rate=force_rate, input_std=np.asarray(input_std),
+        coordinate_std=coordinate_std, force_accel=force_accel,
+        tether_angle_std=tether_angle_std,
     )  # fmt: skip
-
-
-def _uses_kalman(scenario) -> bool:
-    """``[control.mpc] observer``: "auto" is the Kalman filter when the sensors are not
-    perfect or the tether is the lumped chain (the design model's massless tether misses its
-    waves and sag), else the residual estimate."""
-    observer = scenario.control.mpc.observer
-    if observer == "auto":
-        return not scenario.sensors.is_perfect or scenario.tether.model == "lumped"
-    return observer == "kalman"

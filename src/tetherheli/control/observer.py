@@ -19,7 +19,7 @@ density ``force_rate`` [N/sqrt(s)]. With ``force_accel`` > 0 the force also has 
 a force that follows a ramp or a sine without lag and a step as fast as its noise lets it
 (a random-walk force alone lags a 12.6 N/s sine and a 20 N pulse by several of its sigmas:
 mean NEES 40 for 16 states on the shipped pulse-and-sine runs,
-``sensing.estimation.kalman_consistency``).
+``studies.estimation.kalman_consistency``).
 Measurements, every sample: the controller's measured
 state (``sensing.sensors.measure_sampled``: 13 tethered or free-configuration channels) and, on the
 tethered configuration, the load cell,

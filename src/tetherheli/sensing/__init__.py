@@ -14,8 +14,9 @@
     the compiled measurement (``measure``, ``measure_sampled``, ...), its NumPy replay and the
     tether route's analysis (``tether_position_estimate``, ``hover_error_std``);
 ``estimation``
-    the position Kalman filter flown on a run's records (``estimate_run``) and the MPC
-    filter's consistency (``kalman_consistency``).
+    the position Kalman filter (``position_filter``, ``run_filter``) and the chi-square
+    consistency tests (``ConsistencyTest``); ``studies.estimation`` flies them on a run's
+    records.
 
 The names below load on first use (PEP 562): ``from tetherheli.sensing import SensorConfig``
 does not import the compiled measurement.

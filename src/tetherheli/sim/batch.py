@@ -311,8 +311,8 @@ def _python_run(
     ``design_params`` when given), flown by ``simulate``'s loop; ``summary`` receives the
     engine's on-line metrics of it (``engine.SUMMARY_FIELDS``, from the recorded samples at
     or after ``metrics_start``). Returns (status, samples done)."""
-    from ..control.mpc import mpc_controller
     from .closed_loop import simulate
+    from .mpc_setup import mpc_controller
 
     result = simulate(scenario, controller=mpc_controller(scenario, setup, design_params))
     summary[:] = 0.0

@@ -18,7 +18,6 @@ import numpy as np
 
 from .._version import __version__
 from ..control.base import Controller, Measurement
-from ..control.mpc import mpc_controller
 from ..errors import ParameterError
 from ..layout import (
     CFG_ATTACHED,
@@ -42,6 +41,7 @@ from ..resources import check_memory
 from ..sensing.config import N_CHANNELS, N_GROUPS
 from ..status import FALLBACK_COLUMN, Status, solver_status
 from . import engine
+from .mpc_setup import mpc_controller
 from .result import DRUM_COLUMNS, TENSION_GROUND_COLUMN, SimulationResult, winch_limit_info
 from .scenario import Scenario
 from .setup import engine_setup

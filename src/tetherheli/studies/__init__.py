@@ -16,7 +16,7 @@ _HOMES = {
         ".montecarlo",
     ),
     **dict.fromkeys(
-        ("METRICS", "SweepResult", "paper_cyclic_limit", "tension_bound", "write_sweep"), ".sweep"
+        ("METRICS", "SweepResult", "paper_cyclic_limit", "tension_bound"), ".sweep"
     ),
 }  # fmt: skip
 
@@ -32,7 +32,6 @@ __all__ = [
     "paper_cyclic_limit",
     "run_montecarlo",
     "tension_bound",
-    "write_sweep",
 ]
 
 

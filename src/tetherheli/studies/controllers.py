@@ -57,8 +57,8 @@ def check_design(scenario: Scenario) -> None:
     WeightsError
         The controller's weights have no stabilising design.
     """
-    from ..control.mpc import mpc_controller
     from ..errors import WeightsError
+    from ..sim.mpc_setup import mpc_controller
     from ..sim.setup import engine_setup
 
     try:

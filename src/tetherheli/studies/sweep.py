@@ -19,19 +19,13 @@ deviation) within a fraction of the unlimited run's, as an interval (``LimitSear
 
 from __future__ import annotations
 
-import csv
 import dataclasses
-import io
-import json
 import math
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .._io import atomic_write_text, output_directory
-from .._version import __version__
 from ..analysis import run_metrics, tether_moment
 from ..errors import InfeasibleError, ParameterError
 from ..names import POSITION
@@ -49,7 +43,6 @@ __all__ = [
     "scenario_cyclic_limit",
     "sweep",
     "tension_bound",
-    "write_sweep",
 ]
 
 #: metric name -> (group, key) of ``RunMetrics``
@@ -498,72 +491,3 @@ def sweep(
         peak_worst_case_moment=worst,
         configuration=scenario.to_dict(),
     )
-
-
-def write_sweep(
-    result: SweepResult,
-    out_dir: str | Path,
-    *,
-    command: str,
-    inputs: tuple[str | Path, ...] = (),
-    force: bool = False,
-    figure_format: str = "png",
-) -> None:
-    """Table (CSV), plot (``sweep.<figure_format>``: png, pdf or svg) and summary.json of a
-    sweep, written whole or not at all (``_io.output_directory``: the user's files in
-    ``out_dir`` are kept, never replaced).
-
-    Parameters
-    ----------
-    result : SweepResult
-        The sweep.
-    out_dir : str or Path
-        The output folder.
-    command : str
-        The command line, recorded in summary.json.
-    inputs : tuple of str or Path, optional
-        The input files, recorded with the folder's marker.
-    force : bool, optional
-        Replace this command's earlier output (default False).
-    figure_format : str, optional
-        "png" (default), "pdf" or "svg".
-
-    Returns
-    -------
-    None
-    """
-    from ..viz.plots import check_figure_format, figure_sweep, save_figure
-
-    figure_format = check_figure_format(figure_format)
-    fig = figure_sweep(result)
-    buf = io.StringIO()
-    writer = csv.writer(buf, lineterminator="\n")  # quotes a status holding a comma
-    nan = np.full(result.values.size, np.nan)
-    moment = nan if result.peak_tether_moment is None else result.peak_tether_moment
-    angle = nan if result.peak_tether_angle_deg is None else result.peak_tether_angle_deg
-    worst = nan if result.peak_worst_case_moment is None else result.peak_worst_case_moment
-    writer.writerow(
-        [
-            "value",
-            "metric",
-            "status",
-            "peak_tether_moment_Nm",
-            "peak_tether_angle_deg",
-            "eq40_worst_case_moment_Nm",
-        ]
-    )
-    for row in zip(
-        result.values.tolist(),
-        result.metric.tolist(),
-        result.statuses,
-        moment.tolist(),
-        angle.tolist(),
-        worst.tolist(),
-        strict=True,
-    ):
-        writer.writerow([repr(row[0]), repr(row[1]), row[2], *(repr(v) for v in row[3:])])
-    with output_directory(out_dir, writer="sweep", inputs=inputs, force=force) as tmp:
-        save_figure(fig, tmp / f"sweep.{figure_format}")
-        atomic_write_text(tmp / "sweep.csv", buf.getvalue())
-        info = {**result.as_dict(), "tetherheli_version": __version__, "command": command}
-        atomic_write_text(tmp / "summary.json", json.dumps(info, indent=2) + "\n")

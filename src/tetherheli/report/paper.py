@@ -15,14 +15,14 @@ from typing import Any
 
 import numpy as np
 
-from ._io import atomic_write_text, claim_output_directory, output_directory
-from ._version import __version__, dependency_versions, git_commit
-from .analysis import metric_samples, reduction_percent, run_metrics
-from .errors import ParameterError
-from .names import POSITION
-from .sim import SimulationResult, simulate
-from .sim.result import check_result_format
-from .sim.scenario import (
+from .._io import atomic_write_text, claim_output_directory, output_directory
+from .._version import __version__, dependency_versions, git_commit
+from ..analysis import metric_samples, reduction_percent, run_metrics
+from ..errors import ParameterError
+from ..names import POSITION
+from ..sim import SimulationResult, simulate
+from ..sim.result import check_result_format
+from ..sim.scenario import (
     MPC_QY_GNSS,
     Scenario,
     check_distinct_names,
@@ -331,8 +331,8 @@ def run_paper(
     dict of str to Any
         summary.json's content (``paper_summary``).
     """
-    from .progress import Progress
-    from .viz.plots import check_figure_format, figure_inputs, figure_outputs, save_figure
+    from ..progress import Progress
+    from ..viz.plots import check_figure_format, figure_inputs, figure_outputs, save_figure
 
     check_result_format(data_format)
     figure_format = check_figure_format(figure_format)
@@ -414,7 +414,7 @@ def write_run(
         summary.json's content: the run's name, status, message, tether release, metrics
         (``run_metrics``; empty without samples), tetherheli version and command.
     """
-    from .viz.plots import check_figure_format
+    from ..viz.plots import check_figure_format
 
     check_result_format(data_format)
     figure_format = check_figure_format(figure_format)
@@ -429,7 +429,7 @@ def _write_run_files(
     data_format: str = "csv",
     figure_format: str = "png",
 ) -> dict[str, Any]:
-    from .viz.plots import figure_inputs, figure_outputs, save_figure
+    from ..viz.plots import figure_inputs, figure_outputs, save_figure
 
     ext = figure_format
     directory.mkdir(exist_ok=True)
@@ -514,7 +514,7 @@ def write_comparison(
     dict of str to Any
         summary.json's content: version, command and every run's ``write_run`` summary.
     """
-    from .viz.plots import check_figure_format, figure_inputs, figure_outputs, save_figure
+    from ..viz.plots import check_figure_format, figure_inputs, figure_outputs, save_figure
 
     check_result_format(data_format)
     ext = check_figure_format(figure_format)
@@ -575,7 +575,7 @@ def sensing_scenario(source: str) -> Scenario:
     Scenario
         The scenario, named ``sensing_<source>``.
     """
-    from .sensing.config import SensorConfig
+    from ..sensing.config import SensorConfig
 
     if source not in SENSING_RUNS:
         raise ParameterError("source", source, f"one of {sorted(SENSING_RUNS)}")
@@ -610,7 +610,7 @@ def run_sensing(
     """The tether as a GPS-free position sensor (Sec. IV-F): fly the shipped
     ``sensing_*`` scenarios (``SENSING_RUNS``, or the given ones), compare the controller's
     position-estimate error and the true deviation from trim, and run the Kalman filter
-    (``sensing.estimation.estimate_run``) fusing the IMU with the GNSS, the tether or both on each
+    (``studies.estimation.estimate_run``) fusing the IMU with the GNSS, the tether or both on each
     run's recorded sensors (its error RMS over the run and, with a GNSS outage, over it).
 
     A failed run is recorded, not raised: its row holds its status (``run_status``), its
@@ -638,9 +638,10 @@ def run_sensing(
         and true deviation RMS along n1, n2, n3 [m], and the Kalman filters' error RMS and
         final 1-sigma [m].
     """
-    from .sensing.estimation import FUSIONS, estimate_run
-    from .sim import load_scenario
-    from .viz.plots import check_figure_format, figure_sensing, save_figure
+    from ..sensing.estimation import FUSIONS
+    from ..sim import load_scenario
+    from ..studies.estimation import estimate_run
+    from ..viz.plots import check_figure_format, figure_sensing, save_figure
 
     figure_format = check_figure_format(figure_format)
     claim_output_directory(out_dir, inputs=scenarios or (), force=force)
