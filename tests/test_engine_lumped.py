@@ -393,7 +393,7 @@ def test_helicopter_and_chain_conserve_energy_without_drag_damping_and_winch():
         vn = np.vstack([np.zeros(3), y[13 + 3 * (n - 1) :].reshape(n - 1, 3), top_v])
         z_HO = tethered_HO_position(x[0], x[1], x[3], x[4], x[5], arm)[2]
         heli = 0.5 * ne.m * x[6:9] @ x[6:9] + 0.5 * x[9:12] @ ne.J @ x[9:12] + ne.m * g * z_HO
-        # the top half segment's weight acts at P (tether_lumped's end forces), a constant
+        # the top half segment's weight acts at P (tether.lumped's end forces), a constant
         # force: its potential m_node / 2 g z_P belongs to the conserved sum
         return heli + chain_energy(xn, vn, x[12], p) + 0.5 * m_node * g * top[2]
 

@@ -134,7 +134,7 @@ def kalman_consistency(
     The estimate is the one the MPC recorded (``control.mpc.KALMAN_STATE_COLUMNS``,
     ``KALMAN_FORCE_COLUMNS``); the truth is the run's state and its wind force on HO
     (``result.wind``: the force the design model's disturbance stands for); the covariances
-    are the steady-state filter's, rebuilt from ``scenario`` (``control.mpc.mpc_kalman``):
+    are the steady-state filter's, rebuilt from ``scenario`` (``sim.mpc_setup.mpc_kalman``):
     NEES e' P+^-1 e with the posterior P+ (its [x; d] block), NIS with
     ``DisturbanceKalman.innovation_covariance`` (recorded by the MPC, ``kalman_nis``).
 
