@@ -26,6 +26,7 @@ from scipy.integrate import solve_ivp
 
 from tetherheli import TetheredHelicopter
 from tetherheli.tether import lumped as tl
+from tetherheli.tether.chain import LumpedTether, end_forces, static_chain
 
 G = 9.81
 H = 0.01  # the control sample [s]
@@ -47,9 +48,9 @@ def _steps(x, v, wind, L0, p, h, xP, vP, n):
 
 
 def _case(n: int, EA: float):
-    t = tl.LumpedTether(segments=n, EA_N=EA, damping_ratio=0.1, diameter_m=0.006)
+    t = LumpedTether(segments=n, EA_N=EA, damping_ratio=0.1, diameter_m=0.006)
     L0 = 10.0 * (1.0 - 10.0 / EA)
-    x0 = tl.static_chain(np.zeros(3), _path(0.0)[0], L0, t, G)
+    x0 = static_chain(np.zeros(3), _path(0.0)[0], L0, t, G)
     wind = np.zeros_like(x0)
     wind[:, 0] = 5.0
     return t, t.packed(G), L0, x0, wind
@@ -116,8 +117,8 @@ def accuracy(t_end: float = 0.5) -> None:
             x_ref[1:-1] = ref.y[: 3 * (n - 1), -1].reshape(-1, 3)
             v_ref[1:-1] = ref.y[3 * (n - 1) :, -1].reshape(-1, 3)
             x_ref[-1], v_ref[-1] = _path(t_end)
-            force = tl.end_forces(x, v, wind, L0, p)[1]
-            force_ref = tl.end_forces(x_ref, v_ref, wind, L0, p)[1]
+            force = end_forces(x, v, wind, L0, p)[1]
+            force_ref = end_forces(x_ref, v_ref, wind, L0, p)[1]
             rel = np.linalg.norm(force - force_ref) / np.linalg.norm(force_ref)
             print(f"  EA = {EA:7.0f} N, N = {n:2d}: nodes {err:.2e} m, force at P {rel:.2e} rel.")
 

@@ -26,12 +26,12 @@ import numpy as np
 from tetherheli import Params
 from tetherheli.errors import InfeasibleError
 from tetherheli.model.trim import hover_trim
-from tetherheli.tether import lumped as tl
 from tetherheli.tether.catenary import (
     catenary_position_estimate,
     static_cable,
     straight_tether_estimates,
 )
+from tetherheli.tether.chain import LumpedTether
 from tetherheli.tether.lumped_trim import hover_trim_lumped
 
 TENSION_N = 25.0  # the paper's ground tension (Table V)
@@ -39,9 +39,9 @@ LENGTHS_M = (10.0, 25.0, 50.0, 100.0)
 WINDS_M_S = (0.0, 5.0, 10.0)
 CABLES = {
     # the paper's tether (EA = K_C L0N = 375 N) as a 20 g/m, 5 mm cable
-    "paper-like 0.02 kg/m, 5 mm, EA 375 N": tl.LumpedTether(segments=20),
+    "paper-like 0.02 kg/m, 5 mm, EA 375 N": LumpedTether(segments=20),
     # a 6 mm power-and-data cable, EA of tens of kN
-    "power 0.03 kg/m, 6 mm, EA 20 kN": tl.LumpedTether(
+    "power 0.03 kg/m, 6 mm, EA 20 kN": LumpedTether(
         segments=20, mass_per_length_kg_m=0.03, diameter_m=0.006, EA_N=20e3
     ),
 }

@@ -109,7 +109,7 @@ def test_every_compiled_function_and_what_it_calls_is_in_the_key():
     keyed = {p.resolve() for p in _compile.compiled_sources()}
     assert len(keyed) < len(list(PACKAGE.rglob("*.py")))  # the CLI and studies are not
     for mod in ("sim.engine", "sim.batch", "vector_env", "envs", "model.kernels", "sensing.sensors",
-                "tether.lumped", "tether.winch", "control.paper"):  # fmt: skip
+                "tether.lumped", "tether.coupling", "tether.winch", "control.paper"):  # fmt: skip
         importlib.import_module(f"tetherheli.{mod}")
     dispatchers = {
         id(v): v

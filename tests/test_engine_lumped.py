@@ -14,7 +14,8 @@ from tetherheli.layout import CHAIN_NODES, CHAIN_PARAMS, LUMPED_MU
 from tetherheli.sim import engine
 from tetherheli.sim.scenario import Scenario, TetherSettings, paper_scenario
 from tetherheli.sim.setup import engine_setup
-from tetherheli.tether.lumped import chain_forces, tethered_derivative_force_at_P
+from tetherheli.tether.coupling import tethered_derivative_force_at_P
+from tetherheli.tether.lumped import chain_forces
 from tetherheli.wind import ConstantForce
 
 
@@ -347,7 +348,7 @@ def test_helicopter_and_chain_conserve_energy_without_drag_damping_and_winch():
     (``chain_energy``) plus the potential of the top half segment's weight carried at P, to
     DOP853's tolerance, while the helicopter falls and swings on it."""
     from tetherheli.model.kinematics import tethered_HO_position
-    from tetherheli.tether.lumped import chain_energy
+    from tetherheli.tether.chain import chain_energy
 
     from .newton_euler import NewtonEuler
 
@@ -417,7 +418,7 @@ def _engine_energy_drift(EA: float, substeps: int = 2, segments: int = 10, durat
     a fraction of the push's kinetic energy (6.24 J)."""
     from tetherheli.layout import CHAIN_VELOCITIES
     from tetherheli.model.kinematics import tethered_HO_position
-    from tetherheli.tether.lumped import chain_energy
+    from tetherheli.tether.chain import chain_energy
 
     from .newton_euler import NewtonEuler
 
@@ -493,7 +494,8 @@ def test_engine_step_conserves_energy_of_a_20kN_cable():
 def test_coupling_rule_leaves_the_paper_cable_alone_and_subdivides_a_stiff_one():
     """The coupled step's rule: the least m >= substeps with (dt / m) omega_max <= 2.5,
     omega_max = (2 N / L0) sqrt(EA / mu) (independently computed here)."""
-    from tetherheli.tether.lumped import COUPLING_OMEGA_H, LumpedTether, coupling_substeps
+    from tetherheli.tether.chain import LumpedTether
+    from tetherheli.tether.lumped import COUPLING_OMEGA_H, coupling_substeps
 
     for EA, n, expect in ((375.0, 10, 2), (375.0, 20, 3), (375.0, 40, 5), (20000.0, 10, 9)):
         p = LumpedTether(segments=n, EA_N=EA).packed(9.81)

@@ -12,15 +12,14 @@ import pytest
 
 from tetherheli.errors import ParameterError
 from tetherheli.tether import Cable, CableRun, drive_cable
+from tetherheli.tether.chain import LumpedTether, static_chain
 from tetherheli.tether.lumped import (
     CHAIN_OMEGA_H,
-    LumpedTether,
     chain_forces,
     chain_omega_max,
     chain_substeps,
     ros2_step,
     ros2_work,
-    static_chain,
 )
 
 #: the paper's cable: EA = K_C L0N = 40 N/m x 9.375 m (Table III), 20 g/m, P 10 m up

@@ -22,7 +22,8 @@ from tetherheli.layout import (
     LUMPED_DAMPING,
 )
 from tetherheli.tether import Cable, drive_cable
-from tetherheli.tether.lumped import LumpedTether, chain_energy, chain_interval, ros2_work
+from tetherheli.tether.chain import LumpedTether, chain_energy
+from tetherheli.tether.lumped import chain_interval, ros2_work
 
 G = 9.81
 MU, D = 0.02, 0.005  # the default cable [kg/m, m]

@@ -23,6 +23,8 @@ from tetherheli.tether.catenary import (
     static_cable,
     straight_tether_estimates,
 )
+from tetherheli.tether.chain import LumpedTether, chain_energy, end_forces, static_chain
+from tetherheli.tether.coupling import tethered_derivative_force_at_P
 from tetherheli.tether.lumped_trim import hover_trim_lumped
 
 from .newton_euler import NewtonEuler, dcm_table_i
@@ -31,13 +33,13 @@ G = 9.81
 MU = 0.02  # the paper-scale cable [kg/m] (probes.md)
 
 
-def _tether(n: int, **kw) -> tl.LumpedTether:
+def _tether(n: int, **kw) -> LumpedTether:
     """The airborne cable: no ground (``ground_stiffness_Pa_m = 0``; the shapes and modes
     here pass below the winch's level, z = 0; tests/test_tether_ground.py has the ground)."""
     base = dict(segments=n, mass_per_length_kg_m=MU, EA_N=375.0, damping_ratio=0.0,
                 ground_stiffness_Pa_m=0.0)  # fmt: skip
     base.update(kw)
-    return tl.LumpedTether(**base)
+    return LumpedTether(**base)
 
 
 def _forces(x, v, wind, L0, p):
@@ -67,7 +69,7 @@ def test_static_chain_converges_to_irvine_elastic_catenary(geometry, tol20):
     errors, force_errors = [], []
     for n in (10, 20, 40):
         t = _tether(n)
-        x = tl.static_chain(np.zeros(3), np.array([a, 0.0, b]), L0, t, G)
+        x = static_chain(np.zeros(3), np.array([a, 0.0, b]), L0, t, G)
         zero = np.zeros_like(x)
         F, _ = _forces(x, zero, zero, L0, t.packed(G))
         assert np.abs(F[1:-1]).max() < 1e-10  # the dynamic model is at rest there
@@ -96,11 +98,11 @@ def test_vertical_chain_is_the_exact_catenary():
     L0 = 9.375
     cat = elastic_catenary(0.0, 10.0, MU * G, 375.0, unstretched_length_m=L0)
     t = _tether(5)
-    x = tl.static_chain(np.zeros(3), np.array([0.0, 0.0, 10.0]), L0, t, G)
+    x = static_chain(np.zeros(3), np.array([0.0, 0.0, 10.0]), L0, t, G)
     _, zs = cat.position(np.linspace(0.0, L0, 6))
     assert x[:, 2] == pytest.approx(zs, abs=1e-12)
     zero = np.zeros_like(x)
-    force_winch, force_P, _ = tl.end_forces(x, zero, zero, L0, t.packed(G))
+    force_winch, force_P, _ = end_forces(x, zero, zero, L0, t.packed(G))
     assert force_winch[2] == pytest.approx(cat.tension_A_N, rel=1e-12)
     assert -force_P[2] == pytest.approx(cat.tension_B_N, rel=1e-12)
 
@@ -112,9 +114,9 @@ def test_end_tensions_differ_by_the_cables_weight(geometry):
     (to the N = 20 discretisation error)."""
     a, b, L0 = geometry
     t = _tether(20)
-    x = tl.static_chain(np.zeros(3), np.array([a, 0.0, b]), L0, t, G)
+    x = static_chain(np.zeros(3), np.array([a, 0.0, b]), L0, t, G)
     zero = np.zeros_like(x)
-    force_winch, force_P, _ = tl.end_forces(x, zero, zero, L0, t.packed(G))
+    force_winch, force_P, _ = end_forces(x, zero, zero, L0, t.packed(G))
     assert force_winch[2] + force_P[2] == pytest.approx(-MU * G * L0, rel=1e-12)
     cat = elastic_catenary(a, b, MU * G, 375.0, unstretched_length_m=L0)
     difference = np.linalg.norm(force_P) - np.linalg.norm(force_winch)
@@ -123,7 +125,7 @@ def test_end_tensions_differ_by_the_cables_weight(geometry):
     assert difference == pytest.approx(MU * G * b, rel=2 * cat.tension_B_N / 375.0)
 
 
-def _modes(t: tl.LumpedTether, length: float, L0: float) -> tuple[np.ndarray, np.ndarray]:
+def _modes(t: LumpedTether, length: float, L0: float) -> tuple[np.ndarray, np.ndarray]:
     """Natural frequencies [Hz] of a straight taut chain along n1 without gravity, from the
     eigenvalues of M^-1 dF/dx by central differences of the force kernel, and each mode's
     share of motion along the chain (1: axial, 0: transverse)."""
@@ -221,7 +223,7 @@ def test_ros2_against_radau_with_moving_top_drag_and_damping(EA, n, t_end, tol_1
             [0.6 * math.cos(2 * time), 0.6 * math.cos(3 * time), 0.5 * math.cos(5 * time)]
         )
 
-    x0 = tl.static_chain(np.zeros(3), P(0.0), L0, t, G)
+    x0 = static_chain(np.zeros(3), P(0.0), L0, t, G)
     v0 = np.zeros_like(x0)
     v0[-1] = VP(0.0)
     wind = np.zeros_like(x0)
@@ -241,7 +243,7 @@ def _energy_case(n=6):
     p[LUMPED_CDN] = 0.0
     p[LUMPED_CDT] = 0.0
     L0 = 9.9
-    x0 = tl.static_chain(np.zeros(3), np.array([1.0, 0.0, 10.0]), L0, t, G)
+    x0 = static_chain(np.zeros(3), np.array([1.0, 0.0, 10.0]), L0, t, G)
     x0[1:-1, 1] += 0.2 * np.sin(np.pi * np.arange(1, n) / n)  # a transverse pluck
     x0[1:-1, 0] += 0.02 * np.sin(2 * np.pi * np.arange(1, n) / n)  # and an axial one
     return t, p, L0, x0
@@ -254,7 +256,7 @@ def test_energy_is_conserved_without_drag_and_damping():
     at longer steps the L-stable ROS2 damps them, by design)."""
     t, p, L0, x0 = _energy_case()
     zero = np.zeros_like(x0)
-    E0 = tl.chain_energy(x0, zero, L0, p)
+    E0 = chain_energy(x0, zero, L0, p)
     P0 = x0[-1].copy()
     fixed_P, still = (lambda time: P0), (lambda time: np.zeros(3))
     n = t.segments
@@ -272,8 +274,8 @@ def test_energy_is_conserved_without_drag_and_damping():
     sol = solve_ivp(rhs, (0.0, 2.0), y0, method="DOP853", rtol=1e-12, atol=1e-14, dense_output=True)
     scale = (
         abs(E0)
-        + tl.chain_energy(x0, zero, L0, p)
-        - tl.chain_energy(tl.static_chain(np.zeros(3), P0, L0, t, G), zero, L0, p)
+        + chain_energy(x0, zero, L0, p)
+        - chain_energy(static_chain(np.zeros(3), P0, L0, t, G), zero, L0, p)
     )
     for time in np.linspace(0.0, 2.0, 21):
         y = sol.sol(time)
@@ -281,7 +283,7 @@ def test_energy_is_conserved_without_drag_and_damping():
         v = zero.copy()
         x[1:-1] = y[: 3 * (n - 1)].reshape(-1, 3)
         v[1:-1] = y[3 * (n - 1) :].reshape(-1, 3)
-        assert abs(tl.chain_energy(x, v, L0, p) - E0) < 1e-9 * scale
+        assert abs(chain_energy(x, v, L0, p) - E0) < 1e-9 * scale
     drift = []
     for h in (0.001, 0.0005, 0.00025):
         x, v = x0.copy(), zero.copy()
@@ -289,7 +291,7 @@ def test_energy_is_conserved_without_drag_and_damping():
         worst = 0.0
         for k in range(round(0.5 / h)):
             tl.ros2_step(x, v, zero, L0, p, h, fixed_P(k), still(k), work)
-            worst = max(worst, abs(tl.chain_energy(x, v, L0, p) - E0))
+            worst = max(worst, abs(chain_energy(x, v, L0, p) - E0))
         drift.append(worst)
     assert math.log2(drift[0] / drift[1]) > 1.8
     assert math.log2(drift[1] / drift[2]) > 1.8
@@ -305,7 +307,7 @@ def test_relaxation_from_the_static_shape_stays_put():
         P = np.array([2.0, 0.0, 9.8])
         L0 = 9.375 if EA < 1000 else 9.99
         for start, tol in (
-            (tl.static_chain(np.zeros(3), P, L0, t, G), 1e-9),
+            (static_chain(np.zeros(3), P, L0, t, G), 1e-9),
             (initial_chain(np.zeros(3), P, L0, t, G), 1e-4),
         ):
             x = start.copy()
@@ -338,7 +340,7 @@ def test_bad_input_is_refused_with_one_line(field, value):
     """Non-positive segments, mass, stiffness, diameter, drag coefficient (and negative damping
     or skin friction): one ParameterError line naming the field."""
     with pytest.raises(ParameterError) as info:
-        tl.LumpedTether(**{field: value})
+        LumpedTether(**{field: value})
     text = str(info.value)
     assert "\n" not in text
     assert text.startswith(f"tether.{field} = ")
@@ -359,7 +361,7 @@ def test_catenary_needs_exactly_one_of_length_and_tension():
 
 def test_paper_stiffness_conversion():
     """EA = K_C L0N: the paper's K_C = 40 N/m at L0N = 9.375 m (Table III) is EA = 375 N."""
-    assert tl.LumpedTether.from_paper_stiffness(40.0, 9.375).EA_N == pytest.approx(375.0)
+    assert LumpedTether.from_paper_stiffness(40.0, 9.375).EA_N == pytest.approx(375.0)
 
 
 def test_stiff_cable_going_slack_and_snapping_taut_at_the_control_sample():
@@ -378,7 +380,7 @@ def test_stiff_cable_going_slack_and_snapping_taut_at_the_control_sample():
     wind[:, 0] = 5.0
     results = []
     for h in (0.01, 0.001):
-        x = tl.static_chain(np.zeros(3), P0, L0, t, G)
+        x = static_chain(np.zeros(3), P0, L0, t, G)
         v = np.zeros_like(x)
         v[-1] = amp * w
         work = tl.ros2_work(n)
@@ -389,7 +391,7 @@ def test_stiff_cable_going_slack_and_snapping_taut_at_the_control_sample():
             tl.ros2_step(
                 x, v, wind, L0, p, h, P0 + amp * np.sin(w * time), amp * w * np.cos(w * time), work
             )
-            _, force_P, tensions = tl.end_forces(x, v, wind, L0, p)
+            _, force_P, tensions = end_forces(x, v, wind, L0, p)
             slack += tensions.min() == 0.0
             if (k + 1) % every == 0:
                 force.append(np.linalg.norm(force_P))
@@ -429,7 +431,7 @@ def test_radial_force_at_P_reproduces_the_tethered_model():
         tension = kernels.tension_from_state(q9, x[12], K_C)
         assert tension > 0.0
         out = np.empty(13)
-        tl.tethered_derivative_force_at_P(x, trim.u_total, wind, -tension * c3, 0.2, c, arm, out)
+        tethered_derivative_force_at_P(x, trim.u_total, wind, -tension * c3, 0.2, c, arm, out)
         assert out == pytest.approx(out_ref, rel=1e-12, abs=1e-12)
 
 
@@ -446,7 +448,7 @@ def test_general_force_at_P_matches_newton_euler():
     for x in _tethered_states(model, trim):
         force_P = rng.normal(0.0, 20.0, 3)
         out = np.empty(13)
-        tl.tethered_derivative_force_at_P(
+        tethered_derivative_force_at_P(
             x, trim.u_total, wind, force_P, 0.0, model.constants, arm, out
         )
         R = dcm_table_i(*x[:3])
@@ -496,13 +498,13 @@ def test_hover_trim_lumped_balance(paper, q9):
     assert lt.top_tension_N - lt.ground_tension_N == pytest.approx(0.03 * h.g * L0, rel=1e-12)
     # the chain's own forces at its static shape
     zero = np.zeros_like(lt.nodes)
-    f_winch, f_P, _ = tl.end_forces(lt.nodes, zero, zero, L0, tether.packed(h.g))
+    f_winch, f_P, _ = end_forces(lt.nodes, zero, zero, L0, tether.packed(h.g))
     np.testing.assert_allclose(f_winch, [0.0, 0.0, 25.0], atol=1e-9)
     np.testing.assert_allclose(f_P, lt.force_P, atol=1e-9)
     # the helicopter at rest
     out = np.empty(13)
     c = kernels.model_constants("tethered", h)
-    tl.tethered_derivative_force_at_P(
+    tethered_derivative_force_at_P(
         lt.trim.x, lt.trim.u_total, np.zeros(3), lt.force_P, 0.0, c, h.tether_arm, out
     )
     assert np.abs(out[:12]).max() < 1e-9

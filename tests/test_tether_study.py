@@ -22,8 +22,8 @@ from tetherheli.sim import simulate
 from tetherheli.sim.scenario import paper_scenario
 from tetherheli.studies import tether_sensing as sn
 from tetherheli.studies import tether_study as ts
-from tetherheli.tether import lumped as tl
 from tetherheli.tether.catenary import elastic_catenary, static_cable
+from tetherheli.tether.chain import LumpedTether
 from tetherheli.tether.lumped_trim import hover_trim_lumped
 
 G = 9.81
@@ -51,7 +51,7 @@ def test_lateral_stiffness_against_static_cable(key, q9):
 
 def test_lateral_stiffness_massless_limit_is_the_pendulum():
     """mu -> 0: k -> T / q9 with q9 = L0 (1 + T / EA), the paper's string (eq 28 taut)."""
-    t = tl.LumpedTether(mass_per_length_kg_m=1e-12, EA_N=375.0)
+    t = LumpedTether(mass_per_length_kg_m=1e-12, EA_N=375.0)
     L0 = 10.0 / (1.0 + 25.0 / 375.0)
     assert ts.lateral_stiffness(25.0, t, G, L0) == pytest.approx(2.5, rel=1e-9)
 
@@ -104,7 +104,7 @@ def test_sensing_bias_vertical_cable_in_light_wind_hand_calculation():
     under the uniform normal load f = rho d Cd W^2 / 2 per length is the parabola
     x = f z (q9 - z) / (2 T), its slope at the winch f q9 / (2 T); Sec. IV-F's estimate
     h tan(slope) is off by f q9^2 / (2 T) (Irvine 1981, the taut-string limit): within 1 %."""
-    t = tl.LumpedTether(mass_per_length_kg_m=1e-9, EA_N=1e6)
+    t = LumpedTether(mass_per_length_kg_m=1e-9, EA_N=1e6)
     q9, W, T = 50.0, 2.0, 25.0
     f = 0.5 * t.air_density_kg_m3 * t.diameter_m * t.drag_coefficient * W * W
     err = sn.sensing_errors(t, q9, W, 90.0, T, G)
@@ -117,7 +117,7 @@ def test_sensing_bias_vertical_cable_in_light_wind_hand_calculation():
 def test_sensing_study_rows_and_an_infeasible_cable():
     """One row per grid point; a cable that cannot lift off at that tension gets its reason
     as status and NaN errors, never a silent number."""
-    heavy = ts.StudyCable("heavy", "heavy", tl.LumpedTether(mass_per_length_kg_m=0.5), "test")
+    heavy = ts.StudyCable("heavy", "heavy", LumpedTether(mass_per_length_kg_m=0.5), "test")
     rows = sn.sensing_study([heavy], [2.0, 100.0], [0.0], [30.0], 25.0, G)
     assert [r["status"] == "ok" for r in rows] == [True, False]
     assert "ground_tension_N" in rows[1]["status"]

@@ -59,7 +59,7 @@ CHAIN_PARAMS = 2  # (LUMPED_SIZE,) ``LumpedTether.packed(g)``
 CHAIN_WORK = 3  # ``tether.lumped.ros2_work(N)``
 CHAIN_SIZE = 4
 
-# --- the lumped-mass tether's parameters (``lumped``, ``tether.lumped``) ---------------
+# --- the lumped-mass tether's parameters (``lumped``, ``tether.chain.LumpedTether``) -----
 LUMPED_MU = 0  # mass per unstretched length [kg/m]
 LUMPED_EA = 1  # axial stiffness EA [N]
 LUMPED_DAMPING = 2  # a segment's axial dashpot from the damping ratio [N s/m] (any length)

@@ -79,7 +79,8 @@ from ..params import Params
 from ..sensing.config import N_CHANNELS, N_GROUPS, SensorConfig
 from ..sensing.noise import noise_table
 from ..sensing.schedules import ring_rows, sample_schedule
-from ..tether.lumped import LumpedTether, ros2_work, static_chain
+from ..tether.chain import LumpedTether, static_chain
+from ..tether.lumped import ros2_work
 from ..tether.lumped_trim import hover_trim_lumped
 from ..wind import CompiledWind, compile_wind, initial_wind_force
 from ..wind.profiles import Disturbance
@@ -317,7 +318,7 @@ def lumped_tether(scenario: Scenario) -> LumpedTether:
 
 def chain_start(scenario: Scenario, trim: TrimPoint) -> tuple:
     """The run's ``chain`` (``layout.CHAIN_*``): for a lumped tether the static chain hanging
-    from P straight down to the winch at rest (``tether.lumped.static_chain``, the discrete
+    from P straight down to the winch at rest (``tether.chain.static_chain``, the discrete
     catenary whose winch tension equals hover_trim_lumped's), fresh arrays; otherwise
     ``layout.empty_chain()``.
 

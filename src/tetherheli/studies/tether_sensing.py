@@ -32,8 +32,8 @@ import numpy as np
 
 from .._validation import check_number
 from ..errors import InfeasibleError
-from ..tether import lumped as tl
 from ..tether.catenary import catenary_position_estimate, static_cable, straight_tether_estimates
+from ..tether.chain import LumpedTether
 
 __all__ = [
     "ESTIMATES",
@@ -55,7 +55,7 @@ def _horizontal(err: np.ndarray) -> float:
 
 
 def sensing_errors(
-    tether: tl.LumpedTether,
+    tether: LumpedTether,
     length_m: float,
     wind_m_s: float,
     elevation_deg: float,

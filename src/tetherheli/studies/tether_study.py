@@ -58,7 +58,7 @@ from .._validation import check_number
 from ..analysis import reduction_percent
 from ..errors import ParameterError
 from ..params import TETHER_LENGTH_RANGE, Params
-from ..tether import lumped as tl
+from ..tether.chain import LumpedTether
 from ..tether.lumped_trim import hover_trim_lumped
 
 __all__ = [
@@ -108,7 +108,7 @@ class StudyCable:
 
     key: str
     label: str
-    tether: tl.LumpedTether
+    tether: LumpedTether
     source: str
 
     def to_dict(self) -> dict[str, Any]:
@@ -133,21 +133,21 @@ STUDY_CABLES: tuple[StudyCable, ...] = (
     StudyCable(
         "paper",
         "paper-like: 20 g/m, EA 375 N, 5 mm",
-        tl.LumpedTether(segments=20),
+        LumpedTether(segments=20),
         "EA = K_C L0N = 40 N/m x 9.375 m (Table III, eq 28); 20 g/m and 5 mm assumed (the "
         "paper's tether is massless)",
     ),
     StudyCable(
         "power",
         "power-and-data: 30 g/m, EA 20 kN, 5 mm",
-        tl.LumpedTether(segments=20, mass_per_length_kg_m=0.03, EA_N=20e3),
+        LumpedTether(segments=20, mass_per_length_kg_m=0.03, EA_N=20e3),
         "assumed: a 5 mm copper-pair cable with an aramid strength member, in the 10-40 g/m "
         "range issue 13 gives for tethered UAVs; EA of tens of kN (issue 13)",
     ),
     StudyCable(
         "data",
         "light data: 10 g/m, EA 5 kN, 3 mm",
-        tl.LumpedTether(segments=20, mass_per_length_kg_m=0.01, EA_N=5e3, diameter_m=0.003),
+        LumpedTether(segments=20, mass_per_length_kg_m=0.01, EA_N=5e3, diameter_m=0.003),
         "assumed: a 3 mm aramid-jacketed data cable (optical fibre or twisted pair), the light "
         "end of issue 13's 10-40 g/m",
     ),
@@ -185,7 +185,7 @@ def tension_loop_gain(stiffness_N_m: float, K_P: float, dt: float) -> float:
     return stiffness_N_m * K_P * dt
 
 
-def cable_stiffness(tether: tl.LumpedTether, q9: float, T_ref: float) -> float:
+def cable_stiffness(tether: LumpedTether, q9: float, T_ref: float) -> float:
     """K = (EA + T_ref) / q9 [N/m]: the cable's axial stiffness over its length at tension
     T_ref (eq 28 taut: K (q9 - LN) = T_ref with LN = q9 / (1 + T_ref / EA)); the paper's cable
     at 10 m gives Table III's K_C = 40 N/m.
@@ -299,7 +299,7 @@ def _top_tension_length(q9: float, top_tension_N: float, w: float, EA: float) ->
 
 
 def lateral_stiffness(
-    ground_tension_N: float, tether: tl.LumpedTether, g: float, unstretched_length_m: float
+    ground_tension_N: float, tether: LumpedTether, g: float, unstretched_length_m: float
 ) -> float:
     """Quasi-static lateral stiffness [N/m] of a vertical hanging cable at its top, pinned at
     the winch: k = 1 / (ln(T_P / T_g) / (mu g) + L0 / EA); a massless cable's limit is
@@ -445,7 +445,7 @@ def hover_limits(
         L0 = Tp / w
         q9_top = L0 * (1.0 + Tp / (2.0 * t.EA_N))
 
-        def excess(q9: float, t: tl.LumpedTether = t) -> float:
+        def excess(q9: float, t: LumpedTether = t) -> float:
             lt = hover_trim_lumped(params, t, ground_tension_N, q9)
             return float(lt.trim.u_total[0]) - fmax
 

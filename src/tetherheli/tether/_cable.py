@@ -20,7 +20,8 @@ from ..layout import (
     GROUND_STIFFNESS_PA_M,
 )
 from ..resources import check_memory
-from .lumped import LumpedTether, chain_forces, chain_interval, ros2_work, static_chain
+from .chain import LumpedTether, static_chain
+from .lumped import chain_forces, chain_interval, ros2_work
 
 __all__ = ["Cable", "CableRun", "drive_cable"]
 
@@ -89,7 +90,7 @@ class Cable:
         self.lumped_tether()
 
     def lumped_tether(self, rho: float = 1.225) -> LumpedTether:
-        """The chain's parameters (``tether.lumped.LumpedTether``).
+        """The chain's parameters (``tether.chain.LumpedTether``).
 
         Parameters
         ----------

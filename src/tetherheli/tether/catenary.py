@@ -24,7 +24,7 @@ from ..layout import (
 from ..model.kinematics import tether_length_from_altitude, tethered_HO_position
 
 if TYPE_CHECKING:
-    from .lumped import LumpedTether
+    from .chain import LumpedTether
 __all__ = [
     "ElasticCatenary",
     "StaticCable",

@@ -1,6 +1,8 @@
-"""A tether with mass, sag and drag: a lumped-mass chain, its stiff-stable step and its static
-equilibrium (``static_chain``; the elastic catenary it converges to is in ``tether.catenary``,
-the hover trim with such a tether in ``tether.lumped_trim``).
+"""A tether with mass, sag and drag: the lumped-mass chain's compiled forces, its stiff-stable
+step, the step-size rules and the coupling to the helicopter. The chain's parameters
+(``LumpedTether``) and its static equilibrium (``static_chain``) are in ``tether.chain``, the
+elastic catenary it converges to in ``tether.catenary``, the hover trim with such a tether in
+``tether.lumped_trim``.
 
 The chain has N straight segments between N + 1 nodes: node 0 is the ground winch (fixed over a
 step), node N is the attachment point P (driven: its position and velocity are given), nodes
@@ -55,26 +57,18 @@ block-tridiagonal system of 3 x 3 blocks (block Thomas, O(N)). The test module m
 step against SciPy's Radau at tight tolerances.
 
 Coupling: the force at P enters the tethered helicopter's generated equations as a wind force
-at HO plus the rotor torques of its moment about HO (``force_at_P_as_loads``), with eq 28's
-tension set to zero; q7..q9 then only locate P.
+at HO plus the rotor torques of its moment about HO, with eq 28's tension set to zero; q7..q9
+then only locate P (``tether.coupling``).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
-from scipy import optimize
 
 from .._compile import compiled
-from .._validation import check_integer, check_number
-from ..errors import InfeasibleError, ParameterError
 from ..layout import (
-    GROUND_DAMPING_PA_S_M,
-    GROUND_FRICTION,
-    GROUND_FRICTION_SPEED_M_S,
-    GROUND_STIFFNESS_PA_M,
     LUMPED_BA,
     LUMPED_CDN,
     LUMPED_CDT,
@@ -86,221 +80,27 @@ from ..layout import (
     LUMPED_GROUND_C,
     LUMPED_GROUND_K,
     LUMPED_MU,
-    LUMPED_SIZE,
 )
-from ..model import kernels
-from .catenary import ElasticCatenary, elastic_catenary
 
 __all__ = [
     "CHAIN_OMEGA_H",
     "ROS2_GAMMA",
-    "LumpedTether",
-    "chain_energy",
     "chain_forces",
     "chain_interval",
     "chain_omega_max",
     "chain_substeps",
     "coupling_substeps",
-    "end_forces",
-    "force_at_P_as_loads",
     "ground_force",
     "ground_jacobian",
     "ros2_step",
     "ros2_work",
     "ros2_work_size",
-    "static_chain",
-    "tethered_derivative_force_at_P",
 ]
 
 #: ROS2's gamma (Verwer et al. 1999): 1 + 1/sqrt(2), the L-stable choice
 ROS2_GAMMA = 1.0 + 1.0 / math.sqrt(2.0)
-#: ISA sea-level air density [kg/m^3] (the default of ``wind.drag.DragModel`` too)
-AIR_DENSITY_KG_M3 = 1.225
 
 _jit = compiled(fastmath={"nnan", "ninf"}, error_model="numpy")
-
-
-@dataclass(frozen=True)
-class LumpedTether:
-    """A lumped-mass tether's parameters (see the module docstring for the model). The
-    defaults are the paper's tether (EA = K_C L0N = 40 N/m x 9.375 m, Table III) as a 20 g/m,
-    5 mm cable with 10 % damping.
-
-    Parameters
-    ----------
-    segments : int
-        Number of segments N >= 1 (N - 1 free nodes).
-    mass_per_length_kg_m : float
-        Mass per unstretched length mu [kg/m], > 0.
-    EA_N : float
-        Axial stiffness EA [N], > 0. ``from_paper_stiffness`` derives it from the paper's
-        K_C: EA = K_C L0N (the whole tether's spring constant at its trim natural length).
-    damping_ratio : float or None
-        Damping ratio of the cable's fundamental axial mode (both ends fixed), >= 0, the same
-        for every N (module docstring). None with ``internal_damping_Ns`` None: 0.1.
-    internal_damping_Ns : float or None
-        Internal damping BA [N s], >= 0: axial damping force per unit strain rate (MoorDyn's
-        BA). Give this or ``damping_ratio``, not both.
-    diameter_m : float
-        Cable diameter d [m], > 0.
-    drag_coefficient : float
-        Normal (cross-flow) drag coefficient Cd, > 0 (about 1.0-1.2 for a round cable).
-    tangential_drag_coefficient : float
-        Skin-friction coefficient Ct on the wetted area pi d l, >= 0 (0: no tangential drag).
-    air_density_kg_m3 : float
-        rho [kg/m^3], > 0.
-    ground_stiffness_Pa_m : float
-        The ground's normal stiffness kbot [Pa/m] per contact area d l0, >= 0 (module
-        docstring; ``GROUND_STIFFNESS_PA_M``); 0: no ground (the chain passes through z = 0,
-        the airborne cable of the tests of its mechanics).
-    ground_damping_Pa_s_m : float
-        The ground's normal damping cbot [Pa s/m], >= 0 (``GROUND_DAMPING_PA_S_M``).
-    ground_friction : float
-        Coulomb friction coefficient mu_f on the ground, >= 0 (``GROUND_FRICTION``).
-    ground_friction_speed_m_s : float
-        The friction's regularisation speed v_f [m/s], > 0 (``GROUND_FRICTION_SPEED_M_S``).
-    field_prefix : str
-        The table named in error messages ("tether"; ``tether.Cable``: "cable").
-    """
-
-    segments: int = 10
-    mass_per_length_kg_m: float = 0.02
-    EA_N: float = 375.0
-    damping_ratio: float | None = None
-    diameter_m: float = 0.005
-    drag_coefficient: float = 1.1
-    tangential_drag_coefficient: float = 0.0
-    air_density_kg_m3: float = AIR_DENSITY_KG_M3
-    internal_damping_Ns: float | None = None
-    ground_stiffness_Pa_m: float = GROUND_STIFFNESS_PA_M
-    ground_damping_Pa_s_m: float = GROUND_DAMPING_PA_S_M
-    ground_friction: float = GROUND_FRICTION
-    ground_friction_speed_m_s: float = GROUND_FRICTION_SPEED_M_S
-    field_prefix: str = "tether"
-
-    def __post_init__(self) -> None:
-        s = self.field_prefix
-        names = {
-            "damping_ratio": "damping_ratio",
-            "internal_damping_Ns": "internal_damping",
-            "ground_stiffness_Pa_m": "ground_stiffness",
-            "ground_damping_Pa_s_m": "ground_damping",
-            "ground_friction": "ground_friction",
-            "ground_friction_speed_m_s": "ground_friction_speed",
-        }
-        if s == "tether":
-            names = {k: k for k in names}
-        if self.damping_ratio is not None and self.internal_damping_Ns is not None:
-            raise ParameterError(
-                f"{s}.{names['internal_damping_Ns']}",
-                self.internal_damping_Ns,
-                f"no value when {s}.{names['damping_ratio']} is given (one or the other)",
-            )
-        if self.damping_ratio is None and self.internal_damping_Ns is None:
-            object.__setattr__(self, "damping_ratio", 0.1)
-        for name in ("damping_ratio", "internal_damping_Ns"):
-            if getattr(self, name) is not None:
-                value = check_number(f"{s}.{names[name]}", getattr(self, name), low=0.0)
-                object.__setattr__(self, name, value)
-        check_integer(f"{s}.segments", self.segments, low=1)
-        for name, low_open in (
-            ("mass_per_length_kg_m", True),
-            ("EA_N", True),
-            ("diameter_m", True),
-            ("drag_coefficient", True),
-            ("tangential_drag_coefficient", False),
-            ("air_density_kg_m3", True),
-        ):
-            value = check_number(f"{s}.{name}", getattr(self, name), low=0.0, low_open=low_open)
-            object.__setattr__(self, name, value)
-        object.__setattr__(self, "segments", int(self.segments))
-        for name, low_open in (
-            ("ground_stiffness_Pa_m", False),
-            ("ground_damping_Pa_s_m", False),
-            ("ground_friction", False),
-            ("ground_friction_speed_m_s", True),
-        ):
-            value = check_number(f"{s}.{names[name]}", getattr(self, name), low=0.0,
-                                 low_open=low_open)  # fmt: skip
-            object.__setattr__(self, name, value)
-
-    def segment_dashpot(self, unstretched_length_m: float) -> float:
-        """A segment's axial dashpot c [N s/m] at the unstretched length L0 (module
-        docstring): zeta sqrt(EA mu) / sin(pi / (2 N)) or BA N / L0.
-
-        Parameters
-        ----------
-        unstretched_length_m : float
-            L0 [m], > 0.
-
-        Returns
-        -------
-        float
-            c [N s/m].
-        """
-        p = self.packed(0.0)
-        return p[LUMPED_DAMPING] + p[LUMPED_BA] * self.segments / unstretched_length_m
-
-    @classmethod
-    def from_paper_stiffness(cls, K_C: float, natural_length_m: float, **kw) -> LumpedTether:
-        """The tether whose whole-length spring constant at natural length L0N is the paper's
-        K_C (eq 28, Table III): EA = K_C L0N [N].
-
-        Parameters
-        ----------
-        K_C : float
-            The paper's tether spring constant [N/m], > 0 (Table III: 40).
-        natural_length_m : float
-            The natural length L0N at which K_C holds [m], > 0.
-        **kw
-            The other fields of ``LumpedTether``.
-
-        Returns
-        -------
-        LumpedTether
-            The tether with EA_N = K_C L0N.
-        """
-        K_C = check_number("tether.K_C", K_C, low=0.0, low_open=True)
-        L = check_number("tether.L_N0", natural_length_m, low=0.0, low_open=True)
-        return cls(EA_N=K_C * L, **kw)
-
-    def packed(self, g: float) -> np.ndarray:
-        """The packed array (``layout.LUMPED_*``) the compiled kernels take.
-
-        Parameters
-        ----------
-        g : float
-            Gravity [m/s^2], >= 0.
-
-        Returns
-        -------
-        ndarray, shape (LUMPED_SIZE,)
-            mu [kg/m], EA [N], the damping ratio's segment dashpot
-            zeta sqrt(EA mu) / sin(pi / (2 N)) [N s/m], the normal and tangential drag factors
-            rho d Cd / 2 and rho pi d Ct / 2 [kg/m^2], g [m/s^2], the internal damping BA
-            [N s] (one of the two dampings is zero), the ground's kbot d [N/m^2] and
-            cbot d [N s/m^2], mu_f and v_f [m/s].
-        """
-        p = np.empty(LUMPED_SIZE)
-        p[LUMPED_MU] = self.mass_per_length_kg_m
-        p[LUMPED_EA] = self.EA_N
-        zeta = self.damping_ratio or 0.0
-        p[LUMPED_DAMPING] = (
-            zeta
-            * math.sqrt(self.EA_N * self.mass_per_length_kg_m)
-            / math.sin(math.pi / (2.0 * self.segments))
-        )
-        p[LUMPED_BA] = self.internal_damping_Ns or 0.0
-        p[LUMPED_CDN] = 0.5 * self.air_density_kg_m3 * self.diameter_m * self.drag_coefficient
-        p[LUMPED_CDT] = (
-            0.5 * self.air_density_kg_m3 * math.pi * self.diameter_m
-        ) * self.tangential_drag_coefficient
-        p[LUMPED_G] = check_number("g", g, low=0.0)
-        p[LUMPED_GROUND_K] = self.ground_stiffness_Pa_m * self.diameter_m
-        p[LUMPED_GROUND_C] = self.ground_damping_Pa_s_m * self.diameter_m
-        p[LUMPED_FRICTION] = self.ground_friction
-        p[LUMPED_FRICTION_SPEED] = self.ground_friction_speed_m_s
-        return p
 
 
 # ----------------------------------------------------------------------------------------------
@@ -961,252 +761,3 @@ def _stage(nf, m_node, K, Gk, gh, ra, rb, Dinv, B, kr, kv, rhs):
     for i in range(nf):
         for a in range(3):
             kr[i, a] = ra[i, a] + gh * kv[i, a]
-
-
-# ----------------------------------------------------------------------------------------------
-# coupling: a general force at P in the tethered helicopter's equations
-# ----------------------------------------------------------------------------------------------
-
-
-@_jit
-def force_at_P_as_loads(x, inp, wind, force_P, arm, inp_out, wind_out):
-    """The inputs and wind force under which the generated tethered RHS at zero tension feels
-    a force ``force_P`` [N, N components] at P.
-
-    Kane's generalised speeds of the tethered model are those of the free one (eq 7: u1..u3
-    the velocity of HO in N; eq 8: u4..u6 the body rates), so a force F at P = HO + arm f3
-    has the partial velocities of a force at HO (generalised forces F . n1..n3, exactly where
-    the wind force at HO enters) plus a torque arm f3 x F about HO, i.e.
-    (-arm F.f2, arm F.f1, 0) in F, exactly where the rotor torques tMR1, tMR2 enter (the
-    rotor's partial angular velocities for u4, u5 are f1, f2, as the fuselage's). Hence:
-    wind_out = wind + F, inp_out = inp with tMR1 - arm F.f2 and tMR2 + arm F.f1; q7..q9 only
-    locate P. (The radial force -TC c3 reproduces ``kernels.tethered_derivative``; a test
-    checks it, and a non-radial one against the Newton-Euler route.)
-
-    Parameters
-    ----------
-    x : ndarray, shape (13,)
-        The tethered state (q4..q6 [rad] used).
-    inp : ndarray, shape (4,)
-        Rotor inputs fMR3 [N], tMR1, tMR2 [N m], fTR2 [N].
-    wind : ndarray, shape (3,)
-        Wind force on HO [N], along n1, n2, n3.
-    force_P : ndarray, shape (3,)
-        The force at P [N], along n1, n2, n3.
-    arm : float
-        ``HelicopterParams.tether_arm`` [m].
-    inp_out : ndarray, shape (4,)
-        Receives the equivalent inputs.
-    wind_out : ndarray, shape (3,)
-        Receives the equivalent wind force [N].
-
-    Returns
-    -------
-    None
-    """
-    R = np.empty((3, 3))
-    kernels.kinematics_dcm(x[0:3], R)  # column j: f_j in N
-    f1 = force_P[0] * R[0, 0] + force_P[1] * R[1, 0] + force_P[2] * R[2, 0]
-    f2 = force_P[0] * R[0, 1] + force_P[1] * R[1, 1] + force_P[2] * R[2, 1]
-    for j in range(3):
-        wind_out[j] = wind[j] + force_P[j]
-    inp_out[0] = inp[0]
-    inp_out[1] = inp[1] - arm * f2
-    inp_out[2] = inp[2] + arm * f1
-    inp_out[3] = inp[3]
-
-
-@_jit
-def tethered_derivative_force_at_P(x, inp, wind, force_P, reel_rate, c, arm, out):
-    """out (13,) = dx/dt of the tethered helicopter with the force ``force_P`` [N, in N] at P
-    in place of eq 28's tension (``force_at_P_as_loads``); out[12] = reel_rate.
-
-    Parameters
-    ----------
-    x : ndarray, shape (13,)
-        The tethered state [q4..q9, u1..u6, LN].
-    inp : ndarray, shape (4,)
-        Rotor inputs fMR3 [N], tMR1, tMR2 [N m], fTR2 [N].
-    wind : ndarray, shape (3,)
-        Wind force on HO [N].
-    force_P : ndarray, shape (3,)
-        The force at P [N], along n1, n2, n3.
-    reel_rate : float
-        dLN/dt [m/s] (eq 37).
-    c : ndarray
-        The tethered model's constants (``kernels.model_constants("tethered", h)``).
-    arm : float
-        ``HelicopterParams.tether_arm`` [m].
-    out : ndarray, shape (13,)
-        Receives dx/dt.
-
-    Returns
-    -------
-    None
-    """
-    inp2 = np.empty(4)
-    wind2 = np.empty(3)
-    force_at_P_as_loads(x, inp, wind, force_P, arm, inp2, wind2)
-    kernels.tethered_rhs(x, inp2, wind2, 0.0, c, out)
-    out[12] = reel_rate
-
-
-# ----------------------------------------------------------------------------------------------
-# Python-level helpers
-# ----------------------------------------------------------------------------------------------
-
-
-def _scratch(n: int) -> tuple[np.ndarray, ...]:
-    return (
-        np.empty((n + 1, 3)),
-        np.empty(n),
-        np.empty((n, 3, 3)),
-        np.empty((n, 3, 3)),
-        np.empty((n, 3, 3)),
-    )
-
-
-def end_forces(
-    x: np.ndarray, v: np.ndarray, wind: np.ndarray, L0: float, p: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The forces the tether exerts on the winch and on P [N] (each with half an end segment's
-    weight and drag) and the segment tensions (N,) [N].
-
-    Parameters
-    ----------
-    x, v : ndarray (N+1, 3)
-        Node positions [m] and velocities [m/s], row 0 the winch, row N the point P.
-    wind : ndarray (N+1, 3)
-        Wind at the nodes [m/s].
-    L0 : float
-        Unstretched length [m].
-    p : ndarray
-        ``LumpedTether.packed(g)``.
-
-    Returns
-    -------
-    force_winch, force_P : ndarray, shape (3,)
-        The forces on the winch and on P [N], along n1, n2, n3.
-    tensions : ndarray, shape (N,)
-        The segment tensions [N].
-    """
-    F, T, K, C, D = _scratch(x.shape[0] - 1)
-    chain_forces(x, v, wind, L0, p, F, T, K, C, D, False)
-    return F[0].copy(), F[-1].copy(), T
-
-
-def chain_energy(x: np.ndarray, v: np.ndarray, L0: float, p: np.ndarray) -> float:
-    """Kinetic + gravitational + elastic energy [J] of the free nodes and the segments, with
-    the ground's spring 1/2 kbot d l0 z^2 of every free node below z = 0 (the end nodes'
-    half-segment masses are not counted: it is conserved with fixed ends, no damping, no
-    drag and no ground contact; the ground's damping and friction only take energy out).
-
-    Parameters
-    ----------
-    x, v : ndarray, shape (N+1, 3)
-        Node positions [m] and velocities [m/s].
-    L0 : float
-        Unstretched length [m].
-    p : ndarray, shape (LUMPED_SIZE,)
-        ``LumpedTether.packed(g)``.
-
-    Returns
-    -------
-    float
-        The energy [J].
-    """
-    n = x.shape[0] - 1
-    l0 = L0 / n
-    m = p[LUMPED_MU] * l0
-    kinetic = 0.5 * m * float(np.sum(v[1:-1] ** 2))
-    gravity = m * p[LUMPED_G] * float(np.sum(x[1:-1, 2]))
-    stretch = np.maximum(np.linalg.norm(np.diff(x, axis=0), axis=1) - l0, 0.0)
-    sunk = np.minimum(x[1:-1, 2], 0.0)  # the free nodes' penetration of the ground
-    ground = 0.5 * p[LUMPED_GROUND_K] * l0 * float(np.sum(sunk**2))
-    return kinetic + gravity + 0.5 * (p[LUMPED_EA] / l0) * float(np.sum(stretch**2)) + ground
-
-
-def static_chain(
-    r_winch: np.ndarray,
-    r_P: np.ndarray,
-    L0: float,
-    tether: LumpedTether,
-    g: float,
-    *,
-    ground_tension_N: float | None = None,
-) -> np.ndarray:
-    """The lumped chain's exact static equilibrium (no wind, at rest) between the winch and P:
-    the discrete catenary. Every free node carries W = mu l0 g, so segment s pulls its lower
-    node with the tension vector (H h, V + s W) (h the horizontal unit vector towards P) and
-    its length is l0 (1 + |t_s| / EA); (H, V) solve sum_s d_s = r_P - r_winch (SciPy ``root``
-    from the elastic catenary's values).
-
-    Parameters
-    ----------
-    r_winch, r_P : array_like (3,)
-        The fixed ends [m].
-    L0 : float
-        Unstretched length [m].
-    tether : LumpedTether
-        The tether (N segments, mu, EA).
-    g : float
-        Gravity [m/s^2].
-    ground_tension_N : float, optional
-        The tension at the winch of a vertical chain (P straight above the winch) when it is
-        known (``hover_trim_lumped``): the start value of the solve instead of the elastic
-        catenary's, which a stiff cable cannot give (its stretch is below rounding).
-
-    Returns
-    -------
-    ndarray, shape (N+1, 3)
-        The node positions [m] (``chain_forces`` vanishes there on the free nodes; a test
-        checks it).
-    """
-    r_winch = np.asarray(r_winch, dtype=float)
-    r_P = np.asarray(r_P, dtype=float)
-    d = r_P - r_winch
-    a = math.hypot(d[0], d[1])
-    n = tether.segments
-    l0 = L0 / n
-    W = tether.mass_per_length_kg_m * l0 * g
-    EA = tether.EA_N
-    vertical_guess = a == 0.0 and ground_tension_N is not None
-    cat = (
-        ElasticCatenary(0.0, d[2], tether.mass_per_length_kg_m * g, EA, L0, 0.0, ground_tension_N)
-        if vertical_guess
-        else elastic_catenary(a, d[2], tether.mass_per_length_kg_m * g, EA, unstretched_length_m=L0)
-    )
-    vert = np.arange(n) * W
-
-    def segments(H, V):
-        tz = V + vert
-        t = np.hypot(H, tz)
-        stretch = l0 * (1.0 / t + 1.0 / EA)  # segment length / |t_s|
-        return H * stretch, tz * stretch
-
-    scale = max(math.hypot(a, d[2]), 1e-9)
-    if a == 0.0:
-
-        def residual(u):
-            return [(np.sum(segments(0.0, u[0])[1]) - d[2]) / scale]
-
-        sol = optimize.root(residual, [cat.V_N + 0.5 * W], method="hybr", tol=1e-14)
-        H, V = 0.0, float(sol.x[0])
-    else:
-
-        def residual(u):
-            sx, sz = segments(u[0], u[1])
-            return [(np.sum(sx) - a) / scale, (np.sum(sz) - d[2]) / scale]
-
-        sol = optimize.root(residual, [cat.H_N, cat.V_N + 0.5 * W], method="hybr", tol=1e-14)
-        H, V = (float(u) for u in sol.x)
-    if max(abs(r) for r in residual(sol.x)) > 1e-11:
-        raise InfeasibleError("static_chain", (a, d[2]), "end points the chain can reach")
-    sx, sz = segments(H, V)
-    horiz = np.array([d[0] / a, d[1] / a, 0.0]) if a > 0.0 else np.zeros(3)
-    x = np.empty((n + 1, 3))
-    x[0] = r_winch
-    x[1:] = r_winch + np.outer(np.cumsum(sx), horiz)
-    x[1:, 2] += np.cumsum(sz)
-    x[-1] = r_P
-    return x

@@ -2,7 +2,7 @@
 tether hangs from P straight down to the winch in its static shape (the vertical elastic
 catenary, ``tether.catenary``), the helicopter trims against the tension at P (eq 28's trim,
 ``model.trim.windless_trim``) and the lumped chain starts at its own exact equilibrium
-(``tether.lumped.static_chain``)."""
+(``tether.chain.static_chain``)."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ import numpy as np
 from .._validation import check_number
 from ..errors import InfeasibleError, ParameterError
 from .catenary import ElasticCatenary
-from .lumped import LumpedTether, static_chain
+from .chain import LumpedTether, static_chain
 
 if TYPE_CHECKING:
     from ..model.trim import TrimPoint
