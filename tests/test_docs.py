@@ -139,7 +139,7 @@ def test_documented_range_is_the_checked_one(key, default, allowed):
 
 #: The modules the API reference (docs/api.md) documents, with the names it lists; the
 #: docstrings of these are converted to numpydoc. Not yet converted (other work in progress):
-#: the rest of cli.py, sim/engine.py,
+#: sim/engine.py,
 #: model/derive.py, model/codegen.py, model/kernels.py and the
 #: private helpers (_io, _validation, _compile, _linalg).
 API = {
@@ -184,7 +184,7 @@ API = {
                               "kalman_consistency"],
     "tetherheli.shipped": ["shipped_scenarios", "shipped_scenario_text", "shipped_scenario",
                            "copy_scenario"],
-    "tetherheli.compare": ["compare", "write_compare", "register"],
+    "tetherheli.compare": ["compare", "write_compare"],
     "tetherheli.studies.controllers": ["eq40_saturated", "with_controller",
                                        "controller_metrics", "fly"],
     "tetherheli.model.tether_lumped": ["LumpedTether", "LumpedTrim", "StaticCable",
@@ -227,7 +227,7 @@ API = {
     "tetherheli.studies.tether_study": ["StudyCable", "check_grid", "dynamic_rows",
                                         "hover_limits", "lateral_stiffness", "run_tether_study",
                                         "select_cables", "sensing_table", "static_rows",
-                                        "study_scenarios", "study_table", "register"],
+                                        "study_scenarios", "study_table"],
     "tetherheli.studies.tether_sensing": ["sensing_errors", "sensing_study"],
     "tetherheli.viz.tether_study": ["figure_study_reduction", "figure_study_sensing",
                                     "figure_study_static"],
