@@ -12,8 +12,8 @@ import re
 from pathlib import Path
 
 import pytest
+from griffe import Docstring
 
-from tetherheli._docstrings import parameter_docs, sections
 from tetherheli.errors import ParameterError
 from tetherheli.params import Params
 from tetherheli.sensors import SENSOR_PRESETS, SensorConfig
@@ -269,19 +269,30 @@ def _public_callables():
                         yield f"{module_name}.{name}.{attr}", value
 
 
+def _numpydoc(doc: str | None) -> dict[str, set[str]]:
+    """Each numpydoc section of ``doc`` (by kind: "parameters", "returns", "attributes", ...)
+    -> the names it documents, read by griffe, the API reference's own reader."""
+    parsed = Docstring(inspect.cleandoc(doc or ""), lineno=1).parse("numpy", warnings=False)
+    out: dict[str, set[str]] = {}
+    for section in parsed:
+        entries = section.value if isinstance(section.value, list) else []
+        out.setdefault(section.kind.value, set()).update(getattr(e, "name", "") for e in entries)
+    return out
+
+
 def _missing_sections(obj) -> list[str]:
     """What numpydoc requires of ``obj`` and its docstring lacks: a Parameters entry for every
     argument (a class: its constructor's), Returns for a function that returns a value. A
     NamedTuple's fields may be under Attributes (the API reference's reader, griffe, does not
     see them as a signature). An Enum has no constructor of its own to document: every member
     must be under Attributes instead."""
-    found = sections(obj.__doc__)
-    documented = parameter_docs(obj.__doc__)
+    found = _numpydoc(obj.__doc__)
+    documented = set(found.get("parameters", ()))
     if inspect.isclass(obj) and issubclass(obj, enum.Enum):
-        members = parameter_docs(obj.__doc__, "Attributes")
+        members = found.get("attributes", set())
         return [f"member {m} undocumented" for m in obj.__members__ if m not in members]
     if inspect.isclass(obj) and issubclass(obj, tuple) and hasattr(obj, "_fields"):
-        documented |= parameter_docs(obj.__doc__, "Attributes")
+        documented |= found.get("attributes", set())
     problems = []
     signature = inspect.signature(obj)
     for p in signature.parameters.values():
@@ -292,7 +303,7 @@ def _missing_sections(obj) -> list[str]:
             problems.append(f"parameter {p.name} undocumented")
     if not inspect.isclass(obj):
         returns = signature.return_annotation
-        if returns not in (None, "None") and "Returns" not in found:
+        if returns not in (None, "None") and "returns" not in found:
             problems.append("no Returns section")
     return problems
 
