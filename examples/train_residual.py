@@ -1,36 +1,39 @@
 # not-for-ci: trains for minutes, needs the `rl` extra (tests/test_residual_policy.py runs it tiny)
-"""Train a residual policy (PPO, Stable-Baselines3) on top of the paper's controller.
+"""Train a residual policy on top of the paper's controller that beats the paper's controller.
 
 The task is the shipped environment, ``tetherheli/TetheredHover-v0`` (``TASK``): the paper's
 tethered helicopter hovering at its trim, flown by the paper's LQI with integral action and
 tether-torque feed-forward (eqs 50-56) exactly as ``simulate`` flies it; per episode a wind
 drawn among a pulse, a sine and turbulence (up to 20 N, up to 3 m/s mean wind); reward
 ``-(|q_1..3 - q_ref|^2 + 0.01 |a|^2)`` per 10 ms step. The only change from the registered
-defaults is the episode length, 10 s instead of 30 s. The policy's action is added to the
-paper controller's command (``residual=True``), so the zero action *is* the paper's
-controller.
+defaults is the episode length, 10 s instead of 30 s. The action is added to the paper
+controller's command (``residual=True``), so the zero action *is* the paper's controller.
 
-The script trains PPO on ``TetheredHoverSB3VecEnv`` (all copies in one compiled call), with
-the observations and rewards normalised by SB3's ``VecNormalize``, a small initial action
-noise (the policy starts at the paper's controller and explores near it) and everything
-seeded (``--seed``: PyTorch, NumPy, the training episodes). Every ``--eval-every`` steps it
-flies the deterministic policy on the curve's seeds; at the end it flies the trained policy
-and the zero action on the same held-out test seeds (``--test-episodes``, disjoint from the
-training and curve seeds) and writes into ``--out``:
+Two trainers (``--algo``):
 
-- ``residual_policy_curve.png``: mean episode return on the curve's seeds against training
+- ``ars`` (default): a linear residual a = clip(W obs / OBS_SCALE) trained by augmented
+  random search (``train_ars``) in the compiled vector environment, every candidate of an
+  iteration flown on the same training winds (common random numbers);
+- ``ppo``: Stable-Baselines3 PPO with an MLP policy on ``TetheredHoverSB3VecEnv``
+  (``train_ppo``; observations and rewards normalised by ``VecNormalize``, small initial
+  action noise). Within minutes it does not beat the zero action (see the docs page).
+
+Everything is seeded (``--seed``; the winds by seed ranges that never overlap). The learning
+curve flies the current policy (deterministic) on the curve's seeds; at the end the policy
+and the zero action fly the same held-out test seeds (``--test-episodes``). Written into
+``--out`` (ALGO is ``ars`` or ``ppo``):
+
+- ``residual_ALGO_curve.png``: mean episode return on the curve's seeds against training
   steps, with the zero action's mean return on the same seeds as a line;
-- ``residual_policy_table.md``: return (mean +- std), peak and RMS position deviation, the
+- ``residual_ALGO_table.md``: return (mean +- std), peak and RMS position deviation, the
   residual's RMS main-rotor force and the failures of both on the test seeds, with the
   paired difference;
-- ``residual_policy.json``: the same figures, the curve and the run's settings;
-- ``residual_policy_model.zip`` and ``residual_policy_vecnormalize.pkl``: the policy and its
-  observation normalisation.
+- ``residual_ALGO.json``: the same figures, the curve and the run's settings; the gains
+  (``residual_ars_gains.npy``) or the PPO model and its normalisation.
 
 ``--update-docs`` also copies the figure to ``docs/img`` and the table into
 ``docs/studies/residual_policy.md`` (between its markers). Needs ``pip install
-"tetherheli[rl]"``. A full run (the default 400,000 steps) takes about 8 minutes on two
-shared cores::
+"tetherheli[rl]"``. Example (a few minutes on two shared cores)::
 
     python examples/train_residual.py --out residual_out --update-docs
 """
@@ -194,6 +197,51 @@ def linear_policy(gains: np.ndarray) -> Policy:
     return act
 
 
+def lqi_feedback_gains(alpha: float = 1.0, task: dict[str, Any] | None = None) -> np.ndarray:
+    """W of the hand-made residual that adds alpha times the paper LQI's own state feedback.
+
+    The LQI commands u = u0 - Kx (x - x0) - Kz z (eq 54). The residual a = -alpha Kx dx /
+    action_scale makes the state feedback (1 + alpha) Kx and leaves the integral action as
+    it is. The observation gives dx: the angles and rates directly, q7..q9 from the position
+    deviation through the output map's Jacobian at the trim (eqs 43-45, central differences).
+
+    Parameters
+    ----------
+    alpha : float, optional
+        Added fraction of the LQI's state feedback (default 1: doubled).
+    task : dict, optional
+        Keyword arguments of the environment (default ``TASK``).
+
+    Returns
+    -------
+    ndarray, shape (4, 13)
+        W for :func:`linear_policy` (unit action per unit of scaled observation).
+    """
+    from tetherheli.envs import TetheredHoverEnv
+    from tetherheli.model.kernels import tethered_outputs
+    from tetherheli.sim.setup import run_setup
+
+    env = TetheredHoverEnv(**(TASK if task is None else task))
+    model, trim, gain, _, _ = run_setup(env.scenario)
+    c = np.ascontiguousarray(model.constants)
+    kx = np.asarray(gain.K)[:, :12]
+    jac, h = np.empty((3, 6)), 1e-6
+    for j in range(6):
+        up, down, y_up, y_down = trim.x.copy(), trim.x.copy(), np.empty(4), np.empty(4)
+        up[j] += h
+        down[j] -= h
+        tethered_outputs(up, c, y_up)
+        tethered_outputs(down, c, y_down)
+        jac[:, j] = (y_up[:3] - y_down[:3]) / (2 * h)
+    inv = np.linalg.inv(jac[:, 3:6])
+    state_from_obs = np.zeros((12, len(OBS_SCALE)))  # dx (q4..q9, u1..u6) = M obs
+    state_from_obs[0:3, 3:6] = np.eye(3)
+    state_from_obs[3:6, 0:3] = inv
+    state_from_obs[3:6, 3:6] = -inv @ jac[:, 0:3]
+    state_from_obs[6:12, 6:12] = np.eye(6)
+    return -alpha * (kx @ state_from_obs) * OBS_SCALE / env.action_scale[:, None]
+
+
 def train_ars(
     steps: int,
     seed: int = 0,
@@ -353,6 +401,8 @@ def train_ppo(
     env = TetheredHoverSB3VecEnv(n_envs, **task)
     env.seed(seed)
     settings = {**PPO_SETTINGS, **(ppo or {})}
+    # whole mini-batches of a rollout (n_steps x n_envs)
+    settings["batch_size"] = min(settings["batch_size"], settings["n_steps"] * n_envs)
     normalize = VecNormalize(
         VecMonitor(env), norm_obs=True, norm_reward=True, gamma=settings["gamma"]
     )
@@ -391,7 +441,8 @@ def summary(runs: dict[str, dict]) -> dict:
     Parameters
     ----------
     runs : dict
-        ``{"zero action": evaluate(...), "policy": evaluate(...)}`` on the same seeds.
+        ``{name: evaluate(...)}`` on the same seeds, with ``"zero action"`` and ``"policy"``
+        among the names.
 
     Returns
     -------
@@ -417,7 +468,7 @@ def summary(runs: dict[str, dict]) -> dict:
     return out
 
 
-def table(figures: dict, command: str, label: str) -> str:
+def table(figures: dict, command: str, labels: dict[str, str]) -> str:
     """The Markdown table of :func:`summary`'s figures.
 
     Parameters
@@ -426,8 +477,8 @@ def table(figures: dict, command: str, label: str) -> str:
         :func:`summary`'s result.
     command : str
         The command that made it (printed under the table).
-    label : str
-        The trained controller's row label.
+    labels : dict
+        Row label of each run of ``figures`` (in the rows' order).
 
     Returns
     -------
@@ -439,7 +490,7 @@ def table(figures: dict, command: str, label: str) -> str:
         "| RMS residual fMR3 [N] | failures |",
         "|---|---:|---:|---:|---:|---:|",
     ]
-    for name, row in (("zero action", "paper's LQI (zero action)"), ("policy", label)):
+    for name, row in labels.items():
         f = figures[name]
         cells = [f"{f[k][0]:.3f} +- {f[k][1]:.3f}" for k in ("return", "peak", "rms")]
         cells.append(f"{f['rms_force'][0]:.2f}")
@@ -448,7 +499,7 @@ def table(figures: dict, command: str, label: str) -> str:
     lines += [
         "",
         f"Mean +- standard deviation over {p['episodes']} held-out episodes (the same seeds for "
-        f"both). Paired return difference, policy minus zero action: {p['mean']:+.3f} +- "
+        f"all). Paired return difference, policy minus zero action: {p['mean']:+.3f} +- "
         f"{p['stderr']:.3f} (standard error); the policy did better in {p['better']} of "
         f"{p['episodes']}. Made by `{command}`.",
     ]
@@ -580,10 +631,16 @@ def run(args: argparse.Namespace, command: str) -> dict:
     test_seeds = [TEST_SEED + i for i in range(args.test_episodes)]
     runs = {
         "zero action": evaluate(zero_policy, test_seeds),
+        "lqi feedback x2": evaluate(linear_policy(lqi_feedback_gains(1.0)), test_seeds),
         "policy": evaluate(policy, test_seeds),
     }
     figures = summary(runs)
-    text = table(figures, command, label)
+    labels = {
+        "zero action": "paper's LQI (zero action)",
+        "lqi feedback x2": "paper's LQI, state feedback doubled (hand-made residual)",
+        "policy": label,
+    }
+    text = table(figures, command, labels)
     figure = out / f"residual_{algo}_curve.png"
     plot_curve(curve, zero_curve, label, figure)
     (out / f"residual_{algo}_table.md").write_text(text, encoding="utf-8")
