@@ -59,8 +59,8 @@ DOC_IMG = ROOT / "docs" / "img"
 #: winds, reward -(|e|^2 + 0.01 |a|^2)) with 10 s episodes.
 TASK: dict[str, Any] = {"max_episode_time": 10.0}
 
-#: Seed bases: training copies use seed, seed + 1, ...; the curve and the test use their own
-#: ranges, far from any training seed.
+#: Seed bases: PPO's training copies use seed, seed + 1, ... (ARS: ``TRAIN_SEED``); the curve
+#: and the test use their own ranges, far from any training seed.
 CURVE_SEED = 1_000_000
 TEST_SEED = 2_000_000
 
@@ -506,7 +506,9 @@ def table(figures: dict, command: str, labels: dict[str, str]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def plot_curve(curve: list[tuple[int, float]], zero: float, label: str, path: Path) -> None:
+def plot_curve(
+    curve: list[tuple[int, float]], zero: float, label: str, path: Path, keep_best: bool = True
+) -> None:
     """Write the learning curve with the zero action's return as a line.
 
     Parameters
@@ -519,6 +521,8 @@ def plot_curve(curve: list[tuple[int, float]], zero: float, label: str, path: Pa
         The trained controller's legend entry.
     path : Path
         The PNG to write.
+    keep_best : bool, optional
+        Mark the best point (the policy kept, ARS) rather than the last one (PPO).
 
     Returns
     -------
@@ -528,13 +532,27 @@ def plot_curve(curve: list[tuple[int, float]], zero: float, label: str, path: Pa
 
     fig = Figure(figsize=(7.0, 4.0), layout="constrained")
     ax = fig.add_subplot()
-    steps, returns = zip(*curve, strict=True)
-    ax.plot(steps, returns, "o-", ms=3, label=label)
+    steps, returns = (np.array(v) for v in zip(*curve, strict=True))
+    # the axis spans twice the zero action's return unless a third of the points lie below
+    # that; the points below the axis sit on its edge
+    low = float(np.min(returns))
+    if zero < 0 and np.mean(returns < 2.0 * zero) < 1 / 3:
+        low = min(2.0 * zero, float(np.max(returns)))
+    high = max(float(np.max(returns)), zero) + 0.1 * abs(zero)
+    ax.plot(steps, np.maximum(returns, low), "o-", ms=3, label=label)
+    below = returns < low
+    if below.any():
+        note = f"{below.sum()} points below the axis (lowest {returns.min():.0f})"
+        ax.plot(steps[below], np.full(below.sum(), low), "v", color="C3", ms=7, label=note)
+    kept = int(np.argmax(returns)) if keep_best else len(returns) - 1
+    note = "best: the policy kept" if keep_best else "last: the policy kept"
+    ax.plot(steps[kept], max(returns[kept], low), "*", color="C2", ms=12, label=note)
     ax.axhline(zero, color="k", ls="--", label="paper's LQI alone (zero action)")
+    ax.set_ylim(low - 0.03 * (high - low), high)
     ax.set_xlabel("training steps (10 ms samples, summed over all copies)")
     ax.set_ylabel("mean episode return, curve seeds")
     ax.grid(alpha=0.3)
-    ax.legend(loc="lower right")
+    ax.legend(loc="lower left", fontsize=8)
     fig.savefig(path, dpi=120)
 
 
@@ -642,7 +660,7 @@ def run(args: argparse.Namespace, command: str) -> dict:
     }
     text = table(figures, command, labels)
     figure = out / f"residual_{algo}_curve.png"
-    plot_curve(curve, zero_curve, label, figure)
+    plot_curve(curve, zero_curve, label, figure, keep_best=algo == "ars")
     (out / f"residual_{algo}_table.md").write_text(text, encoding="utf-8")
     record = {
         "algo": algo,
