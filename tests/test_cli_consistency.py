@@ -1,6 +1,6 @@
 """The command line's flags are consistent: help text on every flag, no reStructuredText in
 --help, --out / --quiet / --workers / --seed / --figure-format spelled the same everywhere,
-and derive's old --output kept as a hidden alias that warns."""
+and derive's old --output gone (no external users: refused, exit 2)."""
 
 from __future__ import annotations
 
@@ -78,18 +78,17 @@ def test_the_same_things_are_spelled_the_same():
     assert "--seed" in _flags(subs["montecarlo"])
 
 
-def test_derive_output_is_a_deprecated_alias_of_out(tmp_path, capsys, monkeypatch):
+def test_derive_output_is_removed(tmp_path, capsys, monkeypatch):
+    """``derive --out`` writes; the removed alias ``--output`` is refused (exit 2) and
+    writes nothing."""
     from tetherheli.model import codegen
 
     monkeypatch.setattr(codegen, "generate_source", lambda: "# generated\n")
     new, old = tmp_path / "new.py", tmp_path / "old.py"
     assert cli.main(["derive", "--out", str(new)]) == 0
     assert new.read_text() == "# generated\n" and capsys.readouterr().err == ""
-    assert cli.main(["derive", "--output", str(old)]) == 0
-    assert old.read_text() == "# generated\n"
-    assert "deprecated; use --out" in capsys.readouterr().err
-    assert cli.main(["derive", "--out", str(new), "--output", str(old)]) == 2
-    assert "--output" not in cli.build_parser().parse_args(["derive"]).__class__.__name__
+    assert cli.main(["derive", "--output", str(old)]) == 2
+    assert not old.exists() and "--output" in capsys.readouterr().err
     help_text = _subparsers(cli.build_parser())["derive"].format_help()
     assert "--out " in help_text and "--output" not in help_text
 

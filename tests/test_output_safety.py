@@ -303,9 +303,9 @@ def test_interrupt_starts_on_a_new_line_after_a_progress_bar(workdir: Path, caps
             bar.update(3)
             raise KeyboardInterrupt
 
-    import tetherheli.cli as cli
+    from tetherheli.cli import trim
 
-    monkeypatch.setattr(cli, "_cmd_trim", interrupted)
+    monkeypatch.setattr(trim, "run", interrupted)
     assert main(["trim"]) == 130
     lines = capsys.readouterr().err.splitlines()
     assert len(lines) == 2 and lines[0].startswith("montecarlo: 3/10 draws in ")
@@ -328,15 +328,15 @@ def test_animation_run_names_are_names_not_paths(workdir: Path, capsys):
 
 
 def test_derive_never_overwrites_a_users_file(tmp_path: Path, capsys):
-    """derive --output writes a new file, or one derive wrote; never a user's file."""
+    """derive --out writes a new file, or one derive wrote; never a user's file."""
     thesis = tmp_path / "thesis.py"
     thesis.write_text("# mine\n")
-    assert main(["derive", "--output", str(thesis)]) == 2
+    assert main(["derive", "--out", str(thesis)]) == 2
     assert "not written by tetherheli" in capsys.readouterr().err
     assert thesis.read_text() == "# mine\n"
     fresh = tmp_path / "gen.py"
-    assert main(["derive", "--output", str(fresh)]) == 0
-    assert main(["derive", "--check", "--output", str(fresh)]) == 0
+    assert main(["derive", "--out", str(fresh)]) == 0
+    assert main(["derive", "--check", "--out", str(fresh)]) == 0
 
 
 MC = (
