@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from .._compile import compiled
+from .._compile import borrowed, compiled, keep_alive
 from ..control.paper import limit_rate_change_jit, paper_control_sc
 from ..layout import (
     ACT_BREAK,
@@ -76,6 +76,7 @@ from ..layout import (
     HELD_REEL_RATE,
     HELD_SIZE,
     LANES,
+    LAW_Z0,
     LUMPED_MU,
     SUMMARY_FIELDS,
     SUMMARY_N_SAMPLES,
@@ -655,24 +656,29 @@ def run_closed_loop(
     (len(SUMMARY_FIELDS),) always receives the on-line metrics of the samples
     k >= cfg[CFG_METRICS_FROM], the release event in its ``release_*`` slots (NaN without one).
     """
-    cfg = cfg_in.copy()
-    ctrl = ctrl_in.copy()
-    x = x_init.copy()
-    program, gust, drag = wind
-    work = np.empty((RK4_WORK_ROWS, 13))
-    # the tuples' arrays taken out once, before the loop (see ``_paper_sample``)
-    gain, x_ref, y_ref, u0_tethered, u0_free, z0 = law
-    z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd = _loop_state(
-        x_init, z0, work
+    # The loop works on borrowed views (``_compile.borrowed``: no atomic reference counts):
+    # of the arguments, which the caller holds, and of the run's own arrays, held below
+    # (``keep_alive``) until the loop is done.
+    own_cfg, own_ctrl, own_x = cfg_in.copy(), ctrl_in.copy(), x_init.copy()
+    own_work = np.empty((RK4_WORK_ROWS, 13))
+    own_loop = _loop_state(x_init, law[LAW_Z0], own_work)
+    own_no_action = np.zeros(4)
+    nodes_in = chain[CHAIN_NODES]
+    own_cw = _lumped_work(max(nodes_in.shape[0] - 1, 1))
+    cfg, ctrl, x, work, no_action = borrowed((own_cfg, own_ctrl, own_x, own_work, own_no_action))
+    c, act, summary, sensors, chain, out, cw = borrowed(
+        (c, act, summary, sensors, chain, out, own_cw)
     )
+    program, gust, drag = borrowed(wind)
+    # the tuples' arrays taken out once, before the loop (see ``_paper_sample``)
+    gain, x_ref, y_ref, u0_tethered, u0_free, _z0 = borrowed(law)
+    z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd = borrowed(own_loop)
     sensed = sensors[0].shape[0] > 0
-    no_action = np.zeros(4)
     start_summary(summary)
     dt = cfg[CFG_DT]
     status, done = STATUS_OK, n_samples + 1
     nodes = chain[CHAIN_NODES]
     lumped = nodes.shape[0] > 0
-    cw = _lumped_work(max(nodes.shape[0] - 1, 1))
     out_x, out_u, out_ffwd, out_rate, out_tension, out_wind, out_y, out_y_est = out[:8]
     out_ground, out_nodes, out_winch = out[8], out[9], out[10]
     for k in range(n_samples + 1):
@@ -715,6 +721,7 @@ def run_closed_loop(
     summary[SUMMARY_RELEASE_TIME] = event[0]
     summary[SUMMARY_RELEASE_TENSION] = event[1]
     winch_limit_into(held, summary)
+    keep_alive((own_cfg, own_ctrl, own_x, own_work, own_loop, own_no_action, own_cw))
     return status, done
 
 
