@@ -303,9 +303,9 @@ def test_interrupt_starts_on_a_new_line_after_a_progress_bar(workdir: Path, caps
             bar.update(3)
             raise KeyboardInterrupt
 
-    import tetherheli.cli as cli
+    from tetherheli.cli import trim
 
-    monkeypatch.setattr(cli, "_cmd_trim", interrupted)
+    monkeypatch.setattr(trim, "run", interrupted)
     assert main(["trim"]) == 130
     lines = capsys.readouterr().err.splitlines()
     assert len(lines) == 2 and lines[0].startswith("montecarlo: 3/10 draws in ")

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import contextlib
 import json
-import math
 import os
 import re
 import shutil
@@ -37,7 +36,6 @@ __all__ = [
     "check_output_location",
     "check_real_folders",
     "claim_output_directory",
-    "dumps_toml",
     "foreign_files",
     "output_directory",
     "read_toml",
@@ -87,57 +85,6 @@ def read_toml(path: str | Path, what: str = "TOML file") -> dict[str, Any]:
         raise ParameterError(
             "file", source, "valid TOML with arrays and tables nested a few levels deep"
         ) from None
-
-
-_BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
-
-
-def _toml_key(key: str) -> str:
-    return key if _BARE_KEY.fullmatch(key) else json.dumps(key, ensure_ascii=False)
-
-
-def _toml_value(value: Any, where: str) -> str:
-    """One TOML value (TOML 1.0): JSON's string escapes are TOML's; floats as ``repr``
-    (exact round trip), with TOML's ``inf``/``nan``; lists and tables inline."""
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, int):
-        return str(value)
-    if isinstance(value, float):
-        if math.isnan(value):
-            return "nan"
-        if math.isinf(value):
-            return "inf" if value > 0 else "-inf"
-        return repr(value)
-    if isinstance(value, str):
-        return json.dumps(value, ensure_ascii=False)
-    if isinstance(value, list | tuple):
-        return "[" + ", ".join(_toml_value(v, f"{where}[]") for v in value) + "]"
-    if isinstance(value, dict):
-        items = (f"{_toml_key(k)} = {_toml_value(v, f'{where}.{k}')}" for k, v in value.items())
-        return "{" + ", ".join(items) + "}"
-    raise ParameterError(where, value, "a string, number, boolean, list or table (TOML)")
-
-
-def dumps_toml(data: dict[str, Any]) -> str:
-    """``data`` (str keys; str, int, float, bool, list/tuple and dict values, no None) as a
-    TOML document that ``tomllib.loads`` reads back equal (tuples come back as lists):
-    plain keys first, then each nested table as a ``[section]``; tables inside lists are
-    written inline."""
-    lines: list[str] = []
-
-    def table(prefix: tuple[str, ...], d: dict[str, Any]) -> None:
-        subtables = {k: v for k, v in d.items() if isinstance(v, dict)}
-        plain = [(k, v) for k, v in d.items() if k not in subtables]
-        if prefix and (plain or not subtables):
-            lines.append(("\n" if lines else "") + f"[{'.'.join(map(_toml_key, prefix))}]")
-        for k, v in plain:
-            lines.append(f"{_toml_key(k)} = {_toml_value(v, '.'.join((*prefix, k)))}")
-        for k, v in subtables.items():
-            table((*prefix, k), v)
-
-    table((), data)
-    return "\n".join(lines) + "\n"
 
 
 def _umask() -> int:

@@ -1,4 +1,5 @@
-"""``tetherheli compare``: scenarios flown by several controllers, one table and one figure.
+"""Scenarios flown by several controllers, one table and one figure
+(the command: ``tetherheli compare``, ``cli/compare.py``).
 
 Each tethered scenario is flown once per controller (``[control] controller``, the weights of
 its ``[control.tether_lqi]``); a free scenario is flown once (every controller flies the
@@ -16,16 +17,14 @@ against the free helicopter (median and 5th percentile over the draws).
 
 from __future__ import annotations
 
-import argparse
 import csv
 import io
 import json
 import math
-import sys
 from pathlib import Path
 from typing import Any
 
-__all__ = ["compare", "markdown_reductions", "register", "write_compare"]
+__all__ = ["compare", "markdown_reductions", "write_compare"]
 
 
 def compare(paths: list[str], controllers: tuple[str, ...], *, eq40: bool) -> list[dict[str, Any]]:
@@ -281,101 +280,3 @@ def markdown_table(rows: list[dict[str, Any]]) -> str:
         ]  # fmt: skip
         lines.append("| " + " | ".join(cells) + " |")
     return head + "\n".join(lines) + "\n"
-
-
-def _cmd_compare(args: argparse.Namespace) -> int:
-    from ._io import claim_output_directory
-    from ._validation import check_integer
-    from .errors import ParameterError
-    from .sim.scenario import CONTROLLERS
-
-    names = tuple(n.strip() for n in args.controllers.split(",") if n.strip())
-    for n in names:
-        if n not in CONTROLLERS:
-            raise ParameterError("--controllers", args.controllers, f"names from {CONTROLLERS}")
-    if not names:
-        raise ParameterError("--controllers", args.controllers, f"names from {CONTROLLERS}")
-    mc_files = tuple(args.montecarlo or ())
-    if not args.scenarios and not mc_files:
-        raise ParameterError("scenarios", "none", "scenario files or --montecarlo FILE")
-    from .errors import named_source
-    from .studies.controllers import check_design, with_controller
-    from .studies.montecarlo import load_montecarlo
-    from .studies.montecarlo.config import MAX_RUNS
-    from .studies.montecarlo.draws import free_reference
-    from .studies.robust import check_comparison_memory
-
-    if args.runs is not None:
-        check_integer("--runs", args.runs, low=1, high=MAX_RUNS)
-    mc_inputs = []
-    for path in mc_files:  # read them all before any run: a bad file fails fast
-        mc_inputs.append(load_montecarlo(path))
-        base = mc_inputs[-1][0]
-        for name in ("paper", *names):  # the free reference's and each controller's design
-            flown = (
-                free_reference(base) if name == "paper" else base.replace(configuration="tethered")
-            )
-            named_source(path, check_design, with_controller(flown, name))
-    for _, config in mc_inputs:  # and refuse what cannot fit, before the first run
-        check_comparison_memory(config.runs if args.runs is None else args.runs, 1 + len(names))
-    inputs = (*args.scenarios, *mc_files)
-    claim_output_directory(args.out, inputs=inputs, force=args.force)
-    rows = compare(list(args.scenarios), names, eq40=args.eq40)
-    montecarlo = []
-    for base, config in mc_inputs:
-        from .studies.robust import montecarlo_compare
-
-        mc = montecarlo_compare(base, config, names, runs=args.runs, eq40=args.eq40)
-        montecarlo.append(mc)
-        rows.extend(mc.rows())
-    command = "tetherheli compare " + " ".join(sys.argv[2:])
-    write_compare(
-        rows, args.out, command=command, inputs=inputs, force=args.force,
-        montecarlo=tuple(montecarlo), figure_format=args.figure_format,
-    )  # fmt: skip
-    print(markdown_table(rows), end="")
-    if montecarlo:
-        print(markdown_reductions(tuple(montecarlo)), end="")
-    # a single run that failed fails the command; a Monte Carlo's failures are its results
-    failed = [r for r in rows if r.get("runs", 1) == 1 and not r.get("completed")]
-    for r in failed:
-        print(f"tetherheli: {r['scenario']} / {r['controller']}: {r['status']}", file=sys.stderr)
-    return 1 if failed else 0
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    """The ``compare`` sub-command (``cli._EXTRA_COMMANDS``).
-
-    Parameters
-    ----------
-    sub : argparse._SubParsersAction
-        The CLI's sub-command parsers, to which ``compare`` is added.
-
-    Returns
-    -------
-    None
-    """
-    p = sub.add_parser("compare", help="fly scenarios under several controllers: table, figure")
-    p.add_argument("scenarios", nargs="*", help="scenario TOML files")
-    p.add_argument(
-        "--controllers", default="paper,tether_lqi", help="comma-separated controller names"
-    )
-    p.add_argument(
-        "--eq40", action="store_true", help="saturate tMR1, tMR2 at eq 40's cyclic limit"
-    )
-    p.add_argument(
-        "--montecarlo",
-        action="append",
-        metavar="FILE",
-        help="a Monte Carlo file ([montecarlo]): its draws under every controller, designed "
-        "on the nominal plant; percentiles and paired reductions (repeatable)",
-    )
-    p.add_argument(
-        "--runs", type=int, help="Monte Carlo draws N (default: the file's [montecarlo] runs)"
-    )
-    p.add_argument("--out", required=True, help="output folder")
-    from .cli import _add_figure_format, _add_force
-
-    _add_force(p)
-    _add_figure_format(p)
-    p.set_defaults(func=_cmd_compare)

@@ -18,6 +18,13 @@ __all__ = [
     "REEL_RATE_UNITS",
     "TETHERED_STATE",
     "TETHERED_STATE_UNITS",
+    "TETHER_STUDY_CABLES",
+    "TETHER_STUDY_ELEVATIONS_DEG",
+    "TETHER_STUDY_LENGTHS_M",
+    "TETHER_STUDY_MODELS",
+    "TETHER_STUDY_THRUST_TO_WEIGHT",
+    "TETHER_STUDY_WINCH_GAINS",
+    "TETHER_STUDY_WINDS_M_S",
     "UNITS",
     "WIND",
     "WIND_UNITS",
@@ -76,3 +83,20 @@ METRIC_UNITS: dict[str, str] = {
 }  # fmt: skip
 #: The Monte Carlo table's metrics (``studies.montecarlo.runner.METRICS``): all but the count
 MONTECARLO_METRICS = tuple(m for m in METRIC_NAMES if m != "n_samples")
+
+# The tether study's (``studies.tether_study``) choices and default grids, named here so that
+# the command line's help builds without the study (which imports the lumped chain's compiled
+# code); the study takes its defaults from these.
+#: The keys of ``studies.tether_study.STUDY_CABLES``, in order (``--cables``).
+TETHER_STUDY_CABLES: tuple[str, ...] = ("paper", "power", "data")
+#: The tether models the dynamic half can fly (``--model``).
+TETHER_STUDY_MODELS: tuple[str, ...] = ("lumped", "massless")
+#: The winch gains the dynamic half can fly (``--winch-gain``).
+TETHER_STUDY_WINCH_GAINS: tuple[str, ...] = ("paper", "scaled")
+#: Default tether lengths q9 [m] (10-100 m), steady winds [m/s] and elevations of P seen from
+#: the winch [deg] of the sensing half.
+TETHER_STUDY_LENGTHS_M: tuple[float, ...] = (10.0, 20.0, 30.0, 50.0, 70.0, 100.0)
+TETHER_STUDY_WINDS_M_S: tuple[float, ...] = (0.0, 2.5, 5.0, 7.5, 10.0)
+TETHER_STUDY_ELEVATIONS_DEG: tuple[float, ...] = (60.0, 90.0)
+#: The maximum main-rotor thrust as a multiple of the free hover thrust when none is given.
+TETHER_STUDY_THRUST_TO_WEIGHT = 1.5

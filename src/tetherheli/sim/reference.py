@@ -23,7 +23,6 @@ import math
 import re
 from typing import Any
 
-from .._docstrings import parameter_docs
 from .._validation import Key
 from ..params import HelicopterParams, Params, TensionControlParams, TetherParams
 from ..sensors import _NUMERIC_FIELDS, POSITION_SOURCES, SENSOR_PRESETS, SensorConfig
@@ -103,6 +102,40 @@ def _key_rows(prefix: str, cls: type, defaults: Any) -> list[str]:
     return rows
 
 
+def _parameter_docs(doc: str | None) -> dict[str, str]:
+    """The entries of a numpydoc docstring's ``Parameters`` section, read by griffe (the
+    reader of the API reference, ``mkdocstrings``).
+
+    Parameters
+    ----------
+    doc : str or None
+        A docstring (raw, as ``__doc__`` holds it).
+
+    Returns
+    -------
+    dict of str to str
+        Each documented name (``a, b : float`` documents both) -> its description, its lines
+        joined into one.
+    """
+    try:
+        from griffe import Docstring, DocstringSectionKind
+    except ImportError:
+        raise ImportError(
+            "griffe is needed to write the scenario reference and is not installed: pip install "
+            "griffelib (or tetherheli[docs])"
+        ) from None
+
+    parsed = Docstring(inspect.cleandoc(doc or ""), lineno=1).parse("numpy", warnings=False)
+    return {
+        entry.name: " ".join(
+            line.strip() for line in entry.description.splitlines() if line.strip()
+        )
+        for section in parsed
+        if section.kind is DocstringSectionKind.parameters
+        for entry in section.value
+    }
+
+
 _HEADER = ["| key | meaning | unit | default | allowed |", "|---|---|---|---|---|"]
 
 
@@ -115,19 +148,19 @@ def _sensor_key(name: str) -> Key:
 
 
 def _sensor_rows() -> list[str]:
-    docs = parameter_docs(SensorConfig.__doc__)
+    docs = _parameter_docs(SensorConfig.__doc__)
     default = SensorConfig()
     rows = []
     for f in dataclasses.fields(SensorConfig):
         name = f.name
         group = name.rsplit("_", 1)[0]
-        doc = docs.get(name, ("", ""))[1]
+        doc = docs.get(name, "")
         if not doc and name.endswith("_rate"):
             doc = f"sample rate of the {group} sensor (0: every control sample)"
         elif not doc and name.endswith("_latency"):
             doc = f"delay of the {group} sensor's output (0: none)"
         elif not doc:
-            doc = docs.get("<group>_rate", ("", ""))[1] or "see `SensorConfig`"
+            doc = "see `SensorConfig`"
         if name == "position_source":
             allowed = "one of " + ", ".join(f"`{s}`" for s in sorted(POSITION_SOURCES))
         elif name == "gps_outage":
@@ -159,7 +192,7 @@ def _summary(cls: type) -> str:
 def _wind_rows(registry: dict[str, type], where: str, title: str = "") -> list[str]:
     out = []
     for type_name, cls in sorted(registry.items()):
-        docs = parameter_docs(cls.__doc__)
+        docs = _parameter_docs(cls.__doc__)
         heading = title or f'`type = "{type_name}"`'
         out += ["", f"#### {heading} ({cls.__name__})", ""]
         summary = _summary(cls)
@@ -176,7 +209,7 @@ def _wind_rows(registry: dict[str, type], where: str, title: str = "") -> list[s
                 default = f"`{_value(f.default_factory())}`"
             else:
                 default = "required"
-            _kind, doc = docs.get(f.name, ("", ""))
+            doc = docs.get(f.name, "")
             out.append(f"| `{where}.{f.name}` | {_cell(str(f.type))} | {default} | {_cell(doc)} |")
     return out
 

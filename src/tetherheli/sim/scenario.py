@@ -49,7 +49,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from .._io import OWN_FILE_STEMS, dumps_toml, read_toml
+from .._io import OWN_FILE_STEMS, read_toml
 from .._validation import Key
 from ..control import lqi
 from ..errors import ParameterError
@@ -810,7 +810,9 @@ def scenario_toml(configuration: dict[str, Any]) -> str:
     wind = configuration.get("wind", {})
     if wind.get("type") == "custom":
         raise ParameterError("wind", wind.get("class"), "a disturbance with to_dict (TOML)")
-    return dumps_toml(_without_unset(configuration))
+    import tomli_w  # floats as repr (exact round trip), inf/nan, nested tables and arrays
+
+    return tomli_w.dumps(_without_unset(configuration))
 
 
 def _without_unset(data: Any) -> Any:

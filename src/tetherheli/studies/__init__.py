@@ -8,7 +8,7 @@ The function ``sweep`` is not re-exported here: it would shadow the module
 from .._lazy import lazy_getattr
 
 # the names below load on first use (PEP 562), so that importing one study (the command
-# line's ``tether_study.register``) does not import the Monte Carlo and its engine
+# line's tether-study) does not import the Monte Carlo and its engine
 _HOMES = {
     **dict.fromkeys(
         ("Draw", "MonteCarloConfig", "draw", "draw_seed", "load_montecarlo",

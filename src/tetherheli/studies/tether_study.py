@@ -54,6 +54,7 @@ from typing import Any
 import numpy as np
 from scipy import optimize
 
+from .. import names
 from .._validation import check_number
 from ..analysis import reduction_percent
 from ..errors import ParameterError
@@ -78,7 +79,6 @@ __all__ = [
     "hover_limits",
     "json_ready",
     "lateral_stiffness",
-    "register",
     "run_tether_study",
     "select_cables",
     "sensing_table",
@@ -155,10 +155,10 @@ STUDY_CABLES: tuple[StudyCable, ...] = (
 #: The maximum main-rotor thrust as a multiple of the free hover thrust (Table IV's fMR3) when
 #: none is given: an assumption (the paper states no maximum thrust); 1.5 is a thrust-to-
 #: weight ratio at the low end of what small rotorcraft are built with.
-DEFAULT_THRUST_TO_WEIGHT = 1.5
+DEFAULT_THRUST_TO_WEIGHT = names.TETHER_STUDY_THRUST_TO_WEIGHT
 
 #: The winch gains the dynamic half can fly (module docstring).
-WINCH_GAINS: tuple[str, ...] = ("paper", "scaled")
+WINCH_GAINS: tuple[str, ...] = names.TETHER_STUDY_WINCH_GAINS
 #: The tension loop gain K K_P dt of the paper's hover (Table III's K_C, eq 56's K_P, 10 ms):
 #: what ``"scaled"`` keeps.
 PAPER_LOOP_GAIN = 40.0 * 1.0 * 0.01
@@ -211,7 +211,7 @@ def cable_stiffness(tether: tl.LumpedTether, q9: float, T_ref: float) -> float:
 TURBULENCE_SETTLE_S = 30.0
 
 #: The tether models the dynamic half can fly (module docstring).
-TETHER_MODELS: tuple[str, ...] = ("lumped", "massless")
+TETHER_MODELS: tuple[str, ...] = names.TETHER_STUDY_MODELS
 
 #: The dynamic half's cases: (key, shipped scenario or paper simulation, the metrics whose
 #: reduction is reported). Paper sims: the deviation along the wind; turbulence (mean wind
@@ -734,14 +734,14 @@ def json_ready(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
 
 
 # ----------------------------------------------------------------------------------------------
-# the command: tetherheli tether-study
+# the whole study (the command: tetherheli tether-study, cli/tether_study.py)
 # ----------------------------------------------------------------------------------------------
 
 #: The study's default grids: lengths [m] (issue 13: 10-100 m), steady winds [m/s] and
 #: elevations of P [deg] of the sensing half.
-DEFAULT_LENGTHS_M: tuple[float, ...] = (10.0, 20.0, 30.0, 50.0, 70.0, 100.0)
-DEFAULT_WINDS_M_S: tuple[float, ...] = (0.0, 2.5, 5.0, 7.5, 10.0)
-DEFAULT_ELEVATIONS_DEG: tuple[float, ...] = (60.0, 90.0)
+DEFAULT_LENGTHS_M: tuple[float, ...] = names.TETHER_STUDY_LENGTHS_M
+DEFAULT_WINDS_M_S: tuple[float, ...] = names.TETHER_STUDY_WINDS_M_S
+DEFAULT_ELEVATIONS_DEG: tuple[float, ...] = names.TETHER_STUDY_ELEVATIONS_DEG
 #: The paper's tension (Sec. VI): at P for the first policy, at the winch for the second and
 #: for the sensing half.
 PAPER_TENSION_N = 25.0
@@ -989,120 +989,3 @@ def run_tether_study(
         atomic_write_text(tmp / "sensing.md", sensing_table(sensing))
         atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=1) + "\n")
     return summary
-
-
-def _floats(name: str) -> Callable[[str], list[float]]:
-    import argparse
-
-    def parse(text: str) -> list[float]:
-        try:
-            return [float(v) for v in text.split(",") if v.strip()]
-        except ValueError:
-            raise argparse.ArgumentTypeError(
-                f"{name} = {text!r}: allowed: comma-separated numbers"
-            ) from None
-
-    return parse
-
-
-def _cmd(args: Any) -> int:
-    import sys
-
-    cables = select_cables([k.strip() for k in args.cables.split(",") if k.strip()])
-    summary = run_tether_study(
-        args.out,
-        cables=cables,
-        lengths_m=args.lengths,
-        model=args.model,
-        winch_gain=args.winch_gain,
-        winds_m_s=args.winds,
-        elevations_deg=args.elevations,
-        duration_s=args.duration,
-        max_thrust_N=args.max_thrust,
-        workers=args.workers,
-        command="tetherheli tether-study " + " ".join(sys.argv[2:]),
-        force=args.force,
-        progress=not args.quiet,
-        figure_format=args.figure_format,
-    )
-    failed = [r for r in summary["dynamic"] if not r["completed"]]
-    print(f"wrote {args.out}/ (study.md, static.csv, dynamic.csv, sensing.csv, figures)")
-    for r in failed:
-        print(
-            f"tetherheli: {r['cable']} at {r['length_m']:g} m: a run failed "
-            f"({'; '.join(r[f'{c}_status'] for c, _ in DYNAMIC_CASES)})",
-            file=sys.stderr,
-        )
-    return 1 if failed else 0
-
-
-def register(sub: Any) -> None:
-    """Add ``tether-study`` to the command line's sub-commands (``cli._EXTRA_COMMANDS``).
-
-    Parameters
-    ----------
-    sub : argparse._SubParsersAction
-        The sub-command parsers.
-
-    Returns
-    -------
-    None
-    """
-    p = sub.add_parser(
-        "tether-study",
-        help="does the tether's benefit survive at 10-100 m of real cable?",
-    )
-    p.add_argument("--out", default="tether_study_out", help="output directory")
-    p.add_argument(
-        "--cables",
-        default=",".join(c.key for c in STUDY_CABLES),
-        help=f"comma-separated cables from {[c.key for c in STUDY_CABLES]}",
-    )
-    p.add_argument(
-        "--lengths",
-        type=_floats("--lengths"),
-        default=list(DEFAULT_LENGTHS_M),
-        help="tether lengths q9 [m], comma-separated, ascending",
-    )
-    p.add_argument(
-        "--winds",
-        type=_floats("--winds"),
-        default=list(DEFAULT_WINDS_M_S),
-        help="steady winds of the sensing half [m/s], comma-separated, ascending",
-    )
-    p.add_argument(
-        "--elevations",
-        type=_floats("--elevations"),
-        default=list(DEFAULT_ELEVATIONS_DEG),
-        help="elevations of P seen from the winch, sensing half [deg], ascending",
-    )
-    p.add_argument(
-        "--duration",
-        type=float,
-        default=None,
-        help="shorten every dynamic run to this many seconds (default: 60 s, turbulence 120 s)",
-    )
-    p.add_argument(
-        "--max-thrust",
-        type=float,
-        default=None,
-        help=f"maximum fMR3 [N] (default {DEFAULT_THRUST_TO_WEIGHT:g} x the free hover thrust)",
-    )
-    p.add_argument(
-        "--model",
-        choices=TETHER_MODELS,
-        default="lumped",
-        help="the dynamic runs' tether: the lumped chain or the massless stand-in",
-    )
-    p.add_argument(
-        "--winch-gain",
-        choices=WINCH_GAINS,
-        default="paper",
-        help="eq 56's gains: the paper's, or scaled to the paper's tension loop gain",
-    )
-    from ..cli import _add_figure_format, _add_force, _add_workers
-
-    _add_workers(p)
-    _add_force(p)
-    _add_figure_format(p)
-    p.set_defaults(func=_cmd)

@@ -1,0 +1,104 @@
+"""``tetherheli simulate``: run scenario files (several: one folder each, overlaid figures)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from . import _common as c
+
+__all__ = ["register", "run"]
+
+
+def run(args: argparse.Namespace) -> int:
+    """Validate every scenario, fly them, write the run (or the comparison) folder.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        The exit code: 0, or 1 if a run failed or stopped early.
+    """
+    from .._io import claim_output_directory
+    from ..errors import named_source
+    from ..report import write_comparison, write_run
+    from ..sim import load_scenario, simulate
+    from ..sim.closed_loop import check_run_memory
+    from ..sim.result import check_result_format
+    from ..sim.scenario import check_distinct_names
+    from ..status import ran_to_end
+
+    check_result_format(args.data_format)  # before the runs
+    scenarios = [load_scenario(path) for path in args.scenario]  # all validated first
+    check_distinct_names(s.name for s in scenarios)  # one file or folder each
+    for s in scenarios:  # refuse what cannot fit before the first run
+        check_run_memory(s)
+    inputs = tuple(args.scenario)
+    claim_output_directory(args.out, inputs=inputs, force=args.force)
+    command = "tetherheli simulate " + " ".join(args.scenario)
+    results = [
+        named_source(path, simulate, s, method=args.method)
+        for path, s in zip(args.scenario, scenarios, strict=True)
+    ]
+    write = write_run if len(results) == 1 else write_comparison
+    write(
+        results[0] if len(results) == 1 else results,
+        args.out,
+        command=command,
+        inputs=inputs,
+        force=args.force,
+        data_format=args.data_format,
+        figure_format=args.figure_format,
+    )
+    for r in results:
+        if r.released:
+            print(f"tetherheli: run {r.name}: {r.release_note()}", file=sys.stderr)
+    failed = [r for r in results if not r.ok]
+    for r in failed:
+        ended = "ended" if ran_to_end(r.status) else "stopped"
+        print(
+            f"tetherheli: run {r.name} {ended} at t = {r.end_time:g} s: {r.message} "
+            f"(partial results in {args.out})",
+            file=sys.stderr,
+        )
+    if failed:
+        return 1
+    done = ", ".join(f"{r.name}: {r.message}" for r in results)
+    print(f"wrote {args.out}/ ({done})")
+    return 0
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add ``simulate`` to the sub-commands.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The command line's sub-command parsers.
+
+    Returns
+    -------
+    None
+    """
+    p = sub.add_parser(
+        "simulate",
+        help="run scenario TOML files (several: overlaid)",
+        parents=[c.out_directory(), c.data_format(), c.figure_format(), c.force()],
+    )
+    p.add_argument(
+        "scenario",
+        nargs="+",
+        help="scenario TOML file(s) (see scenarios/); several runs go to OUT/<name>/ and are "
+        "overlaid in OUT/outputs.png, OUT/inputs.png",
+    )
+    p.add_argument(
+        "--method",
+        choices=("rk4", "adaptive"),
+        default="rk4",
+        help="integration: compiled fixed-step RK4 or the adaptive reference",
+    )
+    p.set_defaults(func=run)
