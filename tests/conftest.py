@@ -86,6 +86,34 @@ if os.environ.get("TETHERHELI_COMPILE_LOG"):
     _event.register("numba:compile", _listener)
 
 
+def pytest_sessionfinish(session: pytest.Session) -> None:
+    """With the compile log: each compiled function of the package with more than one
+    signature, and where its signatures differ."""
+    if _COMPILE_LOG is None:
+        return
+    import sys
+
+    import numba
+
+    lines = []
+    for name, module in sorted(sys.modules.items()):
+        if not name.startswith("tetherheli"):
+            continue
+        for key, f in vars(module).items():
+            if not isinstance(f, numba.core.registry.CPUDispatcher) or f.__module__ != name:
+                continue
+            first, *others = f.signatures or [()]
+            for other in others:
+                diff = [
+                    (i, str(a), str(b))
+                    for i, (a, b) in enumerate(zip(first, other, strict=False))
+                    if a != b
+                ]
+                lines.append(f"signature {name}.{key}: {diff}\n")
+    with open(_COMPILE_LOG.path, "a", encoding="utf-8") as log:
+        log.writelines(lines)
+
+
 @pytest.hookimpl(tryfirst=True)
 def pytest_runtest_setup(item: pytest.Item) -> None:
     if _COMPILE_LOG is not None:

@@ -51,6 +51,7 @@ __all__ = [
     "compiled",
     "compiled_sources",
     "keep_alive",
+    "plain",
     "source_fingerprint",
 ]
 
@@ -435,3 +436,16 @@ def keep_alive(typingctx: Any, value: Any) -> Any:
         return context.get_dummy_value()
 
     return types.none(value), codegen
+
+
+@intrinsic
+def plain(typingctx: Any, value: Any) -> Any:
+    """In compiled code: ``value`` typed as a plain value, not a literal (``True`` becomes a
+    ``bool``, ``1`` an ``int64``): a compiled caller passing a constant then selects the same
+    signature of the callee as a Python caller does (one compilation, not two)."""
+    kind = types.unliteral(value)
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        return context.cast(builder, args[0], signature.args[0], kind)
+
+    return kind(value), codegen

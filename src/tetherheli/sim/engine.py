@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from .._compile import borrowed, compiled, keep_alive
+from .._compile import borrowed, compiled, keep_alive, plain
 from ..control.paper import limit_rate_change_jit, paper_control_sc
 from ..layout import (
     ACT_BREAK,
@@ -715,9 +715,9 @@ def run_closed_loop(
             break
         if lumped and cfg[CFG_ATTACHED] > 0.5:
             lumped_interval(x, inp, rate, t, cfg, c, program, gust, drag, work, chain, cw,
-                            COUPLING_CONDENSED)  # fmt: skip
+                            plain(COUPLING_CONDENSED))  # fmt: skip
         else:
-            rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, work, True)
+            rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, work, plain(True))
     summary[SUMMARY_RELEASE_TIME] = event[0]
     summary[SUMMARY_RELEASE_TENSION] = event[1]
     winch_limit_into(held, summary)
@@ -1232,6 +1232,22 @@ def run_lanes(
     ffwd = np.empty((LANES, 4))
     no_action = np.zeros(4)
     active = np.zeros(LANES, np.bool_)
+    # borrowed views (``_compile.borrowed``) of the run's arrays, held to the end by
+    # ``keep_alive``, and of the arguments: the lane loop slices rows of them per lane and
+    # sample, which would otherwise each be an atomic reference count
+    own = (cfg, ctrl, x, c_lanes, drag_lanes, gust_dt, work, sc0, held_inp, rate, t0, h,
+           attached, k_c, sc_init, x_lane, z, winch, held, event, x_meas, sc_meas, sc_true, y,
+           y_est, inp, ffwd, no_action, active)  # fmt: skip
+    (cfg, ctrl, x, c_lanes, drag_lanes, gust_dt, work, sc0, held_inp, rate, t0, h, attached, k_c,
+     sc_init, x_lane, z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd,
+     no_action, active) = borrowed(own)  # fmt: skip
+    x_init, c, act, summary, status, done = borrowed((x_init, c, act, summary, status, done))
+    gain, x_ref, y_ref, u0, u0_free, z0 = borrowed((gain, x_ref, y_ref, u0, u0_free, z0))
+    programs, n_rows, gusts, gust_rows = borrowed((programs, n_rows, gusts, gust_rows))
+    noise, noise_rows, source, arm, sensor_scratch, schedule, schedule_rows, ring, ring_rows = (
+        borrowed(sensors)
+    )
+    lane_wind = (programs, n_rows, gusts, gust_rows, gust_dt, drag_lanes)
     n_active = 0
     for j in range(LANES):
         start_summary(summary[j])
@@ -1289,3 +1305,4 @@ def run_lanes(
         summary[j, SUMMARY_RELEASE_TIME] = event[j, 0]
         summary[j, SUMMARY_RELEASE_TENSION] = event[j, 1]
         winch_limit_into(held[j], summary[j])
+    keep_alive(own)
