@@ -48,6 +48,78 @@ def pytest_configure(config: pytest.Config) -> None:
     warm()
 
 
+class _CompileLog:
+    """Opt-in (``TETHERHELI_COMPILE_LOG=FILE``): one line per outermost Numba compilation,
+    "seconds function test", appended to FILE by every process; it tells which tests compile
+    what, and for how long (issue 24: the suite's time from an empty cache)."""
+
+    def __init__(self, path: str) -> None:
+        self.path, self.depth, self.test, self.started = path, 0, "(collection)", 0.0
+
+    def on_start(self, event) -> None:
+        import time
+
+        if self.depth == 0:
+            self.started = time.perf_counter()
+        self.depth += 1
+
+    def on_end(self, event) -> None:
+        import time
+
+        self.depth -= 1
+        if self.depth == 0:
+            name = getattr(event.data["dispatcher"], "__qualname__", "?")
+            seconds = time.perf_counter() - self.started
+            with open(self.path, "a", encoding="utf-8") as log:
+                log.write(f"{seconds:8.2f} {name} {self.test}\n")
+
+
+_COMPILE_LOG = None
+if os.environ.get("TETHERHELI_COMPILE_LOG"):
+    from numba.core import event as _event
+
+    _COMPILE_LOG = _CompileLog(os.environ["TETHERHELI_COMPILE_LOG"])
+    _listener = type("_Listener", (_event.Listener,), {
+        "on_start": lambda self, e: _COMPILE_LOG.on_start(e),
+        "on_end": lambda self, e: _COMPILE_LOG.on_end(e),
+    })()  # fmt: skip
+    _event.register("numba:compile", _listener)
+
+
+def pytest_sessionfinish(session: pytest.Session) -> None:
+    """With the compile log: each compiled function of the package with more than one
+    signature, and where its signatures differ."""
+    if _COMPILE_LOG is None:
+        return
+    import sys
+
+    import numba
+
+    lines = []
+    for name, module in sorted(sys.modules.items()):
+        if not name.startswith("tetherheli"):
+            continue
+        for key, f in vars(module).items():
+            if not isinstance(f, numba.core.registry.CPUDispatcher) or f.__module__ != name:
+                continue
+            first, *others = f.signatures or [()]
+            for other in others:
+                diff = [
+                    (i, str(a), str(b))
+                    for i, (a, b) in enumerate(zip(first, other, strict=False))
+                    if a != b
+                ]
+                lines.append(f"signature {name}.{key}: {diff}\n")
+    with open(_COMPILE_LOG.path, "a", encoding="utf-8") as log:
+        log.writelines(lines)
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_runtest_setup(item: pytest.Item) -> None:
+    if _COMPILE_LOG is not None:
+        _COMPILE_LOG.test = item.nodeid
+
+
 @pytest.fixture(scope="session")
 def paper() -> Params:
     return Params.paper()

@@ -38,11 +38,44 @@ def _batch() -> None:
     from tetherheli.shipped import shipped_scenario
     from tetherheli.sim.batch import run_batch
 
-    run_batch([shipped_scenario("paper_sim1_tethered").replace(duration=0.2)] * 2)
+    s = shipped_scenario("paper_sim1_tethered").replace(duration=0.2)
+    run_batch([s] * 2)
+    run_batch([s] * 2, lanes=False)
+
+
+def _python_loop() -> None:
+    import dataclasses
+
+    from tetherheli import simulate
+    from tetherheli.shipped import shipped_scenario
+
+    s = shipped_scenario("paper_sim1_tethered").replace(duration=0.2)
+    simulate(s.replace(control=dataclasses.replace(s.control, controller="mpc")))
+    simulate(s, method="adaptive")
+
+
+def _envs() -> None:
+    import gymnasium as gym
+
+    import tetherheli.envs  # noqa: F401 (registers the ids)
+    from tetherheli.vector_env import TetheredHoverVectorEnv
+
+    env = gym.make("tetherheli/TetheredHover-v0")
+    env.reset(seed=0)
+    env.step(env.action_space.sample())
+    vector = TetheredHoverVectorEnv(4)
+    vector.reset(seed=0)
+    vector.step(vector.action_space.sample())
 
 
 #: the warm-up's jobs, heaviest first
-JOBS = {"single": _single, "batch": _batch, "lumped": _lumped}
+JOBS = {
+    "single": _single,
+    "lumped": _lumped,
+    "batch": _batch,
+    "python_loop": _python_loop,
+    "envs": _envs,
+}
 
 
 def warm(jobs: list[str] | None = None, processes: int = 2) -> None:

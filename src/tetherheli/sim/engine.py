@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from .._compile import compiled
+from .._compile import borrowed, compiled, keep_alive, plain
 from ..control.paper import limit_rate_change_jit, paper_control_sc
 from ..layout import (
     ACT_BREAK,
@@ -76,6 +76,7 @@ from ..layout import (
     HELD_REEL_RATE,
     HELD_SIZE,
     LANES,
+    LAW_Z0,
     LUMPED_MU,
     SUMMARY_FIELDS,
     SUMMARY_N_SAMPLES,
@@ -655,24 +656,29 @@ def run_closed_loop(
     (len(SUMMARY_FIELDS),) always receives the on-line metrics of the samples
     k >= cfg[CFG_METRICS_FROM], the release event in its ``release_*`` slots (NaN without one).
     """
-    cfg = cfg_in.copy()
-    ctrl = ctrl_in.copy()
-    x = x_init.copy()
-    program, gust, drag = wind
-    work = np.empty((RK4_WORK_ROWS, 13))
-    # the tuples' arrays taken out once, before the loop (see ``_paper_sample``)
-    gain, x_ref, y_ref, u0_tethered, u0_free, z0 = law
-    z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd = _loop_state(
-        x_init, z0, work
+    # The loop works on borrowed views (``_compile.borrowed``: no atomic reference counts):
+    # of the arguments, which the caller holds, and of the run's own arrays, held below
+    # (``keep_alive``) until the loop is done.
+    own_cfg, own_ctrl, own_x = cfg_in.copy(), ctrl_in.copy(), x_init.copy()
+    own_work = np.empty((RK4_WORK_ROWS, 13))
+    own_loop = _loop_state(x_init, law[LAW_Z0], own_work)
+    own_no_action = np.zeros(4)
+    nodes_in = chain[CHAIN_NODES]
+    own_cw = _lumped_work(max(nodes_in.shape[0] - 1, 1))
+    cfg, ctrl, x, work, no_action = borrowed((own_cfg, own_ctrl, own_x, own_work, own_no_action))
+    c, act, summary, sensors, chain, out, cw = borrowed(
+        (c, act, summary, sensors, chain, out, own_cw)
     )
+    program, gust, drag = borrowed(wind)
+    # the tuples' arrays taken out once, before the loop (see ``_paper_sample``)
+    gain, x_ref, y_ref, u0_tethered, u0_free, _z0 = borrowed(law)
+    z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd = borrowed(own_loop)
     sensed = sensors[0].shape[0] > 0
-    no_action = np.zeros(4)
     start_summary(summary)
     dt = cfg[CFG_DT]
     status, done = STATUS_OK, n_samples + 1
     nodes = chain[CHAIN_NODES]
     lumped = nodes.shape[0] > 0
-    cw = _lumped_work(max(nodes.shape[0] - 1, 1))
     out_x, out_u, out_ffwd, out_rate, out_tension, out_wind, out_y, out_y_est = out[:8]
     out_ground, out_nodes, out_winch = out[8], out[9], out[10]
     for k in range(n_samples + 1):
@@ -709,12 +715,13 @@ def run_closed_loop(
             break
         if lumped and cfg[CFG_ATTACHED] > 0.5:
             lumped_interval(x, inp, rate, t, cfg, c, program, gust, drag, work, chain, cw,
-                            COUPLING_CONDENSED)  # fmt: skip
+                            plain(COUPLING_CONDENSED))  # fmt: skip
         else:
-            rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, work, True)
+            rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, work, plain(True))
     summary[SUMMARY_RELEASE_TIME] = event[0]
     summary[SUMMARY_RELEASE_TENSION] = event[1]
     winch_limit_into(held, summary)
+    keep_alive((own_cfg, own_ctrl, own_x, own_work, own_loop, own_no_action, own_cw))
     return status, done
 
 
@@ -1225,6 +1232,22 @@ def run_lanes(
     ffwd = np.empty((LANES, 4))
     no_action = np.zeros(4)
     active = np.zeros(LANES, np.bool_)
+    # borrowed views (``_compile.borrowed``) of the run's arrays, held to the end by
+    # ``keep_alive``, and of the arguments: the lane loop slices rows of them per lane and
+    # sample, which would otherwise each be an atomic reference count
+    own = (cfg, ctrl, x, c_lanes, drag_lanes, gust_dt, work, sc0, held_inp, rate, t0, h,
+           attached, k_c, sc_init, x_lane, z, winch, held, event, x_meas, sc_meas, sc_true, y,
+           y_est, inp, ffwd, no_action, active)  # fmt: skip
+    (cfg, ctrl, x, c_lanes, drag_lanes, gust_dt, work, sc0, held_inp, rate, t0, h, attached, k_c,
+     sc_init, x_lane, z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd,
+     no_action, active) = borrowed(own)  # fmt: skip
+    x_init, c, act, summary, status, done = borrowed((x_init, c, act, summary, status, done))
+    gain, x_ref, y_ref, u0, u0_free, z0 = borrowed((gain, x_ref, y_ref, u0, u0_free, z0))
+    programs, n_rows, gusts, gust_rows = borrowed((programs, n_rows, gusts, gust_rows))
+    noise, noise_rows, source, arm, sensor_scratch, schedule, schedule_rows, ring, ring_rows = (
+        borrowed(sensors)
+    )
+    lane_wind = (programs, n_rows, gusts, gust_rows, gust_dt, drag_lanes)
     n_active = 0
     for j in range(LANES):
         start_summary(summary[j])
@@ -1282,3 +1305,4 @@ def run_lanes(
         summary[j, SUMMARY_RELEASE_TIME] = event[j, 0]
         summary[j, SUMMARY_RELEASE_TENSION] = event[j, 1]
         winch_limit_into(held[j], summary[j])
+    keep_alive(own)

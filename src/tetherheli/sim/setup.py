@@ -686,6 +686,16 @@ def sensor_tuple(noise: np.ndarray, source: int, arm: float, schedule: np.ndarra
     return (noise, source, arm, np.empty((4, 3)), schedule, ring)
 
 
+def _read_only(a: np.ndarray) -> np.ndarray:
+    """A read-only, C-ordered float64 view of an input the engine only reads (a copy only where
+    the layout or dtype differs): whichever way a law, a wind or a model was built (a cached,
+    frozen gain or a fresh one), ``engine_args`` hands the engine the same types, so that
+    ``run_closed_loop`` has one compiled signature (issue 24)."""
+    view = np.ascontiguousarray(a, dtype=np.float64).view()
+    view.setflags(write=False)
+    return view
+
+
 @dataclass(frozen=True)
 class EngineSetup:
     """Everything one run needs, packed for the compiled engine.
@@ -748,12 +758,12 @@ class EngineSetup:
         return (
             self.start.x.copy(),
             n_samples,
-            self.cfg,
-            self.ctrl,
-            self.model.constants,
-            self.law,
-            (self.wind.program, self.wind.gust, self.wind.drag),
-            self.act,
+            _read_only(self.cfg),
+            _read_only(self.ctrl),
+            _read_only(self.model.constants),
+            tuple(_read_only(a) for a in self.law),
+            tuple(_read_only(a) for a in (self.wind.program, self.wind.gust, self.wind.drag)),
+            _read_only(self.act),
             self.sensors,
             tuple(a.copy() for a in self.chain),
         )
