@@ -22,7 +22,7 @@ from tetherheli.sim.scenario import (
     TetherSettings,
     scenario_from_dict,
 )
-from tetherheli.sim.setup import engine_setup
+from tetherheli.sim.setup import engine_setup, run_setup
 
 #: weights far apart enough that eq 49's Riccati equation has no stabilising solution
 EXTREME_QY = (1e200, 1.0, 1.0, 1.0, 10.0, 10.0, 10.0, 10.0)
@@ -70,17 +70,34 @@ def test_extreme_mpc_weights_name_control_mpc():
 # --- the lumped tether ----------------------------------------------------------------------
 
 
-def test_stiff_lumped_cable_is_set_up_not_blamed_on_an_internal_length(tmp_path, capsys):
-    """EA = 1e30 N (allowed) used to fail the trim's round trip through L0 ("unstretched_length_m
-    = 10.0 is invalid"); the vertical catenary is built from T_ref itself now, so the run is
-    set up and flies to an honest status."""
-    s = _lumped(EA=1e30).replace(duration=0.01)  # one sample: the step is 4096 x 4096 sub-steps
-    setup = engine_setup(s)
-    assert setup.trim.x[12] == pytest.approx(s.q9)
+def test_stiff_lumped_cable_is_refused_naming_ea_not_an_internal_length(tmp_path, capsys):
+    """EA = 1e30 N used to fail the trim's round trip through L0 ("unstretched_length_m
+    = 10.0 is invalid"); the vertical catenary is built from T_ref itself now, so the trim
+    holds. The cable is then refused in one line naming tether.EA and the stiffest EA the
+    engine can step (its coupled step would need ~1e13 RK4 steps per sample: it used to be
+    flown for 50 s a sample with capped, unstable steps to a failure), exit 2."""
+    s = _lumped(EA=1e30)
+    assert run_setup(s).trim.x[12] == pytest.approx(s.q9)
+    with pytest.raises(
+        InfeasibleError, match=r"^tether\.EA = 1e\+30 is invalid; allowed: at most about"
+    ) as err:
+        engine_setup(s)
     path = _write(tmp_path, s)
-    code = main(["simulate", str(path), "--out", str(tmp_path / "o")])
-    assert code in (0, 1)
-    assert "unstretched_length_m" not in capsys.readouterr().err
+    assert main(["simulate", str(path), "--out", str(tmp_path / "o")]) == 2
+    err = _one_error_line(capsys)
+    assert "tether.EA = 1e+30" in err and "unstretched_length_m" not in err
+    assert not (tmp_path / "o").exists()
+
+
+def test_the_stiffest_cable_allowed_is_flown():
+    """The bound the refusal names is one the engine flies: EA just below it is set up."""
+    s = _lumped(EA=1e30)
+    with pytest.raises(InfeasibleError) as err:
+        engine_setup(s)
+    ea_max = float(str(err.value).split("at most about ")[1].split()[0])
+    engine_setup(_lumped(EA=0.9 * ea_max))
+    with pytest.raises(InfeasibleError):
+        engine_setup(_lumped(EA=1.2 * ea_max))
 
 
 def test_lumped_zero_reference_tension_names_t_ref(tmp_path, capsys):

@@ -34,13 +34,18 @@ def _lumped() -> None:
     simulate(shipped_scenario("paper_sim1_lumped").replace(duration=0.2))
 
 
-def _batch() -> None:
+def _unlaned() -> None:
     from tetherheli.shipped import shipped_scenario
     from tetherheli.sim.batch import run_batch
 
-    s = shipped_scenario("paper_sim1_tethered").replace(duration=0.2)
-    run_batch([s] * 2)
-    run_batch([s] * 2, lanes=False)
+    run_batch([shipped_scenario("paper_sim1_tethered").replace(duration=0.2)] * 2, lanes=False)
+
+
+def _lanes() -> None:
+    from tetherheli.shipped import shipped_scenario
+    from tetherheli.sim.batch import run_batch
+
+    run_batch([shipped_scenario("paper_sim1_tethered").replace(duration=0.2)] * 2)
 
 
 def _python_loop() -> None:
@@ -68,13 +73,12 @@ def _envs() -> None:
     vector.step(vector.action_space.sample())
 
 
-#: the warm-up's jobs, heaviest first
+#: the warm-up's jobs, one process each, of about the same compile time: every entry point
+#: that compiles ``engine.run_closed_loop`` in one process (so that it compiles once), the
+#: Python loop's phases, the environments and the lanes in the other
 JOBS = {
-    "single": _single,
-    "lumped": _lumped,
-    "batch": _batch,
-    "python_loop": _python_loop,
-    "envs": _envs,
+    "closed_loop": (_single, _lumped, _unlaned),
+    "phases_and_lanes": (_python_loop, _envs, _lanes),
 }
 
 
@@ -101,6 +105,7 @@ def warm(jobs: list[str] | None = None, processes: int = 2) -> None:
 
 if __name__ == "__main__":
     if len(sys.argv) == 2:
-        JOBS[sys.argv[1]]()
+        for part in JOBS[sys.argv[1]]:
+            part()
     else:
         warm(sys.argv[1:] or None)

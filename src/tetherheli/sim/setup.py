@@ -80,7 +80,7 @@ from ..sensing.config import N_CHANNELS, N_GROUPS, SensorConfig
 from ..sensing.noise import noise_table
 from ..sensing.schedules import ring_rows, sample_schedule
 from ..tether.chain import LumpedTether, static_chain
-from ..tether.lumped import ros2_work
+from ..tether.lumped import CHAIN_MAX_SUBSTEPS, COUPLING_OMEGA_H, chain_omega_max, ros2_work
 from ..tether.lumped_trim import hover_trim_lumped
 from ..wind import CompiledWind, compile_wind, initial_wind_force
 from ..wind.profiles import Disturbance
@@ -340,8 +340,23 @@ def chain_start(scenario: Scenario, trim: TrimPoint) -> tuple:
     g = scenario.params.helicopter.g
     q9, L0 = float(trim.x[5]), float(trim.x[12])
     T_g = scenario.params.tension_control.T_ref  # hover_trim_lumped's tension at the winch
+    packed = tether.packed(g)
+    # the coupled step's rule (``tether.lumped.coupling_substeps``) at the trim's length: a
+    # cable it cannot step within CHAIN_MAX_SUBSTEPS per sample is refused here, instead of
+    # being flown for minutes with capped, unstable steps to a failure
+    dt = scenario.control.dt
+    needed = dt * chain_omega_max(packed, L0, tether.segments) / COUPLING_OMEGA_H
+    if needed > CHAIN_MAX_SUBSTEPS:
+        ea_max = tether.EA_N * (CHAIN_MAX_SUBSTEPS / needed) ** 2  # omega_max ~ sqrt(EA)
+        raise InfeasibleError(
+            "tether.EA",
+            tether.EA_N,
+            f"at most about {ea_max:.3g} N at this mass per length, segments and dt (the "
+            f"coupled step would need {needed:.3g} RK4 steps per {dt:g} s sample, above the "
+            f"engine's {CHAIN_MAX_SUBSTEPS})",
+        )
     nodes = static_chain(np.zeros(3), np.array([0.0, 0.0, q9]), L0, tether, g, ground_tension_N=T_g)
-    return (nodes, np.zeros_like(nodes), tether.packed(g), ros2_work(tether.segments))
+    return (nodes, np.zeros_like(nodes), packed, ros2_work(tether.segments))
 
 
 def free_trim_input(scenario: Scenario, model: TetheredHelicopter, trim: TrimPoint) -> np.ndarray:
