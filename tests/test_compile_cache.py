@@ -152,7 +152,7 @@ def test_warm_up_jobs_fly_their_runs():
     by conftest on the xdist controller) flies its short runs without error."""
     from tests import warm_cache
 
-    assert set(warm_cache.JOBS) == {"closed_loop", "phases_and_lanes"}
+    assert set(warm_cache.JOBS) == {"closed_loop_and_lanes", "phases_and_environments"}
     for job in warm_cache.JOBS.values():
         for part in job:
             part()

@@ -59,26 +59,32 @@ def _python_loop() -> None:
     simulate(s, method="adaptive")
 
 
-def _envs() -> None:
+def _env() -> None:
     import gymnasium as gym
 
     import tetherheli.envs  # noqa: F401 (registers the ids)
-    from tetherheli.vector_env import TetheredHoverVectorEnv
 
     env = gym.make("tetherheli/TetheredHover-v0")
     env.reset(seed=0)
     env.step(env.action_space.sample())
+
+
+def _vector_env() -> None:
+    from tetherheli.vector_env import TetheredHoverVectorEnv
+
     vector = TetheredHoverVectorEnv(4)
     vector.reset(seed=0)
     vector.step(vector.action_space.sample())
 
 
-#: the warm-up's jobs, one process each, of about the same compile time: every entry point
-#: that compiles ``engine.run_closed_loop`` in one process (so that it compiles once), the
-#: Python loop's phases, the environments and the lanes in the other
+#: the warm-up's jobs, one process each, of about the same compile time (from an empty cache
+#: on 2 cores, with ``TETHERHELI_COMPILE_LOG``: about 88 s and 78 s): every entry point that
+#: compiles ``engine.run_closed_loop`` (once), then the lanes, in one; the Python loop's
+#: phases (``rk4_interval``, ``sense``, ``actuate``), then both environments, which reuse
+#: them, in the other
 JOBS = {
-    "closed_loop": (_single, _lumped, _unlaned),
-    "phases_and_lanes": (_python_loop, _envs, _lanes),
+    "closed_loop_and_lanes": (_single, _lumped, _unlaned, _lanes),
+    "phases_and_environments": (_python_loop, _env, _vector_env),
 }
 
 
