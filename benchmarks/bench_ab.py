@@ -44,7 +44,10 @@ except ImportError:  # a baseline tree from before the set-up was public (0ac318
 
     def prepare(scenario):
         return _prepare(scenario, None)
-from tetherheli.report.paper import sensing_scenario
+try:
+    from tetherheli.report.paper import sensing_scenario
+except ImportError:  # a baseline from before the report package
+    from tetherheli.report import sensing_scenario
 
 summary = np.zeros(len(engine.SUMMARY_FIELDS))
 
