@@ -48,42 +48,35 @@ def pytest_configure(config: pytest.Config) -> None:
     warm()
 
 
-class _CompileLog:
-    """Opt-in (``TETHERHELI_COMPILE_LOG=FILE``): one line per outermost Numba compilation,
-    "seconds function test", appended to FILE by every process; it tells which tests compile
-    what, and for how long (issue 24: the suite's time from an empty cache)."""
-
-    def __init__(self, path: str) -> None:
-        self.path, self.depth, self.test, self.started = path, 0, "(collection)", 0.0
-
-    def on_start(self, event) -> None:
-        import time
-
-        if self.depth == 0:
-            self.started = time.perf_counter()
-        self.depth += 1
-
-    def on_end(self, event) -> None:
-        import time
-
-        self.depth -= 1
-        if self.depth == 0:
-            name = getattr(event.data["dispatcher"], "__qualname__", "?")
-            seconds = time.perf_counter() - self.started
-            with open(self.path, "a", encoding="utf-8") as log:
-                log.write(f"{seconds:8.2f} {name} {self.test}\n")
-
-
 _COMPILE_LOG = None
 if os.environ.get("TETHERHELI_COMPILE_LOG"):
+    import time
+
     from numba.core import event as _event
 
+    class _CompileLog(_event.Listener):
+        """Opt-in (``TETHERHELI_COMPILE_LOG=FILE``): one line per outermost Numba compilation,
+        "seconds function test", appended to FILE by every process; it tells which tests
+        compile what, and for how long (issue 24: the suite's time from an empty cache)."""
+
+        def __init__(self, path: str) -> None:
+            self.path, self.depth, self.test, self.started = path, 0, "(collection)", 0.0
+
+        def on_start(self, event) -> None:
+            if self.depth == 0:
+                self.started = time.perf_counter()
+            self.depth += 1
+
+        def on_end(self, event) -> None:
+            self.depth -= 1
+            if self.depth == 0:
+                name = getattr(event.data["dispatcher"], "__qualname__", "?")
+                seconds = time.perf_counter() - self.started
+                with open(self.path, "a", encoding="utf-8") as log:
+                    log.write(f"{seconds:8.2f} {name} {self.test}\n")
+
     _COMPILE_LOG = _CompileLog(os.environ["TETHERHELI_COMPILE_LOG"])
-    _listener = type("_Listener", (_event.Listener,), {
-        "on_start": lambda self, e: _COMPILE_LOG.on_start(e),
-        "on_end": lambda self, e: _COMPILE_LOG.on_end(e),
-    })()  # fmt: skip
-    _event.register("numba:compile", _listener)
+    _event.register("numba:compile", _COMPILE_LOG)
 
 
 def pytest_sessionfinish(session: pytest.Session) -> None:

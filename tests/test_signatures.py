@@ -1,8 +1,9 @@
 """One compiled signature per hot function (issue 24 item 3).
 
-The typical runs (every shipped kind of single run, a batch with and without lanes, the MPC's
-Python loop, the Gymnasium environment and the vector environment) are flown in a process of
-their own; afterwards each compiled function of the package must hold exactly one signature.
+The typical runs are the suite's warm-up jobs (``tests/warm_cache.py``: every shipped kind of
+single run, a batch with and without lanes, the MPC's Python loop and the adaptive method, the
+Gymnasium environment and the vector environment), flown in a process of their own;
+afterwards each compiled function of the package must hold exactly one signature.
 A second one means a second compilation of the same code (a read-only gain, a literal
 ``True``, an 'A'-layout slice), which costs the first run and the suite tens of seconds each:
 ``setup.EngineSetup.engine_args`` normalises the engine's inputs (``_read_only``) and compiled
@@ -14,31 +15,18 @@ import json
 import os
 import subprocess
 import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
 
 _TYPICAL = """
-import dataclasses, json, sys
+import json, sys
 import numba
-from tetherheli import simulate
-from tetherheli.report import sensing_scenario
-from tetherheli.shipped import shipped_scenario
-from tetherheli.sim.batch import run_batch
+from tests.warm_cache import JOBS
 
-for name in ("paper_sim1_tethered", "paper_sim1_free", "paper_sim1_drum", "paper_sim1_lumped"):
-    simulate(shipped_scenario(name).replace(duration=0.2))
-simulate(sensing_scenario("tether").replace(duration=0.2))
-s = shipped_scenario("paper_sim1_tethered").replace(duration=0.2)
-run_batch([s] * 2)
-run_batch([s] * 2, lanes=False)
-simulate(s.replace(control=dataclasses.replace(s.control, controller="mpc")))
-import gymnasium as gym
-import tetherheli.envs  # noqa: F401
-env = gym.make("tetherheli/TetheredHover-v0")
-env.reset(seed=0)
-env.step(env.action_space.sample())
-from tetherheli.vector_env import TetheredHoverVectorEnv
-v = TetheredHoverVectorEnv(4)
-v.reset(seed=0)
-v.step(v.action_space.sample())
+for job in JOBS.values():
+    for part in job:
+        part()
 many = {}
 for modname, mod in list(sys.modules.items()):
     if not modname.startswith("tetherheli"):
@@ -54,6 +42,7 @@ print(json.dumps(many))
 def test_each_compiled_function_has_one_signature_after_the_typical_runs():
     done = subprocess.run(
         [sys.executable, "-c", _TYPICAL],
+        cwd=ROOT,
         env=dict(os.environ),
         capture_output=True,
         text=True,
