@@ -4,10 +4,11 @@ Run: python benchmarks/cpu_time_ab.py --baseline OTHER/src [--rounds 3]
 
 Each round starts one process per tree (alternating: this tree, then the baseline), each
 warming its own compile cache first, then prints the least process CPU time of 40
-``simulate`` calls of ``paper_sim1_tethered`` (60 s, the compiled loop) and of 5 calls of a
-2 s MPC run (the Python loop). CPU time, not wall time, so that other work on a shared
-machine counts less; on 2 shared cores the figures still vary by about 10 %. Ratios are
-baseline / this tree; no test asserts them.
+``simulate`` calls of ``paper_sim1_tethered`` (60 s, the compiled loop), of 5 calls of a
+2 s MPC run (the Python loop), and of 5 calls of a 10 s run of the paper's law as a Python
+``PaperController`` (the Python loop's own cost: no solver). CPU time, not wall time, so
+that other work on a shared machine counts less; on 2 shared cores the figures still vary
+by about 10 %. Ratios are this tree / baseline; no test asserts them.
 """
 
 from __future__ import annotations
@@ -31,16 +32,26 @@ m = s.replace(duration=2.0, control=dataclasses.replace(s.control, controller="m
 simulate(m)
 best_m = min((lambda t: (simulate(m), time.process_time() - t)[1])(time.process_time())
              for _ in range(5))
-print(best * 1e3, best_m * 1e3)
+from tetherheli.control.paper import PaperController
+from tetherheli.sim.setup import engine_setup
+p = s.replace(duration=10.0)
+su = engine_setup(p)
+K, _, y_ref, u0, u0_free, z0 = su.law
+ctl = PaperController(K, su.trim.x, y_ref, u0, su.ctrl, su.model.constants,
+                      free_trim_input=u0_free, z_init=z0)
+simulate(p, controller=ctl)
+best_p = min((lambda t: (simulate(p, controller=ctl), time.process_time() - t)[1])(
+    time.process_time()) for _ in range(5))
+print(best * 1e3, best_m * 1e3, best_p * 1e3)
 """
 
 
-def _run(src: Path, cache: Path) -> tuple[float, float]:
+def _run(src: Path, cache: Path) -> tuple[float, float, float]:
     env = {**os.environ, "PYTHONPATH": str(src), "NUMBA_CACHE_DIR": str(cache)}
     out = subprocess.run(
         [sys.executable, "-c", _PROBE], env=env, capture_output=True, text=True, check=True
     ).stdout.split()
-    return float(out[-2]), float(out[-1])
+    return float(out[-3]), float(out[-2]), float(out[-1])
 
 
 def main() -> None:
@@ -52,13 +63,15 @@ def main() -> None:
     stamp = int(time.time())
     trees = {"this": here, "baseline": args.baseline.resolve()}
     caches = {k: Path(f"/tmp/tetherheli-ab-{k}-{stamp}") for k in trees}
-    best: dict[str, list[float]] = {k: [1e9, 1e9] for k in trees}
+    best: dict[str, list[float]] = {k: [1e9, 1e9, 1e9] for k in trees}
     for r in range(args.rounds):
         for k, src in trees.items():
-            paper, mpc = _run(src, caches[k])
-            best[k] = [min(best[k][0], paper), min(best[k][1], mpc)]
-            print(f"round {r + 1} {k:<8} paper run {paper:8.3f} ms   MPC 2 s {mpc:8.1f} ms")
-    for i, what in enumerate(("paper run (compiled)", "MPC run (Python loop)")):
+            got = _run(src, caches[k])
+            best[k] = [min(a, b) for a, b in zip(best[k], got, strict=True)]
+            print(f"round {r + 1} {k:<8} paper run {got[0]:8.3f} ms   MPC 2 s {got[1]:8.1f} ms"
+                  f"   Python paper law 10 s {got[2]:8.1f} ms")  # fmt: skip
+    what_ = ("paper run (compiled)", "MPC run (Python loop)", "paper law (Python loop)")
+    for i, what in enumerate(what_):
         a, b = best["this"][i], best["baseline"][i]
         print(f"{what}: this {a:.3f} ms, baseline {b:.3f} ms, this / baseline {a / b:.3f}")
 

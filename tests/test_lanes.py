@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from tetherheli.analysis import run_metrics
-from tetherheli.layout import LANES, SUMMARY_FIELDS
+from tetherheli.layout import LANES, SUMMARY_FIELDS, Signals
 from tetherheli.model.kernels import SIN_BRANCHLESS_MAX_ARG, sin_branchless
 from tetherheli.sensing.config import SensorConfig
 from tetherheli.sim import engine, simulate
@@ -192,16 +192,4 @@ def test_scenario_files_run_in_lanes():
 
 
 def _dummy_out():
-    return (
-        np.zeros((1, 13)),
-        np.zeros((1, 4)),
-        np.zeros((1, 4)),
-        np.zeros(1),
-        np.zeros(1),
-        np.zeros((1, 3)),
-        np.zeros((1, 4)),
-        np.zeros((1, 4)),
-        np.zeros(1),  # the tension at the winch
-        np.zeros((0, 0, 3)),  # no chain nodes
-        np.zeros((1, 2)),
-    )
+    return Signals.zeros(1)

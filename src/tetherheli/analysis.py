@@ -20,8 +20,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .layout import SUMMARY_FIELDS
 from .names import POSITION
 from .params import Params
+from .sim import engine
+from .sim.batch import summary_metrics
 from .sim.result import SimulationResult
 from .sim.scenario import metrics_first_sample
 
@@ -130,13 +133,25 @@ def run_metrics(result: SimulationResult) -> RunMetrics:
             f"result has {result.time.size} samples; allowed: a run with a sample at or after "
             f"metrics_start (sample {k0})"
         )
-    dev = {k: v[k0:] for k, v in result.deviations().items()}
-    peak = {k: float(np.max(np.abs(dev[k]))) for k in POSITION}
-    peak["q4_deg"] = math.degrees(float(np.max(np.abs(dev["q4"]))))
-    peak["q5_deg"] = math.degrees(float(np.max(np.abs(dev["q5"]))))
-    rms = {k: float(np.sqrt(np.mean(dev[k] ** 2))) for k in POSITION}
-    tension = result.tension[k0:]
-    return RunMetrics(peak, rms, float(tension.min()), float(tension.max()))
+    # one definition of every metric: the engine's on-line summary (``engine.accumulate``),
+    # here over the recorded samples, and its reading (``summary_metrics``), as ``run_batch``,
+    # the Monte Carlo and ``simulate``'s summaries have them
+    summary = np.empty(len(SUMMARY_FIELDS))
+    engine.summarize(
+        np.ascontiguousarray(result.states, dtype=float),
+        np.ascontiguousarray(result.trim_state, dtype=float),
+        np.ascontiguousarray(result.outputs, dtype=float),
+        np.ascontiguousarray(result.trim_output, dtype=float),
+        np.ascontiguousarray(result.tension, dtype=float),
+        k0,
+        summary,
+    )
+    m = summary_metrics(summary)
+    peak = {k: m[f"peak_{k}"] for k in POSITION}
+    peak["q4_deg"] = m["peak_q4_deg"]
+    peak["q5_deg"] = m["peak_q5_deg"]
+    rms = {k: m[f"rms_{k}"] for k in POSITION}
+    return RunMetrics(peak, rms, m["tension_min"], m["tension_max"])
 
 
 def reduction_percent(free: float, tethered: float) -> float:

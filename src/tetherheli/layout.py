@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import os
+from typing import NamedTuple
 
 import numpy as np
 
@@ -20,6 +21,8 @@ __all__ = [
     "LANES",
     "SUMMARY_FIELDS",
     "WIND_COLUMNS",
+    "LoopState",
+    "Signals",
     "default_actuators",
     "empty_chain",
 ]
@@ -106,7 +109,14 @@ CTRL_U_MAX = 13  # (4,)
 #: the tethered LQI's tether length from the load cell and the drum encoder, q9 = LN + TC / KC
 #: (eq 28), with this design KC [N/m] while taut; 0: q9 from the position source
 CTRL_TENSION_K_C = 17
-CTRL_SIZE = 18
+#: the compiled law, by name: ``CONTROL_LAWS.index(name)`` ([control] controller)
+CTRL_LAW = 18
+CTRL_SIZE = 19
+#: the compiled laws ``ctrl[CTRL_LAW]`` names, by code: the paper's LQI with feed-forward and
+#: winch PI (gain (4, 16)), and the tethered LQI (gain (9, 17), ``control.tether_lqi``)
+CONTROL_LAWS = ("paper", "tether_lqi")
+#: the gain's shape each compiled law takes (``layout.LAW_GAIN``), by code
+CONTROL_LAW_GAIN_SHAPES = ((4, 16), (9, 17))
 
 # --- the winch PI's state (``winch``, ``control.paper``) ---------------------------------------
 WINCH_INTEGRAL = 0  # I_k of eq 56 [N s]
@@ -128,6 +138,72 @@ HELD_LIMIT_WHICH = 9
 HELD_LIMIT_TIME = 10
 HELD_SIZE = 11
 
+
+# --- the signals a run records (``sim.engine.run_closed_loop``'s ``out``) -------------------
+class Signals(NamedTuple):
+    """The arrays a run records into, one row per control sample (a named record: the
+    compiled code reads them by name).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (rows, 13)
+        The true state.
+    u, ffwd : numpy.ndarray, shape (rows, 4)
+        The applied rotor inputs (with the feed-forward) and the feed-forward part.
+    rate, tension : numpy.ndarray, shape (rows,)
+        The applied reel rate [m/s] and the true tension at P [N].
+    wind : numpy.ndarray, shape (rows, 3)
+        The wind force at the sample [N].
+    y, y_est : numpy.ndarray, shape (rows, 4)
+        The true outputs and the controller's estimate of them.
+    tension_ground : numpy.ndarray, shape (rows,)
+        The tension at the winch [N] (the tension, for the massless tether).
+    nodes : numpy.ndarray, shape (rows, N + 1, 3) or (0, 0, 3)
+        A lumped chain's node positions (none recorded when empty).
+    winch : numpy.ndarray, shape (rows, 2) or (1, 2)
+        The drum's speed at the sample [rad/s] and mean motor torque after it [N m] (one
+        unused row without a drum winch).
+    """
+
+    x: np.ndarray
+    u: np.ndarray
+    ffwd: np.ndarray
+    rate: np.ndarray
+    tension: np.ndarray
+    wind: np.ndarray
+    y: np.ndarray
+    y_est: np.ndarray
+    tension_ground: np.ndarray
+    nodes: np.ndarray
+    winch: np.ndarray
+
+    @classmethod
+    def zeros(cls, rows: int, *, drum: bool = False, nodes: int = 0) -> Signals:
+        """Zeroed arrays for ``rows`` samples.
+
+        Parameters
+        ----------
+        rows : int
+            Samples to record (n_samples + 1; 1 for a run that records nothing).
+        drum : bool, optional
+            Whether the drum winch's signals are recorded.
+        nodes : int, optional
+            A lumped chain's nodes to record (0: none).
+
+        Returns
+        -------
+        Signals
+            The arrays, float64, C-ordered.
+        """
+        return cls(
+            x=np.zeros((rows, 13)), u=np.zeros((rows, 4)), ffwd=np.zeros((rows, 4)),
+            rate=np.zeros(rows), tension=np.zeros(rows), wind=np.zeros((rows, 3)),
+            y=np.zeros((rows, 4)), y_est=np.zeros((rows, 4)), tension_ground=np.zeros(rows),
+            nodes=np.zeros((rows, nodes, 3) if nodes else (0, 0, 3)),
+            winch=np.zeros((rows if drum else 1, 2)),
+        )  # fmt: skip
+
+
 # --- one run's loop state (``sim.engine.new_loop_state``): a tuple of arrays -------------------
 LOOP_Z = 0  # (4,) the LQI's output-error integral (eq 50)
 LOOP_WINCH = 1  # (WINCH_SIZE,) the winch PI's state
@@ -141,6 +217,45 @@ LOOP_Y_EST = 8  # (4,) the controller's output estimate
 LOOP_INPUTS = 9  # (4,) the applied rotor inputs
 LOOP_FFWD = 10  # (4,) the feed-forward part of the inputs (eq 55)
 LOOP_SIZE = 11
+
+
+class LoopState(NamedTuple):
+    """One run's per-sample state of the control phases (``sim.engine.new_loop_state``), in
+    the order of ``LOOP_*``: a named record (fields by name in compiled code, by the
+    ``LOOP_*`` index where a tuple is expected).
+
+    Parameters
+    ----------
+    z : numpy.ndarray, shape (4,)
+        The LQI's output-error integral (eq 50).
+    winch : numpy.ndarray, shape (WINCH_SIZE,)
+        The winch PI's state.
+    held : numpy.ndarray, shape (HELD_SIZE,)
+        What the actuators hold between samples.
+    event : numpy.ndarray, shape (2,)
+        The tether release: time [s], tension [N]; NaN without one.
+    x_meas : numpy.ndarray, shape (13,)
+        The measured state.
+    sc_meas, sc_true : numpy.ndarray, shape (10,)
+        sin, cos of the measured and of the true angles.
+    y, y_est : numpy.ndarray, shape (4,)
+        The true outputs q1, q2, q3, q6 and the controller's estimate of them.
+    inputs, ffwd : numpy.ndarray, shape (4,)
+        The applied rotor inputs and their feed-forward part (eq 55).
+    """
+
+    z: np.ndarray
+    winch: np.ndarray
+    held: np.ndarray
+    event: np.ndarray
+    x_meas: np.ndarray
+    sc_meas: np.ndarray
+    sc_true: np.ndarray
+    y: np.ndarray
+    y_est: np.ndarray
+    inputs: np.ndarray
+    ffwd: np.ndarray
+
 
 # --- the paper controller's law (``law``, ``sim.engine.paper_sample``): a tuple of arrays ------
 #: (4, 16) K_LQI|F (eqs 47-53), columns [q4..u6 (12); z (4)]; or, for the tethered LQI

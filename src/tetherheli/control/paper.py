@@ -10,12 +10,16 @@ from __future__ import annotations
 import numpy as np
 
 from .._compile import compiled
+from ..errors import ParameterError
 from ..layout import (
+    CONTROL_LAW_GAIN_SHAPES,
+    CONTROL_LAWS,
     CTRL_ANTI_WINDUP,
     CTRL_DT,
     CTRL_FFWD,
     CTRL_K_I,
     CTRL_K_P,
+    CTRL_LAW,
     CTRL_REEL_ACCEL,
     CTRL_REEL_RATE_LIMIT,
     CTRL_SIZE,
@@ -32,7 +36,9 @@ from ..model.kernels import angle_trig, tethered_outputs_sc, tethered_tether_tor
 from .base import Command, Controller, Measurement
 from .tension import limit_rate_change, tension_pi_step
 
-__all__ = ["CTRL_SIZE", "WINCH_SIZE", "PaperController", "paper_control", "winch_step"]
+__all__ = [
+    "CTRL_SIZE", "WINCH_SIZE", "PaperController", "check_law", "paper_control", "winch_step",
+]  # fmt: skip
 
 _jit = compiled(error_model="numpy")
 _jit_inline = compiled(error_model="numpy", inline="always")
@@ -88,10 +94,11 @@ def paper_control_sc(
     """``paper_control`` with sc (10,) = sin, cos of x[0..4] given (``kernels.angle_trig``);
     the engine's entry point.
 
-    The gain's shape selects the law (``layout.LAW_GAIN``): (4, 16), the paper's LQI on
-    q4..u6; (9, 17), the tethered LQI (``control.tether_lqi``) on q4..u6 and LN, whose fifth
-    row commands the reel rate in place of the winch PI while the winch runs (rows 5-8, the
-    free law, once it stops: a release or the free configuration). With
+    ctrl[CTRL_LAW] names the law (``layout.CONTROL_LAWS``): "paper", the paper's LQI on
+    q4..u6 (gain (4, 16)); "tether_lqi", the tethered LQI (``control.tether_lqi``) on q4..u6
+    and LN (gain (9, 17)), whose fifth row commands the reel rate in place of the winch PI
+    while the winch runs (rows 5-8, the free law, once it stops: a release or the free
+    configuration); the set-up pairs each law with its gain (``check_law``). With
     ctrl[CTRL_ANTI_WINDUP] the integrators hold while a rotor command lies outside
     [ctrl[CTRL_U_MIN + i], ctrl[CTRL_U_MAX + i]] (conditional integration). With
     ctrl[CTRL_TENSION_K_C] = KC > 0 the tethered law takes q9 = LN + TC / KC (eq 28, measured
@@ -100,7 +107,7 @@ def paper_control_sc(
     tethered_outputs_sc(x, sc, c, y)
     n_x = gain.shape[1] - 4
     winch_on = ctrl[CTRL_WINCH] > 0.5
-    tether_law = gain.shape[0] > 4
+    tether_law = ctrl[CTRL_LAW] > 0.5
     row0 = 5 if (tether_law and not winch_on) else 0
     q9 = x[5]
     if tether_law and winch_on:
@@ -169,6 +176,40 @@ def reel_law_step(x, q9, z, winch, ctrl, gain, x_ref, n_x):
     return limited
 
 
+def check_law(ctrl: np.ndarray, gain: np.ndarray) -> str:
+    """Check that the compiled law ``ctrl[CTRL_LAW]`` names (``layout.CONTROL_LAWS``) is
+    one the engine has and that ``gain`` has its shape; the engine then trusts both.
+
+    Parameters
+    ----------
+    ctrl : numpy.ndarray, shape (CTRL_SIZE,)
+        Controller settings (``layout.CTRL_*``).
+    gain : numpy.ndarray
+        The law's gain (``layout.LAW_GAIN``).
+
+    Returns
+    -------
+    str
+        The law's name.
+
+    Raises
+    ------
+    ParameterError
+        An unknown law code, or a gain of another law's shape.
+    """
+    code = float(ctrl[CTRL_LAW])
+    names = ", ".join(f"{i} ({n})" for i, n in enumerate(CONTROL_LAWS))
+    if code not in range(len(CONTROL_LAWS)):
+        raise ParameterError("ctrl[CTRL_LAW]", code, names)
+    name = CONTROL_LAWS[int(code)]
+    shape = CONTROL_LAW_GAIN_SHAPES[int(code)]
+    if np.shape(gain) != shape:
+        raise ParameterError(
+            "gain", f"an array of shape {np.shape(gain)}", f"shape {shape} for the {name} law"
+        )
+    return name
+
+
 class PaperController(Controller):
     """The paper's control scheme (Fig. 5) as a ``Controller``.
 
@@ -179,7 +220,8 @@ class PaperController(Controller):
     ----------
     gain : array_like, shape (4, 16) or (9, 17)
         The LQI gain K_LQI|F designed on the free model (Sec. IV-E), or the tethered LQI's
-        packed gain (``layout.LAW_GAIN``, ``control.tether_lqi.pack_gain``).
+        packed gain (``layout.LAW_GAIN``, ``control.tether_lqi.pack_gain``), as
+        ``ctrl[CTRL_LAW]`` names the law (``check_law``).
     trim_state : array_like, shape (13,)
         The configuration's trim x0 [q4..q9, u1..u6, LN] (references for q4..u6, and LN for
         the tethered LQI).
@@ -212,6 +254,7 @@ class PaperController(Controller):
         z_init=None,
     ) -> None:
         self.gain = np.ascontiguousarray(gain, dtype=float)
+        check_law(np.asarray(ctrl, dtype=float), self.gain)
         # q4..u6, and LN for the tethered LQI's (9, 17) gain (``layout.LAW_GAIN``)
         self.x_ref = np.ascontiguousarray(trim_state[: self.gain.shape[1] - 4], dtype=float)
         self.y_ref = np.ascontiguousarray(trim_output, dtype=float)

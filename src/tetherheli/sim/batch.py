@@ -47,7 +47,7 @@ import numpy as np
 from .._compile import compiled
 from .._validation import check_integer
 from ..errors import ClusterError, ParameterError, TetherheliError
-from ..layout import LANES
+from ..layout import LANES, Signals
 from ..names import METRIC_NAMES
 from ..params import Params
 from ..status import Status, status_message
@@ -92,12 +92,12 @@ def run_unrecorded(engine_args, summary):  # pragma: no cover - compiled
     samples_done : int
         Samples the run completed (``n_samples + 1`` if completed).
     """
-    d13 = np.zeros((1, 13))
+    # one-row signals, never written (``record`` is False)
     d4 = np.zeros((1, 4))
-    d3 = np.zeros((1, 3))
-    d1 = np.zeros(1)
-    d2 = np.zeros((1, 2))
-    out = (d13, d4, d4, d1, d1, d3, d4, d4, d1, np.zeros((0, 0, 3)), d2)
+    out = Signals(
+        np.zeros((1, 13)), d4, d4, np.zeros(1), np.zeros(1), np.zeros((1, 3)), d4, d4,
+        np.zeros(1), np.zeros((0, 0, 3)), np.zeros((1, 2)),
+    )  # fmt: skip
     return engine.run_closed_loop(*engine_args, False, out, summary)
 
 

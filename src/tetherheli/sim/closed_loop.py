@@ -21,21 +21,16 @@ from ..control.base import Controller, Measurement
 from ..errors import ParameterError
 from ..layout import (
     CFG_ATTACHED,
-    CFG_GUST_DT,
     CFG_N_SUB,
-    CHAIN_NODES,
-    CTRL_SIZE,
-    HELD_DRUM_SPEED_SAMPLED,
-    HELD_MOTOR_TORQUE,
-    HELD_SIZE,
     SUMMARY_FIELDS,
     SUMMARY_RELEASE_TIME,
     SUMMARY_WINCH_LIMIT,
     SUMMARY_WINCH_LIMIT_TIME,
     WIND_CONSTANT,
+    Signals,
 )
 from ..model import TrimPoint
-from ..model.kernels import angle_trig, angle_trig_from, tethered_outputs
+from ..model.kernels import angle_trig, angle_trig_from
 from ..params import Params
 from ..resources import check_memory
 from ..sensing.config import N_CHANNELS, N_GROUPS
@@ -164,22 +159,21 @@ def simulate(
         controller = (
             setup.paper_controller() if paper else mpc_controller(scenario, setup, design_params)
         )
-    rec = _Recorder(n, drum=scenario.winch.model == "drum")
-    if scenario.tether.lumped:
-        if not (method == "rk4" and wind is not None):
-            raise ParameterError(
-                "method", method, "'rk4' with built-in winds for a lumped tether ([tether] "
-                "model = 'lumped'; the adaptive reference covers the massless tether)"
-            )  # fmt: skip
-        rec.lumped = True
-        if scenario.tether.record_nodes:
-            rec.nodes = np.zeros((n + 1, scenario.tether.segments + 1, 3))
+    lumped = scenario.tether.lumped
+    if lumped and not (method == "rk4" and wind is not None):
+        raise ParameterError(
+            "method", method, "'rk4' with built-in winds for a lumped tether ([tether] "
+            "model = 'lumped'; the adaptive reference covers the massless tether)"
+        )  # fmt: skip
+    nodes = scenario.tether.segments + 1 if lumped and scenario.tether.record_nodes else 0
+    rec = _Recorder(n, drum=scenario.winch.model == "drum", lumped=lumped, nodes=nodes)
     if paper and method == "rk4" and wind is not None:
         status, done = engine.run_closed_loop(*setup.engine_args(n), True, rec.signals, rec.summary)
-        rec.release[:] = rec.summary[SUMMARY_RELEASE_TIME : SUMMARY_RELEASE_TIME + 2]
-    else:
-        status, done = _python_loop(scenario, setup, controller, method, rec, rtol=rtol, atol=atol)
-        engine.winch_limit_into(rec.held, rec.summary)
+    else:  # the same sample step, the controller's slot in Python
+        run = setup.step_run(rec.signals)
+        status, done = _python_loop(scenario, setup, run, controller, method, rtol=rtol, atol=atol)
+        rec.summary[:] = run.summary
+    rec.release[:] = rec.summary[SUMMARY_RELEASE_TIME : SUMMARY_RELEASE_TIME + 2]
     columns = controller.recorded()  # e.g. the MPC's fallbacks
     # a run whose solver failed too often is degraded or failed (status.solver_status)
     status = solver_status(status, columns.get(FALLBACK_COLUMN, ())[:done])
@@ -189,31 +183,13 @@ def simulate(
 
 
 class _Recorder:
-    def __init__(self, n: int, *, drum: bool = False) -> None:
-        self.x = np.zeros((n + 1, 13))
-        self.u = np.zeros((n + 1, 4))
-        self.ffwd = np.zeros((n + 1, 4))
-        self.rate = np.zeros(n + 1)
-        self.tension = np.zeros(n + 1)
-        self.wind = np.zeros((n + 1, 3))
-        self.y = np.zeros((n + 1, 4))
-        self.y_est = np.zeros((n + 1, 4))
-        # the drum's speed [rad/s] and mean motor torque [N m]; one unused row without a drum
-        self.winch = np.zeros((n + 1 if drum else 1, len(DRUM_COLUMNS)))
-        self.release = np.full(2, np.nan)  # tether release: time [s], tension [N]
-        self.held = np.zeros(HELD_SIZE)  # the Python loop's actuators (``layout.HELD_*``)
-        self.summary = np.zeros(len(SUMMARY_FIELDS))
-        self.tension_ground = np.zeros(n + 1)  # at the winch (= tension when massless)
-        self.nodes = np.zeros((0, 0, 3))  # the chain's nodes (``record_nodes``)
-        self.lumped = False
+    """A run's recorded signals (``layout.Signals``), summary and release, made a result."""
 
-    @property
-    def signals(self) -> tuple:
-        """The recorded arrays in ``engine.run_closed_loop``'s ``out`` order."""
-        return (
-            self.x, self.u, self.ffwd, self.rate, self.tension, self.wind, self.y, self.y_est,
-            self.tension_ground, self.nodes, self.winch,
-        )  # fmt: skip
+    def __init__(self, n: int, *, drum: bool = False, lumped: bool = False, nodes: int = 0) -> None:
+        self.signals = Signals.zeros(n + 1, drum=drum, nodes=nodes)
+        self.release = np.full(2, np.nan)  # tether release: time [s], tension [N]
+        self.summary = np.zeros(len(SUMMARY_FIELDS))
+        self.lumped = lumped
 
     def result(
         self,
@@ -227,28 +203,29 @@ class _Recorder:
         columns: dict[str, np.ndarray] | None = None,
     ) -> SimulationResult:
         k = done
+        sig = self.signals
         extra = {name: v[:k].copy() for name, v in (columns or {}).items()}
         if sensed:  # the controller's position estimate next to the truth
             for i, name in enumerate(("q1_est", "q2_est", "q3_est")):
-                extra[name] = self.y_est[:k, i].copy()
+                extra[name] = sig.y_est[:k, i].copy()
         if self.lumped:  # the load cell's tension at the winch; the nodes on request
-            extra[TENSION_GROUND_COLUMN] = self.tension_ground[:k].copy()
-            for i in range(self.nodes.shape[1]):
+            extra[TENSION_GROUND_COLUMN] = sig.tension_ground[:k].copy()
+            for i in range(sig.nodes.shape[1]):
                 for a in range(3):
-                    extra[f"node{i}_n{a + 1}"] = self.nodes[:k, i, a].copy()
+                    extra[f"node{i}_n{a + 1}"] = sig.nodes[:k, i, a].copy()
         if scenario.winch.model == "drum":  # the drum's signals (``result.EXTRA_UNITS``)
             for i, name in enumerate(DRUM_COLUMNS):
-                extra[name] = self.winch[:k, i].copy()
+                extra[name] = sig.winch[:k, i].copy()
         # views, not copies: the recorder is dropped here, so a long run is held once
         return SimulationResult(
             time=np.arange(k) * scenario.control.dt,
-            states=self.x[:k],
-            outputs=self.y[:k],
-            inputs=self.u[:k],
-            feedforward=self.ffwd[:k],
-            tension=self.tension[:k],
-            reel_rate=self.rate[:k],
-            wind=self.wind[:k],
+            states=sig.x[:k],
+            outputs=sig.y[:k],
+            inputs=sig.u[:k],
+            feedforward=sig.ffwd[:k],
+            tension=sig.tension[:k],
+            reel_rate=sig.rate[:k],
+            wind=sig.wind[:k],
             trim_state=trim.x.copy(),
             trim_input=trim.u.copy(),
             trim_output=trim.y.copy(),
@@ -267,88 +244,61 @@ class _Recorder:
         )
 
 
-def _python_loop(scenario, setup, controller, method, rec, *, rtol, atol):
+def _python_loop(scenario, setup, run, controller, method, *, rtol, atol):
     """The closed loop driven from Python: any Controller, RK4 or the adaptive reference.
 
-    Each sample runs the engine's phases (``engine.sense``, the controller, ``engine.actuate``,
-    ``engine.check_state``), as the compiled loop does; only the integrator differs."""
+    Each sample is the engine's one sample step (``engine.step_sense``, the controller,
+    ``engine.step_command``: actuators, checks, metrics, recording), as the compiled loop
+    runs it; only the integrator may differ (``engine.step_advance``, or RK4 with a Python
+    disturbance, or the adaptive reference)."""
     dt = scenario.control.dt
     n = scenario.n_samples
-    cfg = setup.cfg.copy()
     c = setup.model.constants
-    trim, wind, act = setup.trim, setup.wind, setup.act
-    sensors = setup.sensors
-    x = setup.start.x.copy()  # the trim in the air at t = 0 (``setup.start_point``)
-    x_meas = np.empty(13)
-    held = rec.held
-    y = np.empty(4)
-    work = np.empty((engine.RK4_WORK_ROWS, 13))
-    wind_buf = np.empty(3)
-    breaks = wind.breakpoints(n * dt) if wind is not None else np.array([])
+    x, cfg = run.x, run.cfg
+    x_meas, applied = run.loop.x_meas, run.loop.inputs
+    disturbance = scenario.wind if setup.wind is None else None  # a Python disturbance
+    out_wind = run.out.wind
+    breaks = setup.wind.breakpoints(n * dt) if setup.wind is not None else np.array([])
     controller.reset()
-    # the engine's release switches the compiled controller's settings; a Python controller
-    # is told by Measurement.attached instead (the paper's one then stops its winch and
-    # feed-forward, as the compiled one does)
-    ctrl_scratch = np.zeros(CTRL_SIZE)
-    lumped = scenario.tether.lumped  # (method "rk4" and a built-in wind: ``simulate``)
-    chain = tuple(a.copy() for a in setup.chain)
-    cw = engine.lumped_work(scenario.tether.segments) if lumped else None
-
+    status, done = Status.OK, n + 1
     for k in range(n + 1):
         t = k * dt
-        if lumped and cfg[CFG_ATTACHED] > 0.5:
-            engine.chain_ends(x, t, cfg, wind.gust, chain, cw)
-        tension, measured = engine.sense(
-            x, k, t, cfg, ctrl_scratch, act, sensors, rec.release, x_meas
-        )
+        tension, measured = engine.step_sense(run, k)
         attached = cfg[CFG_ATTACHED] > 0.5
-        measurement = Measurement(state=x_meas.copy(), tension=measured, attached=attached)
-        cmd = controller.step(t, measurement)
-        inp = np.array(cmd.inputs, dtype=float)
-        if inp.shape != (4,):
-            raise ValueError(f"controller command has shape {inp.shape}; allowed: (4,)")
-        rate = float(cmd.reel_rate) if attached else 0.0
-        finite = bool(np.all(np.isfinite(inp)) and math.isfinite(rate))
-        if finite:
-            ground = engine.winch_tension(cfg, tension)
-            rate = engine.actuate(inp, held, rate, act, dt, k == 0, ground, measured, x[12], t)
-        tethered_outputs(x_meas, c, rec.y_est[k])
-        tethered_outputs(x, c, y)
-        status = engine.check_state(x, y, trim.y, tension, cfg)
-        if status == Status.OK and not finite:
-            status = Status.NONFINITE
+        cmd = controller.step(t, Measurement(state=x_meas.copy(), tension=measured,
+                                             attached=attached))  # fmt: skip
+        inp = np.asarray(cmd.inputs, dtype=float)
+        ffwd = np.asarray(cmd.feedforward, dtype=float)
+        for name, value in (("inputs", inp), ("feedforward", ffwd)):
+            if value.shape != (4,):
+                raise ValueError(
+                    f"controller command {name} has shape {value.shape}; allowed: (4,)"
+                )
+        status, rate = engine.step_command(
+            run, k, inp, float(cmd.reel_rate), ffwd, tension, measured
+        )
         if status != Status.OK:
-            return status, k
-        rec.x[k], rec.u[k], rec.ffwd[k] = x, inp, cmd.feedforward
-        rec.rate[k], rec.tension[k], rec.y[k] = rate, tension, y
-        if scenario.winch.model == "drum":
-            rec.winch[k] = held[HELD_DRUM_SPEED_SAMPLED], held[HELD_MOTOR_TORQUE]
-        rec.wind[k] = _wind_at(scenario.wind, wind, cfg, t, 1, x, wind_buf)
-        tied = lumped and cfg[CFG_ATTACHED] > 0.5
-        rec.tension_ground[k] = engine.winch_tension(cfg, tension)
-        if rec.nodes.shape[0] > 0:
-            rec.nodes[k] = chain[CHAIN_NODES]
+            done = k
+            break
+        if disturbance is not None:  # the engine's empty wind program recorded zero
+            out_wind[k] = np.asarray(disturbance.force_at(t, x[6:9]), dtype=float)
         if k == n:
             break
-        if tied:
-            engine.lumped_interval(
-                x, inp, rate, t, cfg, c, wind.program, wind.gust, wind.drag, work, chain, cw,
-                engine.COUPLING_CONDENSED,
+        if method == "adaptive":
+            x_next = _adaptive_interval(
+                x, applied, rate, t, dt, breaks, cfg, c, scenario.wind, setup.wind, rtol=rtol,
+                atol=atol,
             )  # fmt: skip
-        elif method == "rk4":
-            if wind is None:
-                _rk4_custom_wind(x, inp, rate, t, dt, int(cfg[CFG_N_SUB]), cfg, c, scenario.wind)
-            else:
-                engine.rk4_interval(
-                    x, inp, rate, t, cfg, c, wind.program, wind.gust, wind.drag, work, False
-                )
+            if x_next is None:
+                status, done = Status.NONFINITE, k + 1
+                break
+            x[:] = x_next
+        elif disturbance is None:
+            engine.step_advance(run, k, rate)
         else:
-            x = _adaptive_interval(
-                x, inp, rate, t, dt, breaks, cfg, c, scenario.wind, wind, rtol=rtol, atol=atol
-            )
-            if x is None:
-                return Status.NONFINITE, k + 1
-    return Status.OK, n + 1
+            _rk4_custom_wind(x, applied, rate, t, dt, int(cfg[CFG_N_SUB]), cfg, c, disturbance)
+    engine.step_finish(run)
+    return status, done
 
 
 def _adaptive_interval(x, inp, rate, t, dt, breaks, cfg, c, disturbance, wind, *, rtol, atol):
@@ -374,24 +324,6 @@ def _adaptive_interval(x, inp, rate, t, dt, breaks, cfg, c, disturbance, wind, *
             return None
         x = sol.y[:, -1].copy()
     return x
-
-
-def _wind_at(disturbance, wind, cfg, t, side, x, buf):
-    if wind is not None:
-        engine.wind_force(
-            wind.program,
-            wind.gust,
-            cfg[CFG_GUST_DT],
-            wind.drag,
-            t,
-            side,
-            x[6],
-            x[7],
-            x[8],
-            buf,
-        )
-        return buf.copy()
-    return np.asarray(disturbance.force_at(t, x[6:9]), dtype=float)
 
 
 def _plant(x, sc, inp, rate, t, side, cfg, c, disturbance, wind, out):

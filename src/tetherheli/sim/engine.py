@@ -24,6 +24,7 @@ chain) are laid out in ``tetherheli.layout``; run statuses are ``tetherheli.stat
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -76,6 +77,8 @@ from ..layout import (
     HELD_REEL_RATE,
     HELD_SIZE,
     LANES,
+    LAW_X_REF,
+    LAW_Y_REF,
     LAW_Z0,
     LUMPED_MU,
     SUMMARY_FIELDS,
@@ -102,6 +105,8 @@ from ..layout import (
     WIND_PULSE,
     WIND_SINE,
     WIND_START,
+    LoopState,
+    Signals,
     default_actuators,
 )
 from ..model.kernels import (
@@ -111,6 +116,7 @@ from ..model.kernels import (
     sin_branchless,
     tension_from_state,
     tethered_outputs,
+    tethered_outputs_sc,
     tethered_rhs_lanes,
     tethered_rhs_sc,
 )
@@ -125,6 +131,7 @@ __all__ = [
     "HELD_SIZE",
     "SUMMARY_FIELDS",
     "WIND_COLUMNS",
+    "StepRun",
     "actuate",
     "check_state",
     "default_actuators",
@@ -134,6 +141,11 @@ __all__ = [
     "run_closed_loop",
     "sense",
     "status_message",
+    "step_advance",
+    "step_command",
+    "step_finish",
+    "step_sense",
+    "summarize",
 ]
 
 _jit = compiled(error_model="numpy")
@@ -379,8 +391,11 @@ def winch_limit_into(held, summary):
         summary[SUMMARY_WINCH_LIMIT] = np.nan
 
 
-@_jit
-def _accumulate(summary, x, x_ref, y, y_ref, tension):
+@_jit_inline
+def accumulate(summary, x, x_ref, y, y_ref, tension):
+    """One sample into the on-line metrics (``layout.SUMMARY_FIELDS``; their definitions:
+    ``analysis``): peaks of |y - y_ref| (q1..q3) and |x - x_ref| (q4, q5), sums of squares of
+    the position deviations, the tension range, the sample count."""
     for a in range(3):
         dev = y[a] - y_ref[a]
         if abs(dev) > summary[SUMMARY_PEAK_Q1 + a]:
@@ -395,6 +410,16 @@ def _accumulate(summary, x, x_ref, y, y_ref, tension):
     if tension > summary[SUMMARY_TENSION_MAX]:
         summary[SUMMARY_TENSION_MAX] = tension
     summary[SUMMARY_N_SAMPLES] += 1.0
+
+
+@_jit
+def summarize(x, x_ref, y, y_ref, tension, first, summary):
+    """The on-line metrics (``accumulate``) of recorded samples first, first + 1, ... of x
+    (n, 13), y (n, 4) and tension (n,) into ``summary`` (``start_summary`` first): a recorded
+    or loaded run measured as the engine measures it while it flies."""
+    start_summary(summary)
+    for k in range(first, x.shape[0]):
+        accumulate(summary, x[k], x_ref, y[k], y_ref, tension[k])
 
 
 # --- the phases of one control sample ----------------------------------------------------------
@@ -546,15 +571,15 @@ def drum_winch(held, rate_cmd, act, dt, tension_ground, measured_tension):
 @_jit_inline
 def paper_sample(x, k, cfg, ctrl, act, sensors, c, law, loop, action, action_mode):
     """One control sample of the paper's scheme at t = k dt (Fig. 5): ``sense``, the LQI with
-    feed-forward and the winch PI (``control.paper.paper_control_sc``), an optional ``action``
-    on the rotor inputs (``ACTION_*``), ``actuate``, and the failure checks of the sampled
-    state (``check_state_sc``). ``law`` is (gain, x_ref, y_ref, u0, u0_free, z0)
-    (``layout.LAW_*``): once the tether is released (or in the free configuration) the LQI
-    works about the free trim's input u0_free; z0 is the integrators' start; ``loop`` the per-run
-    arrays in the order of ``layout.LOOP_*`` (z, winch, held, event, x_meas, sc_meas, sc_true,
-    y, y_est, inp, ffwd), updated in
-    place: inp then holds the applied inputs, y the true outputs, sc_true sin and cos of the
-    true angles. Returns (status, true tension [N], applied reel rate [m/s])."""
+    feed-forward and the winch PI (``paper_law``), an optional ``action`` on the rotor inputs
+    (``ACTION_*``), ``actuate``, and the failure checks of the sampled state
+    (``sample_outputs``). ``law`` is (gain, x_ref, y_ref, u0, u0_free, z0) (``layout.LAW_*``):
+    once the tether is released (or in the free configuration) the LQI works about the free
+    trim's input u0_free; z0 is the integrators' start; ``loop`` the per-run arrays in the
+    order of ``layout.LOOP_*`` (z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est,
+    inp, ffwd), updated in place: inp then holds the applied inputs, y the true outputs,
+    sc_true sin and cos of the true angles. Returns (status, true tension [N], applied reel
+    rate [m/s])."""
     gain, x_ref, y_ref, u0_tethered, u0_free, _z0 = law
     z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd = loop
     return _paper_sample(
@@ -572,8 +597,46 @@ def _paper_sample(
     # ``paper_sample`` on the members of its tuples, unpacked by the caller. The compiled loop
     # unpacks them once per run: every array taken out of a tuple is a reference count
     # raised and dropped by an atomic instruction (issue 24; measured within noise, ~4 %)
-    dt = cfg[CFG_DT]
-    tension, measured = _sense(x, k, k * dt, cfg, ctrl, act, sensors, sensed, event, x_meas)
+    tension, measured = _sense(x, k, k * cfg[CFG_DT], cfg, ctrl, act, sensors, sensed, event,
+                               x_meas)  # fmt: skip
+    rate = paper_law(x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered,
+                     u0_free, z, winch, y_est, inp, ffwd, action, action_mode)  # fmt: skip
+    status, rate = sample_apply(x, k, cfg, act, c, held, inp, rate, tension, measured, sensed,
+                                y, y_est, sc_true, sc_meas, y_ref)  # fmt: skip
+    return status, tension, rate
+
+
+# --- the phases of one sample, shared by every loop (issue 24: one sample step) -------------
+# A sample at t = k dt is: ``sample_sense`` (a lumped chain's ends, the release check, the
+# sensors); the controller (the compiled ``paper_law``, or a command from Python:
+# ``step_command``); ``sample_apply`` (actuators, true outputs, failure checks);
+# ``sample_record`` (the on-line metrics and the recorded signals); then the integrator
+# (``sample_advance``: RK4 or the lumped chain's coupled step; the adaptive reference swaps
+# only this phase). ``run_closed_loop`` runs them around the paper's law; ``step_sense``,
+# ``step_command`` and ``step_advance`` run them from Python around any ``Controller``.
+
+
+@_jit_inline
+def sample_sense(x, k, cfg, ctrl, act, sensors, sensed, event, x_meas, lumped, gust, chain, cw):
+    """Phase 1 at t = k dt: a lumped chain's end tensions (``chain_ends``, while attached),
+    then ``sense``. Returns (true tension at P, measured tension) [N]."""
+    t = k * cfg[CFG_DT]
+    if lumped and cfg[CFG_ATTACHED] > 0.5:
+        chain_ends(x, t, cfg, gust, chain, cw)
+    return _sense(x, k, t, cfg, ctrl, act, sensors, sensed, event, x_meas)
+
+
+@_jit_inline
+def paper_law(
+    x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered, u0_free, z,
+    winch, y_est, inp, ffwd, action, action_mode,
+):  # fmt: skip
+    """Phase 2, the compiled controller: the paper's LQI with feed-forward and winch PI, or
+    the tethered LQI (``control.paper.paper_control_sc``) on the measured state x_meas, about
+    u0_tethered while the tether is attached and u0_free after (sc_meas receives sin, cos of
+    x_meas's angles, y_est its outputs, inp the rotor command, ffwd the feed-forward), then an
+    optional ``action`` added to or replacing the rotor command (``ACTION_*``). Returns the
+    reel-rate command [m/s]."""
     u0 = u0_tethered if cfg[CFG_ATTACHED] > 0.5 else u0_free
     angle_trig(x_meas, sc_meas)
     rate = paper_control_sc(
@@ -585,16 +648,86 @@ def _paper_sample(
     elif action_mode == ACTION_REPLACE:
         for i in range(4):
             inp[i] = action[i]
-    rate = actuate(
-        inp, held, rate, act, dt, k == 0, winch_tension(cfg, tension), measured, x[12], k * dt
-    )
+    return rate
+
+
+@_jit_inline
+def sample_outputs(x, c, sensed, y, y_est, sc_true, sc_meas, y_ref, tension, cfg):
+    """The true outputs y and sin, cos of the true angles sc_true (copies of the estimate's
+    when the sensors are perfect, x_meas = x), then the failure checks (``check_state_sc``);
+    returns the status."""
     if sensed:
         tethered_outputs(x, c, y)
         angle_trig(x, sc_true)
     else:
         y[:] = y_est
         sc_true[:] = sc_meas
-    return check_state_sc(x, sc_true, y, y_ref, tension, cfg), tension, rate
+    return check_state_sc(x, sc_true, y, y_ref, tension, cfg)
+
+
+@_jit_inline
+def sample_apply(
+    x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, y, y_est, sc_true, sc_meas,
+    y_ref,
+):  # fmt: skip
+    """Phase 3: ``actuate`` on the controller's command (inp, the reel rate ``rate``), then
+    ``sample_outputs``. Returns (status, applied reel rate [m/s])."""
+    dt = cfg[CFG_DT]
+    rate = actuate(
+        inp, held, rate, act, dt, k == 0, winch_tension(cfg, tension), measured, x[12], k * dt
+    )
+    return sample_outputs(x, c, sensed, y, y_est, sc_true, sc_meas, y_ref, tension, cfg), rate
+
+
+@_jit_inline
+def sample_record(
+    k, cfg, act, summary, x, x_ref, y, y_ref, tension, rate, inp, ffwd, y_est, held, record,
+    out, program, gust, drag, scratch, nodes,
+):  # fmt: skip
+    """Phase 4: the on-line metrics of the samples k >= cfg[CFG_METRICS_FROM] into
+    ``summary`` (``accumulate``), and with ``record`` the sample's row of ``out``
+    (``layout.Signals``); ``scratch`` (>= 3,) receives the wind force."""
+    if k >= cfg[CFG_METRICS_FROM]:  # the metrics' window (Scenario.metrics_start)
+        accumulate(summary, x, x_ref, y, y_ref, tension)
+    if not record:
+        return
+    wind_force(program, gust, cfg[CFG_GUST_DT], drag, k * cfg[CFG_DT], 1, x[6], x[7], x[8],
+               scratch)  # fmt: skip
+    out.x[k] = x
+    out.u[k] = inp
+    out.ffwd[k] = ffwd
+    out.rate[k] = rate
+    out.tension[k] = tension
+    out.wind[k] = scratch[:3]
+    out.y[k] = y
+    out.y_est[k] = y_est
+    out.tension_ground[k] = winch_tension(cfg, tension)
+    if out.nodes.shape[0] > 0:
+        out.nodes[k] = nodes
+    if act[ACT_DRUM] > 0.5:  # the drum's speed at t_k, its mean torque after t_k
+        out.winch[k, 0] = held[HELD_DRUM_SPEED_SAMPLED]
+        out.winch[k, 1] = held[HELD_MOTOR_TORQUE]
+
+
+@_jit_inline
+def sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, work, chain, cw, lumped):
+    """Phase 5, the fixed-step integrator over [k dt, (k + 1) dt]: a lumped chain's coupled
+    step while attached (``lumped_interval``), else ``rk4_interval`` (sin, cos of x's angles
+    already in work[6], ``sample_outputs``'s sc_true)."""
+    t = k * cfg[CFG_DT]
+    if lumped and cfg[CFG_ATTACHED] > 0.5:
+        lumped_interval(x, inp, rate, t, cfg, c, program, gust, drag, work, chain, cw,
+                        plain(COUPLING_CONDENSED))  # fmt: skip
+    else:
+        rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, work, plain(True))
+
+
+@_jit_inline
+def finish_summary(summary, event, held):
+    """The run's release event and first payout limit into its summary."""
+    summary[SUMMARY_RELEASE_TIME] = event[0]
+    summary[SUMMARY_RELEASE_TENSION] = event[1]
+    winch_limit_into(held, summary)
 
 
 def new_loop_state(x_init: np.ndarray, z_init: np.ndarray, work: np.ndarray) -> tuple:
@@ -606,8 +739,7 @@ def new_loop_state(x_init: np.ndarray, z_init: np.ndarray, work: np.ndarray) -> 
 
 @_jit_inline
 def _loop_state(x_init, z_init, work):
-    # in the order of layout.LOOP_*
-    return (
+    return LoopState(
         z_init.copy(),  # z: the LQI's output-error integral (eq 50), from sim.setup.start_point
         np.zeros(WINCH_SIZE),  # winch: layout.WINCH_* (the PI's integral, its last command)
         np.zeros(HELD_SIZE),  # held: layout.HELD_* (the winch starts at rest)
@@ -617,7 +749,7 @@ def _loop_state(x_init, z_init, work):
         work[6, :10],  # sc_true: shared with rk4_interval's first stage
         np.empty(4),  # y
         np.empty(4),  # y_est
-        np.empty(4),  # inp
+        np.empty(4),  # inputs
         np.empty(4),  # ffwd
     )
 
@@ -640,21 +772,23 @@ def run_closed_loop(
 ):
     """Run the closed loop for n_samples control samples; returns (status, samples done).
 
-    Each sample is ``paper_sample`` then ``rk4_interval``; with a lumped tether (``chain``,
-    ``layout.CHAIN_*``, nodes present) ``chain_ends`` first sets the chain's end tensions
-    (the load cell reads the winch's) and ``lumped_interval`` advances helicopter and chain
-    (``layout.empty_chain()``: the massless tether of eq 28). ``law`` is (gain, x_ref, y_ref, u0,
-    u0_free, z0) (``layout.LAW_*``), ``wind`` (program, gust table, drag), ``sensors``
-    (``sim.setup.sensor_tuple``). With ``record`` the arrays of ``out`` = (x, u, ffwd, rate,
-    tension, wind, y, y_est, tension_ground, nodes, winch), n_samples + 1 rows each, receive
-    the sampled signals: true state, applied inputs (with feed-forward), feed-forward, reel
-    rate, true tension (at P), wind force, true outputs, the controller's output estimate, the
-    tension at the winch (equal to the tension for the massless tether), when its first axis
-    is not empty the chain's node positions (n_samples + 1, N + 1, 3), and the drum winch's
-    speed at the sample [rad/s] and mean motor torque over the sample after it [N m] (drum
-    winch only; the ideal winch leaves it alone, one row is enough). ``summary``
-    (len(SUMMARY_FIELDS),) always receives the on-line metrics of the samples
-    k >= cfg[CFG_METRICS_FROM], the release event in its ``release_*`` slots (NaN without one).
+    Each sample is the phases above around ``paper_law``: ``sample_sense``, ``paper_law``,
+    ``sample_apply``, ``sample_record``, ``sample_advance``; with a lumped tether (``chain``,
+    ``layout.CHAIN_*``, nodes present) the chain's ends are set before the sample and
+    ``lumped_interval`` advances helicopter and chain (``layout.empty_chain()``: the massless
+    tether of eq 28). ``law`` is (gain, x_ref, y_ref, u0, u0_free, z0) (``layout.LAW_*``),
+    ``wind`` (program, gust table, drag), ``sensors`` (``sim.setup.sensor_tuple``). With
+    ``record`` the arrays of ``out`` (``layout.Signals``: x, u, ffwd, rate, tension, wind, y,
+    y_est, tension_ground, nodes, winch), n_samples + 1 rows each, receive the sampled
+    signals: true state, applied inputs (with feed-forward), feed-forward, reel rate, true
+    tension (at P),
+    wind force, true outputs, the controller's output estimate, the tension at the winch
+    (equal to the tension for the massless tether), when its first axis is not empty the
+    chain's node positions (n_samples + 1, N + 1, 3), and the drum winch's speed at the sample
+    [rad/s] and mean motor torque over the sample after it [N m] (drum winch only; the ideal
+    winch leaves it alone, one row is enough). ``summary`` (len(SUMMARY_FIELDS),) always
+    receives the on-line metrics of the samples k >= cfg[CFG_METRICS_FROM], the release event
+    in its ``release_*`` slots (NaN without one).
     """
     # The loop works on borrowed views (``_compile.borrowed``: no atomic reference counts):
     # of the arguments, which the caller holds, and of the run's own arrays, held below
@@ -663,8 +797,7 @@ def run_closed_loop(
     own_work = np.empty((RK4_WORK_ROWS, 13))
     own_loop = _loop_state(x_init, law[LAW_Z0], own_work)
     own_no_action = np.zeros(4)
-    nodes_in = chain[CHAIN_NODES]
-    own_cw = _lumped_work(max(nodes_in.shape[0] - 1, 1))
+    own_cw = _lumped_work(max(chain[CHAIN_NODES].shape[0] - 1, 1))
     cfg, ctrl, x, work, no_action = borrowed((own_cfg, own_ctrl, own_x, own_work, own_no_action))
     c, act, summary, sensors, chain, out, cw = borrowed(
         (c, act, summary, sensors, chain, out, own_cw)
@@ -675,54 +808,139 @@ def run_closed_loop(
     z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd = borrowed(own_loop)
     sensed = sensors[0].shape[0] > 0
     start_summary(summary)
-    dt = cfg[CFG_DT]
     status, done = STATUS_OK, n_samples + 1
     nodes = chain[CHAIN_NODES]
     lumped = nodes.shape[0] > 0
-    out_x, out_u, out_ffwd, out_rate, out_tension, out_wind, out_y, out_y_est = out[:8]
-    out_ground, out_nodes, out_winch = out[8], out[9], out[10]
     for k in range(n_samples + 1):
-        t = k * dt
-        if lumped and cfg[CFG_ATTACHED] > 0.5:
-            chain_ends(x, t, cfg, gust, chain, cw)
-        sample_status, tension, rate = _paper_sample(
-            x, k, cfg, ctrl, act, sensors, sensed, c, gain, x_ref, y_ref, u0_tethered,
-            u0_free, z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd,
-            no_action, ACTION_NONE,
+        tension, measured = sample_sense(
+            x, k, cfg, ctrl, act, sensors, sensed, event, x_meas, lumped, gust, chain, cw
+        )
+        rate = paper_law(
+            x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered, u0_free,
+            z, winch, y_est, inp, ffwd, no_action, ACTION_NONE,
+        )  # fmt: skip
+        sample_status, rate = sample_apply(
+            x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, y, y_est, sc_true,
+            sc_meas, y_ref,
         )  # fmt: skip
         if sample_status != STATUS_OK:
             status, done = sample_status, k
             break
-        if k >= cfg[CFG_METRICS_FROM]:  # the metrics' window (Scenario.metrics_start)
-            _accumulate(summary, x, x_ref, y, y_ref, tension)
-        if record:
-            wind_force(program, gust, cfg[CFG_GUST_DT], drag, t, 1, x[6], x[7], x[8], work[5])
-            out_x[k] = x
-            out_u[k] = inp
-            out_ffwd[k] = ffwd
-            out_rate[k] = rate
-            out_tension[k] = tension
-            out_wind[k] = work[5, :3]
-            out_y[k] = y
-            out_y_est[k] = y_est
-            out_ground[k] = winch_tension(cfg, tension)
-            if out_nodes.shape[0] > 0:
-                out_nodes[k] = nodes
-            if act[ACT_DRUM] > 0.5:  # the drum's speed at t_k, its mean torque after t_k
-                out_winch[k, 0] = held[HELD_DRUM_SPEED_SAMPLED]
-                out_winch[k, 1] = held[HELD_MOTOR_TORQUE]
+        sample_record(
+            k, cfg, act, summary, x, x_ref, y, y_ref, tension, rate, inp, ffwd, y_est, held,
+            record, out, program, gust, drag, work[5], nodes,
+        )  # fmt: skip
         if k == n_samples:
             break
-        if lumped and cfg[CFG_ATTACHED] > 0.5:
-            lumped_interval(x, inp, rate, t, cfg, c, program, gust, drag, work, chain, cw,
-                            plain(COUPLING_CONDENSED))  # fmt: skip
-        else:
-            rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, work, plain(True))
-    summary[SUMMARY_RELEASE_TIME] = event[0]
-    summary[SUMMARY_RELEASE_TENSION] = event[1]
-    winch_limit_into(held, summary)
+        sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, work, chain, cw, lumped)
+    finish_summary(summary, event, held)
     keep_alive((own_cfg, own_ctrl, own_x, own_work, own_loop, own_no_action, own_cw))
     return status, done
+
+
+# --- the same sample driven from Python, around any ``Controller`` ------------------------
+# ``simulate``'s Python path (the MPC, a user's ``Controller``, the adaptive reference)
+# holds a ``StepRun`` (``sim.setup.EngineSetup.step_run``) and calls, per sample,
+# ``step_sense``, then the controller, then ``step_command``, then ``step_advance`` (or its
+# own integrator): the phases above, compiled once, with the controller's slot in Python.
+
+
+class StepRun(NamedTuple):
+    """One run's arrays for the sample step driven from Python (``step_sense``,
+    ``step_command``, ``step_advance``, ``step_finish``), built by
+    ``sim.setup.EngineSetup.step_run``; a named record, so each step function has one
+    compiled signature and reads its fields by name."""
+
+    x: np.ndarray  #: (13,) the true state, advanced in place
+    cfg: np.ndarray  #: ``layout.CFG_*``, a run's own copy (the release switches it)
+    ctrl: np.ndarray  #: ``layout.CTRL_*``, a run's own copy
+    c: np.ndarray  #: the model constants
+    law: tuple  #: ``layout.LAW_*`` (x_ref and y_ref are the metrics' references)
+    wind: tuple  #: (program, gust table, drag); an empty program for a Python disturbance
+    act: np.ndarray  #: ``layout.ACT_*``
+    sensors: tuple  #: ``sim.setup.sensor_tuple``
+    chain: tuple  #: ``layout.CHAIN_*`` (``layout.empty_chain()``: massless)
+    cw: tuple  #: the chain's scratch (``lumped_work``)
+    work: np.ndarray  #: (RK4_WORK_ROWS, 13) the integrator's scratch
+    loop: LoopState  #: the control phases' state (``new_loop_state``)
+    summary: np.ndarray  #: (len(SUMMARY_FIELDS),) the on-line metrics (``start_summary``)
+    out: Signals  #: the recorded signals
+
+
+@_jit
+def step_sense(run, k):
+    """``sample_sense`` of sample k of a ``StepRun``: the measured state lands in
+    ``run.loop.x_meas``; returns (true tension at P, measured tension) [N]."""
+    return sample_sense(
+        run.x, k, run.cfg, run.ctrl, run.act, run.sensors, run.sensors[0].shape[0] > 0,
+        run.loop.event, run.loop.x_meas, run.chain[CHAIN_NODES].shape[0] > 0, run.wind[1],
+        run.chain, run.cw,
+    )  # fmt: skip
+
+
+@_jit
+def step_command(run, k, command, reel_rate, feedforward, tension, measured):
+    """The controller's slot filled from Python, then ``sample_apply`` and ``sample_record``
+    (always recording into ``run.out``) of sample k of a ``StepRun``. ``command`` (4,) are
+    the rotor inputs, ``reel_rate`` the reel-rate command [m/s] (0 once the tether is
+    released), ``feedforward`` (4,) the part of ``command`` that is feed-forward (recorded);
+    ``tension``, ``measured`` are ``step_sense``'s. A non-finite command is not actuated and
+    fails the sample (``Status.NONFINITE``). Returns (status, applied reel rate [m/s])."""
+    loop = run.loop
+    held, x_meas, sc_meas, sc_true, y, y_est = (
+        loop.held,
+        loop.x_meas,
+        loop.sc_meas,
+        loop.sc_true,
+        loop.y,
+        loop.y_est,
+    )
+    inp, ffwd = loop.inputs, loop.ffwd
+    x, cfg, c = run.x, run.cfg, run.c
+    program, gust, drag = run.wind
+    sensed = run.sensors[0].shape[0] > 0
+    if cfg[CFG_ATTACHED] <= 0.5:
+        reel_rate = 0.0
+    finite = math.isfinite(reel_rate)
+    for i in range(4):
+        inp[i] = command[i]
+        ffwd[i] = feedforward[i]
+        finite = finite and math.isfinite(command[i])
+    angle_trig(x_meas, sc_meas)
+    tethered_outputs_sc(x_meas, sc_meas, c, y_est)
+    if finite:
+        status, rate = sample_apply(
+            x, k, cfg, run.act, c, held, inp, reel_rate, tension, measured, sensed, y, y_est,
+            sc_true, sc_meas, run.law[LAW_Y_REF],
+        )  # fmt: skip
+    else:
+        rate = reel_rate
+        status = sample_outputs(x, c, sensed, y, y_est, sc_true, sc_meas, run.law[LAW_Y_REF],
+                                tension, cfg)  # fmt: skip
+        if status == STATUS_OK:
+            status = STATUS_NONFINITE
+    if status == STATUS_OK:
+        sample_record(
+            k, cfg, run.act, run.summary, x, run.law[LAW_X_REF], y, run.law[LAW_Y_REF],
+            tension, rate, inp, ffwd, y_est, held, True, run.out, program, gust, drag,
+            run.work[5], run.chain[CHAIN_NODES],
+        )  # fmt: skip
+    return status, rate
+
+
+@_jit
+def step_advance(run, k, rate):
+    """``sample_advance`` of a ``StepRun`` from sample k to k + 1 with the applied reel rate
+    ``rate`` (``step_command``'s) and the applied inputs it left in ``run.loop``."""
+    program, gust, drag = run.wind
+    sample_advance(run.x, run.loop.inputs, rate, k, run.cfg, run.c, program, gust, drag,
+                   run.work, run.chain, run.cw, run.chain[CHAIN_NODES].shape[0] > 0)  # fmt: skip
+
+
+@_jit
+def step_finish(run):
+    """``finish_summary`` of a ``StepRun``: the release event and the first payout limit."""
+    finish_summary(run.summary, run.loop.event, run.loop.held)
 
 
 # --- the lumped-mass tether (issue 13; ``model.tether_lumped``) --------------------------------
@@ -852,7 +1070,7 @@ def chain_ends(x, t, cfg, gust, chain, cw):
         nodes[n, j] = pm[j]
         vel[n, j] = pm[3 + j]
     _node_air(gust, cfg[CFG_GUST_DT], t, air)
-    chain_forces(nodes, vel, air, x[12], p, F, T, K, C, D, True)
+    chain_forces(nodes, vel, air, x[12], p, F, T, K, C, D, plain(True))
     for j in range(3):
         force_P[j] = F[n, j]
     cfg[CFG_TENSION_TOP] = math.sqrt(F[n, 0] ** 2 + F[n, 1] ** 2 + F[n, 2] ** 2)
@@ -1260,7 +1478,7 @@ def run_lanes(
         if n_samples[j] >= 0:
             active[j] = True
             n_active += 1
-    k = 0
+    k = plain(0)  # an int64 from the start (a literal 0 would compile callees twice)
     while n_active > 0:
         for j in range(LANES):
             if active[j]:
@@ -1286,7 +1504,7 @@ def run_lanes(
                     n_active -= 1
                 else:
                     if k >= cfg[j, CFG_METRICS_FROM]:  # the metrics' window
-                        _accumulate(summary[j], xj, x_ref[j], y[j], y_ref[j], tension)
+                        accumulate(summary[j], xj, x_ref[j], y[j], y_ref[j], tension)
                     if k == n_samples[j]:
                         active[j] = False
                         n_active -= 1

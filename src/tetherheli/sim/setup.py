@@ -22,7 +22,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..control.lqi import LQIGain, design_lqi
-from ..control.paper import PaperController
+from ..control.paper import PaperController, check_law
 from ..control.tether_lqi import TetherLQIGain, tether_lqi_gain
 from ..errors import DesignError, InfeasibleError, ParameterError, design_failure
 from ..layout import (
@@ -53,11 +53,14 @@ from ..layout import (
     CFG_METRICS_FROM,
     CFG_N_SUB,
     CFG_SIZE,
+    CHAIN_NODES,
+    CONTROL_LAWS,
     CTRL_ANTI_WINDUP,
     CTRL_DT,
     CTRL_FFWD,
     CTRL_K_I,
     CTRL_K_P,
+    CTRL_LAW,
     CTRL_REEL_ACCEL,
     CTRL_REEL_RATE_LIMIT,
     CTRL_SIZE,
@@ -67,6 +70,7 @@ from ..layout import (
     CTRL_U_MIN,
     CTRL_WINCH,
     LANES,
+    SUMMARY_FIELDS,
     WIND_COLUMNS,
     WIND_CONSTANT,
     WIND_KIND,
@@ -84,6 +88,7 @@ from ..tether.lumped import CHAIN_MAX_SUBSTEPS, COUPLING_OMEGA_H, chain_omega_ma
 from ..tether.lumped_trim import hover_trim_lumped
 from ..wind import CompiledWind, compile_wind, initial_wind_force
 from ..wind.profiles import Disturbance
+from . import engine
 from .scenario import Scenario, WinchSettings
 
 __all__ = [
@@ -225,6 +230,7 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
             ) from None
     ctrl = np.zeros(CTRL_SIZE)
     ctrl[CTRL_DT] = c.dt
+    ctrl[CTRL_LAW] = CONTROL_LAWS.index("tether_lqi" if lqi_on_tether else "paper")
     ctrl[CTRL_FFWD] = float(tethered and c.feedforward and not lqi_on_tether)
     ctrl[CTRL_ANTI_WINDUP] = float(lqi_on_tether and c.tether_lqi.anti_windup)
     if lqi_on_tether and tethered and c.tether_lqi.q9_from_tension:
@@ -249,6 +255,7 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
     cfg[CFG_METRICS_FROM] = scenario.metrics_first_sample
     cfg[CFG_LUMPED] = float(lumped)
     cfg[CFG_ARM] = params.helicopter.tether_arm
+    check_law(ctrl, gain.K)  # the engine's law by name, with its gain (validated once, here)
     return RunSetup(model, trim, gain, ctrl, cfg)
 
 
@@ -781,6 +788,48 @@ class EngineSetup:
             _read_only(self.act),
             self.sensors,
             tuple(a.copy() for a in self.chain),
+        )
+
+    def step_run(self, out: tuple) -> engine.StepRun:
+        """The run's arrays for the sample step driven from Python (``engine.StepRun``: a
+        ``Controller`` other than the compiled laws, or the adaptive reference), recording
+        into ``out`` (``engine.run_closed_loop``'s order). A custom disturbance (no compiled
+        wind) gets an empty wind program: the Python loop adds its force itself.
+
+        Parameters
+        ----------
+        out : tuple of numpy.ndarray
+            The recorded signals, n_samples + 1 rows each.
+
+        Returns
+        -------
+        engine.StepRun
+            Fresh copies of everything the run changes (state, cfg, ctrl, chain, loop).
+        """
+        if self.wind is None:
+            wind = (np.zeros((0, WIND_COLUMNS)), np.zeros((0, 3)), np.zeros(3))
+        else:
+            wind = (self.wind.program, self.wind.gust, self.wind.drag)
+        segments = max(self.chain[CHAIN_NODES].shape[0] - 1, 1)
+        work = np.empty((engine.RK4_WORK_ROWS, 13))
+        summary = np.zeros(len(SUMMARY_FIELDS))
+        engine.start_summary(summary)
+        x = self.start.x.copy()
+        return engine.StepRun(
+            x=x,
+            cfg=self.cfg.copy(),
+            ctrl=self.ctrl.copy(),
+            c=_read_only(self.model.constants),
+            law=tuple(_read_only(a) for a in self.law),
+            wind=tuple(_read_only(a) for a in wind),
+            act=_read_only(self.act),
+            sensors=self.sensors,
+            chain=tuple(a.copy() for a in self.chain),
+            cw=engine.lumped_work(segments),
+            work=work,
+            loop=engine.new_loop_state(x, self.start.z, work),
+            summary=summary,
+            out=out,
         )
 
     @property

@@ -67,7 +67,7 @@ import math
 
 import numpy as np
 
-from .._compile import compiled
+from .._compile import compiled, plain
 from ..layout import (
     LUMPED_BA,
     LUMPED_CDN,
@@ -514,7 +514,7 @@ def ros2_step(x, v, wind, L0, p, h, xP1, vP1, work):
     Gc = work[o : o + 9 * (n + 1)].reshape((n + 1, 3, 3))
     g = ROS2_GAMMA
     m_node = p[LUMPED_MU] * L0 / n
-    chain_forces(x, v, wind, L0, p, F, T, K, Cax, Dd, True)
+    chain_forces(x, v, wind, L0, p, F, T, K, Cax, Dd, plain(True))
     ground_jacobian(x, v, L0, p, h, Gk, Gc)
     # (M - g h C - g^2 h^2 Kn) kv = M b + g h Kn a, kr = a + g h kv  for (I - g h J) k = (a, b)
     _factor(nf, m_node, K, Cax, Dd, Gk, Gc, 1.0, -g * h, -g * g * h * h, Dinv, B, piv, db)
@@ -550,7 +550,7 @@ def ros2_step(x, v, wind, L0, p, h, xP1, vP1, work):
     for j in range(3):
         x[n, j] = xP1[j]
         v[n, j] = vP1[j]
-    chain_forces(x, v, wind, L0, p, F, T, K, Cax, Dd, False)
+    chain_forces(x, v, wind, L0, p, F, T, K, Cax, Dd, plain(False))
     for i in range(nf):
         for j in range(3):
             ra[i, j] = h * v[i + 1, j] - 2.0 * k1r[i, j]
@@ -631,7 +631,7 @@ def chain_substeps(p, L0, n, h):
     int
         The sub-step count m.
     """
-    return _steps_for(h * chain_omega_max(p, L0, n), CHAIN_OMEGA_H, 1)
+    return _steps_for(h * chain_omega_max(p, L0, n), CHAIN_OMEGA_H, plain(1))
 
 
 @_jit
