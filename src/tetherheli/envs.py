@@ -95,7 +95,11 @@ from .layout import (
     CTRL_T_REF,
     LAW_Z0,
     LOOP_EVENT,
+    LOOP_HELD,
     LOOP_INPUTS,
+    LOOP_WINCH,
+    LOOP_X_MEAS,
+    LOOP_Z,
 )
 from .model.kernels import tension_from_state, tethered_outputs
 from .names import FREE_STATE
@@ -143,6 +147,7 @@ __all__ = [
     "finish_step",
     "observe_into",
     "register_envs",
+    "start_episode",
     "tether_tension",
 ]
 
@@ -325,6 +330,55 @@ def observe_into(x, tension, k, sensors, c, x0, y_ref, t_ref, x_meas, y_meas, ob
         if math.isnan(v):
             v = 0.0
         obs[i] = min(max(v, -OBS_LIMIT), OBS_LIMIT)
+
+
+@_jit
+def start_episode(x, cfg, ctrl, loop, ring, x_start, z_start, cfg0, ctrl0, gust_dt):
+    """Put one environment's arrays at its episode's start, in place (the reset of
+    ``TetheredHoverEnv`` and of each copy of the vector environment): at rest in the trim of
+    the episode's air at t = 0 (``sim.setup.start_point``'s x and z0), the scenario's
+    configuration with the wind's gust step, the winch and actuators at rest, no tether
+    release, no input applied yet and an empty sensor history.
+
+    Parameters
+    ----------
+    x : ndarray, shape (13,)
+        Receives the state ``x_start``.
+    cfg : ndarray, shape (CFG_SIZE,)
+        Receives ``cfg0`` with ``CFG_GUST_DT`` = ``gust_dt``.
+    ctrl : ndarray, shape (CTRL_SIZE,)
+        Receives ``ctrl0``.
+    loop : tuple
+        ``engine.new_loop_state``'s arrays (order ``layout.LOOP_*``): the integrators receive
+        ``z_start``, the measured state ``x_start``, the winch and held actuator states 0,
+        the release event and the applied inputs NaN (the rest is scratch, written before
+        it is read).
+    ring : ndarray, shape (rows, N_CHANNELS)
+        The sensor history ring (``sim.setup.sensor_tuple``'s), set to 0.
+    x_start : ndarray, shape (13,)
+        The start state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+    z_start : ndarray, shape (4,)
+        The LQI integrators' start z0 [m s, m s, m s, rad s].
+    cfg0, ctrl0 : ndarray
+        The scenario's engine configuration and controller settings (``run_setup``).
+    gust_dt : float
+        The episode wind's gust step [s] (``CompiledWind.gust_dt``; 0 without a gust table).
+
+    Returns
+    -------
+    None
+    """
+    x[:] = x_start
+    cfg[:] = cfg0
+    cfg[CFG_GUST_DT] = gust_dt
+    ctrl[:] = ctrl0
+    loop[LOOP_Z][:] = z_start
+    loop[LOOP_WINCH][:] = 0.0
+    loop[LOOP_HELD][:] = 0.0
+    loop[LOOP_EVENT][:] = np.nan
+    loop[LOOP_X_MEAS][:] = x_start
+    loop[LOOP_INPUTS][:] = np.nan
+    ring[:] = 0.0
 
 
 #: What one environment copy holds besides its per-sample tables: its state, settings and
@@ -530,6 +584,8 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         # the sensors' sampling schedule of an episode (the scenario's, the same every
         # episode; empty for perfect or untimed sensors)
         self._schedule = sensor_schedule(self._sensors, self.dt, self.n_max)
+        # the engine's sensors (noise table, ..., history ring), as simulate builds them; an
+        # episode's noise table is its own (``_sensor_args``), the ring restarts with it
         self._episode_sensors = sensor_tuple(self._noise, self._source, self._arm, self._schedule)
         self._x_meas = np.empty(13)
         self._y_meas = np.empty(4)
@@ -537,7 +593,11 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         # the law of the compiled loop, with u0|F after a tether release (``setup.paper_law``)
         # and the integrators' start z0 (set per episode in ``reset``: ``setup.start_point``)
         self._law = paper_law(gain, trim, free_trim_input(self.scenario, model, trim), np.zeros(4))
+        # the per-episode arrays of engine.paper_sample (integrators, winch, held actuator
+        # state, the tether-release event: time [s], tension [N], NaN: none; scratch), set
+        # at each reset by ``start_episode``
         self._loop = engine.new_loop_state(self._x, self._law[LAW_Z0], self._work)
+        self._release = self._loop[LOOP_EVENT]
         self._inp = self._loop[LOOP_INPUTS]  # the applied rotor inputs of the last step
         self._k = 0
         self._done = True
@@ -734,24 +794,17 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         wind, compiled, start, noise = self.draw_episode(self.np_random, options_wind)
         self.wind_disturbance = wind
         self._wind = compiled
-        self._cfg = self._cfg_base.copy()
-        self._cfg[CFG_GUST_DT] = compiled.gust_dt
-        self._ctrl = self._ctrl_base.copy()
-        # at rest in the equilibrium of the episode's air at t = 0 (sim.setup.start_point)
-        self._x = start.x.copy()
         self._law = (*self._law[:LAW_Z0], start.z.copy())
-        # the per-episode arrays of engine.paper_sample: integrators, winch, held actuator
-        # state, the tether-release event (time [s], tension [N]; NaN: none), scratch
-        self._loop = engine.new_loop_state(self._x, self._law[LAW_Z0], self._work)
-        self._release = self._loop[LOOP_EVENT]
-        self._inp = self._loop[LOOP_INPUTS]
+        self._noise = noise
+        # at rest in the equilibrium of the episode's air at t = 0 (sim.setup.start_point),
+        # the loop arrays of engine.paper_sample and the sensor history ring fresh
+        start_episode(
+            self._x, self._cfg, self._ctrl, self._loop, self._episode_sensors[-1], start.x,
+            start.z, self._cfg_base, self._ctrl_base, compiled.gust_dt,
+        )  # fmt: skip
         self._k = 0
         self._done = False
-        self._noise = noise
-        # the engine's sensors for this episode (fresh history ring), as simulate builds them
-        self._episode_sensors = sensor_tuple(noise, self._source, self._arm, self._schedule)
         tethered_outputs(self._x, self._c, self._y)
-        self._inp[:] = np.nan
         self._status = int(Status.OK)
         observation = self._observe(self._tension())
         if self.render_mode is not None:

@@ -61,13 +61,13 @@ from .envs import (
     check_env_memory,
     finish_step,
     observe_into,
+    start_episode,
     tether_tension,
 )
 from .errors import ParameterError
 from .layout import (
     CFG_ATTACHED,
     CFG_DT,
-    CFG_GUST_DT,
     CFG_K_C,
     CFG_N_SUB,
     HELD_SIZE,
@@ -164,25 +164,21 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
 
 @_jit
 def restart_copy(i, copies, shared, wind, out):
-    """Copy i at its episode's start (``TetheredHoverEnv.reset``): state x and integrators
-    z0 of ``setup.start_point``, a fresh loop state and sensor history ring."""
-    (x, k, cfg, ctrl, z, winch, held, event, x_meas, _, _, _, _, inp, _, _, _, ring, x_start,
-     z_start) = copies  # fmt: skip
-    cfg0, ctrl0 = shared[1], shared[2]
-    gust_dt = wind[4]
+    """Copy i at its episode's start (``envs.start_episode``, as ``TetheredHoverEnv.reset``):
+    its start state x and integrators z0 (``setup.start_point``), a fresh loop state and
+    sensor history ring, no reward yet."""
+    (x, k, cfg, ctrl, z, winch, held, event, x_meas, sc_meas, sc_true, y_loop, y_est, inp,
+     ffwd, _, _, ring, x_start, z_start) = copies  # fmt: skip
     _, reward, status, _, rate, _ = out
+    loop = (
+        z[i], winch[i], held[i], event[i], x_meas[i], sc_meas[i], sc_true[i], y_loop[i],
+        y_est[i], inp[i], ffwd[i],
+    )  # fmt: skip
+    start_episode(
+        x[i], cfg[i], ctrl[i], loop, ring[i], x_start[i], z_start[i], shared[1], shared[2],
+        wind[4][i],
+    )  # fmt: skip
     k[i] = 0
-    x[i] = x_start[i]
-    x_meas[i] = x_start[i]
-    cfg[i] = cfg0
-    cfg[i, CFG_GUST_DT] = gust_dt[i]
-    ctrl[i] = ctrl0
-    z[i] = z_start[i]
-    ring[i] = 0.0
-    winch[i] = 0.0
-    held[i] = 0.0
-    event[i] = np.nan
-    inp[i] = np.nan
     rate[i] = np.nan
     reward[i] = 0.0
     status[i] = engine.STATUS_OK
