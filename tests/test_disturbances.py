@@ -20,6 +20,7 @@ from tetherheli.wind import (
     DragModel,
     DrydenGust,
     GaussMarkovTurbulence,
+    GustModel,
     NoWind,
     Pulse,
     Sine,
@@ -579,6 +580,63 @@ def test_seeds_reproduce_and_differ():
     r1 = GaussMarkovTurbulence().sample(np.arange(100.0), np.random.default_rng(9))
     r2 = GaussMarkovTurbulence().sample(np.arange(100.0), np.random.default_rng(9))
     np.testing.assert_array_equal(r1, r2)
+
+
+class _PlainGaussMarkov(GustModel):
+    """A custom gust model (not a frozen dataclass, so discretised anew at every draw) with
+    the filters of a ``GaussMarkovTurbulence``."""
+
+    def __init__(self, model: GaussMarkovTurbulence):
+        self.model = model
+
+    def _filters(self):
+        return self.model._filters()
+
+    @property
+    def axes(self):
+        return self.model.axes
+
+
+def test_kept_discretisation_draws_what_a_fresh_one_draws():
+    """The discretisation a frozen model keeps between draws (issue 24: the environments'
+    resets sampled the same model at the same step anew each time) gives the series of one
+    computed for the draw (a custom model's path) bit for bit, per model and step (the
+    entries are not mixed up), and the closed-form Gauss-Markov recursion
+    x_k+1 = e^(-a dt) x_k + K sqrt((1 - e^(-2 a dt)) / 2a) e_k, x_0 = K / sqrt(2a) e_0."""
+    from tetherheli.wind.turbulence import _cached_filter
+
+    t = 0.05 * np.arange(601)
+    models = [
+        GaussMarkovTurbulence(heading_rad=0.7),
+        GaussMarkovTurbulence(gain=(0.5, 0.1, 0.2), pole_rad_s=(0.3, 2.0, 1.0)),
+    ]
+    for model in (*models, *models):  # the second pass draws from the kept entries
+        for step in (t, 2.0 * t):
+            kept = model.sample(step, np.random.default_rng(17))
+            fresh = _PlainGaussMarkov(model).sample(step, np.random.default_rng(17))
+            np.testing.assert_array_equal(kept, fresh)
+    again = GaussMarkovTurbulence(heading_rad=0.7)  # equal fields: the same entry
+    hits = _cached_filter.cache_info().hits
+    np.testing.assert_array_equal(
+        again.sample(t, np.random.default_rng(17)),
+        models[0].sample(t, np.random.default_rng(17)),
+    )
+    assert _cached_filter.cache_info().hits == hits + 2
+    # the recursion's innovations are the generator's normals (up to the order and signs
+    # in which the filter's square roots take them: a signed permutation)
+    model, dt = models[1], 0.05
+    K, a = np.array(model.gain), np.array(model.pole_rad_s)
+    x = model.sample(t, np.random.default_rng(17))
+    e = np.random.default_rng(17).standard_normal((t.size, 3))
+    decay, scale = np.exp(-a * dt), K * np.sqrt((1.0 - np.exp(-2.0 * a * dt)) / (2.0 * a))
+    got, normals = (x[1:] - decay * x[:-1]) / scale, e[1:]
+    order = np.round(got.T @ normals / np.sum(normals**2, axis=0))
+    assert sorted(np.abs(order).sum(axis=0)) == [1.0, 1.0, 1.0]
+    np.testing.assert_allclose(got, normals @ order.T, atol=1e-9)
+    # and the start is drawn from the stationary distribution K / sqrt(2a) by the first three
+    np.testing.assert_allclose(
+        np.sort(np.abs(x[0] * np.sqrt(2.0 * a) / K)), np.sort(np.abs(e[0])), rtol=1e-12
+    )
 
 
 def test_drag_model_is_the_bluff_body_law():

@@ -249,3 +249,49 @@ def test_actuators_zero_residual_equals_simulate():
     below = ActuatorSettings(u_max=(100.0, inf, inf, inf))
     with pytest.raises(ParameterError, match="cannot hover"):
         TetheredHoverEnv(Scenario(actuators=below))
+
+
+def test_reset_leaves_nothing_of_the_previous_episode():
+    """``reset`` restarts the environment's arrays in place (``envs.start_episode``, the
+    vector environment's too): after episodes with a tether release, winch and actuator lag
+    and timed noisy sensors, an episode equals a fresh environment's of the same seed bit
+    for bit (observations, rewards, flags, infos)."""
+    from tetherheli.sensing.config import SensorConfig
+    from tetherheli.sim.scenario import ActuatorSettings
+
+    scenario = Scenario().replace(
+        sensors=SensorConfig.flown("tether"),
+        actuators=ActuatorSettings(breaking_tension=25.1, time_constant=0.02),
+    )
+    kwargs = {"scenario": scenario, "max_episode_time": 0.4, "max_wind_force": 60.0}
+    rng = np.random.default_rng(4)
+    actions = rng.uniform(-1.3, 1.3, size=(40, 4)).astype(np.float32)
+    used, released = TetheredHoverEnv(**kwargs), 0
+    for episode in range(6):
+        used.reset(seed=30 + episode)
+        for a in actions:
+            _, _, terminated, truncated, info = used.step(a)
+            if terminated or truncated:
+                break
+        released += info["tether_release"] is not None
+    # the state a reset must clear was in use: the winch, the sensor history
+    assert released > 0 and np.any(used._loop[1] != 0.0)
+    assert np.any(used._episode_sensors[-1] != 0.0)
+    fresh = TetheredHoverEnv(**kwargs)
+    pairs = [(used.reset(seed=5), fresh.reset(seed=5))]
+    for a in actions:
+        pairs.append((used.step(a), fresh.step(a)))
+        if pairs[-1][1][2] or pairs[-1][1][3]:
+            break
+    assert len(pairs) > 10
+    for mine, theirs in pairs:
+        for x, y in zip(mine[:-1], theirs[:-1], strict=True):
+            np.testing.assert_array_equal(x, y)
+        assert mine[-1].keys() == theirs[-1].keys()
+        for key, value in theirs[-1].items():
+            if isinstance(value, np.ndarray):
+                np.testing.assert_array_equal(mine[-1][key], value, err_msg=key)
+            elif isinstance(value, float) and math.isnan(value):
+                assert math.isnan(mine[-1][key]), key
+            else:
+                assert mine[-1][key] == value, key

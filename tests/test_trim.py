@@ -67,3 +67,24 @@ def test_free_trim_position(free):
 def test_trim_bad_input(tethered, tension, q9):
     with pytest.raises(ParameterError):
         tethered.trim(tension, q9)
+
+
+def test_kept_windless_trim_is_the_solved_one_and_a_copy(tethered):
+    """``hover_trim`` solves the windless trim once per parameters, tension and length (every
+    trim in wind starts from it): what it returns equals ``windless_trim`` solved anew, and
+    is the caller's own (changing it changes no later trim)."""
+    from tetherheli.model.trim import windless_trim
+
+    params = tethered.params
+    first = tethered.trim(31.0, 12.0)
+    solved = windless_trim(params, 31.0, 12.0, params.tether.natural_length(12.0, 31.0))
+    for name in ("x", "u", "y", "feedforward"):
+        np.testing.assert_array_equal(getattr(first, name), getattr(solved, name))
+    first.x[:] = np.nan
+    first.u[:] = np.nan
+    again = tethered.trim(31.0, 12.0)
+    np.testing.assert_array_equal(again.x, solved.x)
+    np.testing.assert_array_equal(again.u, solved.u)
+    windy = tethered.trim(31.0, 12.0, N_F_wind=(3.0, -1.0, 0.0))  # starts from the kept one
+    np.testing.assert_allclose(windy.y[:3], solved.y[:3], atol=1e-9)
+    assert np.abs(tethered.derivative(windy.x, windy.u_total, (3.0, -1.0, 0.0))).max() < 1e-9

@@ -69,9 +69,11 @@ imports the module named before the colon; it no longer loads plugins from entry
 which older Gymnasium does through the ``gymnasium.envs`` entry point of ``pyproject.toml``).
 ``gymnasium.make_vec(..., num_envs=N, vectorization_mode="vector_entry_point")``
 gives N copies stepped in one compiled call
-(:class:`tetherheli.vector_env.TetheredHoverVectorEnv`). The observation (``observe_into``)
-and the step's reward and failure check (``finish_step``) are compiled functions that both
-environments run. Requires the ``gymnasium`` package (``pip install "tetherheli[rl]"``).
+(:class:`tetherheli.vector_env.TetheredHoverVectorEnv`). The observation (``observe_into``),
+the step's reward and failure check (``finish_step``) and the episode's start
+(``start_episode``) are compiled functions that both environments run
+(``tetherheli.env_kernels``, re-exported here). Requires the ``gymnasium`` package
+(``pip install "tetherheli[rl]"``).
 """
 
 from __future__ import annotations
@@ -84,24 +86,15 @@ import gymnasium
 import numpy as np
 from gymnasium import spaces
 
-from ._compile import compiled
 from ._gym_registration import ENV_ID, MAX_EPISODE_STEPS, register_envs
 from ._validation import check_bool, check_number, check_vector
+from .env_kernels import OBS_LIMIT, finish_step, observe_into, start_episode, tether_tension
 from .errors import ParameterError
-from .layout import (
-    CFG_ATTACHED,
-    CFG_GUST_DT,
-    CFG_K_C,
-    CTRL_T_REF,
-    LAW_Z0,
-    LOOP_EVENT,
-    LOOP_INPUTS,
-)
-from .model.kernels import tension_from_state, tethered_outputs
+from .layout import CFG_GUST_DT, CTRL_T_REF, LAW_Z0, LOOP_EVENT, LOOP_INPUTS
+from .model.kernels import tethered_outputs
 from .names import FREE_STATE
 from .sensing.config import N_CHANNELS
 from .sensing.noise import noise_table
-from .sensing.sensors import measure_sampled
 from .sim import engine
 from .sim.scenario import Scenario
 from .sim.setup import (
@@ -143,14 +136,12 @@ __all__ = [
     "finish_step",
     "observe_into",
     "register_envs",
+    "start_episode",
     "tether_tension",
 ]
 
 #: Names of the observation entries (all deviations from trim).
 OBSERVATION_NAMES = (*FREE_STATE, "tension")
-
-#: Bound of the observation box; observations are clipped to +-OBS_LIMIT.
-OBS_LIMIT = 1.0e4
 
 #: Wind kinds that :meth:`TetheredHoverEnv.draw_wind` can draw.
 WIND_KINDS = ("none", "pulse", "sine", "turbulence")
@@ -163,8 +154,6 @@ DEFAULT_EPISODE_TIME = 30.0
 
 _DEFAULT_ACTION_SCALE = (20.0, 2.0, 2.0, 5.0)
 _DEFAULT_DRAG = DragModel(cd_area_m2=(0.3, 0.3, 0.5))
-
-_jit = compiled(error_model="numpy")
 
 
 class RenderModeError(ParameterError, gymnasium.error.UnsupportedMode):
@@ -199,132 +188,6 @@ def _check_display() -> None:
             f"'rgb_array' or None here: no display (Matplotlib backend {backend!r} cannot "
             "open a window)",
         )
-
-
-@_jit
-def tether_tension(x, cfg):
-    """The tether tension of state x [N] (eq 28), 0 when the tether is removed or released.
-
-    Parameters
-    ----------
-    x : ndarray, shape (13,)
-        State q4..q9, u1..u6, LN (rad, m, m/s, rad/s, m).
-    cfg : ndarray, shape (CFG_SIZE,)
-        The engine's configuration (``layout.CFG_*``; reads ``CFG_ATTACHED``, ``CFG_K_C``).
-
-    Returns
-    -------
-    float
-        Tension TC [N], >= 0.
-    """
-    if cfg[CFG_ATTACHED] <= 0.5:
-        return 0.0
-    return tension_from_state(x[5], x[12], cfg[CFG_K_C])
-
-
-@_jit
-def finish_step(x, a, cfg, c, y, y_ref, effort_weight, penalty):
-    """The end of a step at the sampled state x (13,): y (4,) receives the true outputs
-    q1, q2, q3, q6 (eqs 43-45); returns (status of ``engine.check_state``, reward, true
-    tension [N]). Reward: -(|q_1..3 - q_ref|^2 + effort_weight |a|^2) with the clipped action
-    a (4,), or -penalty when the state failed.
-
-    Parameters
-    ----------
-    x : ndarray, shape (13,)
-        The state at the end of the step, [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
-    a : ndarray, shape (4,)
-        The clipped action in [-1, 1] (dimensionless).
-    cfg : ndarray, shape (CFG_SIZE,)
-        The engine's configuration (``layout.CFG_*``: attachment, K_C, failure limits...).
-    c : ndarray
-        The tethered model's constants (``kernels.model_constants("tethered", h)``).
-    y : ndarray, shape (4,)
-        Scratch; receives the true outputs [q1, q2, q3, q6] in [m, m, m, rad].
-    y_ref : ndarray, shape (4,)
-        The trim outputs [m, m, m, rad].
-    effort_weight : float
-        Weight of |a|^2 in the reward, >= 0.
-    penalty : float
-        The reward of a failed state is -penalty.
-
-    Returns
-    -------
-    status : int
-        ``engine.check_state``'s status (``Status``), ``STATUS_OK`` unless the state failed.
-    reward : float
-        The step's reward [m^2, with the effort term added].
-    tension : float
-        The true tether tension [N] (eq 28), 0 when detached.
-    """
-    tension = tether_tension(x, cfg)
-    tethered_outputs(x, c, y)
-    status = engine.check_state(x, y, y_ref, tension, cfg)
-    if status != engine.STATUS_OK:
-        return status, -penalty, tension
-    e0, e1, e2 = y[0] - y_ref[0], y[1] - y_ref[1], y[2] - y_ref[2]
-    effort = a[0] * a[0] + a[1] * a[1] + a[2] * a[2] + a[3] * a[3]
-    return status, -((e0 * e0 + e1 * e1 + e2 * e2) + effort_weight * effort), tension
-
-
-@_jit
-def observe_into(x, tension, k, sensors, c, x0, y_ref, t_ref, x_meas, y_meas, obs):
-    """The observation (float32 (13,) ``obs``, order ``OBSERVATION_NAMES``) at sample k: what
-    the sensors read (``sensors.measure_sampled``: each sensor at its rate and latency, the
-    true state and tension when the noise table is empty; ``sensors`` is
-    ``sim.setup.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history ring),
-    as for ``engine.sense``) as deviations from the trim x0, y_ref, t_ref; NaN reads 0, values
-    are clipped to +-OBS_LIMIT. x_meas (13,), y_meas (4,) are scratch.
-
-    Parameters
-    ----------
-    x : ndarray, shape (13,)
-        The true state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
-    tension : float
-        The true tether tension [N].
-    k : int
-        The sample index (t = k dt).
-    sensors : tuple
-        ``sim.setup.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history
-        ring).
-    c : ndarray
-        The tethered model's constants (``kernels.model_constants("tethered", h)``).
-    x0 : ndarray, shape (13,)
-        The trim state the angles and rates are measured from.
-    y_ref : ndarray, shape (4,)
-        The trim outputs [q1, q2, q3, q6] in [m, m, m, rad].
-    t_ref : float
-        The reference tension [N].
-    x_meas : ndarray, shape (13,)
-        Scratch: the measured state.
-    y_meas : ndarray, shape (4,)
-        Scratch: the measured outputs.
-    obs : ndarray, shape (13,), float32
-        Receives the observation, filled in place.
-
-    Returns
-    -------
-    None
-    """
-    if sensors[0].shape[0] == 0:
-        for i in range(13):
-            x_meas[i] = x[i]
-        measured = tension
-    else:
-        measured = measure_sampled(x, tension, k, sensors, x_meas)
-    tethered_outputs(x_meas, c, y_meas)
-    for i in range(13):
-        if i < 3:
-            v = y_meas[i] - y_ref[i]
-        elif i < 6:
-            v = x_meas[i - 3] - x0[i - 3]
-        elif i < 12:
-            v = x_meas[i] - x0[i]
-        else:
-            v = measured - t_ref
-        if math.isnan(v):
-            v = 0.0
-        obs[i] = min(max(v, -OBS_LIMIT), OBS_LIMIT)
 
 
 #: What one environment copy holds besides its per-sample tables: its state, settings and
@@ -530,6 +393,8 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         # the sensors' sampling schedule of an episode (the scenario's, the same every
         # episode; empty for perfect or untimed sensors)
         self._schedule = sensor_schedule(self._sensors, self.dt, self.n_max)
+        # the engine's sensors (noise table, ..., history ring), as simulate builds them; an
+        # episode's noise table is its own (``_sensor_args``), the ring restarts with it
         self._episode_sensors = sensor_tuple(self._noise, self._source, self._arm, self._schedule)
         self._x_meas = np.empty(13)
         self._y_meas = np.empty(4)
@@ -537,7 +402,11 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         # the law of the compiled loop, with u0|F after a tether release (``setup.paper_law``)
         # and the integrators' start z0 (set per episode in ``reset``: ``setup.start_point``)
         self._law = paper_law(gain, trim, free_trim_input(self.scenario, model, trim), np.zeros(4))
+        # the per-episode arrays of engine.paper_sample (integrators, winch, held actuator
+        # state, the tether-release event: time [s], tension [N], NaN: none; scratch), set
+        # at each reset by ``start_episode``
         self._loop = engine.new_loop_state(self._x, self._law[LAW_Z0], self._work)
+        self._release = self._loop[LOOP_EVENT]
         self._inp = self._loop[LOOP_INPUTS]  # the applied rotor inputs of the last step
         self._k = 0
         self._done = True
@@ -734,24 +603,17 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         wind, compiled, start, noise = self.draw_episode(self.np_random, options_wind)
         self.wind_disturbance = wind
         self._wind = compiled
-        self._cfg = self._cfg_base.copy()
-        self._cfg[CFG_GUST_DT] = compiled.gust_dt
-        self._ctrl = self._ctrl_base.copy()
-        # at rest in the equilibrium of the episode's air at t = 0 (sim.setup.start_point)
-        self._x = start.x.copy()
         self._law = (*self._law[:LAW_Z0], start.z.copy())
-        # the per-episode arrays of engine.paper_sample: integrators, winch, held actuator
-        # state, the tether-release event (time [s], tension [N]; NaN: none), scratch
-        self._loop = engine.new_loop_state(self._x, self._law[LAW_Z0], self._work)
-        self._release = self._loop[LOOP_EVENT]
-        self._inp = self._loop[LOOP_INPUTS]
+        self._noise = noise
+        # at rest in the equilibrium of the episode's air at t = 0 (sim.setup.start_point),
+        # the loop arrays of engine.paper_sample and the sensor history ring fresh
+        start_episode(
+            self._x, self._cfg, self._ctrl, self._loop, self._episode_sensors[-1], start.x,
+            start.z, self._cfg_base, self._ctrl_base, compiled.gust_dt,
+        )  # fmt: skip
         self._k = 0
         self._done = False
-        self._noise = noise
-        # the engine's sensors for this episode (fresh history ring), as simulate builds them
-        self._episode_sensors = sensor_tuple(noise, self._source, self._arm, self._schedule)
         tethered_outputs(self._x, self._c, self._y)
-        self._inp[:] = np.nan
         self._status = int(Status.OK)
         observation = self._observe(self._tension())
         if self.render_mode is not None:

@@ -8,10 +8,11 @@ from the copy's own generator at each reset. One ``step`` is one compiled call
 the action added to or replacing the paper controller's command); then the plant of all
 copies advanced over the sample by the lane engine (``engine.rk4_lanes``) in blocks of
 ``layout.LANES`` copies (N rounded up to whole blocks, the extra lanes parked at the trim);
-then per copy the reward, the failure checks (``envs.finish_step``) and the observation
-(``envs.observe_into``). Each copy's arithmetic is that of the single environment, so copy i
-equals a ``TetheredHoverEnv`` reset with the same seed bit for bit
-(``tests/test_vector_env.py``).
+then per copy the reward, the failure checks (``env_kernels.finish_step``) and the
+observation (``env_kernels.observe_into``); a copy's episode starts as the single
+environment's does (``env_kernels.start_episode``). Each copy's arithmetic is that of the
+single environment, so copy i equals a ``TetheredHoverEnv`` reset with the same seed bit for
+bit (``tests/test_vector_env.py``).
 
 Seeds
     ``reset(seed=s)`` seeds copy i with ``s + i`` (as ``gymnasium.vector.SyncVectorEnv``
@@ -54,20 +55,12 @@ from gymnasium.vector.utils import batch_space
 
 from ._compile import compiled
 from ._validation import check_integer
-from .envs import (
-    OBSERVATION_NAMES,
-    RenderModeError,
-    TetheredHoverEnv,
-    check_env_memory,
-    finish_step,
-    observe_into,
-    tether_tension,
-)
+from .env_kernels import finish_step, observe_into, start_episode, tether_tension
+from .envs import OBSERVATION_NAMES, RenderModeError, TetheredHoverEnv, check_env_memory
 from .errors import ParameterError
 from .layout import (
     CFG_ATTACHED,
     CFG_DT,
-    CFG_GUST_DT,
     CFG_K_C,
     CFG_N_SUB,
     HELD_SIZE,
@@ -94,13 +87,13 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
 
     reset (N,) bool: copies that start an episode (their state is set to their episode's
     start, ``setup.start_point``'s x and integrators z0, with a fresh sensor history ring;
-    their action is ignored); the others run ``engine.paper_sample`` with their row of ``command``
-    (``mode`` an ``engine.ACTION_*``), then the lane engine advances them over the sample,
-    then ``envs.finish_step`` with their clipped action row of ``a``. Every copy's
-    observation is written by ``envs.observe_into``. ``copies`` holds the per-copy state
-    (rows: copies, padded to whole blocks), ``shared`` what all copies share, ``lanes`` the
-    lane engine's block arrays, ``wind`` the copies' winds in lane form; ``out`` = (obs,
-    reward, status, tension, rate, y) receives the step's results.
+    their action is ignored); the others run ``engine.paper_sample`` with their row of
+    ``command`` (``mode`` an ``engine.ACTION_*``), then the lane engine advances them over the
+    sample, then ``env_kernels.finish_step`` with their clipped action row of ``a``. Every
+    copy's observation is written by ``env_kernels.observe_into``. ``copies`` holds the
+    per-copy state (rows: copies, padded to whole blocks), ``shared`` what all copies share,
+    ``lanes`` the lane engine's block arrays, ``wind`` the copies' winds in lane form;
+    ``out`` = (obs, reward, status, tension, rate, y) receives the step's results.
     """
     (x, k, cfg, ctrl, z, winch, held, event, x_meas, sc_meas, sc_true, y_loop, y_est, inp,
      ffwd, noise, noise_rows, ring, _, _) = copies  # fmt: skip
@@ -164,25 +157,21 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
 
 @_jit
 def restart_copy(i, copies, shared, wind, out):
-    """Copy i at its episode's start (``TetheredHoverEnv.reset``): state x and integrators
-    z0 of ``setup.start_point``, a fresh loop state and sensor history ring."""
-    (x, k, cfg, ctrl, z, winch, held, event, x_meas, _, _, _, _, inp, _, _, _, ring, x_start,
-     z_start) = copies  # fmt: skip
-    cfg0, ctrl0 = shared[1], shared[2]
-    gust_dt = wind[4]
+    """Copy i at its episode's start (``env_kernels.start_episode``, as
+    ``TetheredHoverEnv.reset``): its start state x and integrators z0 (``setup.start_point``),
+    a fresh loop state and sensor history ring, no reward yet."""
+    (x, k, cfg, ctrl, z, winch, held, event, x_meas, sc_meas, sc_true, y_loop, y_est, inp,
+     ffwd, _, _, ring, x_start, z_start) = copies  # fmt: skip
     _, reward, status, _, rate, _ = out
+    loop = (
+        z[i], winch[i], held[i], event[i], x_meas[i], sc_meas[i], sc_true[i], y_loop[i],
+        y_est[i], inp[i], ffwd[i],
+    )  # fmt: skip
+    start_episode(
+        x[i], cfg[i], ctrl[i], loop, ring[i], x_start[i], z_start[i], shared[1], shared[2],
+        wind[4][i],
+    )  # fmt: skip
     k[i] = 0
-    x[i] = x_start[i]
-    x_meas[i] = x_start[i]
-    cfg[i] = cfg0
-    cfg[i, CFG_GUST_DT] = gust_dt[i]
-    ctrl[i] = ctrl0
-    z[i] = z_start[i]
-    ring[i] = 0.0
-    winch[i] = 0.0
-    held[i] = 0.0
-    event[i] = np.nan
-    inp[i] = np.nan
     rate[i] = np.nan
     reward[i] = 0.0
     status[i] = engine.STATUS_OK

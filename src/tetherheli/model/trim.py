@@ -14,6 +14,7 @@ four inputs solve the six dynamic equations and the three position equations.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -100,7 +101,7 @@ def hover_trim(
     tension = check_number("tension", tension, low=0.0, unit="[N]")
     q9 = check_tether_length(q9, "q9")
     params.tether.check_tension(tension, q9, "tension")  # the natural length LN stays sensible
-    point = windless_trim(params, tension, q9, params.tether.natural_length(q9, tension))
+    point = _windless(params, tension, q9, params.tether.natural_length(q9, tension))
     if N_F_wind is None:
         return point
     force = np.array(check_vector("N_F_wind", N_F_wind, 3))
@@ -108,6 +109,23 @@ def hover_trim(
         return point
     return _trim_in_wind(
         params, point, force, kernels.model_constants("tethered", params.helicopter)
+    )
+
+
+def _windless(params: Params, tension: float, q9: float, natural_length: float) -> TrimPoint:
+    """``windless_trim``, solved once per parameter set, tension and length (``_kept_trim``;
+    every trim in wind starts from it, e.g. at each turbulent episode of the Gymnasium
+    environments, issue 24): a copy of the kept point, whose arrays the caller may change."""
+    try:
+        kept = _kept_trim(params, tension, q9, natural_length)
+    except TypeError:  # a parameter set that cannot be hashed: solved anew
+        return windless_trim(params, tension, q9, natural_length)
+    return TrimPoint(
+        x=kept.x.copy(),
+        u=kept.u.copy(),
+        y=kept.y.copy(),
+        tension=kept.tension,
+        feedforward=kept.feedforward.copy(),
     )
 
 
@@ -220,3 +238,6 @@ def _trim_in_wind(params: Params, base: TrimPoint, force: np.ndarray, p: np.ndar
     xs, u0, ffwd = assemble(sol.x)
     kernels.tethered_outputs(xs, p, y)
     return TrimPoint(x=xs, u=u0, y=y.copy(), tension=tension, feedforward=ffwd)
+
+
+_kept_trim = functools.lru_cache(maxsize=32)(windless_trim)

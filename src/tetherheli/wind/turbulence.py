@@ -11,6 +11,7 @@ a time grid into a ``Disturbance``.
 
 from __future__ import annotations
 
+import functools
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
@@ -47,22 +48,28 @@ _FT = 0.3048  # metres per foot (exact)
 # --------------------------------------------------------------------------------------------
 
 
+def _schur(Ad: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The Schur form (U, Z) of Ad = Z U Z^H that ``_propagate`` runs in: real if it is upper
+    triangular, else complex (complex-conjugate eigenvalues)."""
+    U, Z = scipy.linalg.schur(Ad, output="real")
+    if np.any(np.tril(U, -1)):  # complex-conjugate eigenvalues: use the triangular form
+        U, Z = scipy.linalg.schur(Ad, output="complex")
+    return U, Z
+
+
 def _propagate(
-    Ad: np.ndarray, G: np.ndarray, C: np.ndarray, x0: np.ndarray, noise: np.ndarray
+    U: np.ndarray, Z: np.ndarray, G: np.ndarray, C: np.ndarray, x0: np.ndarray, noise: np.ndarray
 ) -> np.ndarray:
     """Outputs y_k = C x_k of x_{k+1} = Ad x_k + G e_k, x_0 = x0, for k = 0..n-1.
 
-    Vectorised and exact: in the complex Schur basis (Ad = Z U Z^H, U upper triangular) each
-    state obeys a scalar recursion z_{i,k+1} = U_ii z_{i,k} + (input from z_j, j > i, and the
-    noise), solved from the last state to the first with ``scipy.signal.lfilter``.
-    noise (n-1, m), x0 (m,) -> y (n, p).
+    Vectorised and exact: in the complex Schur basis (Ad = Z U Z^H, U upper triangular,
+    ``_schur``) each state obeys a scalar recursion z_{i,k+1} = U_ii z_{i,k} + (input from
+    z_j, j > i, and the noise), solved from the last state to the first with
+    ``scipy.signal.lfilter``. noise (n-1, m), x0 (m,) -> y (n, p).
     """
     from scipy.signal import lfilter  # imported here: scipy.signal takes ~0.8 s to import
 
     n, m = noise.shape[0] + 1, x0.shape[0]
-    U, Z = scipy.linalg.schur(Ad, output="real")
-    if np.any(np.tril(U, -1)):  # complex-conjugate eigenvalues: use the triangular form
-        U, Z = scipy.linalg.schur(Ad, output="complex")
     drive = Z.conj().T @ G @ noise.T  # (m, n-1): column k is Z^H G e_k
     z = np.empty((m, n), dtype=U.dtype)  # row i: the i-th Schur coordinate over time
     z[:, 0] = Z.conj().T @ x0
@@ -197,14 +204,12 @@ class GustModel(ABC):
             dt = (t[-1] - t[0]) / (t.size - 1)
             if dt <= 0 or not np.allclose(steps, dt, rtol=1e-6, atol=0.0):
                 raise ParameterError("t_grid", t_grid, "uniformly spaced increasing times")
-        A, B, C = self._block()
-        Ad, Qd = _discretize(A, B, dt)
-        P = scipy.linalg.solve_continuous_lyapunov(A, -B @ B.T)
-        m = A.shape[0]
-        x0 = _psd_sqrt(P) @ rng.standard_normal(m)
+        f = _sampled_filter(self, dt)
+        m = f.start.shape[0]
+        x0 = f.start @ rng.standard_normal(m)
         noise = rng.standard_normal((t.size - 1, m))
-        y = _propagate(Ad, _psd_sqrt(Qd), C, x0, noise)
-        return y @ self.axes.T
+        y = _propagate(f.U, f.Z, f.drive, f.C, x0, noise)
+        return y @ f.axes.T
 
     def to_dict(self) -> dict[str, Any]:
         """A TOML-friendly table (``type`` and the fields) for ``disturbance_from_dict``.
@@ -214,6 +219,50 @@ class GustModel(ABC):
             ``type`` and the fields, as TOML writes them.
         """
         return _plain_dict(self)
+
+
+@dataclass(frozen=True)
+class _SampledFilter:
+    """What ``GustModel.sample`` needs of a model at a grid step, whatever the draw: the
+    stationary covariance's square root (``start``: x0 = start e), the exact noise gain
+    (``drive``: G with G G' = Qd, ``_discretize``), the Schur form (U, Z) of Ad (``_schur``),
+    the output matrix C and the gust axes (all read-only)."""
+
+    start: np.ndarray
+    drive: np.ndarray
+    U: np.ndarray
+    Z: np.ndarray
+    C: np.ndarray
+    axes: np.ndarray
+
+
+def _sampled_filter(model: GustModel, dt: float) -> _SampledFilter:
+    """``model``'s ``_SampledFilter`` at step dt; kept (``_cached_filter``) for frozen
+    dataclass models, whose filters are a function of their fields: every episode of an
+    environment samples the same model at the same step, and the matrix exponentials and
+    Lyapunov solve cost far more than the draw itself. Other models are discretised anew."""
+    params = getattr(type(model), "__dataclass_params__", None)
+    if params is not None and params.frozen:
+        try:
+            return _cached_filter(model, float(dt))
+        except TypeError:  # a field that cannot be hashed
+            pass
+    return _filter_at(model, float(dt))
+
+
+def _filter_at(model: GustModel, dt: float) -> _SampledFilter:
+    """``_SampledFilter`` of ``model`` at step dt, computed."""
+    A, B, C = model._block()
+    Ad, Qd = _discretize(A, B, dt)
+    P = scipy.linalg.solve_continuous_lyapunov(A, -B @ B.T)
+    U, Z = _schur(Ad)
+    arrays = (_psd_sqrt(P), _psd_sqrt(Qd), U, Z, C, np.asarray(model.axes, dtype=float))
+    for a in arrays:
+        a.setflags(write=False)
+    return _SampledFilter(*arrays)
+
+
+_cached_filter = functools.lru_cache(maxsize=32)(_filter_at)
 
 
 @dataclass(frozen=True)
