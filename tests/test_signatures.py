@@ -6,7 +6,7 @@ Gymnasium environment and the vector environment), flown in a process of their o
 afterwards each compiled function of the package must hold exactly one signature.
 A second one means a second compilation of the same code (a read-only gain, a literal
 ``True``, an 'A'-layout slice), which costs the first run and the suite tens of seconds each:
-``setup.EngineSetup.engine_args`` normalises the engine's inputs (``_read_only``) and compiled
+``setup.EngineSetup.engine_args`` normalises the engine's inputs (``read_only``) and compiled
 callers pass constants through ``_compile.plain``."""
 
 from __future__ import annotations

@@ -102,6 +102,7 @@ from .sim.setup import (
     actuator_array,
     free_trim_input,
     paper_law,
+    read_only,
     run_setup,
     sensor_schedule,
     sensor_tuple,
@@ -362,19 +363,23 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         check_env_memory(self.scenario, 1, self.gust_dt)  # before an episode's tables exist
         model, trim, gain, ctrl, cfg = run_setup(self.scenario)
         self._model, self._lqi = model, gain
-        self._act = actuator_array(self.scenario, trim, ctrl)  # rejects limits below hover need
+        # the engine's read-only inputs as ``simulate`` hands them (``setup.read_only``): one
+        # compiled signature of each phase for both
+        self._act = read_only(
+            actuator_array(self.scenario, trim, ctrl)
+        )  # rejects limits below hover need
         self.trim = trim
         self.dt = self.scenario.control.dt
         modes = [m for m in RENDER_MODES if m != "human" or _display_backend()[0]]
         self.metadata = {**self.metadata, "render_modes": modes, "render_fps": 1.0 / self.dt}
         self.n_max = self.scenario.n_samples
-        self._c = np.ascontiguousarray(model.constants)
+        self._c = read_only(model.constants)
         self._ctrl_base = ctrl
         self._ctrl = ctrl.copy()
         self._cfg_base = cfg
         self._cfg = cfg.copy()
         self._T_ref = float(ctrl[CTRL_T_REF])
-        self._y_ref = trim.y.copy()
+        self._y_ref = read_only(trim.y)
         self._u_trim_total = np.asarray(trim.u_total, dtype=float).copy()
 
         self.action_space = spaces.Box(-1.0, 1.0, shape=(4,), dtype=np.float32)
@@ -401,7 +406,8 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._work = np.empty((engine.RK4_WORK_ROWS, 13))
         # the law of the compiled loop, with u0|F after a tether release (``setup.paper_law``)
         # and the integrators' start z0 (set per episode in ``reset``: ``setup.start_point``)
-        self._law = paper_law(gain, trim, free_trim_input(self.scenario, model, trim), np.zeros(4))
+        law = paper_law(gain, trim, free_trim_input(self.scenario, model, trim), np.zeros(4))
+        self._law = tuple(read_only(a) for a in law)
         # the per-episode arrays of engine.paper_sample (integrators, winch, held actuator
         # state, the tether-release event: time [s], tension [N], NaN: none; scratch), set
         # at each reset by ``start_episode``
@@ -603,7 +609,10 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         wind, compiled, start, noise = self.draw_episode(self.np_random, options_wind)
         self.wind_disturbance = wind
         self._wind = compiled
-        self._law = (*self._law[:LAW_Z0], start.z.copy())
+        self._wind_args = tuple(
+            read_only(a) for a in (compiled.program, compiled.gust, compiled.drag)
+        )
+        self._law = (*self._law[:LAW_Z0], read_only(start.z))
         self._noise = noise
         # at rest in the equilibrium of the episode's air at t = 0 (sim.setup.start_point),
         # the loop arrays of engine.paper_sample and the sensor history ring fresh
@@ -677,9 +686,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             t,
             self._cfg,
             self._c,
-            wind.program,
-            wind.gust,
-            wind.drag,
+            *self._wind_args,
             self._work,
             True,
         )

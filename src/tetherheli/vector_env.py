@@ -69,6 +69,7 @@ from .layout import (
     LAW_Y_REF,
     WINCH_SIZE,
     WIND_COLUMNS,
+    LoopState,
 )
 from .model.kernels import angle_trig, tethered_outputs
 from .sensing.config import N_CHANNELS
@@ -163,7 +164,7 @@ def restart_copy(i, copies, shared, wind, out):
     (x, k, cfg, ctrl, z, winch, held, event, x_meas, sc_meas, sc_true, y_loop, y_est, inp,
      ffwd, _, _, ring, x_start, z_start) = copies  # fmt: skip
     _, reward, status, _, rate, _ = out
-    loop = (
+    loop = LoopState(
         z[i], winch[i], held[i], event[i], x_meas[i], sc_meas[i], sc_true[i], y_loop[i],
         y_est[i], inp[i], ffwd[i],
     )  # fmt: skip

@@ -425,7 +425,7 @@ def summarize(x, x_ref, y, y_ref, tension, first, summary):
 # --- the phases of one control sample ----------------------------------------------------------
 
 
-@_jit
+@_jit_inline
 def apply_actuators(inp, held, act, dt, first):
     """Saturate the command, then pass it through the first-order lag (step-invariant at the
     sample rate: u_k = u_{k-1} + (1 - e^{-dt/tau}) (sat(cmd_k) - u_{k-1})); inp becomes the

@@ -708,7 +708,7 @@ def sensor_tuple(noise: np.ndarray, source: int, arm: float, schedule: np.ndarra
     return (noise, source, arm, np.empty((4, 3)), schedule, ring)
 
 
-def _read_only(a: np.ndarray) -> np.ndarray:
+def read_only(a: np.ndarray) -> np.ndarray:
     """A read-only, C-ordered float64 view of an input the engine only reads (a copy only where
     the layout or dtype differs): whichever way a law, a wind or a model was built (a cached,
     frozen gain or a fresh one), ``engine_args`` hands the engine the same types, so that
@@ -780,12 +780,12 @@ class EngineSetup:
         return (
             self.start.x.copy(),
             n_samples,
-            _read_only(self.cfg),
-            _read_only(self.ctrl),
-            _read_only(self.model.constants),
-            tuple(_read_only(a) for a in self.law),
-            tuple(_read_only(a) for a in (self.wind.program, self.wind.gust, self.wind.drag)),
-            _read_only(self.act),
+            read_only(self.cfg),
+            read_only(self.ctrl),
+            read_only(self.model.constants),
+            tuple(read_only(a) for a in self.law),
+            tuple(read_only(a) for a in (self.wind.program, self.wind.gust, self.wind.drag)),
+            read_only(self.act),
             self.sensors,
             tuple(a.copy() for a in self.chain),
         )
@@ -819,15 +819,15 @@ class EngineSetup:
             x=x,
             cfg=self.cfg.copy(),
             ctrl=self.ctrl.copy(),
-            c=_read_only(self.model.constants),
-            law=tuple(_read_only(a) for a in self.law),
-            wind=tuple(_read_only(a) for a in wind),
-            act=_read_only(self.act),
+            c=read_only(self.model.constants),
+            law=tuple(read_only(a) for a in self.law),
+            wind=tuple(read_only(a) for a in wind),
+            act=read_only(self.act),
             sensors=self.sensors,
             chain=tuple(a.copy() for a in self.chain),
             cw=engine.lumped_work(segments),
             work=work,
-            loop=engine.new_loop_state(x, self.start.z, work),
+            loop=engine.new_loop_state(x, read_only(self.start.z), work),
             summary=summary,
             out=out,
         )
