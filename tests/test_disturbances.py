@@ -29,7 +29,7 @@ from tetherheli.wind import (
     disturbance_from_dict,
     paper_wind,
 )
-from tetherheli.wind.turbulence import _discretize
+from tetherheli.wind.gusts import _discretize
 
 FT = 0.3048  # m per ft
 KT = 1852.0 / 3600.0  # m/s per knot
