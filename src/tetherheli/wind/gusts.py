@@ -13,14 +13,14 @@ from __future__ import annotations
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import ClassVar
 
 import numpy as np
 import scipy.linalg
 
 from .._validation import check_number, check_vector
 from ..errors import ParameterError
-from ._common import Vec3, _plain_dict, _set
+from ._common import PlainTable, Vec3, _set
 
 __all__ = ["DrydenGust", "GaussMarkovTurbulence", "GustModel", "heading_axes"]
 
@@ -87,7 +87,7 @@ def _discretize(A: np.ndarray, B: np.ndarray, dt: float) -> tuple[np.ndarray, np
     return Ad, 0.5 * (Qd + Qd.T)
 
 
-class GustModel(ABC):
+class GustModel(PlainTable, ABC):
     """Base class of turbulence models: three independent linear filters driven by
     unit-intensity Gaussian white noise (E[w(t) w(s)] = delta(t - s)), one per gust axis;
     the gust axes are mapped to N by ``axes``.
@@ -190,15 +190,6 @@ class GustModel(ABC):
         noise = rng.standard_normal((t.size - 1, m))
         y = _propagate(Ad, _psd_sqrt(Qd), C, x0, noise)
         return y @ self.axes.T
-
-    def to_dict(self) -> dict[str, Any]:
-        """A TOML-friendly table (``type`` and the fields) for ``disturbance_from_dict``.
-        Returns
-        -------
-        dict of str to object
-            ``type`` and the fields, as TOML writes them.
-        """
-        return _plain_dict(self)
 
 
 @dataclass(frozen=True)
