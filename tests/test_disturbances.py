@@ -30,7 +30,7 @@ from tetherheli.wind import (
     disturbance_from_dict,
     paper_wind,
 )
-from tetherheli.wind.turbulence import _discretize
+from tetherheli.wind.gusts import _discretize
 
 FT = 0.3048  # m per ft
 KT = 1852.0 / 3600.0  # m/s per knot
@@ -603,7 +603,7 @@ def test_kept_discretisation_draws_what_a_fresh_one_draws():
     computed for the draw (a custom model's path) bit for bit, per model and step (the
     entries are not mixed up), and the closed-form Gauss-Markov recursion
     x_k+1 = e^(-a dt) x_k + K sqrt((1 - e^(-2 a dt)) / 2a) e_k, x_0 = K / sqrt(2a) e_0."""
-    from tetherheli.wind.turbulence import _cached_filter
+    from tetherheli.wind.gusts import _cached_filter
 
     t = 0.05 * np.arange(601)
     models = [

@@ -242,7 +242,7 @@ def test_budget_counts_sensor_noise_and_concurrent_batch_runs(monkeypatch):
 
 def test_streamed_csv_holds_every_sample_exactly(tmp_path: Path):
     """The CSV is written in blocks; read back it equals the result's columns bit for bit."""
-    from tetherheli.sim import result as result_module
+    from tetherheli.sim import result_files as result_module
 
     r = simulate(Scenario(name="csv", duration=0.5, configuration="tethered"))
     original = result_module._CSV_BLOCK_ROWS

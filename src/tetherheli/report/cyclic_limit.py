@@ -4,15 +4,11 @@ this writes its table, its figure (``viz.plots.figure_limit_search``) and its su
 
 from __future__ import annotations
 
-import csv
-import io
-import json
 from pathlib import Path
 
-from .._io import atomic_write_text, output_directory
-from .._version import __version__
 from ..studies.cyclic_limit import LimitSearch
-from ..viz.plots import check_figure_format, figure_limit_search, save_figure
+from ..viz.plots import figure_limit_search
+from .sweep import write_sweep_folder
 
 __all__ = ["write_limit_search"]
 
@@ -27,38 +23,36 @@ def write_limit_search(
     figure_format: str = "png",
 ) -> None:
     """Table (CSV: every run), plot (``sweep.<figure_format>``: png, pdf or svg) and
-    summary.json of a search, written whole or not at all (``_io.output_directory``).
+    summary.json of a search, written whole or not at all (``sweep.write_sweep_folder``).
 
     Parameters
     ----------
     result : LimitSearch
         The search.
-    out_dir : str or Path
-        The output folder.
-    command : str
-        The command line, recorded in summary.json.
-    inputs : tuple of str or Path, optional
-        The input files, recorded with the folder's marker.
-    force : bool, optional
-        Replace this command's earlier output (default False).
-    figure_format : str, optional
-        "png" (default), "pdf" or "svg".
+    out_dir, command, inputs, force, figure_format
+        As for ``report.sweep.write_sweep``.
 
     Returns
     -------
     None
     """
-    figure_format = check_figure_format(figure_format)
-    fig = figure_limit_search(result)
-    buf = io.StringIO()
-    writer = csv.writer(buf, lineterminator="\n")
-    writer.writerow(["cyclic_limit_Nm", "metric", "meets", "status"])
-    for v, m, ok, s in zip(
-        result.values.tolist(), result.metric.tolist(), result.meets, result.statuses, strict=True
-    ):
-        writer.writerow([repr(v), repr(m), int(ok), s])
-    with output_directory(out_dir, writer="sweep", inputs=inputs, force=force) as tmp:
-        save_figure(fig, tmp / f"sweep.{figure_format}")
-        atomic_write_text(tmp / "sweep.csv", buf.getvalue())
-        info = {**result.as_dict(), "tetherheli_version": __version__, "command": command}
-        atomic_write_text(tmp / "summary.json", json.dumps(info, indent=2) + "\n")
+    write_sweep_folder(
+        out_dir,
+        draw=lambda: figure_limit_search(result),
+        header=("cyclic_limit_Nm", "metric", "meets", "status"),
+        rows=[
+            [repr(v), repr(m), str(int(ok)), s]
+            for v, m, ok, s in zip(
+                result.values.tolist(),
+                result.metric.tolist(),
+                result.meets,
+                result.statuses,
+                strict=True,
+            )
+        ],
+        summary=result.as_dict(),
+        command=command,
+        inputs=inputs,
+        force=force,
+        figure_format=figure_format,
+    )

@@ -496,18 +496,8 @@ def write_comparison(
     ----------
     results : list of SimulationResult
         The runs, with distinct scenario names.
-    out_dir : str or pathlib.Path
-        The output directory (created if missing).
-    command : str
-        The command line recorded in summary.json and report.md.
-    inputs : tuple of str or pathlib.Path
-        Input files (scenarios) the output directory records as read.
-    force : bool
-        Write into a directory that holds files tetherheli did not write (they are kept).
-    data_format : {"csv", "parquet"}
-        Format of the time series.
-    figure_format : {"png", "pdf", "svg"}
-        Format of the figures.
+    out_dir, command, inputs, force, data_format, figure_format
+        As for ``write_run``.
 
     Returns
     -------

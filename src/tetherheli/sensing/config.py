@@ -278,38 +278,14 @@ class SensorConfig:
     gps_outage : sequence of 2 floats
         ``[t_start, t_end]`` [s]: GNSS samples taken in it are lost (the last one before it
         is held); empty: none.
-    load_cell_rate : float
-        sample rate of the load_cell sensor (0: every control sample)
-    load_cell_latency : float
-        delay of the load_cell sensor's output (0: none)
-    encoder_rate : float
-        sample rate of the encoder sensor (0: every control sample)
-    encoder_latency : float
-        delay of the encoder sensor's output (0: none)
-    altimeter_rate : float
-        sample rate of the altimeter sensor (0: every control sample)
-    altimeter_latency : float
-        delay of the altimeter sensor's output (0: none)
-    attitude_rate : float
-        sample rate of the attitude sensor (0: every control sample)
-    attitude_latency : float
-        delay of the attitude sensor's output (0: none)
-    gyro_rate : float
-        sample rate of the gyro sensor (0: every control sample)
-    gyro_latency : float
-        delay of the gyro sensor's output (0: none)
-    velocity_rate : float
-        sample rate of the velocity sensor (0: every control sample)
-    velocity_latency : float
-        delay of the velocity sensor's output (0: none)
-    gps_rate : float
-        sample rate of the gps sensor (0: every control sample)
-    gps_latency : float
-        delay of the gps sensor's output (0: none)
-    winch_encoder_rate : float
-        sample rate of the winch_encoder sensor (0: every control sample)
-    winch_encoder_latency : float
-        delay of the winch_encoder sensor's output (0: none)
+    load_cell_rate, encoder_rate, altimeter_rate, attitude_rate : float
+        Sample rate of each sensor group (``SENSOR_GROUPS``) [Hz]; 0: every control sample.
+    gyro_rate, velocity_rate, gps_rate, winch_encoder_rate : float
+        The same, for the other groups.
+    load_cell_latency, encoder_latency, altimeter_latency, attitude_latency : float
+        Delay of each group's output [s]; 0: none.
+    gyro_latency, velocity_latency, gps_latency, winch_encoder_latency : float
+        The same, for the other groups.
 
     Raises
     ------

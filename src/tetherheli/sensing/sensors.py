@@ -59,16 +59,8 @@ def measure(x_true, tension_true, noise_row, source_code, arm, x_est):
 
     Parameters
     ----------
-    x_true : ndarray, shape (13,)
-        True state [q4..q9, u1..u6, LN] (rad, m, m/s, rad/s, m).
-    tension_true : float
-        True tether tension TC [N] (0 for the free configuration).
-    noise_row : ndarray, shape (N_CHANNELS,)
-        Noise plus bias of this sample (a row of ``noise_table``).
-    source_code : int
-        ``SOURCE_TRUE``, ``SOURCE_GPS`` or ``SOURCE_TETHER``.
-    arm : float
-        dO-P,3 - dO-HO,3 [m] (``HelicopterParams.tether_arm``).
+    x_true, tension_true, noise_row, source_code, arm
+        As for ``measure_into``.
     x_est : ndarray, shape (13,)
         Filled with the state estimate (as ``measure_into``).
 
@@ -172,12 +164,8 @@ def true_channels_into(x_true, tension_true, arm, HO, out):
 
     Parameters
     ----------
-    x_true : ndarray, shape (13,)
-        True state [q4..q9, u1..u6, LN] (rad, m, m/s, rad/s, m).
-    tension_true : float
-        True tether tension TC [N] (0 for the free configuration).
-    arm : float
-        dO-P,3 - dO-HO,3 [m] (``HelicopterParams.tether_arm``).
+    x_true, tension_true, arm
+        As for ``measure_into``.
     HO : ndarray, shape (3,)
         Filled with the true position of HO in N [m].
     out : ndarray, shape (N_CHANNELS,)
@@ -215,10 +203,8 @@ def measure_sampled(x_true, tension_true, k, sensors, x_est):
 
     Parameters
     ----------
-    x_true : ndarray, shape (13,)
-        True state [q4..q9, u1..u6, LN] (rad, m, m/s, rad/s, m).
-    tension_true : float
-        True tether tension TC [N] (0 for the free configuration).
+    x_true, tension_true
+        As for ``measure_into``.
     k : int
         Control sample index.
     sensors : tuple

@@ -25,7 +25,7 @@ from typing import Any
 
 from .._validation import Key
 from ..params import HelicopterParams, Params, TensionControlParams, TetherParams
-from ..sensing.config import _NUMERIC_FIELDS, POSITION_SOURCES, SensorConfig
+from ..sensing.config import _NUMERIC_FIELDS, POSITION_SOURCES, SENSOR_GROUPS, SensorConfig
 from ..sensing.presets import SENSOR_PRESETS
 from ..wind import loader as wind_loader
 from .scenario import (
@@ -155,13 +155,11 @@ def _sensor_rows() -> list[str]:
     for f in dataclasses.fields(SensorConfig):
         name = f.name
         group = name.rsplit("_", 1)[0]
-        doc = docs.get(name, "")
-        if not doc and name.endswith("_rate"):
+        doc = docs.get(name, "") or "see `SensorConfig`"
+        if group in SENSOR_GROUPS and name.endswith("_rate"):  # one row per group
             doc = f"sample rate of the {group} sensor (0: every control sample)"
-        elif not doc and name.endswith("_latency"):
+        elif group in SENSOR_GROUPS and name.endswith("_latency"):
             doc = f"delay of the {group} sensor's output (0: none)"
-        elif not doc:
-            doc = "see `SensorConfig`"
         if name == "position_source":
             allowed = "one of " + ", ".join(f"`{s}`" for s in sorted(POSITION_SOURCES))
         elif name == "gps_outage":

@@ -226,12 +226,8 @@ def drive_moordyn(
 
     Parameters
     ----------
-    cable : Cable
-        The cable.
-    anchor : array_like, shape (3,)
-        The fixed bottom node [m], frame N (n3 up).
-    top : callable
-        top(t [s]) -> (position (3,) [m], velocity (3,) [m/s]) of the top node in N.
+    cable, anchor, top
+        As for ``drive_cable``.
     duration : float
         Run length [s], > 0.
     dt : float

@@ -322,14 +322,8 @@ def static_chain(
 
     Parameters
     ----------
-    r_winch, r_P : array_like (3,)
-        The fixed ends [m].
-    L0 : float
-        Unstretched length [m].
-    tether : LumpedTether
-        The tether (N segments, mu, EA).
-    g : float
-        Gravity [m/s^2].
+    r_winch, r_P, L0, tether, g
+        As for ``catenary.initial_chain``, its start.
     ground_tension_N : float, optional
         The tension at the winch of a vertical chain (P straight above the winch) when it is
         known (``hover_trim_lumped``): the start value of the solve instead of the elastic

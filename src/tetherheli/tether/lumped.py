@@ -682,20 +682,8 @@ def chain_interval(x, v, wind, L0, p, h, xP1, vP1, work):
 
     Parameters
     ----------
-    x, v : ndarray, shape (N+1, 3)
-        Node positions [m] and velocities [m/s] at t (row N: P at t), updated in place.
-    wind : ndarray, shape (N+1, 3)
-        Wind at the nodes [m/s], held over the step.
-    L0 : float
-        Unstretched length [m], held over the step.
-    p : ndarray, shape (LUMPED_SIZE,)
-        ``LumpedTether.packed(g)``.
-    h : float
-        Step [s].
-    xP1, vP1 : ndarray, shape (3,)
-        P's position [m] and velocity [m/s] at t + h.
-    work : ndarray
-        Scratch, ``ros2_work(N)``.
+    x, v, wind, L0, p, h, xP1, vP1, work
+        As for ``ros2_step`` (row N of x, v: P at t).
 
     Returns
     -------

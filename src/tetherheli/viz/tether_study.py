@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 from matplotlib.figure import Figure
 
-from .plots import _new_figure
+from .figure import _new_figure
 
 __all__ = ["figure_study_reduction", "figure_study_sensing", "figure_study_static"]
 

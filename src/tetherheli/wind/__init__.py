@@ -3,9 +3,13 @@
 ``profiles``
     the ``Disturbance`` contract and the deterministic profiles (``Pulse``, ``Step``,
     ``Sine``, ``ConstantForce``, ``NoWind``, their sum ``WindSum``, ``paper_wind``);
+``gusts``
+    gust models (``DrydenGust``, ``GaussMarkovTurbulence``) and their axes (``heading_axes``);
+``calibration``
+    ``gust_calibration`` and ``CalibratedGaussMarkovTurbulence``: gusts from MIL-HDBK-1797 or
+    IEC 61400-1;
 ``turbulence``
-    gust models (``DrydenGust``, ``GaussMarkovTurbulence``, ``CalibratedGaussMarkovTurbulence``
-    with ``gust_calibration``) and ``Turbulence``, a gust series turned into a drag force;
+    ``Turbulence``, a gust series turned into a drag force, and the checks of a run's wind;
 ``drag``
     ``DragModel``, the air-relative velocity turned into a force;
 ``compiled``

@@ -1,5 +1,5 @@
 """Helpers shared by the wind modules: validation (field names are "Class.field"; the loader
-re-prefixes them) and the plain ``to_dict`` table."""
+re-prefixes them) and the plain ``to_dict`` table (``_plain_dict``, ``PlainTable``)."""
 
 from __future__ import annotations
 
@@ -70,3 +70,18 @@ def _plain_dict(obj: Any) -> dict[str, Any]:
         value = getattr(obj, f.name)
         out[f.name] = list(value) if isinstance(value, tuple) else value
     return out
+
+
+class PlainTable:
+    """Mixin of the frozen dataclasses whose table is their fields (``_plain_dict``): the
+    profiles, the drag model and the gust models."""
+
+    def to_dict(self) -> dict[str, Any]:
+        """A TOML-friendly table that ``disturbance_from_dict`` maps back to an equal object.
+
+        Returns
+        -------
+        dict of str to object
+            ``type`` and the fields, as TOML writes them (tuples as lists).
+        """
+        return _plain_dict(self)

@@ -3,19 +3,18 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
 from .._validation import check_number, check_vector
 from ..errors import ParameterError
-from ._common import Vec3, _plain_dict, _set
+from ._common import PlainTable, Vec3, _set
 
 __all__ = ["DragModel"]
 
 
 @dataclass(frozen=True)
-class DragModel:
+class DragModel(PlainTable):
     """Bluff-body quadratic drag of the helicopter:
     F_i = 0.5 rho CdA_i |v_rel| v_rel,i, v_rel = air velocity - velocity of HO, with |v_rel|
     the norm of the whole relative velocity (the dynamic pressure 0.5 rho |v_rel|^2 acts on
@@ -65,12 +64,3 @@ class DragModel:
             raise ParameterError("N_v_air", N_v_air, "an array of shape (3,) or (n, 3) [m/s]")
         speed = np.linalg.norm(v_rel, axis=-1, keepdims=True)
         return 0.5 * self.rho * np.asarray(self.cd_area_m2) * speed * v_rel
-
-    def to_dict(self) -> dict[str, Any]:
-        """A TOML-friendly table of the fields.
-        Returns
-        -------
-        dict of str to object
-            Field name -> value (tuples as lists).
-        """
-        return _plain_dict(self)

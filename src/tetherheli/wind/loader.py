@@ -9,14 +9,11 @@ from typing import Any
 
 from .._validation import check_integer, check_number, check_vector
 from ..errors import ParameterError
+from .calibration import CalibratedGaussMarkovTurbulence
 from .drag import DragModel
+from .gusts import DrydenGust, GaussMarkovTurbulence
 from .profiles import ConstantForce, Disturbance, NoWind, Pulse, Sine, Step, WindSum
-from .turbulence import (
-    CalibratedGaussMarkovTurbulence,
-    DrydenGust,
-    GaussMarkovTurbulence,
-    Turbulence,
-)
+from .turbulence import Turbulence
 
 __all__ = ["disturbance_from_dict"]
 

@@ -41,7 +41,7 @@ import numpy as np
 
 from .._validation import check_number, check_vector
 from ..errors import ParameterError
-from ._common import Vec3, _plain_dict, _set, _times, _unit, _velocities
+from ._common import PlainTable, Vec3, _set, _times, _unit, _velocities
 
 __all__ = [
     "ConstantForce",
@@ -146,7 +146,7 @@ def _flatten(d: Disturbance) -> tuple[Disturbance, ...]:
 
 
 @dataclass(frozen=True)
-class Pulse(Disturbance):
+class Pulse(PlainTable, Disturbance):
     """A rectangular force pulse: ``magnitude`` along ``direction`` for
     ``start <= t < start + duration``, zero otherwise.
 
@@ -182,18 +182,9 @@ class Pulse(Disturbance):
         on = (t >= self.start) & (t < self.start + self.duration)
         return np.outer(np.where(on, self.magnitude, 0.0), self.direction)
 
-    def to_dict(self) -> dict[str, Any]:
-        """See ``Disturbance.to_dict``.
-        Returns
-        -------
-        dict of str to object
-            ``type`` and the fields, as TOML writes them.
-        """
-        return _plain_dict(self)
-
 
 @dataclass(frozen=True)
-class Step(Disturbance):
+class Step(PlainTable, Disturbance):
     """A force step: ``magnitude`` along ``direction`` for ``t >= start``, zero before.
 
     Parameters
@@ -220,18 +211,9 @@ class Step(Disturbance):
     def _force(self, t: np.ndarray) -> np.ndarray:
         return np.outer(np.where(t >= self.start, self.magnitude, 0.0), self.direction)
 
-    def to_dict(self) -> dict[str, Any]:
-        """See ``Disturbance.to_dict``.
-        Returns
-        -------
-        dict of str to object
-            ``type`` and the fields, as TOML writes them.
-        """
-        return _plain_dict(self)
-
 
 @dataclass(frozen=True)
-class Sine(Disturbance):
+class Sine(PlainTable, Disturbance):
     """A sinusoidal force switched on at ``start``:
     ``amplitude * sin(2 pi frequency t + phase)`` along ``direction`` for ``t >= start``,
     zero before.
@@ -274,18 +256,9 @@ class Sine(Disturbance):
         value = self.amplitude * np.sin(2.0 * np.pi * self.frequency * t + self.phase)
         return np.outer(np.where(t >= self.start, value, 0.0), self.direction)
 
-    def to_dict(self) -> dict[str, Any]:
-        """See ``Disturbance.to_dict``.
-        Returns
-        -------
-        dict of str to object
-            ``type`` and the fields, as TOML writes them.
-        """
-        return _plain_dict(self)
-
 
 @dataclass(frozen=True)
-class ConstantForce(Disturbance):
+class ConstantForce(PlainTable, Disturbance):
     """A constant force at all times.
 
     Parameters
@@ -303,15 +276,6 @@ class ConstantForce(Disturbance):
 
     def _force(self, t: np.ndarray) -> np.ndarray:
         return np.tile(np.asarray(self.vector), (t.size, 1))
-
-    def to_dict(self) -> dict[str, Any]:
-        """See ``Disturbance.to_dict``.
-        Returns
-        -------
-        dict of str to object
-            ``type`` and the fields, as TOML writes them.
-        """
-        return _plain_dict(self)
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,247 @@
+"""The checks of a scenario: every field against its ``Key``, the rules that join fields
+(sample time and duration, limits and references, tether model and configuration, ...), and
+the names that become file stems (``check_name``, ``check_distinct_names``).
+
+``Scenario`` runs ``validate_scenario`` on construction, and ``scenario_from_dict`` on the
+scenario it reads (``sim.scenario``); each failure is one ``ParameterError`` naming the key.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import re
+from collections.abc import Iterable
+from typing import TYPE_CHECKING, Any
+
+from .._io import OWN_FILE_STEMS
+from ..errors import ParameterError
+from ..params import Params, check_tether_length, check_tether_strain
+from ..sensing.config import SensorConfig
+from ..wind import Disturbance, check_wind_covers
+from .scenario_tables import (
+    ActuatorSettings,
+    ControlSettings,
+    Limits,
+    MPCSettings,
+    TetherLQISettings,
+    TetherSettings,
+    WinchSettings,
+    field_key,
+)
+
+if TYPE_CHECKING:
+    from .scenario import Scenario
+
+__all__ = ["MAX_SAMPLES", "check_distinct_names", "check_name", "validate_scenario"]
+
+#: A scenario name becomes a file stem and a folder name: letters, digits, '_', '.', '-'.
+_NAME_PATTERN = re.compile(r"[A-Za-z0-9_.-]{1,100}")
+#: The most control samples one run may have (about 12 days at dt = 1 ms, 115 days at 10 ms).
+MAX_SAMPLES = 1_000_000_000
+
+
+def check_name(key: str, value: object, *, source: str | None = None) -> str:
+    """A name that becomes a file stem or a folder: 1-100 letters, digits, '_', '.', '-'
+    (never a path), not starting with '.' (tetherheli's record and temporary files do), and
+    not one of the stems of tetherheli's own files (``_io.OWN_FILE_STEMS``, alone or before a
+    '.', in any letter case), so that no run's file or folder is ever one of them; else
+    ParameterError naming ``key``."""
+    if (
+        not isinstance(value, str)
+        or not _NAME_PATTERN.fullmatch(value)
+        or value.startswith(".")
+        or value.casefold().partition(".")[0] in OWN_FILE_STEMS
+    ):
+        raise ParameterError(
+            key,
+            value,
+            "a plain name of 1-100 letters, digits, '_', '.' or '-' (no path separators), "
+            "not starting with '.' and not one of tetherheli's own file names "
+            f"({', '.join(OWN_FILE_STEMS)}, with or without a suffix)",
+            source=source,
+        )
+    return value
+
+
+def check_distinct_names(names: Iterable[str], *, key: str = "name") -> None:
+    """Refuse runs whose names would share a file or folder: equal names, or names equal
+    but for letter case (one file on a case-insensitive file system).
+
+    Parameters
+    ----------
+    names : iterable of str
+        The runs' names (already ``check_name``-ed).
+    key : str, optional
+        The field to name in the error (default "name").
+
+    Raises
+    ------
+    ParameterError
+        Two names that clash, both named.
+    """
+    seen: dict[str, str] = {}
+    for name in names:
+        other = seen.get(name.casefold())
+        seen[name.casefold()] = name
+        if other is not None:
+            raise ParameterError(
+                key,
+                name,
+                f"a name that differs from every other run's (it clashes with {other!r}; "
+                "names must differ, also in more than letter case)",
+            )
+
+
+def validate_scenario(s: Scenario, source: str | None) -> None:
+    """Check every field of ``s`` and store the checked values (Python floats and ints, so a
+    NumPy scalar is accepted and recorded as plain data)."""
+    check_name("name", s.name, source=source)
+    field_key(type(s), "configuration").check("configuration", s.configuration, source=source)
+    _set(s, "duration", field_key(type(s), "duration").check("duration", s.duration, source=source))
+    _set(s, "q9", check_tether_length(s.q9, "q9", source=source))
+    _set(
+        s,
+        "metrics_start",
+        field_key(type(s), "metrics_start").check(
+            "metrics_start", s.metrics_start, high=s.duration, high_open=True, source=source
+        ),
+    )
+    c = s.control
+    dt = field_key(ControlSettings, "dt").check("control.dt", c.dt, source=source)
+    if dt > s.duration:
+        raise ParameterError(
+            "control.dt", c.dt, f"a sample time <= duration ({s.duration} s)", source=source
+        )
+    if s.duration / dt > MAX_SAMPLES:
+        raise ParameterError(
+            "duration",
+            s.duration,
+            f"at most {MAX_SAMPLES:.0e} control samples (duration / control.dt; dt = {c.dt} s)",
+            source=source,
+        )
+    if abs(s.duration / dt - round(s.duration / dt)) > 1e-9 * s.duration / dt:
+        raise ParameterError(
+            "duration",
+            s.duration,
+            f"a whole number of control samples (dt = {c.dt} s)",
+            source=source,
+        )
+    tether_lqi = _checked(TetherLQISettings, "control.tether_lqi", c.tether_lqi, source)
+    mpc = _checked(MPCSettings, "control.mpc", c.mpc, source)
+    if mpc.tension_bounds is not None and not mpc.tension_bounds[0] < mpc.tension_bounds[1]:
+        raise ParameterError(
+            "control.mpc.tension_bounds", list(c.mpc.tension_bounds), "[lower, upper] with "
+            "lower < upper [N]", source=source,
+        )  # fmt: skip
+    control = _checked(ControlSettings, "control", c, source, dt=dt, tether_lqi=tether_lqi, mpc=mpc)
+    lim = _checked(Limits, "limits", s.limits, source)
+    a = s.actuators
+    actuators = _checked(ActuatorSettings, "actuators", a, source)
+    if any(lo >= hi for lo, hi in zip(actuators.u_min, actuators.u_max, strict=True)):
+        raise ParameterError(
+            "actuators.u_min", a.u_min, "limits below actuators.u_max", source=source
+        )
+    if not isinstance(s.winch, WinchSettings):
+        raise ParameterError("winch", s.winch, "a WinchSettings", source=source)
+    winch = _checked(WinchSettings, "winch", s.winch, source)
+    if not winch.min_length < winch.max_length:
+        raise ParameterError(
+            "winch.max_length", s.winch.max_length,
+            f"a length above winch.min_length ({winch.min_length:g} m)", source=source,
+        )  # fmt: skip
+    if winch.model == "drum" and math.isfinite(actuators.reel_acceleration_limit):
+        raise ParameterError(
+            "actuators.reel_acceleration_limit",
+            a.reel_acceleration_limit,
+            'inf with [winch] model = "drum" (the drum\'s inertia and torque limit bound '
+            "its acceleration)",
+            source=source,
+        )
+    _set(s, "control", control)
+    _set(s, "limits", lim)
+    _set(s, "actuators", actuators)
+    tether = _checked(TetherSettings, "tether", s.tether, source)
+    if tether.lumped and s.configuration != "tethered":
+        raise ParameterError(
+            "tether.model", tether.model, "'elastic' in the free configuration (no tether)",
+            source=source,
+        )  # fmt: skip
+    if tether.internal_damping > 0.0 and tether.damping_ratio > 0.0:
+        raise ParameterError(
+            "tether.internal_damping", tether.internal_damping,
+            "0 while tether.damping_ratio > 0 (one or the other: set damping_ratio = 0 to "
+            "give internal_damping)", source=source,
+        )  # fmt: skip
+    _set(s, "tether", tether)
+    _set(s, "winch", winch)
+    if not isinstance(s.sensors, SensorConfig):
+        raise ParameterError("sensors", s.sensors, "a SensorConfig", source=source)
+    try:
+        s.sensors.check_configuration(tethered=s.configuration == "tethered")
+        s.sensors.group_timing(s.control.dt)  # rates and latencies on the control grid
+    except ParameterError as exc:
+        raise ParameterError(exc.field, exc.value, exc.allowed, source=source) from None
+    _set(s, "seed", field_key(type(s), "seed").check("seed", s.seed, source=source))
+    if not isinstance(s.params, Params):
+        raise ParameterError("params", s.params, "a tetherheli.Params", source=source)
+    if s.configuration == "tethered" and s.params.tension_control.T_ref >= lim.max_tension:
+        raise ParameterError(
+            "params.tension_control.T_ref",
+            s.params.tension_control.T_ref,
+            f"a reference below limits.max_tension ({lim.max_tension} N)",
+            source=source,
+        )
+    if tether.lumped and not s.params.tension_control.T_ref > 0.0:
+        raise ParameterError(
+            "params.tension_control.T_ref",
+            s.params.tension_control.T_ref,
+            "a tension > 0 [N] with [tether] model = 'lumped' (the chain hangs from P with "
+            "T_ref at the winch; at 0 N its bottom is slack)",
+            source=source,
+        )
+    if s.configuration == "tethered":  # the trim's natural length must be sensible
+        s.params.tether.check_tension(
+            s.params.tension_control.T_ref, s.q9, "params.tension_control.T_ref", source=source
+        )
+    if s.configuration == "free" and s.control.controller == "tether_lqi":
+        raise ParameterError(
+            "control.controller", "tether_lqi", "'paper' or 'mpc' in the free configuration "
+            "(the tethered LQI needs a tether: configuration = 'tethered')", source=source,
+        )  # fmt: skip
+    bounds = s.control.mpc.tension_bounds
+    T_ref = s.params.tension_control.T_ref
+    if s.configuration == "tethered" and s.control.controller == "mpc" and bounds is not None:
+        if not bounds[0] <= T_ref <= bounds[1]:  # the MPC would fight its own reference
+            raise ParameterError(
+                "control.mpc.tension_bounds", list(bounds), f"bounds around "
+                f"params.tension_control.T_ref = {T_ref:g} N (e.g. [{T_ref / 2:g}, "
+                f"{1.5 * T_ref:g}], Tref/2 and 1.5 Tref)", source=source,
+            )  # fmt: skip
+    if s.configuration == "tethered" and s.tether.lumped and s.tether.EA > 0.0:
+        # the same strain limit for the chain: its top carries T_ref and its own weight
+        top = (
+            s.params.tension_control.T_ref + s.tether.mass_per_length * s.params.helicopter.g * s.q9
+        )
+        check_tether_strain(top, s.tether.EA, "tether.EA", s.tether.EA, source=source)
+    if not isinstance(s.wind, Disturbance):
+        raise ParameterError("wind", s.wind, "a tetherheli Disturbance", source=source)
+    check_wind_covers(s.wind, s.duration, source=source)
+
+
+def _set(s: Scenario, name: str, value: Any) -> None:
+    object.__setattr__(s, name, value)
+
+
+def _checked(cls: type, section: str, value: Any, source: str | None, **done: Any) -> Any:
+    """A ``cls`` (a settings table) with every field checked against its ``Key``; ``done``:
+    fields already checked."""
+    return cls(
+        **{
+            f.name: done[f.name]
+            if f.name in done
+            else f.metadata["key"].check(f"{section}.{f.name}", getattr(value, f.name),
+                                         source=source)
+            for f in dataclasses.fields(cls)
+        }
+    )  # fmt: skip

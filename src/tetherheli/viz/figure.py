@@ -1,0 +1,221 @@
+"""What every figure shares: ``InlineFigure`` (built without pyplot, shown inline in
+Jupyter), the configurations' colours, the styles, the dropping of samples that cannot be
+drawn (``plottable``, ``PLOT_LIMIT``), the figure's assembly and ``save_figure``.
+
+The figures themselves are ``viz.plots`` (the runs', Figs. 6-9) and ``viz.study_figures``
+(sweep, Monte Carlo, sensing, trade-off); ``viz.plots`` re-exports every public name.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from .._io import atomic_write_bytes
+from ..errors import ParameterError
+from ..sim.result import SimulationResult
+from .formats import FIGURE_FORMATS, PRINT_DPI
+
+__all__ = [
+    "CONFIGURATION_COLOURS",
+    "PLOT_LIMIT",
+    "InlineFigure",
+    "check_figure_format",
+    "metric_label",
+    "plottable",
+    "save_figure",
+]
+
+#: The colour of each configuration in every figure and the animation.
+CONFIGURATION_COLOURS = {"free": "tab:red", "tethered": "tab:blue"}
+
+_STYLE = {cfg: dict(color=c, lw=1.1, label=cfg) for cfg, c in CONFIGURATION_COLOURS.items()}
+
+
+def check_figure_format(figure_format: str) -> str:
+    """``figure_format`` if it is one of ``FIGURE_FORMATS``, else ParameterError.
+
+    Parameters
+    ----------
+    figure_format : str
+        A format name, e.g. ``"png"``.
+
+    Returns
+    -------
+    str
+        ``figure_format`` unchanged.
+    """
+    if figure_format not in FIGURE_FORMATS:
+        raise ParameterError("figure format", figure_format, f"one of {list(FIGURE_FORMATS)}")
+    return figure_format
+
+
+def metric_label(metric: str) -> str:
+    """An axis label with the unit for a run metric (``sim.batch.METRIC_NAMES``, e.g.
+    "peak_q1" -> "peak |q1 - q1 trim| [m]").
+
+    Parameters
+    ----------
+    metric : str
+        A metric name such as ``"peak_q1"``, ``"rms_q2"``, ``"tension_max"``.
+
+    Returns
+    -------
+    str
+        The label; an unknown name is returned unchanged.
+    """
+    kind, _, rest = metric.partition("_")
+    if kind == "tension":
+        return f"{rest}imum tether tension TC [N]"
+    q, _, unit = rest.partition("_")
+    if kind == "peak":
+        return f"peak |{q} - {q} trim| [{unit or 'm'}]"
+    if kind == "rms":
+        return f"RMS of {q} - {q} trim [m]"
+    return metric
+
+
+#: samples beyond this magnitude (or non-finite) are not drawn: Matplotlib cannot place ticks
+#: on such ranges, and no physical signal of the model reaches them
+PLOT_LIMIT = 1e100
+
+
+def _style(result: SimulationResult) -> dict:
+    st = dict(_STYLE.get(str(result.configuration.get("configuration")), dict(lw=1.1)))
+    label = st.get("label", result.name)
+    if not result.ok:  # a failed run is drawn up to its last recorded sample
+        label += f" (stopped at t = {result.end_time:g} s)"
+    elif result.released:
+        label += f" (tether released at t = {result.release_time:g} s)"
+    st["label"] = label
+    return st
+
+
+def plottable(values: np.ndarray) -> tuple[np.ndarray, int]:
+    """A copy of ``values`` with the samples that cannot be drawn (non-finite, or beyond
+    ``PLOT_LIMIT``) set to NaN (gaps in the line), and how many there were.
+
+    Parameters
+    ----------
+    values : ndarray
+        Samples of any shape and unit.
+
+    Returns
+    -------
+    drawable : ndarray of float
+        The copy, same shape, NaN where a sample cannot be drawn.
+    dropped : int
+        How many samples were set to NaN.
+    """
+    a = np.array(values, dtype=float)
+    with np.errstate(invalid="ignore"):
+        bad = ~(np.abs(a) <= PLOT_LIMIT)
+    a[bad] = np.nan
+    return a, int(bad.sum())
+
+
+class _Plotter:
+    """``ax.plot`` of ``plottable`` samples, counting those left out for the figure's note."""
+
+    def __init__(self) -> None:
+        self.dropped = 0
+
+    def __call__(self, ax, t: np.ndarray, y: np.ndarray, **style) -> None:
+        clean, n = plottable(y)
+        self.dropped += n
+        ax.plot(t, clean, **style)
+
+
+class InlineFigure(Figure):
+    """A Matplotlib ``Figure`` built without pyplot that shows itself in Jupyter: as a cell's
+    last expression it renders as a PNG (``_repr_png_``, at the figure's own dpi) in any
+    kernel and backend, where a plain ``Figure`` prints ``<Figure size ... with n Axes>``.
+    It is not registered with pyplot, so ``plt.show()`` and the inline backend never show
+    it twice, and making one never changes the process's backend."""
+
+    def _repr_png_(self) -> bytes:
+        """The figure as PNG bytes (IPython's display protocol)."""
+        import io
+
+        buf = io.BytesIO()
+        self.savefig(buf, format="png")
+        return buf.getvalue()
+
+
+def _new_figure(fig: Figure | None, size: tuple[float, float]) -> Figure:
+    """``fig`` (a caller's empty figure) or a new constrained-layout ``InlineFigure`` (no
+    pyplot)."""
+    if fig is None:
+        return InlineFigure(figsize=size, layout="constrained")
+    if fig.axes:
+        raise ParameterError("fig", "a figure with axes", "an empty figure")
+    return fig
+
+
+def _single_axes(ax: Any, size: tuple[float, float]) -> tuple[Figure, Any]:
+    """``ax`` and its figure, or a new figure with one axes."""
+    if ax is not None:
+        return ax.get_figure(), ax
+    fig = InlineFigure(figsize=size, layout="constrained")
+    return fig, fig.add_subplot()
+
+
+def _stacked(
+    rows: int, size: tuple[float, float], fig: Figure | None = None
+) -> tuple[Figure, np.ndarray]:
+    """A figure of ``rows`` axes stacked over a shared time axis (no pyplot)."""
+    fig = _new_figure(fig, size)
+    return fig, np.atleast_1d(fig.subplots(rows, 1, sharex=True))
+
+
+def _finish(fig: Figure, axes: np.ndarray, title: str, dropped: int = 0) -> Figure:
+    """Shared time axis label, legend, grid and title of the stacked time-series figures;
+    a note when samples could not be drawn."""
+    axes[-1].set_xlabel("t [s]")
+    axes[0].legend(loc="upper right", fontsize=8)
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    if dropped:
+        fig.text(
+            0.01,
+            0.002,
+            f"{dropped} sample{'s' if dropped != 1 else ''} not drawn (non-finite or "
+            f"beyond {PLOT_LIMIT:g})",
+            fontsize=7,
+            color="tab:red",
+        )
+    if title:
+        fig.suptitle(title)
+    return fig
+
+
+def save_figure(fig: Figure, path: str | Path, dpi: int = PRINT_DPI) -> Path:
+    """Save ``fig`` atomically in the format of ``path``'s suffix (``FIGURE_FORMATS``: PNG
+    at ``dpi``, default ``PRINT_DPI``; PDF, SVG as vectors, without a creation date).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure to save.
+    path : str or Path
+        The file to write; its suffix (.png, .pdf, .svg) selects the format.
+    dpi : int, optional
+        Resolution of a PNG [dots per inch] (default ``PRINT_DPI``).
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
+    import io
+
+    path = Path(path)
+    fmt = check_figure_format(path.suffix.lower().lstrip("."))
+    metadata = {"png": None, "pdf": {"CreationDate": None}, "svg": {"Date": None}}[fmt]
+    buf = io.BytesIO()
+    fig.savefig(buf, format=fmt, dpi=dpi, metadata=metadata)
+    atomic_write_bytes(path, buf.getvalue())
+    return path
