@@ -1,4 +1,4 @@
-"""Batch speed: the lane engine (blocks of LANES runs, ``engine.run_lanes``) against one run
+"""Batch speed: the lane engine (blocks of LANES runs, ``lanes.run_lanes``) against one run
 per thread (``engine.run_closed_loop``), measured in the same process.
 
 Run: python benchmarks/bench_lanes.py [--draws 1000] [--rounds 3] [--cli] [--lanes 8,16,32]

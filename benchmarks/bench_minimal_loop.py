@@ -49,7 +49,7 @@ from tetherheli.sim import engine
 from tetherheli.sim.batch import run_batch, run_unrecorded
 from tetherheli.sim.scenario import paper_scenario
 from tetherheli.sim.setup import engine_setup
-from tetherheli.wind import Pulse, Sine
+from tetherheli.wind import Pulse, Sine, evaluate
 
 
 @njit(error_model="numpy", inline="always", cache=True)
@@ -57,7 +57,7 @@ def _derivative(x, inp, rate, t, side, k_c, c, program, sc, wind, out):
     """dx/dt of the tethered plant with the built-in wind profiles' force at t."""
     angle_trig(x, sc)
     wind[:] = 0.0
-    engine._wind_program_force(program, t, side, wind)
+    evaluate._wind_program_force(program, t, side, wind)
     stretch = x[5] - x[12]
     tension = k_c * stretch if stretch > 0.0 else 0.0
     tethered_rhs_sc(x, sc, inp, wind, tension, c, out)

@@ -7,8 +7,9 @@ Each tree runs in its own process (its own ``PYTHONPATH`` and compile cache unde
 ``$TMPDIR``); the default names are the paper's four runs and two sensed ones (Kalman
 filter, GNSS outage). Prints, per run, the largest absolute difference over every recorded
 array (time, states, outputs, inputs, tension, reel rate, wind and the extra columns: the
-MPC's estimate, iterations, fallbacks) and whether all are bit-identical; exits 1 when a run
-differs by more than ``--tolerance`` (default 1e-12) or records other arrays.
+MPC's estimate, iterations, fallbacks) and whether all are bit-identical (else which
+differ); exits 1 when a run differs by more than ``--tolerance`` (default 1e-12) or records
+other arrays.
 """
 
 from __future__ import annotations
@@ -87,20 +88,25 @@ def main(argv: list[str] | None = None) -> int:
     failed = False
     for run in sorted({k.rsplit("/", 1)[0] for k in new}):
         keys = [k for k in new if k.startswith(run + "/")]
-        worst, identical = 0.0, True
+        worst, identical, differing = 0.0, True, []
         for k in keys:
             a, b = new[k], old[k]
             if a.shape != b.shape:
                 worst, identical = float("inf"), False
+                differing.append(k.rsplit("/", 1)[1])
                 continue
-            identical &= bool(np.array_equal(a, b, equal_nan=a.dtype.kind == "f"))
+            same = bool(np.array_equal(a, b, equal_nan=a.dtype.kind == "f"))
+            identical &= same
+            if not same:
+                differing.append(k.rsplit("/", 1)[1])
             if a.dtype.kind == "f" and a.size:
                 diff = np.abs(a - b)
                 worst = max(worst, float(np.nanmax(diff)) if np.isfinite(diff).any() else 0.0)
         failed |= worst > args.tolerance or not np.array_equal(
             new[run + "/status"], old[run + "/status"]
         )
-        print(f"{run:32s} {worst:.3g}  {'bit-identical' if identical else 'differs'}")
+        which = "bit-identical" if identical else "differs: " + ", ".join(differing)
+        print(f"{run:32s} {worst:.3g}  {which}")
     return 1 if failed else 0
 
 

@@ -11,7 +11,7 @@ from scipy.integrate import solve_ivp
 
 from tetherheli.errors import ParameterError
 from tetherheli.layout import CHAIN_NODES, CHAIN_PARAMS, LUMPED_MU
-from tetherheli.sim import engine
+from tetherheli.sim import engine, lumped_step
 from tetherheli.sim.scenario import Scenario, TetherSettings, paper_scenario
 from tetherheli.sim.setup import engine_setup
 from tetherheli.tether.coupling import tethered_derivative_force_at_P
@@ -24,7 +24,7 @@ def _lumped(segments: int = 10, **kw) -> TetherSettings:
 
 
 def _open_loop(EA: float, segments: int, coupling: int, duration: float, dt: float = 0.01):
-    """The engine's coupled step (``engine.lumped_interval``) over ``duration`` with the trim
+    """The engine's coupled step (``lumped_step.lumped_interval``) over ``duration`` with the trim
     inputs held, a 10 N force on HO along n1 and no air motion; returns the setup, the sample
     times and per sample the helicopter's state and the chain's nodes."""
     s = Scenario(
@@ -38,11 +38,11 @@ def _open_loop(EA: float, segments: int, coupling: int, duration: float, dt: flo
     cfg = cfg.copy()
     program, gust, drag = wind
     work = np.empty((engine.RK4_WORK_ROWS, 13))
-    cw = engine.lumped_work(segments)
+    cw = lumped_step.lumped_work(segments)
     inp = setup.trim.u_total.copy()
     xs, nodes = [x.copy()], [chain[CHAIN_NODES].copy()]
     for k in range(s.n_samples):
-        engine.lumped_interval(
+        lumped_step.lumped_interval(
             x, inp, 0.0, k * dt, cfg, c, program, gust, drag, work, chain, cw, coupling
         )
         xs.append(x.copy())
@@ -74,7 +74,7 @@ def _radau(setup, t_eval, nodes0, rtol=1e-9):
         r = y[13 : 13 + 3 * (n - 1)].reshape(n - 1, 3)
         v = y[13 + 3 * (n - 1) :].reshape(n - 1, 3)
         engine.angle_trig(x, sc)
-        engine.p_motion(x, sc, arm, pm)
+        lumped_step.p_motion(x, sc, arm, pm)
         xn = np.vstack([np.zeros(3), r, pm[:3]])
         vn = np.vstack([np.zeros(3), v, pm[3:]])
         chain_forces(xn, vn, air, x[12], p, F, T, K, C, D, False)
@@ -90,14 +90,14 @@ def _radau(setup, t_eval, nodes0, rtol=1e-9):
 
 
 def coupling_errors(EA: float, segments: int, duration: float = 2.0) -> dict[str, tuple]:
-    """Largest deviation of the engine's coupled step (``engine.lumped_interval``, dt = 10 ms,
+    """Largest deviation of the engine's coupled step (``lumped_step.lumped_interval``, dt = 10 ms,
     2 substeps) from the Radau reference (rtol 1e-9) over an open-loop run, per coupling
     ("staggered", "condensed"): (P's position [m]: q7, q8 times 10 m and q9; the chain's
     interior nodes [m]), and P's largest excursion from its start [m] for scale."""
     out = {}
     for name, coupling in (
-        ("staggered", engine.COUPLING_STAGGERED),
-        ("condensed", engine.COUPLING_CONDENSED),
+        ("staggered", lumped_step.COUPLING_STAGGERED),
+        ("condensed", lumped_step.COUPLING_CONDENSED),
     ):
         setup, t, xs, nodes = _open_loop(EA, segments, coupling, duration)
         if not out:
@@ -215,8 +215,8 @@ def test_hover_balance_at_the_start():
     setup = engine_setup(s)
     x, _, cfg, _, _, _, wind, _, _, chain = setup.engine_args(s.n_samples)
     cfg = cfg.copy()
-    cw = engine.lumped_work(20)
-    engine.chain_ends(x, 0.0, cfg, wind[1], chain, cw)
+    cw = lumped_step.lumped_work(20)
+    lumped_step.chain_ends(x, 0.0, cfg, wind[1], chain, cw)
     force_P = cw[6]
     free = TetheredHelicopter(s.params).trim(0.0, s.q9)
     h = s.params.helicopter
@@ -374,7 +374,7 @@ def test_helicopter_and_chain_conserve_energy_without_drag_damping_and_winch():
 
     def ends(x):
         engine.angle_trig(x, sc)
-        engine.p_motion(x, sc, arm, pm)
+        lumped_step.p_motion(x, sc, arm, pm)
         return pm[:3].copy(), pm[3:].copy()
 
     def rhs(_t, y):
@@ -411,7 +411,7 @@ def test_helicopter_and_chain_conserve_energy_without_drag_damping_and_winch():
 
 
 def _engine_energy_drift(EA: float, substeps: int = 2, segments: int = 10, duration: float = 20.0):
-    """The engine's coupled step (``engine.lumped_interval``, dt = 10 ms) with no rotor inputs,
+    """The engine's coupled step (``lumped_step.lumped_interval``, dt = 10 ms) with no rotor inputs,
     no drag, no axial damping, the winch still and a constant upward force on HO (the weight
     plus 20 N: a conservative force, potential -F z_HO) that keeps the chain taut, after a push
     (u1..u6): the largest change of the helicopter's kinetic + potential energy plus the
@@ -440,7 +440,7 @@ def _engine_energy_drift(EA: float, substeps: int = 2, segments: int = 10, durat
     p = chain[CHAIN_PARAMS]
     p[3:5] = 0.0  # no normal and tangential drag (layout.LUMPED_CDN, LUMPED_CDT)
     work = np.empty((engine.RK4_WORK_ROWS, 13))
-    cw = engine.lumped_work(segments)
+    cw = lumped_step.lumped_work(segments)
     x[6:12] = [0.8, -0.5, 0.3, 0.2, -0.1, 0.15]
     arm = params.helicopter.tether_arm
     n = segments
@@ -451,7 +451,7 @@ def _engine_energy_drift(EA: float, substeps: int = 2, segments: int = 10, durat
 
     def energy():
         engine.angle_trig(x, sc)
-        engine.p_motion(x, sc, arm, pm)
+        lumped_step.p_motion(x, sc, arm, pm)
         xn, vn = chain[CHAIN_NODES].copy(), chain[CHAIN_VELOCITIES].copy()
         xn[n], vn[n] = pm[:3], pm[3:]
         z = tethered_HO_position(x[0], x[1], x[3], x[4], x[5], arm)[2]
@@ -467,8 +467,8 @@ def _engine_energy_drift(EA: float, substeps: int = 2, segments: int = 10, durat
     e = [energy()]
     inp = np.zeros(4)
     for k in range(s.n_samples):
-        engine.lumped_interval(x, inp, 0.0, k * 0.01, cfg, c, program, gust, drag, work, chain,
-                               cw, engine.COUPLING_CONDENSED)  # fmt: skip
+        lumped_step.lumped_interval(x, inp, 0.0, k * 0.01, cfg, c, program, gust, drag, work, chain,
+                               cw, lumped_step.COUPLING_CONDENSED)  # fmt: skip
         e.append(energy())
     e = np.array(e)
     assert np.all(np.isfinite(e))

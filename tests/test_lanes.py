@@ -1,4 +1,4 @@
-"""The lane engine (``engine.run_lanes``): a block of runs advanced together gives, lane by
+"""The lane engine (``lanes.run_lanes``): a block of runs advanced together gives, lane by
 lane, the numbers of the single-run engine and of ``simulate``, with actuators, sensors,
 turbulence, releases and failures in the same block."""
 
@@ -14,7 +14,7 @@ from tetherheli.analysis import run_metrics
 from tetherheli.layout import LANES, SUMMARY_FIELDS, Signals
 from tetherheli.model.kernels import SIN_BRANCHLESS_MAX_ARG, sin_branchless
 from tetherheli.sensing.config import SensorConfig
-from tetherheli.sim import engine, simulate
+from tetherheli.sim import engine, lanes, simulate
 from tetherheli.sim.batch import run_batch
 from tetherheli.sim.scenario import ActuatorSettings, load_scenario, paper_scenario
 from tetherheli.sim.setup import engine_setup, lane_block
@@ -128,7 +128,7 @@ def test_partial_block_and_padding():
     summary = np.empty((LANES, len(SUMMARY_FIELDS)))
     status = np.empty(LANES, np.int64)
     done = np.empty(LANES, np.int64)
-    engine.run_lanes(*args, summary, status, done)
+    lanes.run_lanes(*args, summary, status, done)
     single = np.empty(len(SUMMARY_FIELDS))
     for j in range(2):
         st, k = engine.run_closed_loop(
@@ -154,7 +154,7 @@ def test_run_lanes_refuses_mixed_substeps():
     b.cfg[engine.CFG_N_SUB] = 4
     args = lane_block([a, b], [10, 10])
     with pytest.raises(ValueError, match="same RK4 steps"):
-        engine.run_lanes(
+        lanes.run_lanes(
             *args,
             np.empty((LANES, len(SUMMARY_FIELDS))),
             np.empty(LANES, np.int64),

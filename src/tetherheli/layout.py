@@ -27,7 +27,7 @@ __all__ = [
     "empty_chain",
 ]
 
-# --- the lane engine (``sim.engine.run_lanes``) ---------------------------------------------
+# --- the lane engine (``sim.lanes.run_lanes``) ---------------------------------------------
 #: runs advanced together in one block; the lane arrays are flat, element (variable i, lane j)
 #: at i * LANES + j. A constant of the compiled code, chosen by ``benchmarks/bench_lanes.py``
 #: (large enough to fill the vector units, small enough that a block's arrays stay in the

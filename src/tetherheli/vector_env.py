@@ -6,7 +6,7 @@ reward, termination, truncation and info, the same draws (the wind, then the sen
 from the copy's own generator at each reset. One ``step`` is one compiled call
 (``vector_step``): per copy, the environment's control sample (``engine.paper_sample`` with
 the action added to or replacing the paper controller's command); then the plant of all
-copies advanced over the sample by the lane engine (``engine.rk4_lanes``) in blocks of
+copies advanced over the sample by the lane engine (``lane_engine.rk4_lanes``) in blocks of
 ``layout.LANES`` copies (N rounded up to whole blocks, the extra lanes parked at the trim);
 then per copy the reward, the failure checks (``env_kernels.finish_step``) and the
 observation (``env_kernels.observe_into``); a copy's episode starts as the single
@@ -74,6 +74,7 @@ from .layout import (
 from .model.kernels import angle_trig, tethered_outputs
 from .sensing.config import N_CHANNELS
 from .sim import engine
+from .sim import lanes as lane_engine
 from .sim.setup import lane_program_into, sensor_tuple
 from .status import Status, status_message
 
@@ -126,15 +127,15 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
             lane_in = (xb, scb, inpb, rate_l, t0_l, attached_l)
             if i < n and not reset[i]:
                 busy = True
-                engine.set_lane(lane_in, j, x[i], sc_true[i], inp[i], rate[i],
+                lane_engine.set_lane(lane_in, j, x[i], sc_true[i], inp[i], rate[i],
                                 k[i] * cfg[i, CFG_DT], cfg[i, CFG_ATTACHED])  # fmt: skip
             else:  # parked at the trim (finite arithmetic, result unused)
-                engine.park_lane(lane_in, j, x_trim, sc_park, u0)
+                lane_engine.park_lane(lane_in, j, x_trim, sc_park, u0)
         if not busy:
             continue
         lo, hi = b * LANES, (b + 1) * LANES
         lane_wind = (programs[b], n_rows, gusts[lo:hi], gust_rows[lo:hi], gust_dt[lo:hi], drag[b])
-        engine.rk4_lanes(
+        lane_engine.rk4_lanes(
             xb, scb, inpb, rate_l, t0_l, h_l, n_sub, attached_l, k_c_l, c_l, lane_wind, work
         )
         for j in range(LANES):
@@ -313,7 +314,7 @@ class TetheredHoverVectorEnv(VectorEnv):
             np.full(LANES, cfg0[CFG_K_C]),
             np.repeat(env._c, LANES),  # (constant, lane) flat
             sc_park,
-            engine.lane_work(),
+            lane_engine.lane_work(),
         )
         # the winds in lane form; profile rows and gust rows grow as episodes need them
         self._programs = np.empty((n_blocks, 0, WIND_COLUMNS, LANES))

@@ -7,9 +7,9 @@ never O(N x samples). Each run is packed by the same set-up as ``simulate``
 (``setup.engine_setup``: trim, gain, wind, actuators, sensor noise).
 
 By default the runs go in blocks of ``layout.LANES`` through the lane engine
-(``engine.run_lanes``): each sample runs every lane's controller, sensors and checks with the
+(``lanes.run_lanes``): each sample runs every lane's controller, sensors and checks with the
 function a single run uses (``engine.paper_sample``), then integrates all lanes at once with
-vectorised arithmetic (``engine.rk4_lanes``). A lane performs the operations of a single run
+vectorised arithmetic (``lanes.rk4_lanes``). A lane performs the operations of a single run
 in the same order, so a batch's numbers equal ``simulate``'s bit for bit (a test checks it
 over dispersed runs with actuators, sensors, turbulence, releases and failures). With
 ``lanes=False`` every run goes alone through ``engine.run_closed_loop``.
@@ -52,7 +52,7 @@ from ..names import METRIC_NAMES
 from ..params import Params
 from ..status import Status, status_message
 from ..wind import compile_wind
-from . import engine
+from . import engine, lanes
 from .closed_loop import check_run_memory
 from .result import WINCH_LIMITS
 from .scenario import Scenario
@@ -103,7 +103,7 @@ def run_unrecorded(engine_args, summary):  # pragma: no cover - compiled
 
 @compiled(nogil=True)
 def run_block(block_args, summary, status, done):  # pragma: no cover - compiled
-    """``engine.run_lanes(*block_args, summary, status, done)`` with the GIL released;
+    """``lanes.run_lanes(*block_args, summary, status, done)`` with the GIL released;
     ``block_args`` is ``setup.lane_block``'s.
 
     Parameters
@@ -122,7 +122,7 @@ def run_block(block_args, summary, status, done):  # pragma: no cover - compiled
     None
         The results are written into ``summary``, ``status`` and ``done``.
     """
-    engine.run_lanes(*block_args, summary, status, done)
+    lanes.run_lanes(*block_args, summary, status, done)
 
 
 def summary_metrics(summary: np.ndarray) -> dict[str, float]:
@@ -508,7 +508,7 @@ def run_batch(
     worker_timeout_s : float
         With ``client``: how long the cluster may have no worker before ``ClusterError``.
     lanes : bool
-        Advance the runs in blocks of ``layout.LANES`` (``engine.run_lanes``, the default);
+        Advance the runs in blocks of ``layout.LANES`` (``lanes.run_lanes``, the default);
         False runs them one at a time (``engine.run_closed_loop``). Both give the same
         numbers bit for bit. Runs with a lumped tether always run one at a time.
     on_done : callable, optional

@@ -244,39 +244,55 @@ class _Recorder:
         )
 
 
+def _entry_point(dispatcher, *args):
+    """The compiled function of ``dispatcher`` for the types of ``args`` (compiled or loaded
+    from the cache first). Calling it skips Numba's type dispatch of every call, which for a
+    ``StepRun`` costs more than the sample's arithmetic; the caller then passes arguments of
+    exactly these types (C-contiguous float64 commands, an int sample index)."""
+    types_ = tuple(dispatcher.typeof_pyval(a) for a in args)
+    dispatcher.compile(types_)
+    return dispatcher.overloads[types_].entry_point
+
+
+def _command_array(value, name: str) -> np.ndarray:
+    out = np.ascontiguousarray(value, dtype=np.float64)
+    if out.shape != (4,):
+        raise ValueError(f"controller command {name} has shape {out.shape}; allowed: (4,)")
+    return out
+
+
 def _python_loop(scenario, setup, run, controller, method, *, rtol, atol):
     """The closed loop driven from Python: any Controller, RK4 or the adaptive reference.
 
     Each sample is the engine's one sample step (``engine.step_sense``, the controller,
-    ``engine.step_command``: actuators, checks, metrics, recording), as the compiled loop
-    runs it; only the integrator may differ (``engine.step_advance``, or RK4 with a Python
-    disturbance, or the adaptive reference)."""
+    ``engine.step_command``: actuators, checks, metrics, recording and the RK4 or lumped
+    step), as the compiled loop runs it; only the integrator may be swapped (the adaptive
+    reference, or RK4 over a Python disturbance)."""
     dt = scenario.control.dt
     n = scenario.n_samples
     c = setup.model.constants
     x, cfg = run.x, run.cfg
     x_meas, applied = run.loop.x_meas, run.loop.inputs
     disturbance = scenario.wind if setup.wind is None else None  # a Python disturbance
+    compiled_step = method == "rk4" and disturbance is None  # step_command integrates
     out_wind = run.out.wind
     breaks = setup.wind.breakpoints(n * dt) if setup.wind is not None else np.array([])
+    four = np.zeros(4)
+    sense = _entry_point(engine.step_sense, run, 0)
+    command = _entry_point(engine.step_command, run, 0, four, 0.0, four, 0.0, 0.0, True)
     controller.reset()
     status, done = Status.OK, n + 1
     for k in range(n + 1):
         t = k * dt
-        tension, measured = engine.step_sense(run, k)
+        tension, measured = sense(run, k)
         attached = cfg[CFG_ATTACHED] > 0.5
         cmd = controller.step(t, Measurement(state=x_meas.copy(), tension=measured,
                                              attached=attached))  # fmt: skip
-        inp = np.asarray(cmd.inputs, dtype=float)
-        ffwd = np.asarray(cmd.feedforward, dtype=float)
-        for name, value in (("inputs", inp), ("feedforward", ffwd)):
-            if value.shape != (4,):
-                raise ValueError(
-                    f"controller command {name} has shape {value.shape}; allowed: (4,)"
-                )
-        status, rate = engine.step_command(
-            run, k, inp, float(cmd.reel_rate), ffwd, tension, measured
-        )
+        inp = _command_array(cmd.inputs, "inputs")
+        ffwd = _command_array(cmd.feedforward, "feedforward")
+        advance = compiled_step and k < n
+        status, rate = command(run, k, inp, float(cmd.reel_rate), ffwd, tension, measured,
+                               advance)  # fmt: skip
         if status != Status.OK:
             done = k
             break
@@ -293,9 +309,7 @@ def _python_loop(scenario, setup, run, controller, method, *, rtol, atol):
                 status, done = Status.NONFINITE, k + 1
                 break
             x[:] = x_next
-        elif disturbance is None:
-            engine.step_advance(run, k, rate)
-        else:
+        elif not advance:
             _rk4_custom_wind(x, applied, rate, t, dt, int(cfg[CFG_N_SUB]), cfg, c, disturbance)
     engine.step_finish(run)
     return status, done

@@ -88,7 +88,7 @@ from ..tether.lumped import CHAIN_MAX_SUBSTEPS, COUPLING_OMEGA_H, chain_omega_ma
 from ..tether.lumped_trim import hover_trim_lumped
 from ..wind import CompiledWind, compile_wind, initial_wind_force
 from ..wind.profiles import Disturbance
-from . import engine
+from . import engine, lumped_step
 from .scenario import Scenario, WinchSettings
 
 __all__ = [
@@ -825,7 +825,7 @@ class EngineSetup:
             act=read_only(self.act),
             sensors=self.sensors,
             chain=tuple(a.copy() for a in self.chain),
-            cw=engine.lumped_work(segments),
+            cw=lumped_step.lumped_work(segments),
             work=work,
             loop=engine.new_loop_state(x, read_only(self.start.z), work),
             summary=summary,
@@ -932,7 +932,7 @@ def lane_program_into(programs: np.ndarray, j: int, program: np.ndarray) -> None
 
 
 def lane_block(setups: Sequence[EngineSetup], n_samples: Sequence[int]) -> tuple:
-    """The leading arguments of ``engine.run_lanes`` for a block of up to ``LANES`` runs:
+    """The leading arguments of ``lanes.run_lanes`` for a block of up to ``LANES`` runs:
     lane j holds ``setups[j].engine_args(n_samples[j])``, the single run's own packing, with
     a lane axis in front (built-in winds only; every run must take the same RK4 steps per
     sample). Lanes beyond the runs are padding: copies of the first run with n_samples = -1
@@ -949,7 +949,7 @@ def lane_block(setups: Sequence[EngineSetup], n_samples: Sequence[int]) -> tuple
     Returns
     -------
     tuple
-        The arguments of ``engine.run_lanes`` before its outputs, each with a leading lane
+        The arguments of ``lanes.run_lanes`` before its outputs, each with a leading lane
         axis of length ``LANES``.
     """
     if not 0 < len(setups) <= LANES or len(n_samples) != len(setups):

@@ -576,7 +576,7 @@ CHAIN_OMEGA_H = 0.2
 CHAIN_MAX_SUBSTEPS = 4096
 #: the coupled step's rule (``coupling_substeps``): the helicopter's RK4 steps of a lumped run
 #: are at most COUPLING_OMEGA_H / omega_max long, so that the condensed coupling's Taylor
-#: model of the top interior node (``engine.lumped_interval``) spans at most about half of
+#: model of the top interior node (``lumped_step.lumped_interval``) spans at most about half of
 #: its axial period 2 pi / (omega_max / 2). Issue 23 item 2b: with drag, damping and the winch
 #: off, the closed-loop engine's energy over 20 s at the default 10 ms, 2 substeps drifted by
 #: 1.06 % of the push for a 20 kN cable (N = 10: h omega_max = 10.7 at h = 5 ms); this rule
@@ -677,7 +677,7 @@ def coupling_substeps(p, L0, n, dt, n_sub):
 def chain_interval(x, v, wind, L0, p, h, xP1, vP1, work):
     """Advance the chain over h [s] as ``ros2_step`` does, in ``chain_substeps`` ROS2
     sub-steps, the top node on the cubic Hermite curve from its start (row N of x, v) to
-    (xP1, vP1) at t + h: the step the engine takes (``engine.lumped_interval``) and
+    (xP1, vP1) at t + h: the step the engine takes (``lumped_step.lumped_interval``) and
     ``tether.drive_cable`` too. Arguments as ``ros2_step``'s.
 
     Parameters

@@ -1,0 +1,379 @@
+"""The lane engine: a block of ``layout.LANES`` runs advanced together (``run_lanes``, behind
+``run_batch``, sweeps and the Monte Carlo; ``rk4_lanes`` also behind the vector environment).
+Each lane runs the single run's control sample (``sim.engine.paper_sample``), then the block
+is integrated at once over flat (variable, lane) arrays, the lanes' loops vectorised; a lane
+equals the single run bit for bit."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._compile import borrowed, compiled, keep_alive, plain
+from ..layout import (
+    CFG_ATTACHED,
+    CFG_DT,
+    CFG_GUST_DT,
+    CFG_K_C,
+    CFG_METRICS_FROM,
+    CFG_N_SUB,
+    HELD_SIZE,
+    LANES,
+    SUMMARY_RELEASE_TENSION,
+    SUMMARY_RELEASE_TIME,
+    WINCH_SIZE,
+    WIND_COLUMNS,
+    WIND_DIRECTION,
+    WIND_DURATION,
+    WIND_FREQUENCY,
+    WIND_KIND,
+    WIND_MAGNITUDE,
+    WIND_PHASE,
+    WIND_SINE,
+    WIND_START,
+)
+from ..model.kernels import (
+    angle_trig,
+    angle_trig_from_lanes,
+    tethered_rhs_lanes,
+)
+from ..wind.evaluate import gust_velocity, profile_value
+from .engine import (
+    ACTION_NONE,
+    STATUS_OK,
+    TRIG_CHAIN_STEPS,
+    accumulate,
+    paper_sample,
+    start_summary,
+    winch_limit_into,
+)
+
+_jit = compiled(error_model="numpy")
+_jit_inline = compiled(error_model="numpy", inline="always")
+
+
+# --- the lane engine: a block of LANES runs advanced together ----------------------------------
+# Lane arrays are flat, element (variable i, lane j) at i * LANES + j (``layout.LANES``, a
+# constant of the compiled code): the loops over j below have no branch and no call, and the
+# compiler, knowing every offset, vectorises them.
+
+
+@_jit_inline
+def _lanes_program_force(programs, n_rows, t, side, out):
+    """out (3 LANES,) = the profiles' force of every lane at its time t (LANES,): the lanes'
+    programs are flat (row, column, lane), element at (r WIND_COLUMNS + column) LANES + j,
+    padded with zero rows (``setup.lane_block``); the sum runs over rows in the order of
+    ``_wind_program_force``."""
+    for i in range(out.shape[0]):
+        out[i] = 0.0
+    n_lanes = t.shape[0]  # = LANES, read at run time: the loop stays a loop and vectorises
+    for r in range(n_rows):
+        base = r * WIND_COLUMNS * LANES
+        any_sine = False  # loop-invariant below: the compiler makes a loop with, one without
+        for j in range(n_lanes):
+            any_sine |= programs[base + WIND_KIND * LANES + j] == WIND_SINE
+        for j in range(n_lanes):
+            value = profile_value(
+                programs[base + WIND_KIND * LANES + j],
+                programs[base + WIND_START * LANES + j],
+                programs[base + WIND_DURATION * LANES + j],
+                programs[base + WIND_MAGNITUDE * LANES + j],
+                programs[base + WIND_FREQUENCY * LANES + j],
+                programs[base + WIND_PHASE * LANES + j],
+                t[j],
+                side,
+                any_sine,
+            )
+            for a in range(3):
+                out[a * LANES + j] += value * programs[base + (WIND_DIRECTION + a) * LANES + j]
+
+
+@_jit_inline
+def _lanes_stage(xs, sc, inp, rate, attached, k_c, c, program_force, gust_air, drag, force, out):
+    """out (13 LANES,) = dx/dt of every lane at the stage state xs: the wind force of
+    ``wind_force`` (profiles plus bluff-body drag), the tension (eq 28: zero when slack or
+    released), eqs 10-12, 29-35 (``tethered_rhs_lanes``) and dLN/dt = RC (eq 37). ``force``
+    (4 LANES,) receives the wind force and the tension."""
+    for j in range(rate.shape[0]):  # LANES, read at run time (see ``_lanes_axpy``)
+        r1 = gust_air[j] - xs[6 * LANES + j]
+        r2 = gust_air[LANES + j] - xs[7 * LANES + j]
+        r3 = gust_air[2 * LANES + j] - xs[8 * LANES + j]
+        speed = math.sqrt(r1 * r1 + r2 * r2 + r3 * r3)
+        force[j] = program_force[j] + drag[j] * speed * r1
+        force[LANES + j] = program_force[LANES + j] + drag[LANES + j] * speed * r2
+        force[2 * LANES + j] = program_force[2 * LANES + j] + drag[2 * LANES + j] * speed * r3
+        stretch = xs[5 * LANES + j] - xs[12 * LANES + j]
+        tied = attached[j] > 0.5
+        force[3 * LANES + j] = k_c[j] * stretch if (tied and stretch > 0.0) else 0.0
+        out[12 * LANES + j] = rate[j] if tied else 0.0
+    tethered_rhs_lanes(xs, sc, inp, force, force[3 * LANES :], c, out)
+
+
+@_jit_inline
+def _lanes_axpy(out, x, a, h, k):
+    """out = x + (a h_j) k over (13, lane) (an RK4 stage's state). The lane loops of the lane
+    engine take their trip count LANES from an array's length at run time: with a constant
+    count the compiler unrolls a short loop into scalar code instead of vectorising it."""
+    n_lanes = h.shape[0]
+    for i in range(13):
+        for j in range(n_lanes):
+            out[i * LANES + j] = x[i * LANES + j] + a * h[j] * k[i * LANES + j]
+
+
+@_jit_inline
+def lane_work():
+    """The scratch arrays of ``rk4_lanes`` (k1..k4, stage state, its sin/cos, wind force and
+    tension, profile forces, gust air, stage times), for the lane engine and the vector env."""
+    return (
+        np.empty(13 * LANES),  # k1
+        np.empty(13 * LANES),  # k2
+        np.empty(13 * LANES),  # k3
+        np.empty(13 * LANES),  # k4
+        np.empty(13 * LANES),  # the stage state
+        np.empty(10 * LANES),  # its sin and cos
+        np.empty(4 * LANES),  # the wind force and tension of a stage
+        np.empty(9 * LANES),  # the profiles' force at the step's start, middle, end
+        np.empty(9 * LANES),  # the gust air velocity at the same times
+        np.empty(3 * LANES),  # the three times
+    )
+
+
+@_jit_inline
+def _thirds(a):
+    """The three equal consecutive parts of a (views)."""
+    n = a.shape[0] // 3
+    return a[:n], a[n : 2 * n], a[2 * n :]
+
+
+@_jit
+def rk4_lanes(x, sc0, inp, rate, t0, h, n_sub, attached, k_c, c, wind, work):
+    """``rk4_interval`` for a block of LANES runs: advance every lane j of x (13 LANES,) over
+    its control sample [t0_j, t0_j + n_sub h_j] by n_sub RK4 steps of h_j.
+
+    Flat (variable, lane) arrays: sc0 (10 LANES,) sin, cos of the angles of x on entry
+    (overwritten), inp (4 LANES,) the held rotor inputs, c (n_c LANES,) the model constants;
+    rate, t0, h, attached (1/0), k_c (LANES,). wind = (programs (R WIND_COLUMNS LANES,), R,
+    gusts (LANES, G, 3), gust rows in use (LANES,), gust_dt (LANES,), drag (3 LANES,));
+    work = ``lane_work()``. The gust tables are read per lane; everything else runs in
+    branch-free passes over the lanes. Each lane performs the operations of ``rk4_interval``
+    in the same order, so it equals a single run bit for bit.
+    """
+    programs, n_rows, gusts, gust_rows, gust_dt, drag = wind
+    k1, k2, k3, k4, tmp, sc, force, program_force, gust_air, times = work
+    pf_a, pf_m, pf_b = _thirds(program_force)
+    ga_a, ga_m, ga_b = _thirds(gust_air)
+    ta, tm, tb = _thirds(times)
+    n_lanes = h.shape[0]
+    for step in range(n_sub):
+        for j in range(n_lanes):
+            ta[j] = t0[j] + step * h[j]
+            tb[j] = t0[j] + (step + 1) * h[j]
+            tm[j] = ta[j] + 0.5 * h[j]
+        _lanes_program_force(programs, n_rows, ta, 1, pf_a)
+        _lanes_program_force(programs, n_rows, tm, 1, pf_m)
+        _lanes_program_force(programs, n_rows, tb, -1, pf_b)
+        for j in range(LANES):
+            gust = gusts[j, : gust_rows[j]]
+            for t, air in ((ta[j], ga_a), (tm[j], ga_m), (tb[j], ga_b)):
+                air[j], air[LANES + j], air[2 * LANES + j] = gust_velocity(gust, gust_dt[j], t)
+        _lanes_stage(x, sc0, inp, rate, attached, k_c, c, pf_a, ga_a, drag, force, k1)
+        _lanes_axpy(tmp, x, 0.5, h, k1)
+        angle_trig_from_lanes(tmp, x, sc0, sc)
+        _lanes_stage(tmp, sc, inp, rate, attached, k_c, c, pf_m, ga_m, drag, force, k2)
+        _lanes_axpy(tmp, x, 0.5, h, k2)
+        angle_trig_from_lanes(tmp, x, sc0, sc)
+        _lanes_stage(tmp, sc, inp, rate, attached, k_c, c, pf_m, ga_m, drag, force, k3)
+        _lanes_axpy(tmp, x, 1.0, h, k3)
+        angle_trig_from_lanes(tmp, x, sc0, sc)
+        _lanes_stage(tmp, sc, inp, rate, attached, k_c, c, pf_b, ga_b, drag, force, k4)
+        for i in range(x.shape[0]):
+            tmp[i] = x[i]  # the step's start, for the next step's trigonometry
+        for i in range(13):
+            for j in range(n_lanes):
+                e = i * LANES + j
+                x[e] += h[j] / 6.0 * (k1[e] + 2.0 * k2[e] + 2.0 * k3[e] + k4[e])
+        if step + 1 < n_sub:
+            if (step + 1) % TRIG_CHAIN_STEPS == 0:
+                for i in range(5):
+                    for j in range(LANES):
+                        a = x[i * LANES + j]
+                        sc0[i * LANES + j] = math.sin(a)
+                        sc0[(5 + i) * LANES + j] = math.cos(a)
+            else:
+                angle_trig_from_lanes(x, tmp, sc0, sc)
+                for i in range(sc0.shape[0]):
+                    sc0[i] = sc[i]
+
+
+@_jit_inline
+def set_lane(lane_in, j, x_j, sc_j, inp_j, rate_j, t0_j, attached_j):
+    """Lane j of ``rk4_lanes``'s inputs lane_in = (x, sc0, inp, rate, t0, attached) from one
+    run's state x_j (13,), sin/cos of its angles sc_j (10,), held inputs inp_j (4,), reel
+    rate, sample start [s] and tether state."""
+    x, sc0, inp, rate, t0, attached = lane_in
+    for i in range(13):
+        x[i * LANES + j] = x_j[i]
+    for i in range(10):
+        sc0[i * LANES + j] = sc_j[i]
+    for i in range(4):
+        inp[i * LANES + j] = inp_j[i]
+    rate[j] = rate_j
+    t0[j] = t0_j
+    attached[j] = attached_j
+
+
+@_jit_inline
+def park_lane(lane_in, j, x_park, sc_park, u_park):
+    """Lane j of ``rk4_lanes``'s inputs set to a hover (x_park, its sin/cos sc_park, trim
+    inputs u_park) with no tether: a lane that runs nothing keeps finite, cheap arithmetic and
+    its result is not used."""
+    set_lane(lane_in, j, x_park, sc_park, u_park, 0.0, 0.0, 0.0)
+
+
+@_jit
+def run_lanes(
+    x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, summary, status, done
+):
+    """Run a block of LANES closed loops together (unrecorded); lane j for n_samples[j]
+    samples, none where n_samples[j] < 0 (padding).
+
+    The arguments of ``run_closed_loop`` with a leading lane axis of length LANES, packed by
+    ``setup.lane_block``: x_init (LANES, 13), cfg_in, ctrl_in, c (LANES, n_c), law (each part
+    of ``layout.LAW_*`` with the lane axis in front), act, sensors = (noise (LANES, N,
+    N_CHANNELS), noise rows in use (LANES,), source codes, arms, scratch (LANES, 4, 3),
+    schedules (LANES, S, N_GROUPS) int, their rows in use, history rings (LANES, H,
+    N_CHANNELS), their rows in use) (``sim.setup.sensor_tuple`` per lane);
+    wind = (programs flat (R WIND_COLUMNS LANES,), R, gusts (LANES, G, 3), gust rows in use,
+    drag (LANES, 3)).
+    summary (LANES, len(SUMMARY_FIELDS)), status and done (LANES,) receive each lane's on-line
+    metrics, status and samples done, as ``run_closed_loop`` returns them for a single run.
+    Lanes may differ in every number but the RK4 steps per sample (cfg[:, CFG_N_SUB]).
+
+    Each sample runs ``paper_sample`` per lane (sensors, controller, actuators, checks: the
+    very function of a single run), then ``rk4_lanes`` advances all lanes at once. Massless
+    tethers only: runs with a lumped tether go through ``run_closed_loop`` (``run_batch``).
+    A lane that fails or completes is frozen with its result and parked at its initial state
+    while the others go on.
+    """
+    cfg = cfg_in.copy()
+    ctrl = ctrl_in.copy()
+    gain, x_ref, y_ref, u0, u0_free, z0 = law
+    programs, n_rows, gusts, gust_rows, drag = wind
+    noise, noise_rows, source, arm, sensor_scratch, schedule, schedule_rows, ring, ring_rows = (
+        sensors
+    )
+    n_sub = int(cfg[0, CFG_N_SUB])
+    for j in range(LANES):
+        if int(cfg[j, CFG_N_SUB]) != n_sub:
+            raise ValueError("run_lanes: every lane must take the same RK4 steps per sample")
+    x = np.empty(13 * LANES)  # the lanes' states, flat (variable, lane)
+    c_lanes = np.empty(c.shape[1] * LANES)
+    drag_lanes = np.empty(3 * LANES)
+    for j in range(LANES):
+        for i in range(13):
+            x[i * LANES + j] = x_init[j, i]
+        for i in range(c.shape[1]):
+            c_lanes[i * LANES + j] = c[j, i]
+        for i in range(3):
+            drag_lanes[i * LANES + j] = drag[j, i]
+    gust_dt = np.empty(LANES)
+    lane_wind = (programs, n_rows, gusts, gust_rows, gust_dt, drag_lanes)
+    work = lane_work()
+    sc0 = np.empty(10 * LANES)
+    held_inp = np.empty(4 * LANES)
+    rate = np.zeros(LANES)
+    t0 = np.zeros(LANES)
+    h = np.empty(LANES)
+    attached = np.empty(LANES)
+    k_c = np.empty(LANES)
+    sc_init = np.empty((LANES, 10))
+    x_lane = x_init.copy()  # each lane's state for its control phases
+    # the per-lane loop state, in the order of layout.LOOP_*
+    z = z0.copy()
+    winch = np.zeros((LANES, WINCH_SIZE))
+    held = np.zeros((LANES, HELD_SIZE))
+    event = np.full((LANES, 2), np.nan)
+    x_meas = x_init.copy()
+    sc_meas = np.empty((LANES, 10))
+    sc_true = np.empty((LANES, 10))
+    y = np.empty((LANES, 4))
+    y_est = np.empty((LANES, 4))
+    inp = np.empty((LANES, 4))
+    ffwd = np.empty((LANES, 4))
+    no_action = np.zeros(4)
+    active = np.zeros(LANES, np.bool_)
+    # borrowed views (``_compile.borrowed``) of the run's arrays, held to the end by
+    # ``keep_alive``, and of the arguments: the lane loop slices rows of them per lane and
+    # sample, which would otherwise each be an atomic reference count
+    own = (cfg, ctrl, x, c_lanes, drag_lanes, gust_dt, work, sc0, held_inp, rate, t0, h,
+           attached, k_c, sc_init, x_lane, z, winch, held, event, x_meas, sc_meas, sc_true, y,
+           y_est, inp, ffwd, no_action, active)  # fmt: skip
+    (cfg, ctrl, x, c_lanes, drag_lanes, gust_dt, work, sc0, held_inp, rate, t0, h, attached, k_c,
+     sc_init, x_lane, z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd,
+     no_action, active) = borrowed(own)  # fmt: skip
+    x_init, c, act, summary, status, done = borrowed((x_init, c, act, summary, status, done))
+    gain, x_ref, y_ref, u0, u0_free, z0 = borrowed((gain, x_ref, y_ref, u0, u0_free, z0))
+    programs, n_rows, gusts, gust_rows = borrowed((programs, n_rows, gusts, gust_rows))
+    noise, noise_rows, source, arm, sensor_scratch, schedule, schedule_rows, ring, ring_rows = (
+        borrowed(sensors)
+    )
+    lane_wind = (programs, n_rows, gusts, gust_rows, gust_dt, drag_lanes)
+    n_active = 0
+    for j in range(LANES):
+        start_summary(summary[j])
+        status[j] = STATUS_OK
+        done[j] = max(n_samples[j] + 1, 0)
+        angle_trig(x_init[j], sc_init[j])
+        h[j] = cfg[j, CFG_DT] / n_sub
+        k_c[j] = cfg[j, CFG_K_C]
+        gust_dt[j] = cfg[j, CFG_GUST_DT]
+        if n_samples[j] >= 0:
+            active[j] = True
+            n_active += 1
+    k = plain(0)  # an int64 from the start (a literal 0 would compile callees twice)
+    while n_active > 0:
+        for j in range(LANES):
+            if active[j]:
+                xj = x_lane[j]
+                for i in range(13):
+                    xj[i] = x[i * LANES + j]
+                loop = (
+                    z[j], winch[j], held[j], event[j], x_meas[j], sc_meas[j], sc_true[j],
+                    y[j], y_est[j], inp[j], ffwd[j],
+                )  # fmt: skip
+                lane_sensors = (
+                    noise[j, : noise_rows[j]], source[j], arm[j], sensor_scratch[j],
+                    schedule[j, : schedule_rows[j]], ring[j, : ring_rows[j]],
+                )  # fmt: skip
+                lane_law = (gain[j], x_ref[j], y_ref[j], u0[j], u0_free[j], z0[j])
+                sample_status, tension, rate_j = paper_sample(
+                    xj, k, cfg[j], ctrl[j], act[j], lane_sensors, c[j], lane_law, loop,
+                    no_action, ACTION_NONE,
+                )  # fmt: skip
+                if sample_status != STATUS_OK:
+                    status[j], done[j] = sample_status, k
+                    active[j] = False
+                    n_active -= 1
+                else:
+                    if k >= cfg[j, CFG_METRICS_FROM]:  # the metrics' window
+                        accumulate(summary[j], xj, x_ref[j], y[j], y_ref[j], tension)
+                    if k == n_samples[j]:
+                        active[j] = False
+                        n_active -= 1
+                    else:
+                        lane_in = (x, sc0, held_inp, rate, t0, attached)
+                        set_lane(lane_in, j, xj, sc_true[j], inp[j], rate_j, k * cfg[j, CFG_DT],
+                                 cfg[j, CFG_ATTACHED])  # fmt: skip
+                        continue
+            # a finished or padding lane is parked at its initial state (finite arithmetic)
+            park_lane((x, sc0, held_inp, rate, t0, attached), j, x_init[j], sc_init[j], u0[j])
+        if n_active == 0:
+            break
+        rk4_lanes(x, sc0, held_inp, rate, t0, h, n_sub, attached, k_c, c_lanes, lane_wind, work)
+        k += 1
+    for j in range(LANES):
+        summary[j, SUMMARY_RELEASE_TIME] = event[j, 0]
+        summary[j, SUMMARY_RELEASE_TENSION] = event[j, 1]
+        winch_limit_into(held[j], summary[j])
+    keep_alive(own)

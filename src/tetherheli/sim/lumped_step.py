@@ -1,0 +1,292 @@
+"""The lumped-mass tether in the closed loop (issue 13; ``tether.lumped``): the chain's end
+tensions before a sample (``chain_ends``) and the coupled step of helicopter and chain over a
+sample (``lumped_interval``), which ``sim.engine``'s ``sample_sense`` and ``sample_advance``
+call while a lumped tether is attached."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._compile import compiled, plain
+from ..layout import (
+    CFG_ARM,
+    CFG_ATTACHED,
+    CFG_DT,
+    CFG_GUST_DT,
+    CFG_N_SUB,
+    CFG_TENSION_GROUND,
+    CFG_TENSION_TOP,
+    CHAIN_NODES,
+    CHAIN_PARAMS,
+    CHAIN_VELOCITIES,
+    CHAIN_WORK,
+    LUMPED_MU,
+)
+from ..model.kernels import (
+    angle_trig,
+    angle_trig_from,
+    tethered_rhs_sc,
+)
+from ..tether.lumped import chain_forces, chain_interval, coupling_substeps
+from ..wind.evaluate import gust_velocity, wind_force
+
+_jit = compiled(error_model="numpy")
+_jit_inline = compiled(error_model="numpy", inline="always")
+
+# --- the lumped-mass tether (issue 13; ``model.tether_lumped``) --------------------------------
+# A lumped run carries its chain (``layout.CHAIN_*``: node positions and velocities, the
+# packed tether, the ROS2 scratch) next to the helicopter's state x; x[12] is the chain's
+# unstretched length L0 (the winch pays out by re-discretising it uniformly, as ``ros2_step``
+# does), q7..q9 only locate P, and eq 28's tension is replaced by the chain's force at P.
+# The wind on the nodes is the gust table's air (the helicopter's drag uses the same);
+# force-only wind profiles act on the helicopter alone.
+
+#: coupling of the helicopter's RK4 step and the chain's ROS2 step (``lumped_interval``)
+COUPLING_STAGGERED = 0
+COUPLING_CONDENSED = 1
+
+
+def lumped_work(segments: int) -> tuple:
+    """The scratch of ``chain_ends`` and ``lumped_interval`` for a chain of ``segments``
+    segments (allocate once per run).
+
+    Parameters
+    ----------
+    segments : int
+        Number of segments N.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        Node forces, segment tensions, the segment Jacobian blocks (K, C, D), the air at the
+        nodes, the force at P, the stage loads and P's motion, the condensed K and C,
+        the top interior node's velocity and acceleration.
+    """
+    return _lumped_work(segments)
+
+
+@_jit
+def _lumped_work(n):
+    return (
+        np.empty((n + 1, 3)),  # 0 F: node forces
+        np.empty(n),  # 1 T: segment tensions
+        np.empty((n, 3, 3)),  # 2 K
+        np.empty((n, 3, 3)),  # 3 C
+        np.empty((n, 3, 3)),  # 4 D
+        np.zeros((n + 1, 3)),  # 5 air at the nodes
+        np.zeros(3),  # 6 force on P at the step's start
+        np.empty(4),  # 7 the stage's equivalent rotor inputs
+        np.empty(3),  # 8 the stage's equivalent wind force
+        np.empty(6),  # 9 P's position and velocity at a stage
+        np.empty(3),  # 10 the stage's force on P
+        np.empty(3),  # 11 the stage's wind force on HO
+        np.empty(6),  # 12 P's position and velocity at the step's start
+        np.zeros(9),  # 13 stiffness seen from P (3 x 3, row-major)
+        np.zeros(9),  # 14 damping seen from P
+        np.zeros(3),  # 15 the top interior node's velocity at the step's start
+        np.zeros(3),  # 16 the top interior node's acceleration at the step's start
+    )
+
+
+@_jit_inline
+def p_motion(x, sc, arm, out):
+    """out (6,) = the position of P from the winch NO [m] and its velocity [m/s] in N:
+    P = q9 c3 (eqs 43-45; c3 = [s8, -s7 c8, c7 c8]) and v_P = v_HO + w x (arm f3) with
+    v_HO = (u1, u2, u3) in N and w = (u4, u5, u6) in F: w x arm f3 = arm (u5 f1 - u4 f2).
+    sc (10,) the sin, cos of x[0..4] (f1, f2 from Table I's columns)."""
+    s4, s5, s6, s7, s8 = sc[0], sc[1], sc[2], sc[3], sc[4]
+    c4, c5, c6, c7, c8 = sc[5], sc[6], sc[7], sc[8], sc[9]
+    q9 = x[5]
+    out[0] = q9 * s8
+    out[1] = -q9 * s7 * c8
+    out[2] = q9 * c7 * c8
+    a4 = -arm * x[9]
+    a5 = arm * x[10]
+    out[3] = x[6] + a5 * (c5 * c6) + a4 * (-c5 * s6)
+    out[4] = x[7] + a5 * (s5 * c6 * s4 + s6 * c4) + a4 * (c6 * c4 - s5 * s6 * s4)
+    out[5] = x[8] + a5 * (s6 * s4 - c6 * s5 * c4) + a4 * (s5 * s6 * c4 + c6 * s4)
+
+
+@_jit_inline
+def lumped_loads(sc, inp, wind, force_P, arm, inp_out, wind_out):
+    """``tether_lumped.force_at_P_as_loads`` with the sin, cos sc (10,) of the stage given:
+    a force F [N, in N] at P = HO + arm f3 enters the generated equations as wind + F and the
+    rotor torques tMR1 - arm F.f2, tMR2 + arm F.f1 (f1, f2 from Table I's columns)."""
+    s4, s5, s6 = sc[0], sc[1], sc[2]
+    c4, c5, c6 = sc[5], sc[6], sc[7]
+    f1 = (
+        force_P[0] * (c5 * c6)
+        + force_P[1] * (s5 * c6 * s4 + s6 * c4)
+        + force_P[2] * (s6 * s4 - c6 * s5 * c4)
+    )
+    f2 = (
+        force_P[0] * (-c5 * s6)
+        + force_P[1] * (c6 * c4 - s5 * s6 * s4)
+        + force_P[2] * (s5 * s6 * c4 + c6 * s4)
+    )
+    for j in range(3):
+        wind_out[j] = wind[j] + force_P[j]
+    inp_out[0] = inp[0]
+    inp_out[1] = inp[1] - arm * f2
+    inp_out[2] = inp[2] + arm * f1
+    inp_out[3] = inp[3]
+
+
+@_jit_inline
+def _node_air(gust, gust_dt, t, air):
+    """The gust table's air velocity at t [m/s] on every node (uniform field)."""
+    g1, g2, g3 = gust_velocity(gust, gust_dt, t)
+    for i in range(air.shape[0]):
+        air[i, 0] = g1
+        air[i, 1] = g2
+        air[i, 2] = g3
+
+
+@_jit
+def chain_ends(x, t, cfg, gust, chain, cw):
+    """The chain's top node put on P (``p_motion``), its forces at t in the gust table's air
+    (``tether_lumped.chain_forces``, with the Jacobian blocks), and the ends' tensions into
+    cfg: CFG_TENSION_TOP = |force on P|, CFG_TENSION_GROUND = |force on the winch| (each end
+    force includes half an end segment's weight and drag, so the two differ by the cable's
+    weight in a still hang). cw = ``lumped_work(N)``; cw[6] receives the force on P [N]."""
+    nodes, vel, p = chain[CHAIN_NODES], chain[CHAIN_VELOCITIES], chain[CHAIN_PARAMS]
+    F, T, K, C, D, air, force_P = cw[0], cw[1], cw[2], cw[3], cw[4], cw[5], cw[6]
+    pm = cw[9]
+    sc = np.empty(10)
+    angle_trig(x, sc)
+    p_motion(x, sc, cfg[CFG_ARM], pm)
+    n = nodes.shape[0] - 1
+    for j in range(3):
+        nodes[n, j] = pm[j]
+        vel[n, j] = pm[3 + j]
+    _node_air(gust, cfg[CFG_GUST_DT], t, air)
+    chain_forces(nodes, vel, air, x[12], p, F, T, K, C, D, plain(True))
+    for j in range(3):
+        force_P[j] = F[n, j]
+    cfg[CFG_TENSION_TOP] = math.sqrt(F[n, 0] ** 2 + F[n, 1] ** 2 + F[n, 2] ** 2)
+    cfg[CFG_TENSION_GROUND] = math.sqrt(F[0, 0] ** 2 + F[0, 1] ** 2 + F[0, 2] ** 2)
+
+
+@_jit_inline
+def _lumped_stage(xs, sc, inp, reel_rate, t, tau, side, cfg, c, program, gust, drag, cw, out):
+    """dx/dt (13,) of the helicopter at a stage state xs (sin, cos sc) at t, tau [s] into
+    the step, pulled at P by the chain: the step-start force cw[6] minus (condensed coupling)
+    the top segment's stiffness cw[13] times its stretch since the step's start (P's motion
+    less the top interior node's, moving on from its start velocity cw[15] at its start
+    acceleration cw[16]) and its damping cw[14]
+    times P's change of velocity (cw[12]: P at the step's start)."""
+    force_P, inp2, wind2, pm, fp, wind = cw[6], cw[7], cw[8], cw[9], cw[10], cw[11]
+    pm0, kc, cc, v_top, a_top = cw[12], cw[13], cw[14], cw[15], cw[16]
+    wind_force(program, gust, cfg[CFG_GUST_DT], drag, t, side, xs[6], xs[7], xs[8], wind)
+    p_motion(xs, sc, cfg[CFG_ARM], pm)
+    for a in range(3):
+        fp[a] = force_P[a]
+        for b in range(3):
+            stretch = pm[b] - pm0[b] - (v_top[b] + 0.5 * a_top[b] * tau) * tau
+            fp[a] -= kc[3 * a + b] * stretch + cc[3 * a + b] * (pm[3 + b] - pm0[3 + b])
+    lumped_loads(sc, inp, wind, fp, cfg[CFG_ARM], inp2, wind2)
+    tethered_rhs_sc(xs, sc, inp2, wind2, 0.0, c, out)
+    out[12] = reel_rate
+
+
+@_jit
+def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work, chain, cw,
+                    coupling):  # fmt: skip
+    """Advance the helicopter x and its lumped chain over one control sample [t0, t0 + dt]:
+    per substep h = dt / n_sub (n_sub the scenario's substeps, or more by the coupled step's
+    rule ``tether_lumped.coupling_substeps``: h omega_max <= 2.5), ``chain_ends`` (the force
+    on P at the step's start), one RK4 step of the helicopter under that force, then the
+    chain's step
+    (``tether_lumped.chain_interval``: ROS2 sub-steps of the chain's step-size rule, issue 23)
+    with its top driven to P's new position and velocity and L0 = x[12] held at the step's
+    start value.
+
+    ``coupling`` COUPLING_STAGGERED holds the force on P over the RK4 step;
+    COUPLING_CONDENSED corrects it within the stages by the top segment's stiffness and
+    damping seen from P (its Jacobian blocks at the step's start, the interior nodes held),
+    F_P = F_P0 - K_top (r_P - r_P0 - v_(N-1) tau - a_(N-1) tau^2 / 2) - (C_top + D_top / 4)
+    (v_P - v_P0), tau the time into the step and v_(N-1), a_(N-1) = F_(N-1) / m the top
+    interior node's velocity and acceleration at its start (issue 23: the acceleration term
+    halved the 20 kN cable's energy drift at 4 substeps, 0.84 % to 0.46 %): the force
+    follows P's motion relative to the chain inside the step, and the helicopter's RK4 sees
+    the top segment's stiffness (stable while h sqrt(EA / (l0 m)) stays within RK4's bound:
+    0.2 for 20 kN, N = 10, h = 5 ms). Why: against SciPy's Radau on the joint helicopter +
+    chain ODE (rtol 1e-9; 2 s open loop, 10 N on HO, dt = 10 ms, 2 substeps) the staggered
+    step, first order in the force's change, is 5.3-5.8e-4 m off on P's position, the
+    condensed one 4.8-5.3e-5 m, for EA = 375 N (N = 10, 20) and 20 kN (N = 10) alike; the
+    nodes' 5.5-6.0e-4 m is ROS2's own error (``tests/test_engine_lumped.py``,
+    ``benchmarks/bench_engine_lumped.py --coupling``). The full Schur complement of the
+    chain's implicit step was not needed. The engine runs COUPLING_CONDENSED.
+
+    Parameters
+    ----------
+    x : ndarray, shape (13,)
+        The helicopter's state, x[12] the unstretched length L0 [m]; advanced in place.
+    inp, reel_rate, t0, cfg, c, program, gust, drag, work
+        As ``rk4_interval``'s.
+    chain : tuple
+        ``layout.CHAIN_*``: the chain, advanced in place.
+    cw : tuple
+        ``lumped_work(N)``.
+    coupling : int
+        COUPLING_STAGGERED or COUPLING_CONDENSED.
+
+    Returns
+    -------
+    None
+    """
+    nodes, vel, p, rwork = (
+        chain[CHAIN_NODES],
+        chain[CHAIN_VELOCITIES],
+        chain[CHAIN_PARAMS],
+        chain[CHAIN_WORK],
+    )
+    F, K, C, D, air = cw[0], cw[2], cw[3], cw[4], cw[5]
+    pm, pm0, kc, cc = cw[9], cw[12], cw[13], cw[14]
+    n = nodes.shape[0] - 1
+    n_sub = coupling_substeps(p, x[12], n, cfg[CFG_DT], int(cfg[CFG_N_SUB]))
+    h = cfg[CFG_DT] / n_sub
+    k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
+    sc0, sc = work[6, :10], work[7, :10]
+    rate = reel_rate if cfg[CFG_ATTACHED] > 0.5 else 0.0
+    for j in range(n_sub):
+        ta = t0 + j * h
+        tb = t0 + (j + 1) * h
+        tm = ta + 0.5 * h
+        L0 = x[12]
+        chain_ends(x, ta, cfg, gust, chain, cw)  # also puts nodes[n] on P(x)
+        v_top, a_top = cw[15], cw[16]
+        m_node = p[LUMPED_MU] * L0 / n
+        for a in range(3):
+            pm0[a] = nodes[n, a]
+            pm0[3 + a] = vel[n, a]
+            v_top[a] = vel[n - 1, a]
+            a_top[a] = F[n - 1, a] / m_node
+            for b in range(3):
+                if coupling == COUPLING_CONDENSED:
+                    kc[3 * a + b] = K[n - 1, a, b]
+                    cc[3 * a + b] = C[n - 1, a, b] + 0.25 * D[n - 1, a, b]
+                else:
+                    kc[3 * a + b] = 0.0
+                    cc[3 * a + b] = 0.0
+        angle_trig(x, sc0)
+        _lumped_stage(x, sc0, inp, rate, ta, 0.0, 1, cfg, c, program, gust, drag, cw, k1)
+        for i in range(13):
+            tmp[i] = x[i] + 0.5 * h * k1[i]
+        angle_trig_from(tmp, x, sc0, sc)
+        _lumped_stage(tmp, sc, inp, rate, tm, 0.5 * h, 1, cfg, c, program, gust, drag, cw, k2)
+        for i in range(13):
+            tmp[i] = x[i] + 0.5 * h * k2[i]
+        angle_trig_from(tmp, x, sc0, sc)
+        _lumped_stage(tmp, sc, inp, rate, tm, 0.5 * h, 1, cfg, c, program, gust, drag, cw, k3)
+        for i in range(13):
+            tmp[i] = x[i] + h * k3[i]
+        angle_trig_from(tmp, x, sc0, sc)
+        _lumped_stage(tmp, sc, inp, rate, tb, h, -1, cfg, c, program, gust, drag, cw, k4)
+        for i in range(13):
+            x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+        angle_trig(x, sc0)
+        p_motion(x, sc0, cfg[CFG_ARM], pm)
+        chain_interval(nodes, vel, air, L0, p, h, pm[:3], pm[3:], rwork)

@@ -1,0 +1,101 @@
+"""The built-in winds evaluated in compiled code (``wind.compiled.CompiledWind``'s arrays): the
+force profiles' rows (``layout.WIND_*``), the gust table's air velocity and the quadratic drag
+|v_rel| v_rel of the helicopter in it. Every loop evaluates its wind here (the single run's
+``sim.engine``, the lumped chain's nodes, the lanes and the environments)."""
+
+from __future__ import annotations
+
+import math
+
+from .._compile import compiled
+from ..layout import (
+    WIND_CONSTANT,
+    WIND_DIRECTION,
+    WIND_DURATION,
+    WIND_FREQUENCY,
+    WIND_KIND,
+    WIND_MAGNITUDE,
+    WIND_PHASE,
+    WIND_PULSE,
+    WIND_SINE,
+    WIND_START,
+)
+from ..model.kernels import (
+    sin_branchless,
+)
+
+_jit = compiled(error_model="numpy")
+_jit_inline = compiled(error_model="numpy", inline="always")
+
+
+@_jit_inline
+def profile_value(kind, start, duration, magnitude, frequency, phase, t, side, any_sine):
+    """The force magnitude [N] of one built-in wind profile (a program row's columns) at t,
+    zero while the profile is off; side = +1 right limit, -1 left limit. Branch-free (selects
+    and ``sin_branchless``), so the lane engine evaluates it for a block of runs in one
+    vectorised pass; every loop uses it, so lanes and single runs agree bit for bit.
+    ``any_sine`` False skips the sine where no profile evaluated together is one."""
+    end = start + duration
+    right = side > 0
+    started = (start <= t) if right else (start < t)
+    before_end = (t < end) if right else (t <= end)
+    # pulse: [start, end); step and sine: from start (absolute time, Sec. VI); constant: always
+    active = kind == WIND_CONSTANT or (started and (kind != WIND_PULSE or before_end))
+    wave = sin_branchless(2.0 * math.pi * frequency * t + phase) if any_sine else 1.0
+    value = magnitude * (wave if kind == WIND_SINE else 1.0)
+    return value if active else 0.0
+
+
+@_jit_inline
+def _wind_program_force(program, t, side, out):
+    """Add the built-in profiles' force at time t; side = +1 right limit, -1 left limit."""
+    for r in range(program.shape[0]):
+        row = program[r]
+        value = profile_value(
+            row[WIND_KIND], row[WIND_START], row[WIND_DURATION], row[WIND_MAGNITUDE],
+            row[WIND_FREQUENCY], row[WIND_PHASE], t, side, row[WIND_KIND] == WIND_SINE,
+        )  # fmt: skip
+        out[0] += value * row[WIND_DIRECTION]
+        out[1] += value * row[WIND_DIRECTION + 1]
+        out[2] += value * row[WIND_DIRECTION + 2]
+
+
+@_jit_inline
+def gust_velocity(gust, gust_dt, t):
+    """The gust table's air velocity at t [m/s], linear between its rows and held after the
+    last one (``gust`` (m, 3) on a grid of step gust_dt [s]; zeros without a table)."""
+    if gust_dt <= 0.0 or gust.shape[0] == 0:
+        return 0.0, 0.0, 0.0
+    s = t / gust_dt
+    i = int(s) if s > 0.0 else 0  # floor for s >= 0
+    if s <= 0.0:
+        w = 0.0
+    elif i >= gust.shape[0] - 1:
+        i, w = gust.shape[0] - 1, 0.0
+    else:
+        w = s - i
+    if w == 0.0:
+        return gust[i, 0], gust[i, 1], gust[i, 2]
+    return (
+        gust[i, 0] * (1.0 - w) + gust[i + 1, 0] * w,
+        gust[i, 1] * (1.0 - w) + gust[i + 1, 1] * w,
+        gust[i, 2] * (1.0 - w) + gust[i + 1, 2] * w,
+    )
+
+
+@_jit_inline
+def wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out):
+    """Wind force on HO in N [N]: the profiles plus the bluff-body drag of the air velocity
+    relative to HO, F_i = 0.5 rho CdA_i |v_rel| v_rel,i with |v_rel| the norm of the whole
+    relative velocity (drag[i] = 0.5 rho CdA_i; ``wind.drag.DragModel``)."""
+    out[0] = 0.0
+    out[1] = 0.0
+    out[2] = 0.0
+    _wind_program_force(program, t, side, out)
+    if gust_dt > 0.0 and gust.shape[0] > 0:
+        g1, g2, g3 = gust_velocity(gust, gust_dt, t)
+        r1, r2, r3 = g1 - v1, g2 - v2, g3 - v3
+        speed = math.sqrt(r1 * r1 + r2 * r2 + r3 * r3)
+        out[0] += drag[0] * speed * r1
+        out[1] += drag[1] * speed * r2
+        out[2] += drag[2] * speed * r3
