@@ -244,14 +244,36 @@ class _Recorder:
         )
 
 
+def _type_key(value):
+    # what Numba's type of ``value`` depends on, cheaply: arrays by dtype, rank, layout,
+    # writeability and alignment, tuples element by element (a ``StepRun`` always gives the
+    # same key)
+    if isinstance(value, np.ndarray):
+        flags = value.flags
+        layout = "C" if flags.c_contiguous else "F" if flags.f_contiguous else "A"
+        return (value.dtype.str, value.ndim, layout, flags.writeable, flags.aligned)
+    if isinstance(value, tuple):
+        return (type(value), *(_type_key(v) for v in value))
+    return type(value)
+
+
+#: compiled entry points by dispatcher and argument types (``_entry_point``)
+_ENTRY_POINTS: dict = {}
+
+
 def _entry_point(dispatcher, *args):
     """The compiled function of ``dispatcher`` for the types of ``args`` (compiled or loaded
-    from the cache first). Calling it skips Numba's type dispatch of every call, which for a
-    ``StepRun`` costs more than the sample's arithmetic; the caller then passes arguments of
-    exactly these types (C-contiguous float64 commands, an int sample index)."""
-    types_ = tuple(dispatcher.typeof_pyval(a) for a in args)
-    dispatcher.compile(types_)
-    return dispatcher.overloads[types_].entry_point
+    from the cache first; kept for the process). Calling it skips Numba's type dispatch of
+    every call, which for a ``StepRun`` costs more than the sample's arithmetic; the caller
+    then passes arguments of exactly these types (C-contiguous float64 commands, an int
+    sample index)."""
+    key = (dispatcher, _type_key(args))
+    entry = _ENTRY_POINTS.get(key)
+    if entry is None:
+        types_ = tuple(dispatcher.typeof_pyval(a) for a in args)
+        dispatcher.compile(types_)
+        entry = _ENTRY_POINTS[key] = dispatcher.overloads[types_].entry_point
+    return entry
 
 
 def _command_array(value, name: str) -> np.ndarray:
