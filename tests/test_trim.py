@@ -88,3 +88,52 @@ def test_kept_windless_trim_is_the_solved_one_and_a_copy(tethered):
     windy = tethered.trim(31.0, 12.0, N_F_wind=(3.0, -1.0, 0.0))  # starts from the kept one
     np.testing.assert_allclose(windy.y[:3], solved.y[:3], atol=1e-9)
     assert np.abs(tethered.derivative(windy.x, windy.u_total, (3.0, -1.0, 0.0))).max() < 1e-9
+
+
+def test_plain_python_trim_equals_the_compiled_kernels(monkeypatch):
+    """The trim evaluates the generated code as plain Python (no Numba, ``model.trim``);
+    solved on the compiled kernels instead (the route before issue 24 item 5), the windless
+    trims of Tables IV and V and a trim in wind agree to 1e-12."""
+    from types import SimpleNamespace
+
+    import numba
+
+    from tetherheli import Params
+    from tetherheli.model import _generated as gen
+    from tetherheli.model import kernels
+    from tetherheli.model import trim as trim_module
+
+    params = Params.paper()
+    cases = [(0.0, 10.0, None), (25.0, 10.0, None), (25.0, 12.0, (3.0, -2.0, 0.5))]
+    plain = [trim_module.hover_trim(params, t, q9, N_F_wind=w) for t, q9, w in cases]
+
+    compiled_constants = numba.njit(fastmath={"nnan", "ninf"}, error_model="numpy")(
+        gen.tethered_constants
+    )
+
+    def constants(kind, helicopter):
+        assert kind == "tethered"
+        c = np.empty(gen.N_TETHERED_CONSTANTS)
+        compiled_constants(helicopter.as_array(), c)
+        return c
+
+    compiled_gen = SimpleNamespace(
+        tethered_rhs=kernels.tethered_rhs,
+        tethered_tether_torque=kernels.tethered_tether_torque,
+        tethered_outputs=kernels.tethered_outputs,
+    )
+    monkeypatch.setattr(trim_module, "gen", compiled_gen)
+    monkeypatch.setattr(trim_module, "model_constants", constants)
+    # the kept windless trims (``_kept_trim``) are the plain route's: solve anew, and keep
+    # none of the compiled route's for later tests
+    trim_module._kept_trim.cache_clear()
+    try:
+        for (t, q9, w), ours in zip(cases, plain, strict=True):
+            theirs = trim_module.hover_trim(params, t, q9, N_F_wind=w)
+            for field in ("x", "u", "y", "feedforward"):
+                a, b = getattr(ours, field), getattr(theirs, field)
+                np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12, err_msg=f"{field} {t}")
+            assert ours.tension == theirs.tension
+    finally:
+        trim_module._kept_trim.cache_clear()
+    assert kernels.tethered_rhs.signatures  # the second route did run compiled code

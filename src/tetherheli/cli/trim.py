@@ -30,15 +30,16 @@ _TRIM_ROWS: tuple[tuple[str, str, int, Callable[[float], float]], ...] = (
 
 
 def _trim_values(args: argparse.Namespace) -> dict[str, float]:
-    from ..model import TetheredHelicopter
+    # the trim alone (model.trim), not the model class: no compiled kernels, no Numba
+    from ..model.trim import hover_trim
+    from ..names import INPUT, OUTPUT, TETHERED_STATE
     from ..params import Params
 
     params = Params.from_toml(args.params) if args.params else Params.paper()
-    model = TetheredHelicopter(params)
-    trim = model.trim(args.tension, args.q9)
-    values = dict(zip(model.STATE, trim.x, strict=True))
-    values.update(zip(model.OUTPUT, trim.y, strict=True))
-    values.update(zip(model.INPUT, trim.u, strict=True))
+    trim = hover_trim(params, args.tension, args.q9)
+    values = dict(zip(TETHERED_STATE, trim.x, strict=True))
+    values.update(zip(OUTPUT, trim.y, strict=True))
+    values.update(zip(INPUT, trim.u, strict=True))
     values["tMR1_total"] = trim.t_MR1_total
     values["LN"] = float(trim.x[12])
     values["TC"] = trim.tension

@@ -2,7 +2,8 @@
 
 Every kernel takes plain float64 arrays in the fixed order of ``codegen``: x the state,
 inp the inputs [fMR3, tMR1, tMR2, fTR2], wind the force on HO in N, c the model's constants
-(``model_constants``: the parameter-only subexpressions, computed once per parameter set).
+(``model_constants``, from ``constants``: the parameter-only subexpressions, computed once per
+parameter set, as plain Python).
 
 Compiled with the ``nnan``/``ninf`` fast-math flags only: they allow no reassociation, so
 finite results are bit-identical to strict IEEE evaluation of the generated code (a test
@@ -20,6 +21,7 @@ from .._compile import compiled
 from ..layout import LANES
 from ..params import HelicopterParams
 from . import _generated as gen
+from .constants import model_constants
 
 __all__ = [
     "free_derivative",
@@ -39,8 +41,6 @@ _jit = compiled(fastmath={"nnan", "ninf"}, error_model="numpy")
 # compiled Numba functions costs ~30 ns here, a third of a derivative evaluation.
 _jit_inline = compiled(fastmath={"nnan", "ninf"}, error_model="numpy", inline="always")
 
-free_constants = _jit(gen.free_constants)
-tethered_constants = _jit(gen.tethered_constants)
 free_rhs = _jit_inline(gen.free_rhs)
 free_jacobian = _jit(gen.free_jacobian)
 free_outputs = _jit(gen.free_outputs)
@@ -173,20 +173,6 @@ def angle_trig_from_lanes(x, x_base, sc_base, sc):
                     c = math.cos(a)
                     sc[i * LANES + j] = s
                     sc[(5 + i) * LANES + j] = c
-
-
-def model_constants(kind: str, helicopter: HelicopterParams) -> np.ndarray:
-    """The constants vector c of the "free" or "tethered" generated functions (read-only)."""
-    if kind == "tethered":
-        c = np.empty(gen.N_TETHERED_CONSTANTS)
-        tethered_constants(helicopter.as_array(), c)
-    elif kind == "free":
-        c = np.empty(gen.N_FREE_CONSTANTS)
-        free_constants(helicopter.as_array(), c)
-    else:
-        raise ValueError(f"kind = {kind!r} is invalid; allowed: 'free' or 'tethered'")
-    c.setflags(write=False)
-    return c
 
 
 @_jit_inline

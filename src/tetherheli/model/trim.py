@@ -10,6 +10,11 @@ In a steady wind force (``hover_trim(..., N_F_wind=F)``) the helicopter tilts an
 the tether leans: the outputs [q1, q2, q3, q6] are held where the windless trim puts them (the
 controller's references, which its integral action restores), and q4, q5, q7, q8, q9 and the
 four inputs solve the six dynamic equations and the three position equations.
+
+The residuals evaluate the generated model code (``_generated``) as plain Python, not its
+compiled kernels (``kernels``): a trim is a few dozen evaluations, and ``tetherheli trim``
+then runs without importing Numba. The compiled kernels give the same values (they allow no
+reassociation, see ``kernels``; a test compares the two routes' trims).
 """
 
 from __future__ import annotations
@@ -24,7 +29,8 @@ from scipy.optimize import root
 from .._validation import check_number, check_vector
 from ..errors import InfeasibleError
 from ..params import Params, check_tether_length
-from . import kernels
+from . import _generated as gen
+from .constants import model_constants
 
 __all__ = ["TrimPoint", "hover_trim", "windless_trim"]
 
@@ -107,9 +113,7 @@ def hover_trim(
     force = np.array(check_vector("N_F_wind", N_F_wind, 3))
     if not np.any(force):
         return point
-    return _trim_in_wind(
-        params, point, force, kernels.model_constants("tethered", params.helicopter)
-    )
+    return _trim_in_wind(params, point, force, model_constants("tethered", params.helicopter))
 
 
 def _windless(params: Params, tension: float, q9: float, natural_length: float) -> TrimPoint:
@@ -152,7 +156,7 @@ def windless_trim(params: Params, tension: float, q9: float, natural_length: flo
         The trim state (13,), inputs and feedforward, as ``hover_trim``'s.
     """
     h = params.helicopter
-    p = kernels.model_constants("tethered", h)
+    p = model_constants("tethered", h)
     x = np.zeros(13)
     x[5] = q9
     x[12] = natural_length
@@ -163,14 +167,14 @@ def windless_trim(params: Params, tension: float, q9: float, natural_length: flo
     def assemble(z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         xs = x.copy()
         xs[0], xs[1] = z[0], z[1]
-        kernels.tethered_tether_torque(xs, float(tension), p, torque)
+        gen.tethered_tether_torque(xs, float(tension), p, torque)
         u0 = np.array([z[2], z[3], z[4], z[5]])
         ffwd = np.array([0.0, torque[0], torque[1], 0.0])
         return xs, u0, ffwd
 
     def residual(z: np.ndarray) -> np.ndarray:
         xs, u0, ffwd = assemble(z)
-        kernels.tethered_rhs(xs, u0 - ffwd, wind, float(tension), p, out)
+        gen.tethered_rhs(xs, u0 - ffwd, wind, float(tension), p, out)
         return out[6:12] * np.array([h.m, h.m, h.m, h.K4p4, h.K5p5, h.K6p6])
 
     # Closed-form start: lift balances weight plus tension, tail rotor balances rotor drag.
@@ -188,7 +192,7 @@ def windless_trim(params: Params, tension: float, q9: float, natural_length: flo
         )
     xs, u0, ffwd = assemble(sol.x)
     y = np.empty(4)
-    kernels.tethered_outputs(xs, p, y)
+    gen.tethered_outputs(xs, p, y)
     return TrimPoint(x=xs, u=u0, y=y, tension=float(tension), feedforward=ffwd)
 
 
@@ -208,13 +212,13 @@ def _trim_in_wind(params: Params, base: TrimPoint, force: np.ndarray, p: np.ndar
         xs = base.x.copy()
         xs[0], xs[1], xs[3], xs[4], xs[5] = z[0], z[1], z[2], z[3], z[4]
         xs[12] = params.tether.natural_length(z[4], tension)
-        kernels.tethered_tether_torque(xs, tension, p, torque)
+        gen.tethered_tether_torque(xs, tension, p, torque)
         return xs, z[5:9].copy(), np.array([0.0, torque[0], torque[1], 0.0])
 
     def residual(z: np.ndarray) -> np.ndarray:
         xs, u0, ffwd = assemble(z)
-        kernels.tethered_rhs(xs, u0 - ffwd, force, tension, p, out)
-        kernels.tethered_outputs(xs, p, y)
+        gen.tethered_rhs(xs, u0 - ffwd, force, tension, p, out)
+        gen.tethered_outputs(xs, p, y)
         return np.concatenate([out[6:12] * scale, weight * (y[:3] - base.y[:3])])
 
     x0 = base.x
@@ -236,7 +240,7 @@ def _trim_in_wind(params: Params, base: TrimPoint, force: np.ndarray, p: np.ndar
             "a steady wind force the helicopter can hover in (no trim found)",
         )
     xs, u0, ffwd = assemble(sol.x)
-    kernels.tethered_outputs(xs, p, y)
+    gen.tethered_outputs(xs, p, y)
     return TrimPoint(x=xs, u=u0, y=y.copy(), tension=tension, feedforward=ffwd)
 
 
