@@ -47,7 +47,7 @@ import numpy as np
 from .._compile import compiled
 from .._validation import check_integer
 from ..errors import ClusterError, ParameterError, TetherheliError
-from ..layout import LANES, Signals
+from ..layout import CHAIN_NODES, LANES, Signals
 from ..names import METRIC_NAMES
 from ..params import Params
 from ..status import Status, status_message
@@ -73,8 +73,7 @@ _N_SUMMARY = len(engine.SUMMARY_FIELDS)
 _I = {name: i for i, name in enumerate(engine.SUMMARY_FIELDS)}
 
 
-@compiled(nogil=True)
-def run_unrecorded(engine_args, summary):  # pragma: no cover - compiled
+def run_unrecorded(engine_args, summary):
     """``engine.run_closed_loop(*engine_args, ...)`` without recording (1-row dummy outputs),
     GIL released; ``engine_args`` is ``EngineSetup.engine_args``.
 
@@ -92,13 +91,31 @@ def run_unrecorded(engine_args, summary):  # pragma: no cover - compiled
     samples_done : int
         Samples the run completed (``n_samples + 1`` if completed).
     """
+    if engine_args[-1][CHAIN_NODES].shape[0] > 0:  # a lumped chain (``engine_args``' last)
+        return _unrecorded_lumped(engine_args, summary)
+    return _unrecorded_massless(engine_args, summary)
+
+
+@compiled(inline="always")
+def _no_signals():  # pragma: no cover - compiled
     # one-row signals, never written (``record`` is False)
     d4 = np.zeros((1, 4))
-    out = Signals(
+    return Signals(
         np.zeros((1, 13)), d4, d4, np.zeros(1), np.zeros(1), np.zeros((1, 3)), d4, d4,
         np.zeros(1), np.zeros((0, 0, 3)), np.zeros((1, 2)),
     )  # fmt: skip
-    return engine.run_closed_loop(*engine_args, False, out, summary)
+
+
+@compiled(nogil=True)
+def _unrecorded_massless(engine_args, summary):  # pragma: no cover - compiled
+    # ``run_unrecorded`` of a massless tether, the GIL released
+    return engine.run_massless_loop(*engine_args, False, _no_signals(), summary)
+
+
+@compiled(nogil=True)
+def _unrecorded_lumped(engine_args, summary):  # pragma: no cover - compiled
+    # ``run_unrecorded`` of a lumped tether, the GIL released
+    return engine.run_lumped_loop(*engine_args, False, _no_signals(), summary)
 
 
 @compiled(nogil=True)

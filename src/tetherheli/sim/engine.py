@@ -130,6 +130,8 @@ __all__ = [
     "release_sentence",
     "rk4_interval",
     "run_closed_loop",
+    "run_lumped_loop",
+    "run_massless_loop",
     "sense",
     "status_message",
     "step_command",
@@ -671,22 +673,9 @@ def _loop_state(x_init, z_init, work):
     )
 
 
-@_jit
 def run_closed_loop(
-    x_init,
-    n_samples,
-    cfg_in,
-    ctrl_in,
-    c,
-    law,
-    wind,
-    act,
-    sensors,
-    chain,
-    record,
-    out,
-    summary,
-):
+    x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out, summary
+):  # fmt: skip
     """Run the closed loop for n_samples control samples; returns (status, samples done).
 
     Each sample is the phases above around ``paper_law``: ``sample_sense``, ``paper_law``,
@@ -706,7 +695,47 @@ def run_closed_loop(
     winch leaves it alone, one row is enough). ``summary`` (len(SUMMARY_FIELDS),) always
     receives the on-line metrics of the samples k >= cfg[CFG_METRICS_FROM], the release event
     in its ``release_*`` slots (NaN without one).
+
+    A massless run goes through ``run_massless_loop``, compiled without the lumped chain's
+    step (about 20 s of a first run's compilation), a lumped one through
+    ``run_lumped_loop``: the one loop, ``closed_loop``, specialised.
     """
+    lumped = chain[CHAIN_NODES].shape[0] > 0
+    loop = run_lumped_loop if lumped else run_massless_loop
+    return loop(
+        x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out, summary
+    )
+
+
+@_jit
+def run_massless_loop(
+    x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out, summary
+):  # fmt: skip
+    """``closed_loop`` of a massless tether (or none): the lumped branch pruned."""
+    return closed_loop(
+        x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out,
+        summary, False,
+    )  # fmt: skip
+
+
+@_jit
+def run_lumped_loop(
+    x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out, summary
+):  # fmt: skip
+    """``closed_loop`` of a lumped tether (``chain``'s nodes present)."""
+    return closed_loop(
+        x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out,
+        summary, True,
+    )  # fmt: skip
+
+
+@_jit_inline
+def closed_loop(
+    x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out, summary,
+    lumped,
+):  # fmt: skip
+    """The closed loop of ``run_closed_loop``; ``lumped`` a constant of the compiled caller,
+    so that the compiler drops the branch a run never takes."""
     # The loop works on borrowed views (``_compile.borrowed``: no atomic reference counts):
     # of the arguments, which the caller holds, and of the run's own arrays, held below
     # (``keep_alive``) until the loop is done.
@@ -727,7 +756,6 @@ def run_closed_loop(
     start_summary(summary)
     status, done = STATUS_OK, n_samples + 1
     nodes = chain[CHAIN_NODES]
-    lumped = nodes.shape[0] > 0
     for k in range(n_samples + 1):
         tension, measured = sample_sense(
             x, k, cfg, ctrl, act, sensors, sensed, event, x_meas, lumped, gust, chain, cw
