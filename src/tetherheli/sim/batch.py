@@ -47,7 +47,7 @@ import numpy as np
 from .._compile import compiled
 from .._validation import check_integer
 from ..errors import ClusterError, ParameterError, TetherheliError
-from ..layout import CHAIN_NODES, LANES, Signals
+from ..layout import LANES, Signals
 from ..names import METRIC_NAMES
 from ..params import Params
 from ..status import Status, status_message
@@ -91,7 +91,7 @@ def run_unrecorded(engine_args, summary):
     samples_done : int
         Samples the run completed (``n_samples + 1`` if completed).
     """
-    if engine_args[-1][CHAIN_NODES].shape[0] > 0:  # a lumped chain (``engine_args``' last)
+    if engine.is_lumped(engine_args[-1]):  # the chain, ``engine_args``' last
         return _unrecorded_lumped(engine_args, summary)
     return _unrecorded_massless(engine_args, summary)
 

@@ -23,6 +23,7 @@ from ..layout import (
     CFG_ATTACHED,
     CFG_N_SUB,
     SUMMARY_FIELDS,
+    SUMMARY_RELEASE_TENSION,
     SUMMARY_RELEASE_TIME,
     SUMMARY_WINCH_LIMIT,
     SUMMARY_WINCH_LIMIT_TIME,
@@ -170,10 +171,8 @@ def simulate(
     if paper and method == "rk4" and wind is not None:
         status, done = engine.run_closed_loop(*setup.engine_args(n), True, rec.signals, rec.summary)
     else:  # the same sample step, the controller's slot in Python
-        run = setup.step_run(rec.signals)
+        run = setup.step_run(rec.signals, rec.summary)
         status, done = _python_loop(scenario, setup, run, controller, method, rtol=rtol, atol=atol)
-        rec.summary[:] = run.summary
-    rec.release[:] = rec.summary[SUMMARY_RELEASE_TIME : SUMMARY_RELEASE_TIME + 2]
     columns = controller.recorded()  # e.g. the MPC's fallbacks
     # a run whose solver failed too often is degraded or failed (status.solver_status)
     status = solver_status(status, columns.get(FALLBACK_COLUMN, ())[:done])
@@ -183,11 +182,11 @@ def simulate(
 
 
 class _Recorder:
-    """A run's recorded signals (``layout.Signals``), summary and release, made a result."""
+    """A run's recorded signals (``layout.Signals``) and summary (its metrics, release and
+    payout limit), made a result."""
 
     def __init__(self, n: int, *, drum: bool = False, lumped: bool = False, nodes: int = 0) -> None:
         self.signals = Signals.zeros(n + 1, drum=drum, nodes=nodes)
-        self.release = np.full(2, np.nan)  # tether release: time [s], tension [N]
         self.summary = np.zeros(len(SUMMARY_FIELDS))
         self.lumped = lumped
 
@@ -234,14 +233,19 @@ class _Recorder:
             version=__version__,
             method=method,
             extra=extra,
-            release_time=None if math.isnan(self.release[0]) else float(self.release[0]),
-            release_tension=None if math.isnan(self.release[1]) else float(self.release[1]),
+            release_time=_release(self.summary[SUMMARY_RELEASE_TIME]),
+            release_tension=_release(self.summary[SUMMARY_RELEASE_TENSION]),
             winch_limit=winch_limit_info(
                 self.summary[SUMMARY_WINCH_LIMIT_TIME],
                 self.summary[SUMMARY_WINCH_LIMIT],
                 scenario.winch,
             ),
         )
+
+
+def _release(value: float) -> float | None:
+    # a summary's release slot: NaN without a release
+    return None if math.isnan(value) else float(value)
 
 
 def _type_key(value):

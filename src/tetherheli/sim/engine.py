@@ -673,6 +673,12 @@ def _loop_state(x_init, z_init, work):
     )
 
 
+def is_lumped(chain: tuple) -> bool:
+    """Whether ``chain`` (``layout.CHAIN_*``) is a lumped tether's: it has nodes (the massless
+    tether's, ``layout.empty_chain()``, has none); chooses ``run_lumped_loop``."""
+    return chain[CHAIN_NODES].shape[0] > 0
+
+
 def run_closed_loop(
     x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out, summary
 ):  # fmt: skip
@@ -700,8 +706,7 @@ def run_closed_loop(
     step (about 20 s of a first run's compilation), a lumped one through
     ``run_lumped_loop``: the one loop, ``closed_loop``, specialised.
     """
-    lumped = chain[CHAIN_NODES].shape[0] > 0
-    loop = run_lumped_loop if lumped else run_massless_loop
+    loop = run_lumped_loop if is_lumped(chain) else run_massless_loop
     return loop(
         x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out, summary
     )

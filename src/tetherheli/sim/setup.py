@@ -70,10 +70,10 @@ from ..layout import (
     CTRL_U_MIN,
     CTRL_WINCH,
     LANES,
-    SUMMARY_FIELDS,
     WIND_COLUMNS,
     WIND_CONSTANT,
     WIND_KIND,
+    Signals,
     default_actuators,
     empty_chain,
 )
@@ -778,53 +778,61 @@ class EngineSetup:
         """
         assert self.wind is not None
         return (
-            self.start.x.copy(),
-            n_samples,
-            read_only(self.cfg),
-            read_only(self.ctrl),
+            self.start.x.copy(), n_samples, read_only(self.cfg), read_only(self.ctrl),
+            *self._engine_inputs(),
+        )  # fmt: skip
+
+    def _engine_inputs(self) -> tuple:
+        # (model constants, law, wind, act, sensors, chain) as every engine entry takes them:
+        # what it only reads as ``read_only`` views (one compiled signature), the chain a
+        # fresh copy (the engine advances it); a custom disturbance (no compiled wind) an
+        # empty wind program, whose force the Python loop adds itself
+        if self.wind is None:
+            wind = (np.zeros((0, WIND_COLUMNS)), np.zeros((0, 3)), np.zeros(3))
+        else:
+            wind = (self.wind.program, self.wind.gust, self.wind.drag)
+        return (
             read_only(self.model.constants),
             tuple(read_only(a) for a in self.law),
-            tuple(read_only(a) for a in (self.wind.program, self.wind.gust, self.wind.drag)),
+            tuple(read_only(a) for a in wind),
             read_only(self.act),
             self.sensors,
             tuple(a.copy() for a in self.chain),
         )
 
-    def step_run(self, out: tuple) -> engine.StepRun:
+    def step_run(self, out: Signals, summary: np.ndarray) -> engine.StepRun:
         """The run's arrays for the sample step driven from Python (``engine.StepRun``: a
         ``Controller`` other than the compiled laws, or the adaptive reference), recording
-        into ``out`` (``engine.run_closed_loop``'s order). A custom disturbance (no compiled
-        wind) gets an empty wind program: the Python loop adds its force itself.
+        into ``out`` and accumulating its metrics into ``summary``. A custom disturbance (no
+        compiled wind) gets an empty wind program: the Python loop adds its force itself.
 
         Parameters
         ----------
-        out : tuple of numpy.ndarray
+        out : Signals
             The recorded signals, n_samples + 1 rows each.
+        summary : numpy.ndarray, shape (len(SUMMARY_FIELDS),)
+            Receives the run's on-line metrics (``engine.start_summary`` first).
 
         Returns
         -------
         engine.StepRun
             Fresh copies of everything the run changes (state, cfg, ctrl, chain, loop).
         """
-        if self.wind is None:
-            wind = (np.zeros((0, WIND_COLUMNS)), np.zeros((0, 3)), np.zeros(3))
-        else:
-            wind = (self.wind.program, self.wind.gust, self.wind.drag)
-        segments = max(self.chain[CHAIN_NODES].shape[0] - 1, 1)
+        c, law, wind, act, sensors, chain = self._engine_inputs()
+        segments = max(chain[CHAIN_NODES].shape[0] - 1, 1)
         work = np.empty((engine.RK4_WORK_ROWS, 13))
-        summary = np.zeros(len(SUMMARY_FIELDS))
         engine.start_summary(summary)
         x = self.start.x.copy()
         return engine.StepRun(
             x=x,
             cfg=self.cfg.copy(),
             ctrl=self.ctrl.copy(),
-            c=read_only(self.model.constants),
-            law=tuple(read_only(a) for a in self.law),
-            wind=tuple(read_only(a) for a in wind),
-            act=read_only(self.act),
-            sensors=self.sensors,
-            chain=tuple(a.copy() for a in self.chain),
+            c=c,
+            law=law,
+            wind=wind,
+            act=act,
+            sensors=sensors,
+            chain=chain,
             cw=lumped_step.lumped_work(segments),
             work=work,
             loop=engine.new_loop_state(x, read_only(self.start.z), work),

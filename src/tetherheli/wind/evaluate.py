@@ -20,9 +20,7 @@ from ..layout import (
     WIND_SINE,
     WIND_START,
 )
-from ..model.kernels import (
-    sin_branchless,
-)
+from ..model.kernels import sin_branchless
 
 _jit = compiled(error_model="numpy")
 _jit_inline = compiled(error_model="numpy", inline="always")
