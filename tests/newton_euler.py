@@ -60,8 +60,11 @@ class NewtonEuler:
         w_dot = np.linalg.solve(self.J, torque - np.cross(w, self.J @ w + self.h_rotor))
         return force / self.m, w_dot
 
-    def tethered(self, x, inp, wind=(0.0, 0.0, 0.0), reel_rate=0.0):
-        """dx/dt of the 13-state tethered model, by Newton-Euler in Cartesian terms."""
+    def tethered(self, x, inp, wind=(0.0, 0.0, 0.0), reel_rate=0.0, base_acceleration=None):
+        """dx/dt of the 13-state tethered model, by Newton-Euler in Cartesian terms.
+
+        With ``base_acceleration`` b'' the winch moves and the state is relative to it:
+        Newton's law in N reads m (b'' + u') = F, so u' = F / m - b''."""
         q4, q5, q6, q7, q8, q9 = x[:6]
         v, w, L_N = np.asarray(x[6:9]), np.asarray(x[9:12]), x[12]
         R = dcm_table_i(q4, q5, q6)
@@ -72,6 +75,8 @@ class NewtonEuler:
         length = np.linalg.norm(p_P)
         tension = self.K_C * max(length - L_N, 0.0)
         a, w_dot = self.accelerations(R, v, w, inp, np.asarray(wind), -tension * p_P / length)
+        if base_acceleration is not None:
+            a = a - np.asarray(base_acceleration)
         # spherical rates: d(q9 c3)/dt = v_P, with the partials of q9 c3 typed here
         s7, c7, s8, c8 = np.sin(q7), np.cos(q7), np.sin(q8), np.cos(q8)
         jac = np.column_stack([
@@ -83,10 +88,12 @@ class NewtonEuler:
         sph = np.linalg.solve(jac, v_P)
         return np.concatenate([euler_rates(q4, q5, q6, w), sph, a, w_dot, [reel_rate]])
 
-    def free(self, x, inp, wind=(0.0, 0.0, 0.0)):
-        """dx/dt of the 12-state free model."""
+    def free(self, x, inp, wind=(0.0, 0.0, 0.0), base_acceleration=None):
+        """dx/dt of the 12-state free model (relative to a base accelerating at b'')."""
         q4, q5, q6 = x[3:6]
         v, w = np.asarray(x[6:9]), np.asarray(x[9:12])
         R = dcm_table_i(q4, q5, q6)
         a, w_dot = self.accelerations(R, v, w, inp, np.asarray(wind), np.zeros(3))
+        if base_acceleration is not None:
+            a = a - np.asarray(base_acceleration)
         return np.concatenate([v, euler_rates(q4, q5, q6, w), a, w_dot])

@@ -16,7 +16,15 @@ from tetherheli._linalg import discretize_zoh
 from tetherheli.control.lqi import augment_lqi
 from tetherheli.errors import ParameterError
 from tetherheli.model import EXPORT_INPUTS, linearize
-from tetherheli.names import INPUT, OUTPUT, REEL_RATE, TETHERED_STATE, UNITS, WIND
+from tetherheli.names import (
+    BASE_ACCELERATION,
+    INPUT,
+    OUTPUT,
+    REEL_RATE,
+    TETHERED_STATE,
+    UNITS,
+    WIND,
+)
 from tetherheli.sim.scenario import ControlSettings
 from tetherheli.sim.setup import LQI_STATES, paper_gain
 
@@ -43,7 +51,7 @@ def _pbh_ranks(A: np.ndarray, B: np.ndarray) -> list[int]:
 
 def test_labels_are_our_names_in_our_order(taut) -> None:
     """States, inputs and outputs carry names.py's names, in the order of A, B, C."""
-    inputs = (*INPUT, REEL_RATE, *WIND)
+    inputs = (*INPUT, REEL_RATE, *WIND, *BASE_ACCELERATION)
     sys = taut.to_statespace(inputs=inputs)
     assert sys.state_labels == list(TETHERED_STATE)
     assert sys.input_labels == list(inputs)
@@ -56,6 +64,8 @@ def test_labels_are_our_names_in_our_order(taut) -> None:
     np.testing.assert_array_equal(sub.B[:, 0], taut.E_wind[:, 1])
     np.testing.assert_array_equal(sub.B[:, 1], taut.B_reel)
     np.testing.assert_array_equal(sub.B[:, 2], taut.B[:, 1])
+    base = taut.to_statespace(inputs=("ab3",))  # a moving winch's acceleration (issue 26)
+    np.testing.assert_array_equal(base.B[:, 0], taut.E_base[:, 2])
 
 
 def test_exported_matrices_equal_our_linearization(taut) -> None:

@@ -193,3 +193,27 @@ def test_a_cable_run_too_large_is_refused_before_it_is_allocated():
 
     with pytest.raises(ResourceLimitError, match=r"duration = 1e\+09 s at dt = 1e-06 s"):
         drive_cable(PAPER, anchor=(0.0, 0.0, 0.0), top=top, duration=1e9, dt=1e-6)
+
+
+def test_a_base_at_constant_velocity_gives_the_fixed_anchors_relative_motion():
+    """Issue 26, Galilean invariance of the lumped chain: the anchor on a base moving at a
+    constant 3 m/s (the top moving with it, still air: no drag, rho -> 0) gives, relative to
+    the anchor, the fixed anchor's chain shape, velocities and forces (to 1e-9)."""
+    from tetherheli.base import VelocityBase
+
+    base = VelocityBase(velocity=(3.0, -1.0, 0.5))
+    shake = _shaking(0, A=0.3, f=1.0)
+
+    def moving_top(t):
+        r, v = shake(t)
+        b = base.state(t)[0]
+        return r + b[0], v + b[1]
+
+    kw = {"duration": 2.0, "dt": 0.01, "rho": 1e-12}
+    still = drive_cable(PAPER, anchor=(0, 0, 0), top=shake, **kw)
+    moving = drive_cable(PAPER, anchor=base, top=moving_top, **kw)
+    b = base.state(still.t)
+    np.testing.assert_allclose(moving.nodes - b[:, None, 0], still.nodes, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(moving.velocities - b[:, None, 1], still.velocities, atol=1e-9)
+    np.testing.assert_allclose(moving.top_force, still.top_force, rtol=0, atol=1e-9)
+    assert np.ptp(still.top_force[:, 0]) > 0.1  # the shaking loads the top [N]

@@ -54,6 +54,22 @@ CFG_TENSION_TOP = 11  # the lumped chain's tension at P at this sample [N] (set 
 CFG_TENSION_GROUND = 12  # ... and at the winch [N], which the load cell measures
 CFG_SIZE = 13
 
+#: A base motion's packed form (``base.compiled``), one float64 array of BASE_COLUMNS columns.
+#: Row 0: counts and the constant parts
+BASE_WAVES = 0  # number of sinusoid rows (rows 1 .. BASE_WAVES)
+BASE_KNOTS = 1  # number of spline knot rows (after the sinusoids)
+BASE_OFFSET = 2  # (3,) b at t = 0 of the linear part [m]
+BASE_VELOCITY = 5  # (3,) the constant velocity [m/s]
+#: a sinusoid row: amplitude sin(omega t + phase) on one axis of N
+BASE_WAVE_AXIS = 0  # 0, 1, 2: n1, n2, n3
+BASE_WAVE_AMPLITUDE = 1  # [m]
+BASE_WAVE_OMEGA = 2  # [rad/s]
+BASE_WAVE_PHASE = 3  # [rad]
+#: a knot row: its time and the cubic's coefficients on [t_k, t_k+1), c0 h^3 + c1 h^2 + c2 h + c3
+BASE_KNOT_TIME = 0  # [s]
+BASE_CUBIC = 1  # (4, 3) c0..c3 for n1, n2, n3, row-major
+BASE_COLUMNS = 13
+
 # --- a run's lumped-mass chain (``chain``, ``sim.engine``): a tuple of arrays; a massless run
 # passes ``empty_chain()``'s (zero rows), so the compiled types agree -------------------------
 CHAIN_NODES = 0  # (N+1, 3) node positions [m], row 0 the winch (origin), row N the point P
@@ -77,7 +93,10 @@ LUMPED_GROUND_K = 7
 LUMPED_GROUND_C = 8
 LUMPED_FRICTION = 9
 LUMPED_FRICTION_SPEED = 10
-LUMPED_SIZE = 11
+#: (3,) the base's acceleration b'' [m/s^2] over the step (a moving winch, ``base``): the chain
+#: is flown in the base's translating frame, where each free node feels -m b''
+LUMPED_BASE_ACC = 11
+LUMPED_SIZE = 14
 # the ground's default constants (``LumpedTether``, ``[tether] ground_*``)
 #: the ground's normal stiffness kbot [Pa/m]: MoorDyn's default seabed (3e6 Pa/m); the
 #: default cable (20 g/m, 5 mm) then sinks in by mu g / (kbot d) = 13 um and its contact

@@ -4,6 +4,8 @@ reports and the command line use (notation: ``docs/notation.md``)."""
 from __future__ import annotations
 
 __all__ = [
+    "BASE_ACCELERATION",
+    "BASE_ACCELERATION_UNITS",
     "FREE_STATE",
     "FREE_STATE_UNITS",
     "INPUT",
@@ -52,6 +54,9 @@ REEL_RATE_UNITS = "m/s"
 #: The disturbance inputs: the wind force on HO, N components [N] (Sec. VI).
 WIND = ("Fw1", "Fw2", "Fw3")
 WIND_UNITS = ("N",) * 3
+#: a moving winch's acceleration b'' in N (the linearization's ``E_base`` columns, issue 26)
+BASE_ACCELERATION = ("ab1", "ab2", "ab3")
+BASE_ACCELERATION_UNITS = ("m/s^2",) * 3
 #: Unit of every name above (name -> unit).
 UNITS: dict[str, str] = {
     **dict(zip(TETHERED_STATE, TETHERED_STATE_UNITS, strict=True)),
@@ -59,6 +64,7 @@ UNITS: dict[str, str] = {
     **dict(zip(INPUT, INPUT_UNITS, strict=True)),
     REEL_RATE: REEL_RATE_UNITS,
     **dict(zip(WIND, WIND_UNITS, strict=True)),
+    **dict(zip(BASE_ACCELERATION, BASE_ACCELERATION_UNITS, strict=True)),
 }
 
 #: Names of the metrics derived from a summary (``sim.batch.summary_metrics``), in table order.

@@ -15,6 +15,12 @@ components (-q9 c8 q7', q9 q8', q9'); this keeps M of eq 29 small.
 
 The free helicopter is the tethered derivation's dynamics with no tether: both models share
 every body, point and load here; only the position coordinates differ.
+
+A moving winch (issue 26): with ``moving_base=True`` the winch sits at B = NO + b(t), a
+specified motion, and the coordinates and u1..u3 are taken relative to B (the base's
+translating frame): HO's velocity in N is b' + u. Kane's method then finds b'' in the
+forcing only as the inertial force -m b'' at HO (m = mF + mMR), which ``derive`` checks; the
+numerical model therefore takes the base's acceleration through the wind input.
 """
 
 from __future__ import annotations
@@ -58,12 +64,15 @@ class Derivation:
     qdot : kinematic differential equations, q' in terms of q and u (eqs 9-12, 29)
     udot : dynamic equations, u' (eqs 13-18, 30-35)
     mass_matrix, forcing : Kane's M(q) and f(q, u, ...) with M u' = f
-    outputs : [q1, q2, q3, q6] of HO in N (eqs 4, 43-45)
+    outputs : [q1, q2, q3, q6] of HO in N (eqs 4, 43-45); relative to the base B when the base
+        moves
     tether_torque : the tether's generalized forces on u4, u5 (the C1, C2 of eq 55)
     inputs, wind : input symbols (fMR3, tMR1, tMR2, fTR2) and wind force (w1, w2, w3) [N]
     tension : the tension magnitude TC (a symbol; eq 28's slack law is applied numerically)
     params : parameter symbols in ``PARAM_ORDER``
     dcm : N.dcm(F), the direction cosine matrix of Table I
+    base_acceleration : (a1, a2, a3), the symbols of b'' [m/s^2] in N standing in the forcing
+        for the base's acceleration, or () for the paper's fixed winch
     """
 
     kind: ModelKind
@@ -80,6 +89,7 @@ class Derivation:
     tension: sp.Symbol
     params: tuple[sp.Symbol, ...]
     dcm: sp.Matrix
+    base_acceleration: tuple[sp.Symbol, ...] = ()
 
     def state_symbols(self) -> tuple[sp.Symbol, ...]:
         """Plain symbols standing for (q, u), in state order, for code generation."""
@@ -90,8 +100,13 @@ class Derivation:
         return expr.subs(dict(zip((*self.q, *self.u), self.state_symbols(), strict=True)))
 
 
-def derive(kind: ModelKind) -> Derivation:
-    """Derive the free (eqs 9-18) or the tethered (eqs 10-12, 29-35) equations of motion."""
+def derive(kind: ModelKind, moving_base: bool = False) -> Derivation:
+    """Derive the free (eqs 9-18) or the tethered (eqs 10-12, 29-35) equations of motion.
+
+    With ``moving_base`` the winch point moves as a specified b(t) in N and the coordinates,
+    u1..u3 and the outputs are relative to it; the base's acceleration appears as the symbols
+    ``Derivation.base_acceleration`` (raises if it enters other than as -m b'' at HO).
+    """
     if kind not in ("free", "tethered"):
         raise ValueError(f"kind = {kind!r} is invalid; allowed: 'free' or 'tethered'")
     p = parameter_symbols()
@@ -116,6 +131,10 @@ def derive(kind: ModelKind) -> Derivation:
     d_O_HO3 = (m_F * p["d_O_FO3"] + m_MR * p["d_O_MRO3"]) / (m_F + m_MR)
     NO = Point("NO")
     NO.set_vel(N, 0)
+    base = dynamicsymbols("b1 b2 b3") if moving_base else (0, 0, 0)
+    base_rate = [sp.diff(bi, t) for bi in base]
+    B = NO.locatenew("B", base[0] * N.x + base[1] * N.y + base[2] * N.z)  # the winch
+    B.set_vel(N, base_rate[0] * N.x + base_rate[1] * N.y + base_rate[2] * N.z)
     kd_eqs = [
         u4 - w_F_from_angles.dot(F.x),
         u5 - w_F_from_angles.dot(F.y),
@@ -124,21 +143,22 @@ def derive(kind: ModelKind) -> Derivation:
     if kind == "free":
         q1, q2, q3 = dynamicsymbols("q1 q2 q3")
         q = (q1, q2, q3, q4, q5, q6)
-        HO = NO.locatenew("HO", q1 * N.x + q2 * N.y + q3 * N.z)  # eq 4
+        HO = B.locatenew("HO", q1 * N.x + q2 * N.y + q3 * N.z)  # eq 4
         kd_eqs = [u1 - q1.diff(t), u2 - q2.diff(t), u3 - q3.diff(t), *kd_eqs]  # eq 7
     else:
         q7, q8, q9 = dynamicsymbols("q7 q8 q9")
         q = (q4, q5, q6, q7, q8, q9)
         C = _tether_frame(N, (q7, q8))
-        P_from_ground, HO = _tethered_points(NO, C, F, q9, p["d_O_P3"] - d_O_HO3)
-        v_P_from_q = P_from_ground.pos_from(NO).dt(N)
-    HO.set_vel(N, u1 * N.x + u2 * N.y + u3 * N.z)  # eq 7
+        P_from_ground, HO = _tethered_points(B, C, F, q9, p["d_O_P3"] - d_O_HO3)
+        v_P_from_q = P_from_ground.pos_from(B).dt(N)
+    # eq 7, relative to the base: HO's velocity in N is b' + u
+    HO.set_vel(N, (base_rate[0] + u1) * N.x + (base_rate[1] + u2) * N.y + (base_rate[2] + u3) * N.z)
     point_O, FO, MRO, TRO, P = _body_points(HO, F, p)
     for point in (point_O, FO, MRO, TRO, P):
         point.v2pt_theory(HO, N, F)
     if kind == "tethered":
         # eq 29: the velocity of P from the spherical rates equals the one from u, in C.
-        v_P_from_u = P.vel(N)
+        v_P_from_u = P.vel(N) - B.vel(N)
         kd_eqs += [(v_P_from_q - v_P_from_u).dot(c) for c in (C.x, C.y, C.z)]
 
     fuselage = RigidBody(
@@ -164,14 +184,26 @@ def derive(kind: ModelKind) -> Derivation:
     speeds = (u1, u2, u3, u4, u5, u6)
     kane = KanesMethod(N, q_ind=list(q), u_ind=list(speeds), kd_eqs=kd_eqs)
     kane.kanes_equations([fuselage, rotor], loads)
+    accel = sp.symbols("a1 a2 a3", real=True) if moving_base else ()
+    kane_forcing = kane.forcing
+    if moving_base:
+        kane_forcing = kane_forcing.subs(
+            {sp.diff(bi, t, 2): ai for bi, ai in zip(base, accel, strict=True)}
+        )
+        _check_base_enters_as_inertial_force(kane_forcing, accel, wind, m_F + m_MR, base)
     mass = kane.mass_matrix.applyfunc(sp.factor)  # constant: depends on parameters only
     if any(mass[i, j] != 0 for i in range(6) for j in range(6) if i != j):
         raise RuntimeError("Kane's mass matrix is not diagonal; the generalized speeds are off")
     # Each forcing row is linear in TC: expand the tension-free part (the centre-of-mass terms
     # cancel), keep the tether term factored as the paper prints it (eqs 30-35).
+    kane_forcing = kane_forcing.subs(dict.fromkeys(accel, 0))
     forcing = sp.Matrix(
-        [sp.expand(row.subs(T_C, 0)) + T_C * sp.factor_terms(row.diff(T_C)) for row in kane.forcing]
+        [sp.expand(row.subs(T_C, 0)) + T_C * sp.factor_terms(row.diff(T_C)) for row in kane_forcing]
     )
+    if moving_base:  # restore b'' as the inertial force it was checked to be
+        forcing = forcing.subs(
+            {w: w - (m_F + m_MR) * a for w, a in zip(wind, accel, strict=True)}, simultaneous=True
+        )
     udot = sp.Matrix([forcing[i] / mass[i, i] for i in range(6)])
     kd_map = kane.kindiffdict()
     euler = (q4, q5, q6)
@@ -185,7 +217,7 @@ def derive(kind: ModelKind) -> Derivation:
         qdot_list[4] = v_P_from_u.dot(C.x) / q9
         qdot_list[5] = v_P_from_u.dot(C.z)
     qdot = sp.Matrix(qdot_list)
-    r_HO = HO.pos_from(NO).to_matrix(N)
+    r_HO = HO.pos_from(B).to_matrix(N)
     outputs = sp.Matrix([sp.factor_terms(r_HO[i]) for i in range(3)] + [q6])
     tether_torque = sp.Matrix([T_C * forcing[3].diff(T_C), T_C * forcing[4].diff(T_C)])
     return Derivation(
@@ -203,7 +235,23 @@ def derive(kind: ModelKind) -> Derivation:
         tension=T_C,
         params=tuple(p[name] for name in PARAM_ORDER),
         dcm=N.dcm(F),
+        base_acceleration=tuple(accel),
     )
+
+
+def _check_base_enters_as_inertial_force(forcing, accel, wind, mass, base) -> None:
+    """Raise unless b'' enters Kane's forcing exactly as a force -m b'' at HO would (the
+    translating frame's inertial force): f(a, w) = f(0, w - m a), and b, b' do not enter."""
+    t = dynamicsymbols._t
+    still = forcing.subs(dict.fromkeys(accel, 0))
+    as_force = still.subs(
+        {w: w - mass * a for w, a in zip(wind, accel, strict=True)}, simultaneous=True
+    )
+    residual = (forcing - as_force).applyfunc(sp.expand)
+    moving = {*base, *(sp.diff(bi, t) for bi in base)}
+    spurious = any(row.has(*moving) for row in forcing)
+    if spurious or any(r != 0 for r in residual):
+        raise RuntimeError("the base's motion enters the forcing other than as -m b'' at HO")
 
 
 def _fuselage_frame(N: ReferenceFrame, angles: tuple[sp.Expr, ...]) -> ReferenceFrame:

@@ -89,6 +89,14 @@ class _Helicopter:
             )
         return arr
 
+    def _in_base_frame(self, x: np.ndarray, wind: object, base_acceleration: object) -> np.ndarray:
+        """The wind force plus the base frame's inertial force -m b'' at HO (N)."""
+        wind = self._broadcast(x, "wind", wind, 3)
+        accel = self._broadcast(x, "base_acceleration", base_acceleration, 3)
+        if not np.any(accel):
+            return wind
+        return wind - self.params.helicopter.m * accel
+
     def outputs(self, x: object) -> np.ndarray:
         """The controlled outputs y = (q1, q2, q3, q6) (eqs 4, 43-45, eq 43 with sin q5).
 
@@ -147,6 +155,7 @@ class TetheredHelicopter(_Helicopter):
         u: object,
         wind: object = (0.0, 0.0, 0.0),
         reel_rate: object = 0.0,
+        base_acceleration: object = (0.0, 0.0, 0.0),
     ) -> np.ndarray:
         """dx/dt (eqs 10-12, 29-35, 37) for one state (13,) or a batch (n, 13).
 
@@ -160,6 +169,9 @@ class TetheredHelicopter(_Helicopter):
             Wind force on HO, N components (N); default zero.
         reel_rate : float or array_like of shape (n,), optional
             dLN/dt = RC (m/s, eq 37); default 0.
+        base_acceleration : array_like, shape (3,) or (n, 3), optional
+            b'' of a moving winch, N components (m/s^2); the state is then relative to the
+            base and b'' acts as the inertial force -m b'' at HO (``derive(moving_base=True)``).
 
         Returns
         -------
@@ -168,7 +180,7 @@ class TetheredHelicopter(_Helicopter):
         """
         x = self._check_state(x)
         u = self._broadcast(x, "u", u, 4)
-        wind = self._broadcast(x, "wind", wind, 3)
+        wind = self._in_base_frame(x, wind, base_acceleration)
         rate = np.asarray(reel_rate, dtype=np.float64)
         if not np.all(np.isfinite(rate)):
             raise ValueError("reel_rate is not finite; allowed: finite numbers [m/s]")
@@ -268,7 +280,13 @@ class FreeHelicopter(_Helicopter):
     _KIND = "free"
     _outputs_kernel = staticmethod(kernels.free_outputs)
 
-    def derivative(self, x: object, u: object, wind: object = (0.0, 0.0, 0.0)) -> np.ndarray:
+    def derivative(
+        self,
+        x: object,
+        u: object,
+        wind: object = (0.0, 0.0, 0.0),
+        base_acceleration: object = (0.0, 0.0, 0.0),
+    ) -> np.ndarray:
         """dx/dt (eqs 9-18) for one state (12,) or a batch (n, 12).
 
         Parameters
@@ -279,6 +297,9 @@ class FreeHelicopter(_Helicopter):
             Inputs fMR3, tMR1, tMR2, fTR2 (N, N m, N m, N).
         wind : array_like, shape (3,) or (n, 3), optional
             Wind force on HO, N components (N); default zero.
+        base_acceleration : array_like, shape (3,) or (n, 3), optional
+            b'' of the moving base the position is taken from (m/s^2), as for the tethered
+            model.
 
         Returns
         -------
@@ -287,7 +308,7 @@ class FreeHelicopter(_Helicopter):
         """
         x = self._check_state(x)
         u = self._broadcast(x, "u", u, 4)
-        wind = self._broadcast(x, "wind", wind, 3)
+        wind = self._in_base_frame(x, wind, base_acceleration)
         out = np.empty_like(x)
         if x.ndim == 1:
             kernels.free_derivative(x, u, wind, self._c, out)

@@ -14,7 +14,7 @@ import numpy as np
 
 from .._linalg import discretize_zoh
 from ..errors import ParameterError
-from ..names import INPUT, OUTPUT, REEL_RATE, WIND
+from ..names import BASE_ACCELERATION, INPUT, OUTPUT, REEL_RATE, WIND
 from .dynamics import FreeHelicopter, TetheredHelicopter
 from .kernels import (
     free_jacobian,
@@ -27,14 +27,15 @@ from .trim import TrimPoint
 __all__ = ["EXPORT_INPUTS", "LinearModel", "discretize_zoh", "linearize"]
 
 #: The input names ``LinearModel.to_statespace(inputs=...)`` accepts: the four rotor inputs
-#: (columns of B), the reel rate RC (``B_reel``, tethered model only) and the wind force on HO
-#: (columns of ``E_wind``).
-EXPORT_INPUTS: tuple[str, ...] = (*INPUT, REEL_RATE, *WIND)
+#: (columns of B), the reel rate RC (``B_reel``, tethered model only), the wind force on HO
+#: (columns of ``E_wind``) and a moving winch's acceleration b'' (columns of ``E_base``).
+EXPORT_INPUTS: tuple[str, ...] = (*INPUT, REEL_RATE, *WIND, *BASE_ACCELERATION)
 
 
 @dataclass(frozen=True)
 class LinearModel:
-    """x' = A dx + B du + E dwind, dy = C dx, about ``trim`` (deviations from trim).
+    """x' = A dx + B du + E dwind (+ E_base b''), dy = C dx, about ``trim`` (deviations from
+    trim; over a moving winch the state and outputs are relative to the base).
 
     Parameters
     ----------
@@ -52,6 +53,9 @@ class LinearModel:
         The names of the states, labelling the rows of A.
     trim : TrimPoint
         The hover the model is linearized about.
+    mass : float
+        The helicopter's mass m = mF + mMR [kg]: b'' enters as the force -m b'' at HO
+        (``derive(moving_base=True)``), so ``E_base`` = -m ``E_wind``.
     """
 
     A: np.ndarray
@@ -61,6 +65,12 @@ class LinearModel:
     B_reel: np.ndarray
     state_names: tuple[str, ...]
     trim: TrimPoint
+    mass: float = float("nan")
+
+    @property
+    def E_base(self) -> np.ndarray:
+        """Columns of a moving winch's acceleration b'' [m/s^2], N components (n, 3)."""
+        return -self.mass * self.E_wind
 
     def discretize(self, dt: float) -> tuple[np.ndarray, np.ndarray]:
         """The zero-order-hold discretization of eq 46.
@@ -98,6 +108,7 @@ class LinearModel:
             B_reel=self.B_reel[idx],
             state_names=tuple(names),
             trim=self.trim,
+            mass=self.mass,
         )
 
     @property
@@ -112,7 +123,8 @@ class LinearModel:
         ----------
         inputs : tuple of str, optional
             Names among ``EXPORT_INPUTS``: rotor inputs (from B, the default), ``"RC"`` (from
-            ``B_reel``), ``"Fw1"``, ``"Fw2"``, ``"Fw3"`` (from ``E_wind``).
+            ``B_reel``), ``"Fw1"``, ``"Fw2"``, ``"Fw3"`` (from ``E_wind``), ``"ab1"``,
+            ``"ab2"``, ``"ab3"`` (from ``E_base``).
 
         Returns
         -------
@@ -133,6 +145,8 @@ class LinearModel:
                 cols.append(self.B_reel)
             elif name in WIND:
                 cols.append(self.E_wind[:, WIND.index(name)])
+            elif name in BASE_ACCELERATION:
+                cols.append(self.E_base[:, BASE_ACCELERATION.index(name)])
             else:
                 raise ParameterError("inputs", inputs, f"names from {EXPORT_INPUTS}")
         if len(set(inputs)) != len(inputs):
@@ -284,9 +298,13 @@ def linearize(model: TetheredHelicopter | FreeHelicopter, trim: TrimPoint) -> Li
         C = np.hstack([C12, np.zeros((4, 1))])
         B_reel = np.zeros(n)
         B_reel[12] = 1.0
-        return LinearModel(A, B_full, C, E_full, B_reel, model.STATE, trim)
+        return LinearModel(
+            A, B_full, C, E_full, B_reel, model.STATE, trim, model.params.helicopter.m
+        )
     if isinstance(model, FreeHelicopter):
         free_jacobian(x0, u0, wind, 0.0, p, A12, B, E, E_T)
         free_output_jacobian(x0, p, C12)
-        return LinearModel(A12, B, C12, E, np.zeros(12), model.STATE, trim)
+        return LinearModel(
+            A12, B, C12, E, np.zeros(12), model.STATE, trim, model.params.helicopter.m
+        )
     raise TypeError(f"model must be a TetheredHelicopter or FreeHelicopter, not {type(model)}")

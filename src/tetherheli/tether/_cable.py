@@ -12,12 +12,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validation import check_integer, check_number, check_vector
+from ..base.motion import BaseMotion, FileBase
 from ..errors import ParameterError
 from ..layout import (
     GROUND_DAMPING_PA_S_M,
     GROUND_FRICTION,
     GROUND_FRICTION_SPEED_M_S,
     GROUND_STIFFNESS_PA_M,
+    LUMPED_BASE_ACC,
 )
 from ..resources import check_memory
 from .chain import LumpedTether, static_chain
@@ -157,18 +159,27 @@ class CableRun:
 
 def _drive_arguments(cable, anchor, top, duration, dt, wind, rho, g) -> tuple:
     """The arguments ``drive_cable`` and ``tether.drive_moordyn`` share, checked (one line
-    naming the argument): (anchor (3,), duration, dt, wind (3,), rho, g)."""
+    naming the argument): (anchor motion or None, anchor at t = 0 (3,), duration, dt, wind (3,),
+    rho, g)."""
     if not isinstance(cable, Cable):
         raise ParameterError("cable", cable, "a tetherheli.tether.Cable")
-    a = np.array(check_vector("anchor", anchor, 3), dtype=float)
+    motion = anchor if isinstance(anchor, BaseMotion) else None
+    a = (motion.state(0.0)[0, 0] if motion is not None
+         else np.array(check_vector("anchor", anchor, 3), dtype=float))  # fmt: skip
     duration = check_number("duration", duration, low=0.0, low_open=True, unit="[s]")
+    if isinstance(motion, FileBase) and motion.end < duration:
+        raise ParameterError(
+            "anchor",
+            f"a file ending at t = {motion.end:g} s",
+            f"a base motion covering the run (duration = {duration:g} s)",
+        )
     dt = check_number("dt", dt, low=0.0, low_open=True, unit="[s]")
     w = np.array(check_vector("wind", wind, 3), dtype=float)
     rho = check_number("rho", rho, low=0.0, low_open=True, unit="[kg/m^3]")
     g = check_number("g", g, low=0.0, unit="[m/s^2]")
     if not callable(top):
         raise ParameterError("top", top, "a function top(t) -> (position[3], velocity[3])")
-    return a, duration, dt, w, rho, g
+    return motion, a, duration, dt, w, rho, g
 
 
 def _run_record(cable: Cable, duration: float, dt: float) -> tuple:
@@ -225,8 +236,10 @@ def drive_cable(
     ----------
     cable : Cable
         The cable.
-    anchor : array_like, shape (3,)
-        The fixed bottom node [m], frame N (n3 up).
+    anchor : array_like, shape (3,), or BaseMotion
+        The fixed bottom node [m], frame N (n3 up), or a moving base's motion b(t)
+        (``tetherheli.base``): the chain is then flown in the base's translating frame, as
+        the engine flies it over a moving winch, and recorded in N.
     top : callable
         top(t [s]) -> (position (3,) [m], velocity (3,) [m/s]) of the top node in N.
     duration : float
@@ -256,7 +269,9 @@ def drive_cable(
     ParameterError
         Bad input (one line naming the argument).
     """
-    a, duration, dt, w, rho, g = _drive_arguments(cable, anchor, top, duration, dt, wind, rho, g)
+    motion, a, duration, dt, w, rho, g = _drive_arguments(
+        cable, anchor, top, duration, dt, wind, rho, g
+    )
     n_sub = check_integer("substeps", substeps, low=1)
     tether = cable.lumped_tether(rho)
     p = tether.packed(g)
@@ -278,9 +293,14 @@ def drive_cable(
     x[0], x[n] = a, r0
     v = np.zeros_like(x)
     v[n] = v0
-    air = np.tile(w, (n + 1, 1))
     work = ros2_work(n)
     t, nodes, vels, f_top, f_anchor = _run_record(cable, duration, dt)
+    if motion is not None:
+        _drive_on_base(motion, top, x, v, w, L0, p, dt, n_sub, work, t, nodes, vels, f_top,
+                       f_anchor)  # fmt: skip
+        return CableRun(t=t, top_force=f_top, anchor_force=f_anchor, nodes=nodes,
+                        velocities=vels, cable=cable, dt=dt, substeps=n_sub)  # fmt: skip
+    air = np.tile(w, (n + 1, 1))
     k_max = t.size - 1
     h = dt / n_sub
     F = np.empty((n + 1, 3))
@@ -298,3 +318,37 @@ def drive_cable(
                 raise FloatingPointError(f"drive_cable: the chain diverged at t = {t[k]:g} s")
     return CableRun(t=t, top_force=f_top, anchor_force=f_anchor, nodes=nodes,
                     velocities=vels, cable=cable, dt=dt, substeps=n_sub)  # fmt: skip
+
+
+def _drive_on_base(motion, top, x, v, w, L0, p, dt, n_sub, work, t, nodes, vels, f_top, f_anchor):
+    """``drive_cable`` with the anchor on a moving base: the chain flown in the base's
+    translating frame (positions and velocities relative to the anchor, the air relative to
+    the base, the inertial force -m b'' on the free nodes, all at each step's middle; the
+    engine's rule over a moving winch), recorded in N."""
+    n = x.shape[0] - 1
+    h = dt / n_sub
+    b0 = motion.state(0.0)[0]
+    x -= b0[0]
+    v[n] -= b0[1]  # the other nodes start at rest on the base (the static shape in its frame)
+    F = np.empty((n + 1, 3))
+    T = np.empty(n)
+    J = np.empty((n, 3, 3))
+    air = np.empty((n + 1, 3))
+    k_max = t.size - 1
+    for k in range(k_max + 1):
+        bk = motion.state(t[k])[0]
+        air[:] = w - bk[1]
+        p[LUMPED_BASE_ACC : LUMPED_BASE_ACC + 3] = bk[2]
+        chain_forces(x, v, air, L0, p, F, T, J, J, J, False)
+        nodes[k], vels[k], f_top[k], f_anchor[k] = x + bk[0], v + bk[1], F[n], F[0]
+        if k == k_max:
+            break
+        for j in range(n_sub):
+            t0 = k * dt + j * h
+            b_mid, b1 = motion.state([t0 + 0.5 * h, t0 + h])
+            r1, v1 = _top_at(top, t0 + h)
+            air[:] = w - b_mid[1]
+            p[LUMPED_BASE_ACC : LUMPED_BASE_ACC + 3] = b_mid[2]
+            chain_interval(x, v, air, L0, p, h, r1 - b1[0], v1 - b1[1], work)
+            if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
+                raise FloatingPointError(f"drive_cable: the chain diverged at t = {t0:g} s")

@@ -111,6 +111,7 @@ def moordyn_input(
     dt_moordyn: float,
     current: bool,
     drag_scale: float = 1.0,
+    anchor_coupled: bool = False,
 ) -> str:
     """The text of a MoorDyn v2 input file for the cable between a fixed anchor and a coupled
     top point (module docstring: the set-up in air).
@@ -133,6 +134,9 @@ def moordyn_input(
         the input file).
     drag_scale : float
         Factor on both drag coefficients (the per-length drag comparison of the study).
+    anchor_coupled : bool
+        Whether the anchor is a coupled point too (a moving base: its motion prescribed,
+        its coupled degrees of freedom first).
 
     Returns
     -------
@@ -153,7 +157,7 @@ cable {_f(cable.diameter)} {_f(cable.mass_per_length)} {_f(cable.EA)} {_f(ba)} 0
 ---------------------- POINTS ---------------------------------------
 ID Attachment X Y Z Mass Volume CdA Ca
 (#) (-) (m) (m) (m) (kg) (m^3) (m^2) (-)
-1 Fixed {_f(a[0])} {_f(a[1])} {_f(a[2])} 0 0 0 0
+1 {"Coupled" if anchor_coupled else "Fixed"} {_f(a[0])} {_f(a[1])} {_f(a[2])} 0 0 0 0
 2 Coupled {_f(b[0])} {_f(b[1])} {_f(b[2])} 0 0 0 0
 ---------------------- LINES ----------------------------------------
 ID LineType AttachA AttachB UnstrLen NumSegs LineOutputs
@@ -174,6 +178,17 @@ RK4 tScheme
 1 disableOutTime
 ------------------------- need this line -------------------------------------
 """  # noqa: E501
+
+
+def _chord(motion: Callable[[float], tuple], ta: float, tb: float, last: bool) -> tuple:
+    """A coupled point's MoorDyn step over [ta, tb]: (position at ta, velocity). MoorDyn moves
+    it linearly from the position with the velocity: the chord between motion(ta) and
+    motion(tb), or, for a sample's last sliver (``last``), its own velocity at tb."""
+    rb, vb = motion(tb)
+    rb, vb = np.asarray(rb, dtype=float), np.asarray(vb, dtype=float)
+    if not last:
+        vb = (rb - np.asarray(motion(ta)[0], dtype=float)) / (tb - ta)
+    return rb - vb * (tb - ta), vb
 
 
 @contextlib.contextmanager
@@ -260,7 +275,9 @@ def drive_moordyn(
     RuntimeError
         MoorDyn failed (its error code).
     """
-    a, duration, dt, w, rho, g = _drive_arguments(cable, anchor, top, duration, dt, wind, rho, g)
+    motion, a, duration, dt, w, rho, g = _drive_arguments(
+        cable, anchor, top, duration, dt, wind, rho, g
+    )
     dtm = check_number("dt_moordyn", dt_moordyn, low=0.0, low_open=True, unit="[s]")
     m = check_integer("coupling", coupling, low=1)
     drag_scale = check_number("drag_scale", drag_scale, low=0.0, low_open=True)
@@ -287,10 +304,12 @@ def drive_moordyn(
         p = cable.lumped_tether(rho).packed(g)
         ic_dt = min(_IC_DT_S, 1.0 / chain_omega_max(p, cable.unstretched_length, n))
         path.write_text(moordyn_input(cable, a + off, r0 + off, rho=rho, g=g, dt_moordyn=ic_dt,
-                                      current=current, drag_scale=drag_scale))  # fmt: skip
+                                      current=current, drag_scale=drag_scale,
+                                      anchor_coupled=motion is not None))  # fmt: skip
+        start = [*(a + off), *(r0 + off)] if motion is not None else list(r0 + off)
         with _quiet_stdout():
             system = md.Create(str(path))
-            err = md.Init(system, list(r0 + off), [0.0, 0.0, 0.0])
+            err = md.Init(system, start, [0.0] * len(start))
         if err != 0:
             md.Close(system)
             raise RuntimeError(f"moordyn.Init failed with error code {err}")
@@ -310,11 +329,14 @@ def drive_moordyn(
             # velocity: its last RK4 stage, hence the force read, is the sample's state
             ends = [k * dt + j * h for j in range(m)] + [(k + 1) * dt - _EVAL_S, (k + 1) * dt]
             for ta, tb in itertools.pairwise(ends):
-                rb, vb = _top_at(top, tb)
-                if tb < ends[-1]:
-                    ra = _top_at(top, ta)[0]
-                    vb = (rb - ra) / (tb - ta)
-                md.Step(system, list(rb - vb * (tb - ta) + off), list(vb), ta, tb - ta)
+                last = tb == ends[-1]
+                ra, vb = _chord(lambda s: _top_at(top, s), ta, tb, last)
+                if motion is not None:
+                    aa, va = _chord(lambda s: motion.state(s)[0, :2], ta, tb, last)
+                    ra, vb = np.concatenate([aa, ra]), np.concatenate([va, vb])
+                    md.Step(system, list(ra + np.tile(off, 2)), list(vb), ta, tb - ta)
+                else:
+                    md.Step(system, list(ra + off), list(vb), ta, tb - ta)
             if not (np.all(np.isfinite(nodes[k])) and np.all(np.isfinite(f_top[k]))):
                 raise FloatingPointError(f"drive_moordyn: MoorDyn diverged at t = {t[k]:g} s")
     finally:

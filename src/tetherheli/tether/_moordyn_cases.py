@@ -17,12 +17,13 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..base.motion import HarmonicBase
 from ._cable import Cable, CableRun, drive_cable
 from ._moordyn import buoyant_gravity, drive_moordyn
 
-__all__ = ["HEAVY_CABLE", "MOORDYN_CASES", "PAPER_CABLE", "CaseFigures", "MoorDynCase",
-           "compare_case", "half_segment_inertia", "relative_rms", "shaking_top", "slack_push",
-           "steady_state"]  # fmt: skip
+__all__ = ["HEAVY_CABLE", "MOORDYN_CASES", "MOVING_ANCHOR_CASES", "PAPER_CABLE", "CaseFigures",
+           "MoorDynCase", "compare_case", "half_segment_inertia", "relative_rms", "shaking_top",
+           "slack_push", "steady_state"]  # fmt: skip
 
 #: the paper's cable: EA = K_C L0N = 40 N/m x 9.375 m (Table III), 20 g/m, 5 mm, N = 10
 PAPER_CABLE = Cable(unstretched_length=9.375, EA=375.0, segments=10)
@@ -124,6 +125,9 @@ class MoorDynCase:
         The figures use t >= settle [s] (after the ramp or the wind's transient).
     wind : tuple of float
         Steady wind [m/s].
+    anchor_axis, anchor_amplitude, anchor_frequency : int, float, float
+        The anchor on a moving base (issue 26): amplitude [m] cos(2 pi f t) along that axis,
+        starting at rest (0: the fixed anchor).
     """
 
     name: str
@@ -135,6 +139,27 @@ class MoorDynCase:
     duration: float = 3.0
     settle: float = 1.0
     wind: tuple[float, float, float] = field(default=(0.0, 0.0, 0.0))
+    anchor_axis: int = 2
+    anchor_amplitude: float = 0.0
+    anchor_frequency: float = 1.0
+
+    def anchor(self) -> object:
+        """The anchor: the origin, or a moving base's motion.
+
+        Returns
+        -------
+        tuple or HarmonicBase
+            (0, 0, 0), or the ``HarmonicBase`` (phase pi/2: at rest at t = 0).
+        """
+        if self.anchor_amplitude == 0.0:
+            return (0.0, 0.0, 0.0)
+        amplitude = [0.0, 0.0, 0.0]
+        frequency = [0.0, 0.0, 0.0]
+        phase = [0.0, 0.0, 0.0]
+        amplitude[self.anchor_axis] = self.anchor_amplitude
+        frequency[self.anchor_axis] = self.anchor_frequency
+        phase[self.anchor_axis] = 0.5 * math.pi
+        return HarmonicBase(amplitude=amplitude, frequency=frequency, phase=phase)
 
     def top(self) -> Callable[[float], tuple[np.ndarray, np.ndarray]]:
         """The top's motion (``shaking_top``).
@@ -174,6 +199,20 @@ MOORDYN_CASES: dict[str, MoorDynCase] = dict(
         ),
         _case("steady wind 10 m/s", wind=(10.0, 0.0, 0.0), duration=8.0, settle=6.0),
         _case("slack: vertical 1 m, 1 Hz", axis=2, amplitude=1.0, frequency=1.0, duration=4.0),
+    ]
+)
+
+
+#: the anchor on a moving base (a heaving or swaying deck), the top held still 10 m up:
+#: the engine's moving-winch frame (``drive_cable`` on a ``BaseMotion``) against MoorDyn's
+#: coupled anchor point in N
+MOVING_ANCHOR_CASES: dict[str, MoorDynCase] = dict(
+    [
+        _case("anchor heave 1 Hz (0.25 m)", anchor_amplitude=0.25, duration=4.0),
+        _case(
+            "anchor heave 3 Hz (0.1 m)", anchor_amplitude=0.1, anchor_frequency=3.0, duration=3.0
+        ),
+        _case("anchor sway 1 Hz (0.5 m)", anchor_axis=0, anchor_amplitude=0.5, duration=4.0),
     ]
 )
 
@@ -265,7 +304,7 @@ def compare_case(
         case = replace(case, cable=cable)
     top = case.top()
     g = buoyant_gravity(case.cable)
-    kw = {"anchor": (0.0, 0.0, 0.0), "top": top, "duration": case.duration, "wind": case.wind}
+    kw = {"anchor": case.anchor(), "top": top, "duration": case.duration, "wind": case.wind}
     ref = drive_moordyn(case.cable, dt=dt, dt_moordyn=dt_moordyn, coupling=coupling,
                         drag_scale=drag_scale, **kw)  # fmt: skip
     ours = drive_cable(case.cable, dt=dt, g=g, **kw)
@@ -278,7 +317,7 @@ def compare_case(
     s = ref.t >= case.settle - 1e-9
     F_ref, F_ours = ref.top_force[s], ours.top_force[s]
     spread = float(np.sqrt(np.mean(np.sum((F_ref - F_ref.mean(axis=0)) ** 2, axis=1))))
-    moving = case.amplitude > 0.0
+    moving = case.amplitude > 0.0 or case.anchor_amplitude > 0.0
     return CaseFigures(
         case=case,
         static_error=float(

@@ -20,6 +20,7 @@ from ..layout import (
     GROUND_FRICTION_SPEED_M_S,
     GROUND_STIFFNESS_PA_M,
     LUMPED_BA,
+    LUMPED_BASE_ACC,
     LUMPED_CDN,
     LUMPED_CDT,
     LUMPED_DAMPING,
@@ -206,7 +207,8 @@ class LumpedTether:
             zeta sqrt(EA mu) / sin(pi / (2 N)) [N s/m], the normal and tangential drag factors
             rho d Cd / 2 and rho pi d Ct / 2 [kg/m^2], g [m/s^2], the internal damping BA
             [N s] (one of the two dampings is zero), the ground's kbot d [N/m^2] and
-            cbot d [N s/m^2], mu_f and v_f [m/s].
+            cbot d [N s/m^2], mu_f and v_f [m/s], and the base's acceleration (3,) [m/s^2]
+            (zero here; the engine sets it over a moving base).
         """
         p = np.empty(LUMPED_SIZE)
         p[LUMPED_MU] = self.mass_per_length_kg_m
@@ -227,6 +229,7 @@ class LumpedTether:
         p[LUMPED_GROUND_C] = self.ground_damping_Pa_s_m * self.diameter_m
         p[LUMPED_FRICTION] = self.ground_friction
         p[LUMPED_FRICTION_SPEED] = self.ground_friction_speed_m_s
+        p[LUMPED_BASE_ACC : LUMPED_BASE_ACC + 3] = 0.0  # set per step over a moving base
         return p
 
 

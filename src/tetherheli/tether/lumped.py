@@ -31,6 +31,10 @@ step), node N is the attachment point P (driven: its position and velocity are g
   on the projected area d l, the tangential on the wetted area pi d l; Hoerner's cross-flow
   principle), half of it on each end node.
 - Gravity -g n3 (SPEC.md: n3 up).
+- A moving winch (``base``): the chain is flown in the base's translating frame, positions
+  and velocities relative to the winch, the air's velocity taken relative to the base, each
+  free node feeling the inertial force -mu l0 b'' (``p[LUMPED_BASE_ACC]``); the ground below
+  is then the base's deck, the plane z = 0 through the winch moving with it.
 - Ground: the plane z = 0 of N through the winch (node 0), under the free nodes 1..N-1 only
   (P is the helicopter's, whose ground contact is a failure status). As MoorDyn's seabed
   (Hall, MoorDyn v2 theory), a node below it rests on its contact patch A = d l0 with the
@@ -70,6 +74,7 @@ import numpy as np
 from .._compile import compiled, plain
 from ..layout import (
     LUMPED_BA,
+    LUMPED_BASE_ACC,
     LUMPED_CDN,
     LUMPED_CDT,
     LUMPED_DAMPING,
@@ -147,10 +152,17 @@ def chain_forces(x, v, wind, L0, p, F, T, K, Cax, D, jac):
     cdn = p[LUMPED_CDN]
     cdt = p[LUMPED_CDT]
     w_half = 0.5 * mu * l0 * p[LUMPED_G]
+    # a moving winch: the chain is flown in the base's translating frame, where each free
+    # node of mass mu l0 also feels the inertial force -mu l0 b'' (zero for the paper's winch)
+    m_node = mu * l0
+    ax = p[LUMPED_BASE_ACC]
+    ay = p[LUMPED_BASE_ACC + 1]
+    az = p[LUMPED_BASE_ACC + 2]
     for i in range(n + 1):
-        F[i, 0] = 0.0
-        F[i, 1] = 0.0
-        F[i, 2] = -2.0 * w_half if 0 < i < n else -w_half
+        inner = 0 < i < n
+        F[i, 0] = 0.0 - m_node * ax if inner else 0.0
+        F[i, 1] = 0.0 - m_node * ay if inner else 0.0
+        F[i, 2] = -2.0 * w_half - m_node * az if inner else -w_half
     for s in range(n):
         ex = x[s + 1, 0] - x[s, 0]
         ey = x[s + 1, 1] - x[s, 1]
@@ -279,7 +291,7 @@ def ground_jacobian(x, v, L0, p, h, Gk, Gc):
     l0 = L0 / n
     kg = p[LUMPED_GROUND_K] * l0
     cg = p[LUMPED_GROUND_C] * l0
-    weight = p[LUMPED_MU] * l0 * p[LUMPED_G]
+    weight = p[LUMPED_MU] * l0 * (p[LUMPED_G] + p[LUMPED_BASE_ACC + 2])
     vf = p[LUMPED_FRICTION_SPEED]
     for i in range(n + 1):
         Gk[i] = 0.0
