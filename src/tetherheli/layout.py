@@ -60,6 +60,10 @@ BASE_WAVES = 0  # number of sinusoid rows (rows 1 .. BASE_WAVES)
 BASE_KNOTS = 1  # number of spline knot rows (after the sinusoids)
 BASE_OFFSET = 2  # (3,) b at t = 0 of the linear part [m]
 BASE_VELOCITY = 5  # (3,) the constant velocity [m/s]
+BASE_MOVING = 8  # 1: the base moves (the engine flies in its frame), 0: the paper's still winch
+#: the helicopter's mass m [kg] on which the base frame's inertial force -m b'' acts (set by the
+#: run's set-up: ``sim.setup``)
+BASE_MASS = 9
 #: a sinusoid row: amplitude sin(omega t + phase) on one axis of N
 BASE_WAVE_AXIS = 0  # 0, 1, 2: n1, n2, n3
 BASE_WAVE_AMPLITUDE = 1  # [m]

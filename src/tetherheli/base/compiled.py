@@ -21,6 +21,8 @@ from ..layout import (
     BASE_CUBIC,
     BASE_KNOT_TIME,
     BASE_KNOTS,
+    BASE_MASS,
+    BASE_MOVING,
     BASE_OFFSET,
     BASE_VELOCITY,
     BASE_WAVE_AMPLITUDE,
@@ -31,7 +33,7 @@ from ..layout import (
 )
 from .motion import BaseMotion, FixedBase
 
-__all__ = ["CompiledBase", "base_state", "base_state_into", "compile_base"]
+__all__ = ["CompiledBase", "base_at", "base_state", "base_state_into", "compile_base"]
 
 _jit = compiled(error_model="numpy")
 _jit_inline = compiled(error_model="numpy", inline="always")
@@ -50,8 +52,9 @@ class CompiledBase(NamedTuple):
     moving: bool
 
 
-def compile_base(motion: BaseMotion | None) -> CompiledBase:
-    """The packed form of ``motion`` (None: the paper's still winch at the origin)."""
+def compile_base(motion: BaseMotion | None, mass: float = 0.0) -> CompiledBase:
+    """The packed form of ``motion`` (None: the paper's still winch at the origin), with the
+    mass [kg] the engine's inertial force -m b'' acts on (``layout.BASE_MASS``)."""
     motion = FixedBase() if motion is None else motion
     offset, velocity, waves, knots, coef = motion.parts()
     n_knots = 0 if knots is None else knots.size
@@ -68,8 +71,10 @@ def compile_base(motion: BaseMotion | None) -> CompiledBase:
     if n_knots:
         packed[rows:, BASE_KNOT_TIME] = knots
         packed[rows : rows + n_knots - 1, BASE_CUBIC:] = coef.reshape(n_knots - 1, 12)
-    packed.setflags(write=False)
     moving = not (motion.fixed and not np.any(offset))
+    packed[0, BASE_MOVING] = 1.0 if moving else 0.0
+    packed[0, BASE_MASS] = mass
+    packed.setflags(write=False)
     return CompiledBase(packed, moving)
 
 
@@ -89,35 +94,62 @@ def _knot_interval(base, first, n_knots, t):
 
 
 @_jit_inline
-def base_state_into(base, t, out):
-    """Position out[0:3] [m], velocity out[3:6] [m/s] and acceleration out[6:9] [m/s^2] of the
-    base at time t, N components, from its packed form."""
+def base_at(base, t):
+    """Position (3), velocity (3) and acceleration (3) of the base at time t [m, m/s, m/s^2],
+    N components, from its packed form: a tuple of nine floats."""
     n_waves = int(base[0, BASE_WAVES])
     n_knots = int(base[0, BASE_KNOTS])
-    for i in range(3):
-        out[i] = base[0, BASE_OFFSET + i] + t * base[0, BASE_VELOCITY + i]
-        out[3 + i] = base[0, BASE_VELOCITY + i]
-        out[6 + i] = 0.0
+    v1 = base[0, BASE_VELOCITY]
+    v2 = base[0, BASE_VELOCITY + 1]
+    v3 = base[0, BASE_VELOCITY + 2]
+    b1 = base[0, BASE_OFFSET] + t * v1
+    b2 = base[0, BASE_OFFSET + 1] + t * v2
+    b3 = base[0, BASE_OFFSET + 2] + t * v3
+    a1 = 0.0
+    a2 = 0.0
+    a3 = 0.0
     for r in range(1, 1 + n_waves):
-        axis = int(base[r, BASE_WAVE_AXIS])
         amp = base[r, BASE_WAVE_AMPLITUDE]
         omega = base[r, BASE_WAVE_OMEGA]
         arg = omega * t + base[r, BASE_WAVE_PHASE]
         s = math.sin(arg)
-        out[axis] += amp * s
-        out[3 + axis] += amp * omega * math.cos(arg)
-        out[6 + axis] -= amp * omega * omega * s
+        db, dv, da = amp * s, amp * omega * math.cos(arg), -amp * omega * omega * s
+        axis = base[r, BASE_WAVE_AXIS]
+        if axis == 0.0:
+            b1 += db
+            v1 += dv
+            a1 += da
+        elif axis == 1.0:
+            b2 += db
+            v2 += dv
+            a2 += da
+        else:
+            b3 += db
+            v3 += dv
+            a3 += da
     if n_knots > 0:
         k = _knot_interval(base, 1 + n_waves, n_knots, t)
         h = t - base[k, BASE_KNOT_TIME]
-        for i in range(3):
-            c0 = base[k, BASE_CUBIC + i]
-            c1 = base[k, BASE_CUBIC + 3 + i]
-            c2 = base[k, BASE_CUBIC + 6 + i]
-            c3 = base[k, BASE_CUBIC + 9 + i]
-            out[i] += ((c0 * h + c1) * h + c2) * h + c3
-            out[3 + i] += (3.0 * c0 * h + 2.0 * c1) * h + c2
-            out[6 + i] += 6.0 * c0 * h + 2.0 * c1
+        c = BASE_CUBIC
+        b1 += ((base[k, c] * h + base[k, c + 3]) * h + base[k, c + 6]) * h + base[k, c + 9]
+        b2 += ((base[k, c + 1] * h + base[k, c + 4]) * h + base[k, c + 7]) * h + base[k, c + 10]
+        b3 += ((base[k, c + 2] * h + base[k, c + 5]) * h + base[k, c + 8]) * h + base[k, c + 11]
+        v1 += (3.0 * base[k, c] * h + 2.0 * base[k, c + 3]) * h + base[k, c + 6]
+        v2 += (3.0 * base[k, c + 1] * h + 2.0 * base[k, c + 4]) * h + base[k, c + 7]
+        v3 += (3.0 * base[k, c + 2] * h + 2.0 * base[k, c + 5]) * h + base[k, c + 8]
+        a1 += 6.0 * base[k, c] * h + 2.0 * base[k, c + 3]
+        a2 += 6.0 * base[k, c + 1] * h + 2.0 * base[k, c + 4]
+        a3 += 6.0 * base[k, c + 2] * h + 2.0 * base[k, c + 5]
+    return b1, b2, b3, v1, v2, v3, a1, a2, a3
+
+
+@_jit_inline
+def base_state_into(base, t, out):
+    """``base_at`` into out (9,): position out[0:3] [m], velocity out[3:6] [m/s],
+    acceleration out[6:9] [m/s^2]."""
+    state = base_at(base, t)
+    for i in range(9):
+        out[i] = state[i]
 
 
 @_jit

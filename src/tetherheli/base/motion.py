@@ -21,11 +21,14 @@ from pathlib import Path
 
 import numpy as np
 
-from .._validation import check_integer, check_number, check_vector
+from .._validation import Key
 from ..errors import ParameterError
 
 __all__ = [
+    "BASE_KEYS",
     "FILE_MAX_ROWS",
+    "MOTIONS",
+    "MOTION_KEYS",
     "BaseMotion",
     "FileBase",
     "FixedBase",
@@ -39,6 +42,56 @@ __all__ = [
 FILE_MAX_ROWS = 1_000_000
 #: The most sinusoids of a sea state (the engine evaluates each at every step).
 SEA_STATE_MAX_COMPONENTS = 1024
+
+#: the motions a ``[base]`` table's ``motion`` names
+MOTIONS: tuple[str, ...] = ("fixed", "velocity", "harmonic", "sea_state", "file")
+#: the keys of a ``[base]`` table, each described once: the motions check their values with
+#: them and the scenario reference prints them (``sim.scenario_tables.BaseSettings``)
+BASE_KEYS: dict[str, Key] = {
+    "motion": Key("the winch's base: still (the paper's), under way at a constant velocity, "
+                  "harmonic per axis, a JONSWAP sea state, or a recorded track (CSV)",
+                  kind="text", choices=MOTIONS),
+    "position": Key("the base's position at t = 0 (motion fixed or velocity)", "m",
+                    kind="vector", length=3),
+    "velocity": Key("the base's constant velocity (motion velocity)", "m/s", kind="vector",
+                    length=3),
+    "amplitude": Key("amplitude of b_i = A_i sin(2 pi f_i t + p_i) per axis of N (motion "
+                     "harmonic)", "m", kind="vector", length=3, low=0.0),
+    "frequency": Key("frequency f_i per axis (motion harmonic)", "Hz", kind="vector", length=3,
+                     low=0.0, high=100.0),
+    "phase": Key("phase p_i per axis (motion harmonic)", "rad", kind="vector", length=3),
+    "significant_wave_height": Key("Hs = 4 sqrt(m0) of the deck's heave (motion sea_state)",
+                                   "m", low=0.0, low_open=True, high=20.0),
+    "peak_period": Key("the JONSWAP spectrum's peak period Tp (motion sea_state)", "s",
+                       low=1.0, high=30.0),
+    "peak_enhancement": Key("the JONSWAP peak enhancement gamma (motion sea_state)", low=1.0,
+                            high=7.0),
+    "seed": Key("seed of the sea state's phases (motion sea_state)", kind="integer", low=0),
+    "sway_scale": Key("sway (n2) as this fraction of the heave spectrum, own phases (motion "
+                      "sea_state)", low=0.0, high=1.0),
+    "surge_scale": Key("surge (n1) as this fraction of the heave spectrum, own phases (motion "
+                       "sea_state)", low=0.0, high=1.0),
+    "components": Key("sinusoids of the sea state, evenly over [0.5, 4] wp (motion sea_state)",
+                      kind="integer", low=1, high=SEA_STATE_MAX_COMPONENTS),
+    "file": Key("CSV t,n1,n2,n3 [s, m, m, m] of the base's track, relative to the scenario "
+                "file (motion file)", kind="text"),
+}  # fmt: skip
+#: the keys each motion reads besides ``motion`` (the others must keep their defaults)
+MOTION_KEYS: dict[str, tuple[str, ...]] = {
+    "fixed": ("position",),
+    "velocity": ("velocity", "position"),
+    "harmonic": ("amplitude", "frequency", "phase"),
+    "sea_state": ("significant_wave_height", "peak_period", "peak_enhancement", "seed",
+                  "sway_scale", "surge_scale", "components"),
+    "file": ("file",),
+}  # fmt: skip
+
+
+def _checked(motion: object, *names: str) -> None:
+    """Check and store the named fields of a motion against their ``BASE_KEYS``."""
+    for name in names:
+        value = BASE_KEYS[name].check(f"base.{name}", getattr(motion, name))
+        object.__setattr__(motion, name, value)
 
 
 class BaseMotion:
@@ -108,7 +161,7 @@ class FixedBase(BaseMotion):
     fixed = True
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "position", check_vector("base.position", self.position, 3))
+        _checked(self, "position")
 
     def parts(self):
         return np.array(self.position), _ZERO, _NO_WAVES, None, None
@@ -125,10 +178,7 @@ class VelocityBase(BaseMotion):
     position: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
     def __post_init__(self) -> None:
-        object.__setattr__(
-            self, "velocity", check_vector("base.velocity", self.velocity, 3, unit="m/s")
-        )
-        object.__setattr__(self, "position", check_vector("base.position", self.position, 3))
+        _checked(self, "velocity", "position")
 
     def parts(self):
         return np.array(self.position), np.array(self.velocity), _NO_WAVES, None, None
@@ -157,15 +207,7 @@ class HarmonicBase(BaseMotion):
     phase: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
     def __post_init__(self) -> None:
-        object.__setattr__(
-            self, "amplitude", check_vector("base.amplitude", self.amplitude, 3, low=0.0, unit="m")
-        )
-        object.__setattr__(
-            self,
-            "frequency",
-            check_vector("base.frequency", self.frequency, 3, low=0.0, high=100.0, unit="Hz"),
-        )
-        object.__setattr__(self, "phase", check_vector("base.phase", self.phase, 3, unit="rad"))
+        _checked(self, "amplitude", "frequency", "phase")
 
     def parts(self):
         waves = [
@@ -225,17 +267,7 @@ class SeaStateBase(BaseMotion):
     _waves: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        check = {
-            "significant_wave_height": dict(low=0.0, low_open=True, high=20.0, unit="m"),
-            "peak_period": dict(low=1.0, high=30.0, unit="s"),
-            "peak_enhancement": dict(low=1.0, high=7.0),
-            "sway_scale": dict(low=0.0, high=1.0),
-            "surge_scale": dict(low=0.0, high=1.0),
-        }
-        for name, kw in check.items():
-            object.__setattr__(self, name, check_number(f"base.{name}", getattr(self, name), **kw))
-        check_integer("base.seed", self.seed, low=0)
-        check_integer("base.components", self.components, low=1, high=SEA_STATE_MAX_COMPONENTS)
+        _checked(self, *MOTION_KEYS["sea_state"])
         wp = 2 * math.pi / self.peak_period
         omega = np.linspace(0.5 * wp, 4.0 * wp, self.components)
         dw = omega[1] - omega[0] if self.components > 1 else 3.5 * wp

@@ -8,7 +8,10 @@ from __future__ import annotations
 import math
 
 from .._compile import compiled
+from ..base.compiled import base_at
 from ..layout import (
+    BASE_MASS,
+    BASE_MOVING,
     WIND_CONSTANT,
     WIND_DIRECTION,
     WIND_DURATION,
@@ -97,3 +100,31 @@ def wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out):
         out[0] += drag[0] * speed * r1
         out[1] += drag[1] * speed * r2
         out[2] += drag[2] * speed * r3
+
+
+@_jit_inline
+def base_frame_force(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, out):
+    """``wind_force`` on a helicopter flown in the frame of a moving base (``base``'s packed
+    form, ``base.compiled``): (v1, v2, v3) is HO's velocity relative to the base, so the drag
+    sees v + b'(t), and the frame's inertial force -m b''(t) is added (``derive(moving_base=
+    True)``). A still base (the paper's winch) is ``wind_force`` itself."""
+    if base[0, BASE_MOVING] > 0.5:
+        _, _, _, bv1, bv2, bv3, ba1, ba2, ba3 = base_at(base, t)
+        wind_force(program, gust, gust_dt, drag, t, side, v1 + bv1, v2 + bv2, v3 + bv3, out)
+        m = base[0, BASE_MASS]
+        out[0] -= m * ba1
+        out[1] -= m * ba2
+        out[2] -= m * ba3
+    else:
+        wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out)
+
+
+@_jit_inline
+def air_force_on_base(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, out):
+    """The air's force alone (the recorded wind) on a helicopter moving at (v1, v2, v3)
+    relative to the base: ``wind_force`` at the velocity v + b'(t) in N."""
+    if base[0, BASE_MOVING] > 0.5:
+        _, _, _, bv1, bv2, bv3, _, _, _ = base_at(base, t)
+        wind_force(program, gust, gust_dt, drag, t, side, v1 + bv1, v2 + bv2, v3 + bv3, out)
+    else:
+        wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out)
