@@ -88,7 +88,7 @@ from ..tether.lumped import CHAIN_MAX_SUBSTEPS, COUPLING_OMEGA_H, chain_omega_ma
 from ..tether.lumped_trim import hover_trim_lumped
 from ..wind import CompiledWind, compile_wind, initial_wind_force
 from ..wind.profiles import Disturbance
-from . import engine, lumped_step
+from . import engine, lumped_step, stepping
 from .scenario import Scenario, WinchSettings
 
 __all__ = [
@@ -800,8 +800,8 @@ class EngineSetup:
             tuple(a.copy() for a in self.chain),
         )
 
-    def step_run(self, out: Signals, summary: np.ndarray) -> engine.StepRun:
-        """The run's arrays for the sample step driven from Python (``engine.StepRun``: a
+    def step_run(self, out: Signals, summary: np.ndarray) -> stepping.StepRun:
+        """The run's arrays for the sample step driven from Python (``stepping.StepRun``: a
         ``Controller`` other than the compiled laws, or the adaptive reference), recording
         into ``out`` and accumulating its metrics into ``summary``. A custom disturbance (no
         compiled wind) gets an empty wind program: the Python loop adds its force itself.
@@ -815,7 +815,7 @@ class EngineSetup:
 
         Returns
         -------
-        engine.StepRun
+        stepping.StepRun
             Fresh copies of everything the run changes (state, cfg, ctrl, chain, loop).
         """
         c, law, wind, act, sensors, chain = self._engine_inputs()
@@ -823,7 +823,7 @@ class EngineSetup:
         work = np.empty((engine.RK4_WORK_ROWS, 13))
         engine.start_summary(summary)
         x = self.start.x.copy()
-        return engine.StepRun(
+        return stepping.StepRun(
             x=x,
             cfg=self.cfg.copy(),
             ctrl=self.ctrl.copy(),
