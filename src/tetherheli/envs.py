@@ -96,18 +96,10 @@ from .names import FREE_STATE
 from .sensing.config import N_CHANNELS
 from .sensing.noise import noise_table
 from .sim import engine
+from .sim.packing import actuator_array, read_only, sensor_schedule, sensor_tuple
 from .sim.scenario import Scenario
-from .sim.setup import (
-    StartPoint,
-    actuator_array,
-    free_trim_input,
-    paper_law,
-    read_only,
-    run_setup,
-    sensor_schedule,
-    sensor_tuple,
-    start_point,
-)
+from .sim.setup import run_setup
+from .sim.start import StartPoint, free_trim_input, paper_law, start_point
 from .status import Status, status_message
 from .wind import (
     CalibratedGaussMarkovTurbulence,
@@ -363,7 +355,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         check_env_memory(self.scenario, 1, self.gust_dt)  # before an episode's tables exist
         model, trim, gain, ctrl, cfg = run_setup(self.scenario)
         self._model, self._lqi = model, gain
-        # the engine's read-only inputs as ``simulate`` hands them (``setup.read_only``): one
+        # the engine's read-only inputs as ``simulate`` hands them (``packing.read_only``): one
         # compiled signature of each phase for both
         self._act = read_only(
             actuator_array(self.scenario, trim, ctrl)
@@ -404,8 +396,8 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._x_meas = np.empty(13)
         self._y_meas = np.empty(4)
         self._work = np.empty((engine.RK4_WORK_ROWS, 13))
-        # the law of the compiled loop, with u0|F after a tether release (``setup.paper_law``)
-        # and the integrators' start z0 (set per episode in ``reset``: ``setup.start_point``)
+        # the law of the compiled loop, with u0|F after a tether release (``start.paper_law``)
+        # and the integrators' start z0 (set per episode in ``reset``: ``start.start_point``)
         law = paper_law(gain, trim, free_trim_input(self.scenario, model, trim), np.zeros(4))
         self._law = tuple(read_only(a) for a in law)
         # the per-episode arrays of engine.paper_sample (integrators, winch, held actuator
@@ -501,7 +493,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
     ) -> tuple[Disturbance, CompiledWind, StartPoint, np.ndarray]:
         """What ``reset`` draws for an episode, in its order: the wind (``wind`` if given,
         else the fixed wind, else a kind drawn uniformly and ``draw_wind``), the start at
-        rest in the trim of its air at t = 0 (``sim.setup.start_point``, no draw), then the
+        rest in the trim of its air at t = 0 (``sim.start.start_point``, no draw), then the
         sensor noise table (``sensors.noise_table``; empty with perfect sensors).
 
         Parameters
@@ -518,7 +510,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         compiled : CompiledWind
             Its compiled form for the engine.
         start : StartPoint
-            The start state x and integrators z (``sim.setup.start_point``).
+            The start state x and integrators z (``sim.start.start_point``).
         noise : ndarray, shape (n_samples + 1, N_CHANNELS) or (0, N_CHANNELS)
             The episode's sensor noise table (empty with perfect sensors).
         """
@@ -585,7 +577,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
         """Start an episode with a new wind, at rest in the hover trim of its air at t = 0
-        (``sim.setup.start_point``: a turbulence's mean wind plus its first gust; the
+        (``sim.start.start_point``: a turbulence's mean wind plus its first gust; the
         windless trim for the force profiles).
 
         Parameters
@@ -614,7 +606,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         )
         self._law = (*self._law[:LAW_Z0], read_only(start.z))
         self._noise = noise
-        # at rest in the equilibrium of the episode's air at t = 0 (sim.setup.start_point),
+        # at rest in the equilibrium of the episode's air at t = 0 (sim.start.start_point),
         # the loop arrays of engine.paper_sample and the sensor history ring fresh
         start_episode(
             self._x, self._cfg, self._ctrl, self._loop, self._episode_sensors[-1], start.x,
@@ -811,7 +803,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
 
     @property
     def _sensor_args(self) -> tuple:
-        """The episode's ``sim.setup.sensor_tuple`` (for ``engine.sense`` and ``observe_into``)
+        """The episode's ``sim.packing.sensor_tuple`` (for ``engine.sense`` and ``observe_into``)
         with its current noise table ``_noise``; the schedule and history ring are the
         episode's own."""
         return (self._noise, *self._episode_sensors[1:])

@@ -382,7 +382,7 @@ def sense(x, k, t, cfg, ctrl, act, sensors, event, x_meas):
     (the lumped chain's ground end; eq 28's one tension otherwise): x_meas (13,) receives
     the measured state (``sensors.measure_sampled``: each sensor at its rate and latency,
     with the noise table's rows, or the true state when the table is empty); ``sensors`` is
-    ``sim.setup.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history ring).
+    ``sim.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history ring).
     Returns (true tension at P, measured tension) [N]."""
     return _sense(x, k, t, cfg, ctrl, act, sensors, sensors[0].shape[0] > 0, event, x_meas)
 
@@ -650,7 +650,7 @@ def new_loop_state(x_init: np.ndarray, z_init: np.ndarray, work: np.ndarray) -> 
 @_jit_inline
 def _loop_state(x_init, z_init, work):
     return LoopState(
-        z_init.copy(),  # z: the LQI's output-error integral (eq 50), from sim.setup.start_point
+        z_init.copy(),  # z: the LQI's output-error integral (eq 50), from sim.start.start_point
         np.zeros(WINCH_SIZE),  # winch: layout.WINCH_* (the PI's integral, its last command)
         np.zeros(HELD_SIZE),  # held: layout.HELD_* (the winch starts at rest)
         np.full(2, np.nan),  # event: release time [s], tension [N]
@@ -680,7 +680,7 @@ def run_closed_loop(
     ``layout.CHAIN_*``, nodes present) the chain's ends are set before the sample and
     ``lumped_interval`` advances helicopter and chain (``layout.empty_chain()``: the massless
     tether of eq 28). ``law`` is (gain, x_ref, y_ref, u0, u0_free, z0) (``layout.LAW_*``),
-    ``wind`` (program, gust table, drag), ``sensors`` (``sim.setup.sensor_tuple``). With
+    ``wind`` (program, gust table, drag), ``sensors`` (``sim.packing.sensor_tuple``). With
     ``record`` the arrays of ``out`` (``layout.Signals``: x, u, ffwd, rate, tension, wind, y,
     y_est, tension_ground, nodes, winch), n_samples + 1 rows each, receive the sampled
     signals: true state, applied inputs (with feed-forward), feed-forward, reel rate, true

@@ -47,7 +47,7 @@ class StepRun(NamedTuple):
     law: tuple  #: ``layout.LAW_*`` (x_ref and y_ref are the metrics' references)
     wind: tuple  #: (program, gust table, drag); an empty program for a Python disturbance
     act: np.ndarray  #: ``layout.ACT_*``
-    sensors: tuple  #: ``sim.setup.sensor_tuple``
+    sensors: tuple  #: ``sim.packing.sensor_tuple``
     chain: tuple  #: ``layout.CHAIN_*`` (``layout.empty_chain()``: massless)
     cw: tuple  #: the chain's scratch (``lumped_work``)
     work: np.ndarray  #: (RK4_WORK_ROWS, 13) the integrator's scratch
