@@ -55,8 +55,9 @@ from gymnasium.vector.utils import batch_space
 
 from ._compile import compiled
 from ._validation import check_integer
+from .env_checks import RenderModeError, check_env_memory
 from .env_kernels import finish_step, observe_into, start_episode, tether_tension
-from .envs import OBSERVATION_NAMES, RenderModeError, TetheredHoverEnv, check_env_memory
+from .envs import OBSERVATION_NAMES, TetheredHoverEnv
 from .errors import ParameterError
 from .layout import (
     CFG_ATTACHED,
