@@ -194,7 +194,7 @@ def test_sensors_feed_controller_and_observation():
     measurements: a zero residual with the episode's noise table equals ``simulate`` with the
     same table; equal seeds give equal noisy episodes; the reward uses the true position."""
     from tetherheli.sensing.config import SensorConfig
-    from tetherheli.sim.setup import sensor_noise
+    from tetherheli.sim.packing import sensor_noise
 
     pulse = Pulse(start=0.5, duration=1.0, magnitude=20.0, direction=(0.6, 0.8, 0.0))
     sensors = SensorConfig(position_source="tether", encoder_std=0.002, altimeter_std=0.05)

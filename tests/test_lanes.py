@@ -16,8 +16,9 @@ from tetherheli.model.kernels import SIN_BRANCHLESS_MAX_ARG, sin_branchless
 from tetherheli.sensing.config import SensorConfig
 from tetherheli.sim import engine, lanes, simulate
 from tetherheli.sim.batch import run_batch
+from tetherheli.sim.lanes import lane_block
 from tetherheli.sim.scenario import ActuatorSettings, load_scenario, paper_scenario
-from tetherheli.sim.setup import engine_setup, lane_block
+from tetherheli.sim.setup import engine_setup
 from tetherheli.status import Status
 from tetherheli.wind import DragModel, GaussMarkovTurbulence, Pulse, Sine, Step, Turbulence
 

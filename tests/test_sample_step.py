@@ -2,7 +2,7 @@
 named packs, and the compiled law chosen by name.
 
 The Python path (the MPC, a user's ``Controller``, the adaptive reference) calls the engine's
-compiled phases (``engine.step_sense``, ``step_command``) instead of
+compiled phases (``stepping.step_sense``, ``step_command``) instead of
 re-composing them, so a Python copy of the paper's law flies the compiled loop's run bit for
 bit, and its on-line metrics are the compiled loop's; ``analysis.run_metrics`` reads a
 recorded run through the same accumulation (``engine.summarize``) as ``run_batch``.

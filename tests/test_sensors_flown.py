@@ -28,7 +28,7 @@ from tetherheli.sensing.presets import SENSOR_PRESETS
 from tetherheli.sensing.schedules import group_samples, sample_schedule
 from tetherheli.sensing.sensors import measured_channels, tether_position_estimate
 from tetherheli.sim import load_scenario, simulate
-from tetherheli.sim.setup import sensor_noise, sensor_schedule
+from tetherheli.sim.packing import sensor_noise, sensor_schedule
 
 DT = 0.01
 

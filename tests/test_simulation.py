@@ -16,7 +16,8 @@ from tetherheli.control.base import Command, Controller, Measurement
 from tetherheli.control.paper import PaperController
 from tetherheli.sim import ControlSettings, Limits, paper_gain
 from tetherheli.sim.scenario import paper_scenario
-from tetherheli.sim.setup import LQI_STATES, run_setup
+from tetherheli.sim.setup import run_setup
+from tetherheli.sim.start import LQI_STATES
 from tetherheli.wind import ConstantForce, Pulse, Step
 
 DT = 0.01

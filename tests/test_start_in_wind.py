@@ -1,5 +1,5 @@
 """A run in turbulence starts at rest in the equilibrium of its air at t = 0 (``hover_trim``
-with ``N_F_wind``, ``sim.setup.start_point``), in the compiled loop, the Python loop and the
+with ``N_F_wind``, ``sim.start.start_point``), in the compiled loop, the Python loop and the
 Gymnasium environment alike; ``Scenario.metrics_start`` windows the metrics."""
 
 from __future__ import annotations
@@ -15,7 +15,8 @@ from tetherheli.envs import TetheredHoverEnv
 from tetherheli.errors import InfeasibleError
 from tetherheli.params import Params
 from tetherheli.sim.scenario import Scenario
-from tetherheli.sim.setup import engine_setup, run_setup, start_point
+from tetherheli.sim.setup import engine_setup, run_setup
+from tetherheli.sim.start import start_point
 from tetherheli.wind import ConstantForce, DragModel, GaussMarkovTurbulence, NoWind, Turbulence
 
 DRAG = DragModel((0.4, 0.4, 0.8))

@@ -154,7 +154,7 @@ def test_scenario_keys_round_trip_and_bad_values(tmp_path):
 
 def test_start_in_turbulence_is_an_equilibrium_of_the_law():
     """In the mean wind of a turbulence scenario the tethered LQI starts at a windy trim
-    (``setup.start_point``) where its law commands that trim's total rotor input and a reel
+    (``start.start_point``) where its law commands that trim's total rotor input and a reel
     rate of zero (the trim's tension chosen by the secant method on the reel row)."""
     s = load_scenario("scenarios/turbulence_hover_tethered.toml")
     s = s.replace(control=dataclasses.replace(s.control, controller="tether_lqi"))

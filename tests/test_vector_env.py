@@ -160,7 +160,7 @@ def test_flown_timed_sensors_match_single_envs():
 
 def test_turbulence_episodes_start_in_the_wind_like_single_envs():
     """Turbulence episodes start at rest in the trim of their air at t = 0
-    (``setup.start_point``: own state and LQI integrators per copy and episode), as the
+    (``start.start_point``: own state and LQI integrators per copy and episode), as the
     single environment's reset does; the copies then equal their single environments."""
     n = 3
     vec = TetheredHoverVectorEnv(n, wind="turbulence", max_episode_time=0.2)

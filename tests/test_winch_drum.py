@@ -18,6 +18,7 @@ from tetherheli.layout import HELD_DRUM_SPEED, HELD_MOTOR_TORQUE, HELD_SIZE, def
 from tetherheli.sim import engine
 from tetherheli.sim.batch import run_batch
 from tetherheli.sim.closed_loop import simulate
+from tetherheli.sim.packing import winch_into
 from tetherheli.sim.result import load_result
 from tetherheli.sim.scenario import (
     ActuatorSettings,
@@ -26,7 +27,7 @@ from tetherheli.sim.scenario import (
     paper_scenario,
     scenario_from_dict,
 )
-from tetherheli.sim.setup import engine_setup, winch_into
+from tetherheli.sim.setup import engine_setup
 from tetherheli.tether.winch import drum_step
 from tetherheli.wind import NoWind
 

@@ -25,9 +25,10 @@ from tetherheli.layout import (
 from tetherheli.sim import engine
 from tetherheli.sim.batch import run_batch
 from tetherheli.sim.closed_loop import simulate
+from tetherheli.sim.packing import winch_into
 from tetherheli.sim.result import load_result
 from tetherheli.sim.scenario import TetherSettings, WinchSettings, paper_scenario
-from tetherheli.sim.setup import engine_setup, winch_into
+from tetherheli.sim.setup import engine_setup
 from tetherheli.status import Status
 
 DT = 0.01

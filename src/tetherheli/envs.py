@@ -88,7 +88,15 @@ from gymnasium import spaces
 
 from ._gym_registration import ENV_ID, MAX_EPISODE_STEPS, register_envs
 from ._validation import check_bool, check_number, check_vector
+from .env_checks import (
+    RENDER_MODES,
+    RenderModeError,
+    check_display,
+    check_env_memory,
+    display_backend,
+)
 from .env_kernels import OBS_LIMIT, finish_step, observe_into, start_episode, tether_tension
+from .env_render import close_window, draw_frame, episode_data, episode_row, show_frame
 from .errors import ParameterError
 from .layout import CFG_GUST_DT, CTRL_T_REF, LAW_Z0, LOOP_EVENT, LOOP_INPUTS
 from .model.kernels import tethered_outputs
@@ -96,18 +104,10 @@ from .names import FREE_STATE
 from .sensing.config import N_CHANNELS
 from .sensing.noise import noise_table
 from .sim import engine
+from .sim.packing import actuator_array, read_only, sensor_schedule, sensor_tuple
 from .sim.scenario import Scenario
-from .sim.setup import (
-    StartPoint,
-    actuator_array,
-    free_trim_input,
-    paper_law,
-    read_only,
-    run_setup,
-    sensor_schedule,
-    sensor_tuple,
-    start_point,
-)
+from .sim.setup import run_setup
+from .sim.start import StartPoint, free_trim_input, paper_law, start_point
 from .status import Status, status_message
 from .wind import (
     CalibratedGaussMarkovTurbulence,
@@ -147,92 +147,11 @@ OBSERVATION_NAMES = (*FREE_STATE, "tension")
 #: Wind kinds that :meth:`TetheredHoverEnv.draw_wind` can draw.
 WIND_KINDS = ("none", "pulse", "sine", "turbulence")
 
-#: Render modes of :class:`TetheredHoverEnv` (``render_mode=None``, the default, draws nothing).
-RENDER_MODES = ("human", "rgb_array")
-
 #: Default episode length [s] of :class:`TetheredHoverEnv` (``max_episode_time``).
 DEFAULT_EPISODE_TIME = 30.0
 
 _DEFAULT_ACTION_SCALE = (20.0, 2.0, 2.0, 5.0)
 _DEFAULT_DRAG = DragModel(cd_area_m2=(0.3, 0.3, 0.5))
-
-
-class RenderModeError(ParameterError, gymnasium.error.UnsupportedMode):
-    """A render mode the environment does not support (or "human" without a display): a
-    ``ParameterError`` (one line) that is also Gymnasium's ``error.UnsupportedMode``.
-
-    Parameters
-    ----------
-    field, value, allowed, source
-        As for ``ParameterError``.
-    """
-
-
-def _display_backend() -> tuple[bool, str]:
-    """Whether Matplotlib's backend can open a window (interactive), and its name."""
-    import matplotlib
-    from matplotlib.backends import BackendFilter, backend_registry
-
-    backend = matplotlib.get_backend()  # resolves the automatic choice (no window opened)
-    interactive = backend.lower() in backend_registry.list_builtin(BackendFilter.INTERACTIVE)
-    return interactive or (backend.startswith("module://") and "inline" not in backend), backend
-
-
-def _check_display() -> None:
-    """Refuse ``render_mode="human"`` (``RenderModeError``) unless Matplotlib's backend is
-    interactive, i.e. a window can be shown."""
-    can_open, backend = _display_backend()
-    if not can_open:
-        raise RenderModeError(
-            "render_mode",
-            "human",
-            f"'rgb_array' or None here: no display (Matplotlib backend {backend!r} cannot "
-            "open a window)",
-        )
-
-
-#: What one environment copy holds besides its per-sample tables: its state, settings and
-#: loop arrays (about 300 floats with ``layout``'s sizes) and its Python objects (generator,
-#: disturbance, infos), measured near 3 kB with tracemalloc; margin kept.
-_COPY_BYTES = 8_192
-
-
-def check_env_memory(scenario: Scenario, copies: int, gust_dt: float) -> int:
-    """Estimate the bytes ``copies`` environment copies of ``scenario`` (an episode's
-    duration and sensors) hold at once: each copy's sensor-noise table and schedule
-    (``sim.closed_loop.check_run_memory``, the rule ``simulate`` applies), its gust series
-    (3 floats per ``gust_dt``) and its state; refuse them (``ResourceLimitError``) above
-    the memory budget (``tetherheli.resources``), before anything is allocated.
-
-    Parameters
-    ----------
-    scenario : Scenario
-        The episode's scenario (``duration`` = ``max_episode_time``).
-    copies : int
-        Environment copies (``num_envs``), >= 1.
-    gust_dt : float
-        The turbulence's gust step [s].
-
-    Returns
-    -------
-    int
-        The estimated bytes.
-
-    Raises
-    ------
-    ResourceLimitError
-        The estimate exceeds the budget.
-    """
-    from .sim.closed_loop import check_run_memory
-
-    gusts = 3 * 8 * (scenario.duration / gust_dt + 2)
-    noisy = "" if scenario.sensors.is_perfect else " with noisy sensors"
-    return check_run_memory(
-        scenario, record=False, concurrent=copies, per_run_bytes=_COPY_BYTES + gusts,
-        what=f"{copies} environment cop{'y' if copies == 1 else 'ies'}{noisy}: "
-        f"max_episode_time = {scenario.duration:g} s at dt = {scenario.control.dt:g} s",
-        hint="use fewer copies (num_envs) or a shorter max_episode_time",
-    )  # fmt: skip
 
 
 class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
@@ -315,7 +234,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         if render_mode is not None and render_mode not in RENDER_MODES:
             raise RenderModeError("render_mode", render_mode, f"None or one of {RENDER_MODES}")
         if render_mode == "human":
-            _check_display()
+            check_display()
         self.render_mode = render_mode
         self._frames: list[np.ndarray] = []  # the recorded episode (rendering only)
         self._window: Any = None  # the "human" mode's (figure, image)
@@ -363,14 +282,14 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         check_env_memory(self.scenario, 1, self.gust_dt)  # before an episode's tables exist
         model, trim, gain, ctrl, cfg = run_setup(self.scenario)
         self._model, self._lqi = model, gain
-        # the engine's read-only inputs as ``simulate`` hands them (``setup.read_only``): one
+        # the engine's read-only inputs as ``simulate`` hands them (``packing.read_only``): one
         # compiled signature of each phase for both
         self._act = read_only(
             actuator_array(self.scenario, trim, ctrl)
         )  # rejects limits below hover need
         self.trim = trim
         self.dt = self.scenario.control.dt
-        modes = [m for m in RENDER_MODES if m != "human" or _display_backend()[0]]
+        modes = [m for m in RENDER_MODES if m != "human" or display_backend()[0]]
         self.metadata = {**self.metadata, "render_modes": modes, "render_fps": 1.0 / self.dt}
         self.n_max = self.scenario.n_samples
         self._c = read_only(model.constants)
@@ -404,8 +323,8 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._x_meas = np.empty(13)
         self._y_meas = np.empty(4)
         self._work = np.empty((engine.RK4_WORK_ROWS, 13))
-        # the law of the compiled loop, with u0|F after a tether release (``setup.paper_law``)
-        # and the integrators' start z0 (set per episode in ``reset``: ``setup.start_point``)
+        # the law of the compiled loop, with u0|F after a tether release (``start.paper_law``)
+        # and the integrators' start z0 (set per episode in ``reset``: ``start.start_point``)
         law = paper_law(gain, trim, free_trim_input(self.scenario, model, trim), np.zeros(4))
         self._law = tuple(read_only(a) for a in law)
         # the per-episode arrays of engine.paper_sample (integrators, winch, held actuator
@@ -501,7 +420,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
     ) -> tuple[Disturbance, CompiledWind, StartPoint, np.ndarray]:
         """What ``reset`` draws for an episode, in its order: the wind (``wind`` if given,
         else the fixed wind, else a kind drawn uniformly and ``draw_wind``), the start at
-        rest in the trim of its air at t = 0 (``sim.setup.start_point``, no draw), then the
+        rest in the trim of its air at t = 0 (``sim.start.start_point``, no draw), then the
         sensor noise table (``sensors.noise_table``; empty with perfect sensors).
 
         Parameters
@@ -518,7 +437,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         compiled : CompiledWind
             Its compiled form for the engine.
         start : StartPoint
-            The start state x and integrators z (``sim.setup.start_point``).
+            The start state x and integrators z (``sim.start.start_point``).
         noise : ndarray, shape (n_samples + 1, N_CHANNELS) or (0, N_CHANNELS)
             The episode's sensor noise table (empty with perfect sensors).
         """
@@ -585,7 +504,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
         """Start an episode with a new wind, at rest in the hover trim of its air at t = 0
-        (``sim.setup.start_point``: a turbulence's mean wind plus its first gust; the
+        (``sim.start.start_point``: a turbulence's mean wind plus its first gust; the
         windless trim for the force profiles).
 
         Parameters
@@ -614,7 +533,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         )
         self._law = (*self._law[:LAW_Z0], read_only(start.z))
         self._noise = noise
-        # at rest in the equilibrium of the episode's air at t = 0 (sim.setup.start_point),
+        # at rest in the equilibrium of the episode's air at t = 0 (sim.start.start_point),
         # the loop arrays of engine.paper_sample and the sensor history ring fresh
         start_episode(
             self._x, self._cfg, self._ctrl, self._loop, self._episode_sensors[-1], start.x,
@@ -727,9 +646,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
     def close(self) -> None:
         """Close the "human" mode's window, if open."""
         if self._window is not None:
-            import matplotlib.pyplot as plt
-
-            plt.close(self._window[0])
+            close_window(self._window)
             self._window = None
         super().close()
 
@@ -741,18 +658,8 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         "human" mode."""
         wind = self._wind
         assert wind is not None
-        x, t = self._x, self._k * self.dt
-        row = np.empty(14)
-        row[0] = t
-        row[1:4] = self._y[:3]
-        row[4:10] = x[:6]
-        force = np.zeros(3)
-        engine.wind_force(
-            wind.program, wind.gust, self._cfg[CFG_GUST_DT], wind.drag, t, 1, x[6], x[7], x[8],
-            force,
-        )  # fmt: skip
-        row[10:13] = force
-        row[13] = self._tension()
+        t = self._k * self.dt
+        row = episode_row(t, self._y, self._x, wind, self._cfg[CFG_GUST_DT], self._tension())
         self._frames.append(row)
         if self.render_mode == "human":
             self._show(self._draw())
@@ -768,50 +675,26 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             Time [s], q1..q9 [m, rad], wind force [N] and tension [N] per recorded sample,
             with the trim position, the helicopter and the episode's status.
         """
-        from ._version import __version__
-        from .viz.animation import RunData
-
         if not self._frames:
             raise RuntimeError("no episode recorded: set a render_mode and call reset()")
-        rows = np.array(self._frames)
-        return RunData(
-            stem="episode",
-            name=self.scenario.name,
-            configuration=self.scenario.configuration,  # type: ignore[arg-type]
-            time=rows[:, 0],
-            q=rows[:, 1:10],
-            wind=rows[:, 10:13],
-            tension=rows[:, 13],
-            trim_position=self._y_ref[:3].copy(),
-            helicopter=self.scenario.params.helicopter,
-            status=self._status,
-            message=status_message(self._status, float(self._release[0])),
-            version=__version__,
-        )
+        return episode_data(
+            self._frames, self.scenario, self._y_ref[:3].copy(), self._status,
+            float(self._release[0]),
+        )  # fmt: skip
 
     def _draw(self) -> np.ndarray:
         """The animation's frame of the recorded episode at its last sample."""
-        from .viz.animation import frame_rgb
-
-        run = self.episode()
-        return frame_rgb([run], float(run.time[-1]))
+        return draw_frame(self.episode())
 
     def _show(self, frame: np.ndarray) -> None:
         """Show a frame in the "human" mode's Matplotlib window (opened on first use)."""
-        import matplotlib.pyplot as plt
-
-        if self._window is None or not plt.fignum_exists(self._window[0].number):
-            fig = plt.figure("tetherheli: " + ENV_ID, figsize=(10, 6))
-            ax = fig.add_axes((0.0, 0.0, 1.0, 1.0))
-            ax.set_axis_off()
-            self._window = (fig, ax.imshow(frame))
-        else:
-            self._window[1].set_data(frame)
-        plt.pause(1.0 / self.metadata["render_fps"])
+        self._window = show_frame(
+            self._window, frame, self.metadata["render_fps"], "tetherheli: " + ENV_ID
+        )
 
     @property
     def _sensor_args(self) -> tuple:
-        """The episode's ``sim.setup.sensor_tuple`` (for ``engine.sense`` and ``observe_into``)
+        """The episode's ``sim.packing.sensor_tuple`` (for ``engine.sense`` and ``observe_into``)
         with its current noise table ``_noise``; the schedule and history ring are the
         episode's own."""
         return (self._noise, *self._episode_sensors[1:])

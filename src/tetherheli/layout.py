@@ -292,7 +292,7 @@ LAW_X_REF = 1
 LAW_Y_REF = 2  # (4,) the trim outputs q1, q2, q3, q6
 LAW_U0 = 3  # (4,) the configuration's trim input u0 (u0|T tethered, u0|F free; eq 54)
 LAW_U0_FREE = 4  # (4,) u0|F: used once the tether is released or removed
-LAW_Z0 = 5  # (4,) the LQI integrators' state at the start (``sim.setup.start_point``)
+LAW_Z0 = 5  # (4,) the LQI integrators' state at the start (``sim.start.start_point``)
 LAW_SIZE = 6
 
 # --- actuators (``act``) ------------------------------------------------------------------------

@@ -33,9 +33,9 @@ Info
     another None).
 
 Every copy takes the same scenario, so the copies share the lane engine's constants (model,
-gains, sample time) and the sensors' sampling schedule (``setup.sensor_schedule``, a function
+gains, sample time) and the sensors' sampling schedule (``packing.sensor_schedule``, a function
 of the scenario alone); a copy's episode draws (wind, sensor noise), its start at rest in the
-trim of its wind at t = 0 (state and LQI integrators, ``setup.start_point``) and its sensor
+trim of its wind at t = 0 (state and LQI integrators, ``start.start_point``) and its sensor
 history ring are its own. Noisy sensors keep a noise table per copy, (n_samples + 1) x 17
 doubles.
 
@@ -55,8 +55,9 @@ from gymnasium.vector.utils import batch_space
 
 from ._compile import compiled
 from ._validation import check_integer
+from .env_checks import RenderModeError, check_env_memory
 from .env_kernels import finish_step, observe_into, start_episode, tether_tension
-from .envs import OBSERVATION_NAMES, RenderModeError, TetheredHoverEnv, check_env_memory
+from .envs import OBSERVATION_NAMES, TetheredHoverEnv
 from .errors import ParameterError
 from .layout import (
     CFG_ATTACHED,
@@ -75,7 +76,8 @@ from .model.kernels import angle_trig, tethered_outputs
 from .sensing.config import N_CHANNELS
 from .sim import engine
 from .sim import lanes as lane_engine
-from .sim.setup import lane_program_into, sensor_tuple
+from .sim.lanes import lane_program_into
+from .sim.packing import sensor_tuple
 from .status import Status, status_message
 
 __all__ = ["TetheredHoverVectorEnv", "vector_restart", "vector_step"]
@@ -88,7 +90,7 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
     """One step of every copy (the arrays are laid out by ``TetheredHoverVectorEnv``).
 
     reset (N,) bool: copies that start an episode (their state is set to their episode's
-    start, ``setup.start_point``'s x and integrators z0, with a fresh sensor history ring;
+    start, ``start.start_point``'s x and integrators z0, with a fresh sensor history ring;
     their action is ignored); the others run ``engine.paper_sample`` with their row of
     ``command`` (``mode`` an ``engine.ACTION_*``), then the lane engine advances them over the
     sample, then ``env_kernels.finish_step`` with their clipped action row of ``a``. Every
@@ -160,7 +162,7 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
 @_jit
 def restart_copy(i, copies, shared, wind, out):
     """Copy i at its episode's start (``env_kernels.start_episode``, as
-    ``TetheredHoverEnv.reset``): its start state x and integrators z0 (``setup.start_point``),
+    ``TetheredHoverEnv.reset``): its start state x and integrators z0 (``start.start_point``),
     a fresh loop state and sensor history ring, no reward yet."""
     (x, k, cfg, ctrl, z, winch, held, event, x_meas, sc_meas, sc_true, y_loop, y_est, inp,
      ffwd, _, _, ring, x_start, z_start) = copies  # fmt: skip
@@ -282,8 +284,8 @@ class TetheredHoverVectorEnv(VectorEnv):
         self._inp = rows(4, np.nan)
         self._noise = np.zeros((n_pad, noise_rows, N_CHANNELS))
         self._noise_rows = np.zeros(n_pad, dtype=np.int64)
-        # each copy's sensor history ring (``setup.sensor_tuple``'s size for the scenario's
-        # schedule, which all copies share) and episode start (``setup.start_point``)
+        # each copy's sensor history ring (``packing.sensor_tuple``'s size for the scenario's
+        # schedule, which all copies share) and episode start (``start.start_point``)
         ring = sensor_tuple(env._noise, env._source, env._arm, env._schedule)[-1]
         self._ring = np.zeros((n_pad, *ring.shape))
         self._x_start = np.tile(x_trim, (n_pad, 1))

@@ -354,7 +354,7 @@ class MPCController(Controller):
     tolerance : float
         OSQP's absolute and relative tolerance.
     free_gain : ndarray, shape (4, 16)
-        The paper's free law flown after a release (``sim.setup.paper_gain``).
+        The paper's free law flown after a release (``sim.start.paper_gain``).
     free_trim_input : ndarray, shape (4,)
         u0|F [N, N m, N m, N].
     d_init : ndarray, shape (3,), optional

@@ -14,7 +14,8 @@ _HOMES = {
     "simulate": ".closed_loop",
     **dict.fromkeys(("SimulationResult", "list_results", "load_result"), ".result"),
     **dict.fromkeys(("ControlSettings", "Limits", "Scenario", "load_scenario"), ".scenario"),
-    **dict.fromkeys(("EngineSetup", "engine_setup", "paper_gain"), ".setup"),
+    **dict.fromkeys(("EngineSetup", "engine_setup"), ".setup"),
+    "paper_gain": ".start",
 }
 
 __all__ = [

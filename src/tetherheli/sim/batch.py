@@ -54,9 +54,10 @@ from ..status import Status, status_message
 from ..wind import compile_wind
 from . import engine, lanes
 from .closed_loop import check_run_memory
+from .lanes import lane_block
 from .result import WINCH_LIMITS
 from .scenario import Scenario
-from .setup import EngineSetup, engine_setup, lane_block
+from .setup import EngineSetup, engine_setup
 
 __all__ = [
     "METRIC_NAMES",
@@ -121,12 +122,12 @@ def _unrecorded_lumped(engine_args, summary):  # pragma: no cover - compiled
 @compiled(nogil=True)
 def run_block(block_args, summary, status, done):  # pragma: no cover - compiled
     """``lanes.run_lanes(*block_args, summary, status, done)`` with the GIL released;
-    ``block_args`` is ``setup.lane_block``'s.
+    ``block_args`` is ``lanes.lane_block``'s.
 
     Parameters
     ----------
     block_args : tuple
-        ``setup.lane_block``'s arguments for a block of ``layout.LANES`` runs.
+        ``lanes.lane_block``'s arguments for a block of ``layout.LANES`` runs.
     summary : numpy.ndarray, shape (LANES, len(engine.SUMMARY_FIELDS))
         Filled with each lane's on-line metrics.
     status : numpy.ndarray of int, shape (LANES,)

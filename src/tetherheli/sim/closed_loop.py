@@ -36,7 +36,7 @@ from ..params import Params
 from ..resources import check_memory
 from ..sensing.config import N_CHANNELS, N_GROUPS
 from ..status import FALLBACK_COLUMN, Status, solver_status
-from . import engine
+from . import engine, stepping
 from .mpc_setup import mpc_controller
 from .result import DRUM_COLUMNS, TENSION_GROUND_COLUMN, SimulationResult, winch_limit_info
 from .scenario import Scenario
@@ -290,8 +290,8 @@ def _command_array(value, name: str) -> np.ndarray:
 def _python_loop(scenario, setup, run, controller, method, *, rtol, atol):
     """The closed loop driven from Python: any Controller, RK4 or the adaptive reference.
 
-    Each sample is the engine's one sample step (``engine.step_sense``, the controller,
-    ``engine.step_command``: actuators, checks, metrics, recording and the RK4 or lumped
+    Each sample is the engine's one sample step (``stepping.step_sense``, the controller,
+    ``stepping.step_command``: actuators, checks, metrics, recording and the RK4 or lumped
     step), as the compiled loop runs it; only the integrator may be swapped (the adaptive
     reference, or RK4 over a Python disturbance)."""
     dt = scenario.control.dt
@@ -304,8 +304,8 @@ def _python_loop(scenario, setup, run, controller, method, *, rtol, atol):
     out_wind = run.out.wind
     breaks = setup.wind.breakpoints(n * dt) if setup.wind is not None else np.array([])
     four = np.zeros(4)
-    sense = _entry_point(engine.step_sense, run, 0)
-    command = _entry_point(engine.step_command, run, 0, four, 0.0, four, 0.0, 0.0, True)
+    sense = _entry_point(stepping.step_sense, run, 0)
+    command = _entry_point(stepping.step_command, run, 0, four, 0.0, four, 0.0, 0.0, True)
     controller.reset()
     status, done = Status.OK, n + 1
     for k in range(n + 1):
@@ -337,7 +337,7 @@ def _python_loop(scenario, setup, run, controller, method, *, rtol, atol):
             x[:] = x_next
         elif not advance:
             _rk4_custom_wind(x, applied, rate, t, dt, int(cfg[CFG_N_SUB]), cfg, c, disturbance)
-    engine.step_finish(run)
+    stepping.step_finish(run)
     return status, done
 
 

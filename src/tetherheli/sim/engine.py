@@ -6,7 +6,7 @@ lumped chain's ends, the safety device's release check, the sensors), the contro
 the winch's acceleration limit or drum, the true outputs and the failure checks),
 ``sample_record`` (the on-line metrics and the recorded row), then ``sample_advance`` (the
 integrator to the next sample). ``run_closed_loop`` runs them around the paper's law;
-``step_sense`` and ``step_command`` run them from Python around any
+``sim.stepping``'s ``step_sense`` and ``step_command`` run them from Python around any
 ``Controller`` (``simulate``'s MPC, a user's controller, the adaptive reference, which swaps
 only the integrator); the Gymnasium environments and the lanes (``sim.lanes``) run
 ``paper_sample``.
@@ -28,7 +28,6 @@ chain) are laid out in ``tetherheli.layout``; run statuses are ``tetherheli.stat
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
 
 import numpy as np
 
@@ -76,8 +75,6 @@ from ..layout import (
     HELD_MOTOR_TORQUE,
     HELD_REEL_RATE,
     HELD_SIZE,
-    LAW_X_REF,
-    LAW_Y_REF,
     LAW_Z0,
     SUMMARY_FIELDS,
     SUMMARY_N_SAMPLES,
@@ -94,7 +91,6 @@ from ..layout import (
     WINCH_SIZE,
     WIND_COLUMNS,
     LoopState,
-    Signals,
     default_actuators,
 )
 from ..model.kernels import (
@@ -102,7 +98,6 @@ from ..model.kernels import (
     angle_trig_from,
     tension_from_state,
     tethered_outputs,
-    tethered_outputs_sc,
     tethered_rhs_sc,
 )
 from ..sensing.sensors import measure_sampled
@@ -122,7 +117,6 @@ __all__ = [
     "HELD_SIZE",
     "SUMMARY_FIELDS",
     "WIND_COLUMNS",
-    "StepRun",
     "actuate",
     "check_state",
     "default_actuators",
@@ -134,9 +128,6 @@ __all__ = [
     "run_massless_loop",
     "sense",
     "status_message",
-    "step_command",
-    "step_finish",
-    "step_sense",
     "summarize",
 ]
 
@@ -391,7 +382,7 @@ def sense(x, k, t, cfg, ctrl, act, sensors, event, x_meas):
     (the lumped chain's ground end; eq 28's one tension otherwise): x_meas (13,) receives
     the measured state (``sensors.measure_sampled``: each sensor at its rate and latency,
     with the noise table's rows, or the true state when the table is empty); ``sensors`` is
-    ``sim.setup.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history ring).
+    ``sim.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history ring).
     Returns (true tension at P, measured tension) [N]."""
     return _sense(x, k, t, cfg, ctrl, act, sensors, sensors[0].shape[0] > 0, event, x_meas)
 
@@ -659,7 +650,7 @@ def new_loop_state(x_init: np.ndarray, z_init: np.ndarray, work: np.ndarray) -> 
 @_jit_inline
 def _loop_state(x_init, z_init, work):
     return LoopState(
-        z_init.copy(),  # z: the LQI's output-error integral (eq 50), from sim.setup.start_point
+        z_init.copy(),  # z: the LQI's output-error integral (eq 50), from sim.start.start_point
         np.zeros(WINCH_SIZE),  # winch: layout.WINCH_* (the PI's integral, its last command)
         np.zeros(HELD_SIZE),  # held: layout.HELD_* (the winch starts at rest)
         np.full(2, np.nan),  # event: release time [s], tension [N]
@@ -689,7 +680,7 @@ def run_closed_loop(
     ``layout.CHAIN_*``, nodes present) the chain's ends are set before the sample and
     ``lumped_interval`` advances helicopter and chain (``layout.empty_chain()``: the massless
     tether of eq 28). ``law`` is (gain, x_ref, y_ref, u0, u0_free, z0) (``layout.LAW_*``),
-    ``wind`` (program, gust table, drag), ``sensors`` (``sim.setup.sensor_tuple``). With
+    ``wind`` (program, gust table, drag), ``sensors`` (``sim.packing.sensor_tuple``). With
     ``record`` the arrays of ``out`` (``layout.Signals``: x, u, ffwd, rate, tension, wind, y,
     y_est, tension_ground, nodes, winch), n_samples + 1 rows each, receive the sampled
     signals: true state, applied inputs (with feed-forward), feed-forward, reel rate, true
@@ -786,105 +777,3 @@ def closed_loop(
     finish_summary(summary, event, held)
     keep_alive((own_cfg, own_ctrl, own_x, own_work, own_loop, own_no_action, own_cw))
     return status, done
-
-
-# --- the same sample driven from Python, around any ``Controller`` ------------------------
-# ``simulate``'s Python path (the MPC, a user's ``Controller``, the adaptive reference)
-# holds a ``StepRun`` (``sim.setup.EngineSetup.step_run``) and calls, per sample,
-# ``step_sense``, then the controller, then ``step_command`` (which advances the plant, or
-# leaves that to the caller's own integrator): the phases above, compiled once, with the
-# controller's slot in Python.
-
-
-class StepRun(NamedTuple):
-    """One run's arrays for the sample step driven from Python (``step_sense``,
-    ``step_command``, ``step_finish``), built by
-    ``sim.setup.EngineSetup.step_run``; a named record, so each step function has one
-    compiled signature and reads its fields by name."""
-
-    x: np.ndarray  #: (13,) the true state, advanced in place
-    cfg: np.ndarray  #: ``layout.CFG_*``, a run's own copy (the release switches it)
-    ctrl: np.ndarray  #: ``layout.CTRL_*``, a run's own copy
-    c: np.ndarray  #: the model constants
-    law: tuple  #: ``layout.LAW_*`` (x_ref and y_ref are the metrics' references)
-    wind: tuple  #: (program, gust table, drag); an empty program for a Python disturbance
-    act: np.ndarray  #: ``layout.ACT_*``
-    sensors: tuple  #: ``sim.setup.sensor_tuple``
-    chain: tuple  #: ``layout.CHAIN_*`` (``layout.empty_chain()``: massless)
-    cw: tuple  #: the chain's scratch (``lumped_work``)
-    work: np.ndarray  #: (RK4_WORK_ROWS, 13) the integrator's scratch
-    loop: LoopState  #: the control phases' state (``new_loop_state``)
-    summary: np.ndarray  #: (len(SUMMARY_FIELDS),) the on-line metrics (``start_summary``)
-    out: Signals  #: the recorded signals
-
-
-@_jit
-def step_sense(run, k):
-    """``sample_sense`` of sample k of a ``StepRun``: the measured state lands in
-    ``run.loop.x_meas``; returns (true tension at P, measured tension) [N]."""
-    return sample_sense(
-        run.x, k, run.cfg, run.ctrl, run.act, run.sensors, run.sensors[0].shape[0] > 0,
-        run.loop.event, run.loop.x_meas, run.chain[CHAIN_NODES].shape[0] > 0, run.wind[1],
-        run.chain, run.cw,
-    )  # fmt: skip
-
-
-@_jit
-def step_command(run, k, command, reel_rate, feedforward, tension, measured, advance):
-    """The controller's slot filled from Python, then ``sample_apply`` and ``sample_record``
-    (always recording into ``run.out``) of sample k of a ``StepRun``, and with ``advance``
-    ``sample_advance`` to sample k + 1 (else the caller integrates: the adaptive reference,
-    a Python disturbance). ``command`` (4,) are the rotor inputs, ``reel_rate`` the reel-rate
-    command [m/s] (0 once the tether is released), ``feedforward`` (4,) the part of
-    ``command`` that is feed-forward (recorded); ``tension``, ``measured`` are
-    ``step_sense``'s. A non-finite command is not actuated and fails the sample
-    (``Status.NONFINITE``). Returns (status, applied reel rate [m/s])."""
-    loop = run.loop
-    held, x_meas, sc_meas, sc_true, y, y_est = (
-        loop.held,
-        loop.x_meas,
-        loop.sc_meas,
-        loop.sc_true,
-        loop.y,
-        loop.y_est,
-    )
-    inp, ffwd = loop.inputs, loop.ffwd
-    x, cfg, c = run.x, run.cfg, run.c
-    program, gust, drag = run.wind
-    sensed = run.sensors[0].shape[0] > 0
-    if cfg[CFG_ATTACHED] <= 0.5:
-        reel_rate = 0.0
-    finite = math.isfinite(reel_rate)
-    for i in range(4):
-        inp[i] = command[i]
-        ffwd[i] = feedforward[i]
-        finite = finite and math.isfinite(command[i])
-    angle_trig(x_meas, sc_meas)
-    tethered_outputs_sc(x_meas, sc_meas, c, y_est)
-    if finite:
-        status, rate = sample_apply(
-            x, k, cfg, run.act, c, held, inp, reel_rate, tension, measured, sensed, y, y_est,
-            sc_true, sc_meas, run.law[LAW_Y_REF],
-        )  # fmt: skip
-    else:
-        rate = reel_rate
-        status = sample_outputs(x, c, sensed, y, y_est, sc_true, sc_meas, run.law[LAW_Y_REF],
-                                tension, cfg)  # fmt: skip
-        if status == STATUS_OK:
-            status = STATUS_NONFINITE
-    if status == STATUS_OK:
-        sample_record(
-            k, cfg, run.act, run.summary, x, run.law[LAW_X_REF], y, run.law[LAW_Y_REF],
-            tension, rate, inp, ffwd, y_est, held, True, run.out, program, gust, drag,
-            run.work[5], run.chain[CHAIN_NODES],
-        )  # fmt: skip
-        if advance:
-            sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, run.work, run.chain,
-                           run.cw, run.chain[CHAIN_NODES].shape[0] > 0)  # fmt: skip
-    return status, rate
-
-
-@_jit
-def step_finish(run):
-    """``finish_summary`` of a ``StepRun``: the release event and the first payout limit."""
-    finish_summary(run.summary, run.loop.event, run.loop.held)

@@ -35,7 +35,8 @@ from ..sensing.noise import accelerometer_errors
 from ..sensing.schedules import group_samples
 from ..sensing.sensors import hover_error_std, measured_channels, tether_position_estimate
 from ..sim.mpc_setup import mpc_kalman
-from ..sim.setup import engine_setup, sensor_noise, sensor_schedule
+from ..sim.packing import sensor_noise, sensor_schedule
+from ..sim.setup import engine_setup
 
 __all__ = ["estimate_run", "kalman_consistency"]
 

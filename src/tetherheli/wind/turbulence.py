@@ -240,7 +240,7 @@ def initial_wind_force(wind: Disturbance) -> np.ndarray:
     """The force of the air on HO at rest at t = 0, shape (3,) [N]: the drag of the mean wind
     plus the gust at t = 0 of every ``Turbulence`` in ``wind`` (``Turbulence.initial_force``);
     zero for the force profiles (pulse, step, sine, constant), which a run meets as they
-    come. A run starts in the trim that balances it (``sim.setup.start_point``).
+    come. A run starts in the trim that balances it (``sim.start.start_point``).
 
     Parameters
     ----------

@@ -1,0 +1,98 @@
+"""The drawing of a Gymnasium environment's episode (``render_mode``): each step's row of the
+recorded episode (``episode_row``), the episode as the animation reads a saved run
+(``episode_data``), its frame (``draw_frame``, ``tetherheli animate``'s scene) and the
+"human" mode's Matplotlib window (``show_frame``, ``close_window``). Matplotlib and the
+animation load on first use.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from .sim.scenario import Scenario
+from .status import status_message
+from .wind import CompiledWind
+from .wind.evaluate import wind_force
+
+__all__ = ["close_window", "draw_frame", "episode_data", "episode_row", "show_frame"]
+
+
+def episode_row(
+    t: float, y: np.ndarray, x: np.ndarray, wind: CompiledWind, gust_dt: float, tension: float
+) -> np.ndarray:
+    """One sample of the rendered episode (14,): t, q1..q9 (outputs y[:3], then x[:6]), the
+    wind force on HO (``wind_force``, as ``simulate`` records it) and the tension."""
+    row = np.empty(14)
+    row[0] = t
+    row[1:4] = y[:3]
+    row[4:10] = x[:6]
+    force = np.zeros(3)
+    wind_force(
+        wind.program, wind.gust, gust_dt, wind.drag, t, 1, x[6], x[7], x[8], force
+    )  # fmt: skip
+    row[10:13] = force
+    row[13] = tension
+    return row
+
+
+def episode_data(
+    frames: Sequence[np.ndarray],
+    scenario: Scenario,
+    trim_position: np.ndarray,
+    status: int,
+    release_time: float,
+) -> Any:
+    """The recorded rows ``frames`` (``episode_row``'s) as a
+    :class:`tetherheli.viz.animation.RunData` (stem "episode"), with the trim position, the
+    scenario's helicopter and the episode's status (its message with ``release_time``)."""
+    from ._version import __version__
+    from .viz.animation import RunData
+
+    rows = np.array(frames)
+    return RunData(
+        stem="episode",
+        name=scenario.name,
+        configuration=scenario.configuration,  # type: ignore[arg-type]
+        time=rows[:, 0],
+        q=rows[:, 1:10],
+        wind=rows[:, 10:13],
+        tension=rows[:, 13],
+        trim_position=trim_position,
+        helicopter=scenario.params.helicopter,
+        status=status,
+        message=status_message(status, release_time),
+        version=__version__,
+    )
+
+
+def draw_frame(run: Any) -> np.ndarray:
+    """The animation's frame of ``run`` (``episode_data``'s) at its last sample."""
+    from .viz.animation import frame_rgb
+
+    return frame_rgb([run], float(run.time[-1]))
+
+
+def show_frame(window: Any, frame: np.ndarray, fps: float, title: str) -> tuple:
+    """Show ``frame`` in the "human" mode's Matplotlib window ``window`` ((figure, image), or
+    None: opened here, named ``title``), then pause 1 / fps; returns the window."""
+    import matplotlib.pyplot as plt
+
+    if window is None or not plt.fignum_exists(window[0].number):
+        fig = plt.figure(title, figsize=(10, 6))
+        ax = fig.add_axes((0.0, 0.0, 1.0, 1.0))
+        ax.set_axis_off()
+        window = (fig, ax.imshow(frame))
+    else:
+        window[1].set_data(frame)
+    plt.pause(1.0 / fps)
+    return window
+
+
+def close_window(window: tuple) -> None:
+    """Close the "human" mode's window (``show_frame``'s)."""
+    import matplotlib.pyplot as plt
+
+    plt.close(window[0])

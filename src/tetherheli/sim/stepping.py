@@ -1,0 +1,128 @@
+"""The engine's control sample driven from Python, around any ``Controller``.
+
+``simulate``'s Python path (the MPC, a user's ``Controller``, the adaptive reference)
+holds a ``StepRun`` (``sim.setup.EngineSetup.step_run``) and calls, per sample,
+``step_sense``, then the controller, then ``step_command`` (which advances the plant, or
+leaves that to the caller's own integrator), then at the end ``step_finish``: the compiled
+phases of ``sim.engine`` (``sample_sense``, ``sample_apply``, ``sample_record``,
+``sample_advance``), compiled once, with the controller's slot in Python.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from .._compile import compiled
+from ..layout import CFG_ATTACHED, CHAIN_NODES, LAW_X_REF, LAW_Y_REF, LoopState, Signals
+from ..model.kernels import angle_trig, tethered_outputs_sc
+from .engine import (
+    STATUS_NONFINITE,
+    STATUS_OK,
+    finish_summary,
+    sample_advance,
+    sample_apply,
+    sample_outputs,
+    sample_record,
+    sample_sense,
+)
+
+__all__ = ["StepRun", "step_command", "step_finish", "step_sense"]
+
+_jit = compiled(error_model="numpy")
+
+
+class StepRun(NamedTuple):
+    """One run's arrays for the sample step driven from Python (``step_sense``,
+    ``step_command``, ``step_finish``), built by
+    ``sim.setup.EngineSetup.step_run``; a named record, so each step function has one
+    compiled signature and reads its fields by name."""
+
+    x: np.ndarray  #: (13,) the true state, advanced in place
+    cfg: np.ndarray  #: ``layout.CFG_*``, a run's own copy (the release switches it)
+    ctrl: np.ndarray  #: ``layout.CTRL_*``, a run's own copy
+    c: np.ndarray  #: the model constants
+    law: tuple  #: ``layout.LAW_*`` (x_ref and y_ref are the metrics' references)
+    wind: tuple  #: (program, gust table, drag); an empty program for a Python disturbance
+    act: np.ndarray  #: ``layout.ACT_*``
+    sensors: tuple  #: ``sim.packing.sensor_tuple``
+    chain: tuple  #: ``layout.CHAIN_*`` (``layout.empty_chain()``: massless)
+    cw: tuple  #: the chain's scratch (``lumped_work``)
+    work: np.ndarray  #: (RK4_WORK_ROWS, 13) the integrator's scratch
+    loop: LoopState  #: the control phases' state (``new_loop_state``)
+    summary: np.ndarray  #: (len(SUMMARY_FIELDS),) the on-line metrics (``start_summary``)
+    out: Signals  #: the recorded signals
+
+
+@_jit
+def step_sense(run, k):
+    """``sample_sense`` of sample k of a ``StepRun``: the measured state lands in
+    ``run.loop.x_meas``; returns (true tension at P, measured tension) [N]."""
+    return sample_sense(
+        run.x, k, run.cfg, run.ctrl, run.act, run.sensors, run.sensors[0].shape[0] > 0,
+        run.loop.event, run.loop.x_meas, run.chain[CHAIN_NODES].shape[0] > 0, run.wind[1],
+        run.chain, run.cw,
+    )  # fmt: skip
+
+
+@_jit
+def step_command(run, k, command, reel_rate, feedforward, tension, measured, advance):
+    """The controller's slot filled from Python, then ``sample_apply`` and ``sample_record``
+    (always recording into ``run.out``) of sample k of a ``StepRun``, and with ``advance``
+    ``sample_advance`` to sample k + 1 (else the caller integrates: the adaptive reference,
+    a Python disturbance). ``command`` (4,) are the rotor inputs, ``reel_rate`` the reel-rate
+    command [m/s] (0 once the tether is released), ``feedforward`` (4,) the part of
+    ``command`` that is feed-forward (recorded); ``tension``, ``measured`` are
+    ``step_sense``'s. A non-finite command is not actuated and fails the sample
+    (``Status.NONFINITE``). Returns (status, applied reel rate [m/s])."""
+    loop = run.loop
+    held, x_meas, sc_meas, sc_true, y, y_est = (
+        loop.held,
+        loop.x_meas,
+        loop.sc_meas,
+        loop.sc_true,
+        loop.y,
+        loop.y_est,
+    )
+    inp, ffwd = loop.inputs, loop.ffwd
+    x, cfg, c = run.x, run.cfg, run.c
+    program, gust, drag = run.wind
+    sensed = run.sensors[0].shape[0] > 0
+    if cfg[CFG_ATTACHED] <= 0.5:
+        reel_rate = 0.0
+    finite = math.isfinite(reel_rate)
+    for i in range(4):
+        inp[i] = command[i]
+        ffwd[i] = feedforward[i]
+        finite = finite and math.isfinite(command[i])
+    angle_trig(x_meas, sc_meas)
+    tethered_outputs_sc(x_meas, sc_meas, c, y_est)
+    if finite:
+        status, rate = sample_apply(
+            x, k, cfg, run.act, c, held, inp, reel_rate, tension, measured, sensed, y, y_est,
+            sc_true, sc_meas, run.law[LAW_Y_REF],
+        )  # fmt: skip
+    else:
+        rate = reel_rate
+        status = sample_outputs(x, c, sensed, y, y_est, sc_true, sc_meas, run.law[LAW_Y_REF],
+                                tension, cfg)  # fmt: skip
+        if status == STATUS_OK:
+            status = STATUS_NONFINITE
+    if status == STATUS_OK:
+        sample_record(
+            k, cfg, run.act, run.summary, x, run.law[LAW_X_REF], y, run.law[LAW_Y_REF],
+            tension, rate, inp, ffwd, y_est, held, True, run.out, program, gust, drag,
+            run.work[5], run.chain[CHAIN_NODES],
+        )  # fmt: skip
+        if advance:
+            sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, run.work, run.chain,
+                           run.cw, run.chain[CHAIN_NODES].shape[0] > 0)  # fmt: skip
+    return status, rate
+
+
+@_jit
+def step_finish(run):
+    """``finish_summary`` of a ``StepRun``: the release event and the first payout limit."""
+    finish_summary(run.summary, run.loop.event, run.loop.held)
