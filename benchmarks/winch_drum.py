@@ -31,6 +31,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from tetherheli.analysis import reduction_percent
+from tetherheli.base.compiled import STILL_BASE
 from tetherheli.control.base import Measurement
 from tetherheli.layout import (
     CFG_K_C,
@@ -144,7 +145,7 @@ def _piece(z0, ta, tb, mid, sign, held, setup, winch, tol):
         side = 1 if tt < mid else -1
         engine.plant_derivative(
             z[:13], sc, inp, r * w, tt, side, cfg, c, wind.program, wind.gust, wind.drag,
-            force, dx,
+            STILL_BASE, force, dx,
         )  # fmt: skip
         if sign == 0.0:
             return np.append(dx, 0.0)

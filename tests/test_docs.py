@@ -52,6 +52,7 @@ def test_every_key_the_loader_accepts_is_documented():
         ("actuators", scenario_module.ActuatorSettings),
         ("tether", scenario_module.TetherSettings),
         ("winch", scenario_module.WinchSettings),
+        ("base", scenario_module.BaseSettings),
     ):
         # a nested table (a dataclass default) is documented by its own keys
         expected |= {
@@ -77,7 +78,8 @@ def test_every_key_the_loader_accepts_is_documented():
         assert f"`{preset}`" in page
 
 
-_TABLE_KEYS = {"control", "limits", "wind", "params", "actuators", "sensors", "tether", "winch"}
+_TABLE_KEYS = {"control", "limits", "wind", "params", "actuators", "sensors", "tether", "winch",
+               "base"}  # fmt: skip
 _ROW = re.compile(r"^\| `([^`]+)` \| [^|]*(?:\\\|[^|]*)* \| [^|]* \| `([^`]*)` \| (.*) \|$", re.M)
 _RANGE = re.compile(
     r"^an? (?:nonzero )?(?:finite number|number|integer)"

@@ -36,14 +36,14 @@ def _open_loop(EA: float, segments: int, coupling: int, duration: float, dt: flo
     setup = engine_setup(s)
     x, _, cfg, _, c, _, wind, _, _, chain = setup.engine_args(s.n_samples)
     cfg = cfg.copy()
-    program, gust, drag = wind
+    program, gust, drag, base = wind
     work = np.empty((engine.RK4_WORK_ROWS, 13))
     cw = lumped_step.lumped_work(segments)
     inp = setup.trim.u_total.copy()
     xs, nodes = [x.copy()], [chain[CHAIN_NODES].copy()]
     for k in range(s.n_samples):
         lumped_step.lumped_interval(
-            x, inp, 0.0, k * dt, cfg, c, program, gust, drag, work, chain, cw, coupling
+            x, inp, 0.0, k * dt, cfg, c, program, gust, drag, base, work, chain, cw, coupling
         )
         xs.append(x.copy())
         nodes.append(chain[CHAIN_NODES].copy())
@@ -216,7 +216,7 @@ def test_hover_balance_at_the_start():
     x, _, cfg, _, _, _, wind, _, _, chain = setup.engine_args(s.n_samples)
     cfg = cfg.copy()
     cw = lumped_step.lumped_work(20)
-    lumped_step.chain_ends(x, 0.0, cfg, wind[1], chain, cw)
+    lumped_step.chain_ends(x, 0.0, cfg, wind[1], wind[3], chain, cw)
     force_P = cw[6]
     free = TetheredHelicopter(s.params).trim(0.0, s.q9)
     h = s.params.helicopter
@@ -436,7 +436,7 @@ def _engine_energy_drift(EA: float, substeps: int = 2, segments: int = 10, durat
     setup = engine_setup(s)
     x, _, cfg, _, c, _, wind, _, _, chain = setup.engine_args(s.n_samples)
     cfg = cfg.copy()
-    program, gust, drag = wind
+    program, gust, drag, base = wind
     p = chain[CHAIN_PARAMS]
     p[3:5] = 0.0  # no normal and tangential drag (layout.LUMPED_CDN, LUMPED_CDT)
     work = np.empty((engine.RK4_WORK_ROWS, 13))
@@ -467,8 +467,8 @@ def _engine_energy_drift(EA: float, substeps: int = 2, segments: int = 10, durat
     e = [energy()]
     inp = np.zeros(4)
     for k in range(s.n_samples):
-        lumped_step.lumped_interval(x, inp, 0.0, k * 0.01, cfg, c, program, gust, drag, work, chain,
-                               cw, lumped_step.COUPLING_CONDENSED)  # fmt: skip
+        lumped_step.lumped_interval(x, inp, 0.0, k * 0.01, cfg, c, program, gust, drag, base,
+                                    work, chain, cw, lumped_step.COUPLING_CONDENSED)  # fmt: skip
         e.append(energy())
     e = np.array(e)
     assert np.all(np.isfinite(e))

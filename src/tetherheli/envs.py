@@ -88,6 +88,7 @@ from gymnasium import spaces
 
 from ._gym_registration import ENV_ID, MAX_EPISODE_STEPS, register_envs
 from ._validation import check_bool, check_number, check_vector
+from .base.compiled import STILL_BASE
 from .env_checks import (
     RENDER_MODES,
     RenderModeError,
@@ -529,7 +530,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self.wind_disturbance = wind
         self._wind = compiled
         self._wind_args = tuple(
-            read_only(a) for a in (compiled.program, compiled.gust, compiled.drag)
+            read_only(a) for a in (compiled.program, compiled.gust, compiled.drag, STILL_BASE)
         )
         self._law = (*self._law[:LAW_Z0], read_only(start.z))
         self._noise = noise

@@ -33,7 +33,7 @@ from ..layout import (
 )
 from .motion import BaseMotion, FixedBase
 
-__all__ = ["CompiledBase", "base_at", "base_state", "base_state_into", "compile_base"]
+__all__ = ["STILL_BASE", "CompiledBase", "base_at", "base_state", "base_state_into", "compile_base"]
 
 _jit = compiled(error_model="numpy")
 _jit_inline = compiled(error_model="numpy", inline="always")
@@ -166,3 +166,8 @@ def base_state(base: CompiledBase, times: np.ndarray) -> np.ndarray:
     out = np.empty((times.size, 9))
     base_states(base.packed, times, out)
     return out.reshape(times.size, 3, 3)
+
+
+#: the paper's still winch at the origin, packed (read-only): the base of every run without a
+#: ``[base]`` table, and of the loops that fly no base (the Gymnasium environments)
+STILL_BASE = compile_base(None).packed

@@ -35,7 +35,9 @@ __all__ = [
     "HarmonicBase",
     "SeaStateBase",
     "VelocityBase",
+    "base_motion_from",
     "jonswap",
+    "read_base_csv",
 ]
 
 #: The most rows a base motion file may hold (checked before reading it whole).
@@ -411,3 +413,28 @@ def read_base_csv(path: str | Path) -> FileBase:
             raise ParameterError(f"base.file row {i + 2}", line.strip(), "4 numbers t,n1,n2,n3",
                                  source=src) from None  # fmt: skip
     return FileBase(data[:, 0], data[:, 1:], source=src, row_offset=2)
+
+
+def base_motion_from(settings: object) -> BaseMotion:
+    """The motion a ``[base]`` table describes (``sim.scenario_tables.BaseSettings``, or any
+    object with its attributes): the keys of ``MOTION_KEYS[settings.motion]`` passed on; a
+    ``file`` read (``read_base_csv``).
+
+    Parameters
+    ----------
+    settings : BaseSettings
+        The table.
+
+    Returns
+    -------
+    BaseMotion
+    """
+    kind = BASE_KEYS["motion"].check("base.motion", settings.motion)
+    kw = {name: getattr(settings, name) for name in MOTION_KEYS[kind]}
+    if kind == "file":
+        if not kw["file"]:
+            raise ParameterError("base.file", kw["file"], "a CSV file t,n1,n2,n3 (motion file)")
+        return read_base_csv(kw["file"])
+    cls = {"fixed": FixedBase, "velocity": VelocityBase, "harmonic": HarmonicBase,
+           "sea_state": SeaStateBase}[kind]  # fmt: skip
+    return cls(**kw)

@@ -528,7 +528,8 @@ def run_batch(
     lanes : bool
         Advance the runs in blocks of ``layout.LANES`` (``lanes.run_lanes``, the default);
         False runs them one at a time (``engine.run_closed_loop``). Both give the same
-        numbers bit for bit. Runs with a lumped tether always run one at a time.
+        numbers bit for bit. Runs with a lumped tether or a moving base always run one at a
+        time.
     on_done : callable, optional
         Called with the number of runs just finished, as they finish (progress,
         ``tetherheli.progress``); the counts add up to ``len(scenarios)``.
@@ -633,8 +634,13 @@ def run_batch(
 
         order.sort(key=lambda i: (block_key(i), scenarios[i].n_samples))
         blocks: list[list[int]] = []
-        alone = [i for i in order if scenarios[i].tether.lumped]  # no lane engine for chains
-        for i in (i for i in order if not scenarios[i].tether.lumped):
+
+        # no lane engine for chains nor for a moving base: those runs go one at a time
+        def single(i: int) -> bool:
+            return scenarios[i].tether.lumped or not scenarios[i].base_motion.fixed
+
+        alone = [i for i in order if single(i)]
+        for i in (i for i in order if not single(i)):
             last = blocks[-1] if blocks else None
             same = last and block_key(last[0]) == block_key(i)
             if same and len(last) < LANES:

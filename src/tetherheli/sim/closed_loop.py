@@ -17,6 +17,7 @@ from typing import Literal
 import numpy as np
 
 from .._version import __version__
+from ..base.compiled import CompiledBase, base_state
 from ..control.base import Controller, Measurement
 from ..errors import ParameterError
 from ..layout import (
@@ -39,6 +40,7 @@ from ..status import FALLBACK_COLUMN, Status, solver_status
 from . import engine, stepping
 from .mpc_setup import mpc_controller
 from .result import DRUM_COLUMNS, TENSION_GROUND_COLUMN, SimulationResult, winch_limit_info
+from .result_files import BASE_POSITION_COLUMNS, BASE_VELOCITY_COLUMNS
 from .scenario import Scenario
 from .setup import engine_setup
 
@@ -161,6 +163,11 @@ def simulate(
             setup.paper_controller() if paper else mpc_controller(scenario, setup, design_params)
         )
     lumped = scenario.tether.lumped
+    if wind is None and setup.base.moving:
+        raise ParameterError(
+            "wind", type(scenario.wind).__name__, "a built-in wind over a moving base ([base]; "
+            "a Python disturbance would see the velocity relative to the base)"
+        )  # fmt: skip
     if lumped and not (method == "rk4" and wind is not None):
         raise ParameterError(
             "method", method, "'rk4' with built-in winds for a lumped tether ([tether] "
@@ -177,7 +184,8 @@ def simulate(
     # a run whose solver failed too often is degraded or failed (status.solver_status)
     status = solver_status(status, columns.get(FALLBACK_COLUMN, ())[:done])
     return rec.result(
-        done, status, scenario, trim, method, sensed=noise.shape[0] > 0, columns=columns
+        done, status, scenario, trim, method, sensed=noise.shape[0] > 0, columns=columns,
+        base=setup.base,
     )  # fmt: skip
 
 
@@ -200,6 +208,7 @@ class _Recorder:
         *,
         sensed: bool = False,
         columns: dict[str, np.ndarray] | None = None,
+        base: CompiledBase | None = None,
     ) -> SimulationResult:
         k = done
         sig = self.signals
@@ -215,6 +224,11 @@ class _Recorder:
         if scenario.winch.model == "drum":  # the drum's signals (``result.EXTRA_UNITS``)
             for i, name in enumerate(DRUM_COLUMNS):
                 extra[name] = sig.winch[:k, i].copy()
+        if base is not None and base.moving:  # the base's motion at the samples, from the
+            motion = base_state(base, np.arange(k) * scenario.control.dt)  # engine's form
+            for i in range(3):
+                extra[BASE_POSITION_COLUMNS[i]] = motion[:, 0, i].copy()
+                extra[BASE_VELOCITY_COLUMNS[i]] = motion[:, 1, i].copy()
         # views, not copies: the recorder is dropped here, so a long run is held once
         return SimulationResult(
             time=np.arange(k) * scenario.control.dt,
@@ -302,6 +316,7 @@ def _python_loop(scenario, setup, run, controller, method, *, rtol, atol):
     disturbance = scenario.wind if setup.wind is None else None  # a Python disturbance
     compiled_step = method == "rk4" and disturbance is None  # step_command integrates
     out_wind = run.out.wind
+    base = run.wind[3]
     breaks = setup.wind.breakpoints(n * dt) if setup.wind is not None else np.array([])
     four = np.zeros(4)
     sense = _entry_point(stepping.step_sense, run, 0)
@@ -328,20 +343,23 @@ def _python_loop(scenario, setup, run, controller, method, *, rtol, atol):
             break
         if method == "adaptive":
             x_next = _adaptive_interval(
-                x, applied, rate, t, dt, breaks, cfg, c, scenario.wind, setup.wind, rtol=rtol,
-                atol=atol,
+                x, applied, rate, t, dt, breaks, cfg, c, scenario.wind, setup.wind, base,
+                rtol=rtol, atol=atol,
             )  # fmt: skip
             if x_next is None:
                 status, done = Status.NONFINITE, k + 1
                 break
             x[:] = x_next
         elif not advance:
-            _rk4_custom_wind(x, applied, rate, t, dt, int(cfg[CFG_N_SUB]), cfg, c, disturbance)
+            _rk4_custom_wind(x, applied, rate, t, dt, int(cfg[CFG_N_SUB]), cfg, c, disturbance,
+                             base)  # fmt: skip
     stepping.step_finish(run)
     return status, done
 
 
-def _adaptive_interval(x, inp, rate, t, dt, breaks, cfg, c, disturbance, wind, *, rtol, atol):
+def _adaptive_interval(
+    x, inp, rate, t, dt, breaks, cfg, c, disturbance, wind, base, *, rtol, atol
+):  # fmt: skip
     """The adaptive reference integrator over one sample [t, t + dt]: DOP853 restarted at
     every wind discontinuity inside it; the new state, or None if the solver failed."""
     from scipy.integrate import solve_ivp  # only the adaptive mode needs it
@@ -356,7 +374,7 @@ def _adaptive_interval(x, inp, rate, t, dt, breaks, cfg, c, disturbance, wind, *
             sc = np.empty(10)
             angle_trig(xx, sc)  # libm at every evaluation: the accurate reference
             side = 1 if tt < mid else -1
-            _plant(xx, sc, inp, rate, tt, side, cfg, c, disturbance, wind, out)
+            _plant(xx, sc, inp, rate, tt, side, cfg, c, disturbance, wind, base, out)
             return out
 
         sol = solve_ivp(rhs, (a, b), x, method="DOP853", rtol=rtol, atol=atol)
@@ -366,11 +384,12 @@ def _adaptive_interval(x, inp, rate, t, dt, breaks, cfg, c, disturbance, wind, *
     return x
 
 
-def _plant(x, sc, inp, rate, t, side, cfg, c, disturbance, wind, out):
+def _plant(x, sc, inp, rate, t, side, cfg, c, disturbance, wind, base, out):
     if wind is not None:
         engine.plant_derivative(
-            x, sc, inp, rate, t, side, cfg, c, wind.program, wind.gust, wind.drag, np.empty(3), out
-        )
+            x, sc, inp, rate, t, side, cfg, c, wind.program, wind.gust, wind.drag, base,
+            np.empty(3), out,
+        )  # fmt: skip
         return
     # custom disturbance: evaluate in Python, then the compiled plant with a constant force;
     # at a step's end the left limit (the float just below t), as the engine does for its
@@ -379,11 +398,12 @@ def _plant(x, sc, inp, rate, t, side, cfg, c, disturbance, wind, out):
     force = np.asarray(disturbance.force_at(t_eval, x[6:9]), dtype=float)
     program = np.array([[WIND_CONSTANT, 0, 0, 1.0, 0, 0, *force]])
     engine.plant_derivative(
-        x, sc, inp, rate, t, side, cfg, c, program, np.zeros((0, 3)), np.zeros(3), np.empty(3), out
-    )
+        x, sc, inp, rate, t, side, cfg, c, program, np.zeros((0, 3)), np.zeros(3), base,
+        np.empty(3), out,
+    )  # fmt: skip
 
 
-def _rk4_custom_wind(x, inp, rate, t0, dt, n_sub, cfg, c, disturbance):
+def _rk4_custom_wind(x, inp, rate, t0, dt, n_sub, cfg, c, disturbance, base):
     """``engine.rk4_interval`` with a Python disturbance (same stages, same trigonometry)."""
     h = dt / n_sub
     k1, k2, k3, k4 = (np.empty(13) for _ in range(4))
@@ -391,12 +411,12 @@ def _rk4_custom_wind(x, inp, rate, t0, dt, n_sub, cfg, c, disturbance):
     angle_trig(x, sc0)
     for j in range(n_sub):
         ta = t0 + j * h
-        _plant(x, sc0, inp, rate, ta, 1, cfg, c, disturbance, None, k1)
+        _plant(x, sc0, inp, rate, ta, 1, cfg, c, disturbance, None, base, k1)
         for k_prev, k_next, a, t in ((k1, k2, 0.5, 0.5), (k2, k3, 0.5, 0.5), (k3, k4, 1.0, 1.0)):
             stage = x + a * h * k_prev
             angle_trig_from(stage, x, sc0, sc)
             side = -1 if k_next is k4 else 1
-            _plant(stage, sc, inp, rate, ta + t * h, side, cfg, c, disturbance, None, k_next)
+            _plant(stage, sc, inp, rate, ta + t * h, side, cfg, c, disturbance, None, base, k_next)
         start = x.copy()
         x += h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
         if j + 1 < n_sub:

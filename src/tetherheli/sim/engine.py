@@ -103,7 +103,7 @@ from ..model.kernels import (
 from ..sensing.sensors import measure_sampled
 from ..status import Status, release_sentence, status_message
 from ..tether.winch import drum_step
-from ..wind.evaluate import wind_force
+from ..wind.evaluate import air_force_on_base, base_frame_force
 from .lumped_step import (
     COUPLING_CONDENSED,
     _lumped_work,
@@ -157,10 +157,11 @@ ACTION_REPLACE = 2
 
 
 @_jit_inline
-def plant_derivative(x, sc, inp, reel_rate, t, side, cfg, c, program, gust, drag, wind, out):
+def plant_derivative(x, sc, inp, reel_rate, t, side, cfg, c, program, gust, drag, base, wind, out):
     """dx/dt (13,) of the tethered-coordinate plant; tension 0 when the tether is removed.
-    sc (10,): sin and cos of x[0..4] (``kernels.angle_trig``); wind (3,) receives the force."""
-    wind_force(program, gust, cfg[CFG_GUST_DT], drag, t, side, x[6], x[7], x[8], wind)
+    sc (10,): sin and cos of x[0..4] (``kernels.angle_trig``); wind (3,) receives the force
+    (over a moving ``base`` with the frame's inertial force: ``base_frame_force``)."""
+    base_frame_force(program, gust, cfg[CFG_GUST_DT], drag, base, t, side, x[6], x[7], x[8], wind)
     _plant_in_wind(x, sc, inp, reel_rate, cfg, c, wind, out)
 
 
@@ -194,7 +195,7 @@ def next_step_trig(x, start, sc0, sc, steps_done):
 
 
 @_jit
-def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work, trig_given):
+def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, work, trig_given):
     """Advance x in place over one control sample [t0, t0 + dt] with n_sub RK4 steps.
 
     ``work`` (RK4_WORK_ROWS, 13) is scratch. sin and cos of the angles come from libm at the
@@ -203,6 +204,8 @@ def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work, trig_
     stages, the next step's start) by the angle-addition formulas
     (``kernels.angle_trig_from``), which agree with libm to a few units in the last place.
     Without a gust table the wind depends on t only, so the two mid-step stages share it.
+    Over a moving ``base`` (``base.compiled``) x is relative to it and the force is
+    ``base_frame_force``'s.
     """
     n_sub = int(cfg[CFG_N_SUB])
     h = cfg[CFG_DT] / n_sub
@@ -217,23 +220,23 @@ def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work, trig_
         ta = t0 + j * h
         tb = t0 + (j + 1) * h
         tm = ta + 0.5 * h
-        wind_force(program, gust, gdt, drag, ta, 1, x[6], x[7], x[8], wind)
+        base_frame_force(program, gust, gdt, drag, base, ta, 1, x[6], x[7], x[8], wind)
         _plant_in_wind(x, sc0, inp, reel_rate, cfg, c, wind, k1)
         for i in range(n):
             tmp[i] = x[i] + 0.5 * h * k1[i]
         angle_trig_from(tmp, x, sc0, sc)
-        wind_force(program, gust, gdt, drag, tm, 1, tmp[6], tmp[7], tmp[8], wind)
+        base_frame_force(program, gust, gdt, drag, base, tm, 1, tmp[6], tmp[7], tmp[8], wind)
         _plant_in_wind(tmp, sc, inp, reel_rate, cfg, c, wind, k2)
         for i in range(n):
             tmp[i] = x[i] + 0.5 * h * k2[i]
         angle_trig_from(tmp, x, sc0, sc)
         if gusty:  # the drag depends on the stage's velocity
-            wind_force(program, gust, gdt, drag, tm, 1, tmp[6], tmp[7], tmp[8], wind)
+            base_frame_force(program, gust, gdt, drag, base, tm, 1, tmp[6], tmp[7], tmp[8], wind)
         _plant_in_wind(tmp, sc, inp, reel_rate, cfg, c, wind, k3)
         for i in range(n):
             tmp[i] = x[i] + h * k3[i]
         angle_trig_from(tmp, x, sc0, sc)
-        wind_force(program, gust, gdt, drag, tb, -1, tmp[6], tmp[7], tmp[8], wind)
+        base_frame_force(program, gust, gdt, drag, base, tb, -1, tmp[6], tmp[7], tmp[8], wind)
         _plant_in_wind(tmp, sc, inp, reel_rate, cfg, c, wind, k4)
         for i in range(n):
             tmp[i] = x[i]  # the step's start, for the next step's trigonometry
@@ -527,12 +530,14 @@ def _paper_sample(
 
 
 @_jit_inline
-def sample_sense(x, k, cfg, ctrl, act, sensors, sensed, event, x_meas, lumped, gust, chain, cw):
+def sample_sense(
+    x, k, cfg, ctrl, act, sensors, sensed, event, x_meas, lumped, gust, base, chain, cw
+):  # fmt: skip
     """Phase 1 at t = k dt: a lumped chain's end tensions (``chain_ends``, while attached),
     then ``sense``. Returns (true tension at P, measured tension) [N]."""
     t = k * cfg[CFG_DT]
     if lumped and cfg[CFG_ATTACHED] > 0.5:
-        chain_ends(x, t, cfg, gust, chain, cw)
+        chain_ends(x, t, cfg, gust, base, chain, cw)
     return _sense(x, k, t, cfg, ctrl, act, sensors, sensed, event, x_meas)
 
 
@@ -592,7 +597,7 @@ def sample_apply(
 @_jit_inline
 def sample_record(
     k, cfg, act, summary, x, x_ref, y, y_ref, tension, rate, inp, ffwd, y_est, held, record,
-    out, program, gust, drag, scratch, nodes,
+    out, program, gust, drag, base, scratch, nodes,
 ):  # fmt: skip
     """Phase 4: the on-line metrics of the samples k >= cfg[CFG_METRICS_FROM] into
     ``summary`` (``accumulate``), and with ``record`` the sample's row of ``out``
@@ -601,8 +606,8 @@ def sample_record(
         accumulate(summary, x, x_ref, y, y_ref, tension)
     if not record:
         return
-    wind_force(program, gust, cfg[CFG_GUST_DT], drag, k * cfg[CFG_DT], 1, x[6], x[7], x[8],
-               scratch)  # fmt: skip
+    air_force_on_base(program, gust, cfg[CFG_GUST_DT], drag, base, k * cfg[CFG_DT], 1, x[6],
+                      x[7], x[8], scratch)  # fmt: skip
     out.x[k] = x
     out.u[k] = inp
     out.ffwd[k] = ffwd
@@ -620,16 +625,16 @@ def sample_record(
 
 
 @_jit_inline
-def sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, work, chain, cw, lumped):
+def sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, base, work, chain, cw, lumped):
     """Phase 5, the fixed-step integrator over [k dt, (k + 1) dt]: a lumped chain's coupled
     step while attached (``lumped_interval``), else ``rk4_interval`` (sin, cos of x's angles
     already in work[6], ``sample_outputs``'s sc_true)."""
     t = k * cfg[CFG_DT]
     if lumped and cfg[CFG_ATTACHED] > 0.5:
-        lumped_interval(x, inp, rate, t, cfg, c, program, gust, drag, work, chain, cw,
+        lumped_interval(x, inp, rate, t, cfg, c, program, gust, drag, base, work, chain, cw,
                         plain(COUPLING_CONDENSED))  # fmt: skip
     else:
-        rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, work, plain(True))
+        rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, base, work, plain(True))
 
 
 @_jit_inline
@@ -680,7 +685,7 @@ def run_closed_loop(
     ``layout.CHAIN_*``, nodes present) the chain's ends are set before the sample and
     ``lumped_interval`` advances helicopter and chain (``layout.empty_chain()``: the massless
     tether of eq 28). ``law`` is (gain, x_ref, y_ref, u0, u0_free, z0) (``layout.LAW_*``),
-    ``wind`` (program, gust table, drag), ``sensors`` (``sim.packing.sensor_tuple``). With
+    ``wind`` (program, gust table, drag, base), ``sensors`` (``sim.packing.sensor_tuple``). With
     ``record`` the arrays of ``out`` (``layout.Signals``: x, u, ffwd, rate, tension, wind, y,
     y_est, tension_ground, nodes, winch), n_samples + 1 rows each, receive the sampled
     signals: true state, applied inputs (with feed-forward), feed-forward, reel rate, true
@@ -744,7 +749,7 @@ def closed_loop(
     c, act, summary, sensors, chain, out, cw = borrowed(
         (c, act, summary, sensors, chain, out, own_cw)
     )
-    program, gust, drag = borrowed(wind)
+    program, gust, drag, base = borrowed(wind)
     # the tuples' arrays taken out once, before the loop (see ``_paper_sample``)
     gain, x_ref, y_ref, u0_tethered, u0_free, _z0 = borrowed(law)
     z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd = borrowed(own_loop)
@@ -754,7 +759,7 @@ def closed_loop(
     nodes = chain[CHAIN_NODES]
     for k in range(n_samples + 1):
         tension, measured = sample_sense(
-            x, k, cfg, ctrl, act, sensors, sensed, event, x_meas, lumped, gust, chain, cw
+            x, k, cfg, ctrl, act, sensors, sensed, event, x_meas, lumped, gust, base, chain, cw
         )
         rate = paper_law(
             x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered, u0_free,
@@ -769,11 +774,12 @@ def closed_loop(
             break
         sample_record(
             k, cfg, act, summary, x, x_ref, y, y_ref, tension, rate, inp, ffwd, y_est, held,
-            record, out, program, gust, drag, work[5], nodes,
+            record, out, program, gust, drag, base, work[5], nodes,
         )  # fmt: skip
         if k == n_samples:
             break
-        sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, work, chain, cw, lumped)
+        sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, base, work, chain, cw,
+                       lumped)  # fmt: skip
     finish_summary(summary, event, held)
     keep_alive((own_cfg, own_ctrl, own_x, own_work, own_loop, own_no_action, own_cw))
     return status, done

@@ -448,7 +448,7 @@ def lane_block(setups: Sequence[EngineSetup], n_samples: Sequence[int]) -> tuple
     if any(s.chain[0].shape[0] > 0 for s in setups):
         raise ValueError("lane_block: lumped tethers run alone (engine.run_closed_loop)")
     x_init, _, cfg, ctrl, c, law, wind, act, sensors, _ = zip(*runs, strict=True)
-    program, gust, drag = zip(*wind, strict=True)
+    program, gust, drag, _base = zip(*wind, strict=True)  # the lanes fly a still base
     n_rows = max(p.shape[0] for p in program)
     programs = np.empty((n_rows, WIND_COLUMNS, LANES))
     for j, p in enumerate(program):

@@ -10,7 +10,9 @@ import math
 import numpy as np
 
 from .._compile import compiled, plain
+from ..base.compiled import base_at
 from ..layout import (
+    BASE_MOVING,
     CFG_ARM,
     CFG_ATTACHED,
     CFG_DT,
@@ -22,6 +24,7 @@ from ..layout import (
     CHAIN_PARAMS,
     CHAIN_VELOCITIES,
     CHAIN_WORK,
+    LUMPED_BASE_ACC,
     LUMPED_MU,
 )
 from ..model.kernels import (
@@ -30,7 +33,7 @@ from ..model.kernels import (
     tethered_rhs_sc,
 )
 from ..tether.lumped import chain_forces, chain_interval, coupling_substeps
-from ..wind.evaluate import gust_velocity, wind_force
+from ..wind.evaluate import base_frame_force, gust_velocity
 
 _jit = compiled(error_model="numpy")
 _jit_inline = compiled(error_model="numpy", inline="always")
@@ -144,13 +147,30 @@ def _node_air(gust, gust_dt, t, air):
         air[i, 2] = g3
 
 
+@_jit_inline
+def chain_in_base_frame(base, t, air, p):
+    """Over a moving base, the chain's air at time t relative to the base (air - b'(t)) and
+    the base's acceleration b''(t) into p[LUMPED_BASE_ACC] (``tether.lumped``: the chain in
+    the base's translating frame); a still base leaves both alone."""
+    if base[0, BASE_MOVING] > 0.5:
+        _, _, _, v1, v2, v3, a1, a2, a3 = base_at(base, t)
+        for i in range(air.shape[0]):
+            air[i, 0] -= v1
+            air[i, 1] -= v2
+            air[i, 2] -= v3
+        p[LUMPED_BASE_ACC] = a1
+        p[LUMPED_BASE_ACC + 1] = a2
+        p[LUMPED_BASE_ACC + 2] = a3
+
+
 @_jit
-def chain_ends(x, t, cfg, gust, chain, cw):
+def chain_ends(x, t, cfg, gust, base, chain, cw):
     """The chain's top node put on P (``p_motion``), its forces at t in the gust table's air
     (``tether_lumped.chain_forces``, with the Jacobian blocks), and the ends' tensions into
     cfg: CFG_TENSION_TOP = |force on P|, CFG_TENSION_GROUND = |force on the winch| (each end
     force includes half an end segment's weight and drag, so the two differ by the cable's
-    weight in a still hang). cw = ``lumped_work(N)``; cw[6] receives the force on P [N]."""
+    weight in a still hang). cw = ``lumped_work(N)``; cw[6] receives the force on P [N].
+    Over a moving ``base`` the chain is in the base's frame at t (``chain_in_base_frame``)."""
     nodes, vel, p = chain[CHAIN_NODES], chain[CHAIN_VELOCITIES], chain[CHAIN_PARAMS]
     F, T, K, C, D, air, force_P = cw[0], cw[1], cw[2], cw[3], cw[4], cw[5], cw[6]
     pm = cw[9]
@@ -162,6 +182,7 @@ def chain_ends(x, t, cfg, gust, chain, cw):
         nodes[n, j] = pm[j]
         vel[n, j] = pm[3 + j]
     _node_air(gust, cfg[CFG_GUST_DT], t, air)
+    chain_in_base_frame(base, t, air, p)
     chain_forces(nodes, vel, air, x[12], p, F, T, K, C, D, plain(True))
     for j in range(3):
         force_P[j] = F[n, j]
@@ -170,7 +191,9 @@ def chain_ends(x, t, cfg, gust, chain, cw):
 
 
 @_jit_inline
-def _lumped_stage(xs, sc, inp, reel_rate, t, tau, side, cfg, c, program, gust, drag, cw, out):
+def _lumped_stage(
+    xs, sc, inp, reel_rate, t, tau, side, cfg, c, program, gust, drag, base, cw, out
+):  # fmt: skip
     """dx/dt (13,) of the helicopter at a stage state xs (sin, cos sc) at t, tau [s] into
     the step, pulled at P by the chain: the step-start force cw[6] minus (condensed coupling)
     the top segment's stiffness cw[13] times its stretch since the step's start (P's motion
@@ -179,7 +202,8 @@ def _lumped_stage(xs, sc, inp, reel_rate, t, tau, side, cfg, c, program, gust, d
     times P's change of velocity (cw[12]: P at the step's start)."""
     force_P, inp2, wind2, pm, fp, wind = cw[6], cw[7], cw[8], cw[9], cw[10], cw[11]
     pm0, kc, cc, v_top, a_top = cw[12], cw[13], cw[14], cw[15], cw[16]
-    wind_force(program, gust, cfg[CFG_GUST_DT], drag, t, side, xs[6], xs[7], xs[8], wind)
+    base_frame_force(program, gust, cfg[CFG_GUST_DT], drag, base, t, side, xs[6], xs[7], xs[8],
+                     wind)  # fmt: skip
     p_motion(xs, sc, cfg[CFG_ARM], pm)
     for a in range(3):
         fp[a] = force_P[a]
@@ -192,7 +216,7 @@ def _lumped_stage(xs, sc, inp, reel_rate, t, tau, side, cfg, c, program, gust, d
 
 
 @_jit
-def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work, chain, cw,
+def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, work, chain, cw,
                     coupling):  # fmt: skip
     """Advance the helicopter x and its lumped chain over one control sample [t0, t0 + dt]:
     per substep h = dt / n_sub (n_sub the scenario's substeps, or more by the coupled step's
@@ -224,8 +248,9 @@ def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work, ch
     ----------
     x : ndarray, shape (13,)
         The helicopter's state, x[12] the unstretched length L0 [m]; advanced in place.
-    inp, reel_rate, t0, cfg, c, program, gust, drag, work
-        As ``rk4_interval``'s.
+    inp, reel_rate, t0, cfg, c, program, gust, drag, base, work
+        As ``rk4_interval``'s (over a moving base the chain's step takes the air relative to
+        the base and b'' at the step's middle).
     chain : tuple
         ``layout.CHAIN_*``: the chain, advanced in place.
     cw : tuple
@@ -256,7 +281,7 @@ def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work, ch
         tb = t0 + (j + 1) * h
         tm = ta + 0.5 * h
         L0 = x[12]
-        chain_ends(x, ta, cfg, gust, chain, cw)  # also puts nodes[n] on P(x)
+        chain_ends(x, ta, cfg, gust, base, chain, cw)  # also puts nodes[n] on P(x)
         v_top, a_top = cw[15], cw[16]
         m_node = p[LUMPED_MU] * L0 / n
         for a in range(3):
@@ -272,21 +297,26 @@ def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, work, ch
                     kc[3 * a + b] = 0.0
                     cc[3 * a + b] = 0.0
         angle_trig(x, sc0)
-        _lumped_stage(x, sc0, inp, rate, ta, 0.0, 1, cfg, c, program, gust, drag, cw, k1)
+        _lumped_stage(x, sc0, inp, rate, ta, 0.0, 1, cfg, c, program, gust, drag, base, cw, k1)
         for i in range(13):
             tmp[i] = x[i] + 0.5 * h * k1[i]
         angle_trig_from(tmp, x, sc0, sc)
-        _lumped_stage(tmp, sc, inp, rate, tm, 0.5 * h, 1, cfg, c, program, gust, drag, cw, k2)
+        _lumped_stage(tmp, sc, inp, rate, tm, 0.5 * h, 1, cfg, c, program, gust, drag, base, cw,
+                      k2)  # fmt: skip
         for i in range(13):
             tmp[i] = x[i] + 0.5 * h * k2[i]
         angle_trig_from(tmp, x, sc0, sc)
-        _lumped_stage(tmp, sc, inp, rate, tm, 0.5 * h, 1, cfg, c, program, gust, drag, cw, k3)
+        _lumped_stage(tmp, sc, inp, rate, tm, 0.5 * h, 1, cfg, c, program, gust, drag, base, cw,
+                      k3)  # fmt: skip
         for i in range(13):
             tmp[i] = x[i] + h * k3[i]
         angle_trig_from(tmp, x, sc0, sc)
-        _lumped_stage(tmp, sc, inp, rate, tb, h, -1, cfg, c, program, gust, drag, cw, k4)
+        _lumped_stage(tmp, sc, inp, rate, tb, h, -1, cfg, c, program, gust, drag, base, cw, k4)
         for i in range(13):
             x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         angle_trig(x, sc0)
         p_motion(x, sc0, cfg[CFG_ARM], pm)
+        if base[0, BASE_MOVING] > 0.5:  # the chain's step in the base's frame at mid-step
+            _node_air(gust, cfg[CFG_GUST_DT], ta, air)
+            chain_in_base_frame(base, tm, air, p)
         chain_interval(nodes, vel, air, L0, p, h, pm[:3], pm[3:], rwork)

@@ -31,6 +31,7 @@ from ..wind import loader as wind_loader
 from .scenario import (
     _TOP_KEYS,
     ActuatorSettings,
+    BaseSettings,
     ControlSettings,
     Limits,
     MPCSettings,
@@ -50,6 +51,7 @@ _TABLES = {
     "actuators": ActuatorSettings,
     "tether": TetherSettings,
     "winch": WinchSettings,
+    "base": BaseSettings,
 }
 _PARAM_SECTIONS = {
     "helicopter": HelicopterParams,
@@ -240,7 +242,8 @@ def scenario_reference() -> str:
         *_HEADER,
         *_key_rows("", Scenario, scenario),
         "",
-        "The tables `[control]`, `[limits]`, `[actuators]`, `[tether]`, `[winch]`, `[sensors]`,"
+        "The tables `[control]`, `[limits]`, `[actuators]`, `[tether]`, `[winch]`, `[base]`, "
+        "`[sensors]`,"
         " `[params.*]`",
         "and the array `[[wind]]` follow.",
     ]

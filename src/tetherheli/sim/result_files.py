@@ -28,6 +28,8 @@ from ..names import (
 from ..status import Status
 
 __all__ = [
+    "BASE_POSITION_COLUMNS",
+    "BASE_VELOCITY_COLUMNS",
     "DRUM_COLUMNS",
     "EXTRA_UNITS",
     "RESULT_COLUMNS",
@@ -80,7 +82,17 @@ RESULT_UNITS[TENSION_GROUND_COLUMN] = "N"
 #: The drum winch's extra columns (``[winch] model = "drum"``): the drum's speed at each sample
 #: and the motor torque averaged over the sample that follows it, with their units.
 DRUM_COLUMNS: tuple[str, ...] = ("drum_speed", "motor_torque")
-EXTRA_UNITS: dict[str, str] = {"drum_speed": "rad/s", "motor_torque": "N m"}
+#: A moving base's extra columns ([base], issue 26): the winch point's position and velocity
+#: in N at each sample; over a moving base the states and outputs are relative to it, so HO in
+#: N is (q1, q2, q3) + (base_n1, base_n2, base_n3).
+BASE_POSITION_COLUMNS: tuple[str, ...] = ("base_n1", "base_n2", "base_n3")
+BASE_VELOCITY_COLUMNS: tuple[str, ...] = ("base_v1", "base_v2", "base_v3")
+EXTRA_UNITS: dict[str, str] = {
+    "drum_speed": "rad/s",
+    "motor_torque": "N m",
+    **dict.fromkeys(BASE_POSITION_COLUMNS, "m"),
+    **dict.fromkeys(BASE_VELOCITY_COLUMNS, "m/s"),
+}
 #: What each column means (docs/notation.md), written with its unit into a Parquet file's
 #: Arrow field metadata (``SimulationResult.to_parquet``); an estimate ``<name>_est`` is
 #: "estimate of" its signal's description.
@@ -116,6 +128,8 @@ RESULT_DESCRIPTIONS: dict[str, str] = {
     TENSION_GROUND_COLUMN: "tether tension at the winch (the load cell)",
     "drum_speed": "drum speed of the winch",
     "motor_torque": "winch motor torque, averaged over the following sample",
+    **{f"base_n{i}": f"position of the winch's base in N, axis n{i}" for i in (1, 2, 3)},
+    **{f"base_v{i}": f"velocity of the winch's base in N, axis n{i}" for i in (1, 2, 3)},
 }
 #: File formats of a saved run's time series (``SimulationResult.save``): ``<stem>.csv`` (the
 #: default, text) or ``<stem>.parquet`` (Apache Parquet through pandas + pyarrow, the

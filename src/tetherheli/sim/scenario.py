@@ -23,6 +23,9 @@ A scenario file::
     horizon = 10                      # samples
     [winch]                           # the ground winch (WinchSettings)
     model = "ideal"                   # or "drum": drum inertia, speed loop, torque limit
+    [base]                            # the winch's base (BaseSettings); default still
+    motion = "sea_state"              # fixed, velocity, harmonic, sea_state or file
+    significant_wave_height = 1.0     # [m]
     [limits]
     max_tension = 500.0               # [N]
     max_deviation = 100.0             # [m]
@@ -47,6 +50,7 @@ from typing import Any, Literal
 
 from .._io import OWN_FILE_STEMS, read_toml
 from .._validation import Key
+from ..base.motion import BaseMotion
 from ..errors import ParameterError
 from ..params import TETHER_LENGTH_RANGE, Params, check_tether_length
 from ..sensing.config import SensorConfig, sensor_config_from_dict
@@ -61,6 +65,7 @@ from .scenario_tables import (
     TETHER_MODELS,
     WINCH_MODELS,
     ActuatorSettings,
+    BaseSettings,
     ControlSettings,
     Limits,
     MPCSettings,
@@ -81,6 +86,7 @@ __all__ = [
     "TETHER_MODELS",
     "WINCH_MODELS",
     "ActuatorSettings",
+    "BaseSettings",
     "ControlSettings",
     "Limits",
     "MPCSettings",
@@ -142,6 +148,9 @@ class Scenario:
         The tether model (default: the paper's massless elastic tether).
     winch : WinchSettings, optional
         The ground winch (default: the paper's ideal winch).
+    base : BaseSettings, optional
+        The winch's base (default: still at the origin of N, the paper's); ``base_motion``
+        is its motion.
     """
 
     name: str = _key(
@@ -187,9 +196,34 @@ class Scenario:
             "time excluded; 0: the whole run)", "s", low=0.0, note="below duration"),
     )  # fmt: skip
     winch: WinchSettings = field(default_factory=WinchSettings)
+    base: BaseSettings = field(default_factory=BaseSettings)
 
     def __post_init__(self) -> None:
         validate_scenario(self, source=None)
+
+    @property
+    def base_motion(self) -> BaseMotion:
+        """The base's motion b(t) (``tetherheli.base``), built and checked with the scenario
+        (a ``file`` read then).
+
+        Returns
+        -------
+        BaseMotion
+        """
+        return self.__dict__["_base_motion"]
+
+    @property
+    def reference(self) -> str:
+        """What the controller holds: ``control.reference``, or when unset 'ground' over a
+        still base and 'base' over a moving one.
+
+        Returns
+        -------
+        str
+        """
+        if self.control.reference is not None:
+            return self.control.reference
+        return "ground" if self.base_motion.fixed else "base"
 
     @property
     def n_samples(self) -> int:
@@ -239,6 +273,7 @@ class Scenario:
             "seed": self.seed,
             "metrics_start": self.metrics_start,
             "winch": dataclasses.asdict(self.winch),
+            "base": dataclasses.asdict(self.base),
         }
 
     def to_toml(self) -> str:
@@ -327,6 +362,7 @@ _TOP_KEYS = {
     "seed",
     "metrics_start",
     "winch",
+    "base",
 }
 
 
@@ -435,6 +471,12 @@ def _scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> S
         kwargs["actuators"] = ActuatorSettings(**act)
     if "winch" in data:
         kwargs["winch"] = WinchSettings(**_table(source, "winch", data["winch"], WinchSettings))
+    if "base" in data:
+        table = _vectors(source, "base", data["base"], BaseSettings)
+        if isinstance(table.get("file"), str) and table["file"] and source is not None:
+            # a track file named relative to the scenario file's folder
+            table["file"] = str(Path(source).parent / table["file"])
+        kwargs["base"] = BaseSettings(**table)
     if "sensors" in data:
         if not isinstance(data["sensors"], dict):
             raise ParameterError("sensors", data["sensors"], "a table", source=source)

@@ -15,12 +15,14 @@ from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
 
 from .._io import OWN_FILE_STEMS
+from ..base.motion import MOTION_KEYS, FileBase, base_motion_from
 from ..errors import ParameterError
 from ..params import Params, check_tether_length, check_tether_strain
 from ..sensing.config import SensorConfig
 from ..wind import Disturbance, check_wind_covers
 from .scenario_tables import (
     ActuatorSettings,
+    BaseSettings,
     ControlSettings,
     Limits,
     MPCSettings,
@@ -227,6 +229,53 @@ def validate_scenario(s: Scenario, source: str | None) -> None:
     if not isinstance(s.wind, Disturbance):
         raise ParameterError("wind", s.wind, "a tetherheli Disturbance", source=source)
     check_wind_covers(s.wind, s.duration, source=source)
+    _check_base(s, source)
+
+
+def _check_base(s: Scenario, source: str | None) -> None:
+    """The ``[base]`` table: its keys, only the motion's own set (``MOTION_KEYS``), the
+    motion built (a file read and checked, covering the run), and ``control.reference``."""
+    if not isinstance(s.base, BaseSettings):
+        raise ParameterError("base", s.base, "a BaseSettings", source=source)
+    base = _checked(BaseSettings, "base", s.base, source)
+    defaults = BaseSettings()
+    used = MOTION_KEYS[base.motion]
+    for f in dataclasses.fields(BaseSettings):
+        if (
+            f.name != "motion"
+            and f.name not in used
+            and getattr(base, f.name) != getattr(defaults, f.name)
+        ):
+            readers = [m for m, keys in MOTION_KEYS.items() if f.name in keys]
+            raise ParameterError(
+                f"base.{f.name}", getattr(s.base, f.name),
+                f"unset with motion = {base.motion!r} (used by motion = "
+                f"{' or '.join(map(repr, readers))})", source=source,
+            )  # fmt: skip
+    try:
+        motion = base_motion_from(base)
+    except ParameterError as exc:
+        raise ParameterError(
+            exc.field, exc.value, exc.allowed, source=exc.source or source
+        ) from None
+    if isinstance(motion, FileBase) and motion.end < s.duration:
+        raise ParameterError(
+            "base.file", f"a track ending at t = {motion.end:g} s",
+            f"a track covering the run (duration = {s.duration:g} s)", source=source,
+        )  # fmt: skip
+    _set(s, "base", base)
+    object.__setattr__(s, "_base_motion", motion)
+    reference = s.control.reference
+    if reference == "base" and motion.fixed:
+        raise ParameterError(
+            "control.reference", reference, "'ground' or unset with a still base ([base] "
+            "motion = 'fixed': a point of N and of the base are the same)", source=source,
+        )  # fmt: skip
+    if reference == "ground" and not motion.fixed:
+        raise ParameterError(
+            "control.reference", reference, "'base' or unset over a moving base (holding a "
+            "point of N over a moving winch is not implemented yet)", source=source,
+        )  # fmt: skip
 
 
 def _set(s: Scenario, name: str, value: Any) -> None:

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from .._validation import Key
+from ..base.motion import BASE_KEYS
 from ..control import lqi
 from ..layout import (
     GROUND_DAMPING_PA_S_M,
@@ -29,9 +30,11 @@ __all__ = [
     "CONTROLLERS",
     "MPC_OBSERVERS",
     "MPC_QY_GNSS",
+    "REFERENCES",
     "TETHER_MODELS",
     "WINCH_MODELS",
     "ActuatorSettings",
+    "BaseSettings",
     "ControlSettings",
     "Limits",
     "MPCSettings",
@@ -269,13 +272,19 @@ MPC_QY_GNSS: tuple[float, ...] = tuple(
 )
 
 
+#: What a controller holds over a moving base (``[control] reference``): a point fixed in N,
+#: or a point fixed to the base (the controllers then fly on the position and velocity
+#: relative to the base)
+REFERENCES: tuple[str, ...] = ("ground", "base")
+
+
 @dataclass(frozen=True)
 class ControlSettings:
     """Controller and integrator settings (Sec. V).
 
     Parameters
     ----------
-    dt, substeps, feedforward, Qy, Ru, controller, tether_lqi, mpc
+    dt, substeps, feedforward, Qy, Ru, controller, tether_lqi, mpc, reference
         The keys of a scenario's ``[control]`` table: ``controller`` one of ``CONTROLLERS``;
         Qy, Ru and feedforward are the paper controller's, ``tether_lqi`` the tethered LQI's
         and ``mpc`` the MPC's (both fly without the feed-forward: their plant model contains
@@ -313,6 +322,13 @@ class ControlSettings:
     )  # fmt: skip
     tether_lqi: TetherLQISettings = field(default_factory=TetherLQISettings)
     mpc: MPCSettings = field(default_factory=MPCSettings)
+    reference: str | None = _key(
+        None,
+        Key("what the controller holds over a moving base ([base]): a point of N ('ground') "
+            "or a point fixed to the base ('base': the controllers fly on the position and "
+            "velocity relative to the base)", kind="text", choices=REFERENCES,
+            unset="'ground' over a still base, 'base' over a moving one"),
+    )  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -573,3 +589,35 @@ class WinchSettings:
             "stops the reel there; the run records it); inf: no limit", "m", low=0.0,
             low_open=True, finite=False),
     )  # fmt: skip
+
+
+@dataclass(frozen=True)
+class BaseSettings:
+    """The winch's base (``[base]``, issue 26): still at the origin of N (the paper's winch,
+    the default), or moving (``tetherheli.base``). Over a moving base the engine flies the
+    helicopter and the tether in the base's translating frame and the results record the
+    base's motion (``base_n1..3``, ``base_v1..3``).
+
+    Parameters
+    ----------
+    motion, position, velocity, amplitude, frequency, phase, significant_wave_height,
+    peak_period, peak_enhancement, seed, sway_scale, surge_scale, components, file
+        The keys of a scenario's ``[base]`` table, described once in
+        ``tetherheli.base.motion.BASE_KEYS``; ``MOTION_KEYS`` says which keys each motion
+        reads (the others keep their defaults).
+    """
+
+    motion: str = _key("fixed", BASE_KEYS["motion"])
+    position: tuple[float, ...] = _key((0.0, 0.0, 0.0), BASE_KEYS["position"])
+    velocity: tuple[float, ...] = _key((0.0, 0.0, 0.0), BASE_KEYS["velocity"])
+    amplitude: tuple[float, ...] = _key((0.0, 0.0, 0.0), BASE_KEYS["amplitude"])
+    frequency: tuple[float, ...] = _key((0.0, 0.0, 0.0), BASE_KEYS["frequency"])
+    phase: tuple[float, ...] = _key((0.0, 0.0, 0.0), BASE_KEYS["phase"])
+    significant_wave_height: float = _key(1.0, BASE_KEYS["significant_wave_height"])
+    peak_period: float = _key(8.0, BASE_KEYS["peak_period"])
+    peak_enhancement: float = _key(3.3, BASE_KEYS["peak_enhancement"])
+    seed: int = _key(0, BASE_KEYS["seed"])
+    sway_scale: float = _key(0.0, BASE_KEYS["sway_scale"])
+    surge_scale: float = _key(0.0, BASE_KEYS["surge_scale"])
+    components: int = _key(128, BASE_KEYS["components"])
+    file: str = _key("", BASE_KEYS["file"])

@@ -17,6 +17,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..base.compiled import CompiledBase, compile_base
 from ..control.lqi import LQIGain
 from ..control.paper import PaperController, check_law
 from ..control.tether_lqi import TetherLQIGain, tether_lqi_gain
@@ -243,6 +244,9 @@ class EngineSetup:
         hanging chain).
     chain : tuple of numpy.ndarray
         The lumped chain at the start (``chain_start``; ``layout.empty_chain()``: massless).
+    base : CompiledBase
+        The winch's base in the engine's packed form (``base.compile_base``; default the
+        paper's still winch).
     """
 
     model: TetheredHelicopter
@@ -259,6 +263,7 @@ class EngineSetup:
     u0_free: np.ndarray  # u0|F, the trim input after a release (``free_trim_input``)
     start: StartPoint
     chain: tuple = field(default_factory=empty_chain)
+    base: CompiledBase = field(default_factory=lambda: compile_base(None))
 
     def engine_args(self, n_samples: int) -> tuple:
         """The leading arguments of ``engine.run_closed_loop`` (built-in winds only).
@@ -271,7 +276,8 @@ class EngineSetup:
         Returns
         -------
         tuple
-            (x_init (13,), n_samples, cfg, ctrl, model constants, law, (program, gust, drag),
+            (x_init (13,), n_samples, cfg, ctrl, model constants, law,
+            (program, gust, drag, base),
             act, sensors, chain (a fresh copy: the engine advances it in place)).
         """
         assert self.wind is not None
@@ -286,9 +292,9 @@ class EngineSetup:
         # fresh copy (the engine advances it); a custom disturbance (no compiled wind) an
         # empty wind program, whose force the Python loop adds itself
         if self.wind is None:
-            wind = (np.zeros((0, WIND_COLUMNS)), np.zeros((0, 3)), np.zeros(3))
+            wind = (np.zeros((0, WIND_COLUMNS)), np.zeros((0, 3)), np.zeros(3), self.base.packed)
         else:
-            wind = (self.wind.program, self.wind.gust, self.wind.drag)
+            wind = (self.wind.program, self.wind.gust, self.wind.drag, self.base.packed)
         return (
             read_only(self.model.constants),
             tuple(read_only(a) for a in self.law),
@@ -404,4 +410,5 @@ def engine_setup(scenario: Scenario, design_params: Params | None = None) -> Eng
         free_trim_input(scenario, model, trim),
         start,
         chain_start(scenario, trim),
+        compile_base(scenario.base_motion, model.params.helicopter.m),
     )

@@ -45,7 +45,7 @@ class StepRun(NamedTuple):
     ctrl: np.ndarray  #: ``layout.CTRL_*``, a run's own copy
     c: np.ndarray  #: the model constants
     law: tuple  #: ``layout.LAW_*`` (x_ref and y_ref are the metrics' references)
-    wind: tuple  #: (program, gust table, drag); an empty program for a Python disturbance
+    wind: tuple  #: (program, gust table, drag, base); an empty program for a Python disturbance
     act: np.ndarray  #: ``layout.ACT_*``
     sensors: tuple  #: ``sim.packing.sensor_tuple``
     chain: tuple  #: ``layout.CHAIN_*`` (``layout.empty_chain()``: massless)
@@ -63,7 +63,7 @@ def step_sense(run, k):
     return sample_sense(
         run.x, k, run.cfg, run.ctrl, run.act, run.sensors, run.sensors[0].shape[0] > 0,
         run.loop.event, run.loop.x_meas, run.chain[CHAIN_NODES].shape[0] > 0, run.wind[1],
-        run.chain, run.cw,
+        run.wind[3], run.chain, run.cw,
     )  # fmt: skip
 
 
@@ -88,7 +88,7 @@ def step_command(run, k, command, reel_rate, feedforward, tension, measured, adv
     )
     inp, ffwd = loop.inputs, loop.ffwd
     x, cfg, c = run.x, run.cfg, run.c
-    program, gust, drag = run.wind
+    program, gust, drag, base = run.wind
     sensed = run.sensors[0].shape[0] > 0
     if cfg[CFG_ATTACHED] <= 0.5:
         reel_rate = 0.0
@@ -113,11 +113,11 @@ def step_command(run, k, command, reel_rate, feedforward, tension, measured, adv
     if status == STATUS_OK:
         sample_record(
             k, cfg, run.act, run.summary, x, run.law[LAW_X_REF], y, run.law[LAW_Y_REF],
-            tension, rate, inp, ffwd, y_est, held, True, run.out, program, gust, drag,
+            tension, rate, inp, ffwd, y_est, held, True, run.out, program, gust, drag, base,
             run.work[5], run.chain[CHAIN_NODES],
         )  # fmt: skip
         if advance:
-            sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, run.work, run.chain,
+            sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, base, run.work, run.chain,
                            run.cw, run.chain[CHAIN_NODES].shape[0] > 0)  # fmt: skip
     return status, rate
 
