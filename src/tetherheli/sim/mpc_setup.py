@@ -1,7 +1,7 @@
 """The MPC of a scenario: ``[control.mpc]``, ``[actuators]``, ``[sensors]`` and the run's
 set-up (``sim.setup.engine_setup``: trim, model constants, the paper's free law) unpacked
-into the explicit arguments of ``control.mpc`` (``hover_design``, ``design_mpc_kalman``,
-``MPCController``), which reads no scenario."""
+into the explicit arguments of ``control.mpc_design`` (``hover_design``,
+``design_mpc_kalman``) and ``control.mpc`` (``MPCController``), which read no scenario."""
 
 from __future__ import annotations
 
@@ -9,7 +9,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..control.mpc import MPCController, design_mpc_kalman, hover_design, mpc_sample_seconds
+from ..control.mpc import MPCController
+from ..control.mpc_design import design_mpc_kalman, hover_design, mpc_sample_seconds
 from ..control.observer import DisturbanceKalman
 from ..errors import DesignError, design_failure
 from ..resources import warn_slow

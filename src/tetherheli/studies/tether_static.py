@@ -68,6 +68,14 @@ def _free_thrust(params: Params) -> float:
     return float(hover_trim(params, 0.0).u_total[0])
 
 
+def _max_thrust(params: Params, max_thrust_N: float | None) -> float:
+    """The largest fMR3 [N], checked: ``max_thrust_N``, or by default
+    ``DEFAULT_THRUST_TO_WEIGHT`` x the free hover thrust."""
+    if max_thrust_N is None:
+        max_thrust_N = DEFAULT_THRUST_TO_WEIGHT * _free_thrust(params)
+    return check_number("max_thrust_N", max_thrust_N, low=0.0, low_open=True, unit="[N]")
+
+
 def static_rows(
     params: Params,
     cables: Sequence[StudyCable],
@@ -108,9 +116,7 @@ def static_rows(
     g = params.helicopter.g
     Tp = check_number("top_tension_N", top_tension_N, low=0.0, low_open=True, unit="[N]")
     Tg = check_number("ground_tension_N", ground_tension_N, low=0.0, low_open=True, unit="[N]")
-    if max_thrust_N is None:
-        max_thrust_N = DEFAULT_THRUST_TO_WEIGHT * _free_thrust(params)
-    fmax = check_number("max_thrust_N", max_thrust_N, low=0.0, low_open=True, unit="[N]")
+    fmax = _max_thrust(params, max_thrust_N)
     rows = []
     for cable in cables:
         t = cable.tether
@@ -167,9 +173,7 @@ def hover_limits(
         ``max_thrust_N``.
     """
     g = params.helicopter.g
-    if max_thrust_N is None:
-        max_thrust_N = DEFAULT_THRUST_TO_WEIGHT * _free_thrust(params)
-    fmax = check_number("max_thrust_N", max_thrust_N, low=0.0, low_open=True, unit="[N]")
+    fmax = _max_thrust(params, max_thrust_N)
     Tp = check_number("top_tension_N", top_tension_N, low=0.0, low_open=True, unit="[N]")
     out = []
     for cable in cables:

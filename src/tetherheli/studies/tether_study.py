@@ -71,7 +71,7 @@ from .tether_cables import (
     tension_loop_gain,
 )
 from .tether_dynamic import _checked_duration, dynamic_rows, mark_thrust_infeasible, study_scenarios
-from .tether_static import _free_thrust, hover_limits, lateral_stiffness, static_rows
+from .tether_static import _max_thrust, hover_limits, lateral_stiffness, static_rows
 
 __all__ = [
     "DEFAULT_ELEVATIONS_DEG",
@@ -299,7 +299,7 @@ def run_tether_study(
     claim_output_directory(out, force=force)
     params = Params.paper()
     if max_thrust_N is None:
-        max_thrust_N = DEFAULT_THRUST_TO_WEIGHT * _free_thrust(params)
+        max_thrust_N = _max_thrust(params, None)
     static = static_rows(params, cables, lengths, max_thrust_N=max_thrust_N)
     limits = hover_limits(params, cables, max_thrust_N=max_thrust_N)
     n_runs = len(cables) * len(lengths) * 2 * len(DYNAMIC_CASES)
