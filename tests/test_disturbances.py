@@ -30,6 +30,7 @@ from tetherheli.wind import (
     disturbance_from_dict,
     paper_wind,
 )
+from tetherheli.wind.evaluate import wind_force
 from tetherheli.wind.gusts import _discretize
 
 FT = 0.3048  # m per ft
@@ -669,10 +670,9 @@ def test_small_gust_in_a_mean_wind_acts_linearly():
 
 
 def test_compiled_wind_force_equals_the_python_drag_model():
-    """The engine's compiled drag (engine.wind_force, used by RK4) and DragModel.force (the
+    """The engine's compiled drag (wind.evaluate.wind_force, used by RK4) and DragModel.force (the
     Python path) are one law: equal to rounding, on and between gust-grid points."""
     from tetherheli.layout import WIND_COLUMNS
-    from tetherheli.sim import engine
 
     drag = DragModel((0.4, 0.5, 0.8), rho=1.1)
     gust = np.array([[5.0, 1.0, -0.5], [4.0, -2.0, 0.7], [6.0, 0.3, 0.1]])
@@ -681,7 +681,7 @@ def test_compiled_wind_force_equals_the_python_drag_model():
     out = np.empty(3)
     v = np.array([0.3, -0.2, 0.1])
     for t, air in ((0.0, gust[0]), (0.5, gust[1]), (0.25, 0.5 * (gust[0] + gust[1]))):
-        engine.wind_force(program, gust, 0.5, half_rho_cda, t, 1, *v, out)
+        wind_force(program, gust, 0.5, half_rho_cda, t, 1, *v, out)
         np.testing.assert_allclose(out, drag.force(air, v), rtol=1e-13, atol=1e-15)
 
 

@@ -18,6 +18,7 @@ from tetherheli.sim.scenario import Scenario
 from tetherheli.sim.setup import engine_setup, run_setup
 from tetherheli.sim.start import start_point
 from tetherheli.wind import ConstantForce, DragModel, GaussMarkovTurbulence, NoWind, Turbulence
+from tetherheli.wind.evaluate import wind_force
 
 DRAG = DragModel((0.4, 0.4, 0.8))
 WIND = (4.0, 3.0, 0.0)  # [m/s] 5 m/s, off the n1 axis
@@ -108,14 +109,13 @@ def test_start_balances_the_first_gust():
     """With gusts, the start is the equilibrium in the drag of the mean wind plus the gust at
     t = 0 (not the mean wind alone): the plant's derivative there, with the engine's own
     wind force at t = 0, vanishes to 1e-10."""
-    from tetherheli.sim import engine
 
     wind = Turbulence(GaussMarkovTurbulence(), DRAG, 5, 1.0, 0.01, N_v_mean_wind=WIND)
     s = Scenario(configuration="tethered", duration=1.0, wind=wind)
     setup = engine_setup(s)
     force = np.empty(3)
     w = setup.wind
-    engine.wind_force(w.program, w.gust, w.gust_dt, w.drag, 0.0, 1, 0.0, 0.0, 0.0, force)
+    wind_force(w.program, w.gust, w.gust_dt, w.drag, 0.0, 1, 0.0, 0.0, 0.0, force)
     assert np.linalg.norm(force - F_WIND) > 0.05
     model = th.TetheredHelicopter(s.params)
     dx = model.derivative(setup.start.x, setup.start.trim.u_total, wind=force, reel_rate=0.0)

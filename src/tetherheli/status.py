@@ -68,6 +68,14 @@ class Status(enum.IntEnum):
     SOLVER_FAILED : int
         9: the controller's solver failed on more than ``FAILED_FALLBACK_FRACTION`` of the
         samples (``solver_status``).
+    LANDED : int
+        10: a landing maneuver touched down within its limits (``[maneuver]``; a success,
+        as OK: ``succeeded``).
+    HARD_TOUCHDOWN : int
+        11: a landing touched down outside its limits (speed, offset or attitude; the
+        reason follows in the message).
+    NOT_LANDED : int
+        12: a landing maneuver reached the run's end without touching down.
     """
 
     OK = 0
@@ -80,10 +88,18 @@ class Status(enum.IntEnum):
     TETHER_LENGTH = 7
     DEGRADED = 8  # never returned by the engine: solver_status of a controller's fallbacks
     SOLVER_FAILED = 9  # never returned by the engine: solver_status
+    LANDED = 10  # a landing's statuses: set by the Python loop at touchdown (sim.landing)
+    HARD_TOUCHDOWN = 11
+    NOT_LANDED = 12
 
     @property
     def message(self) -> str:
         return _MESSAGES[self]
+
+    @property
+    def succeeded(self) -> bool:
+        """Whether a run of this status is a success: OK, or LANDED for a landing."""
+        return self in (Status.OK, Status.LANDED)
 
 
 _MESSAGES = {
@@ -111,6 +127,9 @@ _MESSAGES = {
         f"failed: the controller's solver failed on more than "
         f"{100 * FAILED_FALLBACK_FRACTION:g} % of the samples (a fallback flew them)"
     ),
+    Status.LANDED: "landed: touched down within the maneuver's limits",
+    Status.HARD_TOUCHDOWN: "failed: touched down outside the maneuver's limits",
+    Status.NOT_LANDED: "failed: the landing did not touch down before the run's end",
 }
 
 
@@ -172,6 +191,7 @@ def status_message(
     release_time: float | None = None,
     fallback_fraction: float | None = None,
     winch_limit: dict | None = None,
+    touchdown: dict | None = None,
 ) -> str:
     """The message of a run's status; a tether release (at ``release_time`` [s], None or NaN:
     none) is part of it, so a released run is never a plain "completed", and so is the
@@ -191,6 +211,9 @@ def status_message(
         The first stop of the reel at a payout limit, ``{"time", "limit", "length"}`` (s,
         "min_length" or "max_length", m, the length optional; ``SimulationResult.winch_limit``);
         None (default): none, nothing added.
+    touchdown : dict, optional
+        A landing's touchdown (``SimulationResult.touchdown``): its time and figures, and
+        for a hard one the limits it broke (``"reasons"``); None (default): none.
 
     Returns
     -------
@@ -213,6 +236,14 @@ def status_message(
         message += (
             f" (the winch stopped at [winch] {winch_limit['limit']}{value} at "
             f"t = {winch_limit['time']:g} s)"
+        )
+    if touchdown is not None:
+        message += (
+            f" (touchdown at t = {touchdown['time']:.4g} s, "
+            f"{touchdown['vertical_speed']:.3g} m/s, {touchdown['offset']:.3g} m from the pad, "
+            f"tilt {touchdown['attitude']:.3g} rad"
+            + "".join(f"; {reason}" for reason in touchdown.get("reasons", ()))
+            + ")"
         )
     if release_time is None or not math.isfinite(release_time):
         return message

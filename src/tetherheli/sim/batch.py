@@ -326,13 +326,18 @@ def _python_run(
     scenario: Scenario, setup: EngineSetup, design_params: Params | None, summary: np.ndarray
 ) -> tuple[int, int]:
     """A run whose controller is a Python ``Controller`` (``control.mpc``, designed on
-    ``design_params`` when given), flown by ``simulate``'s loop; ``summary`` receives the
+    ``design_params`` when given; a landing's ``control.landing``), flown by ``simulate``'s
+    loop; ``summary`` receives the
     engine's on-line metrics of it (``engine.SUMMARY_FIELDS``, from the recorded samples at
     or after ``metrics_start``). Returns (status, samples done)."""
     from .closed_loop import simulate
     from .mpc_setup import mpc_controller
 
-    result = simulate(scenario, controller=mpc_controller(scenario, setup, design_params))
+    # the MPC designed on ``design_params``; a landing's and the deck feed-forward's
+    # controllers are simulate's own (``sim.landing``, ``control.deck``)
+    mpc = scenario.control.controller == "mpc" and not scenario.maneuver.landing
+    controller = mpc_controller(scenario, setup, design_params) if mpc else None
+    result = simulate(scenario, controller=controller, design_params=design_params)
     summary[:] = 0.0
     k0 = min(scenario.metrics_first_sample, result.time.size)
     dev = result.outputs[k0:, :3] - result.trim_output[:3]
@@ -591,7 +596,8 @@ def run_batch(
             return None
 
     def run_one(i: int) -> None:
-        if scenarios[i].control.controller == "mpc":
+        s = scenarios[i]
+        if s.control.controller == "mpc" or s.maneuver.landing or s.control.base_feedforward:
             return run_python(i)
         setup = set_up(i)
         if setup is not None:
@@ -637,7 +643,8 @@ def run_batch(
 
         # no lane engine for chains nor for a moving base: those runs go one at a time
         def single(i: int) -> bool:
-            return scenarios[i].tether.lumped or not scenarios[i].base_motion.fixed
+            s = scenarios[i]
+            return s.tether.lumped or not s.base_motion.fixed or s.maneuver.landing
 
         alone = [i for i in order if single(i)]
         for i in (i for i in order if not single(i)):

@@ -10,6 +10,7 @@ removes the tether (TC = 0, no winch, no feed-forward), as in Sec. VI.
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 from typing import Literal
@@ -19,6 +20,7 @@ import numpy as np
 from .._version import __version__
 from ..base.compiled import CompiledBase, base_state
 from ..control.base import Controller, Measurement
+from ..control.deck import DeckFeedforward
 from ..errors import ParameterError
 from ..layout import (
     CFG_ATTACHED,
@@ -38,6 +40,7 @@ from ..resources import check_memory
 from ..sensing.config import N_CHANNELS, N_GROUPS
 from ..status import FALLBACK_COLUMN, Status, solver_status
 from . import engine, stepping
+from .landing import Touchdown, landing_controller
 from .mpc_setup import mpc_controller
 from .result import DRUM_COLUMNS, TENSION_GROUND_COLUMN, SimulationResult, winch_limit_info
 from .result_files import BASE_POSITION_COLUMNS, BASE_VELOCITY_COLUMNS
@@ -157,11 +160,25 @@ def simulate(
     setup = engine_setup(scenario, design_params)
     trim, wind, noise = setup.trim, setup.wind, setup.noise
     n = scenario.n_samples
-    paper = controller is None and scenario.control.controller != "mpc"
-    if controller is None:  # the MPC is a Python controller (control.mpc)
-        controller = (
-            setup.paper_controller() if paper else mpc_controller(scenario, setup, design_params)
+    landing = scenario.maneuver.landing
+    deck_ffwd = scenario.control.base_feedforward  # (over a moving base: validated)
+    paper = (
+        controller is None and scenario.control.controller != "mpc" and not landing
+        and not deck_ffwd
+    )  # fmt: skip
+    if controller is None:  # the MPC and a landing are Python controllers (control.*)
+        if landing:
+            controller = landing_controller(scenario, setup)
+        elif scenario.control.controller != "mpc":
+            controller = setup.paper_controller()
+        else:
+            controller = mpc_controller(scenario, setup, design_params)
+    if deck_ffwd:
+        motion = scenario.base_motion
+        controller = DeckFeedforward(
+            controller, lambda t: motion.state(t)[0, 2], scenario.params.helicopter.m
         )
+    touchdown = Touchdown(scenario) if landing else None
     lumped = scenario.tether.lumped
     if wind is None and setup.base.moving:
         raise ParameterError(
@@ -179,14 +196,19 @@ def simulate(
         status, done = engine.run_closed_loop(*setup.engine_args(n), True, rec.signals, rec.summary)
     else:  # the same sample step, the controller's slot in Python
         run = setup.step_run(rec.signals, rec.summary)
-        status, done = _python_loop(scenario, setup, run, controller, method, rtol=rtol, atol=atol)
+        status, done, record = _python_loop(
+            scenario, setup, run, controller, method, touchdown, rtol=rtol, atol=atol
+        )
     columns = controller.recorded()  # e.g. the MPC's fallbacks
     # a run whose solver failed too often is degraded or failed (status.solver_status)
     status = solver_status(status, columns.get(FALLBACK_COLUMN, ())[:done])
-    return rec.result(
+    result = rec.result(
         done, status, scenario, trim, method, sensed=noise.shape[0] > 0, columns=columns,
         base=setup.base,
     )  # fmt: skip
+    if landing:
+        result = dataclasses.replace(result, touchdown=record)
+    return result
 
 
 class _Recorder:
@@ -301,8 +323,13 @@ def _command_array(value, name: str) -> np.ndarray:
     return out
 
 
-def _python_loop(scenario, setup, run, controller, method, *, rtol, atol):
-    """The closed loop driven from Python: any Controller, RK4 or the adaptive reference.
+def _python_loop(scenario, setup, run, controller, method, touchdown=None, *, rtol, atol):
+    """The closed loop driven from Python: any Controller, RK4 or the adaptive reference;
+    returns (status, samples done, the touchdown record or None).
+
+    With ``touchdown`` (a landing's ``sim.landing.Touchdown``) each recorded sample is
+    watched for the touchdown, which ends the run with its status (LANDED or
+    HARD_TOUCHDOWN); a landing that reaches the run's end without one is NOT_LANDED.
 
     Each sample is the engine's one sample step (``stepping.step_sense``, the controller,
     ``stepping.step_command``: actuators, checks, metrics, recording and the RK4 or lumped
@@ -322,7 +349,7 @@ def _python_loop(scenario, setup, run, controller, method, *, rtol, atol):
     sense = _entry_point(stepping.step_sense, run, 0)
     command = _entry_point(stepping.step_command, run, 0, four, 0.0, four, 0.0, 0.0, True)
     controller.reset()
-    status, done = Status.OK, n + 1
+    status, done, record = Status.OK, n + 1, None
     for k in range(n + 1):
         t = k * dt
         tension, measured = sense(run, k)
@@ -337,6 +364,11 @@ def _python_loop(scenario, setup, run, controller, method, *, rtol, atol):
         if status != Status.OK:
             done = k
             break
+        if touchdown is not None:
+            record = touchdown.observe(k, run.out.x[k], run.out.y[k])
+            if record is not None:
+                status, done = touchdown.judge(record), k + 1
+                break
         if disturbance is not None:  # the engine's empty wind program recorded zero
             out_wind[k] = np.asarray(disturbance.force_at(t, x[6:9]), dtype=float)
         if k == n:
@@ -354,7 +386,9 @@ def _python_loop(scenario, setup, run, controller, method, *, rtol, atol):
             _rk4_custom_wind(x, applied, rate, t, dt, int(cfg[CFG_N_SUB]), cfg, c, disturbance,
                              base)  # fmt: skip
     stepping.step_finish(run)
-    return status, done
+    if touchdown is not None and record is None and status == Status.OK:
+        status = Status.NOT_LANDED
+    return status, done, record
 
 
 def _adaptive_interval(

@@ -34,6 +34,7 @@ from .scenario import (
     BaseSettings,
     ControlSettings,
     Limits,
+    ManeuverSettings,
     MPCSettings,
     Scenario,
     TetherLQISettings,
@@ -52,6 +53,7 @@ _TABLES = {
     "tether": TetherSettings,
     "winch": WinchSettings,
     "base": BaseSettings,
+    "maneuver": ManeuverSettings,
 }
 _PARAM_SECTIONS = {
     "helicopter": HelicopterParams,

@@ -88,7 +88,8 @@ class SimulationResult:
     trim_state, trim_input, trim_output : numpy.ndarray
         The run's trim (its references), shapes (13,), (4,), (4,).
     status : int
-        0 on success, else a failure code; ``message`` says which.
+        0 on success (10, "landed", for a landing), else a failure code; ``message`` says
+        which (``tetherheli.status.Status``).
     configuration : dict
         The scenario as plain data (``Scenario.to_dict``).
     version : str
@@ -106,6 +107,12 @@ class SimulationResult:
         "limit", "length"}``, the time [s] the natural length reached the limit, which one
         ("min_length" or "max_length" of ``[winch]``) and its value [m]; None: no limit was
         reached. The run goes on with the length held (not a failure); ``message`` says so.
+    touchdown : dict or None, optional
+        A landing's touchdown (``[maneuver] type = "tethered_landing"``): ``{"time",
+        "vertical_speed", "offset", "attitude", "reasons"}``, the time [s] the landing gear
+        reached the deck (interpolated between samples), the vertical speed relative to the
+        deck [m/s, > 0 downward], HO's horizontal distance from the pad [m], the fuselage's
+        tilt [rad], and the limits it broke (empty for status LANDED); None: no touchdown.
     """
 
     time: np.ndarray
@@ -127,6 +134,7 @@ class SimulationResult:
     release_time: float | None = None
     release_tension: float | None = None
     winch_limit: dict[str, Any] | None = None
+    touchdown: dict[str, Any] | None = None
 
     def __post_init__(self) -> None:
         for name in (
@@ -152,8 +160,9 @@ class SimulationResult:
 
     @property
     def ok(self) -> bool:
-        """True when the run completed without hitting a stop condition."""
-        return self.status == Status.OK
+        """True when the run succeeded: completed without a stop condition, or a landing
+        that touched down within its limits (``Status.succeeded``)."""
+        return Status(int(self.status)).succeeded
 
     @property
     def message(self) -> str:
@@ -161,7 +170,9 @@ class SimulationResult:
         solver's fallback flew (``status.solver_status``) if there were any."""
         fallbacks = self.extra.get(FALLBACK_COLUMN)
         fraction = None if fallbacks is None or fallbacks.size == 0 else float(fallbacks.mean())
-        return status_message(self.status, self.release_time, fraction, self.winch_limit)
+        return status_message(
+            self.status, self.release_time, fraction, self.winch_limit, self.touchdown
+        )
 
     @property
     def released(self) -> bool:
@@ -395,6 +406,7 @@ class SimulationResult:
             "message": self.message,
             "tether_release": self.release_info(),
             "winch_limit": self.winch_limit,
+            "touchdown": self.touchdown,
             "method": self.method,
             "configuration": self.configuration,
             "trim": {

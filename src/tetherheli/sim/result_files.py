@@ -448,6 +448,28 @@ def _winch_limit(meta: dict[str, Any], source: str) -> dict[str, Any] | None:
     return out
 
 
+#: a landing's touchdown record (``SimulationResult.touchdown``): its numbers, then the limits
+TOUCHDOWN_FIELDS = ("time", "vertical_speed", "offset", "attitude")
+
+
+def _touchdown(meta: dict[str, Any], source: str) -> dict[str, Any] | None:
+    info = meta.get("touchdown")
+    if info is None:
+        return None
+    try:
+        out: dict[str, Any] = {name: float(info[name]) for name in TOUCHDOWN_FIELDS}
+        reasons = info.get("reasons", [])
+        if not isinstance(reasons, list) or not all(isinstance(r, str) for r in reasons):
+            raise TypeError
+        out["reasons"] = list(reasons)
+    except (KeyError, TypeError, ValueError):
+        raise ParameterError(
+            "touchdown", info, "null or a table with numbers time [s], vertical_speed [m/s], "
+            "offset [m], attitude [rad] and a list of reasons", source=source,
+        ) from None  # fmt: skip
+    return out
+
+
 def read_result_fields(directory: str | Path, stem: str | None = None) -> dict[str, Any]:
     """The fields of a saved run (``load_result``, which documents the arguments and errors):
     the keyword arguments of ``SimulationResult``, every file checked.
@@ -523,4 +545,5 @@ def read_result_fields(directory: str | Path, stem: str | None = None) -> dict[s
         release_time=release_time,
         release_tension=release_tension,
         winch_limit=_winch_limit(meta, source),
+        touchdown=_touchdown(meta, source),
     )

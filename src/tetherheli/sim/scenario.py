@@ -68,6 +68,7 @@ from .scenario_tables import (
     BaseSettings,
     ControlSettings,
     Limits,
+    ManeuverSettings,
     MPCSettings,
     TetherLQISettings,
     TetherSettings,
@@ -90,6 +91,7 @@ __all__ = [
     "ControlSettings",
     "Limits",
     "MPCSettings",
+    "ManeuverSettings",
     "Scenario",
     "TetherLQISettings",
     "TetherSettings",
@@ -151,6 +153,8 @@ class Scenario:
     base : BaseSettings, optional
         The winch's base (default: still at the origin of N, the paper's); ``base_motion``
         is its motion.
+    maneuver : ManeuverSettings, optional
+        A maneuver flown in the run (default none: the paper's station-keeping).
     """
 
     name: str = _key(
@@ -197,6 +201,7 @@ class Scenario:
     )  # fmt: skip
     winch: WinchSettings = field(default_factory=WinchSettings)
     base: BaseSettings = field(default_factory=BaseSettings)
+    maneuver: ManeuverSettings = field(default_factory=ManeuverSettings)
 
     def __post_init__(self) -> None:
         validate_scenario(self, source=None)
@@ -274,6 +279,7 @@ class Scenario:
             "metrics_start": self.metrics_start,
             "winch": dataclasses.asdict(self.winch),
             "base": dataclasses.asdict(self.base),
+            "maneuver": dataclasses.asdict(self.maneuver),
         }
 
     def to_toml(self) -> str:
@@ -363,6 +369,7 @@ _TOP_KEYS = {
     "metrics_start",
     "winch",
     "base",
+    "maneuver",
 }
 
 
@@ -477,6 +484,9 @@ def _scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> S
             # a track file named relative to the scenario file's folder
             table["file"] = str(Path(source).parent / table["file"])
         kwargs["base"] = BaseSettings(**table)
+    if "maneuver" in data:
+        table = _table(source, "maneuver", data["maneuver"], ManeuverSettings)
+        kwargs["maneuver"] = ManeuverSettings(**table)
     if "sensors" in data:
         if not isinstance(data["sensors"], dict):
             raise ParameterError("sensors", data["sensors"], "a table", source=source)

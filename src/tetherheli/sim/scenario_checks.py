@@ -21,10 +21,13 @@ from ..params import Params, check_tether_length, check_tether_strain
 from ..sensing.config import SensorConfig
 from ..wind import Disturbance, check_wind_covers
 from .scenario_tables import (
+    LANDING_MIN_LENGTH_M,
+    LANDING_PRESS_M,
     ActuatorSettings,
     BaseSettings,
     ControlSettings,
     Limits,
+    ManeuverSettings,
     MPCSettings,
     TetherLQISettings,
     TetherSettings,
@@ -230,6 +233,7 @@ def validate_scenario(s: Scenario, source: str | None) -> None:
         raise ParameterError("wind", s.wind, "a tetherheli Disturbance", source=source)
     check_wind_covers(s.wind, s.duration, source=source)
     _check_base(s, source)
+    _check_maneuver(s, source)
 
 
 def _check_base(s: Scenario, source: str | None) -> None:
@@ -271,6 +275,11 @@ def _check_base(s: Scenario, source: str | None) -> None:
             "control.reference", reference, "'ground' or unset with a still base ([base] "
             "motion = 'fixed': a point of N and of the base are the same)", source=source,
         )  # fmt: skip
+    if s.control.base_feedforward and motion.fixed:
+        raise ParameterError(
+            "control.base_feedforward", True, "false with a still base ([base] motion = "
+            "'fixed': no acceleration to feed forward)", source=source,
+        )  # fmt: skip
     if reference == "ground" and not motion.fixed:
         raise ParameterError(
             "control.reference", reference, "'base' or unset over a moving base (holding a "
@@ -294,3 +303,56 @@ def _checked(cls: type, section: str, value: Any, source: str | None, **done: An
             for f in dataclasses.fields(cls)
         }
     )  # fmt: skip
+
+
+def _check_maneuver(s: Scenario, source: str | None) -> None:
+    """The ``[maneuver]`` table: its keys, and a landing the model and the winch can fly:
+    tethered, the paper's controller on the massless tether, a final tether length of at
+    least ``LANDING_MIN_LENGTH_M``, a landing tension eq 28 allows there (LN >= q9 / 2) and
+    a natural length the winch reels to (``winch.min_length``)."""
+    if not isinstance(s.maneuver, ManeuverSettings):
+        raise ParameterError("maneuver", s.maneuver, "a ManeuverSettings", source=source)
+    m = _checked(ManeuverSettings, "maneuver", s.maneuver, source)
+    _set(s, "maneuver", m)
+    if not m.landing:
+        return
+
+    def refuse(key: str, value: Any, allowed: str) -> None:
+        raise ParameterError(key, value, allowed, source=source)
+
+    if s.configuration != "tethered":
+        refuse("maneuver.type", m.type, "'none' in the free configuration (a tethered "
+               "landing needs the tether)")  # fmt: skip
+    if s.control.controller != "paper":
+        refuse("control.controller", s.control.controller, "'paper' with a tethered landing "
+               "(the other controllers do not fly its moving references yet)")  # fmt: skip
+    if s.tether.lumped:
+        refuse("tether.model", s.tether.model, "'elastic' with a tethered landing (the "
+               "lumped chain's landing on the deck is not modelled yet)")  # fmt: skip
+    if not m.start_time < s.duration:
+        refuse("maneuver.start_time", m.start_time, f"a time below duration ({s.duration:g} s)")
+    arm = s.params.helicopter.tether_arm  # HO = P - arm f3: HO is -arm above P
+    final_length = m.gear_height - LANDING_PRESS_M + arm
+    if final_length < LANDING_MIN_LENGTH_M:
+        refuse("maneuver.gear_height", m.gear_height, f"at least "
+               f"{LANDING_MIN_LENGTH_M + LANDING_PRESS_M - arm:.4g} m (P, {-arm:.4g} m below "
+               f"HO, stays {LANDING_MIN_LENGTH_M:g} m above the deck at the reference's end, "
+               f"{LANDING_PRESS_M:g} m below touchdown)")  # fmt: skip
+    start_height = s.q9 - arm
+    if not m.gear_height < start_height - 0.5:
+        refuse("maneuver.gear_height", m.gear_height, f"at least 0.5 m below the start's "
+               f"height of HO ({start_height:.4g} m at q9 = {s.q9:g} m)")  # fmt: skip
+    tension = s.params.tension_control.T_ref if m.landing_tension is None else m.landing_tension
+    K_C = s.params.tether.K_C
+    if tension > 0.5 * K_C * final_length:
+        refuse("maneuver.landing_tension", tension, f"at most KC q9 / 2 = "
+               f"{0.5 * K_C * final_length:.4g} N at the final tether length q9 = "
+               f"{final_length:.4g} m (eq 28: LN >= q9 / 2; a stiffer tether, "
+               "params.tether.K_C, allows more)")  # fmt: skip
+    if tension >= s.limits.max_tension:
+        refuse("maneuver.landing_tension", tension,
+               f"a tension below limits.max_tension ({s.limits.max_tension:g} N)")  # fmt: skip
+    natural = final_length - tension / K_C
+    if s.winch.min_length > natural:
+        refuse("winch.min_length", s.winch.min_length, f"at most the landing's final natural "
+               f"length LN = q9 - T / KC = {natural:.4g} m (eq 28)")  # fmt: skip

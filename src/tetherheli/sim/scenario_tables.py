@@ -28,6 +28,9 @@ from ..layout import (
 
 __all__ = [
     "CONTROLLERS",
+    "LANDING_MIN_LENGTH_M",
+    "LANDING_PRESS_M",
+    "MANEUVERS",
     "MPC_OBSERVERS",
     "MPC_QY_GNSS",
     "REFERENCES",
@@ -38,6 +41,7 @@ __all__ = [
     "ControlSettings",
     "Limits",
     "MPCSettings",
+    "ManeuverSettings",
     "TetherLQISettings",
     "TetherSettings",
     "WinchSettings",
@@ -284,7 +288,7 @@ class ControlSettings:
 
     Parameters
     ----------
-    dt, substeps, feedforward, Qy, Ru, controller, tether_lqi, mpc, reference
+    dt, substeps, feedforward, Qy, Ru, controller, tether_lqi, mpc, reference, base_feedforward
         The keys of a scenario's ``[control]`` table: ``controller`` one of ``CONTROLLERS``;
         Qy, Ru and feedforward are the paper controller's, ``tether_lqi`` the tethered LQI's
         and ``mpc`` the MPC's (both fly without the feed-forward: their plant model contains
@@ -328,6 +332,12 @@ class ControlSettings:
             "or a point fixed to the base ('base': the controllers fly on the position and "
             "velocity relative to the base)", kind="text", choices=REFERENCES,
             unset="'ground' over a still base, 'base' over a moving one"),
+    )  # fmt: skip
+    base_feedforward: bool = _key(
+        False,
+        Key("feed the moving base's known vertical acceleration forward to the thrust, "
+            "fMR3 += m b''_3 / (cos q4 cos q5) (control.deck; a deck motion sensor)",
+            kind="bool"),
     )  # fmt: skip
 
 
@@ -621,3 +631,77 @@ class BaseSettings:
     surge_scale: float = _key(0.0, BASE_KEYS["surge_scale"])
     components: int = _key(128, BASE_KEYS["components"])
     file: str = _key("", BASE_KEYS["file"])
+
+
+#: a landing's reference descends this far below the touchdown height [m], so that the
+#: touchdown happens while still descending (``control.landing.LandingSchedule``)
+LANDING_PRESS_M = 0.05
+#: the shortest tether length q9 at a landing's final reference [m]: P this high above the
+#: deck keeps the spherical coordinates (eq 27) away from q9 = 0
+LANDING_MIN_LENGTH_M = 0.08
+#: the maneuvers a ``[maneuver]`` table's ``type`` names: none (hold the hover) or a tethered
+#: landing (``control.landing``)
+MANEUVERS: tuple[str, ...] = ("none", "tethered_landing")
+
+
+@dataclass(frozen=True)
+class ManeuverSettings:
+    """A maneuver flown in the run (``[maneuver]``, issue 26): by default none (the paper's
+    station-keeping); ``type = "tethered_landing"``: from the hover over the winch's base,
+    descend relative to it while the winch reels in under a tension schedule, and touch
+    down (``control.landing``). The run ends at touchdown with status "landed", or a
+    failure with its reason, and records the touchdown (``SimulationResult.touchdown``).
+
+    Parameters
+    ----------
+    type, start_time, descent_rate, landing_tension, gear_height, max_touchdown_speed,
+    max_touchdown_offset, max_touchdown_attitude
+        The keys of a scenario's ``[maneuver]`` table; each field's ``Key`` gives its
+        meaning, unit, default and allowed range.
+    """
+
+    type: str = _key(
+        "none",
+        Key("the maneuver: none (hold the hover) or a tethered landing on the winch's base",
+            kind="text", choices=MANEUVERS),
+    )  # fmt: skip
+    start_time: float = _key(
+        5.0, Key("hover before the descent starts", "s", low=0.0, note="below duration")
+    )
+    descent_rate: float = _key(
+        0.3,
+        Key("the reference height's rate of fall relative to the base", "m/s", low=0.0,
+            low_open=True, high=2.0),
+    )  # fmt: skip
+    landing_tension: float | None = _key(
+        None,
+        Key("the tension reference at touchdown; it goes linearly with the height from "
+            "params.tension_control.T_ref", "N", low=0.0, low_open=True,
+            note="at most KC q9 / 2 at touchdown (eq 28: LN >= q9 / 2)",
+            unset="params.tension_control.T_ref"),
+    )  # fmt: skip
+    gear_height: float = _key(
+        0.35,
+        Key("the landing gear's height below HO: touchdown when HO is this high above the "
+            "deck (the winch's plane)", "m", low=0.0, low_open=True, high=5.0),
+    )  # fmt: skip
+    max_touchdown_speed: float = _key(
+        0.5,
+        Key("the largest vertical speed relative to the deck at touchdown of a landing",
+            "m/s", low=0.0, low_open=True),
+    )  # fmt: skip
+    max_touchdown_offset: float = _key(
+        0.5,
+        Key("the largest horizontal distance of HO from the pad (the winch) at touchdown",
+            "m", low=0.0, low_open=True),
+    )  # fmt: skip
+    max_touchdown_attitude: float = _key(
+        0.26,
+        Key("the largest tilt of the fuselage (the angle between f3 and n3) at touchdown",
+            "rad", low=0.0, low_open=True, high=1.5),
+    )  # fmt: skip
+
+    @property
+    def landing(self) -> bool:
+        """Whether the maneuver is a tethered landing."""
+        return self.type == "tethered_landing"

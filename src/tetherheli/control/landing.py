@@ -1,0 +1,177 @@
+"""Tethered landing (issue 26, after the paper's refs [7], [8]): the paper's controller
+flying a descent toward the winch, relative to the base, while the winch reels in under a
+tension schedule.
+
+The reference is a schedule of the descent, ``LandingSchedule``: the helicopter hovers
+until ``start_time``, then HO's height above the winch falls at ``descent_rate`` down to
+``final_height`` (below the touchdown height, so the touchdown happens while descending) and
+holds there; the tension reference goes linearly with the height from the run's T_ref to
+``landing_tension``. At each sample ``LandingController`` moves the paper law's references
+along it: q9 and q3 (the tether is vertical at the paper's trim, whose attitude does not
+depend on the tether's length: a test checks it), u3 the descent's velocity, the trim input
+u0 and T_ref at the scheduled tension (hover trims at tensions spaced along the schedule,
+interpolated), and a reel-rate feed-forward dLN/dt of the reference (LN = q9 - T / KC, eq 28)
+added to eq 56's PI. The gain follows the tether's length: the paper's LQI is designed on the
+free helicopter in tethered coordinates, where HO's horizontal position is q9 times the tether
+angles (q1 ~ q9 q8, q2 ~ -q9 q7), so its columns on q7 and q8 scale with q9 / q9_design and
+the position feedback stays the one designed (exactly: the design at another length gives
+the same gain so scaled; a test checks it). Without it the feedback on the angles grows as
+1 / q9 and the last metre of the descent goes unstable. Touchdown (the landing gear at
+``gear_height`` below HO reaching the deck) is the loop's to detect (``sim.closed_loop``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..layout import CTRL_T_REF
+from .base import Command, Measurement
+from .paper import PaperController
+
+__all__ = ["LandingController", "LandingSchedule"]
+
+
+@dataclass(frozen=True)
+class LandingSchedule:
+    """The descent's reference as a function of time (relative to the base).
+
+    Parameters
+    ----------
+    start_time : float
+        When the descent starts [s].
+    descent_rate : float
+        The height's rate of fall [m/s], > 0.
+    start_height, final_height : float
+        HO's height above the winch at the start and where the reference stops [m].
+    start_tension, landing_tension : float
+        The tension reference at the start and at ``final_height`` [N].
+    K_C : float
+        The tether's elasticity of eq 28 [N/m].
+    """
+
+    start_time: float
+    descent_rate: float
+    start_height: float
+    final_height: float
+    start_tension: float
+    landing_tension: float
+    K_C: float
+
+    @property
+    def end_time(self) -> float:
+        """When the reference reaches ``final_height`` [s]."""
+        return self.start_time + (self.start_height - self.final_height) / self.descent_rate
+
+    def at(self, t: float) -> tuple[float, float, float, float]:
+        """(height [m], its rate [m/s], tension [N], its rate [N/s]) of the reference at t."""
+        if t <= self.start_time:
+            return self.start_height, 0.0, self.start_tension, 0.0
+        if t >= self.end_time:
+            return self.final_height, 0.0, self.landing_tension, 0.0
+        height = self.start_height - self.descent_rate * (t - self.start_time)
+        span = self.start_height - self.final_height
+        slope = (self.landing_tension - self.start_tension) / span  # [N/m] of descent
+        tension = self.start_tension + slope * (self.start_height - height)
+        return height, -self.descent_rate, tension, slope * self.descent_rate
+
+    def natural_length_rate(self, t: float) -> float:
+        """dLN/dt of the reference, LN = q9 - T / KC (eq 28) [m/s]."""
+        _, rate, _, tension_rate = self.at(t)
+        return rate - tension_rate / self.K_C
+
+
+class LandingController(PaperController):
+    """The paper's controller (eqs 50-56) on the references of a ``LandingSchedule``.
+
+    Parameters
+    ----------
+    schedule : LandingSchedule
+        The descent.
+    trim_tensions : array_like, shape (k,)
+        Tensions [N], increasing, at which ``trim_inputs`` and ``trim_states`` were trimmed.
+    trim_inputs : array_like, shape (k, 4)
+        u0 at those tensions (Tables IV, V's inputs; interpolated linearly between them).
+    trim_states : array_like, shape (k, 13)
+        The trims' states (their attitude is interpolated likewise).
+    height_offset : float
+        HO's height above P at the trim [m] (y3 - q9 of the trim, eqs 43-45).
+    **paper
+        ``PaperController``'s arguments (gain, trim_state, trim_output, trim_input, ctrl,
+        constants, free_trim_input, z_init), the start's trim.
+    """
+
+    def __init__(
+        self,
+        schedule: LandingSchedule,
+        trim_tensions,
+        trim_inputs,
+        trim_states,
+        height_offset: float,
+        *args,
+        **paper,
+    ) -> None:
+        super().__init__(*args, **paper)
+        # own copies: the references move at every sample (the set-up's trim stays)
+        self.x_ref, self.y_ref, self.u0 = self.x_ref.copy(), self.y_ref.copy(), self.u0.copy()
+        self.gain = self.gain.copy()
+        self.schedule = schedule
+        self._tensions = np.asarray(trim_tensions, dtype=float)
+        self._inputs = np.asarray(trim_inputs, dtype=float)
+        self._states = np.asarray(trim_states, dtype=float)
+        self._offset = float(height_offset)
+        self._gain0 = self.gain.copy()
+        self._x_ref0 = self.x_ref.copy()
+        self._y_ref0 = self.y_ref.copy()
+        self._u00 = self.u0.copy()
+
+    def reset(self) -> None:
+        """``PaperController.reset``, and the references back at the schedule's start."""
+        super().reset()
+        if hasattr(self, "_x_ref0"):  # (PaperController.__init__ resets before they exist)
+            self.x_ref[:] = self._x_ref0
+            self.y_ref[:] = self._y_ref0
+            self.u0[:] = self._u00
+            self.gain[:] = self._gain0
+
+    def references_at(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+        """(x_ref (len of the law's), y_ref (4,), u0 (4,), T_ref [N]) of the schedule at t."""
+        height, rate, tension, _ = self.schedule.at(t)
+        x_ref = self._x_ref0.copy()
+        states = np.array([np.interp(tension, self._tensions, self._states[:, j])
+                           for j in range(5)])  # fmt: skip
+        x_ref[:5] = states  # the trim's attitude and tether angles at this tension
+        x_ref[5] = height - self._offset  # q9: HO above P by the trim's offset
+        x_ref[8] = rate  # u3, HO's vertical velocity
+        y_ref = self._y_ref0.copy()
+        y_ref[2] = height
+        u0 = np.array([np.interp(tension, self._tensions, self._inputs[:, i]) for i in range(4)])
+        return x_ref, y_ref, u0, tension
+
+    def step(self, t: float, measurement: Measurement) -> Command:
+        """The paper's law on the schedule's references at t, with the reel-rate feed-forward.
+
+        Parameters
+        ----------
+        t : float
+            Sample time [s].
+        measurement : Measurement
+            The measured state (relative to the base), tension and attachment.
+
+        Returns
+        -------
+        Command
+        """
+        x_ref, y_ref, u0, tension = self.references_at(t)
+        self.x_ref[:] = x_ref
+        self.y_ref[:] = y_ref
+        # the design's position feedback at this tether length (module docstring)
+        self.gain[:, 3:5] = self._gain0[:, 3:5] * (x_ref[5] / self._x_ref0[5])
+        self.u0[:] = u0
+        self.ctrl[CTRL_T_REF] = tension
+        command = super().step(t, measurement)
+        if not measurement.attached:
+            return command
+        rate = command.reel_rate + self.schedule.natural_length_rate(t)
+        return Command(inputs=command.inputs, reel_rate=rate, feedforward=command.feedforward)

@@ -1,0 +1,192 @@
+"""The moving-deck study (issue 26 item 5): station-keeping relative to a heaving deck over
+sea states, free against tethered, with perfect sensors, GNSS or the tether as the position
+sensor; and the tethered landing's success rate and touchdown figures over a Monte Carlo of
+sea-state seeds (the waves' phases).
+
+The runs are the shipped scenarios ``deck_sea_state_tethered``/``deck_sea_state_free``
+(the paper's simulation 1 winds over the deck) and ``landing_sea_state``, with the
+significant wave height and the seed varied; the sensors are the shipped sensing suites'
+(``sensing_gps``, ``sensing_tether``: consumer GNSS or the tether's geometry as the position
+source). Over the deck the sensors measure the state relative to it: the GNSS as the
+helicopter's receiver minus the deck's (its noise model applied once: the common-mode errors
+cancel, the deck receiver's own noise is not added), the laser altimeter the height above the
+deck, the tether its geometry from the deck's winch. The study returns rows; the docs page
+(``docs/studies/deck.md``, ``benchmarks/deck_study.py``) draws them.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..shipped import shipped_scenario
+from ..sim.batch import run_batch
+from ..sim.closed_loop import simulate
+from ..sim.scenario import Scenario
+from ..status import Status
+
+__all__ = [
+    "SENSINGS",
+    "LandingRow",
+    "StationRow",
+    "landing_rows",
+    "sea_state",
+    "station_rows",
+]
+
+#: the position sensing of the station-keeping runs: the true state, or a shipped suite's
+SENSINGS: dict[str, str | None] = {
+    "perfect": None,
+    "gnss": "sensing_gps",
+    "tether": "sensing_tether",
+}
+
+
+def sea_state(scenario: Scenario, height: float, seed: int) -> Scenario:
+    """``scenario`` over a deck in the sea state of significant wave height ``height`` [m]
+    and ``seed`` (its other ``[base]`` keys kept; a still base becomes a sea state)."""
+    base = replace(scenario.base, motion="sea_state", significant_wave_height=height, seed=seed)
+    return scenario.replace(base=base, name=f"{scenario.name}_hs{height:g}_seed{seed}")
+
+
+@dataclass(frozen=True)
+class StationRow:
+    """Station-keeping relative to the deck in one sea state, one configuration and sensing,
+    over the seeds: the means of the runs' RMS and peak deviations of HO from its point of
+    the deck [m] (``summary_metrics``), of the tension's range [N], and the runs that failed.
+    """
+
+    height: float
+    configuration: str
+    sensing: str
+    rms_horizontal: float
+    rms_vertical: float
+    peak_vertical: float
+    tension_min: float
+    tension_max: float
+    runs: int
+    failed: int
+
+
+def station_rows(
+    heights: Sequence[float],
+    seeds: Sequence[int],
+    *,
+    configurations: Sequence[str] = ("free", "tethered"),
+    sensings: Sequence[str] = ("perfect", "gnss", "tether"),
+    duration: float | None = None,
+) -> list[StationRow]:
+    """The station-keeping table: every height x configuration x sensing (the tether as a
+    sensor on the tethered configuration only), over ``seeds``.
+
+    Parameters
+    ----------
+    heights : sequence of float
+        Significant wave heights [m].
+    seeds : sequence of int
+        The sea states' seeds (one run each).
+    configurations, sensings
+        Which to fly (``SENSINGS``' names).
+    duration : float, optional
+        Shorter runs than the shipped 60 s (a quick check).
+
+    Returns
+    -------
+    list of StationRow
+    """
+    cases = []
+    for configuration in configurations:
+        base = shipped_scenario(f"deck_sea_state_{configuration}")
+        if duration is not None:
+            base = base.replace(duration=duration)
+        for sensing in sensings:
+            if sensing == "tether" and configuration == "free":
+                continue
+            suite = SENSINGS[sensing]
+            sensed = (
+                base if suite is None else base.replace(sensors=shipped_scenario(suite).sensors)
+            )
+            for h in heights:
+                cases.append((h, configuration, sensing,
+                              [sea_state(sensed, h, s) for s in seeds]))  # fmt: skip
+    batch = run_batch([s for *_, runs in cases for s in runs])
+    rows, i = [], 0
+    for h, configuration, sensing, runs in cases:
+        metrics = [batch.metrics(i + j) for j in range(len(runs))]
+        ok = batch.ok[i : i + len(runs)]
+        i += len(runs)
+        good = [m for m, fine in zip(metrics, ok, strict=True) if fine]
+
+        def mean(name: str, good=good) -> float:
+            return float(np.mean([m[name] for m in good])) if good else math.nan
+
+        horizontal = [math.hypot(m["rms_q1"], m["rms_q2"]) for m in good]
+        rows.append(StationRow(
+            height=h, configuration=configuration, sensing=sensing,
+            rms_horizontal=float(np.mean(horizontal)) if good else math.nan,
+            rms_vertical=mean("rms_q3"), peak_vertical=mean("peak_q3"),
+            tension_min=mean("tension_min"), tension_max=mean("tension_max"),
+            runs=len(runs), failed=int(len(runs) - np.sum(ok)),
+        ))  # fmt: skip
+    return rows
+
+
+@dataclass(frozen=True)
+class LandingRow:
+    """The tethered landing in one sea state over the seeds: the share that landed, the
+    touchdown's vertical speed relative to the deck [m/s] (mean, largest), offset [m] and
+    tilt [rad] (largest), and the failures' statuses."""
+
+    height: float
+    runs: int
+    landed: int
+    speed_mean: float
+    speed_max: float
+    offset_max: float
+    attitude_max: float
+    failures: dict[str, int]
+
+    @property
+    def success_rate(self) -> float:
+        """The share of the runs that landed."""
+        return self.landed / self.runs
+
+
+def landing_rows(heights: Sequence[float], seeds: Sequence[int]) -> list[LandingRow]:
+    """The landing table: ``landing_sea_state`` at each height over ``seeds``.
+
+    Parameters
+    ----------
+    heights : sequence of float
+        Significant wave heights [m].
+    seeds : sequence of int
+        The sea states' seeds.
+
+    Returns
+    -------
+    list of LandingRow
+    """
+    base = shipped_scenario("landing_sea_state")
+    rows = []
+    for h in heights:
+        results = [simulate(sea_state(base, h, s)) for s in seeds]
+        touched = [r.touchdown for r in results if r.touchdown is not None]
+        landed = sum(r.status == Status.LANDED for r in results)
+        failures: dict[str, int] = {}
+        for r in results:
+            if r.status != Status.LANDED:
+                name = Status(r.status).name.lower()
+                failures[name] = failures.get(name, 0) + 1
+        speeds = [t["vertical_speed"] for t in touched]
+        rows.append(LandingRow(
+            height=h, runs=len(results), landed=landed,
+            speed_mean=float(np.mean(speeds)) if speeds else math.nan,
+            speed_max=max(speeds, default=math.nan),
+            offset_max=max((t["offset"] for t in touched), default=math.nan),
+            attitude_max=max((t["attitude"] for t in touched), default=math.nan),
+            failures=failures,
+        ))  # fmt: skip
+    return rows
