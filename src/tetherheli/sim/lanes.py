@@ -194,6 +194,12 @@ def rk4_lanes(x, sc0, inp, rate, t0, h, n_sub, attached, k_c, c, wind, work):
     ga_a, ga_m, ga_b = _thirds(gust_air)
     ta, tm, tb = _thirds(times)
     n_lanes = h.shape[0]
+    gusty = False  # a lane with a gust table; without, gust_velocity's air is zero
+    for j in range(LANES):
+        gusty |= gust_dt[j] > 0.0 and gust_rows[j] > 0
+    if not gusty:
+        for i in range(gust_air.shape[0]):
+            gust_air[i] = 0.0
     for step in range(n_sub):
         for j in range(n_lanes):
             ta[j] = t0[j] + step * h[j]
@@ -202,7 +208,7 @@ def rk4_lanes(x, sc0, inp, rate, t0, h, n_sub, attached, k_c, c, wind, work):
         _lanes_program_force(programs, n_rows, ta, 1, pf_a)
         _lanes_program_force(programs, n_rows, tm, 1, pf_m)
         _lanes_program_force(programs, n_rows, tb, -1, pf_b)
-        for j in range(LANES):
+        for j in range(LANES if gusty else 0):
             gust = gusts[j, : gust_rows[j]]
             for t, air in ((ta[j], ga_a), (tm[j], ga_m), (tb[j], ga_b)):
                 air[j], air[LANES + j], air[2 * LANES + j] = gust_velocity(gust, gust_dt[j], t)
