@@ -22,6 +22,8 @@ the same gain so scaled; a test checks it). Without it the feedback on the angle
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -30,7 +32,7 @@ from ..layout import CTRL_T_REF
 from .base import Command, Measurement
 from .paper import PaperController
 
-__all__ = ["LandingController", "LandingSchedule"]
+__all__ = ["GroundHoldController", "LandingController", "LandingSchedule"]
 
 
 @dataclass(frozen=True)
@@ -174,4 +176,78 @@ class LandingController(PaperController):
         if not measurement.attached:
             return command
         rate = command.reel_rate + self.schedule.natural_length_rate(t)
+        return Command(inputs=command.inputs, reel_rate=rate, feedforward=command.feedforward)
+
+
+class GroundHoldController(PaperController):
+    """The paper's controller holding a point of N over a moving base (``[control]
+    reference = "ground"``): the engine flies on the state relative to the base, so the
+    point's position relative to the base moves, y_ref(t) = y_ref(0) - (b(t) - b(0)), with
+    the velocity -b'(t). The tether's references follow by the tether's geometry from the
+    winch: P_ref = y_ref - d (d = HO - P at the trim's attitude), q9 = |P_ref|, c3 = P_ref /
+    q9 = (sin q8, -sin q7 cos q8, cos q7 cos q8) (eq 27); the gain's tether-angle columns
+    scale with q9 as the landing's do, and the reel rate gets the feed-forward dq9/dt =
+    c3 . (-b'). Valid while the tether stays near the trim's direction (the design's).
+
+    Parameters
+    ----------
+    base_state : callable
+        t [s] -> (3, 3) position, velocity, acceleration of the base in N (``BaseMotion``'s
+        ``state(t)[0]``).
+    trim_P : array_like, shape (3,)
+        P relative to the winch at the trim [m] (q9 c3 of the trim).
+    *args, **paper
+        ``PaperController``'s arguments, the start's trim.
+    """
+
+    def __init__(self, base_state: Callable[[float], np.ndarray], trim_P, *args, **paper):
+        super().__init__(*args, **paper)
+        self.x_ref, self.y_ref, self.gain = self.x_ref.copy(), self.y_ref.copy(), self.gain.copy()
+        self.base_state = base_state
+        self._b0 = np.array(base_state(0.0)[0], dtype=float)
+        self._gain0 = self.gain.copy()
+        self._x_ref0 = self.x_ref.copy()
+        self._y_ref0 = self.y_ref.copy()
+        self._d = self._y_ref0[:3] - np.asarray(trim_P, dtype=float)
+
+    def reset(self) -> None:
+        """``PaperController.reset``, and the references back at the start's."""
+        super().reset()
+        if hasattr(self, "_x_ref0"):
+            self.x_ref[:] = self._x_ref0
+            self.y_ref[:] = self._y_ref0
+            self.gain[:] = self._gain0
+
+    def step(self, t: float, measurement: Measurement) -> Command:
+        """The paper's law on the references of the point of N at t (class docstring).
+
+        Parameters
+        ----------
+        t : float
+            Sample time [s].
+        measurement : Measurement
+            The measured state (relative to the base).
+
+        Returns
+        -------
+        Command
+        """
+        b = np.asarray(self.base_state(t), dtype=float)
+        y_ref = self._y_ref0.copy()
+        y_ref[:3] -= b[0] - self._b0
+        P = y_ref[:3] - self._d
+        q9 = float(np.linalg.norm(P))
+        c3 = P / q9
+        x_ref = self._x_ref0.copy()
+        x_ref[3] = math.atan2(-c3[1], c3[2])  # q7
+        x_ref[4] = math.asin(max(-1.0, min(1.0, c3[0])))  # q8
+        x_ref[5] = q9
+        x_ref[6:9] = -b[1]  # HO's velocity relative to the base
+        self.x_ref[:] = x_ref
+        self.y_ref[:] = y_ref
+        self.gain[:, 3:5] = self._gain0[:, 3:5] * (q9 / self._x_ref0[5])
+        command = super().step(t, measurement)
+        if not measurement.attached:
+            return command
+        rate = command.reel_rate + float(c3 @ -b[1])
         return Command(inputs=command.inputs, reel_rate=rate, feedforward=command.feedforward)

@@ -597,7 +597,12 @@ def run_batch(
 
     def run_one(i: int) -> None:
         s = scenarios[i]
-        if s.control.controller == "mpc" or s.maneuver.landing or s.control.base_feedforward:
+        python = s.maneuver.landing or s.control.base_feedforward
+        if (
+            s.control.controller == "mpc"
+            or python
+            or (not s.base_motion.fixed and (s.reference == "ground"))
+        ):  # a Python controller: the MPC's, or simulate's own (sim.landing, control.deck)
             return run_python(i)
         setup = set_up(i)
         if setup is not None:

@@ -40,7 +40,7 @@ from ..resources import check_memory
 from ..sensing.config import N_CHANNELS, N_GROUPS
 from ..status import FALLBACK_COLUMN, Status, solver_status
 from . import engine, stepping
-from .landing import Touchdown, landing_controller
+from .landing import Touchdown, ground_hold_controller, landing_controller
 from .mpc_setup import mpc_controller
 from .result import DRUM_COLUMNS, TENSION_GROUND_COLUMN, SimulationResult, winch_limit_info
 from .result_files import BASE_POSITION_COLUMNS, BASE_VELOCITY_COLUMNS
@@ -162,13 +162,16 @@ def simulate(
     n = scenario.n_samples
     landing = scenario.maneuver.landing
     deck_ffwd = scenario.control.base_feedforward  # (over a moving base: validated)
+    hold = scenario.reference == "ground" and not scenario.base_motion.fixed
     paper = (
         controller is None and scenario.control.controller != "mpc" and not landing
-        and not deck_ffwd
+        and not deck_ffwd and not hold
     )  # fmt: skip
     if controller is None:  # the MPC and a landing are Python controllers (control.*)
         if landing:
             controller = landing_controller(scenario, setup)
+        elif hold:
+            controller = ground_hold_controller(scenario, setup)
         elif scenario.control.controller != "mpc":
             controller = setup.paper_controller()
         else:

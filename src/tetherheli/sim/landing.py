@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..control.landing import LandingController, LandingSchedule
+from ..control.landing import GroundHoldController, LandingController, LandingSchedule
 from ..status import Status
 from .scenario_tables import LANDING_PRESS_M
 
@@ -17,7 +17,13 @@ if TYPE_CHECKING:
     from .scenario import Scenario
     from .setup import EngineSetup
 
-__all__ = ["LANDING_TRIMS", "Touchdown", "landing_controller", "landing_schedule"]
+__all__ = [
+    "LANDING_TRIMS",
+    "Touchdown",
+    "ground_hold_controller",
+    "landing_controller",
+    "landing_schedule",
+]
 
 #: hover trims along a landing's tension schedule, interpolated by the controller
 LANDING_TRIMS = 9
@@ -140,3 +146,31 @@ class Touchdown:
             if value > limit:
                 record["reasons"].append(f"{name} {value:.3g} {unit} > {key} = {limit:g}")
         return int(Status.HARD_TOUCHDOWN if record["reasons"] else Status.LANDED)
+
+
+def ground_hold_controller(scenario: Scenario, setup: EngineSetup) -> GroundHoldController:
+    """The paper's controller holding its start's point of N over the scenario's moving base
+    (``[control] reference = "ground"``, ``control.landing.GroundHoldController``).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        A run over a moving base.
+    setup : EngineSetup
+        Its set-up.
+
+    Returns
+    -------
+    GroundHoldController
+    """
+    K, _, y_ref, u0, u0_free, z0 = setup.law
+    trim = setup.trim
+    q7, q8, q9 = trim.x[3:6]
+    trim_P = q9 * np.array(
+        [math.sin(q8), -math.sin(q7) * math.cos(q8), math.cos(q7) * math.cos(q8)]
+    )
+    motion = scenario.base_motion
+    return GroundHoldController(
+        lambda t: motion.state(t)[0], trim_P, K, trim.x, y_ref, u0, setup.ctrl,
+        setup.model.constants, free_trim_input=u0_free, z_init=z0,
+    )  # fmt: skip

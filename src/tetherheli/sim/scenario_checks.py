@@ -281,10 +281,17 @@ def _check_base(s: Scenario, source: str | None) -> None:
             "'fixed': no acceleration to feed forward)", source=source,
         )  # fmt: skip
     if reference == "ground" and not motion.fixed:
-        raise ParameterError(
-            "control.reference", reference, "'base' or unset over a moving base (holding a "
-            "point of N over a moving winch is not implemented yet)", source=source,
-        )  # fmt: skip
+        if s.control.controller != "paper":
+            raise ParameterError(
+                "control.reference", reference, "'base' or unset over a moving base with "
+                f"control.controller = {s.control.controller!r} (only the paper's holds a "
+                "point of N over a moving winch yet)", source=source,
+            )  # fmt: skip
+        if s.maneuver.landing or s.control.base_feedforward:
+            raise ParameterError(
+                "control.reference", reference, "'base' or unset with a landing or "
+                "control.base_feedforward (both fly relative to the deck)", source=source,
+            )  # fmt: skip
 
 
 def _set(s: Scenario, name: str, value: Any) -> None:

@@ -47,9 +47,11 @@ SENSINGS: dict[str, str | None] = {
 
 def sea_state(scenario: Scenario, height: float, seed: int) -> Scenario:
     """``scenario`` over a deck in the sea state of significant wave height ``height`` [m]
-    and ``seed`` (its other ``[base]`` keys kept; a still base becomes a sea state)."""
+    and ``seed`` (its other ``[base]`` keys kept; a still base becomes a sea state); the seed
+    is also the run's (its sensor noise)."""
     base = replace(scenario.base, motion="sea_state", significant_wave_height=height, seed=seed)
-    return scenario.replace(base=base, name=f"{scenario.name}_hs{height:g}_seed{seed}")
+    name = f"{scenario.name}_hs{height:g}_seed{seed}"
+    return scenario.replace(base=base, seed=seed, name=name)
 
 
 @dataclass(frozen=True)
@@ -62,6 +64,7 @@ class StationRow:
     height: float
     configuration: str
     sensing: str
+    feedforward: bool
     rms_horizontal: float
     rms_vertical: float
     peak_vertical: float
@@ -77,10 +80,12 @@ def station_rows(
     *,
     configurations: Sequence[str] = ("free", "tethered"),
     sensings: Sequence[str] = ("perfect", "gnss", "tether"),
+    feedforwards: Sequence[bool] = (False, True),
     duration: float | None = None,
 ) -> list[StationRow]:
     """The station-keeping table: every height x configuration x sensing (the tether as a
-    sensor on the tethered configuration only), over ``seeds``.
+    sensor on the tethered configuration only) x deck feed-forward (``[control]
+    base_feedforward``), over ``seeds`` (each the sea state's and the sensor noise's).
 
     Parameters
     ----------
@@ -88,8 +93,8 @@ def station_rows(
         Significant wave heights [m].
     seeds : sequence of int
         The sea states' seeds (one run each).
-    configurations, sensings
-        Which to fly (``SENSINGS``' names).
+    configurations, sensings, feedforwards
+        Which to fly (``SENSINGS``' names; the deck's heave fed forward or not).
     duration : float, optional
         Shorter runs than the shipped 60 s (a quick check).
 
@@ -109,12 +114,15 @@ def station_rows(
             sensed = (
                 base if suite is None else base.replace(sensors=shipped_scenario(suite).sensors)
             )
-            for h in heights:
-                cases.append((h, configuration, sensing,
-                              [sea_state(sensed, h, s) for s in seeds]))  # fmt: skip
+            for ff in feedforwards:
+                control = replace(sensed.control, base_feedforward=ff)
+                flown = sensed.replace(control=control)
+                for h in heights:
+                    cases.append((h, configuration, sensing, ff,
+                                  [sea_state(flown, h, s) for s in seeds]))  # fmt: skip
     batch = run_batch([s for *_, runs in cases for s in runs])
     rows, i = [], 0
-    for h, configuration, sensing, runs in cases:
+    for h, configuration, sensing, ff, runs in cases:
         metrics = [batch.metrics(i + j) for j in range(len(runs))]
         ok = batch.ok[i : i + len(runs)]
         i += len(runs)
@@ -125,7 +133,7 @@ def station_rows(
 
         horizontal = [math.hypot(m["rms_q1"], m["rms_q2"]) for m in good]
         rows.append(StationRow(
-            height=h, configuration=configuration, sensing=sensing,
+            height=h, configuration=configuration, sensing=sensing, feedforward=ff,
             rms_horizontal=float(np.mean(horizontal)) if good else math.nan,
             rms_vertical=mean("rms_q3"), peak_vertical=mean("peak_q3"),
             tension_min=mean("tension_min"), tension_max=mean("tension_max"),
@@ -141,6 +149,7 @@ class LandingRow:
     tilt [rad] (largest), and the failures' statuses."""
 
     height: float
+    feedforward: bool
     runs: int
     landed: int
     speed_mean: float
@@ -155,8 +164,11 @@ class LandingRow:
         return self.landed / self.runs
 
 
-def landing_rows(heights: Sequence[float], seeds: Sequence[int]) -> list[LandingRow]:
-    """The landing table: ``landing_sea_state`` at each height over ``seeds``.
+def landing_rows(
+    heights: Sequence[float], seeds: Sequence[int], feedforwards: Sequence[bool] = (False, True)
+) -> list[LandingRow]:
+    """The landing table: ``landing_sea_state`` at each height over ``seeds``, the deck's
+    heave fed forward or not.
 
     Parameters
     ----------
@@ -164,14 +176,17 @@ def landing_rows(heights: Sequence[float], seeds: Sequence[int]) -> list[Landing
         Significant wave heights [m].
     seeds : sequence of int
         The sea states' seeds.
+    feedforwards : sequence of bool
+        ``[control] base_feedforward`` values to fly.
 
     Returns
     -------
     list of LandingRow
     """
-    base = shipped_scenario("landing_sea_state")
+    shipped = shipped_scenario("landing_sea_state")
     rows = []
-    for h in heights:
+    for ff, h in ((ff, h) for ff in feedforwards for h in heights):
+        base = shipped.replace(control=replace(shipped.control, base_feedforward=ff))
         results = [simulate(sea_state(base, h, s)) for s in seeds]
         touched = [r.touchdown for r in results if r.touchdown is not None]
         landed = sum(r.status == Status.LANDED for r in results)
@@ -182,7 +197,7 @@ def landing_rows(heights: Sequence[float], seeds: Sequence[int]) -> list[Landing
                 failures[name] = failures.get(name, 0) + 1
         speeds = [t["vertical_speed"] for t in touched]
         rows.append(LandingRow(
-            height=h, runs=len(results), landed=landed,
+            height=h, feedforward=ff, runs=len(results), landed=landed,
             speed_mean=float(np.mean(speeds)) if speeds else math.nan,
             speed_max=max(speeds, default=math.nan),
             offset_max=max((t["offset"] for t in touched), default=math.nan),
