@@ -167,13 +167,12 @@ def plant_derivative(x, sc, inp, reel_rate, t, side, cfg, c, program, gust, drag
 
 @_jit_inline
 def _plant_in_wind(x, sc, inp, reel_rate, cfg, c, wind, out):
-    if cfg[CFG_ATTACHED] > 0.5:
-        tension = tension_from_state(x[5], x[12], cfg[CFG_K_C])
-        tethered_rhs_sc(x, sc, inp, wind, tension, c, out)
-        out[12] = reel_rate
-    else:
-        tethered_rhs_sc(x, sc, inp, wind, 0.0, c, out)
-        out[12] = 0.0
+    # one inlined copy of the generated right-hand side for both configurations (a removed
+    # tether is tension 0: the same arithmetic as a constant 0 would compile to)
+    attached = cfg[CFG_ATTACHED] > 0.5
+    tension = tension_from_state(x[5], x[12], cfg[CFG_K_C]) if attached else 0.0
+    tethered_rhs_sc(x, sc, inp, wind, tension, c, out)
+    out[12] = reel_rate if attached else 0.0
 
 
 #: sin/cos of the step-start angles are chained by angle addition for at most this many
