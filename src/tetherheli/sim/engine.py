@@ -208,6 +208,9 @@ def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, work,
     """
     n_sub = int(cfg[CFG_N_SUB])
     h = cfg[CFG_DT] / n_sub
+    # borrowed views (``_compile.borrowed``; the caller holds the arrays): the stages below
+    # pick their arrays at run time, with no reference counts
+    x, work = borrowed((x, work))
     k1, k2, k3, k4, tmp, wind = work[0], work[1], work[2], work[3], work[4], work[5]
     sc0, sc = work[6], work[7]
     n = x.shape[0]
@@ -219,24 +222,25 @@ def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, work,
         ta = t0 + j * h
         tb = t0 + (j + 1) * h
         tm = ta + 0.5 * h
-        base_frame_force(program, gust, gdt, drag, base, ta, 1, x[6], x[7], x[8], wind)
-        _plant_in_wind(x, sc0, inp, reel_rate, cfg, c, wind, k1)
-        for i in range(n):
-            tmp[i] = x[i] + 0.5 * h * k1[i]
-        angle_trig_from(tmp, x, sc0, sc)
-        base_frame_force(program, gust, gdt, drag, base, tm, 1, tmp[6], tmp[7], tmp[8], wind)
-        _plant_in_wind(tmp, sc, inp, reel_rate, cfg, c, wind, k2)
-        for i in range(n):
-            tmp[i] = x[i] + 0.5 * h * k2[i]
-        angle_trig_from(tmp, x, sc0, sc)
-        if gusty:  # the drag depends on the stage's velocity
-            base_frame_force(program, gust, gdt, drag, base, tm, 1, tmp[6], tmp[7], tmp[8], wind)
-        _plant_in_wind(tmp, sc, inp, reel_rate, cfg, c, wind, k3)
-        for i in range(n):
-            tmp[i] = x[i] + h * k3[i]
-        angle_trig_from(tmp, x, sc0, sc)
-        base_frame_force(program, gust, gdt, drag, base, tb, -1, tmp[6], tmp[7], tmp[8], wind)
-        _plant_in_wind(tmp, sc, inp, reel_rate, cfg, c, wind, k4)
+        # the four stages as one loop: one inlined copy of the wind and the plant (issue 24:
+        # four copies took most of a first run's compilation of this function)
+        for stage in range(4):
+            if stage == 0:
+                xs, scs, ts, side = x, sc0, ta, 1
+            else:
+                a = h if stage == 3 else 0.5 * h
+                kp = work[stage - 1]
+                for i in range(n):
+                    tmp[i] = x[i] + a * kp[i]
+                angle_trig_from(tmp, x, sc0, sc)
+                xs, scs = tmp, sc
+                ts, side = (tb, -1) if stage == 3 else (tm, 1)
+            # without a gust table the wind depends on t only: the third stage keeps the
+            # second's (with one, the drag depends on the stage's velocity)
+            if stage != 2 or gusty:
+                base_frame_force(program, gust, gdt, drag, base, ts, side, xs[6], xs[7], xs[8],
+                                 wind)  # fmt: skip
+            _plant_in_wind(xs, scs, inp, reel_rate, cfg, c, wind, work[stage])
         for i in range(n):
             tmp[i] = x[i]  # the step's start, for the next step's trigonometry
             x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
@@ -334,6 +338,15 @@ def summarize(x, x_ref, y, y_ref, tension, first, summary):
         accumulate(summary, x[k], x_ref, y[k], y_ref, tension[k])
 
 
+@_jit_inline
+def copy_into(dst, src):
+    """dst[:] = src for 1-d arrays of src's length, as a plain loop: an array assignment's
+    broadcasting, shape checks and their error messages are compiled anew at every one in a
+    first run (issue 24: cold start)."""
+    for i in range(src.shape[0]):
+        dst[i] = src[i]
+
+
 # --- the phases of one control sample ----------------------------------------------------------
 
 
@@ -404,7 +417,7 @@ def _sense(x, k, t, cfg, ctrl, act, sensors, sensed, event, x_meas):
     load = winch_tension(cfg, tension)  # the load cell at the winch
     if sensed:
         return tension, measure_sampled(x, load, k, sensors, x_meas)
-    x_meas[:] = x
+    copy_into(x_meas, x)
     return tension, load
 
 
@@ -458,14 +471,15 @@ def winch_limits(held, rate, act, dt, length, t):
     return rate
 
 
-@_jit_inline
+@_jit
 def drum_winch(held, rate_cmd, act, dt, tension_ground, measured_tension):
     """The drum winch over one sample (``model.winch``): speed reference rate_cmd / r, the
     drive's feed-forward r T_meas (when act[ACT_DRUM_TENSION_FFWD]), the tether's pull r T_g
     with T_g = tension_ground held over the sample; the drum's speed in ``held`` is advanced by
     the exact piecewise solution (``model.winch.drum_step``) and ``held`` keeps the mean motor
     torque (hauling in). Returns the mean reel rate over the sample, r int w dt / dt [m/s], so
-    that L_N advances exactly by the length paid out."""
+    that L_N advances exactly by the length paid out. A call, not inlined: only a drum winch
+    takes it (issue 24: cold start)."""
     r = act[ACT_DRUM_RADIUS]
     ffwd = r * measured_tension if act[ACT_DRUM_TENSION_FFWD] > 0.5 else 0.0
     w0 = held[HELD_DRUM_SPEED]
@@ -574,8 +588,8 @@ def sample_outputs(x, c, sensed, y, y_est, sc_true, sc_meas, y_ref, tension, cfg
         tethered_outputs(x, c, y)
         angle_trig(x, sc_true)
     else:
-        y[:] = y_est
-        sc_true[:] = sc_meas
+        copy_into(y, y_est)
+        copy_into(sc_true, sc_meas)
     return check_state_sc(x, sc_true, y, y_ref, tension, cfg)
 
 
@@ -603,21 +617,33 @@ def sample_record(
     (``layout.Signals``); ``scratch`` (>= 3,) receives the wind force."""
     if k >= cfg[CFG_METRICS_FROM]:  # the metrics' window (Scenario.metrics_start)
         accumulate(summary, x, x_ref, y, y_ref, tension)
-    if not record:
-        return
+    if record:
+        record_row(k, cfg, act, x, y, tension, rate, inp, ffwd, y_est, held, out, program,
+                   gust, drag, base, scratch, nodes)  # fmt: skip
+
+
+@_jit
+def record_row(
+    k, cfg, act, x, y, tension, rate, inp, ffwd, y_est, held, out, program, gust, drag, base,
+    scratch, nodes,
+):  # fmt: skip
+    """``sample_record``'s row of ``out``: a call, not inlined (once per sample; issue 24:
+    a first run compiles it apart)."""
     air_force_on_base(program, gust, cfg[CFG_GUST_DT], drag, base, k * cfg[CFG_DT], 1, x[6],
                       x[7], x[8], scratch)  # fmt: skip
-    out.x[k] = x
-    out.u[k] = inp
-    out.ffwd[k] = ffwd
+    copy_into(out.x[k], x)
+    copy_into(out.u[k], inp)
+    copy_into(out.ffwd[k], ffwd)
     out.rate[k] = rate
     out.tension[k] = tension
-    out.wind[k] = scratch[:3]
-    out.y[k] = y
-    out.y_est[k] = y_est
+    copy_into(out.wind[k], scratch[:3])
+    copy_into(out.y[k], y)
+    copy_into(out.y_est[k], y_est)
     out.tension_ground[k] = winch_tension(cfg, tension)
     if out.nodes.shape[0] > 0:
-        out.nodes[k] = nodes
+        row = out.nodes[k]
+        for i in range(nodes.shape[0]):
+            copy_into(row[i], nodes[i])
     if act[ACT_DRUM] > 0.5:  # the drum's speed at t_k, its mean torque after t_k
         out.winch[k, 0] = held[HELD_DRUM_SPEED_SAMPLED]
         out.winch[k, 1] = held[HELD_MOTOR_TORQUE]
