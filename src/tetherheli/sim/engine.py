@@ -725,7 +725,7 @@ def run_closed_loop(
 
     A massless run goes through ``run_massless_loop``, compiled without the lumped chain's
     step (about 20 s of a first run's compilation), a lumped one through
-    ``run_lumped_loop``: the one loop, ``closed_loop``, specialised.
+    ``run_lumped_loop``: the one loop, ``_specialised_loop``'s, specialised.
     """
     loop = run_lumped_loop if is_lumped(chain) else run_massless_loop
     return loop(
@@ -733,78 +733,71 @@ def run_closed_loop(
     )
 
 
-@_jit
-def run_massless_loop(
-    x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out, summary
-):  # fmt: skip
-    """``closed_loop`` of a massless tether (or none): the lumped branch pruned."""
-    return closed_loop(
+def _specialised_loop(lumped: bool):
+    """``run_closed_loop``'s loop for a massless tether (or none, ``lumped`` False) or a
+    lumped one: a closure whose ``lumped`` is a constant of the compiled code, so that the
+    compiler drops the branch a run never takes (Numba's cache keys a closure on its
+    variables' values too). Not an inlined function called with a constant: Numba copies an
+    inlined function's IR block by block, each block with every variable of the function, so
+    inlining the whole loop cost about a quarter of a first run's compilation (issue 24)."""
+
+    def closed_loop(
         x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out,
-        summary, False,
-    )  # fmt: skip
-
-
-@_jit
-def run_lumped_loop(
-    x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out, summary
-):  # fmt: skip
-    """``closed_loop`` of a lumped tether (``chain``'s nodes present)."""
-    return closed_loop(
-        x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out,
-        summary, True,
-    )  # fmt: skip
-
-
-@_jit_inline
-def closed_loop(
-    x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out, summary,
-    lumped,
-):  # fmt: skip
-    """The closed loop of ``run_closed_loop``; ``lumped`` a constant of the compiled caller,
-    so that the compiler drops the branch a run never takes."""
-    # The loop works on borrowed views (``_compile.borrowed``: no atomic reference counts):
-    # of the arguments, which the caller holds, and of the run's own arrays, held below
-    # (``keep_alive``) until the loop is done.
-    own_cfg, own_ctrl, own_x = cfg_in.copy(), ctrl_in.copy(), x_init.copy()
-    own_work = np.empty((RK4_WORK_ROWS, 13))
-    own_loop = _loop_state(x_init, law[LAW_Z0], own_work)
-    own_no_action = np.zeros(4)
-    own_cw = _lumped_work(max(chain[CHAIN_NODES].shape[0] - 1, 1))
-    cfg, ctrl, x, work, no_action = borrowed((own_cfg, own_ctrl, own_x, own_work, own_no_action))
-    c, act, summary, sensors, chain, out, cw = borrowed(
-        (c, act, summary, sensors, chain, out, own_cw)
-    )
-    program, gust, drag, base = borrowed(wind)
-    # the tuples' arrays taken out once, before the loop (see ``_paper_sample``)
-    gain, x_ref, y_ref, u0_tethered, u0_free, _z0 = borrowed(law)
-    z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd = borrowed(own_loop)
-    sensed = sensors[0].shape[0] > 0
-    start_summary(summary)
-    status, done = STATUS_OK, n_samples + 1
-    nodes = chain[CHAIN_NODES]
-    for k in range(n_samples + 1):
-        tension, measured = sample_sense(
-            x, k, cfg, ctrl, act, sensors, sensed, event, x_meas, lumped, gust, base, chain, cw
+        summary,
+    ):  # fmt: skip
+        # The loop works on borrowed views (``_compile.borrowed``: no atomic reference counts):
+        # of the arguments, which the caller holds, and of the run's own arrays, held below
+        # (``keep_alive``) until the loop is done.
+        own_cfg, own_ctrl, own_x = cfg_in.copy(), ctrl_in.copy(), x_init.copy()
+        own_work = np.empty((RK4_WORK_ROWS, 13))
+        own_loop = _loop_state(x_init, law[LAW_Z0], own_work)
+        own_no_action = np.zeros(4)
+        own_cw = _lumped_work(max(chain[CHAIN_NODES].shape[0] - 1, 1))
+        cfg, ctrl, x, work, no_action = borrowed(
+            (own_cfg, own_ctrl, own_x, own_work, own_no_action)
         )
-        rate = paper_law(
-            x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered, u0_free,
-            z, winch, y_est, inp, ffwd, no_action, ACTION_NONE,
-        )  # fmt: skip
-        sample_status, rate = sample_apply(
-            x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, y, y_est, sc_true,
-            sc_meas, y_ref,
-        )  # fmt: skip
-        if sample_status != STATUS_OK:
-            status, done = sample_status, k
-            break
-        sample_record(
-            k, cfg, act, summary, x, x_ref, y, y_ref, tension, rate, inp, ffwd, y_est, held,
-            record, out, program, gust, drag, base, work[5], nodes,
-        )  # fmt: skip
-        if k == n_samples:
-            break
-        sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, base, work, chain, cw,
-                       lumped)  # fmt: skip
-    finish_summary(summary, event, held)
-    keep_alive((own_cfg, own_ctrl, own_x, own_work, own_loop, own_no_action, own_cw))
-    return status, done
+        c, act, summary, sensors, chain, out, cw = borrowed(
+            (c, act, summary, sensors, chain, out, own_cw)
+        )
+        program, gust, drag, base = borrowed(wind)
+        # the tuples' arrays taken out once, before the loop (see ``_paper_sample``)
+        gain, x_ref, y_ref, u0_tethered, u0_free, _z0 = borrowed(law)
+        z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd = borrowed(own_loop)
+        sensed = sensors[0].shape[0] > 0
+        start_summary(summary)
+        status, done = STATUS_OK, n_samples + 1
+        nodes = chain[CHAIN_NODES]
+        for k in range(n_samples + 1):
+            tension, measured = sample_sense(
+                x, k, cfg, ctrl, act, sensors, sensed, event, x_meas, lumped, gust, base, chain, cw
+            )
+            rate = paper_law(
+                x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered, u0_free,
+                z, winch, y_est, inp, ffwd, no_action, ACTION_NONE,
+            )  # fmt: skip
+            sample_status, rate = sample_apply(
+                x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, y, y_est, sc_true,
+                sc_meas, y_ref,
+            )  # fmt: skip
+            if sample_status != STATUS_OK:
+                status, done = sample_status, k
+                break
+            sample_record(
+                k, cfg, act, summary, x, x_ref, y, y_ref, tension, rate, inp, ffwd, y_est, held,
+                record, out, program, gust, drag, base, work[5], nodes,
+            )  # fmt: skip
+            if k == n_samples:
+                break
+            sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, base, work, chain, cw,
+                           lumped)  # fmt: skip
+        finish_summary(summary, event, held)
+        keep_alive((own_cfg, own_ctrl, own_x, own_work, own_loop, own_no_action, own_cw))
+        return status, done
+
+    return closed_loop
+
+
+#: ``_specialised_loop`` of a massless tether (or none): the lumped branch pruned
+run_massless_loop = _jit(_specialised_loop(False))
+#: ``_specialised_loop`` of a lumped tether (``chain``'s nodes present)
+run_lumped_loop = _jit(_specialised_loop(True))
