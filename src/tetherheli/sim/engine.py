@@ -471,19 +471,19 @@ def winch_limits(held, rate, act, dt, length, t):
     return rate
 
 
-@_jit
+@_jit_inline
 def drum_winch(held, rate_cmd, act, dt, tension_ground, measured_tension):
     """The drum winch over one sample (``model.winch``): speed reference rate_cmd / r, the
     drive's feed-forward r T_meas (when act[ACT_DRUM_TENSION_FFWD]), the tether's pull r T_g
     with T_g = tension_ground held over the sample; the drum's speed in ``held`` is advanced by
     the exact piecewise solution (``model.winch.drum_step``) and ``held`` keeps the mean motor
     torque (hauling in). Returns the mean reel rate over the sample, r int w dt / dt [m/s], so
-    that L_N advances exactly by the length paid out. A call, not inlined: only a drum winch
-    takes it (issue 24: cold start)."""
+    that L_N advances exactly by the length paid out. The drum's step is a call
+    (``_drum_step``), not inlined: only a drum winch takes it (issue 24: cold start)."""
     r = act[ACT_DRUM_RADIUS]
     ffwd = r * measured_tension if act[ACT_DRUM_TENSION_FFWD] > 0.5 else 0.0
     w0 = held[HELD_DRUM_SPEED]
-    w1, speed_integral, torque_integral = drum_step(
+    w1, speed_integral, torque_integral = _drum_step(
         w0, rate_cmd / r, r * tension_ground, ffwd, dt, act[ACT_DRUM_INERTIA],
         act[ACT_DRUM_SPEED_GAIN], act[ACT_DRUM_TORQUE_LIMIT], act[ACT_DRUM_VISCOUS],
         act[ACT_DRUM_COULOMB],
@@ -530,6 +530,14 @@ def _paper_sample(
     status, rate = sample_apply(x, k, cfg, act, c, held, inp, rate, tension, measured, sensed,
                                 y, y_est, sc_true, sc_meas, y_ref)  # fmt: skip
     return status, tension, rate
+
+
+@_jit
+def _drum_step(w0, w_cmd, tension_torque, ffwd, dt, inertia, gain, torque_limit, viscous,
+               coulomb):  # fmt: skip
+    # ``drum_winch``'s ``model.winch.drum_step``, compiled apart (scalars only: one signature)
+    return drum_step(w0, w_cmd, tension_torque, ffwd, dt, inertia, gain, torque_limit, viscous,
+                     coulomb)  # fmt: skip
 
 
 # --- the phases of one sample, shared by every loop (issue 24: one sample step) -------------

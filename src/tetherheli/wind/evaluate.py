@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 
-from .._compile import compiled, plain
+from .._compile import compiled, frozen, plain
 from ..base.compiled import base_at
 from ..layout import (
     BASE_MASS,
@@ -112,8 +112,8 @@ def base_frame_force(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, ou
     engine would otherwise carry a second copy of ``wind_force`` and one of ``base_at``, which
     a first run compiles (issue 24: cold start)."""
     if base[0, BASE_MOVING] > 0.5:
-        _moving_frame_force(program, gust, gust_dt, drag, base, t, plain(side), v1, v2, v3, out,
-                            plain(True))  # fmt: skip
+        _moving_frame_force(frozen(program), frozen(gust), gust_dt, frozen(drag), frozen(base), t,
+                            plain(side), v1, v2, v3, out, plain(True))  # fmt: skip
     else:
         wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out)
 
@@ -137,7 +137,7 @@ def air_force_on_base(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, o
     relative to the base: ``wind_force`` at the velocity v + b'(t) in N (over a moving base a
     call, ``_moving_frame_force``, as in ``base_frame_force``)."""
     if base[0, BASE_MOVING] > 0.5:
-        _moving_frame_force(program, gust, gust_dt, drag, base, t, plain(side), v1, v2, v3, out,
-                            plain(False))  # fmt: skip
+        _moving_frame_force(frozen(program), frozen(gust), gust_dt, frozen(drag), frozen(base), t,
+                            plain(side), v1, v2, v3, out, plain(False))  # fmt: skip
     else:
         wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out)
