@@ -50,6 +50,7 @@ __all__ = [
     "cache_directory",
     "compiled",
     "compiled_sources",
+    "frozen",
     "keep_alive",
     "plain",
     "source_fingerprint",
@@ -425,6 +426,19 @@ def borrowed(typingctx: Any, value: Any) -> Any:
         return _borrow_value(context, builder, signature.args[0], args[0])
 
     return value(value), codegen
+
+
+@intrinsic
+def frozen(typingctx: Any, value: Any) -> Any:
+    """In compiled code: an array as a borrowed view (``borrowed``) typed read-only, so that
+    callers holding the array writable or read-only select one signature of a callee that
+    only reads it (one compilation, not two)."""
+    kind = value.copy(readonly=True)
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        return _borrow_value(context, builder, signature.args[0], args[0])
+
+    return kind(value), codegen
 
 
 @intrinsic

@@ -167,13 +167,12 @@ def plant_derivative(x, sc, inp, reel_rate, t, side, cfg, c, program, gust, drag
 
 @_jit_inline
 def _plant_in_wind(x, sc, inp, reel_rate, cfg, c, wind, out):
-    if cfg[CFG_ATTACHED] > 0.5:
-        tension = tension_from_state(x[5], x[12], cfg[CFG_K_C])
-        tethered_rhs_sc(x, sc, inp, wind, tension, c, out)
-        out[12] = reel_rate
-    else:
-        tethered_rhs_sc(x, sc, inp, wind, 0.0, c, out)
-        out[12] = 0.0
+    # one inlined copy of the generated right-hand side for both configurations (a removed
+    # tether is tension 0: the same arithmetic as a constant 0 would compile to)
+    attached = cfg[CFG_ATTACHED] > 0.5
+    tension = tension_from_state(x[5], x[12], cfg[CFG_K_C]) if attached else 0.0
+    tethered_rhs_sc(x, sc, inp, wind, tension, c, out)
+    out[12] = reel_rate if attached else 0.0
 
 
 #: sin/cos of the step-start angles are chained by angle addition for at most this many
@@ -209,6 +208,9 @@ def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, work,
     """
     n_sub = int(cfg[CFG_N_SUB])
     h = cfg[CFG_DT] / n_sub
+    # borrowed views (``_compile.borrowed``; the caller holds the arrays): the stages below
+    # pick their arrays at run time, with no reference counts
+    x, work = borrowed((x, work))
     k1, k2, k3, k4, tmp, wind = work[0], work[1], work[2], work[3], work[4], work[5]
     sc0, sc = work[6], work[7]
     n = x.shape[0]
@@ -220,24 +222,25 @@ def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, work,
         ta = t0 + j * h
         tb = t0 + (j + 1) * h
         tm = ta + 0.5 * h
-        base_frame_force(program, gust, gdt, drag, base, ta, 1, x[6], x[7], x[8], wind)
-        _plant_in_wind(x, sc0, inp, reel_rate, cfg, c, wind, k1)
-        for i in range(n):
-            tmp[i] = x[i] + 0.5 * h * k1[i]
-        angle_trig_from(tmp, x, sc0, sc)
-        base_frame_force(program, gust, gdt, drag, base, tm, 1, tmp[6], tmp[7], tmp[8], wind)
-        _plant_in_wind(tmp, sc, inp, reel_rate, cfg, c, wind, k2)
-        for i in range(n):
-            tmp[i] = x[i] + 0.5 * h * k2[i]
-        angle_trig_from(tmp, x, sc0, sc)
-        if gusty:  # the drag depends on the stage's velocity
-            base_frame_force(program, gust, gdt, drag, base, tm, 1, tmp[6], tmp[7], tmp[8], wind)
-        _plant_in_wind(tmp, sc, inp, reel_rate, cfg, c, wind, k3)
-        for i in range(n):
-            tmp[i] = x[i] + h * k3[i]
-        angle_trig_from(tmp, x, sc0, sc)
-        base_frame_force(program, gust, gdt, drag, base, tb, -1, tmp[6], tmp[7], tmp[8], wind)
-        _plant_in_wind(tmp, sc, inp, reel_rate, cfg, c, wind, k4)
+        # the four stages as one loop: one inlined copy of the wind and the plant (issue 24:
+        # four copies took most of a first run's compilation of this function)
+        for stage in range(4):
+            if stage == 0:
+                xs, scs, ts, side = x, sc0, ta, 1
+            else:
+                a = h if stage == 3 else 0.5 * h
+                kp = work[stage - 1]
+                for i in range(n):
+                    tmp[i] = x[i] + a * kp[i]
+                angle_trig_from(tmp, x, sc0, sc)
+                xs, scs = tmp, sc
+                ts, side = (tb, -1) if stage == 3 else (tm, 1)
+            # without a gust table the wind depends on t only: the third stage keeps the
+            # second's (with one, the drag depends on the stage's velocity)
+            if stage != 2 or gusty:
+                base_frame_force(program, gust, gdt, drag, base, ts, side, xs[6], xs[7], xs[8],
+                                 wind)  # fmt: skip
+            _plant_in_wind(xs, scs, inp, reel_rate, cfg, c, wind, work[stage])
         for i in range(n):
             tmp[i] = x[i]  # the step's start, for the next step's trigonometry
             x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
@@ -335,6 +338,15 @@ def summarize(x, x_ref, y, y_ref, tension, first, summary):
         accumulate(summary, x[k], x_ref, y[k], y_ref, tension[k])
 
 
+@_jit_inline
+def copy_into(dst, src):
+    """dst[:] = src for 1-d arrays of src's length, as a plain loop: an array assignment's
+    broadcasting, shape checks and their error messages are compiled anew at every one in a
+    first run (issue 24: cold start)."""
+    for i in range(src.shape[0]):
+        dst[i] = src[i]
+
+
 # --- the phases of one control sample ----------------------------------------------------------
 
 
@@ -405,7 +417,7 @@ def _sense(x, k, t, cfg, ctrl, act, sensors, sensed, event, x_meas):
     load = winch_tension(cfg, tension)  # the load cell at the winch
     if sensed:
         return tension, measure_sampled(x, load, k, sensors, x_meas)
-    x_meas[:] = x
+    copy_into(x_meas, x)
     return tension, load
 
 
@@ -466,11 +478,12 @@ def drum_winch(held, rate_cmd, act, dt, tension_ground, measured_tension):
     with T_g = tension_ground held over the sample; the drum's speed in ``held`` is advanced by
     the exact piecewise solution (``model.winch.drum_step``) and ``held`` keeps the mean motor
     torque (hauling in). Returns the mean reel rate over the sample, r int w dt / dt [m/s], so
-    that L_N advances exactly by the length paid out."""
+    that L_N advances exactly by the length paid out. The drum's step is a call
+    (``_drum_step``), not inlined: only a drum winch takes it (issue 24: cold start)."""
     r = act[ACT_DRUM_RADIUS]
     ffwd = r * measured_tension if act[ACT_DRUM_TENSION_FFWD] > 0.5 else 0.0
     w0 = held[HELD_DRUM_SPEED]
-    w1, speed_integral, torque_integral = drum_step(
+    w1, speed_integral, torque_integral = _drum_step(
         w0, rate_cmd / r, r * tension_ground, ffwd, dt, act[ACT_DRUM_INERTIA],
         act[ACT_DRUM_SPEED_GAIN], act[ACT_DRUM_TORQUE_LIMIT], act[ACT_DRUM_VISCOUS],
         act[ACT_DRUM_COULOMB],
@@ -517,6 +530,14 @@ def _paper_sample(
     status, rate = sample_apply(x, k, cfg, act, c, held, inp, rate, tension, measured, sensed,
                                 y, y_est, sc_true, sc_meas, y_ref)  # fmt: skip
     return status, tension, rate
+
+
+@_jit
+def _drum_step(w0, w_cmd, tension_torque, ffwd, dt, inertia, gain, torque_limit, viscous,
+               coulomb):  # fmt: skip
+    # ``drum_winch``'s ``model.winch.drum_step``, compiled apart (scalars only: one signature)
+    return drum_step(w0, w_cmd, tension_torque, ffwd, dt, inertia, gain, torque_limit, viscous,
+                     coulomb)  # fmt: skip
 
 
 # --- the phases of one sample, shared by every loop (issue 24: one sample step) -------------
@@ -575,8 +596,8 @@ def sample_outputs(x, c, sensed, y, y_est, sc_true, sc_meas, y_ref, tension, cfg
         tethered_outputs(x, c, y)
         angle_trig(x, sc_true)
     else:
-        y[:] = y_est
-        sc_true[:] = sc_meas
+        copy_into(y, y_est)
+        copy_into(sc_true, sc_meas)
     return check_state_sc(x, sc_true, y, y_ref, tension, cfg)
 
 
@@ -604,21 +625,33 @@ def sample_record(
     (``layout.Signals``); ``scratch`` (>= 3,) receives the wind force."""
     if k >= cfg[CFG_METRICS_FROM]:  # the metrics' window (Scenario.metrics_start)
         accumulate(summary, x, x_ref, y, y_ref, tension)
-    if not record:
-        return
+    if record:
+        record_row(k, cfg, act, x, y, tension, rate, inp, ffwd, y_est, held, out, program,
+                   gust, drag, base, scratch, nodes)  # fmt: skip
+
+
+@_jit
+def record_row(
+    k, cfg, act, x, y, tension, rate, inp, ffwd, y_est, held, out, program, gust, drag, base,
+    scratch, nodes,
+):  # fmt: skip
+    """``sample_record``'s row of ``out``: a call, not inlined (once per sample; issue 24:
+    a first run compiles it apart)."""
     air_force_on_base(program, gust, cfg[CFG_GUST_DT], drag, base, k * cfg[CFG_DT], 1, x[6],
                       x[7], x[8], scratch)  # fmt: skip
-    out.x[k] = x
-    out.u[k] = inp
-    out.ffwd[k] = ffwd
+    copy_into(out.x[k], x)
+    copy_into(out.u[k], inp)
+    copy_into(out.ffwd[k], ffwd)
     out.rate[k] = rate
     out.tension[k] = tension
-    out.wind[k] = scratch[:3]
-    out.y[k] = y
-    out.y_est[k] = y_est
+    copy_into(out.wind[k], scratch[:3])
+    copy_into(out.y[k], y)
+    copy_into(out.y_est[k], y_est)
     out.tension_ground[k] = winch_tension(cfg, tension)
     if out.nodes.shape[0] > 0:
-        out.nodes[k] = nodes
+        row = out.nodes[k]
+        for i in range(nodes.shape[0]):
+            copy_into(row[i], nodes[i])
     if act[ACT_DRUM] > 0.5:  # the drum's speed at t_k, its mean torque after t_k
         out.winch[k, 0] = held[HELD_DRUM_SPEED_SAMPLED]
         out.winch[k, 1] = held[HELD_MOTOR_TORQUE]
@@ -700,7 +733,7 @@ def run_closed_loop(
 
     A massless run goes through ``run_massless_loop``, compiled without the lumped chain's
     step (about 20 s of a first run's compilation), a lumped one through
-    ``run_lumped_loop``: the one loop, ``closed_loop``, specialised.
+    ``run_lumped_loop``: the one loop, ``_specialised_loop``'s, specialised.
     """
     loop = run_lumped_loop if is_lumped(chain) else run_massless_loop
     return loop(
@@ -708,78 +741,71 @@ def run_closed_loop(
     )
 
 
-@_jit
-def run_massless_loop(
-    x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out, summary
-):  # fmt: skip
-    """``closed_loop`` of a massless tether (or none): the lumped branch pruned."""
-    return closed_loop(
+def _specialised_loop(lumped: bool):
+    """``run_closed_loop``'s loop for a massless tether (or none, ``lumped`` False) or a
+    lumped one: a closure whose ``lumped`` is a constant of the compiled code, so that the
+    compiler drops the branch a run never takes (Numba's cache keys a closure on its
+    variables' values too). Not an inlined function called with a constant: Numba copies an
+    inlined function's IR block by block, each block with every variable of the function, so
+    inlining the whole loop cost about a quarter of a first run's compilation (issue 24)."""
+
+    def closed_loop(
         x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out,
-        summary, False,
-    )  # fmt: skip
-
-
-@_jit
-def run_lumped_loop(
-    x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out, summary
-):  # fmt: skip
-    """``closed_loop`` of a lumped tether (``chain``'s nodes present)."""
-    return closed_loop(
-        x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out,
-        summary, True,
-    )  # fmt: skip
-
-
-@_jit_inline
-def closed_loop(
-    x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out, summary,
-    lumped,
-):  # fmt: skip
-    """The closed loop of ``run_closed_loop``; ``lumped`` a constant of the compiled caller,
-    so that the compiler drops the branch a run never takes."""
-    # The loop works on borrowed views (``_compile.borrowed``: no atomic reference counts):
-    # of the arguments, which the caller holds, and of the run's own arrays, held below
-    # (``keep_alive``) until the loop is done.
-    own_cfg, own_ctrl, own_x = cfg_in.copy(), ctrl_in.copy(), x_init.copy()
-    own_work = np.empty((RK4_WORK_ROWS, 13))
-    own_loop = _loop_state(x_init, law[LAW_Z0], own_work)
-    own_no_action = np.zeros(4)
-    own_cw = _lumped_work(max(chain[CHAIN_NODES].shape[0] - 1, 1))
-    cfg, ctrl, x, work, no_action = borrowed((own_cfg, own_ctrl, own_x, own_work, own_no_action))
-    c, act, summary, sensors, chain, out, cw = borrowed(
-        (c, act, summary, sensors, chain, out, own_cw)
-    )
-    program, gust, drag, base = borrowed(wind)
-    # the tuples' arrays taken out once, before the loop (see ``_paper_sample``)
-    gain, x_ref, y_ref, u0_tethered, u0_free, _z0 = borrowed(law)
-    z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd = borrowed(own_loop)
-    sensed = sensors[0].shape[0] > 0
-    start_summary(summary)
-    status, done = STATUS_OK, n_samples + 1
-    nodes = chain[CHAIN_NODES]
-    for k in range(n_samples + 1):
-        tension, measured = sample_sense(
-            x, k, cfg, ctrl, act, sensors, sensed, event, x_meas, lumped, gust, base, chain, cw
+        summary,
+    ):  # fmt: skip
+        # The loop works on borrowed views (``_compile.borrowed``: no atomic reference counts):
+        # of the arguments, which the caller holds, and of the run's own arrays, held below
+        # (``keep_alive``) until the loop is done.
+        own_cfg, own_ctrl, own_x = cfg_in.copy(), ctrl_in.copy(), x_init.copy()
+        own_work = np.empty((RK4_WORK_ROWS, 13))
+        own_loop = _loop_state(x_init, law[LAW_Z0], own_work)
+        own_no_action = np.zeros(4)
+        own_cw = _lumped_work(max(chain[CHAIN_NODES].shape[0] - 1, 1))
+        cfg, ctrl, x, work, no_action = borrowed(
+            (own_cfg, own_ctrl, own_x, own_work, own_no_action)
         )
-        rate = paper_law(
-            x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered, u0_free,
-            z, winch, y_est, inp, ffwd, no_action, ACTION_NONE,
-        )  # fmt: skip
-        sample_status, rate = sample_apply(
-            x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, y, y_est, sc_true,
-            sc_meas, y_ref,
-        )  # fmt: skip
-        if sample_status != STATUS_OK:
-            status, done = sample_status, k
-            break
-        sample_record(
-            k, cfg, act, summary, x, x_ref, y, y_ref, tension, rate, inp, ffwd, y_est, held,
-            record, out, program, gust, drag, base, work[5], nodes,
-        )  # fmt: skip
-        if k == n_samples:
-            break
-        sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, base, work, chain, cw,
-                       lumped)  # fmt: skip
-    finish_summary(summary, event, held)
-    keep_alive((own_cfg, own_ctrl, own_x, own_work, own_loop, own_no_action, own_cw))
-    return status, done
+        c, act, summary, sensors, chain, out, cw = borrowed(
+            (c, act, summary, sensors, chain, out, own_cw)
+        )
+        program, gust, drag, base = borrowed(wind)
+        # the tuples' arrays taken out once, before the loop (see ``_paper_sample``)
+        gain, x_ref, y_ref, u0_tethered, u0_free, _z0 = borrowed(law)
+        z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd = borrowed(own_loop)
+        sensed = sensors[0].shape[0] > 0
+        start_summary(summary)
+        status, done = STATUS_OK, n_samples + 1
+        nodes = chain[CHAIN_NODES]
+        for k in range(n_samples + 1):
+            tension, measured = sample_sense(
+                x, k, cfg, ctrl, act, sensors, sensed, event, x_meas, lumped, gust, base, chain, cw
+            )
+            rate = paper_law(
+                x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered, u0_free,
+                z, winch, y_est, inp, ffwd, no_action, ACTION_NONE,
+            )  # fmt: skip
+            sample_status, rate = sample_apply(
+                x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, y, y_est, sc_true,
+                sc_meas, y_ref,
+            )  # fmt: skip
+            if sample_status != STATUS_OK:
+                status, done = sample_status, k
+                break
+            sample_record(
+                k, cfg, act, summary, x, x_ref, y, y_ref, tension, rate, inp, ffwd, y_est, held,
+                record, out, program, gust, drag, base, work[5], nodes,
+            )  # fmt: skip
+            if k == n_samples:
+                break
+            sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, base, work, chain, cw,
+                           lumped)  # fmt: skip
+        finish_summary(summary, event, held)
+        keep_alive((own_cfg, own_ctrl, own_x, own_work, own_loop, own_no_action, own_cw))
+        return status, done
+
+    return closed_loop
+
+
+#: ``_specialised_loop`` of a massless tether (or none): the lumped branch pruned
+run_massless_loop = _jit(_specialised_loop(False))
+#: ``_specialised_loop`` of a lumped tether (``chain``'s nodes present)
+run_lumped_loop = _jit(_specialised_loop(True))

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 
-from .._compile import compiled
+from .._compile import compiled, frozen, plain
 from ..base.compiled import base_at
 from ..layout import (
     BASE_MASS,
@@ -107,24 +107,37 @@ def base_frame_force(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, ou
     """``wind_force`` on a helicopter flown in the frame of a moving base (``base``'s packed
     form, ``base.compiled``): (v1, v2, v3) is HO's velocity relative to the base, so the drag
     sees v + b'(t), and the frame's inertial force -m b''(t) is added (``derive(moving_base=
-    True)``). A still base (the paper's winch) is ``wind_force`` itself."""
+    True)``). A still base (the paper's winch) is ``wind_force`` itself. The moving base's
+    branch is a call (``_moving_frame_force``), not inlined: every wind evaluation of the
+    engine would otherwise carry a second copy of ``wind_force`` and one of ``base_at``, which
+    a first run compiles (issue 24: cold start)."""
     if base[0, BASE_MOVING] > 0.5:
-        _, _, _, bv1, bv2, bv3, ba1, ba2, ba3 = base_at(base, t)
-        wind_force(program, gust, gust_dt, drag, t, side, v1 + bv1, v2 + bv2, v3 + bv3, out)
+        _moving_frame_force(frozen(program), frozen(gust), gust_dt, frozen(drag), frozen(base), t,
+                            plain(side), v1, v2, v3, out, plain(True))  # fmt: skip
+    else:
+        wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out)
+
+
+@_jit
+def _moving_frame_force(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, out, inertial):
+    # ``base_frame_force`` over a moving base; without ``inertial`` the air's force alone
+    # (``air_force_on_base``): one function, compiled once
+    _, _, _, bv1, bv2, bv3, ba1, ba2, ba3 = base_at(base, t)
+    wind_force(program, gust, gust_dt, drag, t, side, v1 + bv1, v2 + bv2, v3 + bv3, out)
+    if inertial:
         m = base[0, BASE_MASS]
         out[0] -= m * ba1
         out[1] -= m * ba2
         out[2] -= m * ba3
-    else:
-        wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out)
 
 
 @_jit_inline
 def air_force_on_base(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, out):
     """The air's force alone (the recorded wind) on a helicopter moving at (v1, v2, v3)
-    relative to the base: ``wind_force`` at the velocity v + b'(t) in N."""
+    relative to the base: ``wind_force`` at the velocity v + b'(t) in N (over a moving base a
+    call, ``_moving_frame_force``, as in ``base_frame_force``)."""
     if base[0, BASE_MOVING] > 0.5:
-        _, _, _, bv1, bv2, bv3, _, _, _ = base_at(base, t)
-        wind_force(program, gust, gust_dt, drag, t, side, v1 + bv1, v2 + bv2, v3 + bv3, out)
+        _moving_frame_force(frozen(program), frozen(gust), gust_dt, frozen(drag), frozen(base), t,
+                            plain(side), v1, v2, v3, out, plain(False))  # fmt: skip
     else:
         wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out)
