@@ -240,3 +240,27 @@ def test_a_point_of_N_held_from_a_base_under_way():
     position = _in_N(r)
     assert np.abs(position - position[0]).max() < 0.2
     assert abs(r.states[-1, 4]) > 0.3  # the tether leans toward the winch that moved away
+
+
+@pytest.mark.parametrize("name", ["paper_sim1_drum", "sensing_tether"])
+def test_shipped_runs_fly_over_a_heaving_deck(name):
+    """The drum winch and the tether as the position sensor over a 0.2 m, 0.3 Hz heave: the
+    runs complete and the deck's heave loads the tether (against the still deck's run)."""
+    from tetherheli.shipped import shipped_scenario
+
+    s = shipped_scenario(name).replace(duration=20.0)
+    heave = BaseSettings(motion="harmonic", amplitude=(0, 0, 0.2), frequency=(0, 0, 0.3))
+    still, heaving = simulate(s), simulate(s.replace(base=heave))
+    assert still.status == heaving.status == 0
+    assert np.ptp(heaving.tension[200:]) > np.ptp(still.tension[200:])
+
+
+@pytest.mark.parametrize("controller", ["tether_lqi", "mpc"])
+def test_the_other_controllers_fly_relative_to_the_deck(controller):
+    """Over a base under way the tethered LQI (compiled) and the MPC (the Python loop) fly the
+    still base's relative run: Galilean to 1e-9 m (3 s of simulation 1)."""
+    s = paper_scenario(1, "tethered").replace(duration=3.0)
+    s = s.replace(control=dataclasses.replace(s.control, controller=controller))
+    still, moving = simulate(s), simulate(s.replace(base=UNDER_WAY))
+    assert still.status == moving.status == 0
+    np.testing.assert_allclose(moving.states, still.states, rtol=0, atol=1e-9)
