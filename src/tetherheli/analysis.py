@@ -23,10 +23,10 @@ import numpy as np
 from .layout import SUMMARY_FIELDS
 from .names import POSITION
 from .params import Params
-from .sim import engine
 from .sim.batch import summary_metrics
 from .sim.result import SimulationResult
 from .sim.scenario import metrics_first_sample
+from .sim.summary import summarize
 
 __all__ = [
     "RunMetrics",
@@ -133,11 +133,11 @@ def run_metrics(result: SimulationResult) -> RunMetrics:
             f"result has {result.time.size} samples; allowed: a run with a sample at or after "
             f"metrics_start (sample {k0})"
         )
-    # one definition of every metric: the engine's on-line summary (``engine.accumulate``),
+    # one definition of every metric: the engine's on-line summary (``sim.summary.accumulate``),
     # here over the recorded samples, and its reading (``summary_metrics``), as ``run_batch``,
     # the Monte Carlo and ``simulate``'s summaries have them
     summary = np.empty(len(SUMMARY_FIELDS))
-    engine.summarize(
+    summarize(
         np.ascontiguousarray(result.states, dtype=float),
         np.ascontiguousarray(result.trim_state, dtype=float),
         np.ascontiguousarray(result.outputs, dtype=float),

@@ -47,7 +47,14 @@ import numpy as np
 from .._compile import compiled
 from .._validation import check_integer
 from ..errors import ClusterError, ParameterError, TetherheliError
-from ..layout import LANES, Signals
+from ..layout import (
+    LANES,
+    SUMMARY_RELEASE_TENSION,
+    SUMMARY_RELEASE_TIME,
+    SUMMARY_WINCH_LIMIT,
+    SUMMARY_WINCH_LIMIT_TIME,
+    Signals,
+)
 from ..names import METRIC_NAMES
 from ..params import Params
 from ..status import Status, status_message
@@ -216,12 +223,12 @@ class BatchResult:
     @property
     def release_time(self) -> np.ndarray:
         """``(N,)`` the time [s] at which each run's tether was released (NaN: never)."""
-        return self.summaries[:, engine.SUMMARY_RELEASE_TIME]
+        return self.summaries[:, SUMMARY_RELEASE_TIME]
 
     @property
     def release_tension(self) -> np.ndarray:
         """``(N,)`` the tension [N] that released each run's tether (NaN: never)."""
-        return self.summaries[:, engine.SUMMARY_RELEASE_TENSION]
+        return self.summaries[:, SUMMARY_RELEASE_TENSION]
 
     def release(self, i: int) -> tuple[float, float] | None:
         """Run ``i``'s tether release, (time [s], tension [N]), or None.
@@ -270,10 +277,10 @@ class BatchResult:
         dict or None
             When the natural length reached the limit and which; None if none was reached.
         """
-        t = float(self.summaries[i, engine.SUMMARY_WINCH_LIMIT_TIME])
+        t = float(self.summaries[i, SUMMARY_WINCH_LIMIT_TIME])
         if math.isnan(t):
             return None
-        which = int(self.summaries[i, engine.SUMMARY_WINCH_LIMIT])
+        which = int(self.summaries[i, SUMMARY_WINCH_LIMIT])
         return {"time": t, "limit": WINCH_LIMITS[which]}
 
     def messages(self) -> list[str]:
@@ -558,8 +565,8 @@ def run_batch(
     n = len(scenarios)
     summaries = np.zeros((n, _N_SUMMARY))
     # no release event until a run records one (a run that is never set up has none)
-    summaries[:, [engine.SUMMARY_RELEASE_TIME, engine.SUMMARY_RELEASE_TENSION]] = np.nan
-    summaries[:, [engine.SUMMARY_WINCH_LIMIT_TIME, engine.SUMMARY_WINCH_LIMIT]] = np.nan
+    summaries[:, [SUMMARY_RELEASE_TIME, SUMMARY_RELEASE_TENSION]] = np.nan
+    summaries[:, [SUMMARY_WINCH_LIMIT_TIME, SUMMARY_WINCH_LIMIT]] = np.nan
     status = np.zeros(n, dtype=np.int64)
     done = np.zeros(n, dtype=np.int64)
     reasons = [""] * n

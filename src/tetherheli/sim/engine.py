@@ -77,17 +77,6 @@ from ..layout import (
     HELD_SIZE,
     LAW_Z0,
     SUMMARY_FIELDS,
-    SUMMARY_N_SAMPLES,
-    SUMMARY_PEAK_Q1,
-    SUMMARY_PEAK_Q4,
-    SUMMARY_PEAK_Q5,
-    SUMMARY_RELEASE_TENSION,
-    SUMMARY_RELEASE_TIME,
-    SUMMARY_SUMSQ_Q1,
-    SUMMARY_TENSION_MAX,
-    SUMMARY_TENSION_MIN,
-    SUMMARY_WINCH_LIMIT,
-    SUMMARY_WINCH_LIMIT_TIME,
     WINCH_SIZE,
     WIND_COLUMNS,
     LoopState,
@@ -110,6 +99,11 @@ from .lumped_step import (
     chain_ends,
     lumped_interval,
 )
+from .summary import (
+    accumulate,
+    finish_summary,
+    start_summary,
+)
 
 __all__ = [
     "ACT_SIZE",
@@ -128,7 +122,6 @@ __all__ = [
     "run_massless_loop",
     "sense",
     "status_message",
-    "summarize",
 ]
 
 _jit = compiled(error_model="numpy")
@@ -280,62 +273,6 @@ def check_state_sc(x, sc, y, y_ref, tension, cfg):
     if abs(y[0] - y_ref[0]) > d or abs(y[1] - y_ref[1]) > d or abs(y[2] - y_ref[2]) > d:
         return STATUS_DIVERGED
     return STATUS_OK
-
-
-@_jit
-def start_summary(summary):
-    """Empty on-line metrics (``layout.SUMMARY_FIELDS``): no sample, no release."""
-    summary[:] = 0.0
-    summary[SUMMARY_TENSION_MIN] = np.inf
-    summary[SUMMARY_TENSION_MAX] = -np.inf
-    summary[SUMMARY_RELEASE_TIME] = np.nan
-    summary[SUMMARY_RELEASE_TENSION] = np.nan
-    summary[SUMMARY_WINCH_LIMIT_TIME] = np.nan
-    summary[SUMMARY_WINCH_LIMIT] = np.nan
-
-
-@_jit_inline
-def winch_limit_into(held, summary):
-    """The first stop of the reel at a payout limit (``held``'s ``HELD_LIMIT_*``, set by
-    ``actuate``) into the summary's ``winch_limit_time`` [s] and ``winch_limit`` (-1
-    min_length, +1 max_length); both NaN when no limit was reached."""
-    if held[HELD_LIMIT_WHICH] != 0.0:
-        summary[SUMMARY_WINCH_LIMIT_TIME] = held[HELD_LIMIT_TIME]
-        summary[SUMMARY_WINCH_LIMIT] = held[HELD_LIMIT_WHICH]
-    else:
-        summary[SUMMARY_WINCH_LIMIT_TIME] = np.nan
-        summary[SUMMARY_WINCH_LIMIT] = np.nan
-
-
-@_jit_inline
-def accumulate(summary, x, x_ref, y, y_ref, tension):
-    """One sample into the on-line metrics (``layout.SUMMARY_FIELDS``; their definitions:
-    ``analysis``): peaks of |y - y_ref| (q1..q3) and |x - x_ref| (q4, q5), sums of squares of
-    the position deviations, the tension range, the sample count."""
-    for a in range(3):
-        dev = y[a] - y_ref[a]
-        if abs(dev) > summary[SUMMARY_PEAK_Q1 + a]:
-            summary[SUMMARY_PEAK_Q1 + a] = abs(dev)
-        summary[SUMMARY_SUMSQ_Q1 + a] += dev * dev
-    if abs(x[0] - x_ref[0]) > summary[SUMMARY_PEAK_Q4]:
-        summary[SUMMARY_PEAK_Q4] = abs(x[0] - x_ref[0])
-    if abs(x[1] - x_ref[1]) > summary[SUMMARY_PEAK_Q5]:
-        summary[SUMMARY_PEAK_Q5] = abs(x[1] - x_ref[1])
-    if tension < summary[SUMMARY_TENSION_MIN]:
-        summary[SUMMARY_TENSION_MIN] = tension
-    if tension > summary[SUMMARY_TENSION_MAX]:
-        summary[SUMMARY_TENSION_MAX] = tension
-    summary[SUMMARY_N_SAMPLES] += 1.0
-
-
-@_jit
-def summarize(x, x_ref, y, y_ref, tension, first, summary):
-    """The on-line metrics (``accumulate``) of recorded samples first, first + 1, ... of x
-    (n, 13), y (n, 4) and tension (n,) into ``summary`` (``start_summary`` first): a recorded
-    or loaded run measured as the engine measures it while it flies."""
-    start_summary(summary)
-    for k in range(first, x.shape[0]):
-        accumulate(summary, x[k], x_ref, y[k], y_ref, tension[k])
 
 
 @_jit_inline
@@ -668,14 +605,6 @@ def sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, base, work, cha
                         plain(COUPLING_CONDENSED))  # fmt: skip
     else:
         rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, base, work, plain(True))
-
-
-@_jit_inline
-def finish_summary(summary, event, held):
-    """The run's release event and first payout limit into its summary."""
-    summary[SUMMARY_RELEASE_TIME] = event[0]
-    summary[SUMMARY_RELEASE_TENSION] = event[1]
-    winch_limit_into(held, summary)
 
 
 def new_loop_state(x_init: np.ndarray, z_init: np.ndarray, work: np.ndarray) -> tuple:

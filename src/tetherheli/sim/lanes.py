@@ -44,15 +44,8 @@ from ..model.kernels import (
     tethered_rhs_lanes,
 )
 from ..wind.evaluate import gust_velocity, profile_value
-from .engine import (
-    ACTION_NONE,
-    STATUS_OK,
-    TRIG_CHAIN_STEPS,
-    accumulate,
-    paper_sample,
-    start_summary,
-    winch_limit_into,
-)
+from .engine import ACTION_NONE, STATUS_OK, TRIG_CHAIN_STEPS, paper_sample
+from .summary import accumulate, start_summary, winch_limit_into
 
 if TYPE_CHECKING:
     from .setup import EngineSetup

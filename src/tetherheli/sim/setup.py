@@ -81,6 +81,7 @@ from .start import (
     paper_law,
     start_point,
 )
+from .summary import start_summary
 
 __all__ = [
     "LQI_STATES",
@@ -315,7 +316,7 @@ class EngineSetup:
         out : Signals
             The recorded signals, n_samples + 1 rows each.
         summary : numpy.ndarray, shape (len(SUMMARY_FIELDS),)
-            Receives the run's on-line metrics (``engine.start_summary`` first).
+            Receives the run's on-line metrics (``summary.start_summary`` first).
 
         Returns
         -------
@@ -325,7 +326,7 @@ class EngineSetup:
         c, law, wind, act, sensors, chain = self._engine_inputs()
         segments = max(chain[CHAIN_NODES].shape[0] - 1, 1)
         work = np.empty((engine.RK4_WORK_ROWS, 13))
-        engine.start_summary(summary)
+        start_summary(summary)
         x = self.start.x.copy()
         return stepping.StepRun(
             x=x,
