@@ -25,6 +25,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -32,7 +33,13 @@ from ..layout import CTRL_T_REF
 from .base import Command, Measurement
 from .paper import PaperController
 
-__all__ = ["GroundHoldController", "LandingController", "LandingSchedule"]
+__all__ = [
+    "GroundHoldController",
+    "LandingController",
+    "LandingSchedule",
+    "MovingReferenceController",
+    "References",
+]
 
 
 @dataclass(frozen=True)
@@ -84,7 +91,81 @@ class LandingSchedule:
         return rate - tension_rate / self.K_C
 
 
-class LandingController(PaperController):
+class References(NamedTuple):
+    """The paper law's references at one sample (``MovingReferenceController``)."""
+
+    x_ref: np.ndarray  #: the law's state reference (q4..u6)
+    y_ref: np.ndarray  #: (4,) the output reference q1, q2, q3, q6
+    u0: np.ndarray  #: (4,) the trim input about which the law works
+    tension: float  #: T_ref of eq 56 [N]
+    reel_rate: float  #: the reel rate fed forward, dLN/dt of the reference [m/s]
+
+
+class MovingReferenceController(PaperController):
+    """The paper's controller (eqs 50-56) on references that move with time: a subclass
+    gives ``references_at(t)``; at each sample the law flies them, its tether-angle gain
+    columns scaled with the reference's q9 (module docstring: the design's position feedback
+    at that length) and the reel rate fed forward added to eq 56's PI.
+
+    Parameters
+    ----------
+    *args, **paper
+        ``PaperController``'s arguments (gain, trim_state, trim_output, trim_input, ctrl,
+        constants, free_trim_input, z_init), the start's trim.
+    """
+
+    def __init__(self, *args, **paper) -> None:
+        super().__init__(*args, **paper)
+        # own copies: the references move at every sample (the set-up's trim stays)
+        self.x_ref, self.y_ref, self.u0 = self.x_ref.copy(), self.y_ref.copy(), self.u0.copy()
+        self.gain = self.gain.copy()
+        self._gain0 = self.gain.copy()
+        self._x_ref0 = self.x_ref.copy()
+        self._y_ref0 = self.y_ref.copy()
+        self._u00 = self.u0.copy()
+
+    def reset(self) -> None:
+        """``PaperController.reset``, and the references back at the start's."""
+        super().reset()
+        if hasattr(self, "_x_ref0"):  # (PaperController.__init__ resets before they exist)
+            self.x_ref[:] = self._x_ref0
+            self.y_ref[:] = self._y_ref0
+            self.u0[:] = self._u00
+            self.gain[:] = self._gain0
+
+    def references_at(self, t: float) -> References:
+        """The references at t (a subclass's)."""
+        raise NotImplementedError
+
+    def step(self, t: float, measurement: Measurement) -> Command:
+        """The paper's law on ``references_at(t)``, with the reel rate fed forward.
+
+        Parameters
+        ----------
+        t : float
+            Sample time [s].
+        measurement : Measurement
+            The measured state (relative to the base), tension and attachment.
+
+        Returns
+        -------
+        Command
+        """
+        ref = self.references_at(t)
+        self.x_ref[:] = ref.x_ref
+        self.y_ref[:] = ref.y_ref
+        # the design's position feedback at this tether length (module docstring)
+        self.gain[:, 3:5] = self._gain0[:, 3:5] * (ref.x_ref[5] / self._x_ref0[5])
+        self.u0[:] = ref.u0
+        self.ctrl[CTRL_T_REF] = ref.tension
+        command = super().step(t, measurement)
+        if not measurement.attached:
+            return command
+        rate = command.reel_rate + ref.reel_rate
+        return Command(inputs=command.inputs, reel_rate=rate, feedforward=command.feedforward)
+
+
+class LandingController(MovingReferenceController):
     """The paper's controller (eqs 50-56) on the references of a ``LandingSchedule``.
 
     Parameters
@@ -99,9 +180,8 @@ class LandingController(PaperController):
         The trims' states (their attitude is interpolated likewise).
     height_offset : float
         HO's height above P at the trim [m] (y3 - q9 of the trim, eqs 43-45).
-    **paper
-        ``PaperController``'s arguments (gain, trim_state, trim_output, trim_input, ctrl,
-        constants, free_trim_input, z_init), the start's trim.
+    *args, **paper
+        ``PaperController``'s arguments, the start's trim.
     """
 
     def __init__(
@@ -115,30 +195,15 @@ class LandingController(PaperController):
         **paper,
     ) -> None:
         super().__init__(*args, **paper)
-        # own copies: the references move at every sample (the set-up's trim stays)
-        self.x_ref, self.y_ref, self.u0 = self.x_ref.copy(), self.y_ref.copy(), self.u0.copy()
-        self.gain = self.gain.copy()
         self.schedule = schedule
         self._tensions = np.asarray(trim_tensions, dtype=float)
         self._inputs = np.asarray(trim_inputs, dtype=float)
         self._states = np.asarray(trim_states, dtype=float)
         self._offset = float(height_offset)
-        self._gain0 = self.gain.copy()
-        self._x_ref0 = self.x_ref.copy()
-        self._y_ref0 = self.y_ref.copy()
-        self._u00 = self.u0.copy()
 
-    def reset(self) -> None:
-        """``PaperController.reset``, and the references back at the schedule's start."""
-        super().reset()
-        if hasattr(self, "_x_ref0"):  # (PaperController.__init__ resets before they exist)
-            self.x_ref[:] = self._x_ref0
-            self.y_ref[:] = self._y_ref0
-            self.u0[:] = self._u00
-            self.gain[:] = self._gain0
-
-    def references_at(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
-        """(x_ref (len of the law's), y_ref (4,), u0 (4,), T_ref [N]) of the schedule at t."""
+    def references_at(self, t: float) -> References:
+        """The schedule's references at t: the trim's attitude, u0 and T_ref at the scheduled
+        tension, q9 and q3 at the scheduled height, u3 its rate, and dLN/dt fed forward."""
         height, rate, tension, _ = self.schedule.at(t)
         x_ref = self._x_ref0.copy()
         states = np.array([np.interp(tension, self._tensions, self._states[:, j])
@@ -149,37 +214,10 @@ class LandingController(PaperController):
         y_ref = self._y_ref0.copy()
         y_ref[2] = height
         u0 = np.array([np.interp(tension, self._tensions, self._inputs[:, i]) for i in range(4)])
-        return x_ref, y_ref, u0, tension
-
-    def step(self, t: float, measurement: Measurement) -> Command:
-        """The paper's law on the schedule's references at t, with the reel-rate feed-forward.
-
-        Parameters
-        ----------
-        t : float
-            Sample time [s].
-        measurement : Measurement
-            The measured state (relative to the base), tension and attachment.
-
-        Returns
-        -------
-        Command
-        """
-        x_ref, y_ref, u0, tension = self.references_at(t)
-        self.x_ref[:] = x_ref
-        self.y_ref[:] = y_ref
-        # the design's position feedback at this tether length (module docstring)
-        self.gain[:, 3:5] = self._gain0[:, 3:5] * (x_ref[5] / self._x_ref0[5])
-        self.u0[:] = u0
-        self.ctrl[CTRL_T_REF] = tension
-        command = super().step(t, measurement)
-        if not measurement.attached:
-            return command
-        rate = command.reel_rate + self.schedule.natural_length_rate(t)
-        return Command(inputs=command.inputs, reel_rate=rate, feedforward=command.feedforward)
+        return References(x_ref, y_ref, u0, tension, self.schedule.natural_length_rate(t))
 
 
-class GroundHoldController(PaperController):
+class GroundHoldController(MovingReferenceController):
     """The paper's controller holding a point of N over a moving base (``[control]
     reference = "ground"``): the engine flies on the state relative to the base, so the
     point's position relative to the base moves, y_ref(t) = y_ref(0) - (b(t) - b(0)), with
@@ -202,36 +240,14 @@ class GroundHoldController(PaperController):
 
     def __init__(self, base_state: Callable[[float], np.ndarray], trim_P, *args, **paper):
         super().__init__(*args, **paper)
-        self.x_ref, self.y_ref, self.gain = self.x_ref.copy(), self.y_ref.copy(), self.gain.copy()
         self.base_state = base_state
         self._b0 = np.array(base_state(0.0)[0], dtype=float)
-        self._gain0 = self.gain.copy()
-        self._x_ref0 = self.x_ref.copy()
-        self._y_ref0 = self.y_ref.copy()
         self._d = self._y_ref0[:3] - np.asarray(trim_P, dtype=float)
+        self._T_ref = float(self.ctrl[CTRL_T_REF])
 
-    def reset(self) -> None:
-        """``PaperController.reset``, and the references back at the start's."""
-        super().reset()
-        if hasattr(self, "_x_ref0"):
-            self.x_ref[:] = self._x_ref0
-            self.y_ref[:] = self._y_ref0
-            self.gain[:] = self._gain0
-
-    def step(self, t: float, measurement: Measurement) -> Command:
-        """The paper's law on the references of the point of N at t (class docstring).
-
-        Parameters
-        ----------
-        t : float
-            Sample time [s].
-        measurement : Measurement
-            The measured state (relative to the base).
-
-        Returns
-        -------
-        Command
-        """
+    def references_at(self, t: float) -> References:
+        """The held point's references relative to the base at t (class docstring); u0 and
+        T_ref are the start's."""
         b = np.asarray(self.base_state(t), dtype=float)
         y_ref = self._y_ref0.copy()
         y_ref[:3] -= b[0] - self._b0
@@ -243,11 +259,4 @@ class GroundHoldController(PaperController):
         x_ref[4] = math.asin(max(-1.0, min(1.0, c3[0])))  # q8
         x_ref[5] = q9
         x_ref[6:9] = -b[1]  # HO's velocity relative to the base
-        self.x_ref[:] = x_ref
-        self.y_ref[:] = y_ref
-        self.gain[:, 3:5] = self._gain0[:, 3:5] * (q9 / self._x_ref0[5])
-        command = super().step(t, measurement)
-        if not measurement.attached:
-            return command
-        rate = command.reel_rate + float(c3 @ -b[1])
-        return Command(inputs=command.inputs, reel_rate=rate, feedforward=command.feedforward)
+        return References(x_ref, y_ref, self._u00, self._T_ref, float(c3 @ -b[1]))
