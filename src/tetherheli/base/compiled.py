@@ -160,8 +160,8 @@ def base_states(base, times, out):
 
 
 def base_state(base: CompiledBase, times: np.ndarray) -> np.ndarray:
-    """Position, velocity and acceleration of a packed base at ``times``: (n, 3, 3) as
-    ``BaseMotion.state``."""
+    """Position, velocity and acceleration of a packed base at ``times``: (n, 3, 3), rows
+    position, velocity, acceleration (``BaseMotion.state`` is this on its own packed form)."""
     times = np.ascontiguousarray(np.atleast_1d(times), dtype=np.float64)
     out = np.empty((times.size, 9))
     base_states(base.packed, times, out)

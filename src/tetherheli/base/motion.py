@@ -101,7 +101,8 @@ class BaseMotion:
 
     Subclasses give ``offset`` and ``velocity`` (constant parts), ``waves`` (rows axis,
     amplitude [m], angular frequency [rad/s], phase [rad]: A sin(w t + p) on that axis) and
-    ``knots`` (a cubic spline's breakpoints and per-axis coefficients), which ``state`` sums.
+    ``knots`` (a cubic spline's breakpoints and per-axis coefficients); ``state`` sums them
+    in the engine's packed form (``base.compiled``: one formula for every caller).
     """
 
     #: True when b is constant: the paper's still winch (the engine then skips the base).
@@ -126,25 +127,12 @@ class BaseMotion:
             ``out[i, 0]`` position [m], ``out[i, 1]`` velocity [m/s], ``out[i, 2]``
             acceleration [m/s^2] at ``t[i]``, N components.
         """
-        times = np.atleast_1d(np.asarray(t, dtype=np.float64))
-        offset, velocity, waves, knots, coef = self.parts()
-        out = np.zeros((times.size, 3, 3))
-        out[:, 0] = offset + times[:, None] * velocity
-        out[:, 1] = velocity
-        for axis, amp, omega, phase in waves:
-            arg = omega * times + phase
-            a = int(axis)
-            out[:, 0, a] += amp * np.sin(arg)
-            out[:, 1, a] += amp * omega * np.cos(arg)
-            out[:, 2, a] -= amp * omega**2 * np.sin(arg)
-        if knots is not None:
-            k = np.clip(np.searchsorted(knots, times, side="right") - 1, 0, knots.size - 2)
-            h = (times - knots[k])[:, None]
-            c0, c1, c2, c3 = (coef[k, j] for j in range(4))
-            out[:, 0] += ((c0 * h + c1) * h + c2) * h + c3
-            out[:, 1] += (3 * c0 * h + 2 * c1) * h + c2
-            out[:, 2] += 6 * c0 * h + 2 * c1
-        return out
+        from .compiled import base_state, compile_base  # (compiled imports this module)
+
+        packed = self.__dict__.get("_compiled")
+        if packed is None:  # packed once: the engine's form, evaluated by its one formula
+            packed = self.__dict__["_compiled"] = compile_base(self)
+        return base_state(packed, np.asarray(t, dtype=np.float64))
 
     def to_dict(self) -> dict:
         """The motion as the keys of a ``[base]`` table."""
