@@ -64,7 +64,8 @@ from .closed_loop import check_run_memory
 from .lanes import lane_block
 from .result import WINCH_LIMITS
 from .scenario import Scenario
-from .setup import EngineSetup, engine_setup
+from .setup import EngineSetup, engine_setup, python_controlled
+from .summary import summarize
 
 __all__ = [
     "METRIC_NAMES",
@@ -340,23 +341,18 @@ def _python_run(
     from .closed_loop import simulate
     from .mpc_setup import mpc_controller
 
-    # the MPC designed on ``design_params``; a landing's and the deck feed-forward's
-    # controllers are simulate's own (``sim.landing``, ``control.deck``)
-    mpc = scenario.control.controller == "mpc" and not scenario.maneuver.landing
+    # the MPC designed on ``design_params``; the other Python controllers are simulate's own
+    # (``sim.landing``, ``control.deck``)
+    mpc = scenario.control.controller == "mpc"
     controller = mpc_controller(scenario, setup, design_params) if mpc else None
     result = simulate(scenario, controller=controller, design_params=design_params)
-    summary[:] = 0.0
-    k0 = min(scenario.metrics_first_sample, result.time.size)
-    dev = result.outputs[k0:, :3] - result.trim_output[:3]
-    att = np.abs(result.states[k0:, :2] - result.trim_state[:2])
-    summary[_I["tension_min"]] = np.min(result.tension[k0:], initial=np.inf)
-    summary[_I["tension_max"]] = np.max(result.tension[k0:], initial=-np.inf)
-    for a in range(3):
-        summary[_I[f"peak_q{a + 1}"]] = np.max(np.abs(dev[:, a]), initial=0.0)
-        summary[_I[f"sumsq_q{a + 1}"]] = np.sum(dev[:, a] ** 2)
-    summary[_I["peak_q4"]] = np.max(att[:, 0], initial=0.0)
-    summary[_I["peak_q5"]] = np.max(att[:, 1], initial=0.0)
-    summary[_I["n_samples"]] = dev.shape[0]
+    # the engine's own accumulation over the recorded samples (one definition of the metrics)
+    summarize(
+        np.ascontiguousarray(result.states), np.ascontiguousarray(result.trim_state),
+        np.ascontiguousarray(result.outputs), np.ascontiguousarray(result.trim_output),
+        np.ascontiguousarray(result.tension), min(scenario.metrics_first_sample,
+        result.time.size), summary,
+    )  # fmt: skip
     release = (result.release_time, result.release_tension)
     summary[_I["release_time"]] = math.nan if release[0] is None else release[0]
     summary[_I["release_tension"]] = math.nan if release[1] is None else release[1]
@@ -603,13 +599,7 @@ def run_batch(
             return None
 
     def run_one(i: int) -> None:
-        s = scenarios[i]
-        python = s.maneuver.landing or s.control.base_feedforward
-        if (
-            s.control.controller == "mpc"
-            or python
-            or (not s.base_motion.fixed and (s.reference == "ground"))
-        ):  # a Python controller: the MPC's, or simulate's own (sim.landing, control.deck)
+        if python_controlled(scenarios[i]):  # the MPC, or simulate's own Python controllers
             return run_python(i)
         setup = set_up(i)
         if setup is not None:

@@ -45,7 +45,7 @@ from .mpc_setup import mpc_controller
 from .result import DRUM_COLUMNS, TENSION_GROUND_COLUMN, SimulationResult, winch_limit_info
 from .result_files import BASE_POSITION_COLUMNS, BASE_VELOCITY_COLUMNS
 from .scenario import Scenario
-from .setup import engine_setup
+from .setup import engine_setup, python_controlled
 
 __all__ = ["check_run_memory", "simulate"]
 
@@ -161,22 +161,17 @@ def simulate(
     trim, wind, noise = setup.trim, setup.wind, setup.noise
     n = scenario.n_samples
     landing = scenario.maneuver.landing
-    deck_ffwd = scenario.control.base_feedforward  # (over a moving base: validated)
-    hold = scenario.reference == "ground" and not scenario.base_motion.fixed
-    paper = (
-        controller is None and scenario.control.controller != "mpc" and not landing
-        and not deck_ffwd and not hold
-    )  # fmt: skip
-    if controller is None:  # the MPC and a landing are Python controllers (control.*)
+    paper = controller is None and not python_controlled(scenario)  # the compiled law
+    if controller is None:  # the Python controllers of a scenario (``python_controlled``)
         if landing:
             controller = landing_controller(scenario, setup)
-        elif hold:
+        elif scenario.reference == "ground" and not scenario.base_motion.fixed:
             controller = ground_hold_controller(scenario, setup)
         elif scenario.control.controller != "mpc":
             controller = setup.paper_controller()
         else:
             controller = mpc_controller(scenario, setup, design_params)
-    if deck_ffwd:
+    if scenario.control.base_feedforward:  # (over a moving base: validated)
         motion = scenario.base_motion
         controller = DeckFeedforward(
             controller, lambda t: motion.state(t)[0, 2], scenario.params.helicopter.m

@@ -98,6 +98,7 @@ __all__ = [
     "lumped_tether",
     "paper_gain",
     "paper_law",
+    "python_controlled",
     "run_setup",
     "sensor_noise",
     "sensor_schedule",
@@ -369,6 +370,29 @@ class EngineSetup:
     def sensors(self) -> tuple:
         """``sensor_tuple`` of this run (``engine.sense``); fresh work arrays per call."""
         return sensor_tuple(self.noise, self.source, self.arm, self.schedule)
+
+
+def python_controlled(scenario: Scenario) -> bool:
+    """Whether ``scenario``'s controller is a Python ``Controller`` that ``simulate``'s loop
+    flies around the engine's sample step, not a compiled law: the MPC, a tethered landing
+    (``sim.landing``), a point of N held over a moving base, the deck's heave fed forward
+    (``control.deck``). The one rule ``simulate`` and ``run_batch`` route runs by.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The run.
+
+    Returns
+    -------
+    bool
+    """
+    return (
+        scenario.control.controller == "mpc"
+        or scenario.maneuver.landing
+        or scenario.control.base_feedforward
+        or (scenario.reference == "ground" and not scenario.base_motion.fixed)
+    )
 
 
 def engine_setup(scenario: Scenario, design_params: Params | None = None) -> EngineSetup:
