@@ -51,6 +51,7 @@ __all__ = [
     "compiled",
     "compiled_sources",
     "frozen",
+    "inline_here",
     "keep_alive",
     "plain",
     "source_fingerprint",
@@ -463,3 +464,19 @@ def plain(typingctx: Any, value: Any) -> Any:
         return context.cast(builder, args[0], signature.args[0], kind)
 
     return kind(value), codegen
+
+
+@intrinsic
+def inline_here(typingctx: Any) -> Any:
+    """In compiled code: mark the function being compiled ``alwaysinline`` for LLVM (no code).
+
+    Numba links a callee's machine-independent code into each caller's module and optimises
+    the whole, so LLVM then inlines the call as Numba's ``inline="always"`` would, but the
+    callee is typed and lowered once, not once per call site (issue 24: cold start). Numba's
+    own inlining stays where a caller's constant argument must prune a callee's branch."""
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        builder.function.attributes.add("alwaysinline")
+        return context.get_dummy_value()
+
+    return types.none(), codegen

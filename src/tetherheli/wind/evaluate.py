@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 
-from .._compile import compiled, frozen, plain
+from .._compile import compiled, frozen, inline_here, plain
 from ..base.compiled import base_at
 from ..layout import (
     BASE_MASS,
@@ -107,37 +107,44 @@ def base_frame_force(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, ou
     """``wind_force`` on a helicopter flown in the frame of a moving base (``base``'s packed
     form, ``base.compiled``): (v1, v2, v3) is HO's velocity relative to the base, so the drag
     sees v + b'(t), and the frame's inertial force -m b''(t) is added (``derive(moving_base=
-    True)``). A still base (the paper's winch) is ``wind_force`` itself. The moving base's
-    branch is a call (``_moving_frame_force``), not inlined: every wind evaluation of the
-    engine would otherwise carry a second copy of ``wind_force`` and one of ``base_at``, which
-    a first run compiles (issue 24: cold start)."""
-    if base[0, BASE_MOVING] > 0.5:
-        _moving_frame_force(frozen(program), frozen(gust), gust_dt, frozen(drag), frozen(base), t,
-                            plain(side), v1, v2, v3, out, plain(True))  # fmt: skip
-    else:
-        wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out)
-
-
-@_jit
-def _moving_frame_force(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, out, inertial):
-    # ``base_frame_force`` over a moving base; without ``inertial`` the air's force alone
-    # (``air_force_on_base``): one function, compiled once
-    _, _, _, bv1, bv2, bv3, ba1, ba2, ba3 = base_at(base, t)
-    wind_force(program, gust, gust_dt, drag, t, side, v1 + bv1, v2 + bv2, v3 + bv3, out)
-    if inertial:
-        m = base[0, BASE_MASS]
-        out[0] -= m * ba1
-        out[1] -= m * ba2
-        out[2] -= m * ba3
+    True)``). A still base (the paper's winch) is ``wind_force`` itself."""
+    _base_frame(frozen(program), frozen(gust), gust_dt, frozen(drag), frozen(base), t,
+                plain(side), v1, v2, v3, out, plain(True))  # fmt: skip
 
 
 @_jit_inline
 def air_force_on_base(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, out):
     """The air's force alone (the recorded wind) on a helicopter moving at (v1, v2, v3)
-    relative to the base: ``wind_force`` at the velocity v + b'(t) in N (over a moving base a
-    call, ``_moving_frame_force``, as in ``base_frame_force``)."""
-    if base[0, BASE_MOVING] > 0.5:
-        _moving_frame_force(frozen(program), frozen(gust), gust_dt, frozen(drag), frozen(base), t,
-                            plain(side), v1, v2, v3, out, plain(False))  # fmt: skip
-    else:
-        wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out)
+    relative to the base: ``wind_force`` at the velocity v + b'(t) in N."""
+    _base_frame(frozen(program), frozen(gust), gust_dt, frozen(drag), frozen(base), t,
+                plain(side), v1, v2, v3, out, plain(False))  # fmt: skip
+
+
+@_jit
+def _base_frame(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, out, inertial):
+    # One inlined ``wind_force`` for a still and a moving base: the base's rates come from a
+    # call (``base_rates``), so a still base's run compiles neither a second copy of the wind
+    # nor ``base_at`` inline (issue 24: cold start). A still base adds nothing to v or out.
+    # Typed once for every caller, inlined by LLVM (``inline_here``).
+    inline_here()
+    a1 = a2 = a3 = 0.0
+    moving = base[0, BASE_MOVING] > 0.5
+    if moving:
+        bv1, bv2, bv3, a1, a2, a3 = base_rates(frozen(base), t)
+        v1 += bv1
+        v2 += bv2
+        v3 += bv3
+    wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out)
+    if moving and inertial:
+        m = base[0, BASE_MASS]
+        out[0] -= m * a1
+        out[1] -= m * a2
+        out[2] -= m * a3
+
+
+@_jit
+def base_rates(base, t):
+    """b'(t) and b''(t) of the base in N [m/s, m/s^2], six floats (``base_at``'s last six):
+    a call, compiled once for every loop."""
+    _, _, _, v1, v2, v3, a1, a2, a3 = base_at(base, t)
+    return v1, v2, v3, a1, a2, a3
