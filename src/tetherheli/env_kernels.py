@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from ._compile import compiled
+from ._compile import compiled, frozen
 from .layout import (
     CFG_ATTACHED,
     CFG_GUST_DT,
@@ -92,7 +92,7 @@ def finish_step(x, a, cfg, c, y, y_ref, effort_weight, penalty):
         The true tether tension [N] (eq 28), 0 when detached.
     """
     tension = tether_tension(x, cfg)
-    tethered_outputs(x, c, y)
+    tethered_outputs(x, frozen(c), y)
     status = engine.check_state(x, y, y_ref, tension, cfg)
     if status != engine.STATUS_OK:
         return status, -penalty, tension
@@ -146,7 +146,7 @@ def observe_into(x, tension, k, sensors, c, x0, y_ref, t_ref, x_meas, y_meas, ob
         measured = tension
     else:
         measured = measure_sampled(x, tension, k, sensors, x_meas)
-    tethered_outputs(x_meas, c, y_meas)
+    tethered_outputs(x_meas, frozen(c), y_meas)
     for i in range(13):
         if i < 3:
             v = y_meas[i] - y_ref[i]

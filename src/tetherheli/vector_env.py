@@ -53,7 +53,7 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from ._compile import compiled
+from ._compile import compiled, frozen
 from ._validation import check_integer
 from .env_checks import RenderModeError, check_env_memory
 from .env_kernels import finish_step, observe_into, start_episode, tether_tension
@@ -198,7 +198,7 @@ def observe_start(i, copies, shared, out):
     )  # fmt: skip
     obs, _, _, tension, _, y = out
     tension[i] = tether_tension(x[i], cfg[i])
-    tethered_outputs(x[i], c, y[i])
+    tethered_outputs(x[i], frozen(c), y[i])
     sensors = (noise[i, : noise_rows[i]], source, arm, scratch, schedule, ring[i])
     observe_into(
         x[i], tension[i], k[i], sensors, c, x_trim, law[LAW_Y_REF], t_ref, x_scr, y_scr, obs[i]

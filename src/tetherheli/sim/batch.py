@@ -100,31 +100,16 @@ def run_unrecorded(engine_args, summary):
     samples_done : int
         Samples the run completed (``n_samples + 1`` if completed).
     """
-    if engine.is_lumped(engine_args[-1]):  # the chain, ``engine_args``' last
-        return _unrecorded_lumped(engine_args, summary)
-    return _unrecorded_massless(engine_args, summary)
+    loop = engine.closed_loop_for(engine_args[-1], engine_args[-2])  # chain, sensors
+    return loop(*engine_args, False, _NO_SIGNALS, summary)
 
 
-@compiled(inline="always")
-def _no_signals():  # pragma: no cover - compiled
-    # one-row signals, never written (``record`` is False)
-    d4 = np.zeros((1, 4))
-    return Signals(
-        np.zeros((1, 13)), d4, d4, np.zeros(1), np.zeros(1), np.zeros((1, 3)), d4, d4,
-        np.zeros(1), np.zeros((0, 0, 3)), np.zeros((1, 2)),
-    )  # fmt: skip
-
-
-@compiled(nogil=True)
-def _unrecorded_massless(engine_args, summary):  # pragma: no cover - compiled
-    # ``run_unrecorded`` of a massless tether, the GIL released
-    return engine.run_massless_loop(*engine_args, False, _no_signals(), summary)
-
-
-@compiled(nogil=True)
-def _unrecorded_lumped(engine_args, summary):  # pragma: no cover - compiled
-    # ``run_unrecorded`` of a lumped tether, the GIL released
-    return engine.run_lumped_loop(*engine_args, False, _no_signals(), summary)
+#: one-row signals for the unrecorded runs, never written (``record`` is False)
+_NO_SIGNALS = Signals(
+    np.zeros((1, 13)), np.zeros((1, 4)), np.zeros((1, 4)), np.zeros(1), np.zeros(1),
+    np.zeros((1, 3)), np.zeros((1, 4)), np.zeros((1, 4)), np.zeros(1), np.zeros((0, 0, 3)),
+    np.zeros((1, 2)),
+)  # fmt: skip
 
 
 @compiled(nogil=True)

@@ -28,10 +28,11 @@ chain) are laid out in ``tetherheli.layout``; run statuses are ``tetherheli.stat
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
-from .._compile import borrowed, compiled, keep_alive, plain
+from .._compile import borrowed, compiled, frozen, inline_here, keep_alive, plain
 from ..control.paper import limit_rate_change_jit, paper_control_sc
 from ..layout import (
     ACT_BREAK,
@@ -108,18 +109,18 @@ from .summary import (
 __all__ = [
     "ACT_SIZE",
     "CFG_SIZE",
+    "CLOSED_LOOPS",
     "HELD_SIZE",
     "SUMMARY_FIELDS",
     "WIND_COLUMNS",
     "actuate",
     "check_state",
+    "closed_loop_for",
     "default_actuators",
     "paper_sample",
     "release_sentence",
     "rk4_interval",
     "run_closed_loop",
-    "run_lumped_loop",
-    "run_massless_loop",
     "sense",
     "status_message",
 ]
@@ -462,10 +463,12 @@ def _paper_sample(
     # raised and dropped by an atomic instruction (issue 24; measured within noise, ~4 %)
     tension, measured = _sense(x, k, k * cfg[CFG_DT], cfg, ctrl, act, sensors, sensed, event,
                                x_meas)  # fmt: skip
-    rate = paper_law(x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered,
-                     u0_free, z, winch, y_est, inp, ffwd, action, action_mode)  # fmt: skip
-    status, rate = sample_apply(x, k, cfg, act, c, held, inp, rate, tension, measured, sensed,
-                                y, y_est, sc_true, sc_meas, y_ref)  # fmt: skip
+    rate = paper_law(x_meas, sc_meas, measured, cfg, ctrl, frozen(c), frozen(gain),
+                     frozen(x_ref), frozen(y_ref), frozen(u0_tethered), frozen(u0_free), z,
+                     winch, y_est, inp, ffwd, action, action_mode)  # fmt: skip
+    status, rate = sample_apply(x, k, cfg, frozen(act), frozen(c), held, inp, rate, tension,
+                                measured, plain(sensed), y, y_est, sc_true, sc_meas,
+                                frozen(y_ref))  # fmt: skip
     return status, tension, rate
 
 
@@ -499,7 +502,7 @@ def sample_sense(
     return _sense(x, k, t, cfg, ctrl, act, sensors, sensed, event, x_meas)
 
 
-@_jit_inline
+@_jit
 def paper_law(
     x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered, u0_free, z,
     winch, y_est, inp, ffwd, action, action_mode,
@@ -510,6 +513,7 @@ def paper_law(
     x_meas's angles, y_est its outputs, inp the rotor command, ffwd the feed-forward), then an
     optional ``action`` added to or replacing the rotor command (``ACTION_*``). Returns the
     reel-rate command [m/s]."""
+    inline_here()  # typed once for every caller, inlined by LLVM (issue 24)
     u0 = u0_tethered if cfg[CFG_ATTACHED] > 0.5 else u0_free
     angle_trig(x_meas, sc_meas)
     rate = paper_control_sc(
@@ -530,7 +534,7 @@ def sample_outputs(x, c, sensed, y, y_est, sc_true, sc_meas, y_ref, tension, cfg
     when the sensors are perfect, x_meas = x), then the failure checks (``check_state_sc``);
     returns the status."""
     if sensed:
-        tethered_outputs(x, c, y)
+        tethered_outputs(x, frozen(c), y)
         angle_trig(x, sc_true)
     else:
         copy_into(y, y_est)
@@ -538,13 +542,14 @@ def sample_outputs(x, c, sensed, y, y_est, sc_true, sc_meas, y_ref, tension, cfg
     return check_state_sc(x, sc_true, y, y_ref, tension, cfg)
 
 
-@_jit_inline
+@_jit
 def sample_apply(
     x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, y, y_est, sc_true, sc_meas,
     y_ref,
 ):  # fmt: skip
     """Phase 3: ``actuate`` on the controller's command (inp, the reel rate ``rate``), then
     ``sample_outputs``. Returns (status, applied reel rate [m/s])."""
+    inline_here()  # typed once for every caller, inlined by LLVM (issue 24)
     dt = cfg[CFG_DT]
     rate = actuate(
         inp, held, rate, act, dt, k == 0, winch_tension(cfg, tension), measured, x[12], k * dt
@@ -552,7 +557,7 @@ def sample_apply(
     return sample_outputs(x, c, sensed, y, y_est, sc_true, sc_meas, y_ref, tension, cfg), rate
 
 
-@_jit_inline
+@_jit
 def sample_record(
     k, cfg, act, summary, x, x_ref, y, y_ref, tension, rate, inp, ffwd, y_est, held, record,
     out, program, gust, drag, base, scratch, nodes,
@@ -560,6 +565,7 @@ def sample_record(
     """Phase 4: the on-line metrics of the samples k >= cfg[CFG_METRICS_FROM] into
     ``summary`` (``accumulate``), and with ``record`` the sample's row of ``out``
     (``layout.Signals``); ``scratch`` (>= 3,) receives the wind force."""
+    inline_here()  # typed once for every caller, inlined by LLVM (issue 24)
     if k >= cfg[CFG_METRICS_FROM]:  # the metrics' window (Scenario.metrics_start)
         accumulate(summary, x, x_ref, y, y_ref, tension)
     if record:
@@ -633,7 +639,7 @@ def _loop_state(x_init, z_init, work):
 
 def is_lumped(chain: tuple) -> bool:
     """Whether ``chain`` (``layout.CHAIN_*``) is a lumped tether's: it has nodes (the massless
-    tether's, ``layout.empty_chain()``, has none); chooses ``run_lumped_loop``."""
+    tether's, ``layout.empty_chain()``, has none); chooses the loop (``closed_loop_for``)."""
     return chain[CHAIN_NODES].shape[0] > 0
 
 
@@ -660,21 +666,30 @@ def run_closed_loop(
     receives the on-line metrics of the samples k >= cfg[CFG_METRICS_FROM], the release event
     in its ``release_*`` slots (NaN without one).
 
-    A massless run goes through ``run_massless_loop``, compiled without the lumped chain's
-    step (about 20 s of a first run's compilation), a lumped one through
-    ``run_lumped_loop``: the one loop, ``_specialised_loop``'s, specialised.
+    The one loop, ``_specialised_loop``'s, is compiled per tether kind and per sensing
+    (``CLOSED_LOOPS``, chosen by ``closed_loop_for``): a massless run does not compile the
+    lumped chain's step (about 20 s of a first run's compilation), a run with perfect
+    sensors not the sensors.
     """
-    loop = run_lumped_loop if is_lumped(chain) else run_massless_loop
+    loop = closed_loop_for(chain, sensors)
     return loop(
         x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out, summary
     )
 
 
-def _specialised_loop(lumped: bool):
+def closed_loop_for(chain: tuple, sensors: tuple) -> Any:
+    """The compiled loop of ``run_closed_loop`` for a run's tether (``chain``: lumped or
+    massless) and ``sensors`` (a noise table with rows: sensed, else perfect), one of
+    ``CLOSED_LOOPS``; it releases the GIL."""
+    return CLOSED_LOOPS[is_lumped(chain), sensors[0].shape[0] > 0]
+
+
+def _specialised_loop(lumped: bool, sensed: bool):
     """``run_closed_loop``'s loop for a massless tether (or none, ``lumped`` False) or a
-    lumped one: a closure whose ``lumped`` is a constant of the compiled code, so that the
-    compiler drops the branch a run never takes (Numba's cache keys a closure on its
-    variables' values too). Not an inlined function called with a constant: Numba copies an
+    lumped one, with perfect sensors (``sensed`` False) or a noise table: a closure whose
+    ``lumped`` and ``sensed`` are constants of the compiled code, so that the compiler drops
+    the branches a run never takes (Numba's cache keys a closure on its variables' values
+    too). Not an inlined function called with a constant: Numba copies an
     inlined function's IR block by block, each block with every variable of the function, so
     inlining the whole loop cost about a quarter of a first run's compilation (issue 24)."""
 
@@ -689,7 +704,10 @@ def _specialised_loop(lumped: bool):
         own_work = np.empty((RK4_WORK_ROWS, 13))
         own_loop = _loop_state(x_init, law[LAW_Z0], own_work)
         own_no_action = np.zeros(4)
-        own_cw = _lumped_work(max(chain[CHAIN_NODES].shape[0] - 1, 1))
+        if lumped:
+            own_cw = _lumped_work(max(chain[CHAIN_NODES].shape[0] - 1, 1))
+        else:  # never read: a massless loop's chain branches are pruned
+            own_cw = np.empty(0)
         cfg, ctrl, x, work, no_action = borrowed(
             (own_cfg, own_ctrl, own_x, own_work, own_no_action)
         )
@@ -700,7 +718,6 @@ def _specialised_loop(lumped: bool):
         # the tuples' arrays taken out once, before the loop (see ``_paper_sample``)
         gain, x_ref, y_ref, u0_tethered, u0_free, _z0 = borrowed(law)
         z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd = borrowed(own_loop)
-        sensed = sensors[0].shape[0] > 0
         start_summary(summary)
         status, done = STATUS_OK, n_samples + 1
         nodes = chain[CHAIN_NODES]
@@ -709,19 +726,21 @@ def _specialised_loop(lumped: bool):
                 x, k, cfg, ctrl, act, sensors, sensed, event, x_meas, lumped, gust, base, chain, cw
             )
             rate = paper_law(
-                x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered, u0_free,
-                z, winch, y_est, inp, ffwd, no_action, ACTION_NONE,
+                x_meas, sc_meas, measured, cfg, ctrl, frozen(c), frozen(gain), frozen(x_ref),
+                frozen(y_ref), frozen(u0_tethered), frozen(u0_free), z, winch, y_est, inp, ffwd,
+                no_action, plain(ACTION_NONE),
             )  # fmt: skip
             sample_status, rate = sample_apply(
-                x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, y, y_est, sc_true,
-                sc_meas, y_ref,
+                x, k, cfg, frozen(act), frozen(c), held, inp, rate, tension, measured,
+                plain(sensed), y, y_est, sc_true, sc_meas, frozen(y_ref),
             )  # fmt: skip
             if sample_status != STATUS_OK:
                 status, done = sample_status, k
                 break
             sample_record(
-                k, cfg, act, summary, x, x_ref, y, y_ref, tension, rate, inp, ffwd, y_est, held,
-                record, out, program, gust, drag, base, work[5], nodes,
+                k, cfg, act, summary, x, frozen(x_ref), y, frozen(y_ref), tension, rate, inp, ffwd,
+                y_est, held, plain(record), out, frozen(program), frozen(gust), frozen(drag),
+                frozen(base), work[5], nodes,
             )  # fmt: skip
             if k == n_samples:
                 break
@@ -734,7 +753,11 @@ def _specialised_loop(lumped: bool):
     return closed_loop
 
 
-#: ``_specialised_loop`` of a massless tether (or none): the lumped branch pruned
-run_massless_loop = _jit(_specialised_loop(False))
-#: ``_specialised_loop`` of a lumped tether (``chain``'s nodes present)
-run_lumped_loop = _jit(_specialised_loop(True))
+#: ``_specialised_loop`` by (lumped, sensed): the loop of a massless (or no) tether or a
+#: lumped one (``chain``'s nodes present), with perfect sensors or a noise table; each
+#: releases the GIL (``sim.batch`` runs them on threads)
+CLOSED_LOOPS = {
+    (lumped, sensed): compiled(error_model="numpy", nogil=True)(_specialised_loop(lumped, sensed))
+    for lumped in (False, True)
+    for sensed in (False, True)
+}
