@@ -20,7 +20,7 @@ import numpy as np
 from ..base.compiled import CompiledBase, compile_base
 from ..control.lqi import LQIGain
 from ..control.paper import PaperController, check_law
-from ..control.tether_lqi import TetherLQIGain, tether_lqi_gain
+from ..control.tether_lqi import TetherLQIGain, _tether_lqi_gain
 from ..errors import DesignError, design_failure
 from ..layout import (
     CFG_ARM,
@@ -179,7 +179,7 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
     if lqi_on_tether:  # its plant contains the tether: no feed-forward (eq 55), no PI (eq 56)
         w = c.tether_lqi
         try:
-            gain = tether_lqi_gain(
+            gain = _tether_lqi_gain(  # T_ref and q9: checked by the scenario
                 design, design.tension_control.T_ref, scenario.q9, c.dt,
                 tuple(w.Qy), w.q_tension, tuple(w.Ru), gain,
             )  # fmt: skip
