@@ -141,6 +141,7 @@ class _Validated:
             object.__setattr__(self, f.name, self._check(f, getattr(self, f.name)))
 
     def _check(self, f: dataclasses.Field, value: Any) -> Any:
+        """``value`` of field ``f`` checked against its ``Key``."""
         return f.metadata["key"].check(f"{self._section}.{f.name}", value)  # type: ignore[attr-defined]
 
     def _replaced(self, values: dict[str, Any]) -> Self:

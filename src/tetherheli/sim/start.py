@@ -13,6 +13,7 @@ paper's runs: their force profiles arrive as they come).
 
 from __future__ import annotations
 
+import functools
 from functools import lru_cache
 from typing import NamedTuple
 
@@ -140,11 +141,12 @@ def lumped_tether(scenario: Scenario) -> LumpedTether:
         ground_friction=t.ground_friction,
         ground_friction_speed_m_s=t.ground_friction_speed,
     )
+    build = functools.partial(trusted, LumpedTether)
     if t.EA > 0.0:
-        return trusted(LumpedTether, EA_N=t.EA, **kw)
-    # EA = K_C L_N as ``from_paper_stiffness``; L_N > 0: the scenario checked T_ref at q9
+        return build(EA_N=t.EA, **kw)
+    # L_N > 0: the scenario checked T_ref against the tether at q9
     L_N = params.tether.natural_length(scenario.q9, params.tension_control.T_ref)
-    return trusted(LumpedTether, EA_N=params.tether.K_C * L_N, **kw)
+    return LumpedTether._from_paper_stiffness(params.tether.K_C, L_N, build, **kw)
 
 
 def chain_start(scenario: Scenario, trim: TrimPoint) -> tuple:

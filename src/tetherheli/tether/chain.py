@@ -7,6 +7,7 @@ cable: mass, stiffness, damping, drag, ground contact; packed for the compiled s
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -195,7 +196,16 @@ class LumpedTether:
         """
         K_C = check_number("tether.K_C", K_C, low=0.0, low_open=True)
         L = check_number("tether.L_N0", natural_length_m, low=0.0, low_open=True)
-        return cls(EA_N=K_C * L, **kw)
+        return cls._from_paper_stiffness(K_C, L, cls, **kw)
+
+    @classmethod
+    def _from_paper_stiffness(
+        cls, K_C: float, natural_length_m: float, build: Callable[..., LumpedTether], **kw
+    ) -> LumpedTether:
+        """EA = K_C L0N of checked K_C and L0N, the tether made by ``build``: the class (its
+        fields checked) or ``functools.partial(_validation.trusted, LumpedTether)`` (a run's
+        set-up: its fields the scenario's, checked)."""
+        return build(EA_N=K_C * natural_length_m, **kw)
 
     def packed(self, g: float) -> np.ndarray:
         """The packed array (``layout.LUMPED_*``) the compiled kernels take.
