@@ -5,13 +5,19 @@ A number is a Python or NumPy real scalar (``int``, ``float``, ``np.integer``, `
 never a bool; an integer is a Python or NumPy integer, never a bool or a float. Every failure
 is one ``ParameterError`` line naming the field, the value and what is allowed, and the
 allowed text is the same whichever check failed (type, finiteness or range).
+
+Input is checked once, where it enters (a ``Scenario``, the arguments of a public function or
+class); code that builds objects from numbers already checked trusts them: it calls a
+function's private twin that skips the checks (``hover_trim`` checks, then calls
+``_hover_trim``), and builds a checked dataclass with ``trusted`` (issue 24, item 3).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -26,7 +32,10 @@ __all__ = [
     "describe",
     "is_integer",
     "is_real",
+    "trusted",
 ]
+
+_T = TypeVar("_T")
 
 
 def is_real(value: object) -> bool:
@@ -39,6 +48,54 @@ def is_real(value: object) -> bool:
 def is_integer(value: object) -> bool:
     """True for an integer scalar (Python or NumPy), False for bools and floats."""
     return isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
+
+
+def trusted(cls: type[_T], **values: Any) -> _T:
+    """An instance of the frozen dataclass ``cls`` built from values already checked, without
+    its ``__post_init__`` checks: the fields not given take their defaults, then the
+    instance's ``_derive()``, if it has one, fills what follows from the fields (derived
+    arrays, a default that depends on another field), as ``__post_init__`` does after its
+    checks.
+
+    The values must be those ``__post_init__`` would store (plain floats, ints, tuples), e.g.
+    a ``Scenario``'s fields, which were checked when it was built.
+
+    Parameters
+    ----------
+    cls : type
+        A dataclass.
+    **values
+        Field name -> checked value.
+
+    Returns
+    -------
+    object
+        The instance of ``cls``.
+
+    Raises
+    ------
+    TypeError
+        A name that is not a field of ``cls``, or a field without a default left out.
+    """
+    obj = object.__new__(cls)
+    for f in dataclasses.fields(cls):  # type: ignore[arg-type]
+        if f.name in values:
+            value = values.pop(f.name)
+        elif f.default is not dataclasses.MISSING:
+            value = f.default
+        elif f.default_factory is not dataclasses.MISSING:
+            value = f.default_factory()
+        elif not f.init:  # set by _derive
+            continue
+        else:
+            raise TypeError(f"{cls.__name__}: no value for the field {f.name!r}")
+        object.__setattr__(obj, f.name, value)
+    if values:
+        raise TypeError(f"{cls.__name__}: no fields {sorted(values)}")
+    derive = getattr(obj, "_derive", None)
+    if derive is not None:
+        derive()
+    return obj
 
 
 def _range(

@@ -15,13 +15,15 @@ of sinusoids per axis, and cubic pieces, so one compiled evaluation serves them 
 
 from __future__ import annotations
 
+import functools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from .._validation import Key
+from .._validation import Key, trusted
 from ..errors import ParameterError
 
 __all__ = [
@@ -258,6 +260,11 @@ class SeaStateBase(BaseMotion):
 
     def __post_init__(self) -> None:
         _checked(self, *MOTION_KEYS["sea_state"])
+        self._derive()
+
+    def _derive(self) -> None:
+        """The sinusoids of the checked fields (``_waves``); also run by
+        ``_validation.trusted``."""
         wp = 2 * math.pi / self.peak_period
         omega = np.linspace(0.5 * wp, 4.0 * wp, self.components)
         dw = omega[1] - omega[0] if self.components > 1 else 3.5 * wp
@@ -405,8 +412,8 @@ def read_base_csv(path: str | Path) -> FileBase:
 
 def base_motion_from(settings: object) -> BaseMotion:
     """The motion a ``[base]`` table describes (``sim.scenario_tables.BaseSettings``, or any
-    object with its attributes): the keys of ``MOTION_KEYS[settings.motion]`` passed on; a
-    ``file`` read (``read_base_csv``).
+    object with its attributes): the keys of ``MOTION_KEYS[settings.motion]`` passed on
+    (checked by the motion's class); a ``file`` read (``read_base_csv``).
 
     Parameters
     ----------
@@ -418,11 +425,32 @@ def base_motion_from(settings: object) -> BaseMotion:
     BaseMotion
     """
     kind = BASE_KEYS["motion"].check("base.motion", settings.motion)
+    return _motion(kind, settings, _MOTION_CLASSES.get(kind))
+
+
+def _base_motion_from(settings: object) -> BaseMotion:
+    """``base_motion_from`` of a table whose every key is checked already (a ``Scenario``'s
+    ``[base]``, ``sim.scenario_checks``): the motion built ``trusted``; a file still read and
+    its track checked."""
+    kind = settings.motion  # type: ignore[attr-defined]
+    cls = _MOTION_CLASSES.get(kind)
+    return _motion(kind, settings, None if cls is None else functools.partial(trusted, cls))
+
+
+def _motion(kind: str, settings: object, build: Callable[..., BaseMotion] | None) -> BaseMotion:
+    """The motion ``kind`` of ``settings``' keys, made by ``build`` (a file: read)."""
     kw = {name: getattr(settings, name) for name in MOTION_KEYS[kind]}
-    if kind == "file":
+    if build is None:  # kind == "file"
         if not kw["file"]:
             raise ParameterError("base.file", kw["file"], "a CSV file t,n1,n2,n3 (motion file)")
         return read_base_csv(kw["file"])
-    cls = {"fixed": FixedBase, "velocity": VelocityBase, "harmonic": HarmonicBase,
-           "sea_state": SeaStateBase}[kind]  # fmt: skip
-    return cls(**kw)
+    return build(**kw)
+
+
+#: the class of every motion but ``file`` (read from its CSV)
+_MOTION_CLASSES: dict[str, type[BaseMotion]] = {
+    "fixed": FixedBase,
+    "velocity": VelocityBase,
+    "harmonic": HarmonicBase,
+    "sea_state": SeaStateBase,
+}

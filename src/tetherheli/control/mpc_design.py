@@ -45,8 +45,9 @@ from scipy import sparse
 
 from .._linalg import check_dt, discretize_zoh, solve_dare
 from ..errors import DesignError, TetherheliError
+from ..sensing.config import _checked_dt
 from .lqi import _check_pd, _check_psd, augment_lqi
-from .observer import DisturbanceKalman, measurement_covariance
+from .observer import DisturbanceKalman, _measurement_covariance
 
 __all__ = [
     "MPCDesign",
@@ -241,22 +242,35 @@ def mpc_plant(params, configuration: str, T_ref: float, q9: float, dt: float) ->
     tuple
         G (n, n), H (n, m), C (4, n), Hd (n, 3) [per N], c_tension (n,) or None.
     """
-    return _mpc_plant(params, configuration, float(T_ref), float(q9), float(dt))
+    T_ref, q9 = _trim_arguments(params, configuration, T_ref, q9)
+    return _mpc_plant(params, configuration, T_ref, q9, float(dt))
+
+
+def _trim_arguments(params, configuration: str, T_ref: object, q9: object) -> tuple[float, float]:
+    """The design trim's tension and length checked (``model.trim.check_trim_arguments``;
+    free: the trim at TC = 0, ``T_ref`` unused)."""
+    from ..model.trim import check_trim_arguments
+
+    if configuration == "tethered":
+        return check_trim_arguments(params, T_ref, q9)
+    return float(T_ref), check_trim_arguments(params, 0.0, q9)[1]  # type: ignore[arg-type]
 
 
 @lru_cache(maxsize=16)
-def _mpc_plant(params, configuration, T_ref, q9, dt):
+def _mpc_plant(params, configuration: str, T_ref: float, q9: float, dt: float) -> tuple:
+    """``mpc_plant`` of a trim tension and length already checked (a run's set-up), cached."""
     from ..model import TetheredHelicopter
     from ..model.linearization import linearize
+    from ..model.trim import _hover_trim
     from ..names import TETHERED_STATE, WIND
-    from .tether_lqi import tethered_design
+    from .tether_lqi import _tethered_design
 
     model = TetheredHelicopter(params)
     if configuration == "tethered":
-        G, H, C, c_t = tethered_design(params, T_ref, q9, dt)
-        lin = linearize(model, model.trim(T_ref, q9))
+        G, H, C, c_t = _tethered_design(params, T_ref, q9, dt)
+        lin = linearize(model, _hover_trim(params, T_ref, q9))
     else:
-        lin = linearize(model, model.trim(0.0, q9)).select(TETHERED_STATE[:12])
+        lin = linearize(model, _hover_trim(params, 0.0, q9)).select(TETHERED_STATE[:12])
         G, H = lin.discretize(dt)
         C, c_t = lin.C, None
     Hd = discretize_zoh(lin.A, lin.input_matrix(WIND), dt)[1]
@@ -264,8 +278,10 @@ def _mpc_plant(params, configuration, T_ref, q9, dt):
 
 
 @lru_cache(maxsize=16)
-def _cached_design(params, configuration, T_ref, q9, dt, Qy, Ru, q_tension, horizon):
-    G, H, C, Hd, c_t = mpc_plant(params, configuration, T_ref, q9, dt)
+def _hover_design(params, configuration, T_ref, q9, dt, Qy, Ru, q_tension, horizon):
+    """``hover_design`` of a trim tension and length already checked (a run's set-up from its
+    ``Scenario``), cached; ``Qy``, ``Ru``: tuples."""
+    G, H, C, Hd, c_t = _mpc_plant(params, configuration, float(T_ref), float(q9), float(dt))
     m = H.shape[1]
     return design_mpc(
         G, H, C, Hd, dt, Qy=np.diag(Qy), Ru=np.diag(Ru[:m]), horizon=horizon,
@@ -342,7 +358,8 @@ def hover_design(
     DesignError
         The weights admit no stabilising design.
     """
-    return _cached_design(
+    T_ref, q9 = _trim_arguments(params, configuration, T_ref, q9)
+    return _hover_design(
         params, configuration, T_ref, q9, dt, tuple(Qy), tuple(Ru), q_tension, horizon
     )
 
@@ -414,8 +431,26 @@ def design_mpc_kalman(
     DisturbanceKalman
         The filter.
     """
-    G, H, _, Hd, c_t = mpc_plant(params, configuration, T_ref, q9, dt)
-    R = measurement_covariance(
+    T_ref, q9 = _trim_arguments(params, configuration, T_ref, q9)
+    return _design_mpc_kalman(
+        params, configuration, T_ref, q9, _checked_dt(dt), sensors=sensors, x_trim=x_trim,
+        tension_ref=tension_ref, tether_arm=tether_arm, load_cell=load_cell,
+        tension_std=tension_std, force_std=force_std, force_rate=force_rate,
+        input_std=input_std, coordinate_std=coordinate_std, force_accel=force_accel,
+        tether_angle_std=tether_angle_std,
+    )  # fmt: skip
+
+
+def _design_mpc_kalman(
+    params, configuration: str, T_ref: float, q9: float, dt: float, *, sensors,
+    x_trim: np.ndarray, tension_ref: float, tether_arm: float, load_cell: bool,
+    tension_std: float, force_std: float, force_rate: float, input_std: np.ndarray,
+    coordinate_std: float, force_accel: float, tether_angle_std: float,
+) -> DisturbanceKalman:  # fmt: skip
+    """``design_mpc_kalman`` of a trim and sample time already checked (a run's set-up from
+    its ``Scenario``)."""
+    G, H, _, Hd, c_t = _mpc_plant(params, configuration, T_ref, q9, dt)
+    R = _measurement_covariance(
         sensors, x_trim, tension_ref, tether_arm, dt, states=G.shape[0], load_cell=load_cell
     )
     if load_cell:  # eq 28 as the design model knows it

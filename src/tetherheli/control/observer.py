@@ -54,7 +54,14 @@ import numpy as np
 from scipy.linalg import solve_discrete_are
 
 from ..errors import TetherheliError
-from ..sensing.config import CH_ALTIMETER, CH_GPS, CHANNEL_GROUP, N_CHANNELS, SensorConfig
+from ..sensing.config import (
+    CH_ALTIMETER,
+    CH_GPS,
+    CHANNEL_GROUP,
+    N_CHANNELS,
+    SensorConfig,
+    _checked_dt,
+)
 from ..sensing.sensors import measure
 
 __all__ = [
@@ -106,10 +113,26 @@ def measurement_covariance(
         R in the units of the state and N, p = ``states`` (+ 1 with the load cell); at least
         ``VARIANCE_FLOOR`` on the diagonal.
     """
-    variance = sensors.white_std(dt) ** 2
+    return _measurement_covariance(
+        sensors, x_trim, tension, arm, _checked_dt(dt), states=states, load_cell=load_cell
+    )
+
+
+def _measurement_covariance(
+    sensors: SensorConfig,
+    x_trim: np.ndarray,
+    tension: float,
+    arm: float,
+    dt: float,
+    *,
+    states: int,
+    load_cell: bool,
+) -> np.ndarray:
+    """``measurement_covariance`` of a sample time already checked (a run's set-up)."""
+    variance = sensors._white_std(dt) ** 2
     variance[CH_GPS : CH_GPS + 3] += np.asarray(sensors.gps_markov_sigma, dtype=float) ** 2
     variance[CH_ALTIMETER] += sensors.altimeter_markov_sigma**2
-    period = sensors.group_timing(dt)[0]
+    period = sensors._group_timing(dt)[0]
     variance *= period[CHANNEL_GROUP]
     x_trim = np.ascontiguousarray(x_trim, dtype=float)
     source = sensors.source_code

@@ -176,17 +176,22 @@ def tethered_design(params, T_ref: float, q9: float, dt: float):
     c_tension : ndarray, shape (13,)
         The tension deviation's row, dTC = KC (dq9 - dLN) (eq 28) [N per state unit].
     """
-    return _tethered_design(params, float(T_ref), float(q9), float(dt))
+    from ..model.trim import check_trim_arguments
+
+    T_ref, q9 = check_trim_arguments(params, T_ref, q9)
+    return _tethered_design(params, T_ref, q9, float(dt))
 
 
 @lru_cache(maxsize=32)
-def _tethered_design(params, T_ref, q9, dt):
+def _tethered_design(params, T_ref: float, q9: float, dt: float):
+    """``tethered_design`` of a trim tension and length already checked (a run's set-up)."""
     from ..model import TetheredHelicopter
     from ..model.linearization import linearize
+    from ..model.trim import _hover_trim
     from ..names import INPUT, REEL_RATE
 
     model = TetheredHelicopter(params)
-    trim = model.trim(T_ref, q9)
+    trim = _hover_trim(params, T_ref, q9)
     if not trim.tension > 0.0:
         raise TetherheliError(
             f"the tethered LQI needs a taut tether at trim; tension {trim.tension:g} N"
@@ -203,7 +208,6 @@ def _tethered_design(params, T_ref, q9, dt):
     return G, H, lin.C, c_t
 
 
-@lru_cache(maxsize=64)
 def tether_lqi_gain(
     params,
     T_ref: float,
@@ -242,7 +246,26 @@ def tether_lqi_gain(
     TetherLQIGain
         The tethered gain (5, 17) with ``free`` and ``q_tension``.
     """
-    G, H, C, c_t = tethered_design(params, T_ref, q9, dt)
+    from ..model.trim import check_trim_arguments
+
+    T_ref, q9 = check_trim_arguments(params, T_ref, q9)
+    return _tether_lqi_gain(params, T_ref, q9, dt, Qy, q_tension, Ru, free)
+
+
+@lru_cache(maxsize=64)
+def _tether_lqi_gain(
+    params,
+    T_ref: float,
+    q9: float,
+    dt: float,
+    Qy: tuple,
+    q_tension: float,
+    Ru: tuple,
+    free: LQIGain,
+) -> TetherLQIGain:
+    """``tether_lqi_gain`` of a trim tension and length already checked (a run's set-up
+    from its ``Scenario``), cached."""
+    G, H, C, c_t = _tethered_design(params, T_ref, q9, float(dt))
     gain = design_tether_lqi(
         G, H, C, c_t, dt, Qy=np.diag(Qy), q_tension=float(q_tension), Ru=np.diag(Ru)
     )

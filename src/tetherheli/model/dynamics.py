@@ -17,7 +17,7 @@ from ..errors import SingularConfigurationError
 from ..names import FREE_STATE, INPUT, OUTPUT, TETHERED_STATE
 from ..params import Params
 from . import kernels
-from .trim import TrimPoint, hover_trim
+from .trim import TrimPoint, _hover_trim, hover_trim
 
 __all__ = ["FreeHelicopter", "TetheredHelicopter"]
 
@@ -336,7 +336,7 @@ class FreeHelicopter(_Helicopter):
         TrimPoint
             Its ``x`` is the free state (12,).
         """
-        tethered = hover_trim(self.params, 0.0, 10.0)
+        tethered = _hover_trim(self.params, 0.0, 10.0)  # constants: nothing to check
         y = tethered.y.copy()
         if position is not None:
             pos = _as_array("position", position, 3)

@@ -32,7 +32,7 @@ from ..params import Params, check_tether_length
 from . import _generated as gen
 from .constants import model_constants
 
-__all__ = ["TrimPoint", "hover_trim", "windless_trim"]
+__all__ = ["TrimPoint", "check_trim_arguments", "hover_trim", "windless_trim"]
 
 
 @dataclass(frozen=True)
@@ -104,14 +104,65 @@ def hover_trim(
         A tension the tether cannot give at that length (``TetherParams.check_tension``) or
         a hover with no trim.
     """
+    tension, q9 = check_trim_arguments(params, tension, q9)
+    force = None if N_F_wind is None else np.array(check_vector("N_F_wind", N_F_wind, 3))
+    return _hover_trim(params, tension, q9, force)
+
+
+def check_trim_arguments(params: Params, tension: object, q9: object) -> tuple[float, float]:
+    """The checks of a hover trim's tension and tether length (``hover_trim``; the public
+    designs on a trim, e.g. ``control.tether_lqi.tethered_design``, check theirs with it).
+
+    Parameters
+    ----------
+    params : Params
+        The parameter set (its tether gives the largest tension at q9).
+    tension : object
+        Tether tension TC at hover [N], >= 0.
+    q9 : object
+        Tether length [m], in ``params.TETHER_LENGTH_RANGE``.
+
+    Returns
+    -------
+    tension, q9 : float
+
+    Raises
+    ------
+    ParameterError
+        A tension that is not a number >= 0, or a q9 outside ``TETHER_LENGTH_RANGE``.
+    InfeasibleError
+        A tension the tether cannot give at that length (``TetherParams.check_tension``).
+    """
     tension = check_number("tension", tension, low=0.0, unit="[N]")
     q9 = check_tether_length(q9, "q9")
     params.tether.check_tension(tension, q9, "tension")  # the natural length LN stays sensible
+    return tension, q9
+
+
+def _hover_trim(
+    params: Params, tension: float, q9: float, force: np.ndarray | None = None
+) -> TrimPoint:
+    """``hover_trim`` of arguments already checked (a run's set-up from its ``Scenario``,
+    which checked T_ref and q9 against the tether when it was built): no checks of them here;
+    the trim's own failure (no hover found) still raises.
+
+    Parameters
+    ----------
+    params : Params
+        The parameter set.
+    tension : float
+        Tether tension TC at hover [N], a feasible one (``TetherParams.check_tension``).
+    q9 : float
+        Tether length [m], in ``params.TETHER_LENGTH_RANGE``.
+    force : numpy.ndarray, shape (3,), optional
+        Steady wind force on HO [N]; None or zero: the windless trim.
+
+    Returns
+    -------
+    TrimPoint
+    """
     point = _windless(params, tension, q9, params.tether.natural_length(q9, tension))
-    if N_F_wind is None:
-        return point
-    force = np.array(check_vector("N_F_wind", N_F_wind, 3))
-    if not np.any(force):
+    if force is None or not np.any(force):
         return point
     return _trim_in_wind(params, point, force, model_constants("tethered", params.helicopter))
 

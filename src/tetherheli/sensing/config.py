@@ -606,7 +606,11 @@ class SensorConfig:
         period, latency : numpy.ndarray of int64, shape (N_GROUPS,)
             Sample period and latency of each group, in control samples.
         """
-        dt = check_number("control.dt", dt, low=0.0, low_open=True)
+        return self._group_timing(_checked_dt(dt))
+
+    def _group_timing(self, dt: float) -> tuple[np.ndarray, np.ndarray]:
+        """``group_timing`` of a sample time already checked (a scenario's ``control.dt``);
+        the rates and latencies are still put on its grid (refused off it)."""
         period = np.ones(N_GROUPS, dtype=np.int64)
         latency = np.zeros(N_GROUPS, dtype=np.int64)
         for i, g in enumerate(SENSOR_GROUPS):
@@ -647,11 +651,17 @@ class SensorConfig:
         numpy.ndarray, shape (N_CHANNELS,)
             Per-sample std of every channel, units per channel (``CHANNEL_NAMES``).
         """
-        std = self.channel_std()
         if self.gyro_density > 0.0:
             if dt is None:
                 raise ParameterError("dt", dt, "the control sample time [s] (gyro_density is set)")
-            period = self.group_timing(dt)[0][SENSOR_GROUPS.index("gyro")]
+            dt = _checked_dt(dt)
+        return self._white_std(dt)
+
+    def _white_std(self, dt: float | None) -> np.ndarray:
+        """``white_std`` of a sample time already checked (a scenario's ``control.dt``)."""
+        std = self.channel_std()
+        if self.gyro_density > 0.0:
+            period = self._group_timing(dt)[0][SENSOR_GROUPS.index("gyro")]  # type: ignore[arg-type]
             std[CH_GYRO : CH_GYRO + 3] = self.gyro_density / math.sqrt(period * dt)
         return std
 
@@ -723,6 +733,11 @@ class SensorConfig:
             value = getattr(self, f.name)
             out[f.name] = list(value) if isinstance(value, tuple) else value
         return out
+
+
+def _checked_dt(dt: Any) -> float:
+    """A control sample time given to a public method (``group_timing``, ``white_std``)."""
+    return check_number("control.dt", dt, low=0.0, low_open=True)
 
 
 def sensor_config_from_dict(d: Mapping[str, Any], *, source: str | None = None) -> SensorConfig:

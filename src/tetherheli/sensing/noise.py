@@ -12,7 +12,7 @@ import numpy as np
 
 from .._validation import check_integer
 from ..errors import ParameterError
-from .config import CH_ALTIMETER, CH_GPS, CH_GYRO, N_CHANNELS, SensorConfig
+from .config import CH_ALTIMETER, CH_GPS, CH_GYRO, N_CHANNELS, SensorConfig, _checked_dt
 
 __all__ = [
     "accelerometer_errors",
@@ -60,12 +60,22 @@ def noise_table(
     n_samples = check_integer("n_samples", n_samples, low=0)
     if not isinstance(rng, np.random.Generator):
         raise ParameterError("rng", rng, "a numpy.random.Generator")
+    if not config.is_white:
+        if dt is None:
+            raise ParameterError("dt", dt, "the control sample time [s] (flown sensors are set)")
+        dt = _checked_dt(dt)
+    return _noise_table(config, n_samples, rng, dt)
+
+
+def _noise_table(
+    config: SensorConfig, n_samples: int, rng: np.random.Generator, dt: float | None
+) -> np.ndarray:
+    """``noise_table`` of arguments already checked (a run's set-up from its ``Scenario``:
+    its sensors, sample count and ``control.dt``)."""
     z = rng.standard_normal((int(n_samples) + 1, N_CHANNELS))
     if config.is_white:
         return np.ascontiguousarray(z * config.channel_std() + config.channel_bias())
-    if dt is None:
-        raise ParameterError("dt", dt, "the control sample time [s] (flown sensors are set)")
-    table = z * config.white_std(dt) + config.channel_bias()
+    table = z * config._white_std(dt) + config.channel_bias()
     w = rng.standard_normal(z.shape)
     gps = slice(CH_GPS, CH_GPS + 3)
     if np.any(np.asarray(config.gps_markov_sigma) > 0.0):

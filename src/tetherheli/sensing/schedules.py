@@ -11,7 +11,7 @@ import numpy as np
 
 from .._validation import check_integer
 from ..errors import ParameterError
-from .config import _GRID_TOL, G_GPS, N_GROUPS, SENSOR_GROUPS, SensorConfig
+from .config import _GRID_TOL, G_GPS, N_GROUPS, SENSOR_GROUPS, SensorConfig, _checked_dt
 
 __all__ = [
     "group_samples",
@@ -48,9 +48,17 @@ def sample_schedule(config: SensorConfig, dt: float, n_samples: int) -> np.ndarr
         untimed sensors.
     """
     n_samples = check_integer("n_samples", n_samples, low=0)
+    if config.is_timed:  # untimed sensors need no dt
+        dt = _checked_dt(dt)
+    return _sample_schedule(config, dt, n_samples)
+
+
+def _sample_schedule(config: SensorConfig, dt: float, n_samples: int) -> np.ndarray:
+    """``sample_schedule`` of arguments already checked (a run's set-up from its
+    ``Scenario``: its sensors, ``control.dt`` and sample count)."""
     if not config.is_timed:
         return np.zeros((0, N_GROUPS), dtype=np.int64)
-    period, latency = config.group_timing(dt)
+    period, latency = config._group_timing(dt)
     k = np.arange(n_samples + 1)
     out = np.empty((n_samples + 1, N_GROUPS), dtype=np.int64)
     for g in range(N_GROUPS):

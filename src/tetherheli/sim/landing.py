@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..control.landing import GroundHoldController, LandingController, LandingSchedule
+from ..model.trim import _hover_trim
 from ..status import Status
 from .scenario_tables import LANDING_PRESS_M
 
@@ -76,7 +77,8 @@ def landing_controller(scenario: Scenario, setup: EngineSetup) -> LandingControl
     tensions = np.linspace(schedule.start_tension, schedule.landing_tension, LANDING_TRIMS)
     if tensions[0] > tensions[-1]:
         tensions = tensions[::-1]
-    trims = [setup.model.trim(float(T), scenario.q9) for T in tensions]
+    # between T_ref and the landing tension, both checked against the tether by the scenario
+    trims = [_hover_trim(setup.model.params, float(T), scenario.q9) for T in tensions]
     K, _, y_ref, u0, u0_free, z0 = setup.law
     trim = setup.trim
     return LandingController(

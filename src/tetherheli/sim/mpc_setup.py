@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..control.mpc import MPCController
-from ..control.mpc_design import design_mpc_kalman, hover_design, mpc_sample_seconds
+from ..control.mpc_design import _design_mpc_kalman, _hover_design, mpc_sample_seconds
 from ..control.observer import DisturbanceKalman
 from ..errors import DesignError, design_failure
 from ..resources import warn_slow
@@ -63,9 +63,9 @@ def mpc_controller(
     params = scenario.params if design_params is None else design_params
     T_ref = params.tension_control.T_ref if tethered else 0.0
     try:
-        design = hover_design(
+        design = _hover_design(  # T_ref, q9 and dt: checked by the scenario
             params, scenario.configuration, T_ref, scenario.q9, scenario.control.dt,
-            Qy=tuple(s.Qy), Ru=tuple(s.Ru), q_tension=s.q_tension, horizon=s.horizon,
+            tuple(s.Qy), tuple(s.Ru), s.q_tension, s.horizon,
         )  # fmt: skip
     except DesignError as exc:
         raise design_failure(
@@ -126,7 +126,7 @@ def mpc_kalman(
     tension_ref = scenario.params.tension_control.T_ref if tethered else 0.0
     params = scenario.params if design_params is None else design_params
     T_ref = params.tension_control.T_ref if tethered else 0.0
-    return design_mpc_kalman(
+    return _design_mpc_kalman(  # T_ref, q9 and dt: checked by the scenario
         params, scenario.configuration, T_ref, scenario.q9, scenario.control.dt,
         sensors=scenario.sensors, x_trim=setup.trim.x, tension_ref=tension_ref,
         tether_arm=scenario.params.helicopter.tether_arm,

@@ -35,8 +35,8 @@ from ..layout import (
 from ..model import TrimPoint
 from ..names import INPUT
 from ..sensing.config import N_CHANNELS, N_GROUPS, SensorConfig
-from ..sensing.noise import noise_table
-from ..sensing.schedules import ring_rows, sample_schedule
+from ..sensing.noise import _noise_table
+from ..sensing.schedules import _sample_schedule, ring_rows
 from .scenario import Scenario, WinchSettings
 
 __all__ = [
@@ -142,17 +142,18 @@ def sensor_noise(scenario: Scenario) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (n_samples + 1, N_CHANNELS) or (0, N_CHANNELS)
-        ``sensing.noise.noise_table`` of the run, units per channel.
+        ``sensing.noise.noise_table`` of the run, units per channel (its arguments the
+        scenario's, checked when it was built).
     """
     if scenario.sensors.is_perfect:
         return np.zeros((0, N_CHANNELS))
     rng = np.random.default_rng(np.random.SeedSequence(scenario.seed))
-    return noise_table(scenario.sensors, scenario.n_samples, rng, dt=scenario.control.dt)
+    return _noise_table(scenario.sensors, scenario.n_samples, rng, scenario.control.dt)
 
 
 def sensor_schedule(config: SensorConfig, dt: float, n_samples: int) -> np.ndarray:
     """``sensing.schedules.sample_schedule`` of a run, empty, (0, N_GROUPS), for perfect sensors (no
-    measurement).
+    measurement); its arguments trusted (a scenario's, checked when it was built).
 
     Parameters
     ----------
@@ -170,7 +171,7 @@ def sensor_schedule(config: SensorConfig, dt: float, n_samples: int) -> np.ndarr
     """
     if config.is_perfect:
         return np.zeros((0, N_GROUPS), dtype=np.int64)
-    return sample_schedule(config, dt, n_samples)
+    return _sample_schedule(config, dt, n_samples)
 
 
 def sensor_tuple(noise: np.ndarray, source: int, arm: float, schedule: np.ndarray) -> tuple:

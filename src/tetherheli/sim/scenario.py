@@ -52,7 +52,7 @@ from .._io import OWN_FILE_STEMS, read_toml
 from .._validation import Key
 from ..base.motion import BaseMotion
 from ..errors import ParameterError
-from ..params import TETHER_LENGTH_RANGE, Params, check_tether_length
+from ..params import TETHER_LENGTH_RANGE, Params
 from ..sensing.config import SensorConfig, sensor_config_from_dict
 from ..wind import Disturbance, NoWind, disturbance_from_dict, paper_wind
 from .scenario_checks import MAX_SAMPLES, check_distinct_names, check_name, validate_scenario
@@ -445,14 +445,9 @@ def _scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> S
             kwargs[k] = data[k]
     if "configuration" in data:
         kwargs["configuration"] = data["configuration"]
-    if "duration" in data:
-        kwargs["duration"] = field_key(Scenario, "duration").check(
-            "duration", data["duration"], source=source
-        )
-    if "q9" in data:
-        kwargs["q9"] = check_tether_length(data["q9"], "q9", source=source)
-    if "metrics_start" in data:
-        kwargs["metrics_start"] = data["metrics_start"]  # checked by validate_scenario
+    for k in ("duration", "q9", "metrics_start"):
+        if k in data:
+            kwargs[k] = data[k]  # checked by validate_scenario
     if "control" in data:
         ctl = _vectors(source, "control", data["control"], ControlSettings)
         if "tether_lqi" in ctl:
@@ -460,19 +455,10 @@ def _scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> S
             ctl["tether_lqi"] = TetherLQISettings(**tl)
         if "mpc" in ctl:
             ctl["mpc"] = MPCSettings(**_vectors(source, "control.mpc", ctl["mpc"], MPCSettings))
-        if "dt" in ctl:
-            ctl["dt"] = field_key(ControlSettings, "dt").check(
-                "control.dt", ctl["dt"], source=source
-            )
         kwargs["control"] = ControlSettings(**ctl)
     if "limits" in data:
         lim = _table(source, "limits", data["limits"], Limits)
-        kwargs["limits"] = Limits(
-            **{
-                k: field_key(Limits, k).check(f"limits.{k}", v, source=source)
-                for k, v in lim.items()
-            }
-        )
+        kwargs["limits"] = Limits(**lim)  # checked by validate_scenario
     if "actuators" in data:
         act = _vectors(source, "actuators", data["actuators"], ActuatorSettings)
         kwargs["actuators"] = ActuatorSettings(**act)

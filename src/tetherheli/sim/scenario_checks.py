@@ -15,7 +15,7 @@ from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
 
 from .._io import OWN_FILE_STEMS
-from ..base.motion import MOTION_KEYS, FileBase, base_motion_from
+from ..base.motion import MOTION_KEYS, FileBase, _base_motion_from
 from ..errors import ParameterError
 from ..params import Params, check_tether_length, check_tether_strain
 from ..sensing.config import SensorConfig
@@ -184,7 +184,7 @@ def validate_scenario(s: Scenario, source: str | None) -> None:
         raise ParameterError("sensors", s.sensors, "a SensorConfig", source=source)
     try:
         s.sensors.check_configuration(tethered=s.configuration == "tethered")
-        s.sensors.group_timing(s.control.dt)  # rates and latencies on the control grid
+        s.sensors._group_timing(dt)  # rates and latencies on the grid of the checked dt
     except ParameterError as exc:
         raise ParameterError(exc.field, exc.value, exc.allowed, source=source) from None
     _set(s, "seed", field_key(type(s), "seed").check("seed", s.seed, source=source))
@@ -257,7 +257,7 @@ def _check_base(s: Scenario, source: str | None) -> None:
                 f"{' or '.join(map(repr, readers))})", source=source,
             )  # fmt: skip
     try:
-        motion = base_motion_from(base)
+        motion = _base_motion_from(base)  # its keys checked just above
     except ParameterError as exc:
         raise ParameterError(
             exc.field, exc.value, exc.allowed, source=exc.source or source

@@ -20,7 +20,7 @@ import numpy as np
 from ..base.compiled import CompiledBase, compile_base
 from ..control.lqi import LQIGain
 from ..control.paper import PaperController, check_law
-from ..control.tether_lqi import TetherLQIGain, tether_lqi_gain
+from ..control.tether_lqi import TetherLQIGain, _tether_lqi_gain
 from ..errors import DesignError, design_failure
 from ..layout import (
     CFG_ARM,
@@ -56,8 +56,9 @@ from ..layout import (
     empty_chain,
 )
 from ..model import TetheredHelicopter, TrimPoint
+from ..model.trim import _hover_trim
 from ..params import Params
-from ..tether.lumped_trim import hover_trim_lumped
+from ..tether.lumped_trim import _hover_trim_lumped
 from ..wind import CompiledWind, compile_wind
 from . import engine, lumped_step, stepping
 from .lanes import lane_block, lane_program_into
@@ -158,14 +159,14 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
     if lumped:  # the hover with the chain hanging below P, T_ref at the winch (eq 56)
         a = scenario.actuators
         trim: TrimPoint = load_cell_trim(
-            hover_trim_lumped(
+            _hover_trim_lumped(
                 params, lumped_tether(scenario), T_ref, scenario.q9, u_min=a.u_min, u_max=a.u_max
             ).trim,
             T_ref,
             model,
         )
     else:
-        trim = model.trim(T_ref, scenario.q9)
+        trim = _hover_trim(params, T_ref, scenario.q9)  # both checked by the scenario
     c = scenario.control
     design = params if design_params is None else design_params
     try:
@@ -178,7 +179,7 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
     if lqi_on_tether:  # its plant contains the tether: no feed-forward (eq 55), no PI (eq 56)
         w = c.tether_lqi
         try:
-            gain = tether_lqi_gain(
+            gain = _tether_lqi_gain(  # T_ref and q9: checked by the scenario
                 design, design.tension_control.T_ref, scenario.q9, c.dt,
                 tuple(w.Qy), w.q_tension, tuple(w.Ru), gain,
             )  # fmt: skip

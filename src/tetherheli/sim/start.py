@@ -13,16 +13,19 @@ paper's runs: their force profiles arrive as they come).
 
 from __future__ import annotations
 
+import functools
 from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
 
+from .._validation import trusted
 from ..control.lqi import LQIGain, design_lqi
 from ..control.tether_lqi import TetherLQIGain
 from ..errors import InfeasibleError
 from ..layout import CTRL_FFWD, CTRL_WINCH, empty_chain
 from ..model import TetheredHelicopter, TrimPoint, kernels, linearize
+from ..model.trim import _hover_trim
 from ..names import TETHERED_STATE
 from ..params import Params
 from ..tether.chain import LumpedTether, static_chain
@@ -74,7 +77,7 @@ def paper_gain(
         The discrete LQI gain K = [K_x, K_z], shape (4, 16).
     """
     model = TetheredHelicopter(params)
-    lin = linearize(model, model.trim(0.0, q9)).select(LQI_STATES)
+    lin = linearize(model, _hover_trim(params, 0.0, q9)).select(LQI_STATES)
     G, H = lin.discretize(dt)
     return design_lqi(G, H, lin.C, dt, Qy=np.diag(Qy), Ru=np.diag(Ru))
 
@@ -110,7 +113,8 @@ def load_cell_trim(trim: TrimPoint, ground_tension: float, model: TetheredHelico
 def lumped_tether(scenario: Scenario) -> LumpedTether:
     """The ``LumpedTether`` of a scenario's ``[tether]`` table; EA = 0 takes the paper's
     stiffness, EA = K_C LN with the massless trim's natural length LN = q9 - T_ref / K_C
-    (eq 28; ``LumpedTether.from_paper_stiffness``).
+    (eq 28; ``LumpedTether.from_paper_stiffness``). Built ``trusted``: the scenario checked
+    every key.
 
     Parameters
     ----------
@@ -137,10 +141,12 @@ def lumped_tether(scenario: Scenario) -> LumpedTether:
         ground_friction=t.ground_friction,
         ground_friction_speed_m_s=t.ground_friction_speed,
     )
+    build = functools.partial(trusted, LumpedTether)
     if t.EA > 0.0:
-        return LumpedTether(EA_N=t.EA, **kw)
+        return build(EA_N=t.EA, **kw)
+    # L_N > 0: the scenario checked T_ref against the tether at q9
     L_N = params.tether.natural_length(scenario.q9, params.tension_control.T_ref)
-    return LumpedTether.from_paper_stiffness(params.tether.K_C, L_N, **kw)
+    return LumpedTether._from_paper_stiffness(params.tether.K_C, L_N, build, **kw)
 
 
 def chain_start(scenario: Scenario, trim: TrimPoint) -> tuple:
@@ -167,7 +173,7 @@ def chain_start(scenario: Scenario, trim: TrimPoint) -> tuple:
     g = scenario.params.helicopter.g
     q9, L0 = float(trim.x[5]), float(trim.x[12])
     T_g = scenario.params.tension_control.T_ref  # hover_trim_lumped's tension at the winch
-    packed = tether.packed(g)
+    packed = tether._packed(g)  # g: a Params field, checked
     # the coupled step's rule (``tether.lumped.coupling_substeps``) at the trim's length: a
     # cable it cannot step within CHAIN_MAX_SUBSTEPS per sample is refused here, instead of
     # being flown for minutes with capped, unstable steps to a failure
@@ -215,7 +221,7 @@ def free_trim_input(scenario: Scenario, model: TetheredHelicopter, trim: TrimPoi
 def _free_trim_input(params: Params, q9: float) -> np.ndarray:
     """``free_trim_input`` of a tethered run, once per (parameters, q9): a batch's runs share
     it (read-only)."""
-    u = TetheredHelicopter(params).trim(0.0, q9).u.copy()
+    u = _hover_trim(params, 0.0, q9).u.copy()
     u.setflags(write=False)
     return u
 
@@ -327,7 +333,7 @@ def start_point(
     force = initial_wind_force(wind)
     if not np.any(force):
         return StartPoint(trim, np.zeros(4))
-    windy = model.trim(trim.tension, q9, N_F_wind=force)
+    windy = _hover_trim(model.params, trim.tension, q9, force)
     K = np.asarray(gain.K)
     n_x = K.shape[1] - 4  # 12, or 13 for the tethered LQI (whose rows 0-3 are its rotor law)
     K_x, K_z = K[:4, :n_x], K[:4, n_x:]
@@ -364,7 +370,9 @@ def _reel_at_rest(model, trim, K, force, q9, windy, z0, integrators):
     T_prev, r_prev = trim.tension, reel(windy, z0)
     T = 1.02 * T_prev
     for _ in range(12):
-        windy = model.trim(T, q9, N_F_wind=force)
+        # T is the secant's, not the scenario's: the tether must still give it (physics)
+        model.params.tether.check_tension(T, q9, "tension")
+        windy = _hover_trim(model.params, T, q9, force)
         z0 = integrators(windy)
         r = reel(windy, z0)
         if abs(r) < 1e-12 or r == r_prev:

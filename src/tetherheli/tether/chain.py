@@ -7,6 +7,7 @@ cable: mass, stiffness, damping, drag, ground contact; packed for the compiled s
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -124,8 +125,7 @@ class LumpedTether:
                 self.internal_damping_Ns,
                 f"no value when {s}.{names['damping_ratio']} is given (one or the other)",
             )
-        if self.damping_ratio is None and self.internal_damping_Ns is None:
-            object.__setattr__(self, "damping_ratio", 0.1)
+        self._derive()
         for name in ("damping_ratio", "internal_damping_Ns"):
             if getattr(self, name) is not None:
                 value = check_number(f"{s}.{names[name]}", getattr(self, name), low=0.0)
@@ -152,6 +152,12 @@ class LumpedTether:
                                  low_open=low_open)  # fmt: skip
             object.__setattr__(self, name, value)
 
+    def _derive(self) -> None:
+        """The default damping (a ratio of 0.1 when neither damping is given); also run by
+        ``_validation.trusted``."""
+        if self.damping_ratio is None and self.internal_damping_Ns is None:
+            object.__setattr__(self, "damping_ratio", 0.1)
+
     def segment_dashpot(self, unstretched_length_m: float) -> float:
         """A segment's axial dashpot c [N s/m] at the unstretched length L0 (module
         docstring): zeta sqrt(EA mu) / sin(pi / (2 N)) or BA N / L0.
@@ -166,7 +172,7 @@ class LumpedTether:
         float
             c [N s/m].
         """
-        p = self.packed(0.0)
+        p = self._packed(0.0)
         return p[LUMPED_DAMPING] + p[LUMPED_BA] * self.segments / unstretched_length_m
 
     @classmethod
@@ -190,7 +196,16 @@ class LumpedTether:
         """
         K_C = check_number("tether.K_C", K_C, low=0.0, low_open=True)
         L = check_number("tether.L_N0", natural_length_m, low=0.0, low_open=True)
-        return cls(EA_N=K_C * L, **kw)
+        return cls._from_paper_stiffness(K_C, L, cls, **kw)
+
+    @classmethod
+    def _from_paper_stiffness(
+        cls, K_C: float, natural_length_m: float, build: Callable[..., LumpedTether], **kw
+    ) -> LumpedTether:
+        """EA = K_C L0N of checked K_C and L0N, the tether made by ``build``: the class (its
+        fields checked) or ``functools.partial(_validation.trusted, LumpedTether)`` (a run's
+        set-up: its fields the scenario's, checked)."""
+        return build(EA_N=K_C * natural_length_m, **kw)
 
     def packed(self, g: float) -> np.ndarray:
         """The packed array (``layout.LUMPED_*``) the compiled kernels take.
@@ -210,6 +225,10 @@ class LumpedTether:
             cbot d [N s/m^2], mu_f and v_f [m/s], and the base's acceleration (3,) [m/s^2]
             (zero here; the engine sets it over a moving base).
         """
+        return self._packed(check_number("g", g, low=0.0))
+
+    def _packed(self, g: float) -> np.ndarray:
+        """``packed`` of a gravity already checked (a run's set-up: ``params.helicopter.g``)."""
         p = np.empty(LUMPED_SIZE)
         p[LUMPED_MU] = self.mass_per_length_kg_m
         p[LUMPED_EA] = self.EA_N
@@ -224,7 +243,7 @@ class LumpedTether:
         p[LUMPED_CDT] = (
             0.5 * self.air_density_kg_m3 * math.pi * self.diameter_m
         ) * self.tangential_drag_coefficient
-        p[LUMPED_G] = check_number("g", g, low=0.0)
+        p[LUMPED_G] = g
         p[LUMPED_GROUND_K] = self.ground_stiffness_Pa_m * self.diameter_m
         p[LUMPED_GROUND_C] = self.ground_damping_Pa_s_m * self.diameter_m
         p[LUMPED_FRICTION] = self.ground_friction

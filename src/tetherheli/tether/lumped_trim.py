@@ -114,7 +114,6 @@ def hover_trim_lumped(
     InfeasibleError
         A hover outside the rotor limits or with no trim.
     """
-    from ..model.trim import windless_trim
     from ..params import check_tether_length
 
     params = getattr(params, "params", params)
@@ -122,6 +121,23 @@ def hover_trim_lumped(
         raise ParameterError("tether", tether, "a LumpedTether")
     T_g = check_number("ground_tension_N", ground_tension_N, low=0.0, low_open=True, unit="[N]")
     q9 = check_tether_length(q9, "q9")
+    return _hover_trim_lumped(params, tether, T_g, q9, u_min=u_min, u_max=u_max)
+
+
+def _hover_trim_lumped(
+    params: Params,
+    tether: LumpedTether,
+    T_g: float,
+    q9: float,
+    *,
+    u_min: object = None,
+    u_max: object = None,
+) -> LumpedTrim:
+    """``hover_trim_lumped`` of arguments already checked (a run's set-up from its
+    ``Scenario``: T_ref > 0 and q9 checked when it was built); the hover's own failures
+    (outside the rotor limits, no trim) still raise."""
+    from ..model.trim import windless_trim
+
     g = params.helicopter.g
     w = tether.mass_per_length_kg_m * g
     EA = tether.EA_N
