@@ -31,10 +31,14 @@ many = {}
 for modname, mod in list(sys.modules.items()):
     if not modname.startswith("tetherheli"):
         continue
-    for key, f in vars(mod).items():
-        if isinstance(f, numba.core.registry.CPUDispatcher) and f.__module__ == modname:
-            if len(f.signatures) > 1:
-                many[f"{modname}.{key}"] = [str(sig) for sig in f.signatures]
+    for key, value in vars(mod).items():
+        # a dispatcher, or a table of them (``engine.CLOSED_LOOPS``: the loop's variants)
+        items = value.items() if isinstance(value, dict) else [("", value)]
+        for sub, f in items:
+            if isinstance(f, numba.core.registry.CPUDispatcher) and f.__module__ == modname:
+                if len(f.signatures) > 1:
+                    name = f"{modname}.{key}" + (f"[{sub}]" if sub != "" else "")
+                    many[name] = [str(sig) for sig in f.signatures]
 print(json.dumps(many))
 """
 
