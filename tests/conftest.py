@@ -43,8 +43,11 @@ def pytest_configure(config: pytest.Config) -> None:
     workers = getattr(config.option, "numprocesses", None)
     if hasattr(config, "workerinput") or not workers or os.environ.get("TETHERHELI_NO_WARM"):
         return
-    from tests.warm_cache import warm
+    from tests.warm_cache import REPORT_FOLDER, warm
 
+    # the jobs' signature reports (``tests/test_signatures.py``); the workers inherit the path
+    os.environ[REPORT_FOLDER] = os.path.join(_ISOLATED, "warm-signatures")
+    os.makedirs(os.environ[REPORT_FOLDER], exist_ok=True)
     warm()
 
 

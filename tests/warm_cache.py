@@ -109,9 +109,59 @@ def warm(jobs: list[str] | None = None, processes: int = 2) -> None:
         list(pool.map(run, names))
 
 
+def duplicate_signatures() -> dict[str, list[str]]:
+    """Each compiled function of the package (a module's dispatcher, or one in a module's
+    table such as ``engine.CLOSED_LOOPS``) that holds more than one signature in this
+    process: name -> its signatures (``tests/test_signatures.py``)."""
+    import numba
+
+    many = {}
+    for modname, mod in list(sys.modules.items()):
+        if not modname.startswith("tetherheli"):
+            continue
+        for key, value in vars(mod).items():
+            items = value.items() if isinstance(value, dict) else [("", value)]
+            for sub, f in items:
+                if isinstance(f, numba.core.registry.CPUDispatcher) and f.__module__ == modname:
+                    if len(f.signatures) > 1:
+                        name = f"{modname}.{key}" + (f"[{sub}]" if sub != "" else "")
+                        many[name] = [str(sig) for sig in f.signatures]
+    return many
+
+
+def compiled_here() -> bool:
+    """Whether this process compiled any of the package's functions (a cache miss): then
+    its signatures are those the calls needed, not those a warm cache happened to load."""
+    import numba
+
+    return any(
+        isinstance(f, numba.core.registry.CPUDispatcher) and sum(f.stats.cache_misses.values())
+        for modname, mod in list(sys.modules.items())
+        if modname.startswith("tetherheli")
+        for f in vars(mod).values()
+    )
+
+
+#: where a job writes its report (``report``), set by ``tests/conftest.py`` for the suite
+REPORT_FOLDER = "TETHERHELI_WARM_REPORT"
+
+
+def report(name: str) -> None:
+    """Write job ``name``'s ``{"compiled": ..., "duplicates": ...}`` to the folder
+    ``$TETHERHELI_WARM_REPORT`` (when set), for ``tests/test_signatures.py``."""
+    import json
+
+    folder = os.environ.get(REPORT_FOLDER)
+    if folder and os.path.isdir(folder):
+        data = {"compiled": compiled_here(), "duplicates": duplicate_signatures()}
+        with open(os.path.join(folder, f"{name}.json"), "w", encoding="utf-8") as out:
+            json.dump(data, out)
+
+
 if __name__ == "__main__":
     if len(sys.argv) == 2:
         for part in JOBS[sys.argv[1]]:
             part()
+        report(sys.argv[1])
     else:
         warm(sys.argv[1:] or None)
