@@ -119,6 +119,8 @@ def _short(name: str, controller: str | None = None) -> Scenario:
     s = scenario_from_dict(_data(name))
     if controller is not None:
         s = s.replace(control=dataclasses.replace(s.control, controller=controller))
+    if s.maneuver.landing:  # its descent (and its trims at the scheduled tensions) soon
+        s = s.replace(maneuver=dataclasses.replace(s.maneuver, start_time=0.5))
     dt = s.control.dt
     seconds = max(1.0, s.metrics_start + 0.5, s.maneuver.start_time + 1.0)
     return s.replace(duration=dt * math.ceil(seconds / dt - 1e-9))
