@@ -226,6 +226,22 @@ class Signals(NamedTuple):
             winch=np.zeros((rows if drum else 1, 2)),
         )  # fmt: skip
 
+    @classmethod
+    def floats_per_row(cls, *, drum: bool = False, nodes: int = 0) -> int:
+        """The floats one more sample adds to ``zeros``' arrays (a memory estimate's unit).
+
+        Parameters
+        ----------
+        drum, nodes
+            As for ``zeros``.
+
+        Returns
+        -------
+        int
+        """
+        two, one = cls.zeros(2, drum=drum, nodes=nodes), cls.zeros(1, drum=drum, nodes=nodes)
+        return sum(a.size for a in two) - sum(a.size for a in one)
+
 
 # --- one run's loop state (``sim.engine.new_loop_state``): a tuple of arrays -------------------
 LOOP_Z = 0  # (4,) the LQI's output-error integral (eq 50)

@@ -52,9 +52,6 @@ __all__ = ["check_run_memory", "simulate"]
 Method = Literal["rk4", "adaptive"]
 
 
-#: Floats recorded per control sample: state 13, inputs 4, feed-forward 4, reel rate 1,
-#: tension 1, wind 3, outputs 4, output estimate 4 (``_Recorder``); the drum winch adds 2.
-_RECORDED_FLOATS = 34
 #: Peak memory of a recorded run over its recorded arrays: the result, the metrics'
 #: temporaries and the figures' copies of the plotted lines (measured about 2.2; margin kept).
 _RECORDED_PEAK_FACTOR = 3
@@ -104,11 +101,10 @@ def check_run_memory(
     if scenario.sensors.is_timed and not scenario.sensors.is_perfect:
         per_run += rows * (N_GROUPS + N_CHANNELS) * 8
     if record:
-        floats = _RECORDED_FLOATS + (len(DRUM_COLUMNS) if scenario.winch.model == "drum" else 0)
+        floats = Signals.floats_per_row(
+            drum=scenario.winch.model == "drum", nodes=_recorded_nodes(scenario)
+        )  # what the recorder allocates (``_Recorder``)
         per_run += rows * floats * 8 * _RECORDED_PEAK_FACTOR
-        if scenario.tether.lumped:  # the winch's tension, and the nodes on request
-            nodes = 3 * (scenario.tether.segments + 1) if scenario.tether.record_nodes else 0
-            per_run += rows * (1 + nodes) * 8 * _RECORDED_PEAK_FACTOR
     needed = (per_run + per_run_bytes) * concurrent
     at_once = f", {concurrent} runs at once" if concurrent > 1 else ""
     if what is None:
@@ -188,8 +184,9 @@ def simulate(
             "method", method, "'rk4' with built-in winds for a lumped tether ([tether] "
             "model = 'lumped'; the adaptive reference covers the massless tether)"
         )  # fmt: skip
-    nodes = scenario.tether.segments + 1 if lumped and scenario.tether.record_nodes else 0
-    rec = _Recorder(n, drum=scenario.winch.model == "drum", lumped=lumped, nodes=nodes)
+    rec = _Recorder(
+        n, drum=scenario.winch.model == "drum", lumped=lumped, nodes=_recorded_nodes(scenario)
+    )
     if paper and method == "rk4" and wind is not None:
         status, done = engine.run_closed_loop(*setup.engine_args(n), True, rec.signals, rec.summary)
     else:  # the same sample step, the controller's slot in Python
@@ -207,6 +204,12 @@ def simulate(
     if landing:
         result = dataclasses.replace(result, touchdown=record)
     return result
+
+
+def _recorded_nodes(scenario: Scenario) -> int:
+    """The lumped chain's nodes a run records (N + 1 with ``tether.record_nodes``, else 0)."""
+    t = scenario.tether
+    return t.segments + 1 if t.lumped and t.record_nodes else 0
 
 
 class _Recorder:
