@@ -87,25 +87,18 @@ def pytest_sessionfinish(session: pytest.Session) -> None:
     signature, and where its signatures differ."""
     if _COMPILE_LOG is None:
         return
-    import sys
-
-    import numba
+    from tests.warm_cache import dispatchers
 
     lines = []
-    for name, module in sorted(sys.modules.items()):
-        if not name.startswith("tetherheli"):
-            continue
-        for key, f in vars(module).items():
-            if not isinstance(f, numba.core.registry.CPUDispatcher) or f.__module__ != name:
-                continue
-            first, *others = f.signatures or [()]
-            for other in others:
-                diff = [
-                    (i, str(a), str(b))
-                    for i, (a, b) in enumerate(zip(first, other, strict=False))
-                    if a != b
-                ]
-                lines.append(f"signature {name}.{key}: {diff}\n")
+    for name, f in dispatchers():
+        first, *others = f.signatures or [()]
+        for other in others:
+            diff = [
+                (i, str(a), str(b))
+                for i, (a, b) in enumerate(zip(first, other, strict=False))
+                if a != b
+            ]
+            lines.append(f"signature {name}: {diff}\n")
     with open(_COMPILE_LOG.path, "a", encoding="utf-8") as log:
         log.writelines(lines)
 

@@ -109,13 +109,11 @@ def warm(jobs: list[str] | None = None, processes: int = 2) -> None:
         list(pool.map(run, names))
 
 
-def duplicate_signatures() -> dict[str, list[str]]:
-    """Each compiled function of the package (a module's dispatcher, or one in a module's
-    table such as ``engine.CLOSED_LOOPS``) that holds more than one signature in this
-    process: name -> its signatures (``tests/test_signatures.py``)."""
+def dispatchers():
+    """(name, dispatcher) of every compiled function of the package imported so far: a
+    module's dispatcher, or one in a module's table such as ``engine.CLOSED_LOOPS``."""
     import numba
 
-    many = {}
     for modname, mod in list(sys.modules.items()):
         if not modname.startswith("tetherheli"):
             continue
@@ -123,23 +121,23 @@ def duplicate_signatures() -> dict[str, list[str]]:
             items = value.items() if isinstance(value, dict) else [("", value)]
             for sub, f in items:
                 if isinstance(f, numba.core.registry.CPUDispatcher) and f.__module__ == modname:
-                    if len(f.signatures) > 1:
-                        name = f"{modname}.{key}" + (f"[{sub}]" if sub != "" else "")
-                        many[name] = [str(sig) for sig in f.signatures]
-    return many
+                    yield f"{modname}.{key}" + (f"[{sub}]" if sub != "" else ""), f
+
+
+def duplicate_signatures() -> dict[str, list[str]]:
+    """Each compiled function of the package (``dispatchers``) that holds more than one
+    signature in this process: name -> its signatures (``tests/test_signatures.py``)."""
+    return {
+        name: [str(sig) for sig in f.signatures]
+        for name, f in dispatchers()
+        if len(f.signatures) > 1
+    }
 
 
 def compiled_here() -> bool:
     """Whether this process compiled any of the package's functions (a cache miss): then
     its signatures are those the calls needed, not those a warm cache happened to load."""
-    import numba
-
-    return any(
-        isinstance(f, numba.core.registry.CPUDispatcher) and sum(f.stats.cache_misses.values())
-        for modname, mod in list(sys.modules.items())
-        if modname.startswith("tetherheli")
-        for f in vars(mod).values()
-    )
+    return any(sum(f.stats.cache_misses.values()) for _, f in dispatchers())
 
 
 #: where a job writes its report (``report``), set by ``tests/conftest.py`` for the suite

@@ -105,11 +105,7 @@ def run_unrecorded(engine_args, summary):
 
 
 #: one-row signals for the unrecorded runs, never written (``record`` is False)
-_NO_SIGNALS = Signals(
-    np.zeros((1, 13)), np.zeros((1, 4)), np.zeros((1, 4)), np.zeros(1), np.zeros(1),
-    np.zeros((1, 3)), np.zeros((1, 4)), np.zeros((1, 4)), np.zeros(1), np.zeros((0, 0, 3)),
-    np.zeros((1, 2)),
-)  # fmt: skip
+_NO_SIGNALS = Signals.zeros(1)
 
 
 @compiled(nogil=True)

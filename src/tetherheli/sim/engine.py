@@ -463,12 +463,10 @@ def _paper_sample(
     # raised and dropped by an atomic instruction (issue 24; measured within noise, ~4 %)
     tension, measured = _sense(x, k, k * cfg[CFG_DT], cfg, ctrl, act, sensors, sensed, event,
                                x_meas)  # fmt: skip
-    rate = paper_law(x_meas, sc_meas, measured, cfg, ctrl, frozen(c), frozen(gain),
-                     frozen(x_ref), frozen(y_ref), frozen(u0_tethered), frozen(u0_free), z,
-                     winch, y_est, inp, ffwd, action, action_mode)  # fmt: skip
-    status, rate = sample_apply(x, k, cfg, frozen(act), frozen(c), held, inp, rate, tension,
-                                measured, plain(sensed), y, y_est, sc_true, sc_meas,
-                                frozen(y_ref))  # fmt: skip
+    rate = paper_law(x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered,
+                     u0_free, z, winch, y_est, inp, ffwd, action, action_mode)  # fmt: skip
+    status, rate = sample_apply(x, k, cfg, act, c, held, inp, rate, tension, measured, sensed,
+                                y, y_est, sc_true, sc_meas, y_ref)  # fmt: skip
     return status, tension, rate
 
 
@@ -502,7 +500,7 @@ def sample_sense(
     return _sense(x, k, t, cfg, ctrl, act, sensors, sensed, event, x_meas)
 
 
-@_jit
+@_jit_inline
 def paper_law(
     x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered, u0_free, z,
     winch, y_est, inp, ffwd, action, action_mode,
@@ -513,7 +511,21 @@ def paper_law(
     x_meas's angles, y_est its outputs, inp the rotor command, ffwd the feed-forward), then an
     optional ``action`` added to or replacing the rotor command (``ACTION_*``). Returns the
     reel-rate command [m/s]."""
-    inline_here()  # typed once for every caller, inlined by LLVM (issue 24)
+    return _paper_law(
+        x_meas, sc_meas, measured, cfg, ctrl, frozen(c), frozen(gain), frozen(x_ref),
+        frozen(y_ref), frozen(u0_tethered), frozen(u0_free), z, winch, y_est, inp, ffwd, action,
+        plain(action_mode),
+    )  # fmt: skip
+
+
+@_jit
+def _paper_law(
+    x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered, u0_free, z,
+    winch, y_est, inp, ffwd, action, action_mode,
+):  # fmt: skip
+    # ``paper_law``'s body, typed once for every caller (its read-only arrays frozen, its
+    # constants plain: one signature) and inlined by LLVM (``inline_here``, issue 24)
+    inline_here()
     u0 = u0_tethered if cfg[CFG_ATTACHED] > 0.5 else u0_free
     angle_trig(x_meas, sc_meas)
     rate = paper_control_sc(
@@ -542,14 +554,27 @@ def sample_outputs(x, c, sensed, y, y_est, sc_true, sc_meas, y_ref, tension, cfg
     return check_state_sc(x, sc_true, y, y_ref, tension, cfg)
 
 
-@_jit
+@_jit_inline
 def sample_apply(
     x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, y, y_est, sc_true, sc_meas,
     y_ref,
 ):  # fmt: skip
     """Phase 3: ``actuate`` on the controller's command (inp, the reel rate ``rate``), then
     ``sample_outputs``. Returns (status, applied reel rate [m/s])."""
-    inline_here()  # typed once for every caller, inlined by LLVM (issue 24)
+    return _sample_apply(
+        x, k, cfg, frozen(act), frozen(c), held, inp, rate, tension, measured, plain(sensed), y,
+        y_est, sc_true, sc_meas, frozen(y_ref),
+    )  # fmt: skip
+
+
+@_jit
+def _sample_apply(
+    x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, y, y_est, sc_true, sc_meas,
+    y_ref,
+):  # fmt: skip
+    # ``sample_apply``'s body, typed once for every caller (its read-only arrays frozen, its
+    # constants plain: one signature) and inlined by LLVM (``inline_here``, issue 24)
+    inline_here()
     dt = cfg[CFG_DT]
     rate = actuate(
         inp, held, rate, act, dt, k == 0, winch_tension(cfg, tension), measured, x[12], k * dt
@@ -557,7 +582,7 @@ def sample_apply(
     return sample_outputs(x, c, sensed, y, y_est, sc_true, sc_meas, y_ref, tension, cfg), rate
 
 
-@_jit
+@_jit_inline
 def sample_record(
     k, cfg, act, summary, x, x_ref, y, y_ref, tension, rate, inp, ffwd, y_est, held, record,
     out, program, gust, drag, base, scratch, nodes,
@@ -565,7 +590,21 @@ def sample_record(
     """Phase 4: the on-line metrics of the samples k >= cfg[CFG_METRICS_FROM] into
     ``summary`` (``accumulate``), and with ``record`` the sample's row of ``out``
     (``layout.Signals``); ``scratch`` (>= 3,) receives the wind force."""
-    inline_here()  # typed once for every caller, inlined by LLVM (issue 24)
+    return _sample_record(
+        k, cfg, act, summary, x, frozen(x_ref), y, frozen(y_ref), tension, rate, inp, ffwd, y_est,
+        held, plain(record), out, frozen(program), frozen(gust), frozen(drag), frozen(base),
+        scratch, nodes,
+    )  # fmt: skip
+
+
+@_jit
+def _sample_record(
+    k, cfg, act, summary, x, x_ref, y, y_ref, tension, rate, inp, ffwd, y_est, held, record,
+    out, program, gust, drag, base, scratch, nodes,
+):  # fmt: skip
+    # ``sample_record``'s body, typed once for every caller (its read-only arrays frozen, its
+    # constants plain: one signature) and inlined by LLVM (``inline_here``, issue 24)
+    inline_here()
     if k >= cfg[CFG_METRICS_FROM]:  # the metrics' window (Scenario.metrics_start)
         accumulate(summary, x, x_ref, y, y_ref, tension)
     if record:
@@ -726,21 +765,19 @@ def _specialised_loop(lumped: bool, sensed: bool):
                 x, k, cfg, ctrl, act, sensors, sensed, event, x_meas, lumped, gust, base, chain, cw
             )
             rate = paper_law(
-                x_meas, sc_meas, measured, cfg, ctrl, frozen(c), frozen(gain), frozen(x_ref),
-                frozen(y_ref), frozen(u0_tethered), frozen(u0_free), z, winch, y_est, inp, ffwd,
-                no_action, plain(ACTION_NONE),
+                x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered, u0_free,
+                z, winch, y_est, inp, ffwd, no_action, ACTION_NONE,
             )  # fmt: skip
             sample_status, rate = sample_apply(
-                x, k, cfg, frozen(act), frozen(c), held, inp, rate, tension, measured,
-                plain(sensed), y, y_est, sc_true, sc_meas, frozen(y_ref),
+                x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, y, y_est, sc_true,
+                sc_meas, y_ref,
             )  # fmt: skip
             if sample_status != STATUS_OK:
                 status, done = sample_status, k
                 break
             sample_record(
-                k, cfg, act, summary, x, frozen(x_ref), y, frozen(y_ref), tension, rate, inp, ffwd,
-                y_est, held, plain(record), out, frozen(program), frozen(gust), frozen(drag),
-                frozen(base), work[5], nodes,
+                k, cfg, act, summary, x, x_ref, y, y_ref, tension, rate, inp, ffwd, y_est, held,
+                record, out, program, gust, drag, base, work[5], nodes,
             )  # fmt: skip
             if k == n_samples:
                 break

@@ -378,7 +378,7 @@ def run_lanes(
                 lane_law = (gain[j], x_ref[j], y_ref[j], u0[j], u0_free[j], z0[j])
                 sample_status, tension, rate_j = paper_sample(
                     xj, k, cfg[j], ctrl[j], act[j], lane_sensors, c[j], lane_law, loop,
-                    no_action, plain(ACTION_NONE),
+                    no_action, ACTION_NONE,
                 )  # fmt: skip
                 if sample_status != STATUS_OK:
                     status[j], done[j] = sample_status, k

@@ -15,7 +15,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._compile import compiled, frozen, plain
+from .._compile import compiled
 from ..layout import CFG_ATTACHED, CHAIN_NODES, LAW_X_REF, LAW_Y_REF, LoopState, Signals
 from ..model.kernels import angle_trig, tethered_outputs_sc
 from .engine import (
@@ -101,8 +101,8 @@ def step_command(run, k, command, reel_rate, feedforward, tension, measured, adv
     tethered_outputs_sc(x_meas, sc_meas, c, y_est)
     if finite:
         status, rate = sample_apply(
-            x, k, cfg, frozen(run.act), frozen(c), held, inp, reel_rate, tension, measured,
-            plain(sensed), y, y_est, sc_true, sc_meas, frozen(run.law[LAW_Y_REF]),
+            x, k, cfg, run.act, c, held, inp, reel_rate, tension, measured, sensed, y, y_est,
+            sc_true, sc_meas, run.law[LAW_Y_REF],
         )  # fmt: skip
     else:
         rate = reel_rate
@@ -112,10 +112,9 @@ def step_command(run, k, command, reel_rate, feedforward, tension, measured, adv
             status = STATUS_NONFINITE
     if status == STATUS_OK:
         sample_record(
-            k, cfg, run.act, run.summary, x, frozen(run.law[LAW_X_REF]), y,
-            frozen(run.law[LAW_Y_REF]), tension, rate, inp, ffwd, y_est, held, plain(True),
-            run.out, frozen(program), frozen(gust), frozen(drag), frozen(base), run.work[5],
-            run.chain[CHAIN_NODES],
+            k, cfg, run.act, run.summary, x, run.law[LAW_X_REF], y, run.law[LAW_Y_REF],
+            tension, rate, inp, ffwd, y_est, held, True, run.out, program, gust, drag, base,
+            run.work[5], run.chain[CHAIN_NODES],
         )  # fmt: skip
         if advance:
             sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, base, run.work, run.chain,
