@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from tetherheli.analysis import run_metrics
-from tetherheli.layout import LANES, SUMMARY_FIELDS, Signals
+from tetherheli.layout import LANES, SUMMARY_FIELDS, WIND_SINE, Signals
 from tetherheli.model.kernels import SIN_BRANCHLESS_MAX_ARG, sin_branchless
 from tetherheli.sensing.config import SensorConfig
 from tetherheli.sim import engine, lanes, simulate
@@ -177,6 +177,30 @@ def test_sin_branchless_agrees_with_libm():
     got = np.array([sin_branchless(x) for x in xs])
     want = np.sin(xs)
     assert np.max(np.abs(got - want)) <= 2.3e-16
+
+
+def test_lane_wind_converts_no_float_to_integer():
+    """The lane engine's wind profiles (``wind.evaluate.profile_value`` with
+    ``sin_branchless``) keep every value a double: a float-to-integer conversion (``fptosi``,
+    as ``math.floor`` gives) has no vector instruction without AVX-512, so on such a
+    processor LLVM converted each lane alone inside the vectorised loop (issue 24). Checked in
+    the IR of a fresh compilation, which does not depend on the processor's vectors."""
+    from numba import njit
+
+    from tetherheli.model.kernels import sin_branchless as sine
+    from tetherheli.wind.evaluate import profile_value
+
+    @njit(error_model="numpy", cache=False)
+    def profiles(t, out):  # the lane engine's pass over lanes (``_lanes_program_force``)
+        for j in range(t.shape[0]):
+            out[j] = profile_value(WIND_SINE, 1.0, 2.0, 4.0, 0.3, 0.1, t[j], 1, True) + sine(t[j])
+
+    t = np.linspace(0.0, 9.0, LANES)
+    out = np.empty(LANES)
+    profiles(t, out)
+    ir = "".join(profiles.inspect_llvm().values())
+    assert "fptosi" not in ir and "sitofp" not in ir
+    assert out[-1] == pytest.approx(4.0 * math.sin(2 * math.pi * 0.3 * 9.0 + 0.1) + math.sin(9.0))
 
 
 def test_scenario_files_run_in_lanes():

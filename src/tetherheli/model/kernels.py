@@ -112,8 +112,11 @@ SIN_BRANCHLESS_MAX_ARG = 1.0e5
 def sin_branchless(x):
     """sin x with no branch and no call (Cody-Waite reduction by pi/2, then fdlibm's kernel
     polynomials), so a loop over lanes that uses it vectorises. Agrees with libm to a few
-    units in the last place for |x| <= SIN_BRANCHLESS_MAX_ARG (a test checks it)."""
-    k = math.floor(x * _TWO_OVER_PI + 0.5)
+    units in the last place for |x| <= SIN_BRANCHLESS_MAX_ARG (a test checks it). The
+    quadrant is rounded as a float (``np.floor``; ``math.floor`` returns an integer, and
+    without AVX-512 a vector of doubles has no conversion to 64-bit integers and back: each
+    lane was converted alone, issue 24); its values are the same."""
+    k = np.floor(x * _TWO_OVER_PI + 0.5)
     r = ((x - k * _PIO2_1) - k * _PIO2_2) - k * _PIO2_3
     z = r * r
     sin_r = r + r * z * (_K_S1 + z * (_K_S2 + z * (_K_S3 + z * (_K_S4 + z * (_K_S5 + z * _K_S6)))))
@@ -122,7 +125,7 @@ def sin_branchless(x):
         - 0.5 * z
         + z * z * (_K_C1 + z * (_K_C2 + z * (_K_C3 + z * (_K_C4 + z * (_K_C5 + z * _K_C6)))))
     )
-    quadrant = k - 4.0 * math.floor(0.25 * k)  # k mod 4, in {0, 1, 2, 3}
+    quadrant = k - 4.0 * np.floor(0.25 * k)  # k mod 4, in {0, 1, 2, 3}
     value = cos_r if (quadrant == 1.0 or quadrant == 3.0) else sin_r
     return -value if quadrant >= 2.0 else value
 
