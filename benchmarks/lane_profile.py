@@ -1,0 +1,158 @@
+"""Where a lane block's time goes (issue 24 item 4): per lane and control sample, in ns.
+
+One block of ``layout.LANES`` dispersed 60 s tethered paper runs (pulse and sine scaled by
+U(0.8, 1.2), as in ``bench_minimal_loop.py``) is timed whole (``lanes.run_lanes``), then two
+of its parts alone, each in a compiled loop of the block's sample count:
+
+- ``rk4``: ``lanes.rk4_lanes`` over every lane, the state put back to the start before each
+  sample (so that the lanes fly the hover, not an uncontrolled fall);
+- ``sample``: one lane's control sample (``engine.paper_sample``: sensing, the paper's law,
+  actuators and checks) and its metrics (``summary.accumulate``) on borrowed arrays, as the
+  lane loop runs it, at the start state.
+
+``rest`` = whole - rk4 - LANES x sample is the lane loop's own bookkeeping (copies between
+the lanes' flat arrays and each lane's rows, parking). Each figure is the best of
+``--repeat`` timings, the parts interleaved over ``--rounds``; a shared machine drifts, so
+compare figures of one run only.
+
+Run: python benchmarks/lane_profile.py [--repeat 15] [--rounds 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+
+import numpy as np
+from numba import njit
+
+from tetherheli._compile import borrowed, keep_alive
+from tetherheli.layout import (
+    CFG_ATTACHED,
+    CFG_DT,
+    CFG_GUST_DT,
+    CFG_K_C,
+    CFG_N_SUB,
+    LANES,
+    LAW_Z0,
+    SUMMARY_FIELDS,
+)
+from tetherheli.model.kernels import angle_trig
+from tetherheli.sim import engine, lanes
+from tetherheli.sim.lanes import lane_block
+from tetherheli.sim.scenario import paper_scenario
+from tetherheli.sim.setup import engine_setup
+from tetherheli.sim.summary import accumulate, start_summary
+from tetherheli.wind import Pulse, Sine
+
+
+@njit(error_model="numpy", cache=True)
+def rk4_only(n, x0, sc00, inp, rate, h, n_sub, attached, k_c, c, wind):
+    """``rk4_lanes`` n times, each from the block's start state at the sample's time."""
+    work = lanes.lane_work()
+    x, sc0, t0 = x0.copy(), sc00.copy(), np.zeros(h.shape[0])
+    for k in range(n):
+        for i in range(x.shape[0]):
+            x[i] = x0[i]
+        for i in range(sc0.shape[0]):
+            sc0[i] = sc00[i]
+        for j in range(h.shape[0]):
+            t0[j] = k * 2.0 * h[j]
+        lanes.rk4_lanes(x, sc0, inp, rate, t0, h, n_sub, attached, k_c, c, wind, work)
+    return x[0]
+
+
+@njit(error_model="numpy", cache=True)
+def sample_only(n, x_in, cfg_in, ctrl_in, act, sensors, c, law):
+    """One lane's ``paper_sample`` and ``accumulate`` n times at the start state."""
+    own_x, own_cfg, own_ctrl = x_in.copy(), cfg_in.copy(), ctrl_in.copy()
+    own_work = np.empty((engine.RK4_WORK_ROWS, 13))
+    own_loop = engine._loop_state(x_in, law[LAW_Z0], own_work)
+    own_no_action, own_summary = np.zeros(4), np.zeros(len(SUMMARY_FIELDS))
+    x, cfg, ctrl, no_action, summary = borrowed(
+        (own_x, own_cfg, own_ctrl, own_no_action, own_summary)
+    )
+    act, sensors, c, law, loop = borrowed((act, sensors, c, law, own_loop))
+    x_ref, y, y_ref = law[1], loop[7], law[2]
+    start_summary(summary)
+    total = 0.0
+    for k in range(n):
+        status, tension, rate = engine.paper_sample(
+            x, k, cfg, ctrl, act, sensors, c, law, loop, no_action, engine.ACTION_NONE
+        )
+        accumulate(summary, x, x_ref, y, y_ref, tension)
+        total += rate + status
+    keep_alive((own_x, own_cfg, own_ctrl, own_work, own_loop, own_no_action, own_summary))
+    return total
+
+
+def _best(function, repeat: int) -> float:
+    function()
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        function()
+        times.append(time.perf_counter() - t0)
+    return min(times)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=15, help="timings of each part")
+    parser.add_argument("--rounds", type=int, default=3, help="interleaved rounds")
+    options = parser.parse_args()
+    scenario = paper_scenario(1, "tethered")
+    rng = np.random.default_rng(1)
+    runs = [
+        scenario.replace(
+            wind=Pulse(10.0, 1.0, 20.0 * a, (1.0, 0.0, 0.0))
+            + Sine(20.0 * a, 0.1, 30.0, (1.0, 0.0, 0.0))
+        )
+        for a in rng.uniform(0.8, 1.2, LANES)
+    ]
+    setups = [engine_setup(run) for run in runs]
+    n = scenario.n_samples
+    block = lane_block(setups, [n] * LANES)
+    x_init, _, cfg, _, c, law, wind, _, _ = block
+    summary = np.zeros((LANES, len(SUMMARY_FIELDS)))
+    status, done = np.zeros(LANES, np.int64), np.zeros(LANES, np.int64)
+
+    def flat(rows: np.ndarray) -> np.ndarray:  # (lane, variable) -> flat (variable, lane)
+        return np.ascontiguousarray(rows.T).ravel()
+
+    sc_init = np.empty((LANES, 10))
+    for j in range(LANES):
+        angle_trig(x_init[j], sc_init[j])
+    inp = flat(law[3])  # the trim inputs, held
+    h = cfg[:, CFG_DT] / cfg[0, CFG_N_SUB]
+    lane_wind = (wind[0], wind[1], wind[2], wind[3], cfg[:, CFG_GUST_DT].copy(), flat(wind[4]))
+    rk4_args = (
+        n, flat(x_init), flat(sc_init), inp, np.zeros(LANES), h, int(cfg[0, CFG_N_SUB]),
+        cfg[:, CFG_ATTACHED].copy(), cfg[:, CFG_K_C].copy(), flat(c), lane_wind,
+    )  # fmt: skip
+    one = setups[0].engine_args(n)
+    sample_args = (n, one[0], one[2], one[3], one[7], one[8], one[4], one[5])
+    parts = {
+        "whole": lambda: lanes.run_lanes(*block, summary, status, done),
+        "rk4": lambda: rk4_only(*rk4_args),
+        "sample": lambda: sample_only(*sample_args),
+    }
+    best = dict.fromkeys(parts, np.inf)
+    for _ in range(options.rounds):
+        for name, function in parts.items():
+            best[name] = min(best[name], _best(function, options.repeat))
+    per = 1e9 / (LANES * n)  # s per block -> ns per lane and sample
+    figures = {
+        "whole_ns": best["whole"] * per,
+        "rk4_ns": best["rk4"] * per,
+        "sample_ns": best["sample"] * 1e9 / n,
+    }
+    figures["rest_ns"] = figures["whole_ns"] - figures["rk4_ns"] - figures["sample_ns"]
+    figures["sample_share"] = figures["sample_ns"] / figures["whole_ns"]
+    figures["rk4_share"] = figures["rk4_ns"] / figures["whole_ns"]
+    print(json.dumps(figures, indent=1))
+
+
+if __name__ == "__main__":
+    main()
