@@ -143,7 +143,21 @@ def _minimal_args(setup, n_samples):
     )  # fmt: skip
 
 
-def _best(function, repeat):
+def dispersed_runs(scenario, n):
+    """n copies of ``scenario`` in the paper's pulse and sine, each scaled by U(0.8, 1.2)
+    (seed 1): the batch of this benchmark and of ``lane_profile.py``."""
+    scales = np.random.default_rng(1).uniform(0.8, 1.2, n)
+    return [
+        scenario.replace(
+            wind=Pulse(10.0, 1.0, 20.0 * a, (1.0, 0.0, 0.0))
+            + Sine(20.0 * a, 0.1, 30.0, (1.0, 0.0, 0.0))
+        )
+        for a in scales
+    ]
+
+
+def best_warm(function, repeat):
+    """The best of ``repeat`` timings of ``function()`` [s], after one call to warm it."""
     function()
     times = []
     for _ in range(repeat):
@@ -171,21 +185,13 @@ def main() -> None:
     peak = minimal_loop(*minimal, program)
     fields = engine.SUMMARY_FIELDS
     engine_peak = summary[[fields.index(f"peak_q{a}") for a in (1, 2, 3)]]
-    rng = np.random.default_rng(1)
-    scales = rng.uniform(0.8, 1.2, options.runs)
-    runs = [
-        scenario.replace(
-            wind=Pulse(10.0, 1.0, 20.0 * a, (1.0, 0.0, 0.0))
-            + Sine(20.0 * a, 0.1, 30.0, (1.0, 0.0, 0.0))
-        )
-        for a in scales
-    ]
+    runs = dispersed_runs(scenario, options.runs)
     programs = np.stack([engine_setup(run).wind.program for run in runs])
     # interleaved: engine, minimal, engine, minimal (the machine's drift hits both alike)
     engine_s, minimal_s = [], []
     for _ in range(2):
-        engine_s.append(_best(lambda: run_unrecorded(args, summary), options.repeat))
-        minimal_s.append(_best(lambda: minimal_loop(*minimal, program), options.repeat))
+        engine_s.append(best_warm(lambda: run_unrecorded(args, summary), options.repeat))
+        minimal_s.append(best_warm(lambda: minimal_loop(*minimal, program), options.repeat))
     run_batch(runs[:4])
     minimal_batch(*minimal, programs[:4])
     # interleaved pairs, the ratio taken within each pair: a shared machine's speed drifts

@@ -1,7 +1,7 @@
 """Where a lane block's time goes (issue 24 item 4): per lane and control sample, in ns.
 
 One block of ``layout.LANES`` dispersed 60 s tethered paper runs (pulse and sine scaled by
-U(0.8, 1.2), as in ``bench_minimal_loop.py``) is timed whole (``lanes.run_lanes``), then two
+U(0.8, 1.2): ``bench_minimal_loop.dispersed_runs``) is timed whole (``lanes.run_lanes``), then two
 of its parts alone, each in a compiled loop of the block's sample count:
 
 - ``rk4``: ``lanes.rk4_lanes`` over every lane, the state put back to the start before each
@@ -22,9 +22,9 @@ from __future__ import annotations
 
 import argparse
 import json
-import time
 
 import numpy as np
+from bench_minimal_loop import best_warm, dispersed_runs
 from numba import njit
 
 from tetherheli._compile import borrowed, keep_alive
@@ -44,7 +44,6 @@ from tetherheli.sim.lanes import lane_block
 from tetherheli.sim.scenario import paper_scenario
 from tetherheli.sim.setup import engine_setup
 from tetherheli.sim.summary import accumulate, start_summary
-from tetherheli.wind import Pulse, Sine
 
 
 @njit(error_model="numpy", cache=True)
@@ -87,30 +86,13 @@ def sample_only(n, x_in, cfg_in, ctrl_in, act, sensors, c, law):
     return total
 
 
-def _best(function, repeat: int) -> float:
-    function()
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - t0)
-    return min(times)
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=15, help="timings of each part")
     parser.add_argument("--rounds", type=int, default=3, help="interleaved rounds")
     options = parser.parse_args()
     scenario = paper_scenario(1, "tethered")
-    rng = np.random.default_rng(1)
-    runs = [
-        scenario.replace(
-            wind=Pulse(10.0, 1.0, 20.0 * a, (1.0, 0.0, 0.0))
-            + Sine(20.0 * a, 0.1, 30.0, (1.0, 0.0, 0.0))
-        )
-        for a in rng.uniform(0.8, 1.2, LANES)
-    ]
+    runs = dispersed_runs(scenario, LANES)
     setups = [engine_setup(run) for run in runs]
     n = scenario.n_samples
     block = lane_block(setups, [n] * LANES)
@@ -141,7 +123,7 @@ def main() -> None:
     best = dict.fromkeys(parts, np.inf)
     for _ in range(options.rounds):
         for name, function in parts.items():
-            best[name] = min(best[name], _best(function, options.repeat))
+            best[name] = min(best[name], best_warm(function, options.repeat))
     per = 1e9 / (LANES * n)  # s per block -> ns per lane and sample
     figures = {
         "whole_ns": best["whole"] * per,
