@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from tetherheli.analysis import run_metrics
-from tetherheli.layout import LANES, SUMMARY_FIELDS, WIND_SINE, Signals
+from tetherheli.layout import CTRL_LAW, LANES, SUMMARY_FIELDS, WIND_SINE, Signals
 from tetherheli.model.kernels import SIN_BRANCHLESS_MAX_ARG, sin_branchless
 from tetherheli.sensing.config import SensorConfig
 from tetherheli.sim import engine, lanes, simulate
@@ -218,3 +218,48 @@ def test_scenario_files_run_in_lanes():
 
 def _dummy_out():
     return Signals.zeros(1)
+
+
+def test_tethered_lqi_lanes_equal_single_runs_bit_for_bit():
+    """The tethered LQI over lanes (its reel row, the load cell's q9 of eq 28, the free rows
+    once the winch stops after a release, the anti-windup) gives each lane the single run's
+    numbers exactly, with sensors and a drum winch in the same block."""
+    runs = []
+    for i in range(LANES + 3):
+        s = paper_scenario(1 + i % 2, "tethered").replace(duration=3.0 + 0.25 * (i % 4))
+        s = s.replace(control=dataclasses.replace(s.control, controller="tether_lqi"))
+        if i % 5 == 2:  # released mid-run: the winch stops, the free rows take over
+            s = s.replace(actuators=ActuatorSettings(breaking_tension=25.05))
+        if i % 4 == 1:
+            s = s.replace(sensors=SensorConfig.typical_tether(), seed=200 + i)
+        if i % 6 == 3:
+            s = s.replace(
+                actuators=ActuatorSettings(
+                    u_min=(0.0, -3.0, -3.0, -20.0), u_max=(250.0, 3.0, 3.0, 20.0),
+                    time_constant=0.03,
+                )
+            )  # fmt: skip
+        runs.append(s)
+    lanes = run_batch(runs, workers=1)
+    alone = run_batch(runs, workers=1, lanes=False)
+    np.testing.assert_array_equal(lanes.status, alone.status)
+    np.testing.assert_array_equal(lanes.samples_done, alone.samples_done)
+    np.testing.assert_array_equal(lanes.summaries, alone.summaries)
+    assert np.isfinite(lanes.release_time).any()  # a release happened in the block
+    assert lanes.ok.sum() >= len(runs) - 2
+
+
+def test_run_lanes_refuses_mixed_laws(runs):
+    """A block flies one law (``run_batch`` groups runs by controller)."""
+    setups = [engine_setup(runs[0]), engine_setup(runs[0])]
+    args = list(lane_block(setups, [10, 10]))
+    ctrl = args[3].copy()
+    ctrl[1, CTRL_LAW] = 1.0
+    args[3] = ctrl
+    with pytest.raises(ValueError, match="same law"):
+        lanes.run_lanes(
+            *args,
+            np.empty((LANES, len(SUMMARY_FIELDS))),
+            np.empty(LANES, np.int64),
+            np.empty(LANES, np.int64),
+        )

@@ -42,7 +42,7 @@ __all__ = [
 
 _jit = compiled(error_model="numpy")
 _jit_inline = compiled(error_model="numpy", inline="always")
-_tension_pi_step = _jit(tension_pi_step)
+_tension_pi_step = _jit_inline(tension_pi_step)
 limit_rate_change_jit = _jit_inline(limit_rate_change)
 
 
@@ -53,22 +53,27 @@ def winch_step(winch, measured_tension, ctrl):
     command, the integral held while that limit binds (conditional integration). ``winch``
     (WINCH_SIZE,) holds I_k and the previous command and is updated in place; returns the
     reel rate R_C,k [m/s] (eq 37)."""
-    rate, integral = _tension_pi_step(
-        winch[WINCH_INTEGRAL],
-        measured_tension,
-        ctrl[CTRL_K_P],
-        ctrl[CTRL_K_I],
-        ctrl[CTRL_T_REF],
-        ctrl[CTRL_DT],
-        ctrl[CTRL_REEL_RATE_LIMIT],
-    )
-    limited = limit_rate_change_jit(
-        rate, winch[WINCH_PREVIOUS_RATE], ctrl[CTRL_REEL_ACCEL], ctrl[CTRL_DT]
-    )
-    if limited == rate:
-        winch[WINCH_INTEGRAL] = integral
+    limited, integral = winch_pi(
+        winch[WINCH_INTEGRAL], winch[WINCH_PREVIOUS_RATE], measured_tension, ctrl[CTRL_K_P],
+        ctrl[CTRL_K_I], ctrl[CTRL_T_REF], ctrl[CTRL_DT], ctrl[CTRL_REEL_RATE_LIMIT],
+        ctrl[CTRL_REEL_ACCEL],
+    )  # fmt: skip
+    winch[WINCH_INTEGRAL] = integral
     winch[WINCH_PREVIOUS_RATE] = limited
     return limited
+
+
+@_jit_inline
+def winch_pi(integral, previous, measured_tension, k_p, k_i, t_ref, dt, rate_limit, accel):
+    """``winch_step`` on scalars: (R_C,k [m/s], I_{k+1} [N s]) from I_k, the previous
+    command [m/s] and the measured tension [N] (eq 56's PI with its rate limit, then the
+    acceleration limit, the integral held while that binds). The one formula of the winch
+    PI, for a single run and the lane engine's block."""
+    rate, new_integral = _tension_pi_step(
+        integral, measured_tension, k_p, k_i, t_ref, dt, rate_limit
+    )
+    limited = limit_rate_change_jit(rate, previous, accel, dt)
+    return limited, (new_integral if limited == rate else integral)
 
 
 @_jit
@@ -150,10 +155,16 @@ def tension_q9(x, measured_tension, ctrl):
     the load cell and the drum encoder LN = x[12]) when ctrl[CTRL_TENSION_K_C] = KC > 0 and the
     measured tension is positive (taut), else the position source's q9 = x[5]. A GNSS-derived
     q9 errs by metres, KC (q9 - LN) then by tens of newtons; the load cell's by millimetres."""
-    k_c = ctrl[CTRL_TENSION_K_C]
+    return tension_q9_of(x[5], x[12], measured_tension, ctrl[CTRL_TENSION_K_C])
+
+
+@_jit_inline
+def tension_q9_of(q9, length, measured_tension, k_c):
+    """``tension_q9`` on scalars: length + measured_tension / k_c when k_c > 0 and the
+    tension is positive, else the position source's q9 [m]."""
     if k_c > 0.0 and measured_tension > 0.0:
-        return x[12] + measured_tension / k_c
-    return x[5]
+        return length + measured_tension / k_c
+    return q9
 
 
 @_jit_inline
@@ -167,13 +178,20 @@ def reel_law_step(x, q9, z, winch, ctrl, gain, x_ref, n_x):
         acc -= gain[4, j] * ((q9 if j == 5 else x[j]) - x_ref[j])
     for j in range(4):
         acc -= gain[4, n_x + j] * z[j]
-    lim = ctrl[CTRL_REEL_RATE_LIMIT]
-    acc = min(max(acc, -lim), lim)
-    limited = limit_rate_change_jit(
-        acc, winch[WINCH_PREVIOUS_RATE], ctrl[CTRL_REEL_ACCEL], ctrl[CTRL_DT]
-    )
+    limited = reel_command(
+        acc, winch[WINCH_PREVIOUS_RATE], ctrl[CTRL_REEL_RATE_LIMIT], ctrl[CTRL_REEL_ACCEL],
+        ctrl[CTRL_DT],
+    )  # fmt: skip
     winch[WINCH_PREVIOUS_RATE] = limited
     return limited
+
+
+@_jit_inline
+def reel_command(command, previous, rate_limit, accel, dt):
+    """The tethered LQI's reel-rate command [m/s] clamped to the winch's rate limit, then its
+    acceleration limit relative to the previous command (``reel_law_step``)."""
+    command = min(max(command, -rate_limit), rate_limit)
+    return limit_rate_change_jit(command, previous, accel, dt)
 
 
 def check_law(ctrl: np.ndarray, gain: np.ndarray) -> str:

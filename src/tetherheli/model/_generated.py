@@ -1056,6 +1056,29 @@ def tethered_rhs_lanes(x, sc, inp, wind, tension, c, out):
         out[11 * LANES + j] = c[15 * LANES + j]*(c[12 * LANES + j]*inp[0 * LANES + j] + c[13 * LANES + j]*inp[3 * LANES + j] + c[14 * LANES + j]*x[10 * LANES + j]*x[9 * LANES + j])
 
 
+def tethered_outputs_lanes(x, sc, c, out):
+    """tethered_outputs_sc for every lane j of flat (variable, lane) arrays, element (i, j) at i * LANES + j: x (13 LANES,), sc (10 LANES,), c (n_c LANES,), out (4 LANES,)."""
+    for j in range(LANES):
+        t0 = sc[9 * LANES + j]*x[5 * LANES + j]
+        out[0 * LANES + j] = c[1 * LANES + j]*sc[1 * LANES + j] + sc[4 * LANES + j]*x[5 * LANES + j]
+        out[1 * LANES + j] = c[0 * LANES + j]*sc[0 * LANES + j]*sc[6 * LANES + j] - sc[3 * LANES + j]*t0
+        out[2 * LANES + j] = c[1 * LANES + j]*sc[5 * LANES + j]*sc[6 * LANES + j] + sc[8 * LANES + j]*t0
+        out[3 * LANES + j] = x[2 * LANES + j]
+
+
+def tethered_tether_torque_lanes(x, sc, tension, c, out):
+    """tethered_tether_torque_sc for every lane j of flat (variable, lane) arrays, element (i, j) at i * LANES + j: x (13 LANES,), sc (10 LANES,), tension (LANES,), c (n_c LANES,), out (2 LANES,)."""
+    for j in range(LANES):
+        t0 = sc[0 * LANES + j]*sc[7 * LANES + j]
+        t1 = sc[2 * LANES + j]*sc[5 * LANES + j]
+        t2 = sc[8 * LANES + j]*sc[9 * LANES + j]
+        t3 = sc[5 * LANES + j]*sc[7 * LANES + j]
+        t4 = sc[0 * LANES + j]*sc[2 * LANES + j]
+        t5 = sc[3 * LANES + j]*sc[9 * LANES + j]
+        out[0 * LANES + j] = -c[0 * LANES + j]*tension[j]*(sc[2 * LANES + j]*sc[4 * LANES + j]*sc[6 * LANES + j] - t2*(sc[1 * LANES + j]*t1 + t0) - t5*(sc[1 * LANES + j]*t4 - t3))
+        out[1 * LANES + j] = c[1 * LANES + j]*tension[j]*(sc[4 * LANES + j]*sc[6 * LANES + j]*sc[7 * LANES + j] + t2*(-sc[1 * LANES + j]*t3 + t4) - t5*(sc[1 * LANES + j]*t0 + t1))
+
+
 def kinematics_dcm(q, R):
     """R (3, 3) = N.dcm(F) at q = [q4, q5, q6]: column j holds f_j in N (Table I)."""
     t0 = numpy.cos(q[1])

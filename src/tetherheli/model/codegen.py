@@ -246,22 +246,30 @@ def _model_functions(d: Derivation, printer: _Printer) -> list[str]:
                     printer,
                 )
             )
-        # the right-hand side once more in the lane form (``_emit(lanes=True)``): arrays laid
-        # out (variable, lane), sc given; the lane engine advances a block of runs with it
-        name, fargs, _, outs = specs[0]
-        funcs.append(
-            _emit(
-                "tethered_rhs_lanes",
-                fargs.replace("x, ", "x, sc, ", 1),
-                "tethered_rhs_sc for every lane j of flat (variable, lane) arrays, element "
-                "(i, j) at i * LANES + j: x (13 LANES,), sc (10 LANES,), inp (4 LANES,), "
-                "wind (3 LANES,), tension (LANES,), c (n_c LANES,), out (13 LANES,) "
-                "(rows 0-11 written).",
-                [(o, prepared(m).xreplace(trig)) for o, m in outs],
-                printer,
-                lanes=True,
+        # the right-hand side, the outputs and the tether's torque once more in the lane form
+        # (``_emit(lanes=True)``): arrays laid out (variable, lane), sc given; the lane engine
+        # advances a block of runs with the first and runs its control sample with the others
+        lane_docs = {
+            "tethered_rhs": "x (13 LANES,), sc (10 LANES,), inp (4 LANES,), wind (3 LANES,), "
+            "tension (LANES,), c (n_c LANES,), out (13 LANES,) (rows 0-11 written).",
+            "tethered_outputs": "x (13 LANES,), sc (10 LANES,), c (n_c LANES,), out (4 LANES,).",
+            "tethered_tether_torque": "x (13 LANES,), sc (10 LANES,), tension (LANES,), "
+            "c (n_c LANES,), out (2 LANES,).",
+        }
+        for name, fargs, _, outs in specs:
+            if name not in lane_docs:
+                continue
+            funcs.append(
+                _emit(
+                    f"{name}_lanes",
+                    fargs.replace("x, ", "x, sc, ", 1),
+                    f"{name}_sc for every lane j of flat (variable, lane) arrays, element "
+                    f"(i, j) at i * LANES + j: {lane_docs[name]}",
+                    [(o, prepared(m).xreplace(trig)) for o, m in outs],
+                    printer,
+                    lanes=True,
+                )
             )
-        )
     defs = pool.definitions()
     constants = _emit(
         f"{k}_constants",

@@ -87,7 +87,7 @@ from ..model.kernels import (
     angle_trig,
     angle_trig_from,
     tension_from_state,
-    tethered_outputs,
+    tethered_outputs_sc,
     tethered_rhs_sc,
 )
 from ..sensing.sensors import measure_sampled
@@ -170,15 +170,15 @@ def _plant_in_wind(x, sc, inp, reel_rate, cfg, c, wind, out):
 
 
 #: sin/cos of the step-start angles are chained by angle addition for at most this many
-#: RK4 steps, then taken from libm again (bounds the rounding drift to a few ulp)
+#: RK4 steps, then taken afresh (``angle_trig``; bounds the rounding drift to a few ulp)
 TRIG_CHAIN_STEPS = 4
 
 
 @_jit_inline
 def next_step_trig(x, start, sc0, sc, steps_done):
-    """sc0 (10,) becomes sin, cos of the angles of x, the start of the next RK4 step: from libm
-    every TRIG_CHAIN_STEPS steps, otherwise by angle addition from the previous step's start
-    ``start`` whose values sc0 holds (``sc`` is scratch)."""
+    """sc0 (10,) becomes sin, cos of the angles of x, the start of the next RK4 step: afresh
+    (``angle_trig``) every TRIG_CHAIN_STEPS steps, otherwise by angle addition from the
+    previous step's start ``start`` whose values sc0 holds (``sc`` is scratch)."""
     if steps_done % TRIG_CHAIN_STEPS == 0:
         angle_trig(x, sc0)
     else:
@@ -191,8 +191,8 @@ def next_step_trig(x, start, sc0, sc, steps_done):
 def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, work, trig_given):
     """Advance x in place over one control sample [t0, t0 + dt] with n_sub RK4 steps.
 
-    ``work`` (RK4_WORK_ROWS, 13) is scratch. sin and cos of the angles come from libm at the
-    sample's start (with ``trig_given`` they are already in work[6, :10],
+    ``work`` (RK4_WORK_ROWS, 13) is scratch. sin and cos of the angles come from
+    ``angle_trig`` at the sample's start (with ``trig_given`` they are already in work[6, :10],
     ``kernels.angle_trig(x)``) and every TRIG_CHAIN_STEPS steps; everywhere else (the RK4
     stages, the next step's start) by the angle-addition formulas
     (``kernels.angle_trig_from``), which agree with libm to a few units in the last place.
@@ -253,25 +253,44 @@ def check_state(x, y, y_ref, tension, cfg):
 @_jit_inline
 def check_state_sc(x, sc, y, y_ref, tension, cfg):
     """``check_state`` with sc = sin, cos of x[0..4] given (``kernels.angle_trig``)."""
+    finite = True
     for i in range(x.shape[0]):
-        if not math.isfinite(x[i]):
-            return STATUS_NONFINITE
-    # an attached tether's natural (unstretched) length LN = x[12] <= 0 is no physical tether
-    if cfg[CFG_ATTACHED] > 0.5 and x[12] <= 0.0:
+        finite &= math.isfinite(x[i])
+    return state_status(
+        finite, cfg[CFG_ATTACHED] > 0.5, x[0], x[1], x[3], x[4], x[5], x[12], sc[6], sc[8],
+        sc[9], y[0] - y_ref[0], y[1] - y_ref[1], y[2] - y_ref[2], y[2], tension,
+        cfg[CFG_MAX_TENSION], cfg[CFG_MAX_ANGLE], cfg[CFG_MAX_DEVIATION],
+    )  # fmt: skip
+
+
+@_jit_inline
+def state_status(
+    finite, attached, q4, q5, q7, q8, q9, length, cos_q5, cos_q7, cos_q8, dev1, dev2, dev3,
+    height, tension, max_tension, max_angle, max_deviation,
+):  # fmt: skip
+    """The status of a sampled state (``Status``), in order of precedence, from its scalars:
+    whether every state is finite, the tether attached, the angles q4, q5, q7, q8 [rad], q9
+    and the natural length LN [m], cos q5, cos q7, cos q8, the outputs' deviations from
+    their references and HO's height y3 [m], the tension [N] and the limits (``cfg``'s
+    ``CFG_MAX_*``). The one rule of ``check_state_sc`` and the lane engine's checks."""
+    if not finite:
+        return STATUS_NONFINITE
+    # an attached tether's natural (unstretched) length LN <= 0 is no physical tether
+    if attached and length <= 0.0:
         return STATUS_TETHER_LENGTH
     # HO below the ground, or the attachment point P touching it (z_P = q9 c7 c8 < 1 cm,
     # which also covers the spherical singularities q9 -> 0 and |q8| -> 90 deg near ground)
-    if y[2] < 0.0 or x[5] * sc[8] * sc[9] < 0.01:
+    if height < 0.0 or q9 * cos_q7 * cos_q8 < 0.01:
         return STATUS_GROUND
-    if x[5] <= 0.0 or abs(sc[6]) < 1e-9 or abs(sc[9]) < 1e-9:
+    if q9 <= 0.0 or abs(cos_q5) < 1e-9 or abs(cos_q8) < 1e-9:
         return STATUS_SINGULAR
-    if tension > cfg[CFG_MAX_TENSION]:
+    if tension > max_tension:
         return STATUS_MAX_TENSION
-    a = cfg[CFG_MAX_ANGLE]
-    if abs(x[0]) > a or abs(x[1]) > a or abs(x[3]) > a or abs(x[4]) > a:
+    a = max_angle
+    if abs(q4) > a or abs(q5) > a or abs(q7) > a or abs(q8) > a:
         return STATUS_DIVERGED
-    d = cfg[CFG_MAX_DEVIATION]
-    if abs(y[0] - y_ref[0]) > d or abs(y[1] - y_ref[1]) > d or abs(y[2] - y_ref[2]) > d:
+    d = max_deviation
+    if abs(dev1) > d or abs(dev2) > d or abs(dev3) > d:
         return STATUS_DIVERGED
     return STATUS_OK
 
@@ -293,13 +312,28 @@ def apply_actuators(inp, held, act, dt, first):
     """Saturate the command, then pass it through the first-order lag (step-invariant at the
     sample rate: u_k = u_{k-1} + (1 - e^{-dt/tau}) (sat(cmd_k) - u_{k-1})); inp becomes the
     applied input and ``held[HELD_INPUTS:]`` keeps it for the next sample."""
-    tau = act[ACT_TAU]
-    gain = 1.0 if (first or tau <= 0.0) else 1.0 - math.exp(-dt / tau)
+    gain = actuator_lag_gain(act[ACT_TAU], dt)
     for i in range(4):
-        v = min(max(inp[i], act[ACT_U_MIN + i]), act[ACT_U_MAX + i])
-        v = held[HELD_INPUTS + i] + gain * (v - held[HELD_INPUTS + i]) if not first else v
+        v = actuator_value(
+            inp[i], held[HELD_INPUTS + i], act[ACT_U_MIN + i], act[ACT_U_MAX + i], gain, first
+        )
         held[HELD_INPUTS + i] = v
         inp[i] = v
+
+
+@_jit_inline
+def actuator_lag_gain(tau, dt):
+    """The actuators' lag over one sample, 1 - e^{-dt/tau} (1: no lag, tau <= 0)."""
+    return 1.0 if tau <= 0.0 else 1.0 - math.exp(-dt / tau)
+
+
+@_jit_inline
+def actuator_value(command, previous, u_min, u_max, gain, first):
+    """One rotor input applied over the sample: the command saturated to [u_min, u_max],
+    then lagged from the previous sample's input by ``gain`` (``actuator_lag_gain``; the
+    first sample applies the saturated command)."""
+    v = min(max(command, u_min), u_max)
+    return v if first else previous + gain * (v - previous)
 
 
 @_jit_inline
@@ -391,14 +425,7 @@ def winch_limits(held, rate, act, dt, length, t):
     stop is recorded in ``held`` (``HELD_LIMIT_WHICH`` -1 min_length, +1 max_length, and
     ``HELD_LIMIT_TIME`` = t + dt [s], when the length reaches the limit); a run that reaches
     a limit is not failed by it. Returns the rate applied [m/s]."""
-    which = 0.0
-    end = length + rate * dt
-    if end > act[ACT_MAX_LENGTH]:
-        which = 1.0
-        rate = (act[ACT_MAX_LENGTH] - length) / dt
-    elif end < act[ACT_MIN_LENGTH]:
-        which = -1.0
-        rate = (act[ACT_MIN_LENGTH] - length) / dt
+    rate, which = payout_limited_rate(rate, length, dt, act[ACT_MIN_LENGTH], act[ACT_MAX_LENGTH])
     if which != 0.0:
         if act[ACT_DRUM] > 0.5:
             held[HELD_DRUM_SPEED] = 0.0  # braked
@@ -407,6 +434,19 @@ def winch_limits(held, rate, act, dt, length, t):
             held[HELD_LIMIT_TIME] = t + dt
     held[HELD_AT_LIMIT] = which
     return rate
+
+
+@_jit_inline
+def payout_limited_rate(rate, length, dt, min_length, max_length):
+    """(rate, which): a reel rate [m/s] held over dt [s] from the natural length ``length``
+    [m] cut to the one that reaches ``max_length`` or ``min_length`` at the sample's end
+    exactly (``winch_limits``); which = +1 at max_length, -1 at min_length, else 0."""
+    end = length + rate * dt
+    if end > max_length:
+        return (max_length - length) / dt, 1.0
+    if end < min_length:
+        return (min_length - length) / dt, -1.0
+    return rate, 0.0
 
 
 @_jit_inline
@@ -546,8 +586,8 @@ def sample_outputs(x, c, sensed, y, y_est, sc_true, sc_meas, y_ref, tension, cfg
     when the sensors are perfect, x_meas = x), then the failure checks (``check_state_sc``);
     returns the status."""
     if sensed:
-        tethered_outputs(x, frozen(c), y)
         angle_trig(x, sc_true)
+        tethered_outputs_sc(x, sc_true, frozen(c), y)
     else:
         copy_into(y, y_est)
         copy_into(sc_true, sc_meas)

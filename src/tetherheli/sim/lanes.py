@@ -16,17 +16,18 @@ from numba.extending import intrinsic
 
 from .._compile import borrowed, compiled, keep_alive, plain
 from ..layout import (
+    ACT_DRUM,
+    ACT_SIZE,
     CFG_ATTACHED,
     CFG_DT,
     CFG_GUST_DT,
     CFG_K_C,
-    CFG_METRICS_FROM,
     CFG_N_SUB,
+    CTRL_LAW,
     HELD_SIZE,
     LANES,
     SUMMARY_RELEASE_TENSION,
     SUMMARY_RELEASE_TIME,
-    WINCH_SIZE,
     WIND_COLUMNS,
     WIND_CONSTANT,
     WIND_DIRECTION,
@@ -39,13 +40,14 @@ from ..layout import (
     WIND_START,
 )
 from ..model.kernels import (
-    angle_trig,
     angle_trig_from_lanes,
+    angle_trig_lanes,
     tethered_rhs_lanes,
 )
 from ..wind.evaluate import gust_velocity, profile_value
-from .engine import ACTION_NONE, STATUS_OK, TRIG_CHAIN_STEPS, paper_sample
-from .summary import accumulate, start_summary, winch_limit_into
+from .engine import STATUS_OK, TRIG_CHAIN_STEPS
+from .lane_sample import lane_law, lane_sample, lane_state
+from .summary import start_summary, winch_limit_into
 
 if TYPE_CHECKING:
     from .setup import EngineSetup
@@ -223,11 +225,7 @@ def rk4_lanes(x, sc0, inp, rate, t0, h, n_sub, attached, k_c, c, wind, work):
                 x[e] += h[j] / 6.0 * (k1[e] + 2.0 * k2[e] + 2.0 * k3[e] + k4[e])
         if step + 1 < n_sub:
             if (step + 1) % TRIG_CHAIN_STEPS == 0:
-                for i in range(5):
-                    for j in range(LANES):
-                        a = x[i * LANES + j]
-                        sc0[i * LANES + j] = math.sin(a)
-                        sc0[(5 + i) * LANES + j] = math.cos(a)
+                angle_trig_lanes(x, sc0)
             else:
                 angle_trig_from_lanes(x, tmp, sc0, sc)
                 for i in range(sc0.shape[0]):
@@ -276,136 +274,134 @@ def run_lanes(
     drag (LANES, 3)).
     summary (LANES, len(SUMMARY_FIELDS)), status and done (LANES,) receive each lane's on-line
     metrics, status and samples done, as ``run_closed_loop`` returns them for a single run.
-    Lanes may differ in every number but the RK4 steps per sample (cfg[:, CFG_N_SUB]).
+    Lanes may differ in every number but the RK4 steps per sample (cfg[:, CFG_N_SUB]) and
+    the law (ctrl[:, CTRL_LAW]).
 
-    Each sample runs ``paper_sample`` per lane (sensors, controller, actuators, checks: the
-    very function of a single run), then ``rk4_lanes`` advances all lanes at once. Massless
-    tethers only: runs with a lumped tether go through ``run_closed_loop`` (``run_batch``).
-    A lane that fails or completes is frozen with its result and parked at its initial state
+    Each sample is ``lane_sample.lane_sample`` (sensors, controller, actuators, checks and
+    metrics of every lane at once, each lane the single run's operations), then
+    ``rk4_lanes`` advances all lanes at once. Massless tethers only: runs with a lumped
+    tether go through ``run_closed_loop`` (``run_batch``). A lane that fails or completes
+    keeps its result and flies on parked at its initial state (finite, cheap arithmetic)
     while the others go on.
     """
     _wide_vectors()
-    cfg = cfg_in.copy()
-    ctrl = ctrl_in.copy()
     gain, x_ref, y_ref, u0, u0_free, z0 = law
     programs, n_rows, gusts, gust_rows, drag = wind
-    noise, noise_rows, source, arm, sensor_scratch, schedule, schedule_rows, ring, ring_rows = (
-        sensors
-    )
-    n_sub = int(cfg[0, CFG_N_SUB])
+    n_sub = int(cfg_in[0, CFG_N_SUB])
+    tether_law = ctrl_in[0, CTRL_LAW] > 0.5
     for j in range(LANES):
-        if int(cfg[j, CFG_N_SUB]) != n_sub:
+        if int(cfg_in[j, CFG_N_SUB]) != n_sub:
             raise ValueError("run_lanes: every lane must take the same RK4 steps per sample")
+        if (ctrl_in[j, CTRL_LAW] > 0.5) != tether_law:
+            raise ValueError("run_lanes: every lane must fly the same law")
+    noise_rows = sensors[1]
+    lanes_sensed = noise_rows > 0
+    lanes_drum = act[:, ACT_DRUM] > 0.5
     x = np.empty(13 * LANES)  # the lanes' states, flat (variable, lane)
-    c_lanes = np.empty(c.shape[1] * LANES)
-    drag_lanes = np.empty(3 * LANES)
     for j in range(LANES):
         for i in range(13):
             x[i * LANES + j] = x_init[j, i]
+    c_lanes = np.empty(c.shape[1] * LANES)
+    drag_lanes = np.empty(3 * LANES)
+    for j in range(LANES):
         for i in range(c.shape[1]):
             c_lanes[i * LANES + j] = c[j, i]
         for i in range(3):
             drag_lanes[i * LANES + j] = drag[j, i]
+    state = lane_state(cfg_in, ctrl_in, act, z0, x, lanes_sensed.any(), summary.shape[1])
+    lane_law_ = lane_law(gain, x_ref, y_ref, u0, u0_free, tether_law)
+    rows = (np.empty(13), np.empty(13), np.empty(HELD_SIZE), np.empty(ACT_SIZE))
     gust_dt = np.empty(LANES)
-    lane_wind = (programs, n_rows, gusts, gust_rows, gust_dt, drag_lanes)
     work = lane_work()
-    sc0 = np.empty(10 * LANES)
-    held_inp = np.empty(4 * LANES)
     rate = np.zeros(LANES)
     t0 = np.zeros(LANES)
     h = np.empty(LANES)
     attached = np.empty(LANES)
     k_c = np.empty(LANES)
-    sc_init = np.empty((LANES, 10))
-    x_lane = x_init.copy()  # each lane's state for its control phases
-    # the per-lane loop state, in the order of layout.LOOP_*
-    z = z0.copy()
-    winch = np.zeros((LANES, WINCH_SIZE))
-    held = np.zeros((LANES, HELD_SIZE))
-    event = np.full((LANES, 2), np.nan)
-    x_meas = x_init.copy()
-    sc_meas = np.empty((LANES, 10))
-    sc_true = np.empty((LANES, 10))
-    y = np.empty((LANES, 4))
-    y_est = np.empty((LANES, 4))
-    inp = np.empty((LANES, 4))
-    ffwd = np.empty((LANES, 4))
-    no_action = np.zeros(4)
+    sc_init = np.empty(10 * LANES)
+    angle_trig_lanes(x, sc_init)
     active = np.zeros(LANES, np.bool_)
-    # borrowed views (``_compile.borrowed``) of the run's arrays, held to the end by
-    # ``keep_alive``, and of the arguments: the lane loop slices rows of them per lane and
-    # sample, which would otherwise each be an atomic reference count
-    own = (cfg, ctrl, x, c_lanes, drag_lanes, gust_dt, work, sc0, held_inp, rate, t0, h,
-           attached, k_c, sc_init, x_lane, z, winch, held, event, x_meas, sc_meas, sc_true, y,
-           y_est, inp, ffwd, no_action, active)  # fmt: skip
-    (cfg, ctrl, x, c_lanes, drag_lanes, gust_dt, work, sc0, held_inp, rate, t0, h, attached, k_c,
-     sc_init, x_lane, z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd,
-     no_action, active) = borrowed(own)  # fmt: skip
-    x_init, c, act, summary, status, done = borrowed((x_init, c, act, summary, status, done))
-    gain, x_ref, y_ref, u0, u0_free, z0 = borrowed((gain, x_ref, y_ref, u0, u0_free, z0))
-    programs, n_rows, gusts, gust_rows = borrowed((programs, n_rows, gusts, gust_rows))
-    noise, noise_rows, source, arm, sensor_scratch, schedule, schedule_rows, ring, ring_rows = (
-        borrowed(sensors)
-    )
-    lane_wind = (programs, n_rows, gusts, gust_rows, gust_dt, drag_lanes)
-    n_active = 0
     for j in range(LANES):
         start_summary(summary[j])
         status[j] = STATUS_OK
         done[j] = max(n_samples[j] + 1, 0)
-        angle_trig(x_init[j], sc_init[j])
-        h[j] = cfg[j, CFG_DT] / n_sub
-        k_c[j] = cfg[j, CFG_K_C]
-        gust_dt[j] = cfg[j, CFG_GUST_DT]
-        if n_samples[j] >= 0:
-            active[j] = True
-            n_active += 1
+        h[j] = cfg_in[j, CFG_DT] / n_sub
+        k_c[j] = cfg_in[j, CFG_K_C]
+        gust_dt[j] = cfg_in[j, CFG_GUST_DT]
+        active[j] = n_samples[j] >= 0
+    for f in range(summary.shape[1]):
+        for j in range(LANES):
+            state.summary[f * LANES + j] = summary[j, f]
+    # borrowed views (``_compile.borrowed``) of the run's arrays, held to the end by
+    # ``keep_alive``: the loop's phases take views of them per sample, which would otherwise
+    # each be an atomic reference count
+    own = (x, c_lanes, drag_lanes, state, lane_law_, rows, gust_dt, work, rate, t0, h, attached,
+           k_c, sc_init, active)  # fmt: skip
+    (x, c_lanes, drag_lanes, state, lane_law_, rows, gust_dt, work, rate, t0, h, attached, k_c,
+     sc_init, active) = borrowed(own)  # fmt: skip
+    x_init, n_samples, act, summary, status, done = borrowed(
+        (x_init, n_samples, act, summary, status, done)
+    )
+    programs, n_rows, gusts, gust_rows = borrowed((programs, n_rows, gusts, gust_rows))
+    sensors, lanes_sensed, lanes_drum = borrowed((sensors, lanes_sensed, lanes_drum))
+    lane_wind = (programs, n_rows, gusts, gust_rows, gust_dt, drag_lanes)
+    cfg = state.cfg
+    n_active = 0
+    for j in range(LANES):
+        n_active += 1 if active[j] else 0
     k = plain(0)  # an int64 from the start (a literal 0 would compile callees twice)
     while n_active > 0:
+        lane_sample(k, x, state, lane_law_, c_lanes, active, lanes_sensed, sensors, lanes_drum,
+                    rows, tether_law)  # fmt: skip
         for j in range(LANES):
-            if active[j]:
-                xj = x_lane[j]
-                for i in range(13):
-                    xj[i] = x[i * LANES + j]
-                loop = (
-                    z[j], winch[j], held[j], event[j], x_meas[j], sc_meas[j], sc_true[j],
-                    y[j], y_est[j], inp[j], ffwd[j],
-                )  # fmt: skip
-                lane_sensors = (
-                    noise[j, : noise_rows[j]], source[j], arm[j], sensor_scratch[j],
-                    schedule[j, : schedule_rows[j]], ring[j, : ring_rows[j]],
-                )  # fmt: skip
-                lane_law = (gain[j], x_ref[j], y_ref[j], u0[j], u0_free[j], z0[j])
-                sample_status, tension, rate_j = paper_sample(
-                    xj, k, cfg[j], ctrl[j], act[j], lane_sensors, c[j], lane_law, loop,
-                    no_action, ACTION_NONE,
-                )  # fmt: skip
+            if not active[j]:
+                continue
+            sample_status = int(state.status[j])
+            if sample_status != STATUS_OK or k == n_samples[j]:
                 if sample_status != STATUS_OK:
                     status[j], done[j] = sample_status, k
-                    active[j] = False
-                    n_active -= 1
-                else:
-                    if k >= cfg[j, CFG_METRICS_FROM]:  # the metrics' window
-                        accumulate(summary[j], xj, x_ref[j], y[j], y_ref[j], tension)
-                    if k == n_samples[j]:
-                        active[j] = False
-                        n_active -= 1
-                    else:
-                        lane_in = (x, sc0, held_inp, rate, t0, attached)
-                        set_lane(lane_in, j, xj, sc_true[j], inp[j], rate_j, k * cfg[j, CFG_DT],
-                                 cfg[j, CFG_ATTACHED])  # fmt: skip
-                        continue
-            # a finished or padding lane is parked at its initial state (finite arithmetic)
-            park_lane((x, sc0, held_inp, rate, t0, attached), j, x_init[j], sc_init[j], u0[j])
+                active[j] = False
+                n_active -= 1
+                _finish_lane(j, state, summary)
         if n_active == 0:
             break
-        rk4_lanes(x, sc0, held_inp, rate, t0, h, n_sub, attached, k_c, c_lanes, lane_wind, work)
+        # the RK4's inputs: a running lane's own, a finished or padding lane parked at its
+        # initial state with no tether (its result is kept; the arithmetic stays finite)
+        for j in range(LANES):
+            running = active[j]
+            rate[j] = state.rate[j] if running else 0.0
+            t0[j] = k * cfg[CFG_DT * LANES + j] if running else 0.0
+            attached[j] = cfg[CFG_ATTACHED * LANES + j] if running else 0.0
+        for i in range(13):
+            for j in range(LANES):
+                e = i * LANES + j
+                x[e] = x[e] if active[j] else x_init[j, i]
+        for i in range(10):
+            for j in range(LANES):
+                e = i * LANES + j
+                state.sc_true[e] = state.sc_true[e] if active[j] else sc_init[e]
+        for i in range(4):
+            for j in range(LANES):
+                e = i * LANES + j
+                state.inp[e] = state.inp[e] if active[j] else u0[j, i]
+        rk4_lanes(x, state.sc_true, state.inp, rate, t0, h, n_sub, attached, k_c, c_lanes,
+                  lane_wind, work)  # fmt: skip
         k += 1
-    for j in range(LANES):
-        summary[j, SUMMARY_RELEASE_TIME] = event[j, 0]
-        summary[j, SUMMARY_RELEASE_TENSION] = event[j, 1]
-        winch_limit_into(held[j], summary[j])
     keep_alive(own)
+
+
+@_jit_inline
+def _finish_lane(j, state, summary):
+    """Lane j's result into its row of summary (LANES, len(SUMMARY_FIELDS)): its on-line
+    metrics, release event and first payout limit (``summary.finish_summary``'s)."""
+    for f in range(summary.shape[1]):
+        summary[j, f] = state.summary[f * LANES + j]
+    summary[j, SUMMARY_RELEASE_TIME] = state.event[j]
+    summary[j, SUMMARY_RELEASE_TENSION] = state.event[LANES + j]
+    held = state.scratch[:HELD_SIZE]  # the lane's held row (``winch_limit_into`` reads it)
+    for i in range(HELD_SIZE):
+        held[i] = state.held[i * LANES + j]
+    winch_limit_into(held, summary[j])
 
 
 # --- a block of runs packed for the lanes (``run_lanes``'s leading arguments) --------------

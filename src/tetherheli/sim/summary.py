@@ -23,7 +23,10 @@ from ..layout import (
     SUMMARY_WINCH_LIMIT_TIME,
 )
 
-__all__ = ["accumulate", "finish_summary", "start_summary", "summarize", "winch_limit_into"]
+__all__ = [
+    "accumulate", "finish_summary", "larger", "smaller", "start_summary", "summarize",
+    "winch_limit_into",
+]  # fmt: skip
 
 _jit = compiled(error_model="numpy")
 _jit_inline = compiled(error_model="numpy", inline="always")
@@ -61,18 +64,25 @@ def accumulate(summary, x, x_ref, y, y_ref, tension):
     the position deviations, the tension range, the sample count."""
     for a in range(3):
         dev = y[a] - y_ref[a]
-        if abs(dev) > summary[SUMMARY_PEAK_Q1 + a]:
-            summary[SUMMARY_PEAK_Q1 + a] = abs(dev)
+        summary[SUMMARY_PEAK_Q1 + a] = larger(summary[SUMMARY_PEAK_Q1 + a], abs(dev))
         summary[SUMMARY_SUMSQ_Q1 + a] += dev * dev
-    if abs(x[0] - x_ref[0]) > summary[SUMMARY_PEAK_Q4]:
-        summary[SUMMARY_PEAK_Q4] = abs(x[0] - x_ref[0])
-    if abs(x[1] - x_ref[1]) > summary[SUMMARY_PEAK_Q5]:
-        summary[SUMMARY_PEAK_Q5] = abs(x[1] - x_ref[1])
-    if tension < summary[SUMMARY_TENSION_MIN]:
-        summary[SUMMARY_TENSION_MIN] = tension
-    if tension > summary[SUMMARY_TENSION_MAX]:
-        summary[SUMMARY_TENSION_MAX] = tension
+    summary[SUMMARY_PEAK_Q4] = larger(summary[SUMMARY_PEAK_Q4], abs(x[0] - x_ref[0]))
+    summary[SUMMARY_PEAK_Q5] = larger(summary[SUMMARY_PEAK_Q5], abs(x[1] - x_ref[1]))
+    summary[SUMMARY_TENSION_MIN] = smaller(summary[SUMMARY_TENSION_MIN], tension)
+    summary[SUMMARY_TENSION_MAX] = larger(summary[SUMMARY_TENSION_MAX], tension)
     summary[SUMMARY_N_SAMPLES] += 1.0
+
+
+@_jit_inline
+def larger(held, value):
+    """A running maximum's update: ``value`` when it exceeds ``held`` (NaN never does)."""
+    return value if value > held else held
+
+
+@_jit_inline
+def smaller(held, value):
+    """A running minimum's update: ``value`` when it is below ``held`` (NaN never is)."""
+    return value if value < held else held
 
 
 @_jit
