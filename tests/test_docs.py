@@ -238,7 +238,9 @@ API = {
     "tetherheli.studies.tether_sensing": ["sensing_errors", "sensing_study"],
     "tetherheli.viz.tether_study": ["figure_study_reduction", "figure_study_sensing",
                                     "figure_study_static"],
-    "tetherheli.studies.montecarlo.runner": ["run_montecarlo", "result_files"],
+    "tetherheli.studies.montecarlo.runner": ["run_montecarlo_chunks", "MonteCarloJob",
+                                             "MonteCarloColumns", "paired_metric",
+                                             "column_units", "check_nominal_designs"],
     "tetherheli.sensing.config": ["SensorConfig", "sensor_config_from_dict"],
     "tetherheli.sensing.noise": ["noise_table", "gauss_markov", "random_walk",
                                  "accelerometer_errors"],
@@ -254,6 +256,7 @@ API = {
     "tetherheli.resources": ["check_memory", "memory_limit", "format_bytes"],
     "tetherheli.report.sweep": ["write_sweep"],
     "tetherheli.report.cyclic_limit": ["write_limit_search"],
+    "tetherheli.report.montecarlo": ["run_montecarlo", "result_files"],
     "tetherheli.report.paper": ["run_paper", "paper_summary", "run_status", "write_run",
                                 "write_comparison", "run_sensing", "sensing_scenario"],
     "tetherheli.sim.setup": ["engine_setup", "EngineSetup", "run_setup", "RunSetup", "paper_gain",
@@ -358,7 +361,9 @@ def test_no_submodule_shadows_a_lazy_name():
     import importlib
     import pkgutil
 
-    for package in ("tetherheli", "tetherheli.model", "tetherheli.sim", "tetherheli.studies"):
+    packages = ("tetherheli", "tetherheli.model", "tetherheli.sim", "tetherheli.studies",
+                "tetherheli.report")  # fmt: skip
+    for package in packages:
         pkg = importlib.import_module(package)
         submodules = {m.name for m in pkgutil.iter_modules(pkg.__path__)}
         lazy = set(getattr(pkg, "__all__", ()))

@@ -7,7 +7,9 @@
 ``sweep``
     a parameter sweep's folder (``write_sweep``);
 ``cyclic_limit``
-    the cyclic-limit search's folder (``write_limit_search``).
+    the cyclic-limit search's folder (``write_limit_search``);
+``montecarlo``
+    a Monte Carlo's job and its results folder (``run_montecarlo``).
 
 The names below load on first use (PEP 562): the command line's parser imports none of them.
 """
@@ -36,6 +38,9 @@ _HOMES = {
     ),
     "write_sweep": ".sweep",
     "write_limit_search": ".cyclic_limit",
+    **dict.fromkeys(
+        ("FIGURE_KINDS", "RESULT_FILES", "result_files", "run_montecarlo"), ".montecarlo"
+    ),
 }
 
 __all__ = sorted(_HOMES)
