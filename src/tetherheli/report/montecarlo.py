@@ -132,7 +132,7 @@ def run_montecarlo(
     built aside and swapped in whole (``_io.output_directory``); the figures of another
     metric or format stay.
     """
-    from ..viz.plots import check_figure_format
+    from ..viz.formats import check_figure_format
 
     if metric not in METRICS:
         raise ParameterError("metric", metric, f"one of {list(METRICS)}")

@@ -68,7 +68,7 @@ def run_tether_study(
     dict
         The summary written to summary.json.
     """
-    from ..viz.plots import check_figure_format
+    from ..viz.formats import check_figure_format
 
     config = TetherStudyConfig(
         cables=tuple(cables),
@@ -117,7 +117,7 @@ def write_tether_study(
     dict
         The summary written to summary.json.
     """
-    from ..viz.plots import check_figure_format
+    from ..viz.formats import check_figure_format
 
     figure_format = check_figure_format(figure_format)
     return _write(result, out, command=command, force=force, figure_format=figure_format)
