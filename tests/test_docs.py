@@ -184,7 +184,8 @@ API = {
     "tetherheli.viz.plots": ["figure_outputs", "figure_inputs", "figure_sweep",
                              "figure_limit_search", "figure_release", "figure_montecarlo",
                              "figure_paired", "figure_pareto", "figure_sensing", "save_figure",
-                             "check_figure_format", "metric_label", "plottable"],
+                             "metric_label", "plottable"],
+    "tetherheli.viz.formats": ["check_figure_format"],
     "tetherheli.sensing.estimation": ["Fixes", "PositionFilter", "position_filter",
                                       "run_filter", "EstimateResult", "normalized_squares",
                                       "chi2_mean_band", "ConsistencyTest", "KalmanConsistency"],
@@ -232,13 +233,15 @@ API = {
                                              "montecarlo_config_from_dict"],
     "tetherheli.studies.montecarlo.draws": ["Draw", "draw", "draw_seed"],
     "tetherheli.studies.tether_study": ["StudyCable", "check_grid", "dynamic_rows",
-                                        "hover_limits", "lateral_stiffness", "run_tether_study",
-                                        "select_cables", "sensing_table", "static_rows",
-                                        "study_scenarios", "study_table"],
+                                        "hover_limits", "json_ready", "lateral_stiffness",
+                                        "select_cables", "static_rows", "study_scenarios",
+                                        "TetherStudyConfig", "TetherStudy", "tether_study"],
     "tetherheli.studies.tether_sensing": ["sensing_errors", "sensing_study"],
     "tetherheli.viz.tether_study": ["figure_study_reduction", "figure_study_sensing",
                                     "figure_study_static"],
-    "tetherheli.studies.montecarlo.runner": ["run_montecarlo", "result_files"],
+    "tetherheli.studies.montecarlo.runner": ["run_montecarlo_chunks", "MonteCarloJob",
+                                             "MonteCarloColumns", "paired_metric",
+                                             "column_units", "check_nominal_designs"],
     "tetherheli.sensing.config": ["SensorConfig", "sensor_config_from_dict"],
     "tetherheli.sensing.noise": ["noise_table", "gauss_markov", "random_walk",
                                  "accelerometer_errors"],
@@ -254,6 +257,9 @@ API = {
     "tetherheli.resources": ["check_memory", "memory_limit", "format_bytes"],
     "tetherheli.report.sweep": ["write_sweep"],
     "tetherheli.report.cyclic_limit": ["write_limit_search"],
+    "tetherheli.report.montecarlo": ["run_montecarlo", "result_files"],
+    "tetherheli.report.tether_study": ["run_tether_study", "write_tether_study", "study_table",
+                                       "sensing_table"],
     "tetherheli.report.paper": ["run_paper", "paper_summary", "run_status", "write_run",
                                 "write_comparison", "run_sensing", "sensing_scenario"],
     "tetherheli.sim.setup": ["engine_setup", "EngineSetup", "run_setup", "RunSetup", "paper_gain",
@@ -358,7 +364,9 @@ def test_no_submodule_shadows_a_lazy_name():
     import importlib
     import pkgutil
 
-    for package in ("tetherheli", "tetherheli.model", "tetherheli.sim", "tetherheli.studies"):
+    packages = ("tetherheli", "tetherheli.model", "tetherheli.sim", "tetherheli.studies",
+                "tetherheli.report")  # fmt: skip
+    for package in packages:
         pkg = importlib.import_module(package)
         submodules = {m.name for m in pkgutil.iter_modules(pkg.__path__)}
         lazy = set(getattr(pkg, "__all__", ()))

@@ -132,7 +132,7 @@ def test_tiny_cyclic_limit_on_a_lumped_run_names_the_actuator_limits(tmp_path, c
 
 @pytest.mark.parametrize("duration", [0.001, 0.015, 61.0])
 def test_tether_study_duration_names_duration(tmp_path, capsys, duration):
-    from tetherheli.studies.tether_study import run_tether_study
+    from tetherheli.report import run_tether_study
 
     with pytest.raises(ParameterError, match=r"^duration = ") as err:
         run_tether_study(str(tmp_path / "api"), duration_s=duration, progress=False)

@@ -12,14 +12,11 @@ import pytest
 
 from tetherheli.cli import main
 from tetherheli.errors import ParameterError
+from tetherheli.report import run_montecarlo
 from tetherheli.sim import simulate
 from tetherheli.sim.batch import run_batch
 from tetherheli.status import Status
-from tetherheli.studies.montecarlo import (
-    load_montecarlo,
-    montecarlo_config_from_dict,
-    run_montecarlo,
-)
+from tetherheli.studies.montecarlo import load_montecarlo, montecarlo_config_from_dict
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -153,6 +150,30 @@ def test_resume_after_interrupt_equals_uninterrupted(short_file, tmp_path, capsy
     # a different job may not reuse the folder
     with pytest.raises(ParameterError, match=r"partial/job\.json"):
         run_montecarlo(base, config, tmp_path / "r", chunk_size=4, progress=False)
+
+
+def test_the_study_returns_what_the_report_writes(short_file, tmp_path):
+    """``run_montecarlo_chunks`` writes no results folder and returns the finished job: its
+    verified chunks are results.csv's rows and its summary is summary.json, as the report
+    (``report.montecarlo``) writes them; a chunk changed after the job verified it stops the
+    reading with a line naming the file."""
+    from tetherheli.errors import TetherheliError
+    from tetherheli.studies.montecarlo import run_montecarlo_chunks
+    from tetherheli.studies.montecarlo.runner import MonteCarloColumns
+
+    base, config = load_montecarlo(short_file)
+    out = tmp_path / "j"
+    job = run_montecarlo_chunks(base, config, out, chunk_size=3, progress=False)
+    assert job is not None and not (out / "results.csv").exists()
+    columns = MonteCarloColumns(job.header)
+    rows = "".join(job.chunks(columns))
+    summary = json.loads(json.dumps(job.summarize(columns.arrays())))
+    assert _run(short_file, out) == summary
+    assert (out / "results.csv").read_text() == ",".join(job.header) + "\n" + rows
+    first = _chunks_of(out)[0]
+    first.write_text(first.read_text().replace(",free,", ",tethered,", 1))
+    with pytest.raises(TetherheliError, match=rf"{first.name} .* after it was verified"):
+        list(job.chunks())
 
 
 def test_progress_on_stderr_is_one_line_off_a_terminal(short_file, tmp_path, capsys):

@@ -44,6 +44,35 @@ def test_importing_every_module_keeps_the_backend():
     assert int(count) > 30 and backend == "svg" and pyplot == "False"
 
 
+_CHECK_FORMATS = """
+import sys
+from tetherheli.errors import ParameterError
+from tetherheli.viz.formats import FIGURE_FORMATS, check_figure_format
+assert [check_figure_format(f) for f in FIGURE_FORMATS] == list(FIGURE_FORMATS)
+try:
+    check_figure_format("jpg")
+except ParameterError:
+    pass
+else:
+    raise AssertionError("jpg accepted")
+print(sorted(m for m in sys.modules if m.split(".")[0] == "matplotlib") or "-")
+"""
+
+
+def test_formats_and_their_check_import_no_matplotlib():
+    """``viz.formats`` (the formats and ``check_figure_format``) imports no Matplotlib, so a
+    study checks its figure format before the first run without loading it (a Matplotlib
+    import there broke the Monte Carlo's memory bound when that test ran alone); a fresh
+    interpreter, so the order of the tests does not matter."""
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+    out = subprocess.run(
+        [sys.executable, "-c", _CHECK_FORMATS], capture_output=True, text=True, env=env,
+        timeout=300,
+    )  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "-", out.stdout
+
+
 def _png_size(data: bytes) -> tuple[int, int]:
     assert data[:8] == b"\x89PNG\r\n\x1a\n"
     return struct.unpack(">II", data[16:24])  # IHDR width, height

@@ -11,10 +11,11 @@ import numpy as np
 import pytest
 
 from tetherheli import ParameterError, cli, load_result, simulate
+from tetherheli.report import run_montecarlo
 from tetherheli.sim import list_results
 from tetherheli.sim.result import RESULT_COLUMNS, RESULT_FORMATS
 from tetherheli.sim.scenario import Scenario
-from tetherheli.studies.montecarlo import load_montecarlo, run_montecarlo
+from tetherheli.studies.montecarlo import load_montecarlo
 from tetherheli.wind import Pulse
 
 from .test_montecarlo import SHORT

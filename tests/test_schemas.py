@@ -113,7 +113,8 @@ def test_sweep_csv_columns(tmp_path):
 
 
 def test_montecarlo_results_csv_columns(tmp_path):
-    from tetherheli.studies.montecarlo import MonteCarloConfig, run_montecarlo
+    from tetherheli.report import run_montecarlo
+    from tetherheli.studies.montecarlo import MonteCarloConfig
 
     config = MonteCarloConfig(
         runs=1,

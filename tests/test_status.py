@@ -154,7 +154,8 @@ def test_comparison_reports_release(tmp_path, capsys):
 def test_montecarlo_rows_record_release(tmp_path):
     """Monte Carlo rows carry the release time and tension (NaN for a run that kept its
     tether, e.g. every free run) and the summary counts the releases per configuration."""
-    from tetherheli.studies.montecarlo import load_montecarlo, run_montecarlo
+    from tetherheli.report import run_montecarlo
+    from tetherheli.studies.montecarlo import load_montecarlo
 
     path = tmp_path / "mc.toml"
     path.write_text(RELEASING + "[montecarlo]\nruns = 2\nseed = 3\n")

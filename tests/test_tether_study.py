@@ -198,6 +198,27 @@ def test_default_grids_are_valid():
     ts.check_grid("elevations", ts.DEFAULT_ELEVATIONS_DEG, low=1.0, high=90.0, unit="[deg]")
 
 
+@pytest.mark.parametrize(
+    ("bad", "match"),
+    [
+        ({"lengths_m": [50.0, 10.0]}, "lengths"),
+        ({"winds_m_s": [-1.0]}, "winds"),
+        ({"elevations_deg": [0.0]}, "elevations"),
+        ({"model": "rigid"}, "model"),
+        ({"winch_gain": "fast"}, "winch_gain"),
+        ({"duration_s": 0.015}, "duration"),
+    ],
+)
+def test_study_config_is_checked_when_built(bad, match):
+    """``TetherStudyConfig`` checks every choice when it is built, before any work (the report
+    claims the output folder only after it); the grids come back as tuples of floats."""
+    with pytest.raises(ParameterError, match=rf"^{match} = "):
+        ts.TetherStudyConfig(**bad)
+    good = ts.TetherStudyConfig(lengths_m=[10, 20], duration_s=12)
+    assert good.lengths_m == (10.0, 20.0) and good.duration_s == 12.0
+    assert good.cables == ts.STUDY_CABLES
+
+
 @pytest.mark.parametrize("keys", [[], ["paper", "paper"], ["steel"]])
 def test_select_cables_refuses(keys):
     with pytest.raises(ParameterError, match="cables"):

@@ -14,7 +14,8 @@ EXIT_STOPPED = 3
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run (or resume) the Monte Carlo and print its statistics.
+    """Run (or resume) the Monte Carlo (``studies.montecarlo``), write its results folder
+    (``report.montecarlo.run_montecarlo``) and print its statistics.
 
     Parameters
     ----------
@@ -31,10 +32,11 @@ def run(args: argparse.Namespace) -> int:
 
     from .._validation import check_integer
     from ..errors import ClusterError, named_source
+    from ..report.montecarlo import result_files, run_montecarlo
     from ..sim.batch import connect, disconnect
-    from ..studies.montecarlo import CONFIGURATIONS, load_montecarlo, run_montecarlo
+    from ..studies.montecarlo import CONFIGURATIONS, load_montecarlo
     from ..studies.montecarlo.config import MAX_RUNS
-    from ..studies.montecarlo.runner import check_nominal_designs, result_files
+    from ..studies.montecarlo.runner import check_nominal_designs
 
     if args.runs is not None:
         check_integer("--runs", args.runs, low=1, high=MAX_RUNS)

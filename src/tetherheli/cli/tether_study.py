@@ -1,5 +1,6 @@
 """``tetherheli tether-study``: does the tether's benefit survive at 10-100 m of real cable?
-(``studies.tether_study``, imported by the command only: it loads the lumped chain.)"""
+(``studies.tether_study``, written by ``report.tether_study``; imported by the command only:
+the study loads the lumped chain.)"""
 
 from __future__ import annotations
 
@@ -34,7 +35,7 @@ def _floats(name: str) -> Callable[[str], list[float]]:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the study (``studies.tether_study.run_tether_study``).
+    """Run the study and write its folder (``report.tether_study.run_tether_study``).
 
     Parameters
     ----------
@@ -46,7 +47,8 @@ def run(args: argparse.Namespace) -> int:
     int
         The exit code: 0, or 1 if a dynamic run failed.
     """
-    from ..studies.tether_study import DYNAMIC_CASES, run_tether_study, select_cables
+    from ..report.tether_study import run_tether_study
+    from ..studies.tether_study import DYNAMIC_CASES, select_cables
 
     cables = select_cables([k.strip() for k in args.cables.split(",") if k.strip()])
     summary = run_tether_study(

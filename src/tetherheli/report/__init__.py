@@ -7,7 +7,11 @@
 ``sweep``
     a parameter sweep's folder (``write_sweep``);
 ``cyclic_limit``
-    the cyclic-limit search's folder (``write_limit_search``).
+    the cyclic-limit search's folder (``write_limit_search``);
+``montecarlo``
+    a Monte Carlo's job and its results folder (``run_montecarlo``);
+``tether_study``
+    the tether study's job and its folder (``run_tether_study``, ``write_tether_study``).
 
 The names below load on first use (PEP 562): the command line's parser imports none of them.
 """
@@ -36,6 +40,10 @@ _HOMES = {
     ),
     "write_sweep": ".sweep",
     "write_limit_search": ".cyclic_limit",
+    **dict.fromkeys(
+        ("FIGURE_KINDS", "RESULT_FILES", "result_files", "run_montecarlo"), ".montecarlo"
+    ),
+    **dict.fromkeys(("run_tether_study", "write_tether_study"), ".tether_study"),
 }
 
 __all__ = sorted(_HOMES)

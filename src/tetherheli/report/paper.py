@@ -332,7 +332,8 @@ def run_paper(
         summary.json's content (``paper_summary``).
     """
     from ..progress import Progress
-    from ..viz.plots import check_figure_format, figure_inputs, figure_outputs, save_figure
+    from ..viz.formats import check_figure_format
+    from ..viz.plots import figure_inputs, figure_outputs, save_figure
 
     check_result_format(data_format)
     figure_format = check_figure_format(figure_format)
@@ -414,7 +415,7 @@ def write_run(
         summary.json's content: the run's name, status, message, tether release, metrics
         (``run_metrics``; empty without samples), tetherheli version and command.
     """
-    from ..viz.plots import check_figure_format
+    from ..viz.formats import check_figure_format
 
     check_result_format(data_format)
     figure_format = check_figure_format(figure_format)
@@ -504,7 +505,8 @@ def write_comparison(
     dict of str to Any
         summary.json's content: version, command and every run's ``write_run`` summary.
     """
-    from ..viz.plots import check_figure_format, figure_inputs, figure_outputs, save_figure
+    from ..viz.formats import check_figure_format
+    from ..viz.plots import figure_inputs, figure_outputs, save_figure
 
     check_result_format(data_format)
     ext = check_figure_format(figure_format)
@@ -631,7 +633,8 @@ def run_sensing(
     from ..sensing.estimation import FUSIONS
     from ..sim import load_scenario
     from ..studies.estimation import estimate_run
-    from ..viz.plots import check_figure_format, figure_sensing, save_figure
+    from ..viz.formats import check_figure_format
+    from ..viz.plots import figure_sensing, save_figure
 
     figure_format = check_figure_format(figure_format)
     claim_output_directory(out_dir, inputs=scenarios or (), force=force)

@@ -16,7 +16,8 @@ import numpy as np
 from .._io import atomic_write_text, output_directory
 from .._version import __version__
 from ..studies.sweep import SweepResult
-from ..viz.plots import check_figure_format, figure_sweep, save_figure
+from ..viz.formats import check_figure_format
+from ..viz.plots import figure_sweep, save_figure
 
 __all__ = ["write_sweep", "write_sweep_folder"]
 

@@ -1,5 +1,6 @@
 """Studies built on many simulations: parameter sweeps (``sweep``) and the resumable Monte
-Carlo of wind and parameter dispersions (``montecarlo``: configuration, draws, runner).
+Carlo of wind and parameter dispersions (``montecarlo``: configuration, draws, runner). They
+return data; ``tetherheli.report`` writes and draws it.
 
 The function ``sweep`` is not re-exported here: it would shadow the module
 ``tetherheli.studies.sweep``; use ``from tetherheli.studies.sweep import sweep``.
@@ -12,7 +13,7 @@ from .._lazy import lazy_getattr
 _HOMES = {
     **dict.fromkeys(
         ("Draw", "MonteCarloConfig", "draw", "draw_seed", "load_montecarlo",
-         "montecarlo_config_from_dict", "run_montecarlo"),
+         "montecarlo_config_from_dict", "MonteCarloJob", "run_montecarlo_chunks"),
         ".montecarlo",
     ),
     **dict.fromkeys(
@@ -24,13 +25,14 @@ __all__ = [
     "METRICS",
     "Draw",
     "MonteCarloConfig",
+    "MonteCarloJob",
     "SweepResult",
     "draw",
     "draw_seed",
     "load_montecarlo",
     "montecarlo_config_from_dict",
     "paper_cyclic_limit",
-    "run_montecarlo",
+    "run_montecarlo_chunks",
     "tension_bound",
 ]
 

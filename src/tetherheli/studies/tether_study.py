@@ -39,16 +39,18 @@ paper's straight elastic tether (eq 28) with the cable's axial stiffness over th
 K_C = (EA + T_ref) / q9 (``cable_stiffness``): the cable's stiffness without its weight,
 drag or inertia, a stand-in that separates what the length does from what the mass does.
 
-This module runs the whole study and writes its tables (``run_tether_study``); the study's
-cables and choices are ``studies.tether_cables``, its halves ``studies.tether_static`` and
-``studies.tether_dynamic``, whose public names are re-exported here.
+This module runs the whole study (``tether_study``, on a checked ``TetherStudyConfig``) and
+returns its rows (``TetherStudy``); ``report.tether_study`` writes its tables, pages and
+figures. The study's cables and choices are ``studies.tether_cables``, its halves
+``studies.tether_static`` and ``studies.tether_dynamic``, whose public names are re-exported
+here.
 """
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -80,24 +82,25 @@ __all__ = [
     "DEFAULT_WINDS_M_S",
     "DYNAMIC_CASES",
     "PAPER_LOOP_GAIN",
+    "PAPER_TENSION_N",
     "STUDY_CABLES",
     "TETHER_MODELS",
     "TURBULENCE_SETTLE_S",
     "WINCH_GAINS",
     "StudyCable",
+    "TetherStudy",
+    "TetherStudyConfig",
     "cable_stiffness",
     "check_grid",
     "dynamic_rows",
     "hover_limits",
     "json_ready",
     "lateral_stiffness",
-    "run_tether_study",
     "select_cables",
-    "sensing_table",
     "static_rows",
     "study_scenarios",
-    "study_table",
     "tension_loop_gain",
+    "tether_study",
 ]
 
 
@@ -109,13 +112,23 @@ def _finite_or_none(x: Any) -> Any:
     return x
 
 
-def json_ready(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """``rows`` with NaN as None (strict JSON)."""
+def json_ready(rows: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
+    """``rows`` with NaN as None (strict JSON).
+
+    Parameters
+    ----------
+    rows : sequence of dict
+        Rows of the study.
+
+    Returns
+    -------
+    list of dict
+    """
     return [{k: _finite_or_none(v) for k, v in r.items()} for r in rows]
 
 
 # ----------------------------------------------------------------------------------------------
-# the whole study (the command: tetherheli tether-study, cli/tether_study.py)
+# the whole study (the command: tetherheli tether-study, report/tether_study.py)
 # ----------------------------------------------------------------------------------------------
 
 #: The study's default grids: lengths [m] (issue 13: 10-100 m), steady winds [m/s] and
@@ -128,121 +141,13 @@ DEFAULT_ELEVATIONS_DEG: tuple[float, ...] = names.TETHER_STUDY_ELEVATIONS_DEG
 PAPER_TENSION_N = 25.0
 
 
-def _csv(rows: Sequence[dict[str, Any]]) -> str:
-    import csv
-    import io
-
-    buf = io.StringIO()
-    columns = list(rows[0]) if rows else []
-    writer = csv.writer(buf, lineterminator="\n")
-    writer.writerow(columns)
-    for r in rows:
-        writer.writerow([r.get(c, "") for c in columns])
-    return buf.getvalue()
-
-
-def _f(x: Any, spec: str) -> str:
-    return "-" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, spec)
-
-
-def study_table(static: Sequence[dict[str, Any]], dynamic: Sequence[dict[str, Any]]) -> str:
-    """The study's main table (Markdown): per cable and length the ground tension for 25 N at
-    P, the extra thrust and margin with 25 N at the winch, the lateral stiffness, and the
-    reductions [%] of peak q1 (sim 1), peak q2 (sim 2) and RMS q1 (turbulence).
+@dataclass(frozen=True)
+class TetherStudyConfig:
+    """What the whole study computes, checked when it is built (before any work): the cables,
+    the grids, the dynamic half's tether model, winch gains and run length, the maximum thrust.
 
     Parameters
     ----------
-    static, dynamic : sequence of dict
-        ``static_rows`` and ``dynamic_rows`` on the same cables and lengths.
-
-    Returns
-    -------
-    str
-    """
-    dyn = {(r["cable"], r["length_m"]): r for r in dynamic}
-    head = (
-        "| cable | q9 [m] | T_ground for 25 N at P [N] | T_P with 25 N at winch [N] "
-        "| extra fMR3 [N] | thrust margin [N] | k_lat [N/m] (massless) "
-        "| sim 1 peak q1 [%] | sim 2 peak q2 [%] | turbulence RMS q1 [%] |\n"
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n"
-    )
-    lines = []
-    for r in static:
-        d = dyn.get((r["cable"], r["length_m"]), {})
-        lines.append(
-            f"| {r['cable']} | {r['length_m']:g} | {_f(r['ground_tension_for_top_N'], '.2f')} "
-            f"| {r['top_tension_N']:.2f} | {r['extra_lift_N']:.2f} | {r['lift_margin_N']:.2f} "
-            f"| {r['k_lateral_N_m']:.3f} ({r['k_lateral_massless_N_m']:.3f}) "
-            f"| {_f(d.get('sim1_peak_q1_reduction_pct'), '.1f')} "
-            f"| {_f(d.get('sim2_peak_q2_reduction_pct'), '.1f')} "
-            f"| {_f(d.get('turbulence_rms_q1_reduction_pct'), '.1f')} |"
-        )
-    return head + "\n".join(lines) + "\n"
-
-
-def sensing_table(rows: Sequence[dict[str, Any]]) -> str:
-    """The sensing half as a Markdown table: horizontal errors [m] of each estimate.
-
-    Parameters
-    ----------
-    rows : sequence of dict
-        ``tether_sensing.sensing_study``'s rows.
-
-    Returns
-    -------
-    str
-    """
-    from .tether_sensing import ESTIMATES
-
-    head = (
-        "| cable | elevation [deg] | length [m] | wind [m/s] | winch-tangent angle [deg] | "
-        + " | ".join(ESTIMATES)
-        + " |\n|"
-        + "---|" * (5 + len(ESTIMATES))
-        + "\n"
-    )
-    lines = []
-    for r in rows:
-        if r["status"] != "ok":
-            lines.append(
-                f"| {r['cable']} | {r['elevation_deg']:g} | {r['length_m']:g} "
-                f"| {r['wind_m_s']:g} | {r['status']} |" + " |" * len(ESTIMATES)
-            )
-            continue
-        cells = " | ".join(f"{r[e]:.3f}" for e in ESTIMATES)
-        lines.append(
-            f"| {r['cable']} | {r['elevation_deg']:g} | {r['length_m']:g} | {r['wind_m_s']:g} "
-            f"| {r['ground_angle_deg']:.2f} | {cells} |"
-        )
-    return head + "\n".join(lines) + "\n"
-
-
-def run_tether_study(
-    out: str,
-    *,
-    cables: Sequence[StudyCable] = STUDY_CABLES,
-    lengths_m: Sequence[float] = DEFAULT_LENGTHS_M,
-    winds_m_s: Sequence[float] = DEFAULT_WINDS_M_S,
-    elevations_deg: Sequence[float] = DEFAULT_ELEVATIONS_DEG,
-    model: str = "lumped",
-    winch_gain: str = "paper",
-    duration_s: float | None = None,
-    max_thrust_N: float | None = None,
-    workers: int | None = None,
-    command: str = "",
-    force: bool = False,
-    progress: bool = True,
-    figure_format: str = "png",
-) -> dict[str, Any]:
-    """Run the whole study and write it to ``out`` (whole or not at all,
-    ``_io.output_directory``): study.md (the main table and the hover limits), static.csv,
-    dynamic.csv, sensing.csv / sensing.md, reduction.png, static.png, sensing.png and
-    summary.json (every row, the cables, the grids and every run's configuration).
-
-    Parameters
-    ----------
-    out : str
-        The output folder.
     cables : sequence of StudyCable, optional
         Default ``STUDY_CABLES``.
     lengths_m : sequence of float, optional
@@ -254,119 +159,180 @@ def run_tether_study(
     winch_gain : str, optional
         The winch's PI gains (``WINCH_GAINS``).
     duration_s : float, optional
-        Shorten the dynamic runs (default: the scenarios' own 60 s and 120 s).
+        Shorten the dynamic runs (default: the scenarios' own 60 s and 120 s); at least one
+        and a whole number of control samples.
     max_thrust_N : float, optional
         Maximum fMR3 [N] (default ``DEFAULT_THRUST_TO_WEIGHT`` x the free hover thrust).
+
+    Raises
+    ------
+    ParameterError
+        A grid, model, winch gain or duration out of range.
+    """
+
+    cables: tuple[StudyCable, ...] = STUDY_CABLES
+    lengths_m: tuple[float, ...] = DEFAULT_LENGTHS_M
+    winds_m_s: tuple[float, ...] = DEFAULT_WINDS_M_S
+    elevations_deg: tuple[float, ...] = DEFAULT_ELEVATIONS_DEG
+    model: str = "lumped"
+    winch_gain: str = "paper"
+    duration_s: float | None = None
+    max_thrust_N: float | None = None
+
+    def __post_init__(self) -> None:
+        lo, hi = TETHER_LENGTH_RANGE
+        checked = {
+            "cables": tuple(self.cables),
+            "lengths_m": check_grid("lengths", self.lengths_m, low=lo, high=hi, unit="[m]"),
+            "winds_m_s": check_grid("winds", self.winds_m_s, low=0.0, high=30.0, unit="[m/s]"),
+            "elevations_deg": check_grid(
+                "elevations", self.elevations_deg, low=1.0, high=90.0, unit="[deg]"
+            ),
+        }
+        if self.model not in TETHER_MODELS:
+            raise ParameterError("model", self.model, f"one of {list(TETHER_MODELS)}")
+        if self.winch_gain not in WINCH_GAINS:
+            raise ParameterError("winch_gain", self.winch_gain, f"one of {list(WINCH_GAINS)}")
+        if self.duration_s is not None:  # the paper's runs (60 s) are the shortest
+            from ..sim.scenario import paper_scenario
+
+            checked["duration_s"] = _checked_duration(self.duration_s, paper_scenario(1, "free"))
+        for name, value in checked.items():
+            object.__setattr__(self, name, value)
+
+
+@dataclass(frozen=True)
+class TetherStudy:
+    """The whole study's rows (``tether_study``): its static half per cable and length, the
+    hover limits per cable, the dynamic half per cable and length (a row per case's free and
+    tethered runs, marked failed where the hover exceeds the maximum thrust), the sensing half
+    per cable, elevation, length and wind, and every run's configuration.
+
+    Parameters
+    ----------
+    config : TetherStudyConfig
+        What was computed.
+    max_thrust_N : float
+        The maximum fMR3 [N] used (``config.max_thrust_N`` or its default).
+    static : tuple of dict
+        ``static_rows``'s rows.
+    hover_limits : tuple of dict
+        ``hover_limits``'s rows.
+    dynamic : tuple of dict
+        ``dynamic_rows``'s rows.
+    sensing : tuple of dict
+        ``tether_sensing.sensing_study``'s rows.
+    scenarios : dict of str to dict
+        Every dynamic run's configuration (``Scenario.to_dict``) by run id
+        "cable/length/run".
+    """
+
+    config: TetherStudyConfig
+    max_thrust_N: float
+    static: tuple[dict[str, Any], ...]
+    hover_limits: tuple[dict[str, Any], ...]
+    dynamic: tuple[dict[str, Any], ...]
+    sensing: tuple[dict[str, Any], ...]
+    scenarios: dict[str, Any]
+
+    @property
+    def labels(self) -> dict[str, str]:
+        """Cable key -> its legend text, in the study's order."""
+        return {c.key: c.label for c in self.config.cables}
+
+    @property
+    def failed(self) -> tuple[dict[str, Any], ...]:
+        """The dynamic rows with a run that did not complete."""
+        return tuple(r for r in self.dynamic if not r["completed"])
+
+    def as_dict(self) -> dict[str, Any]:
+        """The study as plain data (summary.json, NaN as None): the choices, the cables, the
+        grids, every row and every run's configuration.
+
+        Returns
+        -------
+        dict
+        """
+        c = self.config
+        return {
+            "tether_model": c.model,
+            "winch_gain": c.winch_gain,
+            "note": (
+                "dynamic runs: the paper's massless straight tether with K_C = (EA + T_ref) / q9 "
+                "(the cable's stiffness, neither its weight nor its drag nor its inertia)"
+                if c.model == "massless"
+                else "dynamic runs: the lumped-mass chain, T_ref at the winch"
+            )
+            + "; static and sensing halves: the elastic catenary with mass and drag",
+            "cables": [cable.to_dict() for cable in c.cables],
+            "lengths_m": list(c.lengths_m),
+            "winds_m_s": list(c.winds_m_s),
+            "elevations_deg": list(c.elevations_deg),
+            "tension_N": PAPER_TENSION_N,
+            "max_thrust_N": self.max_thrust_N,
+            "thrust_to_weight_default": DEFAULT_THRUST_TO_WEIGHT,
+            "duration_s": c.duration_s,
+            "static": json_ready(self.static),
+            "hover_limits": json_ready(self.hover_limits),
+            "dynamic": json_ready(self.dynamic),
+            "sensing": json_ready(self.sensing),
+            "scenarios": self.scenarios,
+        }
+
+
+def tether_study(
+    config: TetherStudyConfig, *, workers: int | None = None, progress: bool = True
+) -> TetherStudy:
+    """Run the whole study: the static half and the hover limits, the dynamic half through
+    ``run_batch`` and the sensing half (``report.tether_study`` writes it).
+
+    Parameters
+    ----------
+    config : TetherStudyConfig
+        The cables, grids and choices.
     workers : int, optional
         ``run_batch``'s threads.
-    command : str, optional
-        The command line, recorded.
-    force : bool, optional
-        Replace this command's earlier output in ``out``.
     progress : bool, optional
-        Progress on stderr.
-    figure_format : {"png", "pdf", "svg"}, optional
-        File format of the three figures (default "png").
+        Progress of the dynamic runs on stderr.
 
     Returns
     -------
-    dict
-        The summary written to summary.json.
+    TetherStudy
     """
-    from .. import __version__
-    from .._io import atomic_write_text, claim_output_directory, output_directory
     from ..progress import Progress
-    from ..viz.plots import save_figure
-    from ..viz.tether_study import (
-        figure_study_reduction,
-        figure_study_sensing,
-        figure_study_static,
-    )
     from .tether_sensing import sensing_study
 
-    lo, hi = TETHER_LENGTH_RANGE
-    lengths = check_grid("lengths", lengths_m, low=lo, high=hi, unit="[m]")
-    winds = check_grid("winds", winds_m_s, low=0.0, high=30.0, unit="[m/s]")
-    elevations = check_grid("elevations", elevations_deg, low=1.0, high=90.0, unit="[deg]")
-    if model not in TETHER_MODELS:
-        raise ParameterError("model", model, f"one of {list(TETHER_MODELS)}")
-    if winch_gain not in WINCH_GAINS:
-        raise ParameterError("winch_gain", winch_gain, f"one of {list(WINCH_GAINS)}")
-    if duration_s is not None:  # fail before any work: the paper's runs (60 s) are the shortest
-        from ..sim.scenario import paper_scenario
-
-        duration_s = _checked_duration(duration_s, paper_scenario(1, "free"))
-    claim_output_directory(out, force=force)
+    if not isinstance(config, TetherStudyConfig):
+        raise TypeError("config must be a TetherStudyConfig")
+    cables, lengths = config.cables, config.lengths_m
     params = Params.paper()
+    max_thrust_N = config.max_thrust_N
     if max_thrust_N is None:
         max_thrust_N = _max_thrust(params, None)
     static = static_rows(params, cables, lengths, max_thrust_N=max_thrust_N)
     limits = hover_limits(params, cables, max_thrust_N=max_thrust_N)
     n_runs = len(cables) * len(lengths) * 2 * len(DYNAMIC_CASES)
     with Progress("tether-study", n_runs, "runs", enabled=progress) as bar:
-        dynamic, configs = dynamic_rows(
+        dynamic, scenarios = dynamic_rows(
             cables,
             lengths,
-            model=model,
-            winch_gain=winch_gain,
-            duration_s=duration_s,
+            model=config.model,
+            winch_gain=config.winch_gain,
+            duration_s=config.duration_s,
             workers=workers,
             on_done=bar.update,
         )
     mark_thrust_infeasible(static, dynamic, max_thrust_N)
     g = params.helicopter.g
-    sensing = sensing_study(cables, lengths, winds, elevations, PAPER_TENSION_N, g)
-    labels = {c.key: c.label for c in cables}
-    md = (
-        f"# Tether study ({model} tether, {winch_gain} winch gains in the dynamic runs)\n\n"
-        + study_table(static, dynamic)
-        + "\nHover limits (25 N at P: the ground tension reaches 0; 25 N at the winch: fMR3 "
-        f"reaches {max_thrust_N:.2f} N):\n\n| cable | max q9, 25 N at P [m] "
-        "| max q9, 25 N at winch [m] |\n|---|---:|---:|\n"
-        + "".join(
-            f"| {r['cable']} | {r['max_length_top_tension_m']:.1f} "
-            f"| {_f(r['max_length_thrust_m'], '.1f')} |\n"
-            for r in limits
-        )
+    sensing = sensing_study(
+        cables, lengths, config.winds_m_s, config.elevations_deg, PAPER_TENSION_N, g
     )
-    summary = {
-        "command": command,
-        "tetherheli_version": __version__,
-        "tether_model": model,
-        "winch_gain": winch_gain,
-        "note": (
-            "dynamic runs: the paper's massless straight tether with K_C = (EA + T_ref) / q9 "
-            "(the cable's stiffness, neither its weight nor its drag nor its inertia)"
-            if model == "massless"
-            else "dynamic runs: the lumped-mass chain, T_ref at the winch"
-        )
-        + "; static and sensing halves: the elastic catenary with mass and drag",
-        "cables": [c.to_dict() for c in cables],
-        "lengths_m": list(lengths),
-        "winds_m_s": list(winds),
-        "elevations_deg": list(elevations),
-        "tension_N": PAPER_TENSION_N,
-        "max_thrust_N": max_thrust_N,
-        "thrust_to_weight_default": DEFAULT_THRUST_TO_WEIGHT,
-        "duration_s": duration_s,
-        "static": json_ready(static),
-        "hover_limits": json_ready(limits),
-        "dynamic": json_ready(dynamic),
-        "sensing": json_ready(sensing),
-        "scenarios": configs,
-    }
-    figures = {
-        f"reduction.{figure_format}": figure_study_reduction(dynamic, labels),
-        f"static.{figure_format}": figure_study_static(static, labels, max_thrust_N),
-        f"sensing.{figure_format}": figure_study_sensing(sensing, labels),
-    }
-    with output_directory(out, writer="tether-study", force=force) as tmp:
-        for name, fig in figures.items():
-            save_figure(fig, tmp / name)
-        atomic_write_text(tmp / "study.md", md)
-        atomic_write_text(tmp / "static.csv", _csv(static))
-        atomic_write_text(tmp / "dynamic.csv", _csv(dynamic))
-        atomic_write_text(tmp / "sensing.csv", _csv(sensing))
-        atomic_write_text(tmp / "sensing.md", sensing_table(sensing))
-        atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=1) + "\n")
-    return summary
+    return TetherStudy(
+        config=config,
+        max_thrust_N=max_thrust_N,
+        static=tuple(static),
+        hover_limits=tuple(limits),
+        dynamic=tuple(dynamic),
+        sensing=tuple(sensing),
+        scenarios=scenarios,
+    )

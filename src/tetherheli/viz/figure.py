@@ -17,13 +17,12 @@ from matplotlib.figure import Figure
 from .._io import atomic_write_bytes
 from ..errors import ParameterError
 from ..sim.result import SimulationResult
-from .formats import FIGURE_FORMATS, PRINT_DPI
+from .formats import PRINT_DPI, check_figure_format
 
 __all__ = [
     "CONFIGURATION_COLOURS",
     "PLOT_LIMIT",
     "InlineFigure",
-    "check_figure_format",
     "metric_label",
     "plottable",
     "save_figure",
@@ -33,24 +32,6 @@ __all__ = [
 CONFIGURATION_COLOURS = {"free": "tab:red", "tethered": "tab:blue"}
 
 _STYLE = {cfg: dict(color=c, lw=1.1, label=cfg) for cfg, c in CONFIGURATION_COLOURS.items()}
-
-
-def check_figure_format(figure_format: str) -> str:
-    """``figure_format`` if it is one of ``FIGURE_FORMATS``, else ParameterError.
-
-    Parameters
-    ----------
-    figure_format : str
-        A format name, e.g. ``"png"``.
-
-    Returns
-    -------
-    str
-        ``figure_format`` unchanged.
-    """
-    if figure_format not in FIGURE_FORMATS:
-        raise ParameterError("figure format", figure_format, f"one of {list(FIGURE_FORMATS)}")
-    return figure_format
 
 
 def metric_label(metric: str) -> str:

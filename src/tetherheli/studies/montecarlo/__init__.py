@@ -41,11 +41,13 @@ job goes on. In the statistics a failed run counts as the worst value (+inf; -in
 (``statistics``: the percentiles, the paired per-draw reduction by the tether and the
 bootstrap confidence intervals).
 
-Output directory: ``results.csv`` (one row per run and configuration; ``reason`` says why a
-draw could not be set up; ``release_time``, ``release_tension`` record a tether release by the
-safety device, NaN without one), ``summary.json`` (configuration, version, N, seed,
-percentiles with bootstrap confidence intervals, the paired reduction, failed draws,
-releases per configuration) and the figures of one metric (``metric``, default peak_q1):
+Output directory (``run_montecarlo_chunks`` runs the draws and returns the finished
+``MonteCarloJob``; ``report.montecarlo.run_montecarlo`` writes its results folder):
+``results.csv`` (one row per run and configuration; ``reason`` says why a draw could not be
+set up; ``release_time``, ``release_tension`` record a tether release by the safety device,
+NaN without one), ``summary.json`` (configuration, version, N, seed, percentiles with
+bootstrap confidence intervals, the paired reduction, failed draws, releases per
+configuration) and the figures of one metric (``metric``, default peak_q1):
 ``<metric>_hist.png``, ``<metric>_cdf.png``, ``<metric>_paired.png`` (or .pdf, .svg).
 Work is done in chunks written (fsync, then rename) to ``partial/chunk_<first>_<end>.csv``:
 the chunk's rows of ``results.csv`` and a last line ``# tetherheli montecarlo chunk: draws
@@ -63,17 +65,17 @@ from .config import (
     montecarlo_config_from_dict,
 )
 from .draws import Draw, draw, draw_seed
-from .runner import RESULT_FILES, run_montecarlo
+from .runner import MonteCarloJob, run_montecarlo_chunks
 
 __all__ = [
     "CONFIGURATIONS",
     "MAX_RUNS",
-    "RESULT_FILES",
     "Draw",
     "MonteCarloConfig",
+    "MonteCarloJob",
     "draw",
     "draw_seed",
     "load_montecarlo",
     "montecarlo_config_from_dict",
-    "run_montecarlo",
+    "run_montecarlo_chunks",
 ]

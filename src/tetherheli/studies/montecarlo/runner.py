@@ -1,6 +1,7 @@
-"""Running a Monte Carlo: chunks of draws written and verified on disk (resumable), the
-results table, the summary statistics (``statistics``: failed runs in the tails, the paired
-reduction, bootstrap intervals) and the figures."""
+"""Running a Monte Carlo: chunks of draws written and verified on disk (resumable), and the
+finished job (``MonteCarloJob``): its verified table, one chunk at a time, and its summary
+statistics (``statistics``: failed runs in the tails, the paired reduction, bootstrap
+intervals). The job's results folder (table, summary, figures) is ``report.montecarlo``'s."""
 
 from __future__ import annotations
 
@@ -13,7 +14,8 @@ import os
 import re
 import stat
 from array import array
-from collections.abc import Iterator
+from collections.abc import Collection, Iterator, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -21,13 +23,10 @@ import numpy as np
 
 from ..._io import (
     OutputPathError,
-    atomic_open,
-    atomic_path,
     atomic_write_text,
     check_output_file,
     check_real_folders,
     claim_output_directory,
-    output_directory,
 )
 from ..._validation import check_integer
 from ..._version import __version__
@@ -36,53 +35,32 @@ from ...names import METRIC_UNITS, MONTECARLO_METRICS
 from ...progress import Progress
 from ...resources import check_memory
 from ...sim.batch import METRIC_NAMES, run_batch
-from ...sim.result import check_result_format
 from ...sim.scenario import Scenario
 from ...status import Status
 from ...wind import Turbulence
 from .config import CONFIGURATIONS, MAX_RUNS, MonteCarloConfig, _wind_parts
 from .draws import draw, draw_seed, free_reference
 
-__all__ = ["FIGURE_KINDS", "METRICS", "RESULT_FILES", "result_files", "run_montecarlo"]
+__all__ = [
+    "INT_COLUMNS",
+    "METRICS",
+    "TEXT_COLUMNS",
+    "MonteCarloColumns",
+    "MonteCarloJob",
+    "check_nominal_designs",
+    "column_units",
+    "paired_metric",
+    "run_montecarlo_chunks",
+]
 
-#: The metrics a Monte Carlo can plot (``metric=``): every per-run metric of the table.
+#: The metrics of the table a Monte Carlo can plot (``report.montecarlo``'s ``metric=``):
+#: every per-run metric of the table.
 METRICS = MONTECARLO_METRICS
-#: The figures of a metric: ``<metric>_<kind>.<format>`` (``viz.plots.figure_montecarlo``,
-#: ``figure_paired``).
-FIGURE_KINDS = ("hist", "cdf", "paired")
-
-
-def result_files(
-    metric: str = "peak_q1", figure_format: str = "png", table_format: str = "csv"
-) -> tuple[str, ...]:
-    """What a finished job writes beside ``partial/``: the results table in ``table_format``
-    ("csv" or "parquet"), the summary and the figures of ``metric`` in ``figure_format``.
-
-    Parameters
-    ----------
-    metric : str, optional
-        The figures' metric (default "peak_q1").
-    figure_format : str, optional
-        "png" (default), "pdf" or "svg".
-    table_format : str, optional
-        "csv" (default) or "parquet".
-
-    Returns
-    -------
-    tuple of str
-        The file names.
-    """
-    figures = tuple(f"{metric}_{kind}.{figure_format}" for kind in FIGURE_KINDS)
-    return (f"results.{table_format}", "summary.json", *figures)
-
-
-#: What a finished job writes with the default metric and format.
-RESULT_FILES = result_files()
 
 #: Columns of the results table that are text (the seed entropy can exceed 64 bits) or
-#: integers in its Parquet form; every other column is a float64.
-_TEXT_COLUMNS = ("seed_entropy", "spawn_key", "configuration", "message", "reason")
-_INT_COLUMNS = ("run", "status")
+#: integers in its Parquet form (``report.montecarlo``); every other column is a float64.
+TEXT_COLUMNS = ("seed_entropy", "spawn_key", "configuration", "message", "reason")
+INT_COLUMNS = ("run", "status")
 
 
 #: Units of the results table's fixed columns ("": text or a count; "1": dimensionless)
@@ -124,36 +102,6 @@ def column_units(header: list[str]) -> dict[str, str]:
         else:
             units[c] = _UNITS.get(c, "")
     return units
-
-
-def _parquet_schema(header: list[str]) -> Any:
-    import pyarrow as pa
-
-    def kind(c: str) -> Any:
-        if c in _TEXT_COLUMNS:
-            return pa.string()
-        return pa.int64() if c in _INT_COLUMNS else pa.float64()
-
-    units = column_units(header)
-    return pa.schema([pa.field(c, kind(c), metadata={"units": units[c]}) for c in header])
-
-
-def _parquet_chunk(rows_text: str, schema: Any) -> Any:
-    """A chunk's CSV rows as a pyarrow table of ``schema`` (``_parquet_schema``)."""
-    import pyarrow as pa
-
-    rows = list(csv.reader(io.StringIO(rows_text)))
-    columns = list(zip(*rows, strict=True)) if rows else [() for _ in schema]
-    arrays = []
-    for field, column in zip(schema, columns, strict=True):
-        if field.type == pa.string():
-            values: list[Any] = list(column)
-        elif field.type == pa.int64():
-            values = [int(v) for v in column]
-        else:
-            values = [float(v) for v in column]
-        arrays.append(pa.array(values, type=field.type))
-    return pa.Table.from_arrays(arrays, schema=schema)
 
 
 #: Memory of one draw's two scenarios besides their gust series (objects, parameters, wind
@@ -369,7 +317,7 @@ def check_nominal_designs(base: Scenario) -> None:
     check_design(base.replace(configuration="tethered"))
 
 
-def run_montecarlo(
+def run_montecarlo_chunks(
     base: Scenario,
     config: MonteCarloConfig,
     out: str | Path,
@@ -382,16 +330,15 @@ def run_montecarlo(
     worker_timeout_s: float = 60.0,
     inputs: tuple[str | Path, ...] = (),
     force: bool = False,
-    table_format: str = "csv",
-    metric: str = "peak_q1",
-    figure_format: str = "png",
-) -> dict[str, Any] | None:
-    """Run (or resume) a Monte Carlo and write its outputs to ``out``.
+    outputs: Collection[str] = (),
+) -> MonteCarloJob | None:
+    """Run (or resume) the draws of a Monte Carlo into ``out/partial/``; the finished job's
+    results folder is ``report.montecarlo.run_montecarlo``'s.
 
     ``out`` follows the rules of ``_io.output_directory``: not the current, home or root
     directory nor one holding the ``inputs``; a folder tetherheli did not create must be empty
-    (or ``force``; its files are kept), and ``results.csv``, ``summary.json`` and the figures
-    replace only files this command wrote.
+    (or ``force``; its files are kept). It is claimed, and each of ``outputs`` checked, before
+    the first run.
 
     Parameters
     ----------
@@ -415,25 +362,19 @@ def run_montecarlo(
         Run the chunks on this Dask cluster (``sim.batch.connect``); same table as in-process.
     worker_timeout_s : float
         With ``client``: how long the cluster may have no worker before ``ClusterError``.
-    table_format : {"csv", "parquet"}
-        The results table: ``results.csv`` (default) or ``results.parquet`` (pyarrow; the
-        same columns, text columns as strings, ``run`` and ``status`` as int64, the rest
-        float64).
     inputs : tuple of str or Path, optional
         The input files (the scenario), which ``out`` must not hold; recorded with the
         folder's marker.
     force : bool, optional
         Write into a non-empty folder tetherheli did not create (its files are kept).
-    metric : str
-        The metric of the figures (one of ``METRICS``): histogram, CDF and the paired
-        free-against-tethered scatter per draw.
-    figure_format : str
-        "png", "pdf" or "svg" (``viz.plots.FIGURE_FORMATS``).
+    outputs : collection of str, optional
+        The files the results folder will hold (``report.montecarlo.result_files``): each
+        may replace only a file this command wrote, refused now, not after the runs.
 
     Returns
     -------
-    dict or None
-        The summary (also written to ``summary.json``), or None if stopped by ``max_chunks``.
+    MonteCarloJob or None
+        The finished job, or None if stopped by ``max_chunks``.
 
     Raises
     ------
@@ -451,26 +392,19 @@ def run_montecarlo(
     on. On every call each finished chunk file is verified against its last line (draw range,
     row count, SHA-256) and by its rows (each the draw index, seed and configuration it should
     be); one that fails, or a link or an empty folder in its place, is named in one line on
-    stderr and computed again. ``out/partial`` may not be a link. The results, summary and
-    figures are built aside and swapped in whole (``_io.output_directory``).
+    stderr and computed again. ``out/partial`` may not be a link.
     """
     if not isinstance(config, MonteCarloConfig):
         raise TypeError("config must be a MonteCarloConfig")
     check_nominal_designs(base)
-    from ...viz.plots import check_figure_format
-
     check_integer("runs", config.runs, low=1, high=MAX_RUNS)
-    if metric not in METRICS:
-        raise ParameterError("metric", metric, f"one of {list(METRICS)}")
-    figure_format = check_figure_format(figure_format)
-    files = result_files(metric, figure_format, check_result_format(table_format))
     chunk_size = check_integer("chunk_size", chunk_size, low=1, high=1_000_000)
     if max_chunks is not None:
         max_chunks = check_integer("max_chunks", max_chunks, low=0, high=MAX_RUNS)
     check_chunk_memory(base, min(chunk_size, config.runs))
     check_memory(  # the statistics hold the table's numeric columns at the end
         f"the results table of {config.runs} draws",
-        2 * config.runs * _ColumnReader.ROW_BYTES,
+        2 * config.runs * MonteCarloColumns.ROW_BYTES,
         hint="run fewer draws",
     )
     out = Path(out)
@@ -479,7 +413,7 @@ def run_montecarlo(
     part = out / "partial"
     check_real_folders(out, "partial/job.json", shown=f"--out {out}")
     claim_output_directory(out, inputs=inputs, force=force, own=lambda rel: _is_job_file(out, rel))
-    for name in files:  # refused now, not after the runs
+    for name in outputs:  # refused now, not after the runs
         check_output_file(out / name)
     part.mkdir(parents=True, exist_ok=True)
     fp = _fingerprint(base, config, chunk_size)
@@ -525,50 +459,7 @@ def run_montecarlo(
             atomic_write_text(path, _seal(rows, lo, hi))
             computed += 1
             bar.update_to(hi)
-    table = _ColumnReader(header)
-
-    def verified_chunks() -> Iterator[str]:
-        for lo, hi in _chunks(n, chunk_size):
-            path = _chunk_path(part, lo, hi)
-            try:
-                text = _chunk_rows(path, lo, hi, header, config.seed)
-            except _BadChunk as exc:
-                raise TetherheliError(
-                    f"{path} {exc} after it was verified (changed by another process?); "
-                    "run the same command again"
-                ) from None
-            table.add(text)
-            yield text
-
-    # built aside and swapped in whole (the figures of another metric or format stay);
-    # streamed: one chunk in memory at a time
-    with output_directory(
-        out,
-        writer="montecarlo",
-        inputs=inputs,
-        force=force,
-        own=lambda rel: _is_job_file(out, rel),
-        remove_earlier=False,
-    ) as build:
-        if table_format == "parquet":
-            import pyarrow.parquet as pq
-
-            schema = _parquet_schema(header)
-            with atomic_path(build / files[0]) as tmp:
-                with pq.ParquetWriter(tmp, schema) as writer:
-                    for text in verified_chunks():
-                        writer.write_table(_parquet_chunk(text, schema))
-        else:
-            with atomic_open(build / files[0]) as fh:
-                fh.write(",".join(header) + "\n")
-                for text in verified_chunks():
-                    fh.write(text)
-        columns = table.arrays()
-        text = json.dumps(_summarize(base, config, columns), indent=2) + "\n"
-        atomic_write_text(build / "summary.json", text)
-        summary: dict[str, Any] = json.loads(text)
-        _figures(build, columns, metric, figure_format)
-    return summary
+    return MonteCarloJob(base, config, out, chunk_size, tuple(header))
 
 
 def _is_job_file(out: Path, rel: str) -> bool:
@@ -576,28 +467,145 @@ def _is_job_file(out: Path, rel: str) -> bool:
     return rel.startswith("partial/") and (out / "partial" / "job.json").is_file()
 
 
-class _ColumnReader:
+@dataclass(frozen=True)
+class MonteCarloJob:
+    """A finished Monte Carlo (``run_montecarlo_chunks``): its table lives in the verified
+    chunk files of ``out/partial/``, read one chunk at a time (``chunks``), so that a job
+    of any N is summarized in bounded memory (``MonteCarloColumns``, ``summarize``).
+
+    Parameters
+    ----------
+    base : Scenario
+        The nominal scenario.
+    config : MonteCarloConfig
+        Dispersions, N and seed.
+    out : Path
+        The job's output directory (its chunks in ``out/partial/``).
+    chunk_size : int
+        Draws per chunk file.
+    header : tuple of str
+        The results table's columns (units: ``column_units``).
+    """
+
+    base: Scenario
+    config: MonteCarloConfig
+    out: Path
+    chunk_size: int
+    header: tuple[str, ...]
+
+    def owns(self, rel: str) -> bool:
+        """Whether ``rel`` (a path relative to ``out``) is a file of the job's own
+        ``partial/`` folder (``_io.output_directory``'s ``own``).
+
+        Parameters
+        ----------
+        rel : str
+            A path relative to ``out``, with "/" separators.
+
+        Returns
+        -------
+        bool
+        """
+        return _is_job_file(self.out, rel)
+
+    def chunks(self, columns: MonteCarloColumns | None = None) -> Iterator[str]:
+        """The table's rows (CSV text without its header), one verified chunk at a time, in
+        draw order; each is added to ``columns`` first, if given.
+
+        Parameters
+        ----------
+        columns : MonteCarloColumns, optional
+            Collects the numeric columns while the table is read.
+
+        Returns
+        -------
+        iterator of str
+            Each chunk's rows, as results.csv holds them (read when the iterator gets there).
+
+        Raises
+        ------
+        TetherheliError
+            A chunk file changed since the job verified it (another process).
+        """
+        part, header = self.out / "partial", list(self.header)
+        for lo, hi in _chunks(self.config.runs, self.chunk_size):
+            path = _chunk_path(part, lo, hi)
+            try:
+                text = _chunk_rows(path, lo, hi, header, self.config.seed)
+            except _BadChunk as exc:
+                raise TetherheliError(
+                    f"{path} {exc} after it was verified (changed by another process?); "
+                    "run the same command again"
+                ) from None
+            if columns is not None:
+                columns.add(text)
+            yield text
+
+    def summarize(self, columns: dict[str, np.ndarray]) -> dict[str, Any]:
+        """The job's summary (summary.json): per configuration the counts, percentiles with
+        failed runs in the tail and their bootstrap intervals; the paired reduction by the
+        tether; the configuration, version, N, seed and the columns' units.
+
+        Parameters
+        ----------
+        columns : dict of str to ndarray
+            The table's columns (``MonteCarloColumns.arrays``).
+
+        Returns
+        -------
+        dict
+            Plain data (JSON: a percentile among the failed runs is None).
+        """
+        return _summarize(self.base, self.config, columns)
+
+
+class MonteCarloColumns:
     """The configuration, status and metric columns of the results table, collected while it
     is written: 8 bytes a number and 1 a configuration (``ROW_BYTES`` a row with the final
-    arrays), not Python objects; the table is not read back."""
+    arrays), not Python objects; the table is not read back.
+
+    Parameters
+    ----------
+    header : sequence of str
+        The table's columns (``MonteCarloJob.header``).
+    """
 
     _NUMERIC = ("status", *METRIC_NAMES, "release_time")
     #: bytes a row of the table holds here: the numbers, the configuration code, and the
     #: configuration names of ``arrays`` (numpy '<U8', 32 bytes)
     ROW_BYTES = 8 * len(_NUMERIC) + 1 + 32
 
-    def __init__(self, header: list[str]) -> None:
+    def __init__(self, header: Sequence[str]) -> None:
+        header = list(header)
         self._where = {k: header.index(k) for k in ("configuration", *self._NUMERIC)}
         self._cols = {k: array("d") for k in self._NUMERIC}
         self._configuration = array("b")
 
     def add(self, chunk_text: str) -> None:
+        """Collect a chunk's rows.
+
+        Parameters
+        ----------
+        chunk_text : str
+            CSV rows of the table, without its header.
+
+        Returns
+        -------
+        None
+        """
         for row in csv.reader(io.StringIO(chunk_text)):
             self._configuration.append(CONFIGURATIONS.index(row[self._where["configuration"]]))
             for k in self._NUMERIC:
                 self._cols[k].append(float(row[self._where[k]]))
 
     def arrays(self) -> dict[str, np.ndarray]:
+        """The collected columns: "configuration" (names), "status", the metrics and
+        "release_time", each of shape (rows,).
+
+        Returns
+        -------
+        dict of str to ndarray
+        """
         out = {k: np.frombuffer(self._cols[k], dtype=float) for k in self._NUMERIC}
         codes = np.frombuffer(self._configuration, dtype=np.int8)
         out["configuration"] = np.array(CONFIGURATIONS)[codes]
@@ -716,16 +724,30 @@ def _summarize(
     }
 
 
-def _figures(out: Path, columns: dict[str, np.ndarray], metric: str, figure_format: str) -> None:
-    """Histogram, CDF and paired scatter of ``metric`` (``viz.plots``)."""
-    from ...viz.plots import figure_montecarlo, figure_paired, save_figure
+def paired_metric(
+    columns: dict[str, np.ndarray], metric: str
+) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """Each draw's ``metric`` and completion per configuration, side by side by draw (what the
+    Monte Carlo's figures draw, ``viz.plots.figure_montecarlo`` and ``figure_paired``).
 
+    Parameters
+    ----------
+    columns : dict of str to ndarray
+        A job's table columns (``MonteCarloColumns.arrays``: draw i's free row, then its
+        tethered row).
+    metric : str
+        One of ``METRICS``.
+
+    Returns
+    -------
+    values : dict of str to ndarray
+        Configuration -> the metric per draw, shape (N,).
+    ok : dict of str to ndarray
+        Configuration -> whether the draw's run completed (``Status.OK``), shape (N,).
+    """
     pairs = _paired(columns)
-    assert pairs is not None  # the job's own table
+    if pairs is None:
+        raise ValueError("columns: not a Monte Carlo job's table (free and tethered rows)")
     values = {cfg: pairs[metric][:, c] for c, cfg in enumerate(CONFIGURATIONS)}
     ok = {cfg: pairs["ok"][:, c] for c, cfg in enumerate(CONFIGURATIONS)}
-    for kind in ("hist", "cdf"):
-        fig = figure_montecarlo(values, ok, kind, metric=metric)
-        save_figure(fig, out / f"{metric}_{kind}.{figure_format}")
-    fig = figure_paired(values["free"], values["tethered"], ok["free"], ok["tethered"], metric)
-    save_figure(fig, out / f"{metric}_paired.{figure_format}")
+    return values, ok
