@@ -6,14 +6,12 @@ of its parts alone, each in a compiled loop of the block's sample count:
 
 - ``rk4``: ``lanes.rk4_lanes`` over every lane, the state put back to the start before each
   sample (so that the lanes fly the hover, not an uncontrolled fall);
-- ``sample``: one lane's control sample (``engine.paper_sample``: sensing, the paper's law,
-  actuators and checks) and its metrics (``summary.accumulate``) on borrowed arrays, as the
-  lane loop runs it, at the start state.
+- ``sample``: the block's control sample (``lane_sample.lane_sample``: sensing, the paper's
+  law, actuators, checks and metrics of every lane at once), at the start state.
 
-``rest`` = whole - rk4 - LANES x sample is the lane loop's own bookkeeping (copies between
-the lanes' flat arrays and each lane's rows, parking). Each figure is the best of
-``--repeat`` timings, the parts interleaved over ``--rounds``; a shared machine drifts, so
-compare figures of one run only.
+``rest`` = whole - rk4 - sample is the lane loop's own bookkeeping (finished lanes, parking).
+Each figure is the best of ``--repeat`` timings, the parts interleaved over ``--rounds``; a
+shared machine drifts, so compare figures of one run only.
 
 Run: python benchmarks/lane_profile.py [--repeat 15] [--rounds 3]
 """
@@ -27,23 +25,24 @@ import numpy as np
 from bench_minimal_loop import best_warm, dispersed_runs
 from numba import njit
 
-from tetherheli._compile import borrowed, keep_alive
 from tetherheli.layout import (
+    ACT_DRUM,
+    ACT_SIZE,
     CFG_ATTACHED,
     CFG_DT,
     CFG_GUST_DT,
     CFG_K_C,
     CFG_N_SUB,
+    CTRL_LAW,
+    HELD_SIZE,
     LANES,
-    LAW_Z0,
     SUMMARY_FIELDS,
 )
 from tetherheli.model.kernels import angle_trig
-from tetherheli.sim import engine, lanes
+from tetherheli.sim import lane_sample, lanes
 from tetherheli.sim.lanes import lane_block
 from tetherheli.sim.scenario import paper_scenario
 from tetherheli.sim.setup import engine_setup
-from tetherheli.sim.summary import accumulate, start_summary
 
 
 @njit(error_model="numpy", cache=True)
@@ -63,26 +62,29 @@ def rk4_only(n, x0, sc00, inp, rate, h, n_sub, attached, k_c, c, wind):
 
 
 @njit(error_model="numpy", cache=True)
-def sample_only(n, x_in, cfg_in, ctrl_in, act, sensors, c, law):
-    """One lane's ``paper_sample`` and ``accumulate`` n times at the start state."""
-    own_x, own_cfg, own_ctrl = x_in.copy(), cfg_in.copy(), ctrl_in.copy()
-    own_work = np.empty((engine.RK4_WORK_ROWS, 13))
-    own_loop = engine._loop_state(x_in, law[LAW_Z0], own_work)
-    own_no_action, own_summary = np.zeros(4), np.zeros(len(SUMMARY_FIELDS))
-    x, cfg, ctrl, no_action, summary = borrowed(
-        (own_x, own_cfg, own_ctrl, own_no_action, own_summary)
-    )
-    act, sensors, c, law, loop = borrowed((act, sensors, c, law, own_loop))
-    x_ref, y, y_ref = law[1], loop[7], law[2]
-    start_summary(summary)
+def sample_only(n, x_init, cfg, ctrl, act, sensors, c, law):
+    """The block's control sample (``lane_sample.lane_sample``: sensing, the law, actuators,
+    checks and metrics of every lane at once) n times at the start state."""
+    gain, x_ref, y_ref, u0, u0_free, z0 = law
+    x = np.empty(13 * LANES)
+    c_lanes = np.empty(c.shape[1] * LANES)
+    for j in range(LANES):
+        for i in range(13):
+            x[i * LANES + j] = x_init[j, i]
+        for i in range(c.shape[1]):
+            c_lanes[i * LANES + j] = c[j, i]
+    sensed = sensors[1] > 0
+    drum = act[:, ACT_DRUM] > 0.5
+    tether_law = ctrl[0, CTRL_LAW] > 0.5
+    state = lane_sample.lane_state(cfg, ctrl, act, z0, x, sensed.any(), len(SUMMARY_FIELDS))
+    block_law = lane_sample.lane_law(gain, x_ref, y_ref, u0, u0_free, tether_law)
+    rows = (np.empty(13), np.empty(13), np.empty(HELD_SIZE), np.empty(ACT_SIZE))
+    active = np.ones(LANES, np.bool_)
     total = 0.0
     for k in range(n):
-        status, tension, rate = engine.paper_sample(
-            x, k, cfg, ctrl, act, sensors, c, law, loop, no_action, engine.ACTION_NONE
-        )
-        accumulate(summary, x, x_ref, y, y_ref, tension)
-        total += rate + status
-    keep_alive((own_x, own_cfg, own_ctrl, own_work, own_loop, own_no_action, own_summary))
+        lane_sample.lane_sample(k, x, state, block_law, c_lanes, active, sensed, sensors, drum,
+                                rows, tether_law)  # fmt: skip
+        total += state.rate[0] + state.status[0]
     return total
 
 
@@ -113,8 +115,7 @@ def main() -> None:
         n, flat(x_init), flat(sc_init), inp, np.zeros(LANES), h, int(cfg[0, CFG_N_SUB]),
         cfg[:, CFG_ATTACHED].copy(), cfg[:, CFG_K_C].copy(), flat(c), lane_wind,
     )  # fmt: skip
-    one = setups[0].engine_args(n)
-    sample_args = (n, one[0], one[2], one[3], one[7], one[8], one[4], one[5])
+    sample_args = (n, x_init, cfg, block[3], block[7], block[8], c, law)
     parts = {
         "whole": lambda: lanes.run_lanes(*block, summary, status, done),
         "rk4": lambda: rk4_only(*rk4_args),
@@ -128,7 +129,7 @@ def main() -> None:
     figures = {
         "whole_ns": best["whole"] * per,
         "rk4_ns": best["rk4"] * per,
-        "sample_ns": best["sample"] * 1e9 / n,
+        "sample_ns": best["sample"] * per,
     }
     figures["rest_ns"] = figures["whole_ns"] - figures["rk4_ns"] - figures["sample_ns"]
     figures["sample_share"] = figures["sample_ns"] / figures["whole_ns"]

@@ -12,7 +12,12 @@ import pytest
 
 from tetherheli.analysis import run_metrics
 from tetherheli.layout import CTRL_LAW, LANES, SUMMARY_FIELDS, WIND_SINE, Signals
-from tetherheli.model.kernels import SIN_BRANCHLESS_MAX_ARG, sin_branchless
+from tetherheli.model.kernels import (
+    SIN_BRANCHLESS_MAX_ARG,
+    angle_trig,
+    angle_trig_lanes,
+    sin_branchless,
+)
 from tetherheli.sensing.config import SensorConfig
 from tetherheli.sim import engine, lanes, simulate
 from tetherheli.sim.batch import run_batch
@@ -177,6 +182,21 @@ def test_sin_branchless_agrees_with_libm():
     got = np.array([sin_branchless(x) for x in xs])
     want = np.sin(xs)
     assert np.max(np.abs(got - want)) <= 2.3e-16
+
+
+def test_angle_trig_lanes_equals_angle_trig():
+    """The lanes' sine and cosine of the angles (``angle_trig_lanes``) are the single run's
+    (``angle_trig``, libm) bit for bit."""
+    rng = np.random.default_rng(4)
+    x = np.zeros((LANES, 13))
+    x[:, :5] = rng.uniform(-3.5, 3.5, (LANES, 5))
+    one = np.empty((LANES, 10))
+    for j in range(LANES):
+        angle_trig(x[j], one[j])
+    flat = np.empty(10 * LANES)
+    angle_trig_lanes(np.ascontiguousarray(x.T).ravel(), flat)
+    np.testing.assert_array_equal(flat.reshape(10, LANES).T, one)
+    np.testing.assert_array_equal(one[:, :5], np.sin(x[:, :5]))
 
 
 def test_lane_wind_converts_no_float_to_integer():

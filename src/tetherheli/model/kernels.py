@@ -59,11 +59,37 @@ kinematics_tethered_HO = _jit(gen.kinematics_tethered_HO)
 kinematics_tether_length = _jit(gen.kinematics_tether_length)
 
 #: Angle steps up to this size [rad] are applied by the angle-addition formulas with the
-#: Taylor series of sin and cos (truncation below 1e-19 relative); larger ones ``sincos``.
+#: Taylor series of sin and cos (truncation below 1e-19 relative); larger ones call libm.
 TRIG_STEP_MAX = 0.05
 # Taylor coefficients of sin and cos (multiplications only: no division in the hot loop)
 _S3, _S5, _S7, _S9 = -1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362880.0
 _C2, _C4, _C6, _C8 = -0.5, 1.0 / 24.0, -1.0 / 720.0, 1.0 / 40320.0
+
+
+@_jit_inline
+def angle_trig(x, sc):
+    """sc (10,) = [sin x[0..4], cos x[0..4]] of the angles q4..q8 (libm)."""
+    for i in range(5):
+        a = x[i]  # one load: sin and cos of it fuse into one sincos call
+        s = math.sin(a)
+        c = math.cos(a)
+        sc[i] = s
+        sc[5 + i] = c
+
+
+@_jit_inline
+def angle_trig_lanes(x, sc):
+    """``angle_trig`` for every lane of flat (variable, lane) arrays (``layout.LANES``): x
+    (13 LANES,), sc (10 LANES,). libm's sine and cosine lane by lane, in a loop of their own
+    (libm has no vector form equal to its scalar one; the lane engine's other loops
+    vectorise), so every lane equals ``angle_trig`` bit for bit."""
+    for i in range(5):
+        for j in range(LANES):
+            a = x[i * LANES + j]
+            s = math.sin(a)
+            c = math.cos(a)
+            sc[i * LANES + j] = s
+            sc[(5 + i) * LANES + j] = c
 
 
 @_jit_inline
@@ -100,13 +126,13 @@ SIN_BRANCHLESS_MAX_ARG = 1.0e5
 
 
 @_jit_inline
-def sincos_branchless(x):
-    """(sin x, cos x) with no branch and no call (Cody-Waite reduction by pi/2, then fdlibm's
-    kernel polynomials), so a loop over lanes that uses it vectorises. Agrees with libm to
-    within an ulp for |x| <= SIN_BRANCHLESS_MAX_ARG (a test checks it). The quadrant is
-    rounded as a float (``np.floor``; ``math.floor`` returns an integer, and without AVX-512
-    a vector of doubles has no conversion to 64-bit integers and back: each lane was
-    converted alone, issue 24); its values are the same."""
+def sin_branchless(x):
+    """sin x with no branch and no call (Cody-Waite reduction by pi/2, then fdlibm's kernel
+    polynomials), so a loop over lanes that uses it vectorises. Agrees with libm to a few
+    units in the last place for |x| <= SIN_BRANCHLESS_MAX_ARG (a test checks it). The
+    quadrant is rounded as a float (``np.floor``; ``math.floor`` returns an integer, and
+    without AVX-512 a vector of doubles has no conversion to 64-bit integers and back: each
+    lane was converted alone, issue 24); its values are the same."""
     k = np.floor(x * _TWO_OVER_PI + 0.5)
     r = ((x - k * _PIO2_1) - k * _PIO2_2) - k * _PIO2_3
     z = r * r
@@ -117,72 +143,24 @@ def sincos_branchless(x):
         + z * z * (_K_C1 + z * (_K_C2 + z * (_K_C3 + z * (_K_C4 + z * (_K_C5 + z * _K_C6)))))
     )
     quadrant = k - 4.0 * np.floor(0.25 * k)  # k mod 4, in {0, 1, 2, 3}
-    odd = quadrant == 1.0 or quadrant == 3.0
-    s = cos_r if odd else sin_r
-    c = sin_r if odd else cos_r
-    # x = k pi/2 + r: sin x = sin r, cos r, -sin r, -cos r and cos x = cos r, -sin r, -cos r,
-    # sin r in the quadrants 0, 1, 2, 3
-    return (-s if quadrant >= 2.0 else s), (-c if (quadrant == 1.0 or quadrant == 2.0) else c)
-
-
-@_jit_inline
-def sin_branchless(x):
-    """sin x of ``sincos_branchless`` (the wind profiles' sine, vectorised over lanes)."""
-    return sincos_branchless(x)[0]
-
-
-@_jit_inline
-def sincos(a):
-    """(sin a, cos a) of the engine's angles: ``sincos_branchless`` for |a| <=
-    SIN_BRANCHLESS_MAX_ARG, libm beyond (and for NaN). The one rule of ``angle_trig`` and its
-    lane form, and of the angle-addition fallbacks."""
-    if abs(a) <= SIN_BRANCHLESS_MAX_ARG:
-        return sincos_branchless(a)
-    return math.sin(a), math.cos(a)
-
-
-@_jit_inline
-def angle_trig(x, sc):
-    """sc (10,) = [sin x[0..4], cos x[0..4]] of the angles q4..q8 (``sincos_branchless``,
-    within an ulp of libm; libm beyond SIN_BRANCHLESS_MAX_ARG). ``angle_trig_lanes`` does the
-    same for a block of lanes, vectorised: a lane equals a single run bit for bit."""
-    for i in range(5):
-        sc[i], sc[5 + i] = sincos(x[i])
-
-
-@_jit_inline
-def angle_trig_lanes(x, sc):
-    """``angle_trig`` for every lane of flat (variable, lane) arrays (``layout.LANES``): x
-    (13 LANES,) or (5 LANES,) and more, sc (10 LANES,). One branch-free pass over the lanes
-    (vectorised), then ``sincos`` for the entries beyond SIN_BRANCHLESS_MAX_ARG (or NaN), so
-    every lane equals ``angle_trig`` bit for bit."""
-    big = False
-    n_lanes = sc.shape[0] // 10  # LANES, at run time: the loop vectorises, not unrolls
-    for i in range(5):
-        for j in range(n_lanes):
-            a = x[i * LANES + j]
-            s, c = sincos_branchless(a)
-            sc[i * LANES + j] = s
-            sc[(5 + i) * LANES + j] = c
-            big |= not abs(a) <= SIN_BRANCHLESS_MAX_ARG
-    if big:
-        for i in range(5):
-            for j in range(LANES):
-                a = x[i * LANES + j]
-                if not abs(a) <= SIN_BRANCHLESS_MAX_ARG:
-                    sc[i * LANES + j], sc[(5 + i) * LANES + j] = sincos(a)
+    value = cos_r if (quadrant == 1.0 or quadrant == 3.0) else sin_r
+    return -value if quadrant >= 2.0 else value
 
 
 @_jit_inline
 def angle_trig_from(x, x_base, sc_base, sc):
     """``angle_trig(x, sc)`` from the values sc_base at a nearby x_base, without libm
     (``rotate_trig`` with d = x - x_base). Agrees with libm to a few units in the last place;
-    steps larger than TRIG_STEP_MAX fall back to ``sincos``. The RK4 stages use it: sin and
-    cos are half of a derivative's cost."""
+    steps larger than TRIG_STEP_MAX fall back to libm. The RK4 stages use it: sin and cos
+    are half of a derivative's cost."""
     for i in range(5):
         d = x[i] - x_base[i]
         if abs(d) > TRIG_STEP_MAX:
-            sc[i], sc[5 + i] = sincos(x[i])
+            a = x[i]
+            s = math.sin(a)
+            c = math.cos(a)
+            sc[i] = s
+            sc[5 + i] = c
             continue
         sc[i], sc[5 + i] = rotate_trig(sc_base[i], sc_base[5 + i], d)
 
@@ -191,8 +169,8 @@ def angle_trig_from(x, x_base, sc_base, sc):
 def angle_trig_from_lanes(x, x_base, sc_base, sc):
     """``angle_trig_from`` for every lane of flat (variable, lane) arrays (``layout.LANES``):
     x, x_base (13 LANES,), sc_base, sc (10 LANES,). One branch-free pass over the lanes
-    (vectorised), then ``sincos`` for the entries whose step exceeds TRIG_STEP_MAX, so every
-    lane equals ``angle_trig_from`` bit for bit."""
+    (vectorised), then libm for the entries whose step exceeds TRIG_STEP_MAX, so every lane
+    equals ``angle_trig_from`` bit for bit."""
     big = False
     n_lanes = x.shape[0] // 13  # LANES, at run time: the loop vectorises, not unrolls
     for i in range(5):
@@ -207,7 +185,10 @@ def angle_trig_from_lanes(x, x_base, sc_base, sc):
             for j in range(LANES):
                 a = x[i * LANES + j]
                 if abs(a - x_base[i * LANES + j]) > TRIG_STEP_MAX:
-                    sc[i * LANES + j], sc[(5 + i) * LANES + j] = sincos(a)
+                    s = math.sin(a)
+                    c = math.cos(a)
+                    sc[i * LANES + j] = s
+                    sc[(5 + i) * LANES + j] = c
 
 
 @_jit_inline

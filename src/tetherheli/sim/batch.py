@@ -7,11 +7,12 @@ never O(N x samples). Each run is packed by the same set-up as ``simulate``
 (``setup.engine_setup``: trim, gain, wind, actuators, sensor noise).
 
 By default the runs go in blocks of ``layout.LANES`` through the lane engine
-(``lanes.run_lanes``): each sample runs every lane's controller, sensors and checks with the
-function a single run uses (``engine.paper_sample``), then integrates all lanes at once with
-vectorised arithmetic (``lanes.rk4_lanes``). A lane performs the operations of a single run
-in the same order, so a batch's numbers equal ``simulate``'s bit for bit (a test checks it
-over dispersed runs with actuators, sensors, turbulence, releases and failures). With
+(``lanes.run_lanes``): each sample runs every lane's sensors, controller, actuators, checks
+and metrics at once (``lane_sample.lane_sample``, on the single run's scalar kernels), then
+integrates all lanes at once (``lanes.rk4_lanes``), both as vectorised loops over the lanes.
+A lane performs the operations of a single run in the same order, so a batch's numbers
+equal ``simulate``'s bit for bit (a test checks it over dispersed runs with actuators,
+sensors, turbulence, releases and failures). With
 ``lanes=False`` every run goes alone through ``engine.run_closed_loop``.
 
 Blocks (or single runs) are spread over threads; ``run_block`` and ``run_unrecorded`` are

@@ -301,11 +301,12 @@ def _measure(k, x, s, lanes_sensed, sensors, rows):
 
 
 @_jit_inline
-def _lqi(law, s, q9, use_off, n_cols):
+def _lqi(law, s, q9, use_off, n_cols, two_sets):
     """The LQI's rotor commands (``control.paper.paper_control_sc``'s sums, each row in its
     order): inp = u0 - K (x - x_ref) - K_z z with q9 in place of x[5], over the gain's rows
     for the winch running or stopped (``use_off``) and u0 of the tethered or free trim.
-    ``n_cols`` is the gain's column count, a constant at each call site: the sum over the
+    ``n_cols`` is the gain's column count and ``two_sets`` whether the law has rows for the
+    winch stopped (the tethered LQI's), constants at each call site: the sum over the
     columns then unrolls and the loop over the lanes, innermost, vectorises."""
     x, z, cfg, inp = s.x_meas, s.z, s.cfg, s.inp
     on, off, u0, u0_free, x_ref = law.gain_on, law.gain_off, law.u0_tethered, law.u0_free, law.x_ref
@@ -323,8 +324,12 @@ def _lqi(law, s, q9, use_off, n_cols):
                 else:
                     d = z[(col - n_x) * LANES + j]
                 e = row + col * LANES + j
-                g_on, g_off = on[e], off[e]
-                acc -= (g_off if stopped else g_on) * d
+                if not two_sets:  # the paper's law (a constant: folded at compile time)
+                    g = on[e]
+                else:
+                    g_on, g_off = on[e], off[e]
+                    g = g_off if stopped else g_on
+                acc -= g * d
             inp[i * LANES + j] = acc
 
 
@@ -350,12 +355,12 @@ def _law(law, s, c, tether_law):
             x[5 * LANES + j], x[12 * LANES + j], s.measured[j], ctrl[CTRL_TENSION_K_C * LANES + j]
         )
         q9[j] = q9_tension if (tethered and winch_on) else x[5 * LANES + j]
-    # the paper's law (4, 16) or the tethered LQI (9, 17), ``control.paper.check_law``: two
-    # call sites, each with its column count a constant (``_lqi``)
-    if law.n_cols == 16:
-        _lqi(law, s, q9, use_off, 16)
+    # the tethered LQI (9, 17) or the paper's law (4, 16) (``control.paper.check_law``): two
+    # call sites, each with its shape a constant (``_lqi``)
+    if tether_law:
+        _lqi(law, s, q9, use_off, 17, True)
     else:
-        _lqi(law, s, q9, use_off, 17)
+        _lqi(law, s, q9, use_off, 16, False)
     tethered_tether_torque_lanes(x, s.sc_meas, s.measured, c, torque)
     for j in range(n):
         on = ctrl[CTRL_FFWD * LANES + j] > 0.5

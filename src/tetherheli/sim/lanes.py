@@ -294,6 +294,8 @@ def run_lanes(
             raise ValueError("run_lanes: every lane must take the same RK4 steps per sample")
         if (ctrl_in[j, CTRL_LAW] > 0.5) != tether_law:
             raise ValueError("run_lanes: every lane must fly the same law")
+    if gain.shape[2] != (17 if tether_law else 16):  # the laws' shapes (``check_law``)
+        raise ValueError("run_lanes: a gain of another law's shape")
     noise_rows = sensors[1]
     lanes_sensed = noise_rows > 0
     lanes_drum = act[:, ACT_DRUM] > 0.5
@@ -372,18 +374,19 @@ def run_lanes(
             rate[j] = state.rate[j] if running else 0.0
             t0[j] = k * cfg[CFG_DT * LANES + j] if running else 0.0
             attached[j] = cfg[CFG_ATTACHED * LANES + j] if running else 0.0
-        for i in range(13):
-            for j in range(LANES):
-                e = i * LANES + j
-                x[e] = x[e] if active[j] else x_init[j, i]
-        for i in range(10):
-            for j in range(LANES):
-                e = i * LANES + j
-                state.sc_true[e] = state.sc_true[e] if active[j] else sc_init[e]
-        for i in range(4):
-            for j in range(LANES):
-                e = i * LANES + j
-                state.inp[e] = state.inp[e] if active[j] else u0[j, i]
+        if n_active < LANES:  # some lane parked
+            for i in range(13):
+                for j in range(LANES):
+                    e = i * LANES + j
+                    x[e] = x[e] if active[j] else x_init[j, i]
+            for i in range(10):
+                for j in range(LANES):
+                    e = i * LANES + j
+                    state.sc_true[e] = state.sc_true[e] if active[j] else sc_init[e]
+            for i in range(4):
+                for j in range(LANES):
+                    e = i * LANES + j
+                    state.inp[e] = state.inp[e] if active[j] else u0[j, i]
         rk4_lanes(x, state.sc_true, state.inp, rate, t0, h, n_sub, attached, k_c, c_lanes,
                   lane_wind, work)  # fmt: skip
         k += 1
