@@ -9,13 +9,15 @@ branch on a lane's data (a lane's choices are selects), so the compiler vectoris
 formulas are the single run's own: the scalar kernels (``engine.state_status``,
 ``engine.actuator_value``, ``engine.payout_limited_rate``, ``control.paper.winch_pi``,
 ``control.paper.reel_command``, ``control.paper.tension_q9_of``, ``summary.larger``,
-``kernels.sincos``) and the generated lane forms of the outputs and the tether's torque
+``summary.smaller``) and the generated lane forms of the outputs and the tether's torque
 (``model.codegen``); the LQI's sums run in the single run's order. So each lane performs a
 single run's operations in the same order and equals it bit for bit (``tests/test_lanes.py``).
 
-Two parts stay per lane, on the lane's rows gathered and scattered back: a noisy sensor suite
+Three parts stay lane by lane: libm's sine and cosine of the angles
+(``kernels.angle_trig_lanes``: libm has no vector form equal to its scalar one), and, on the
+lane's rows gathered and scattered back, a noisy sensor suite
 (``sensing.sensors.measure_sampled``, with its history ring and schedule) and the drum winch
-(``engine.drum_winch``); a block without them never takes those branches.
+(``engine.drum_winch``); a block without sensors or drum never takes those branches.
 """
 
 from __future__ import annotations
