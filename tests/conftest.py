@@ -9,6 +9,7 @@ that points HOME at a scratch folder would otherwise find Matplotlib's font cach
 from __future__ import annotations
 
 import atexit
+import functools
 import os
 import shutil
 import tempfile
@@ -107,6 +108,19 @@ def pytest_sessionfinish(session: pytest.Session) -> None:
 def pytest_runtest_setup(item: pytest.Item) -> None:
     if _COMPILE_LOG is not None:
         _COMPILE_LOG.test = item.nodeid
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _one_derivation_per_process():
+    """``codegen.generate_source`` (Kane's method for both models, then the code's printing:
+    about 8 s) depends on the source and SymPy only: a test process derives once, and every
+    later call (``test_derive``'s, ``tetherheli derive`` in the output tests) gets that text."""
+    from tetherheli.model import codegen
+
+    original = codegen.generate_source
+    codegen.generate_source = functools.cache(original)
+    yield
+    codegen.generate_source = original
 
 
 @pytest.fixture(scope="session")
