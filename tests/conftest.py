@@ -20,6 +20,12 @@ os.environ.setdefault(
     "NUMBA_CACHE_DIR",
     os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"),
 )
+# One thread for the BLAS (OpenBLAS, MKL) and OpenMP (PyTorch) pools of a test process and
+# of the processes it starts, unless set: under ``-n 2`` each core already runs a test, and a
+# pool's second thread only competes with the other worker (waiting threads spin), about 7 %
+# of the suite's CPU time. A test's results are then those of one path (docs/testing.md).
+for _var in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "OMP_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
 _ISOLATED = tempfile.mkdtemp(prefix="tetherheli-tests-")
 atexit.register(shutil.rmtree, _ISOLATED, ignore_errors=True)
 for _var, _sub in (
