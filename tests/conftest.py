@@ -36,10 +36,13 @@ for _var, _sub in (
     os.makedirs(os.path.join(_ISOLATED, _sub))
     os.environ[_var] = os.path.join(_ISOLATED, _sub)
 
+from typing import TYPE_CHECKING  # noqa: E402
+
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from tetherheli import FreeHelicopter, Params, TetheredHelicopter  # noqa: E402
+if TYPE_CHECKING:  # imported by the fixtures: the xdist controller starts the warm-up sooner
+    from tetherheli import FreeHelicopter, Params, TetheredHelicopter
 
 
 def pytest_configure(config: pytest.Config) -> None:
@@ -131,16 +134,22 @@ def _one_derivation_per_process():
 
 @pytest.fixture(scope="session")
 def paper() -> Params:
+    from tetherheli import Params
+
     return Params.paper()
 
 
 @pytest.fixture(scope="session")
 def tethered(paper: Params) -> TetheredHelicopter:
+    from tetherheli import TetheredHelicopter
+
     return TetheredHelicopter(paper)
 
 
 @pytest.fixture(scope="session")
 def free(paper: Params) -> FreeHelicopter:
+    from tetherheli import FreeHelicopter
+
     return FreeHelicopter(paper)
 
 
