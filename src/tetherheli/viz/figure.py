@@ -177,6 +177,8 @@ def save_figure(fig: Figure, path: str | Path, dpi: int = PRINT_DPI) -> Path:
     """Save ``fig`` atomically in the format of ``path``'s suffix (``FIGURE_FORMATS``: PNG
     at ``dpi``, default ``PRINT_DPI``; PDF, SVG as vectors, without a creation date).
 
+    A PNG holds Matplotlib's Agg pixels (``_png_bytes``): RGB where the figure is opaque.
+
     Parameters
     ----------
     fig : matplotlib.figure.Figure
@@ -195,8 +197,44 @@ def save_figure(fig: Figure, path: str | Path, dpi: int = PRINT_DPI) -> Path:
 
     path = Path(path)
     fmt = check_figure_format(path.suffix.lower().lstrip("."))
-    metadata = {"png": None, "pdf": {"CreationDate": None}, "svg": {"Date": None}}[fmt]
+    if fmt == "png":
+        atomic_write_bytes(path, _png_bytes(fig, dpi))
+        return path
+    metadata = {"pdf": {"CreationDate": None}, "svg": {"Date": None}}[fmt]
     buf = io.BytesIO()
     fig.savefig(buf, format=fmt, dpi=dpi, metadata=metadata)
     atomic_write_bytes(path, buf.getvalue())
     return path
+
+
+def _png_bytes(fig: Figure, dpi: float) -> bytes:
+    """``fig`` as a PNG at ``dpi``: the pixels Matplotlib's own PNG holds, with its
+    "Software" text and resolution, but without the alpha channel where every pixel is
+    opaque (a figure's usual white face).
+
+    Three channels instead of four: on the 2250 x 3150 pixels of a run's outputs figure at
+    300 dpi, Pillow encodes in about 0.75 of the time of Matplotlib's RGBA PNG and the file
+    is about 0.9 of its size (``tests/test_plots.py`` checks pixels and size). Where the
+    rendered size is not the figure's size at ``dpi`` (e.g. a user's ``savefig.bbox =
+    "tight"``), Matplotlib writes the PNG itself.
+    """
+    import io
+
+    import matplotlib as mpl
+    from PIL import Image, PngImagePlugin
+
+    raw = io.BytesIO()
+    fig.savefig(raw, format="rgba", dpi=dpi)  # the Agg renderer's buffer, as for a PNG
+    width, height = int(fig.get_figwidth() * dpi), int(fig.get_figheight() * dpi)
+    if raw.getbuffer().nbytes != 4 * width * height:
+        png = io.BytesIO()
+        fig.savefig(png, format="png", dpi=dpi)
+        return png.getvalue()
+    pixels = np.frombuffer(raw.getbuffer(), np.uint8).reshape(height, width, 4)
+    opaque = bool((pixels[:, :, 3] == 255).all())
+    image = Image.fromarray(np.ascontiguousarray(pixels[:, :, :3]) if opaque else pixels)
+    info = PngImagePlugin.PngInfo()
+    info.add_text("Software", f"Matplotlib version{mpl.__version__}, https://matplotlib.org/")
+    out = io.BytesIO()
+    image.save(out, format="png", pnginfo=info, dpi=(dpi, dpi))
+    return out.getvalue()
