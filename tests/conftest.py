@@ -35,6 +35,13 @@ for _var, _sub in (
 ):
     os.makedirs(os.path.join(_ISOLATED, _sub))
     os.environ[_var] = os.path.join(_ISOLATED, _sub)
+# The figures the tests write are PNGs at 100 dpi, not the 300 of print (``viz.formats.
+# PRINT_DPI``), through Matplotlib's own setting, which ``viz.figure.save_figure`` follows
+# (``figure_dpi``) and the processes a test starts read too: the same drawing, a ninth of the
+# pixels to render and encode (the suite writes some 700 PNGs). ``tests/test_plots.py``
+# checks the 300 dpi default and the setting.
+with open(os.path.join(_ISOLATED, "mpl", "matplotlibrc"), "w", encoding="utf-8") as _rc:
+    _rc.write("savefig.dpi: 100\n")
 
 from typing import TYPE_CHECKING  # noqa: E402
 

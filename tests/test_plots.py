@@ -89,13 +89,20 @@ def _mc_data():
 
 
 def test_save_figure_formats_and_print_resolution(tmp_path):
+    """PNG at print resolution (``PRINT_DPI``) unless Matplotlib's ``savefig.dpi`` is a
+    number (the suite's own matplotlibrc sets 100: ``tests/conftest.py``); PDF without a
+    creation date, SVG; any other format refused."""
+    import matplotlib as mpl
+
     free, teth, ok_f, ok_t = _mc_data()
     fig = plots.figure_paired(free, teth, ok_f, ok_t, "peak_q1")
-    png = plots.save_figure(fig, tmp_path / "a.png")
-    w, h = _png_size(png.read_bytes())
     inches = fig.get_size_inches()
     assert plots.PRINT_DPI >= 300
-    assert (w, h) == (round(inches[0] * plots.PRINT_DPI), round(inches[1] * plots.PRINT_DPI))
+    for setting, dpi in (("figure", plots.PRINT_DPI), (150, 150), (100.0, 100)):
+        with mpl.rc_context({"savefig.dpi": setting}):
+            assert plots.figure_dpi() == dpi
+            png = plots.save_figure(fig, tmp_path / "a.png")
+        assert _png_size(png.read_bytes()) == (round(inches[0] * dpi), round(inches[1] * dpi))
     pdf = plots.save_figure(fig, tmp_path / "a.pdf").read_bytes()
     assert pdf.startswith(b"%PDF") and b"CreationDate" not in pdf
     assert b"<svg" in plots.save_figure(fig, tmp_path / "a.svg").read_bytes()
@@ -129,7 +136,7 @@ def test_png_holds_matplotlibs_pixels_in_fewer_bytes(tmp_path):
         fig.savefig(out, format="png", dpi=plots.PRINT_DPI)
         return out.getvalue()
 
-    ours = plots.save_figure(figure(), tmp_path / "a.png").read_bytes()
+    ours = plots.save_figure(figure(), tmp_path / "a.png", dpi=plots.PRINT_DPI).read_bytes()
     reference = matplotlibs(figure())
     with Image.open(io.BytesIO(ours)) as a, Image.open(io.BytesIO(reference)) as b:
         assert (a.mode, b.mode) == ("RGB", "RGBA")
@@ -140,14 +147,14 @@ def test_png_holds_matplotlibs_pixels_in_fewer_bytes(tmp_path):
     np.testing.assert_array_equal(pa, pb[:, :, :3])
     assert len(ours) <= len(reference)
 
-    ours = plots.save_figure(figure(transparent=True), tmp_path / "b.png").read_bytes()
-    reference = matplotlibs(figure(transparent=True))
+    ours = plots.save_figure(figure(True), tmp_path / "b.png", dpi=plots.PRINT_DPI).read_bytes()
+    reference = matplotlibs(figure(True))
     with Image.open(io.BytesIO(ours)) as a, Image.open(io.BytesIO(reference)) as b:
         assert a.mode == "RGBA"
         np.testing.assert_array_equal(np.asarray(a), np.asarray(b))
 
     with mpl.rc_context({"savefig.bbox": "tight"}):  # cropped: Matplotlib's own PNG
-        ours = plots.save_figure(figure(), tmp_path / "c.png").read_bytes()
+        ours = plots.save_figure(figure(), tmp_path / "c.png", dpi=plots.PRINT_DPI).read_bytes()
         assert ours == matplotlibs(figure())
 
 

@@ -46,7 +46,10 @@ HELP = {
     "--runs": "Monte Carlo draws N (default: the file's [montecarlo] runs)",
     "--format": "file format of the tables (time series, results): csv, or parquet (needs "
     "pandas and pyarrow)",
-    "--figure-format": "format of the figures: png (raster, {dpi} dpi), or pdf or svg (vector)",
+    "--figure-format": (
+        "format of the figures: png (raster, {dpi} dpi or Matplotlib's savefig.dpi), or pdf "
+        "or svg (vector)"
+    ),
 }
 
 

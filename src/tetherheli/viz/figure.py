@@ -23,6 +23,7 @@ __all__ = [
     "CONFIGURATION_COLOURS",
     "PLOT_LIMIT",
     "InlineFigure",
+    "figure_dpi",
     "metric_label",
     "plottable",
     "save_figure",
@@ -173,9 +174,19 @@ def _finish(fig: Figure, axes: np.ndarray, title: str, dropped: int = 0) -> Figu
     return fig
 
 
-def save_figure(fig: Figure, path: str | Path, dpi: int = PRINT_DPI) -> Path:
+def figure_dpi() -> float:
+    """The resolution of a saved PNG [dots per inch]: Matplotlib's ``savefig.dpi`` where it
+    is a number (a user's matplotlibrc or ``matplotlib.rc_context``), else ``PRINT_DPI``
+    (Matplotlib's default ``"figure"`` would be the screen's 100 dpi)."""
+    import matplotlib as mpl
+
+    value = mpl.rcParams["savefig.dpi"]
+    return float(PRINT_DPI) if value == "figure" else float(value)
+
+
+def save_figure(fig: Figure, path: str | Path, dpi: float | None = None) -> Path:
     """Save ``fig`` atomically in the format of ``path``'s suffix (``FIGURE_FORMATS``: PNG
-    at ``dpi``, default ``PRINT_DPI``; PDF, SVG as vectors, without a creation date).
+    at ``dpi``; PDF, SVG as vectors, without a creation date).
 
     A PNG holds Matplotlib's Agg pixels (``_png_bytes``): RGB where the figure is opaque.
 
@@ -185,8 +196,9 @@ def save_figure(fig: Figure, path: str | Path, dpi: int = PRINT_DPI) -> Path:
         The figure to save.
     path : str or Path
         The file to write; its suffix (.png, .pdf, .svg) selects the format.
-    dpi : int, optional
-        Resolution of a PNG [dots per inch] (default ``PRINT_DPI``).
+    dpi : float, optional
+        Resolution of a PNG [dots per inch] (default ``figure_dpi()``: ``PRINT_DPI`` unless
+        Matplotlib's ``savefig.dpi`` is set).
 
     Returns
     -------
@@ -197,6 +209,7 @@ def save_figure(fig: Figure, path: str | Path, dpi: int = PRINT_DPI) -> Path:
 
     path = Path(path)
     fmt = check_figure_format(path.suffix.lower().lstrip("."))
+    dpi = figure_dpi() if dpi is None else dpi
     if fmt == "png":
         atomic_write_bytes(path, _png_bytes(fig, dpi))
         return path

@@ -6,9 +6,10 @@ These functions only read results and return Matplotlib figures built without py
 importing or calling them leaves the process's Matplotlib backend alone.
 Each takes an optional ``fig`` (an empty figure to draw into, e.g. one from
 ``plt.figure()`` in a notebook) or, for the one-panel figures, ``ax`` (axes to draw on), and
-returns the figure. ``save_figure`` writes one as PNG (at ``PRINT_DPI``), PDF or SVG by the
-file's suffix. Free runs are drawn in red and tethered runs in blue everywhere
-(``CONFIGURATION_COLOURS``, also used by the animation). A failed run is drawn up to its last
+returns the figure. ``save_figure`` writes one as PNG (at ``figure_dpi()``: ``PRINT_DPI``
+unless Matplotlib's ``savefig.dpi`` is set), PDF or SVG by the file's suffix. Free runs are
+drawn in red and tethered runs in blue everywhere (``CONFIGURATION_COLOURS``, also used by
+the animation). A failed run is drawn up to its last
 recorded sample and says so in the legend; samples that cannot be drawn (non-finite, or beyond
 ``PLOT_LIMIT``) are left out as gaps, with a note on the figure.
 
@@ -34,6 +35,7 @@ from .figure import (
     _Plotter,
     _stacked,
     _style,
+    figure_dpi,
     metric_label,
     plottable,
     save_figure,
@@ -55,6 +57,7 @@ __all__ = [
     "PLOT_LIMIT",
     "PRINT_DPI",
     "InlineFigure",
+    "figure_dpi",
     "figure_inputs",
     "figure_limit_search",
     "figure_montecarlo",
