@@ -82,14 +82,13 @@ def _vector_env() -> None:
 #: cached it by then). The Python loop's phases (``step_sense``, ``step_command``: the sample's
 #: phases, ``rk4_interval``, the lumped chain's ``lumped_interval``) come first in one, so that
 #: the closed loops of every single run and the Gymnasium environment then reuse them there;
-#: the lanes (``rk4_lanes`` through ``run_block``) first in the other, so that the vector
-#: environment reuses them (``rk4_lanes`` is its largest callee too). From an empty cache on
-#: the 2-core AMD EPYC, in parallel: about 64 and 69 s of CPU (the split by entry point before,
-#: closed loops and lanes / phases and environments, compiled ``rk4_lanes``, the chain's step
-#: and the sample's phases in both: about 91 and 93 s)
+#: the lanes (``rk4_lanes`` through ``run_block``) are the other. The vector environment comes
+#: last in the first: by then the second has cached ``rk4_lanes``, its largest callee (about
+#: 30 s into a job of about 80). From an empty cache on the 2-core AMD EPYC, in parallel:
+#: about 90 and 80 s (the vector environment in the lanes' job: 80 and 94 s)
 JOBS = {
-    "phases_closed_loops_and_env": (_python_loop, _single, _lumped, _unlaned, _env),
-    "lanes_and_vector_env": (_lanes, _vector_env),
+    "phases_closed_loops_and_envs": (_python_loop, _single, _lumped, _unlaned, _env, _vector_env),
+    "lanes": (_lanes,),
 }
 
 
