@@ -70,7 +70,7 @@ def _radau(setup, t_eval, nodes0, rtol=1e-9):
     wind = np.array([10.0, 0.0, 0.0])
 
     def rhs(_t, y):
-        x = y[:13]
+        x = np.ascontiguousarray(y[:13])  # a solver may hand a strided y: one signature
         r = y[13 : 13 + 3 * (n - 1)].reshape(n - 1, 3)
         v = y[13 + 3 * (n - 1) :].reshape(n - 1, 3)
         engine.angle_trig(x, sc)
@@ -378,7 +378,7 @@ def test_helicopter_and_chain_conserve_energy_without_drag_damping_and_winch():
         return pm[:3].copy(), pm[3:].copy()
 
     def rhs(_t, y):
-        x = y[:13]
+        x = np.ascontiguousarray(y[:13])  # a solver may hand a strided y: one signature
         r = y[13 : 13 + 3 * (n - 1)].reshape(n - 1, 3)
         v = y[13 + 3 * (n - 1) :].reshape(n - 1, 3)
         top, top_v = ends(x)
@@ -389,7 +389,7 @@ def test_helicopter_and_chain_conserve_energy_without_drag_damping_and_winch():
         return np.concatenate([out, v.ravel(), (F[1:n] / m_node).ravel()])
 
     def energy(y):
-        x = y[:13]
+        x = np.ascontiguousarray(y[:13])  # a solver may hand a strided y: one signature
         top, top_v = ends(x)
         xn = np.vstack([np.zeros(3), y[13 : 13 + 3 * (n - 1)].reshape(n - 1, 3), top])
         vn = np.vstack([np.zeros(3), y[13 + 3 * (n - 1) :].reshape(n - 1, 3), top_v])

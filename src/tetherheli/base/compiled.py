@@ -162,7 +162,9 @@ def base_states(base, times, out):
 def base_state(base: CompiledBase, times: np.ndarray) -> np.ndarray:
     """Position, velocity and acceleration of a packed base at ``times``: (n, 3, 3), rows
     position, velocity, acceleration (``BaseMotion.state`` is this on its own packed form)."""
-    times = np.ascontiguousarray(np.atleast_1d(times), dtype=np.float64)
+    # a writable copy: one compiled signature of ``base_states`` (a result's times are
+    # read-only)
+    times = np.array(np.atleast_1d(times), dtype=np.float64, order="C")
     out = np.empty((times.size, 9))
     base_states(base.packed, times, out)
     return out.reshape(times.size, 3, 3)

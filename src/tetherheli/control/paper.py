@@ -271,16 +271,18 @@ class PaperController(Controller):
         free_trim_input=None,
         z_init=None,
     ) -> None:
-        self.gain = np.ascontiguousarray(gain, dtype=float)
+        # own writable C copies: ``paper_control`` then has one compiled signature whatever
+        # the caller hands in (a read-only gain of a frozen scenario would compile a second)
+        self.gain = np.array(gain, dtype=float, order="C")
         check_law(np.asarray(ctrl, dtype=float), self.gain)
         # q4..u6, and LN for the tethered LQI's (9, 17) gain (``layout.LAW_GAIN``)
-        self.x_ref = np.ascontiguousarray(trim_state[: self.gain.shape[1] - 4], dtype=float)
-        self.y_ref = np.ascontiguousarray(trim_output, dtype=float)
-        self.u0 = np.ascontiguousarray(trim_input, dtype=float)
+        self.x_ref = np.array(trim_state[: self.gain.shape[1] - 4], dtype=float, order="C")
+        self.y_ref = np.array(trim_output, dtype=float, order="C")
+        self.u0 = np.array(trim_input, dtype=float, order="C")
         free = trim_input if free_trim_input is None else free_trim_input
-        self.u0_free = np.ascontiguousarray(free, dtype=float)
+        self.u0_free = np.array(free, dtype=float, order="C")
         self._settings = np.array(ctrl, dtype=float)
-        self.c = np.ascontiguousarray(constants, dtype=float)
+        self.c = np.array(constants, dtype=float, order="C")
         self._z_init = np.zeros(4) if z_init is None else np.array(z_init, dtype=float)
         self.reset()
 
