@@ -9,16 +9,19 @@ Gymnasium vector environment's next-step autoreset on the same seeds, and by SB3
 
 from __future__ import annotations
 
+import importlib.util
+
 import numpy as np
 import pytest
 
-pytest.importorskip("stable_baselines3")
-
-from stable_baselines3 import PPO
-from stable_baselines3.common.vec_env import VecCheckNan, VecEnv, VecMonitor
-
-from tetherheli.sb3 import TetheredHoverSB3VecEnv
 from tetherheli.vector_env import TetheredHoverVectorEnv
+
+# Stable-Baselines3 (and PyTorch under it, about 2.5 s) is imported by the tests that use it,
+# not while every worker collects the suite
+pytestmark = pytest.mark.skipif(
+    importlib.util.find_spec("stable_baselines3") is None,
+    reason="Stable-Baselines3 is not installed (the rl extra)",
+)
 
 STEPS = 6
 
@@ -28,6 +31,10 @@ def _actions(n: int, k: int) -> np.ndarray:
 
 
 def test_same_step_autoreset_equals_gymnasium_next_step():
+    from stable_baselines3.common.vec_env import VecEnv
+
+    from tetherheli.sb3 import TetheredHoverSB3VecEnv
+
     n = 3
     sb3 = TetheredHoverSB3VecEnv(n, max_episode_steps=STEPS)
     gym = TetheredHoverVectorEnv(n, max_episode_steps=STEPS)
@@ -79,6 +86,11 @@ def test_restart_leaves_other_copies_untouched():
 
 
 def test_sb3_wrappers_and_ppo_run():
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.vec_env import VecCheckNan, VecMonitor
+
+    from tetherheli.sb3 import TetheredHoverSB3VecEnv
+
     env = VecMonitor(
         VecCheckNan(TetheredHoverSB3VecEnv(4, max_episode_steps=32), raise_exception=True)
     )
