@@ -116,9 +116,8 @@ class MovingReferenceController(PaperController):
 
     def __init__(self, *args, **paper) -> None:
         super().__init__(*args, **paper)
-        # own copies: the references move at every sample (the set-up's trim stays)
-        self.x_ref, self.y_ref, self.u0 = self.x_ref.copy(), self.y_ref.copy(), self.u0.copy()
-        self.gain = self.gain.copy()
+        # the references move at every sample in ``PaperController``'s own copies (the
+        # set-up's trim stays); the start's are kept here
         self._gain0 = self.gain.copy()
         self._x_ref0 = self.x_ref.copy()
         self._y_ref0 = self.y_ref.copy()

@@ -227,27 +227,30 @@ def _png_bytes(fig: Figure, dpi: float) -> bytes:
 
     Three channels instead of four: on the 2250 x 3150 pixels of a run's outputs figure at
     300 dpi, Pillow encodes in about 0.75 of the time of Matplotlib's RGBA PNG and the file
-    is about 0.9 of its size (``tests/test_plots.py`` checks pixels and size). Where the
-    rendered size is not the figure's size at ``dpi`` (e.g. a user's ``savefig.bbox =
-    "tight"``), Matplotlib writes the PNG itself.
+    is about 0.9 of its size (``tests/test_plots.py`` checks pixels and size). A cropped
+    figure (a user's ``savefig.bbox = "tight"``), or one whose rendered size is not its size
+    at ``dpi``, is left to Matplotlib's own PNG (drawn once).
     """
     import io
 
     import matplotlib as mpl
     from PIL import Image, PngImagePlugin
 
-    raw = io.BytesIO()
-    fig.savefig(raw, format="rgba", dpi=dpi)  # the Agg renderer's buffer, as for a PNG
-    width, height = int(fig.get_figwidth() * dpi), int(fig.get_figheight() * dpi)
-    if raw.getbuffer().nbytes != 4 * width * height:
-        png = io.BytesIO()
-        fig.savefig(png, format="png", dpi=dpi)
-        return png.getvalue()
-    pixels = np.frombuffer(raw.getbuffer(), np.uint8).reshape(height, width, 4)
-    opaque = bool((pixels[:, :, 3] == 255).all())
-    image = Image.fromarray(np.ascontiguousarray(pixels[:, :, :3]) if opaque else pixels)
-    info = PngImagePlugin.PngInfo()
-    info.add_text("Software", f"Matplotlib version{mpl.__version__}, https://matplotlib.org/")
-    out = io.BytesIO()
-    image.save(out, format="png", pnginfo=info, dpi=(dpi, dpi))
-    return out.getvalue()
+    if mpl.rcParams["savefig.bbox"] is None:  # the figure's own size (not cropped)
+        raw = io.BytesIO()
+        fig.savefig(raw, format="rgba", dpi=dpi)  # the Agg renderer's buffer, as for a PNG
+        width, height = int(fig.get_figwidth() * dpi), int(fig.get_figheight() * dpi)
+        if raw.getbuffer().nbytes == 4 * width * height:
+            pixels = np.frombuffer(raw.getbuffer(), np.uint8).reshape(height, width, 4)
+            opaque = bool((pixels[:, :, 3] == 255).all())
+            image = Image.fromarray(np.ascontiguousarray(pixels[:, :, :3]) if opaque else pixels)
+            info = PngImagePlugin.PngInfo()
+            info.add_text(
+                "Software", f"Matplotlib version{mpl.__version__}, https://matplotlib.org/"
+            )
+            out = io.BytesIO()
+            image.save(out, format="png", pnginfo=info, dpi=(dpi, dpi))
+            return out.getvalue()
+    png = io.BytesIO()
+    fig.savefig(png, format="png", dpi=dpi)
+    return png.getvalue()
