@@ -152,7 +152,7 @@ def test_warm_up_jobs_fly_their_runs():
     by conftest on the xdist controller) flies its short runs without error."""
     from tests import warm_cache
 
-    assert set(warm_cache.JOBS) == {"phases_closed_loops_and_envs", "lanes"}
+    assert set(warm_cache.JOBS) == {"phases_lumped_and_vector_env", "lanes_env_and_single_runs"}
     for job in warm_cache.JOBS.values():
         for part in job:
             part()

@@ -79,16 +79,16 @@ def _vector_env() -> None:
 
 #: the warm-up's jobs, one process each, split so that no compiled function is compiled in
 #: both (a callee compiles with its first caller in each process, unless the other process has
-#: cached it by then). The Python loop's phases (``step_sense``, ``step_command``: the sample's
-#: phases, ``rk4_interval``, the lumped chain's ``lumped_interval``) come first in one, so that
-#: the closed loops of every single run and the Gymnasium environment then reuse them there;
-#: the lanes (``rk4_lanes`` through ``run_block``) are the other. The vector environment comes
-#: last in the first: by then the second has cached ``rk4_lanes``, its largest callee (about
-#: 30 s into a job of about 80). From an empty cache on the 2-core AMD EPYC, in parallel:
-#: about 90 and 80 s (the vector environment in the lanes' job: 80 and 94 s)
+#: cached it by then). The first starts with the Python loop, whose phases (``step_sense``,
+#: ``step_command``: the sample's phases, ``rk4_interval``, the lumped chain's
+#: ``lumped_interval``) the lumped run then reuses, and ends with the vector environment, whose
+#: largest callee ``rk4_lanes`` the second has cached by then. The second compiles the lanes
+#: (``rk4_lanes`` through ``run_lanes``), then flies the Gymnasium environment and the single
+#: runs on the phases the first has cached. From an empty cache on the 2-core AMD EPYC, in
+#: parallel: about 70 and 60 s (this VM's speed varies by 15 %)
 JOBS = {
-    "phases_closed_loops_and_envs": (_python_loop, _single, _lumped, _unlaned, _env, _vector_env),
-    "lanes": (_lanes,),
+    "phases_lumped_and_vector_env": (_python_loop, _lumped, _unlaned, _vector_env),
+    "lanes_env_and_single_runs": (_lanes, _env, _single),
 }
 
 

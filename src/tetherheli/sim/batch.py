@@ -15,9 +15,9 @@ equal ``simulate``'s bit for bit (a test checks it over dispersed runs with actu
 sensors, turbulence, releases and failures). With
 ``lanes=False`` every run goes alone through ``engine.run_closed_loop``.
 
-Blocks (or single runs) are spread over threads; ``run_block`` and ``run_unrecorded`` are
-``njit(nogil=True)`` wrappers, so the GIL is released for the whole block and two threads run
-in parallel. The Python side of a run (trim, packing, about 0.15 ms) holds the GIL. With a
+Blocks (or single runs) are spread over threads; ``run_block`` and ``run_unrecorded`` call
+compiled code that releases the GIL (``lanes.run_lanes``, ``engine``'s closed loops) for the
+whole block or run, so two threads run in parallel. The Python side of a run (trim, packing, about 0.15 ms) holds the GIL. With a
 ``dask.distributed`` client the runs are split into equal tasks and run on the cluster's
 workers instead (``connect``).
 
@@ -45,7 +45,6 @@ from typing import Any
 
 import numpy as np
 
-from .._compile import compiled
 from .._validation import check_integer
 from ..errors import ClusterError, ParameterError, TetherheliError
 from ..layout import (
@@ -109,10 +108,10 @@ def run_unrecorded(engine_args, summary):
 _NO_SIGNALS = Signals.zeros(1)
 
 
-@compiled(nogil=True)
-def run_block(block_args, summary, status, done):  # pragma: no cover - compiled
-    """``lanes.run_lanes(*block_args, summary, status, done)`` with the GIL released;
-    ``block_args`` is ``lanes.lane_block``'s.
+def run_block(block_args: tuple, summary: np.ndarray, status: np.ndarray, done: np.ndarray) -> None:
+    """``lanes.run_lanes(*block_args, summary, status, done)``, which releases the GIL;
+    ``block_args`` is ``lanes.lane_block``'s. (A compiled wrapper would re-optimise the whole
+    lane engine inside it: 10 s of the first compile.)
 
     Parameters
     ----------

@@ -14,7 +14,7 @@ import numpy as np
 from numba import types
 from numba.extending import intrinsic
 
-from .._compile import borrowed, compiled, keep_alive, plain
+from .._compile import borrowed, compiled, inline_here, keep_alive, plain
 from ..layout import (
     ACT_DRUM,
     ACT_SIZE,
@@ -112,12 +112,16 @@ def _lanes_program_force(programs, n_rows, t, side, out):
                 out[a * LANES + j] += value * programs[base + (WIND_DIRECTION + a) * LANES + j]
 
 
-@_jit_inline
+@_jit
 def _lanes_stage(xs, sc, inp, rate, attached, k_c, c, program_force, gust_air, drag, force, out):
     """out (13 LANES,) = dx/dt of every lane at the stage state xs: the wind force of
     ``wind_force`` (profiles plus bluff-body drag), the tension (eq 28: zero when slack or
     released), eqs 10-12, 29-35 (``tethered_rhs_lanes``) and dLN/dt = RC (eq 37). ``force``
     (4 LANES,) receives the wind force and the tension."""
+    # typed and lowered once for the four stages, inlined by LLVM (``inline_here``): Numba's
+    # inlining of the four (``tethered_rhs_lanes`` in each) took 15 s of the first compile
+    _wide_vectors()
+    inline_here()
     for j in range(rate.shape[0]):  # LANES, read at run time (see ``_lanes_axpy``)
         r1 = gust_air[j] - xs[6 * LANES + j]
         r2 = gust_air[LANES + j] - xs[7 * LANES + j]
@@ -257,7 +261,7 @@ def park_lane(lane_in, j, x_park, sc_park, u_park):
     set_lane(lane_in, j, x_park, sc_park, u_park, 0.0, 0.0, 0.0)
 
 
-@_jit
+@compiled(error_model="numpy", nogil=True)
 def run_lanes(
     x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, summary, status, done
 ):

@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from .._compile import compiled, plain
+from .._compile import compiled, inline_here, plain
 from ..base.compiled import base_at
 from ..layout import (
     BASE_MOVING,
@@ -190,7 +190,7 @@ def chain_ends(x, t, cfg, gust, base, chain, cw):
     cfg[CFG_TENSION_GROUND] = math.sqrt(F[0, 0] ** 2 + F[0, 1] ** 2 + F[0, 2] ** 2)
 
 
-@_jit_inline
+@_jit
 def _lumped_stage(
     xs, sc, inp, reel_rate, t, tau, side, cfg, c, program, gust, drag, base, cw, out
 ):  # fmt: skip
@@ -200,6 +200,9 @@ def _lumped_stage(
     less the top interior node's, moving on from its start velocity cw[15] at its start
     acceleration cw[16]) and its damping cw[14]
     times P's change of velocity (cw[12]: P at the step's start)."""
+    # typed and lowered once for the four stages, inlined by LLVM (``inline_here``): Numba's
+    # inlining of the four (``tethered_rhs_sc`` in each) took 10 s of the first compile
+    inline_here()
     force_P, inp2, wind2, pm, fp, wind = cw[6], cw[7], cw[8], cw[9], cw[10], cw[11]
     pm0, kc, cc, v_top, a_top = cw[12], cw[13], cw[14], cw[15], cw[16]
     base_frame_force(program, gust, cfg[CFG_GUST_DT], drag, base, t, side, xs[6], xs[7], xs[8],
@@ -276,6 +279,8 @@ def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, wo
     k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
     sc0, sc = work[6, :10], work[7, :10]
     rate = reel_rate if cfg[CFG_ATTACHED] > 0.5 else 0.0
+    # the stages' constant arguments as plain values: ``_lumped_stage`` keeps one signature
+    zero, after, before = plain(0.0), plain(1), plain(-1)
     for j in range(n_sub):
         ta = t0 + j * h
         tb = t0 + (j + 1) * h
@@ -297,21 +302,21 @@ def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, wo
                     kc[3 * a + b] = 0.0
                     cc[3 * a + b] = 0.0
         angle_trig(x, sc0)
-        _lumped_stage(x, sc0, inp, rate, ta, 0.0, 1, cfg, c, program, gust, drag, base, cw, k1)
+        _lumped_stage(x, sc0, inp, rate, ta, zero, after, cfg, c, program, gust, drag, base, cw, k1)
         for i in range(13):
             tmp[i] = x[i] + 0.5 * h * k1[i]
         angle_trig_from(tmp, x, sc0, sc)
-        _lumped_stage(tmp, sc, inp, rate, tm, 0.5 * h, 1, cfg, c, program, gust, drag, base, cw,
+        _lumped_stage(tmp, sc, inp, rate, tm, 0.5 * h, after, cfg, c, program, gust, drag, base, cw,
                       k2)  # fmt: skip
         for i in range(13):
             tmp[i] = x[i] + 0.5 * h * k2[i]
         angle_trig_from(tmp, x, sc0, sc)
-        _lumped_stage(tmp, sc, inp, rate, tm, 0.5 * h, 1, cfg, c, program, gust, drag, base, cw,
+        _lumped_stage(tmp, sc, inp, rate, tm, 0.5 * h, after, cfg, c, program, gust, drag, base, cw,
                       k3)  # fmt: skip
         for i in range(13):
             tmp[i] = x[i] + h * k3[i]
         angle_trig_from(tmp, x, sc0, sc)
-        _lumped_stage(tmp, sc, inp, rate, tb, h, -1, cfg, c, program, gust, drag, base, cw, k4)
+        _lumped_stage(tmp, sc, inp, rate, tb, h, before, cfg, c, program, gust, drag, base, cw, k4)
         for i in range(13):
             x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         angle_trig(x, sc0)
