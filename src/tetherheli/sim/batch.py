@@ -17,9 +17,9 @@ sensors, turbulence, releases and failures). With
 
 Blocks (or single runs) are spread over threads; ``run_block`` and ``run_unrecorded`` call
 compiled code that releases the GIL (``lanes.run_lanes``, ``engine``'s closed loops) for the
-whole block or run, so two threads run in parallel. The Python side of a run (trim, packing, about 0.15 ms) holds the GIL. With a
-``dask.distributed`` client the runs are split into equal tasks and run on the cluster's
-workers instead (``connect``).
+whole block or run, so two threads run in parallel. The Python side of a run (trim,
+packing, about 0.15 ms) holds the GIL. With a ``dask.distributed`` client the runs are
+split into equal tasks and run on the cluster's workers instead (``connect``).
 
 Runs are sorted by (parameters, control settings, q9), and the LQI gain (``paper_gain``,
 cached) is designed once per distinct set. With ``design_params`` every run's gain is
