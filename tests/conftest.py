@@ -1,7 +1,8 @@
 """Shared fixtures: the paper's parameters and models; the compile cache warmed once.
 
 Before anything imports Matplotlib, its config and cache go to a temporary folder of this
-test process (``MPLCONFIGDIR``, ``XDG_CONFIG_HOME``, ``XDG_CACHE_HOME``): no test then
+test process (``MPLCONFIGDIR``, ``XDG_CONFIG_HOME``, ``XDG_CACHE_HOME``; Stable-Baselines3's
+logger folders, ``SB3_LOGDIR``), removed when it ends: no test then
 depends on the user's HOME, on what an earlier test left there, or on test order (a test
 that points HOME at a scratch folder would otherwise find Matplotlib's font cache in it).
 """
@@ -28,10 +29,13 @@ for _var in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "OMP_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 _ISOLATED = tempfile.mkdtemp(prefix="tetherheli-tests-")
 atexit.register(shutil.rmtree, _ISOLATED, ignore_errors=True)
+# Stable-Baselines3's default logger makes a folder per ``learn`` (``$SB3_LOGDIR``, else a new
+# ``SB3-<date>`` in the system's temporary folder, never removed): the tests' go here too.
 for _var, _sub in (
     ("MPLCONFIGDIR", "mpl"),
     ("XDG_CONFIG_HOME", "config"),
     ("XDG_CACHE_HOME", "cache"),
+    ("SB3_LOGDIR", "sb3"),
 ):
     os.makedirs(os.path.join(_ISOLATED, _sub))
     os.environ[_var] = os.path.join(_ISOLATED, _sub)
