@@ -363,9 +363,9 @@ class MPCController(Controller):
         d, m, N = self.design, self.m, self.N
         nu = N * m
         self._q[:nu] = 2.0 * (d.linear @ xi0)
-        us = np.tile(u_s, N)
-        self._l[:nu] = np.tile(self.du_min, N) - us
-        self._u[:nu] = np.tile(self.du_max, N) - us
+        # the input bounds of every move, less the steady input (views (N, m) of l, u)
+        self._l[:nu].reshape(N, m)[:] = self.du_min - u_s
+        self._u[:nu].reshape(N, m)[:] = self.du_max - u_s
         row = nu
         if self.reel_rows:
             prev = self._du_prev[4] if m == 5 else 0.0
