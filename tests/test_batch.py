@@ -136,11 +136,13 @@ def test_dask_cluster_equals_in_process(scenarios, tmp_path):
     distributed = pytest.importorskip("distributed")
     from tetherheli.sim.batch import connect
 
+    # dashboard_address ":0": any free port (None still binds 8787, which another test's
+    # cluster, or a Dask dashboard on this machine, may hold)
     with distributed.LocalCluster(
         n_workers=2,
         threads_per_worker=1,
         processes=True,
-        dashboard_address=None,
+        dashboard_address=":0",
         local_directory=str(tmp_path),
     ) as cluster:
         client = connect(cluster.scheduler_address)

@@ -594,8 +594,10 @@ def test_lost_scheduler_is_one_line_exit_1_and_resumable(short_file, tmp_path, c
     from tetherheli import cli
     from tetherheli.studies.montecarlo import runner
 
+    # dashboard_address ":0": any free port (None still binds 8787, which another test's
+    # cluster, or a Dask dashboard on this machine, may hold)
     cluster = distributed.LocalCluster(
-        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
+        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0"
     )
     real = runner._run_chunk
 
@@ -627,7 +629,7 @@ def test_no_workers_is_reported_after_the_timeout(short_file, tmp_path, capsys):
     distributed = pytest.importorskip("distributed")
     from tetherheli import cli
 
-    with distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster:
+    with distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=":0") as cluster:
         args = ["montecarlo", str(short_file), "--out", str(tmp_path / "o"), "--quiet"]
         code = cli.main(
             [*args, "--scheduler", cluster.scheduler_address, "--worker-timeout", "0.5"]
