@@ -130,6 +130,15 @@ def pytest_runtest_setup(item: pytest.Item) -> None:
         _COMPILE_LOG.test = item.nodeid
 
 
+@pytest.fixture
+def local_cluster():
+    """``dask.distributed.LocalCluster`` (the test skips without it) on free ports: with
+    ``dashboard_address=None`` its scheduler still binds 8787, which another test's cluster
+    (the workers run tests at once) or a Dask dashboard on this machine may hold."""
+    distributed = pytest.importorskip("distributed")
+    return functools.partial(distributed.LocalCluster, dashboard_address=":0")
+
+
 @pytest.fixture(scope="session", autouse=True)
 def _one_derivation_per_process():
     """``codegen.generate_source`` (Kane's method for both models, then the code's printing:

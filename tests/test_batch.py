@@ -130,20 +130,13 @@ def test_batch_with_actuators_and_sensor_noise_equals_single():
             assert got.metrics(i)[k] == pytest.approx(want[k], rel=1e-12, abs=1e-12), k
 
 
-def test_dask_cluster_equals_in_process(scenarios, tmp_path):
+def test_dask_cluster_equals_in_process(scenarios, tmp_path, local_cluster):
     """Issue 5: the same batch on a local dask.distributed cluster (2 worker processes, so
     the scenarios really are pickled) equals the in-process result exactly."""
-    distributed = pytest.importorskip("distributed")
     from tetherheli.sim.batch import connect
 
-    # dashboard_address ":0": any free port (None still binds 8787, which another test's
-    # cluster, or a Dask dashboard on this machine, may hold)
-    with distributed.LocalCluster(
-        n_workers=2,
-        threads_per_worker=1,
-        processes=True,
-        dashboard_address=":0",
-        local_directory=str(tmp_path),
+    with local_cluster(
+        n_workers=2, threads_per_worker=1, processes=True, local_directory=str(tmp_path)
     ) as cluster:
         client = connect(cluster.scheduler_address)
         try:

@@ -589,16 +589,13 @@ def test_interrupt_message_starts_a_new_line(short_file, tmp_path, capsys, monke
 # --- Dask: a lost scheduler or no workers ---------------------------------------------------
 
 
-def test_lost_scheduler_is_one_line_exit_1_and_resumable(short_file, tmp_path, capsys, monkeypatch):
-    distributed = pytest.importorskip("distributed")
+def test_lost_scheduler_is_one_line_exit_1_and_resumable(
+    short_file, tmp_path, capsys, monkeypatch, local_cluster
+):
     from tetherheli import cli
     from tetherheli.studies.montecarlo import runner
 
-    # dashboard_address ":0": any free port (None still binds 8787, which another test's
-    # cluster, or a Dask dashboard on this machine, may hold)
-    cluster = distributed.LocalCluster(
-        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0"
-    )
+    cluster = local_cluster(n_workers=1, threads_per_worker=1, processes=False)
     real = runner._run_chunk
 
     def then_lose_the_scheduler(*args, **kwargs):
@@ -625,11 +622,10 @@ def test_lost_scheduler_is_one_line_exit_1_and_resumable(short_file, tmp_path, c
     assert (out / "results.csv").read_bytes() == (tmp_path / "full" / "results.csv").read_bytes()
 
 
-def test_no_workers_is_reported_after_the_timeout(short_file, tmp_path, capsys):
-    distributed = pytest.importorskip("distributed")
+def test_no_workers_is_reported_after_the_timeout(short_file, tmp_path, capsys, local_cluster):
     from tetherheli import cli
 
-    with distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=":0") as cluster:
+    with local_cluster(n_workers=0, processes=False) as cluster:
         args = ["montecarlo", str(short_file), "--out", str(tmp_path / "o"), "--quiet"]
         code = cli.main(
             [*args, "--scheduler", cluster.scheduler_address, "--worker-timeout", "0.5"]
