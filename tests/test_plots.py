@@ -110,11 +110,16 @@ def test_save_figure_formats_and_print_resolution(tmp_path):
         plots.save_figure(fig, tmp_path / "a.jpg")
 
 
-def test_png_holds_matplotlibs_pixels_in_fewer_bytes(tmp_path):
-    """``save_figure``'s PNG against Matplotlib's own PNG of an identical figure at the same
-    resolution: equal pixels (the alpha channel dropped only where every pixel is opaque),
-    Matplotlib's "Software" text and the resolution, and a file no larger. A transparent
-    figure keeps its alpha; a cropped ``savefig.bbox`` leaves the PNG to Matplotlib. (Each
+@pytest.mark.parametrize("kind", ["paired", "outputs"])
+def test_png_holds_matplotlibs_pixels_in_fewer_bytes(tmp_path, kind):
+    """``save_figure``'s PNG (drawn once, ``viz.figure._agg_pixels``) against Matplotlib's own
+    PNG (``savefig``: a layout pass, then a rendering pass) of an identical figure at the
+    same resolution: equal pixels (the alpha channel dropped only where every pixel is
+    opaque), Matplotlib's "Software" text and the resolution, and a file no larger; for a
+    one-axes scatter at print resolution and for a run's stacked outputs (constrained
+    layout, shared time axis, legend, title) at the suite's 100 dpi. The figure keeps its
+    canvas and dpi. On the scatter: a transparent figure keeps its alpha; a cropped
+    ``savefig.bbox`` or another ``savefig.facecolor`` leaves the PNG to Matplotlib. (Each
     side draws a fresh figure: Matplotlib's constrained layout moves a little on a figure's
     second drawing.)"""
     import io
@@ -123,9 +128,14 @@ def test_png_holds_matplotlibs_pixels_in_fewer_bytes(tmp_path):
     from PIL import Image
 
     free, teth, ok_f, ok_t = _mc_data()
+    run = _result() if kind == "outputs" else None
+    dpi = 100.0 if run is not None else plots.PRINT_DPI
 
     def figure(transparent: bool = False) -> Figure:
-        fig = plots.figure_paired(free, teth, ok_f, ok_t, "peak_q1")
+        if run is not None:
+            fig = plots.figure_outputs([run], "a run's outputs")
+        else:
+            fig = plots.figure_paired(free, teth, ok_f, ok_t, "peak_q1")
         if transparent:
             for patch in [fig.patch, *(ax.patch for ax in fig.axes)]:
                 patch.set_alpha(0.0)
@@ -133,10 +143,13 @@ def test_png_holds_matplotlibs_pixels_in_fewer_bytes(tmp_path):
 
     def matplotlibs(fig: Figure) -> bytes:
         out = io.BytesIO()
-        fig.savefig(out, format="png", dpi=plots.PRINT_DPI)
+        fig.savefig(out, format="png", dpi=dpi)
         return out.getvalue()
 
-    ours = plots.save_figure(figure(), tmp_path / "a.png", dpi=plots.PRINT_DPI).read_bytes()
+    fig = figure()
+    canvas, figure_dpi = fig.canvas, fig.dpi
+    ours = plots.save_figure(fig, tmp_path / "a.png", dpi=dpi).read_bytes()
+    assert fig.canvas is canvas and fig.dpi == figure_dpi
     reference = matplotlibs(figure())
     with Image.open(io.BytesIO(ours)) as a, Image.open(io.BytesIO(reference)) as b:
         assert (a.mode, b.mode) == ("RGB", "RGBA")
@@ -146,16 +159,19 @@ def test_png_holds_matplotlibs_pixels_in_fewer_bytes(tmp_path):
     assert (pb[:, :, 3] == 255).all()
     np.testing.assert_array_equal(pa, pb[:, :, :3])
     assert len(ours) <= len(reference)
+    if run is not None:
+        return
 
-    ours = plots.save_figure(figure(True), tmp_path / "b.png", dpi=plots.PRINT_DPI).read_bytes()
+    ours = plots.save_figure(figure(True), tmp_path / "b.png", dpi=dpi).read_bytes()
     reference = matplotlibs(figure(True))
     with Image.open(io.BytesIO(ours)) as a, Image.open(io.BytesIO(reference)) as b:
         assert a.mode == "RGBA"
         np.testing.assert_array_equal(np.asarray(a), np.asarray(b))
 
-    with mpl.rc_context({"savefig.bbox": "tight"}):  # cropped: Matplotlib's own PNG
-        ours = plots.save_figure(figure(), tmp_path / "c.png", dpi=plots.PRINT_DPI).read_bytes()
-        assert ours == matplotlibs(figure())
+    for rc in ({"savefig.bbox": "tight"}, {"savefig.facecolor": "lightyellow"}):
+        with mpl.rc_context(rc):  # Matplotlib's own PNG
+            ours = plots.save_figure(figure(), tmp_path / "c.png", dpi=dpi).read_bytes()
+            assert ours == matplotlibs(figure()), rc
 
 
 def test_plot_functions_draw_into_a_given_axes_or_figure():
