@@ -53,6 +53,17 @@ def short_file(tmp_path: Path) -> Path:
     return p
 
 
+@pytest.fixture(scope="session")
+def uninterrupted(tmp_path_factory) -> bytes:
+    """results.csv of the short job run whole without interruption, once per test process:
+    what every stopped, resumed or repaired job's table must equal (the table does not
+    depend on where the scenario file lies)."""
+    folder = tmp_path_factory.mktemp("montecarlo")
+    (folder / "mc.toml").write_text(SHORT)
+    _run(folder / "mc.toml", folder / "full")
+    return (folder / "full" / "results.csv").read_bytes()
+
+
 def _run(path: Path, out: Path, **kw):
     base, config = load_montecarlo(path)
     return run_montecarlo(base, config, out, chunk_size=3, progress=False, **kw)
@@ -122,17 +133,14 @@ def test_row_equals_a_single_simulation(short_file, tmp_path):
     )
 
 
-def test_resume_after_interrupt_equals_uninterrupted(short_file, tmp_path, capsys):
+def test_resume_after_interrupt_equals_uninterrupted(short_file, uninterrupted, tmp_path, capsys):
     assert _run(short_file, tmp_path / "r", max_chunks=1) is None
     assert not (tmp_path / "r" / "results.csv").exists()
     assert len(list((tmp_path / "r" / "partial").glob("chunk_*.csv"))) == 1
     assert _run(short_file, tmp_path / "r", max_chunks=1) is None
     assert len(list((tmp_path / "r" / "partial").glob("chunk_*.csv"))) == 2
     assert _run(short_file, tmp_path / "r") is not None
-    _run(short_file, tmp_path / "full")
-    assert (tmp_path / "r" / "results.csv").read_bytes() == (
-        tmp_path / "full" / "results.csv"
-    ).read_bytes()
+    assert (tmp_path / "r" / "results.csv").read_bytes() == uninterrupted
     # a larger N extends the finished job: the first draws are reused, the table equals a
     # fresh run of the larger N
     base, config = load_montecarlo(short_file)
@@ -453,7 +461,7 @@ def test_cli_failed_draws_exit_0_or_1_with_strict(failing_file, tmp_path, capsys
 # --- --max-chunks stops with its own exit code ---------------------------------------------
 
 
-def test_cli_max_chunks_exit_3_then_resume(short_file, tmp_path, capsys):
+def test_cli_max_chunks_exit_3_then_resume(short_file, uninterrupted, tmp_path, capsys):
     from tetherheli import cli
 
     args = ["montecarlo", str(short_file), "--out", str(tmp_path / "o"), "--chunk-size", "3"]
@@ -462,10 +470,7 @@ def test_cli_max_chunks_exit_3_then_resume(short_file, tmp_path, capsys):
     assert "--max-chunks" in err and "run the same command again to resume" in err
     assert not (tmp_path / "o" / "results.csv").exists()
     assert cli.main([*args, "--max-chunks", "5"]) == 0  # enough left to finish: a finished job
-    _run(short_file, tmp_path / "full")
-    assert (tmp_path / "o" / "results.csv").read_bytes() == (
-        tmp_path / "full" / "results.csv"
-    ).read_bytes()
+    assert (tmp_path / "o" / "results.csv").read_bytes() == uninterrupted
 
 
 def test_cli_ten_million_runs_start_at_once(short_file, tmp_path, capsys):
@@ -482,12 +487,16 @@ def test_cli_ten_million_runs_start_at_once(short_file, tmp_path, capsys):
 # --- chunk files that can be trusted (issue 9, section 5) ----------------------------------
 
 
-def test_damaged_chunks_are_named_and_computed_again(short_file, tmp_path, capsys):
+def test_damaged_chunks_are_named_and_computed_again(
+    short_file, uninterrupted, tmp_path, capsys
+):
     """Truncated, empty, garbled, misplaced or old-format chunk files: each is named in one
     line on stderr and computed again; the table equals an uninterrupted run's."""
-    _run(short_file, tmp_path / "full")
-    full = (tmp_path / "full" / "results.csv").read_bytes()
-    first = _chunks_of(tmp_path / "full")[0].read_text()
+    full = uninterrupted
+    out = tmp_path / "d"
+    _run(short_file, out)
+    assert (out / "results.csv").read_bytes() == full
+    first = _chunks_of(out)[0].read_text()
     assert first.count("\n") == 7 and first.splitlines()[-1].startswith("# tetherheli")
     assert first.splitlines()[-1].split(",")[0] == "# tetherheli montecarlo chunk: draws 0..2"
     damages = {
@@ -497,8 +506,6 @@ def test_damaged_chunks_are_named_and_computed_again(short_file, tmp_path, capsy
         "not UTF-8": lambda p: p.write_bytes(b"\xff\xfe" + p.read_bytes()),
         "old format": lambda p: p.write_text("".join(p.read_text().splitlines(True)[:-1])),
     }
-    out = tmp_path / "d"
-    _run(short_file, out)
     capsys.readouterr()
     for k, (what, damage) in enumerate(damages.items()):
         chunk = _chunks_of(out)[k % 3]
@@ -590,7 +597,7 @@ def test_interrupt_message_starts_a_new_line(short_file, tmp_path, capsys, monke
 
 
 def test_lost_scheduler_is_one_line_exit_1_and_resumable(
-    short_file, tmp_path, capsys, monkeypatch, local_cluster
+    short_file, uninterrupted, tmp_path, capsys, monkeypatch, local_cluster
 ):
     from tetherheli import cli
     from tetherheli.studies.montecarlo import runner
@@ -618,8 +625,7 @@ def test_lost_scheduler_is_one_line_exit_1_and_resumable(
     assert len(_chunks_of(out)) == 1
     monkeypatch.setattr(runner, "_run_chunk", real)
     assert cli.main([*args, "--quiet"]) == 0
-    _run(short_file, tmp_path / "full")
-    assert (out / "results.csv").read_bytes() == (tmp_path / "full" / "results.csv").read_bytes()
+    assert (out / "results.csv").read_bytes() == uninterrupted
 
 
 def test_no_workers_is_reported_after_the_timeout(short_file, tmp_path, capsys, local_cluster):

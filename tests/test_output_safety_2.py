@@ -31,6 +31,7 @@ from tetherheli._io import (
 from tetherheli.cli import main
 from tetherheli.sim import Scenario, simulate
 
+from . import test_montecarlo as montecarlo
 from . import test_output_safety as safety
 from .test_montecarlo import SHORT as MC_SHORT
 from .test_montecarlo import _chunks_of, _run
@@ -38,6 +39,8 @@ from .test_output_safety import scenario_file, tree
 
 ROOT = Path(__file__).resolve().parents[1]
 workdir = safety.workdir  # the fixture: a scratch current directory and HOME
+#: the fixture: results.csv of the short Monte Carlo job run without interruption
+uninterrupted = montecarlo.uninterrupted
 
 
 def names_no_temporary(message: str) -> bool:
@@ -428,14 +431,9 @@ def mc_file(tmp_path: Path) -> Path:
     return p
 
 
-@pytest.fixture
-def mc_full(mc_file: Path, tmp_path: Path) -> bytes:
-    """The results table of the job run without interruption."""
-    _run(mc_file, tmp_path / "full")
-    return (tmp_path / "full" / "results.csv").read_bytes()
-
-
-def test_montecarlo_resumes_after_a_kill_while_writing_results(mc_file, mc_full, tmp_path, capsys):
+def test_montecarlo_resumes_after_a_kill_while_writing_results(
+    mc_file, uninterrupted, tmp_path, capsys
+):
     """SIGKILL while a first job writes results.csv: its chunks are done, no record yet, and
     the temporaries of the table (in the build folder beside OUT, or beside results.csv
     as before the build) are left. The resume is no foreign folder: it removes them and
@@ -456,7 +454,7 @@ def test_montecarlo_resumes_after_a_kill_while_writing_results(mc_file, mc_full,
     (out / "partial" / chunk_tmp).write_text("3,7")
     argv = ["montecarlo", str(mc_file), "--out", str(out), "--chunk-size", "3", "--quiet"]
     assert main(argv) == 0, capsys.readouterr().err
-    assert (out / "results.csv").read_bytes() == mc_full
+    assert (out / "results.csv").read_bytes() == uninterrupted
     assert leftovers(out) == []
 
 
@@ -469,7 +467,7 @@ def _reseal(path: Path, rows: list[str]) -> None:
 
 
 def test_chunks_are_verified_by_their_rows_not_only_their_checksum(
-    mc_file, mc_full, tmp_path, capsys
+    mc_file, uninterrupted, tmp_path, capsys
 ):
     """A chunk re-sealed with a valid checksum but its rows permuted (a draw's free and
     tethered rows swapped; two draws swapped), a chunk replaced by an empty folder or by a
@@ -511,7 +509,7 @@ def test_chunks_are_verified_by_their_rows_not_only_their_checksum(
         assert len(err) == 1 and str(chunk) in err[0] and said in err[0], (what, err)
         assert "computing it again" in err[0]
         assert chunk.is_file() and not chunk.is_symlink(), what
-        assert (out / "results.csv").read_bytes() == mc_full, what
+        assert (out / "results.csv").read_bytes() == uninterrupted, what
     assert outside.read_text() == "someone's file\n"
     # through the CLI: a folder with a file in it is the user's
     chunk = _chunks_of(out)[2]
@@ -526,7 +524,7 @@ def test_chunks_are_verified_by_their_rows_not_only_their_checksum(
     shutil.rmtree(chunk)
     chunk.mkdir()  # empty: computed again through the CLI too
     assert main(argv) == 0
-    assert (out / "results.csv").read_bytes() == mc_full
+    assert (out / "results.csv").read_bytes() == uninterrupted
 
 
 def test_montecarlo_results_are_swapped_in_whole(mc_file, tmp_path, monkeypatch):

@@ -90,11 +90,18 @@ def test_constant_wind_leaves_no_steady_state_position_error():
     assert abs(r.reel_rate[-1]) < 1e-4  # the winch at rest again
 
 
+def _constants(setup) -> np.ndarray:
+    """The model's constants as ``PaperController`` hands them to ``paper_control``: a
+    writable copy of the set-up's read-only array (one compiled signature for both)."""
+    return np.array(setup.model.constants, dtype=float, order="C")
+
+
 def test_anti_windup_holds_the_integrators_while_clipped():
     """With CTRL_ANTI_WINDUP the integrators of eq 50 do not move while a rotor command lies
     outside its limits; without it, or within the limits, they do."""
     setup = engine_setup(_scenario())
     K, x_ref, y_ref, u0, _, _ = setup.law
+    c = _constants(setup)
     x = setup.start.x.copy()
     x[7] += 0.5  # a sideways speed: the law commands a cyclic torque
 
@@ -107,8 +114,7 @@ def test_anti_windup_holds_the_integrators_while_clipped():
         y, inp, ffwd = np.empty(4), np.empty(4), np.empty(4)
         xx = x.copy()
         xx[0] += 0.01  # and an output error, so that integration would move z
-        paper_control(xx, 25.0, z, np.zeros(2), ctrl, setup.model.constants, K, x_ref,
-                      y_ref, u0, y, inp, ffwd)  # fmt: skip
+        paper_control(xx, 25.0, z, np.zeros(2), ctrl, c, K, x_ref, y_ref, u0, y, inp, ffwd)
         return z
 
     z_start = np.array([0.1, -0.2, 0.3, 0.0])
@@ -128,7 +134,7 @@ def test_after_release_the_free_rows_fly():
     x[6] += 0.3
     z = np.array([0.01, 0.02, 0.03, 0.04])
     y, inp, ffwd = np.empty(4), np.empty(4), np.empty(4)
-    rate = paper_control(x, 0.0, z.copy(), np.zeros(2), ctrl, setup.model.constants, K, x_ref,
+    rate = paper_control(x, 0.0, z.copy(), np.zeros(2), ctrl, _constants(setup), K, x_ref,
                          y_ref, u0_free, y, inp, ffwd)  # fmt: skip
     free = setup.gain.free
     expected = u0_free - free.Kx @ (x[:12] - x_ref[:12]) - free.Kz @ z
