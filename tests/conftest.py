@@ -14,6 +14,7 @@ import functools
 import os
 import shutil
 import tempfile
+import time
 
 # The compiled engine's cache stays where the package would put it (``_compile._cache_base``),
 # so isolating XDG_CACHE_HOME below does not make every test process compile afresh.
@@ -56,26 +57,52 @@ if TYPE_CHECKING:  # imported by the fixtures: the xdist controller starts the w
     from tetherheli import FreeHelicopter, Params, TetheredHelicopter
 
 
+#: set by the xdist controller for its workers: a file that exists once the warm-up ended
+WARM_DONE = "TETHERHELI_WARM_DONE"
+
+
 def pytest_configure(config: pytest.Config) -> None:
     """On the pytest-xdist controller (``-n N``), fill the Numba cache before the workers
-    start (``tests/warm_cache.py``): the workers then load the engine instead of each
-    compiling it at once. Nothing happens without xdist, in a worker, or with
-    ``TETHERHELI_NO_WARM=1``; with a warm cache it costs the cache's loading only."""
+    run a test (``tests/warm_cache.py``): the workers then load the engine instead of each
+    compiling it at once. The warm-up runs beside the workers' start and collection (about
+    10 s of imports each, no compilation), which use the cores its shorter job leaves idle;
+    each worker waits for it before its first test (``pytest_runtestloop``). Nothing happens
+    without xdist, in a worker, or with ``TETHERHELI_NO_WARM=1``; with a warm cache it costs
+    the cache's loading only."""
     workers = getattr(config.option, "numprocesses", None)
     if hasattr(config, "workerinput") or not workers or os.environ.get("TETHERHELI_NO_WARM"):
         return
+    import threading
+
     from tests.warm_cache import REPORT_FOLDER, warm
 
     # the jobs' signature reports (``tests/test_signatures.py``); the workers inherit the path
     os.environ[REPORT_FOLDER] = os.path.join(_ISOLATED, "warm-signatures")
     os.makedirs(os.environ[REPORT_FOLDER], exist_ok=True)
-    warm()
+    done = os.environ[WARM_DONE] = os.path.join(_ISOLATED, "warm-done")
+
+    def warm_then_say_so() -> None:
+        try:
+            warm()
+        finally:
+            with open(done, "w", encoding="utf-8"):
+                pass
+
+    threading.Thread(target=warm_then_say_so, name="tetherheli-warm-up").start()
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_runtestloop(session: pytest.Session) -> None:
+    """A worker of a warming controller (``pytest_configure``) runs no test before the
+    warm-up has ended (its file exists)."""
+    done = os.environ.get(WARM_DONE)
+    if done and hasattr(session.config, "workerinput"):
+        while not os.path.exists(done):
+            time.sleep(0.05)
 
 
 _COMPILE_LOG = None
 if os.environ.get("TETHERHELI_COMPILE_LOG"):
-    import time
-
     from numba.core import event as _event
 
     class _CompileLog(_event.Listener):
