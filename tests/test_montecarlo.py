@@ -487,9 +487,7 @@ def test_cli_ten_million_runs_start_at_once(short_file, tmp_path, capsys):
 # --- chunk files that can be trusted (issue 9, section 5) ----------------------------------
 
 
-def test_damaged_chunks_are_named_and_computed_again(
-    short_file, uninterrupted, tmp_path, capsys
-):
+def test_damaged_chunks_are_named_and_computed_again(short_file, uninterrupted, tmp_path, capsys):
     """Truncated, empty, garbled, misplaced or old-format chunk files: each is named in one
     line on stderr and computed again; the table equals an uninterrupted run's."""
     full = uninterrupted
