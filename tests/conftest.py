@@ -157,6 +157,14 @@ def pytest_runtest_setup(item: pytest.Item) -> None:
         _COMPILE_LOG.test = item.nodeid
 
 
+@pytest.fixture(name="blank_figures")
+def blank_figures_fixture(monkeypatch):
+    """The commands' figures drawn blank for this test (``tests/blank_figures.py``)."""
+    from tests.blank_figures import blank_figures
+
+    blank_figures(monkeypatch)
+
+
 @pytest.fixture
 def local_cluster():
     """``dask.distributed.LocalCluster`` (the test skips without it) on free ports: with

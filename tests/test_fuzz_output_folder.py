@@ -72,6 +72,8 @@ from tetherheli._io import (  # noqa: E402
 from tetherheli.cli import main  # noqa: E402
 from tetherheli.sim.result import load_result  # noqa: E402
 
+from .blank_figures import blank_figures  # noqa: E402
+
 _ON_DEMAND = int(os.environ.get("TETHERHELI_FUZZ_EXAMPLES", "0") or 0)
 _CI_EXAMPLES = 120
 _SETTINGS = settings(
@@ -124,16 +126,6 @@ def _dead_pid() -> int:
     done = subprocess.Popen([sys.executable, "-c", "pass"])
     done.wait()
     return done.pid
-
-
-def _blank_figures(monkeypatch: pytest.MonkeyPatch) -> None:
-    """Every figure of the commands run here drawn blank (still saved by ``save_figure``)."""
-    from matplotlib.figure import Figure
-
-    import tetherheli.viz.plots as plots
-
-    for name in ("figure_outputs", "figure_inputs", "figure_montecarlo", "figure_paired"):
-        monkeypatch.setattr(plots, name, lambda *a, **k: Figure(figsize=(0.5, 0.5)))
 
 
 def _argv(command: str, inputs: Path, out: Path, force: bool) -> list[str]:
@@ -221,7 +213,7 @@ def earlier(tmp_path_factory: pytest.TempPathFactory) -> Earlier:
     (inputs / "mc.toml").write_text(MONTECARLO)
     folders = {}
     with pytest.MonkeyPatch.context() as m:
-        _blank_figures(m)
+        blank_figures(m)
         for command in COMMANDS:
             folders[command] = base / command
             code = main(_argv(command, inputs, folders[command], force=False))
@@ -645,7 +637,7 @@ def _kill_a_run(state: State, out: Path, ex: Path, earlier: Earlier) -> None:
         replace(a, b)
 
     with pytest.MonkeyPatch.context() as m:
-        _blank_figures(m)
+        blank_figures(m)
         m.setattr(io.os, "replace", replace_or_die)
         m.setattr(io, "_undo_swap", lambda *a, **k: None)
         m.setattr(io.shutil, "rmtree", lambda *a, **k: None)
@@ -694,7 +686,7 @@ def _run_state(state: State, ex: Path, earlier: Earlier, capsys) -> None:
             _check_recovery(state, ex, out_rel, killed, before, earlier)
         capsys.readouterr()
         with pytest.MonkeyPatch.context() as m:
-            _blank_figures(m)
+            blank_figures(m)
             code = main(_argv(state.command, earlier.inputs, out, state.force))
         stdout, err = capsys.readouterr()
         after = _snapshot(ex)

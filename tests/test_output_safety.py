@@ -44,6 +44,11 @@ direction = [1, 0, 0]
 """
 
 
+#: the folder rules are under test here, not the plots: the commands' figures are drawn blank
+#: and still saved (``tests/blank_figures.py``)
+pytestmark = pytest.mark.usefixtures("blank_figures")
+
+
 def scenario_file(folder: Path, name: str = "short", cfg: str = "free", duration=0.5) -> Path:
     folder.mkdir(parents=True, exist_ok=True)
     path = folder / f"{name}.toml"

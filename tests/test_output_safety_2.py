@@ -43,6 +43,11 @@ workdir = safety.workdir  # the fixture: a scratch current directory and HOME
 uninterrupted = montecarlo.uninterrupted
 
 
+#: the folder rules are under test here, not the plots: the commands' figures are drawn blank
+#: and still saved (``tests/blank_figures.py``)
+pytestmark = pytest.mark.usefixtures("blank_figures")
+
+
 def names_no_temporary(message: str) -> bool:
     return re.search(rf"{TEMPORARY_TAG}-[0-9]+-", message) is None
 
