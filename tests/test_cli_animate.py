@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import pytest
 from PIL import Image
 
 from tetherheli.cli import main
@@ -29,6 +30,7 @@ def test_animate_cli_writes_gif(tmp_path):
         assert img.n_frames == 5
 
 
+@pytest.mark.usefixtures("blank_figures")  # the runs are read, not the plots
 def test_animate_accepts_multi_scenario_simulate_output(tmp_path, capsys):
     """`simulate a.toml b.toml` writes OUT/<name>/<name>.csv; `animate OUT` overlays both,
     the free run red and the tethered run blue as in the figures."""

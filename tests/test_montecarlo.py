@@ -18,6 +18,8 @@ from tetherheli.sim.batch import run_batch
 from tetherheli.status import Status
 from tetherheli.studies.montecarlo import load_montecarlo, montecarlo_config_from_dict
 
+from .blank_figures import blank_figures
+
 ROOT = Path(__file__).resolve().parents[1]
 
 SHORT = """
@@ -60,7 +62,9 @@ def uninterrupted(tmp_path_factory) -> bytes:
     depend on where the scenario file lies)."""
     folder = tmp_path_factory.mktemp("montecarlo")
     (folder / "mc.toml").write_text(SHORT)
-    _run(folder / "mc.toml", folder / "full")
+    with pytest.MonkeyPatch.context() as m:  # its table is used, not its figures
+        blank_figures(m)
+        _run(folder / "mc.toml", folder / "full")
     return (folder / "full" / "results.csv").read_bytes()
 
 
@@ -133,6 +137,7 @@ def test_row_equals_a_single_simulation(short_file, tmp_path):
     )
 
 
+@pytest.mark.usefixtures("blank_figures")  # the chunks under test, not the plots
 def test_resume_after_interrupt_equals_uninterrupted(short_file, uninterrupted, tmp_path, capsys):
     assert _run(short_file, tmp_path / "r", max_chunks=1) is None
     assert not (tmp_path / "r" / "results.csv").exists()
@@ -444,6 +449,7 @@ def test_a_draw_that_cannot_hover_is_a_failed_row(failing_file, tmp_path):
     assert summary["reduction_percent"]["peak_q1"]["p1"] is None
 
 
+@pytest.mark.usefixtures("blank_figures")  # the chunks under test, not the plots
 def test_cli_failed_draws_exit_0_or_1_with_strict(failing_file, tmp_path, capsys):
     from tetherheli import cli
 
@@ -461,6 +467,7 @@ def test_cli_failed_draws_exit_0_or_1_with_strict(failing_file, tmp_path, capsys
 # --- --max-chunks stops with its own exit code ---------------------------------------------
 
 
+@pytest.mark.usefixtures("blank_figures")  # the chunks under test, not the plots
 def test_cli_max_chunks_exit_3_then_resume(short_file, uninterrupted, tmp_path, capsys):
     from tetherheli import cli
 
@@ -487,6 +494,7 @@ def test_cli_ten_million_runs_start_at_once(short_file, tmp_path, capsys):
 # --- chunk files that can be trusted (issue 9, section 5) ----------------------------------
 
 
+@pytest.mark.usefixtures("blank_figures")  # the chunks under test, not the plots
 def test_damaged_chunks_are_named_and_computed_again(short_file, uninterrupted, tmp_path, capsys):
     """Truncated, empty, garbled, misplaced or old-format chunk files: each is named in one
     line on stderr and computed again; the table equals an uninterrupted run's."""
@@ -522,6 +530,7 @@ def test_damaged_chunks_are_named_and_computed_again(short_file, uninterrupted, 
     assert (out / "results.csv").read_bytes() == full
 
 
+@pytest.mark.usefixtures("blank_figures")  # the chunks under test, not the plots
 def test_cli_truncated_chunk_is_recomputed(short_file, tmp_path, capsys):
     from tetherheli import cli
 
@@ -594,6 +603,7 @@ def test_interrupt_message_starts_a_new_line(short_file, tmp_path, capsys, monke
 # --- Dask: a lost scheduler or no workers ---------------------------------------------------
 
 
+@pytest.mark.usefixtures("blank_figures")  # the chunks under test, not the plots
 def test_lost_scheduler_is_one_line_exit_1_and_resumable(
     short_file, uninterrupted, tmp_path, capsys, monkeypatch, local_cluster
 ):

@@ -116,6 +116,7 @@ def test_simulate_cli_writes_parquet_that_load_result_reads(tmp_path, capsys):
     assert "--format" in err and len(err.strip().splitlines()) == 1
 
 
+@pytest.mark.usefixtures("blank_figures")  # the tables under test, not the plots
 def test_montecarlo_results_table_in_parquet_equals_the_csv(tmp_path):
     path = tmp_path / "mc.toml"
     path.write_text(SHORT)
