@@ -272,8 +272,9 @@ def _agg_pixels(fig: Figure, dpi: float) -> np.ndarray | None:
     ``savefig`` draws a figure with a layout engine twice: once without rendering, to run
     the layout, then again to render. One ``FigureCanvasAgg.draw`` runs the layout and
     renders in one pass, to the same pixels (``tests/test_plots.py`` compares them with
-    Matplotlib's PNG): 0.7-0.9 of the time of a run's figures. The figure's canvas and dpi
-    are restored afterwards. None when the rendered size is not the figure's size at ``dpi``.
+    Matplotlib's PNG): 0.80-0.91 of ``savefig``'s CPU time for the PNG of a run's or a Monte
+    Carlo's figure (``benchmarks/bench_figures.py``). The figure's canvas and dpi are
+    restored afterwards. None when the rendered size is not the figure's size at ``dpi``.
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
