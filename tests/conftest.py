@@ -165,6 +165,23 @@ def blank_figures_fixture(monkeypatch):
     blank_figures(monkeypatch)
 
 
+@pytest.fixture(scope="session")
+def uninterrupted(tmp_path_factory) -> bytes:
+    """results.csv of ``test_montecarlo``'s short job (``SHORT``) run whole, once per test
+    process: what every stopped, resumed or repaired job's table must equal
+    (``test_montecarlo``, ``test_output_safety_2``). Its figures are drawn blank: only the
+    table is used, and it does not depend on where the scenario file lies."""
+    from tests.blank_figures import blank_figures
+    from tests.test_montecarlo import SHORT, _run
+
+    folder = tmp_path_factory.mktemp("montecarlo")
+    (folder / "mc.toml").write_text(SHORT)
+    with pytest.MonkeyPatch.context() as m:
+        blank_figures(m)
+        _run(folder / "mc.toml", folder / "full")
+    return (folder / "full" / "results.csv").read_bytes()
+
+
 @pytest.fixture
 def local_cluster():
     """``dask.distributed.LocalCluster`` (the test skips without it) on free ports: with

@@ -18,8 +18,6 @@ from tetherheli.sim.batch import run_batch
 from tetherheli.status import Status
 from tetherheli.studies.montecarlo import load_montecarlo, montecarlo_config_from_dict
 
-from .blank_figures import blank_figures
-
 ROOT = Path(__file__).resolve().parents[1]
 
 SHORT = """
@@ -53,19 +51,6 @@ def short_file(tmp_path: Path) -> Path:
     p = tmp_path / "mc.toml"
     p.write_text(SHORT)
     return p
-
-
-@pytest.fixture(scope="session")
-def uninterrupted(tmp_path_factory) -> bytes:
-    """results.csv of the short job run whole without interruption, once per test process:
-    what every stopped, resumed or repaired job's table must equal (the table does not
-    depend on where the scenario file lies)."""
-    folder = tmp_path_factory.mktemp("montecarlo")
-    (folder / "mc.toml").write_text(SHORT)
-    with pytest.MonkeyPatch.context() as m:  # its table is used, not its figures
-        blank_figures(m)
-        _run(folder / "mc.toml", folder / "full")
-    return (folder / "full" / "results.csv").read_bytes()
 
 
 def _run(path: Path, out: Path, **kw):

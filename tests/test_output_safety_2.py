@@ -31,7 +31,6 @@ from tetherheli._io import (
 from tetherheli.cli import main
 from tetherheli.sim import Scenario, simulate
 
-from . import test_montecarlo as montecarlo
 from . import test_output_safety as safety
 from .test_montecarlo import SHORT as MC_SHORT
 from .test_montecarlo import _chunks_of, _run
@@ -39,8 +38,6 @@ from .test_output_safety import scenario_file, tree
 
 ROOT = Path(__file__).resolve().parents[1]
 workdir = safety.workdir  # the fixture: a scratch current directory and HOME
-#: the fixture: results.csv of the short Monte Carlo job run without interruption
-uninterrupted = montecarlo.uninterrupted
 
 
 #: the folder rules are under test here, not the plots: the commands' figures are drawn blank
