@@ -14,7 +14,13 @@ import pytest
 
 from tetherheli import cli
 from tetherheli.errors import ParameterError
-from tetherheli.layout import HELD_DRUM_SPEED, HELD_MOTOR_TORQUE, HELD_SIZE, default_actuators
+from tetherheli.layout import (
+    ACT_DRUM,
+    HELD_DRUM_SPEED,
+    HELD_MOTOR_TORQUE,
+    HELD_SIZE,
+    default_actuators,
+)
 from tetherheli.sim import engine
 from tetherheli.sim.batch import run_batch
 from tetherheli.sim.closed_loop import simulate
@@ -46,7 +52,8 @@ def _actuate(act, held, rate_cmd, tension, measured=None, length=1e6):
     length ``length`` [m] (default: far from the payout limits)."""
     inp = np.zeros(4)
     measured = tension if measured is None else measured
-    return engine.actuate(inp, held, rate_cmd, act, DT, False, tension, measured, length, 0.0)
+    drum = act[ACT_DRUM] > 0.5
+    return engine.actuate(inp, held, rate_cmd, act, DT, False, tension, measured, length, 0.0, drum)
 
 
 # --- the drum alone ------------------------------------------------------------------------

@@ -100,7 +100,8 @@ def run_unrecorded(engine_args, summary):
     samples_done : int
         Samples the run completed (``n_samples + 1`` if completed).
     """
-    loop = engine.closed_loop_for(engine_args[-1], engine_args[-2])  # chain, sensors
+    act, sensors, chain = engine_args[-3:]
+    loop = engine.closed_loop_for(chain, sensors, act)
     return loop(*engine_args, False, _NO_SIGNALS, summary)
 
 

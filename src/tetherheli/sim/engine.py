@@ -394,18 +394,19 @@ def _sense(x, k, t, cfg, ctrl, act, sensors, sensed, event, x_meas):
 
 
 @_jit_inline
-def actuate(inp, held, rate, act, dt, first, tension_ground, measured_tension, length, t):
+def actuate(inp, held, rate, act, dt, first, tension_ground, measured_tension, length, t, drum):
     """Phase 3: the actuators on a controller's command. Rotor inputs: saturation and lag
     (``apply_actuators``, in place). Reel rate, ideal winch: the acceleration limit relative
     to the rate applied at the previous sample (the paper's PI already keeps within it and
-    holds its integral meanwhile: ``control.paper.winch_step``). Drum winch (act[ACT_DRUM]):
+    holds its integral meanwhile: ``control.paper.winch_step``). Drum winch (``drum``, True
+    when act[ACT_DRUM]; a constant of a specialised caller prunes the other winch's code):
     the command is the drive's speed reference and the drum is advanced over the sample
     (``drum_winch``) under the tension at the winch, tension_ground [N] (the load cell reads
     measured_tension [N]). Then the payout limits (``winch_limits``) on the natural length
     ``length`` = x[12] [m] at the sample's time t [s]. Returns the reel rate applied over
     the sample [m/s]."""
     apply_actuators(inp, held, act, dt, first)
-    if act[ACT_DRUM] > 0.5:
+    if drum:
         rate = drum_winch(held, rate, act, dt, tension_ground, measured_tension)
     else:
         rate = limit_rate_change_jit(rate, held[HELD_REEL_RATE], act[ACT_REEL_ACCEL], dt)
@@ -506,7 +507,7 @@ def _paper_sample(
     rate = paper_law(x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered,
                      u0_free, z, winch, y_est, inp, ffwd, action, action_mode)  # fmt: skip
     status, rate = sample_apply(x, k, cfg, act, c, held, inp, rate, tension, measured, sensed,
-                                y, y_est, sc_true, sc_meas, y_ref)  # fmt: skip
+                                act[ACT_DRUM] > 0.5, y, y_est, sc_true, sc_meas, y_ref)  # fmt: skip
     return status, tension, rate
 
 
@@ -596,30 +597,49 @@ def sample_outputs(x, c, sensed, y, y_est, sc_true, sc_meas, y_ref, tension, cfg
 
 @_jit_inline
 def sample_apply(
-    x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, y, y_est, sc_true, sc_meas,
-    y_ref,
+    x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, drum, y, y_est, sc_true,
+    sc_meas, y_ref,
 ):  # fmt: skip
     """Phase 3: ``actuate`` on the controller's command (inp, the reel rate ``rate``), then
-    ``sample_outputs``. Returns (status, applied reel rate [m/s])."""
-    return _sample_apply(
+    ``sample_outputs``. ``drum``: the run has a drum winch (act[ACT_DRUM]); where it is a
+    constant of the caller (the specialised loops) the other winch is not compiled.
+    Returns (status, applied reel rate [m/s])."""
+    if drum:
+        return _sample_apply_drum(
+            x, k, cfg, frozen(act), frozen(c), held, inp, rate, tension, measured, plain(sensed),
+            y, y_est, sc_true, sc_meas, frozen(y_ref),
+        )  # fmt: skip
+    return _sample_apply_ideal(
         x, k, cfg, frozen(act), frozen(c), held, inp, rate, tension, measured, plain(sensed), y,
         y_est, sc_true, sc_meas, frozen(y_ref),
     )  # fmt: skip
 
 
-@_jit
-def _sample_apply(
-    x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, y, y_est, sc_true, sc_meas,
-    y_ref,
-):  # fmt: skip
-    # ``sample_apply``'s body, typed once for every caller (its read-only arrays frozen, its
-    # constants plain: one signature) and inlined by LLVM (``inline_here``, issue 24)
-    inline_here()
-    dt = cfg[CFG_DT]
-    rate = actuate(
-        inp, held, rate, act, dt, k == 0, winch_tension(cfg, tension), measured, x[12], k * dt
-    )
-    return sample_outputs(x, c, sensed, y, y_est, sc_true, sc_meas, y_ref, tension, cfg), rate
+def _specialised_apply(drum: bool):
+    """``sample_apply``'s body for an ideal winch (``drum`` False) or a drum winch: a closure
+    whose ``drum`` is a constant of the compiled code, so the ideal winch's body compiles no
+    drum (``_drum_step``: about 1.5 s of a first ``tetherheli paper``; issue 24)."""
+
+    def sample_apply_body(
+        x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, y, y_est, sc_true,
+        sc_meas, y_ref,
+    ):  # fmt: skip
+        # typed once for every caller (its read-only arrays frozen, its constants plain: one
+        # signature) and inlined by LLVM (``inline_here``, issue 24)
+        inline_here()
+        dt = cfg[CFG_DT]
+        rate = actuate(
+            inp, held, rate, act, dt, k == 0, winch_tension(cfg, tension), measured, x[12],
+            k * dt, drum,
+        )  # fmt: skip
+        status = sample_outputs(x, c, sensed, y, y_est, sc_true, sc_meas, y_ref, tension, cfg)
+        return status, rate
+
+    return sample_apply_body
+
+
+_sample_apply_ideal = _jit(_specialised_apply(False))
+_sample_apply_drum = _jit(_specialised_apply(True))
 
 
 @_jit_inline
@@ -745,29 +765,30 @@ def run_closed_loop(
     receives the on-line metrics of the samples k >= cfg[CFG_METRICS_FROM], the release event
     in its ``release_*`` slots (NaN without one).
 
-    The one loop, ``_specialised_loop``'s, is compiled per tether kind and per sensing
+    The one loop, ``_specialised_loop``'s, is compiled per tether kind, sensing and winch
     (``CLOSED_LOOPS``, chosen by ``closed_loop_for``): a massless run does not compile the
     lumped chain's step (about 20 s of a first run's compilation), a run with perfect
-    sensors not the sensors.
+    sensors not the sensors, an ideal winch not the drum.
     """
-    loop = closed_loop_for(chain, sensors)
+    loop = closed_loop_for(chain, sensors, act)
     return loop(
         x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out, summary
     )
 
 
-def closed_loop_for(chain: tuple, sensors: tuple) -> Any:
+def closed_loop_for(chain: tuple, sensors: tuple, act: np.ndarray) -> Any:
     """The compiled loop of ``run_closed_loop`` for a run's tether (``chain``: lumped or
-    massless) and ``sensors`` (a noise table with rows: sensed, else perfect), one of
-    ``CLOSED_LOOPS``; it releases the GIL."""
-    return CLOSED_LOOPS[is_lumped(chain), sensors[0].shape[0] > 0]
+    massless), ``sensors`` (a noise table with rows: sensed, else perfect) and winch (``act``,
+    ``layout.ACT_*``: drum or ideal), one of ``CLOSED_LOOPS``; it releases the GIL."""
+    return CLOSED_LOOPS[is_lumped(chain), sensors[0].shape[0] > 0, bool(act[ACT_DRUM] > 0.5)]
 
 
-def _specialised_loop(lumped: bool, sensed: bool):
+def _specialised_loop(lumped: bool, sensed: bool, drum: bool):
     """``run_closed_loop``'s loop for a massless tether (or none, ``lumped`` False) or a
-    lumped one, with perfect sensors (``sensed`` False) or a noise table: a closure whose
-    ``lumped`` and ``sensed`` are constants of the compiled code, so that the compiler drops
-    the branches a run never takes (Numba's cache keys a closure on its variables' values
+    lumped one, with perfect sensors (``sensed`` False) or a noise table, with the ideal
+    winch (``drum`` False) or the drum winch: a closure whose ``lumped``, ``sensed`` and
+    ``drum`` are constants of the compiled code, so that the compiler drops the branches a
+    run never takes (Numba's cache keys a closure on its variables' values
     too). Not an inlined function called with a constant: Numba copies an
     inlined function's IR block by block, each block with every variable of the function, so
     inlining the whole loop cost about a quarter of a first run's compilation (issue 24)."""
@@ -809,8 +830,8 @@ def _specialised_loop(lumped: bool, sensed: bool):
                 z, winch, y_est, inp, ffwd, no_action, ACTION_NONE,
             )  # fmt: skip
             sample_status, rate = sample_apply(
-                x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, y, y_est, sc_true,
-                sc_meas, y_ref,
+                x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, drum, y, y_est,
+                sc_true, sc_meas, y_ref,
             )  # fmt: skip
             if sample_status != STATUS_OK:
                 status, done = sample_status, k
@@ -830,11 +851,15 @@ def _specialised_loop(lumped: bool, sensed: bool):
     return closed_loop
 
 
-#: ``_specialised_loop`` by (lumped, sensed): the loop of a massless (or no) tether or a
-#: lumped one (``chain``'s nodes present), with perfect sensors or a noise table; each
-#: releases the GIL (``sim.batch`` runs them on threads)
+#: ``_specialised_loop`` by (lumped, sensed, drum): the loop of a massless (or no) tether or
+#: a lumped one (``chain``'s nodes present), with perfect sensors or a noise table, with the
+#: ideal or the drum winch; each compiles at its first run and releases the GIL
+#: (``sim.batch`` runs them on threads)
 CLOSED_LOOPS = {
-    (lumped, sensed): compiled(error_model="numpy", nogil=True)(_specialised_loop(lumped, sensed))
+    (lumped, sensed, drum): compiled(error_model="numpy", nogil=True)(
+        _specialised_loop(lumped, sensed, drum)
+    )
     for lumped in (False, True)
     for sensed in (False, True)
+    for drum in (False, True)
 }

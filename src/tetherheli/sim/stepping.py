@@ -16,7 +16,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .._compile import compiled
-from ..layout import CFG_ATTACHED, CHAIN_NODES, LAW_X_REF, LAW_Y_REF, LoopState, Signals
+from ..layout import ACT_DRUM, CFG_ATTACHED, CHAIN_NODES, LAW_X_REF, LAW_Y_REF, LoopState, Signals
 from ..model.kernels import angle_trig, tethered_outputs_sc
 from .engine import (
     STATUS_NONFINITE,
@@ -101,8 +101,8 @@ def step_command(run, k, command, reel_rate, feedforward, tension, measured, adv
     tethered_outputs_sc(x_meas, sc_meas, c, y_est)
     if finite:
         status, rate = sample_apply(
-            x, k, cfg, run.act, c, held, inp, reel_rate, tension, measured, sensed, y, y_est,
-            sc_true, sc_meas, run.law[LAW_Y_REF],
+            x, k, cfg, run.act, c, held, inp, reel_rate, tension, measured, sensed,
+            run.act[ACT_DRUM] > 0.5, y, y_est, sc_true, sc_meas, run.law[LAW_Y_REF],
         )  # fmt: skip
     else:
         rate = reel_rate
