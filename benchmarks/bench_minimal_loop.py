@@ -41,6 +41,7 @@ from tetherheli.layout import (
     LAW_Y_REF,
 )
 from tetherheli.model.kernels import (
+    angle_trig,
     tethered_outputs_sc,
     tethered_rhs_sc,
     tethered_tether_torque_sc,
@@ -50,18 +51,6 @@ from tetherheli.sim.batch import run_batch, run_unrecorded
 from tetherheli.sim.scenario import paper_scenario
 from tetherheli.sim.setup import engine_setup
 from tetherheli.wind import Pulse, Sine, evaluate
-
-
-@njit(error_model="numpy", inline="always", cache=True)
-def angle_trig(x, sc):
-    """sc (10,) = sin, cos of x[0..4] from libm (the engine takes them by
-    ``kernels.sincos_branchless``: the yardstick is the loop anyone would write first)."""
-    for i in range(5):
-        a = x[i]  # one load: sin and cos of it fuse into one sincos call
-        s = math.sin(a)
-        c = math.cos(a)
-        sc[i] = s
-        sc[5 + i] = c
 
 
 @njit(error_model="numpy", inline="always", cache=True)

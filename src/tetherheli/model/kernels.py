@@ -13,6 +13,8 @@ a 13th entry, the winch's natural length LN, driven by the reel rate (eq 37).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .._compile import compiled
@@ -57,7 +59,7 @@ kinematics_tethered_HO = _jit(gen.kinematics_tethered_HO)
 kinematics_tether_length = _jit(gen.kinematics_tether_length)
 
 #: Angle steps up to this size [rad] are applied by the angle-addition formulas with the
-#: Taylor series of sin and cos (truncation below 1e-19 relative); larger ones are taken afresh.
+#: Taylor series of sin and cos (truncation below 1e-19 relative); larger ones call libm.
 TRIG_STEP_MAX = 0.05
 # Taylor coefficients of sin and cos (multiplications only: no division in the hot loop)
 _S3, _S5, _S7, _S9 = -1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362880.0
@@ -66,10 +68,11 @@ _C2, _C4, _C6, _C8 = -0.5, 1.0 / 24.0, -1.0 / 720.0, 1.0 / 40320.0
 
 @_jit_inline
 def angle_trig(x, sc):
-    """sc (10,) = [sin x[0..4], cos x[0..4]] of the angles q4..q8 (``sincos_branchless``:
-    within a few units in the last place of libm, the same numbers in every loop)."""
+    """sc (10,) = [sin x[0..4], cos x[0..4]] of the angles q4..q8 (libm)."""
     for i in range(5):
-        s, c = sincos_branchless(x[i])
+        a = x[i]  # one load: sin and cos of it fuse into one sincos call
+        s = math.sin(a)
+        c = math.cos(a)
         sc[i] = s
         sc[5 + i] = c
 
@@ -77,13 +80,14 @@ def angle_trig(x, sc):
 @_jit_inline
 def angle_trig_lanes(x, sc):
     """``angle_trig`` for every lane of flat (variable, lane) arrays (``layout.LANES``): x
-    (13 LANES,), sc (10 LANES,). ``sincos_branchless`` has no branch and no call, so the loop
-    over the lanes vectorises (libm's sine and cosine, called lane by lane, were a seventh
-    of a lane's sample; issue 24), and every lane equals ``angle_trig`` bit for bit."""
-    n_lanes = x.shape[0] // 13  # LANES, at run time: the loop vectorises, not unrolls
+    (13 LANES,), sc (10 LANES,). libm's sine and cosine lane by lane, in a loop of their own
+    (libm has no vector form equal to its scalar one; the lane engine's other loops
+    vectorise), so every lane equals ``angle_trig`` bit for bit."""
     for i in range(5):
-        for j in range(n_lanes):
-            s, c = sincos_branchless(x[i * LANES + j])
+        for j in range(LANES):
+            a = x[i * LANES + j]
+            s = math.sin(a)
+            c = math.cos(a)
             sc[i * LANES + j] = s
             sc[(5 + i) * LANES + j] = c
 
@@ -117,24 +121,18 @@ _PIO2_1 = 1.57079632673412561417e00  # the first 33 bits of pi/2
 _PIO2_2 = 6.07710050630396597660e-11  # the next 33 bits
 _PIO2_3 = 2.02226624879595063154e-21  # pi/2 - _PIO2_1 - _PIO2_2
 _TWO_OVER_PI = 0.63661977236758134308
-#: |x| up to which ``sincos_branchless`` is within a few ulp of libm (Cody-Waite reduction)
+#: |x| up to which ``sin_branchless`` is within a few ulp of libm (Cody-Waite reduction)
 SIN_BRANCHLESS_MAX_ARG = 1.0e5
 
 
 @_jit_inline
 def sin_branchless(x):
-    """sin x with no branch and no call: ``sincos_branchless``'s sine."""
-    return sincos_branchless(x)[0]
-
-
-@_jit_inline
-def sincos_branchless(x):
-    """(sin x, cos x) with no branch and no call (Cody-Waite reduction by pi/2, then fdlibm's
-    kernel polynomials, shared by both), so a loop over lanes that uses it vectorises.
-    Agrees with libm to a few units in the last place for |x| <= SIN_BRANCHLESS_MAX_ARG (a
-    test checks it). The quadrant is rounded as a float (``np.floor``; ``math.floor``
-    returns an integer, and without AVX-512 a vector of doubles has no conversion to 64-bit
-    integers and back: each lane was converted alone, issue 24); its values are the same."""
+    """sin x with no branch and no call (Cody-Waite reduction by pi/2, then fdlibm's kernel
+    polynomials), so a loop over lanes that uses it vectorises. Agrees with libm to a few
+    units in the last place for |x| <= SIN_BRANCHLESS_MAX_ARG (a test checks it). The
+    quadrant is rounded as a float (``np.floor``; ``math.floor`` returns an integer, and
+    without AVX-512 a vector of doubles has no conversion to 64-bit integers and back: each
+    lane was converted alone, issue 24); its values are the same."""
     k = np.floor(x * _TWO_OVER_PI + 0.5)
     r = ((x - k * _PIO2_1) - k * _PIO2_2) - k * _PIO2_3
     z = r * r
@@ -145,26 +143,24 @@ def sincos_branchless(x):
         + z * z * (_K_C1 + z * (_K_C2 + z * (_K_C3 + z * (_K_C4 + z * (_K_C5 + z * _K_C6)))))
     )
     quadrant = k - 4.0 * np.floor(0.25 * k)  # k mod 4, in {0, 1, 2, 3}
-    # x = r + k pi/2: sin x = sin r, cos r, -sin r, -cos r; cos x = cos r, -sin r, -cos r,
-    # sin r in the quadrants 0, 1, 2, 3
-    odd = quadrant == 1.0 or quadrant == 3.0
-    s = cos_r if odd else sin_r
-    c = sin_r if odd else cos_r
-    s = -s if quadrant >= 2.0 else s
-    c = -c if (quadrant == 1.0 or quadrant == 2.0) else c
-    return s, c
+    value = cos_r if (quadrant == 1.0 or quadrant == 3.0) else sin_r
+    return -value if quadrant >= 2.0 else value
 
 
 @_jit_inline
 def angle_trig_from(x, x_base, sc_base, sc):
-    """``angle_trig(x, sc)`` from the values sc_base at a nearby x_base (``rotate_trig`` with
-    d = x - x_base). Agrees with libm to a few units in the last place; steps larger than
-    TRIG_STEP_MAX are taken afresh (``sincos_branchless``, as ``angle_trig``). The RK4
-    stages use it: sin and cos are half of a derivative's cost."""
+    """``angle_trig(x, sc)`` from the values sc_base at a nearby x_base, without libm
+    (``rotate_trig`` with d = x - x_base). Agrees with libm to a few units in the last place;
+    steps larger than TRIG_STEP_MAX fall back to libm. The RK4 stages use it: sin and cos
+    are half of a derivative's cost."""
     for i in range(5):
         d = x[i] - x_base[i]
         if abs(d) > TRIG_STEP_MAX:
-            sc[i], sc[5 + i] = sincos_branchless(x[i])
+            a = x[i]
+            s = math.sin(a)
+            c = math.cos(a)
+            sc[i] = s
+            sc[5 + i] = c
             continue
         sc[i], sc[5 + i] = rotate_trig(sc_base[i], sc_base[5 + i], d)
 
@@ -173,7 +169,7 @@ def angle_trig_from(x, x_base, sc_base, sc):
 def angle_trig_from_lanes(x, x_base, sc_base, sc):
     """``angle_trig_from`` for every lane of flat (variable, lane) arrays (``layout.LANES``):
     x, x_base (13 LANES,), sc_base, sc (10 LANES,). One branch-free pass over the lanes
-    (vectorised), then the entries whose step exceeds TRIG_STEP_MAX afresh, so every lane
+    (vectorised), then libm for the entries whose step exceeds TRIG_STEP_MAX, so every lane
     equals ``angle_trig_from`` bit for bit."""
     big = False
     n_lanes = x.shape[0] // 13  # LANES, at run time: the loop vectorises, not unrolls
@@ -189,7 +185,8 @@ def angle_trig_from_lanes(x, x_base, sc_base, sc):
             for j in range(LANES):
                 a = x[i * LANES + j]
                 if abs(a - x_base[i * LANES + j]) > TRIG_STEP_MAX:
-                    s, c = sincos_branchless(a)
+                    s = math.sin(a)
+                    c = math.cos(a)
                     sc[i * LANES + j] = s
                     sc[(5 + i) * LANES + j] = c
 

@@ -407,7 +407,7 @@ def _adaptive_interval(
         def rhs(tt, xx, mid=mid):
             out = np.empty(13)
             sc = np.empty(10)
-            angle_trig(xx, sc)  # afresh at every evaluation: the accurate reference
+            angle_trig(xx, sc)  # libm at every evaluation: the accurate reference
             side = 1 if tt < mid else -1
             _plant(xx, sc, inp, rate, tt, side, cfg, c, disturbance, wind, base, out)
             return out

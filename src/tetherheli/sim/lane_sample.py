@@ -13,9 +13,9 @@ formulas are the single run's own: the scalar kernels (``engine.state_status``,
 (``model.codegen``); the LQI's sums run in the single run's order. So each lane performs a
 single run's operations in the same order and equals it bit for bit (``tests/test_lanes.py``).
 
-The angles' sine and cosine vectorise too (``kernels.angle_trig_lanes``, with the
-branch-free ``kernels.sincos_branchless`` that every loop uses). Two parts stay lane by lane,
-on the lane's rows gathered and scattered back: a noisy sensor suite
+Three parts stay lane by lane: libm's sine and cosine of the angles
+(``kernels.angle_trig_lanes``: libm has no vector form equal to its scalar one), and, on the
+lane's rows gathered and scattered back, a noisy sensor suite
 (``sensing.sensors.measure_sampled``, with its history ring and schedule) and the drum winch
 (``engine.drum_winch``); a block without sensors or drum never takes those branches.
 """
