@@ -110,6 +110,35 @@ def test_save_figure_formats_and_print_resolution(tmp_path):
         plots.save_figure(fig, tmp_path / "a.jpg")
 
 
+def test_inline_figure_shows_matplotlibs_pixels():
+    """A figure shown in Jupyter (``InlineFigure._repr_png_``) is drawn once, at the
+    resolution ``savefig`` would take: the figure's own dpi by default, else the number
+    ``savefig.dpi`` holds; its pixels are those of Matplotlib's PNG of an identical fresh
+    figure (the alpha channel dropped where every pixel is opaque)."""
+    import io
+
+    import matplotlib as mpl
+    from PIL import Image
+
+    free, teth, ok_f, ok_t = _mc_data()
+
+    def figure() -> Figure:
+        return plots.figure_paired(free, teth, ok_f, ok_t, "peak_q1")
+
+    for setting in ("figure", 72):
+        with mpl.rc_context({"savefig.dpi": setting}):
+            shown = figure()._repr_png_()
+            reference = io.BytesIO()
+            figure().savefig(reference, format="png")
+        with Image.open(io.BytesIO(shown)) as a, Image.open(reference) as b:
+            assert a.size == b.size
+            pa, pb = np.asarray(a), np.asarray(b)
+        assert (pb[:, :, 3] == 255).all()
+        np.testing.assert_array_equal(pa, pb[:, :, :3])
+    fig = figure()
+    assert _png_size(fig._repr_png_()) == tuple(round(v * fig.dpi) for v in fig.get_size_inches())
+
+
 @pytest.mark.parametrize("kind", ["paired", "outputs"])
 def test_png_holds_matplotlibs_pixels_in_fewer_bytes(tmp_path, kind):
     """``save_figure``'s PNG (drawn once, ``viz.figure._agg_pixels``) against Matplotlib's own

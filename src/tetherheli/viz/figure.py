@@ -119,12 +119,13 @@ class InlineFigure(Figure):
     it twice, and making one never changes the process's backend."""
 
     def _repr_png_(self) -> bytes:
-        """The figure as PNG bytes (IPython's display protocol)."""
-        import io
+        """The figure as PNG bytes (IPython's display protocol), at the resolution
+        Matplotlib's ``savefig`` would take (``savefig.dpi``, by default the figure's own),
+        drawn once (``_png_bytes``: ``savefig`` draws a constrained layout twice)."""
+        import matplotlib as mpl
 
-        buf = io.BytesIO()
-        self.savefig(buf, format="png")
-        return buf.getvalue()
+        setting = mpl.rcParams["savefig.dpi"]
+        return _png_bytes(self, self.dpi if setting == "figure" else float(setting))
 
 
 def _new_figure(fig: Figure | None, size: tuple[float, float]) -> Figure:
