@@ -120,12 +120,9 @@ class InlineFigure(Figure):
 
     def _repr_png_(self) -> bytes:
         """The figure as PNG bytes (IPython's display protocol), at the resolution
-        Matplotlib's ``savefig`` would take (``savefig.dpi``, by default the figure's own),
-        drawn once (``_png_bytes``: ``savefig`` draws a constrained layout twice)."""
-        import matplotlib as mpl
-
-        setting = mpl.rcParams["savefig.dpi"]
-        return _png_bytes(self, self.dpi if setting == "figure" else float(setting))
+        Matplotlib's ``savefig`` would take (``figure_dpi`` with the figure's own as the
+        default), drawn once (``_png_bytes``: ``savefig`` draws a constrained layout twice)."""
+        return _png_bytes(self, figure_dpi(self.dpi))
 
 
 def _new_figure(fig: Figure | None, size: tuple[float, float]) -> Figure:
@@ -175,14 +172,15 @@ def _finish(fig: Figure, axes: np.ndarray, title: str, dropped: int = 0) -> Figu
     return fig
 
 
-def figure_dpi() -> float:
+def figure_dpi(default: float = PRINT_DPI) -> float:
     """The resolution of a saved PNG [dots per inch]: Matplotlib's ``savefig.dpi`` where it
-    is a number (a user's matplotlibrc or ``matplotlib.rc_context``), else ``PRINT_DPI``
-    (Matplotlib's default ``"figure"`` would be the screen's 100 dpi)."""
+    is a number (a user's matplotlibrc or ``matplotlib.rc_context``), else ``default``:
+    ``PRINT_DPI`` for a saved figure (Matplotlib's default ``"figure"`` would be the
+    screen's 100 dpi), the figure's own dpi for one shown inline."""
     import matplotlib as mpl
 
     value = mpl.rcParams["savefig.dpi"]
-    return float(PRINT_DPI) if value == "figure" else float(value)
+    return float(default) if value == "figure" else float(value)
 
 
 def save_figure(fig: Figure, path: str | Path, dpi: float | None = None) -> Path:
