@@ -91,9 +91,9 @@ def test_constant_wind_leaves_no_steady_state_position_error():
 
 
 def _constants(setup) -> np.ndarray:
-    """The model's constants as ``PaperController`` hands them to ``paper_control``: a
+    """The model's constants as ``PaperController`` hands them to ``paper_control``: its
     writable copy of the set-up's read-only array (one compiled signature for both)."""
-    return np.array(setup.model.constants, dtype=float, order="C")
+    return setup.paper_controller().c
 
 
 def test_anti_windup_holds_the_integrators_while_clipped():
