@@ -14,7 +14,14 @@ import numpy as np
 from numba import types
 from numba.extending import intrinsic
 
-from .._compile import borrowed, compiled, inline_here, keep_alive, plain
+from .._compile import (
+    borrowed,
+    compiled,
+    inline_here,
+    keep_alive,
+    plain,
+    restrict_arguments,
+)
 from ..layout import (
     ACT_DRUM,
     ACT_SIZE,
@@ -122,6 +129,7 @@ def _lanes_stage(xs, sc, inp, rate, attached, k_c, c, program_force, gust_air, d
     # inlining of the four (``tethered_rhs_lanes`` in each) took 15 s of the first compile
     _wide_vectors()
     inline_here()
+    restrict_arguments()  # separate arrays (``rk4_lanes``'s scratch and inputs)
     for j in range(rate.shape[0]):  # LANES, read at run time (see ``_lanes_axpy``)
         r1 = gust_air[j] - xs[6 * LANES + j]
         r2 = gust_air[LANES + j] - xs[7 * LANES + j]
@@ -185,8 +193,12 @@ def rk4_lanes(x, sc0, inp, rate, t0, h, n_sub, attached, k_c, c, wind, work):
     work = ``lane_work()``. The gust tables are read per lane; everything else runs in
     branch-free passes over the lanes. Each lane performs the operations of ``rk4_interval``
     in the same order, so it equals a single run bit for bit.
+
+    Every array argument must be a separate array (``restrict_arguments``: LLVM vectorises
+    the lanes' loops without run-time overlap checks; issue 24 item 4).
     """
     _wide_vectors()
+    restrict_arguments()
     programs, n_rows, gusts, gust_rows, gust_dt, drag = wind
     k1, k2, k3, k4, tmp, sc, force, program_force, gust_air, times = work
     pf_a, pf_m, pf_b = _thirds(program_force)
