@@ -100,9 +100,7 @@ def run_unrecorded(engine_args, summary):
     samples_done : int
         Samples the run completed (``n_samples + 1`` if completed).
     """
-    act, sensors, chain = engine_args[-3:]
-    loop = engine.closed_loop_for(chain, sensors, act)
-    return loop(*engine_args, False, _NO_SIGNALS, summary)
+    return engine.run_closed_loop(*engine_args, False, _NO_SIGNALS, summary)
 
 
 #: one-row signals for the unrecorded runs, never written (``record`` is False)
