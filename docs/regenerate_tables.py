@@ -17,6 +17,7 @@ them). Tables (``--only`` NAME, repeatable):
 - sensing: GPS against the tether (``tetherheli sensing``)
 - eq40: the tension sweep saturated at the paper's 20% rule (``tetherheli sweep``)
 - release: the transient after a tether release (Python: ``studies.release``)
+- statuses: docs/tutorials/statuses.md's table of run statuses (``status.markdown_table``)
 - montecarlo, montecarlo_turbulence, speed: expensive, only with ``--expensive`` or ``--only``
 """
 
@@ -212,6 +213,14 @@ def table_release(work: Path, figures: Path | None) -> None:
         save_figure(figure_release(c), figures / "release.png")
 
 
+def table_statuses(work: Path, figures: Path | None) -> None:
+    """docs/tutorials/statuses.md's table of every run status (``status.markdown_table``)."""
+    from tetherheli.status import markdown_table
+
+    print("$ python: tetherheli.status.markdown_table()")
+    print(markdown_table())
+
+
 def table_montecarlo(work: Path, figures: Path | None) -> None:
     import numpy as np
 
@@ -304,6 +313,7 @@ TABLES: dict[str, tuple[Callable[[Path, Path | None], None], bool]] = {
     "sensing": (table_sensing, False),
     "eq40": (table_eq40, False),
     "release": (table_release, False),
+    "statuses": (table_statuses, False),
     "montecarlo": (table_montecarlo, True),
     "montecarlo_turbulence": (table_montecarlo_turbulence, True),
     "speed": (table_speed, True),

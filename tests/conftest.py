@@ -151,10 +151,52 @@ def pytest_sessionfinish(session: pytest.Session) -> None:
         log.writelines(lines)
 
 
+#: The optional extras the suite has tests for, each with the module that tells it is
+#: installed: a test marked ``@pytest.mark.extra(NAME)`` skips, with the reason, without it.
+#: The README's install (``.[test]``) has none of them; ``.ci/run`` runs the README's test
+#: command, then installs the extras and runs the marked tests (``--extras-only``).
+EXTRAS = {"rl": "stable_baselines3", "validation": "moordyn"}
+
+
+def extra_missing(extra: str) -> str | None:
+    """Why a test of the optional ``extra`` cannot run here (its module is not installed),
+    or None when it can."""
+    import importlib.util
+
+    module = EXTRAS[extra]
+    if importlib.util.find_spec(module) is None:
+        return f'{module} is not installed: the optional extra, pip install -e ".[{extra}]"'
+    return None
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    parser.addoption(
+        "--extras-only",
+        action="store_true",
+        help="run only the tests of optional extras (marked extra): CI's second pass",
+    )
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """With ``--extras-only``, keep the tests marked ``extra``; an unknown extra is an error."""
+    for item in items:
+        for mark in item.iter_markers("extra"):
+            if mark.args[0] not in EXTRAS:
+                raise pytest.UsageError(f"{item.nodeid}: unknown extra {mark.args[0]!r}")
+    if config.getoption("--extras-only"):
+        keep = [item for item in items if item.get_closest_marker("extra")]
+        config.hook.pytest_deselected(items=[i for i in items if i not in keep])
+        items[:] = keep
+
+
 @pytest.hookimpl(tryfirst=True)
 def pytest_runtest_setup(item: pytest.Item) -> None:
     if _COMPILE_LOG is not None:
         _COMPILE_LOG.test = item.nodeid
+    for mark in item.iter_markers("extra"):
+        why = extra_missing(mark.args[0])
+        if why is not None:
+            pytest.skip(why)
 
 
 @pytest.fixture(name="blank_figures")

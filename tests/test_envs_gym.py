@@ -199,6 +199,7 @@ def test_sync_vector_env_of_made_envs_autoresets():
     vec.close()
 
 
+@pytest.mark.extra("rl")
 def test_sb3_make_vec_env():
     """Stable-Baselines3's ``make_vec_env`` asks for ``render_mode="rgb_array"``."""
     env_util = pytest.importorskip("stable_baselines3.common.env_util")

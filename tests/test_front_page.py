@@ -20,6 +20,7 @@ from pathlib import Path
 
 import pytest
 
+from tests.conftest import EXTRAS
 from tetherheli.cli import build_parser
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -92,13 +93,27 @@ def _python_blocks(page: Path) -> str:
     return "\n".join(blocks)
 
 
+def _page_param(page: Path):
+    """A page to run, marked with the optional extras its blocks import (``conftest.EXTRAS``):
+    it skips, with the reason, where one is not installed."""
+    code = _python_blocks(page)
+    marks = [
+        pytest.mark.extra(extra)
+        for extra, module in EXTRAS.items()
+        if re.search(rf"^\s*(from|import) {module}\b", code, re.M)
+    ]
+    return pytest.param(page, marks=marks, id=str(page.relative_to(ROOT)))
+
+
 _PAGES_WITH_CODE = [
-    p for p in [README, *sorted(DOCS.rglob("*.md"))] if "site" not in p.parts and _python_blocks(p)
+    _page_param(p)
+    for p in [README, *sorted(DOCS.rglob("*.md"))]
+    if "site" not in p.parts and _python_blocks(p)
 ]
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("page", _PAGES_WITH_CODE, ids=lambda p: str(p.relative_to(ROOT)))
+@pytest.mark.parametrize("page", _PAGES_WITH_CODE)
 def test_docs_code_blocks(page, tmp_path):
     """Each page's Python blocks, run in order as one script from a fresh folder beside a
     ``scenarios`` link (as in a clone), exit 0."""

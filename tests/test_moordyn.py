@@ -47,6 +47,8 @@ from tetherheli.tether._moordyn_cases import (
     steady_state,
 )
 
+pytestmark = pytest.mark.extra("validation")
+
 #: MoorDyn Step calls per 10 ms sample in the tests (against 80: 2e-5..8e-5 of the
 #: variation at the docs page's 20, 1e-5..3.5e-4 at 10, far below every tolerance here)
 COUPLING = 10

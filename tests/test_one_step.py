@@ -89,6 +89,6 @@ def test_statuses_carry_their_messages_and_import_without_numba():
     assert done.stdout.strip() == "False"
     assert [s.value for s in Status] == list(range(13))
     assert Status(0).message == "completed"
-    assert [s for s in Status if s.succeeded] == [Status.OK, Status.LANDED]
+    assert [s for s in Status if s.is_success] == [Status.OK, Status.LANDED]
     assert status_message(Status.OK, 3.5) == "completed (tether released at t = 3.5 s)"
     assert "after the tether was released" in status_message(Status.GROUND, 3.5)

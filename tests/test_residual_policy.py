@@ -25,10 +25,7 @@ from tetherheli.wind import Pulse, Sine
 
 # the example imports Stable-Baselines3 (and PyTorch, about 2.5 s) when it runs, not while
 # every worker collects the suite
-pytestmark = pytest.mark.skipif(
-    importlib.util.find_spec("stable_baselines3") is None,
-    reason="Stable-Baselines3 is not installed (the rl extra)",
-)
+pytestmark = pytest.mark.extra("rl")
 
 SCRIPT = Path(__file__).resolve().parents[1] / "examples" / "train_residual.py"
 

@@ -9,8 +9,6 @@ Gymnasium vector environment's next-step autoreset on the same seeds, and by SB3
 
 from __future__ import annotations
 
-import importlib.util
-
 import numpy as np
 import pytest
 
@@ -18,10 +16,7 @@ from tetherheli.vector_env import TetheredHoverVectorEnv
 
 # Stable-Baselines3 (and PyTorch under it, about 2.5 s) is imported by the tests that use it,
 # not while every worker collects the suite
-pytestmark = pytest.mark.skipif(
-    importlib.util.find_spec("stable_baselines3") is None,
-    reason="Stable-Baselines3 is not installed (the rl extra)",
-)
+pytestmark = pytest.mark.extra("rl")
 
 STEPS = 6
 

@@ -330,7 +330,10 @@ ACT_DRUM_TENSION_FFWD = 18  # 1: the drive adds the load cell's torque r T_meas
 #: [min, max]; reaching one stops the reel (``sim.engine.actuate``)
 ACT_MIN_LENGTH = 19
 ACT_MAX_LENGTH = 20
-ACT_SIZE = 21
+#: |reel rate| bound of the winch [m/s] (``[actuators] reel_rate_limit``; inf: none): the
+#: actuator stage clamps every controller's reel-rate command to it, feed-forward included
+ACT_REEL_RATE = 21
+ACT_SIZE = 22
 
 
 def empty_chain() -> tuple:
@@ -365,6 +368,7 @@ def default_actuators() -> np.ndarray:
     act[ACT_U_MAX : ACT_U_MAX + 4] = math.inf
     act[ACT_BREAK] = math.inf
     act[ACT_REEL_ACCEL] = math.inf
+    act[ACT_REEL_RATE] = math.inf
     act[ACT_MIN_LENGTH] = WINCH_MIN_LENGTH_M
     act[ACT_MAX_LENGTH] = math.inf
     return act

@@ -10,6 +10,11 @@ the fraction of such samples into the run's status: above ``DEGRADED_FALLBACK_FR
 (1 %) of the samples the run is ``DEGRADED``, above ``FAILED_FALLBACK_FRACTION`` (10 %) it
 ``SOLVER_FAILED``. Only ``OK`` is a success: a degraded or failed run is never "completed",
 counts as a failure in every table and tally, and makes the command's exit code 1.
+
+One success rule: ``Status.is_success`` (a run's status) and ``is_success`` (any status or
+array of statuses) are the only test of success; every result, batch, table, tally and exit
+code asks them. A run that breaks a limit its scenario sets, or whose recorded values are not
+finite, never has a success status (``finite_status``).
 """
 
 from __future__ import annotations
@@ -17,11 +22,17 @@ from __future__ import annotations
 import enum
 import math
 
+import numpy as np
+
 __all__ = [
     "DEGRADED_FALLBACK_FRACTION",
     "FAILED_FALLBACK_FRACTION",
     "FALLBACK_COLUMN",
+    "SUCCESS_STATUSES",
     "Status",
+    "finite_status",
+    "is_success",
+    "markdown_table",
     "ran_to_end",
     "release_sentence",
     "solver_status",
@@ -70,7 +81,7 @@ class Status(enum.IntEnum):
         samples (``solver_status``).
     LANDED : int
         10: a landing maneuver touched down within its limits (``[maneuver]``; a success,
-        as OK: ``succeeded``).
+        as OK: ``is_success``).
     HARD_TOUCHDOWN : int
         11: a landing touched down outside its limits (speed, offset or attitude; the
         reason follows in the message).
@@ -97,14 +108,64 @@ class Status(enum.IntEnum):
         return _MESSAGES[self]
 
     @property
-    def succeeded(self) -> bool:
-        """Whether a run of this status is a success: OK, or LANDED for a landing."""
-        return self in (Status.OK, Status.LANDED)
+    def is_success(self) -> bool:
+        """Whether a run of this status is a success: OK, or LANDED for a landing (the one
+        success rule: ``SUCCESS_STATUSES``)."""
+        return int(self) in SUCCESS_STATUSES
+
+
+#: The statuses of a successful run: ``OK`` ("completed") and ``LANDED``; every other status
+#: is a failure in every result, table, tally and exit code.
+SUCCESS_STATUSES: tuple[int, ...] = (int(Status.OK), int(Status.LANDED))
+
+
+def is_success(status: int | np.ndarray) -> bool | np.ndarray:
+    """Whether a run (or each run) of ``status`` succeeded (``Status.is_success``).
+
+    Parameters
+    ----------
+    status : int or numpy.ndarray of int
+        One status code, or an array of them.
+
+    Returns
+    -------
+    bool or numpy.ndarray of bool
+        True where the status is in ``SUCCESS_STATUSES``; an array of the input's shape for
+        an array.
+    """
+    if isinstance(status, np.ndarray):
+        return np.isin(status, SUCCESS_STATUSES)
+    return int(status) in SUCCESS_STATUSES
+
+
+def finite_status(status: int, *recorded: np.ndarray) -> int:
+    """``status``, or ``NONFINITE`` for a successful run any of whose ``recorded`` values
+    is not finite (an overflow in a recorded series, e.g. a base position beyond the float
+    range): such a run is never completed.
+
+    Parameters
+    ----------
+    status : int
+        The run's status as its loop ended it.
+    *recorded : numpy.ndarray
+        The run's recorded series (float arrays).
+
+    Returns
+    -------
+    int
+        The run's status.
+    """
+    if not is_success(status):
+        return int(status)
+    for values in recorded:
+        if values.dtype.kind == "f" and not np.isfinite(values).all():
+            return int(Status.NONFINITE)
+    return int(status)
 
 
 _MESSAGES = {
     Status.OK: "completed",
-    Status.NONFINITE: "the state became non-finite",
+    Status.NONFINITE: "the state or a recorded value became non-finite",
     Status.GROUND: (
         "the helicopter hit the ground (q3 < 0 or the attachment point P at ground level)"
     ),
@@ -138,6 +199,24 @@ _LIMITS = {
     Status.DEGRADED: DEGRADED_FALLBACK_FRACTION,
     Status.SOLVER_FAILED: FAILED_FALLBACK_FRACTION,
 }
+
+
+def markdown_table() -> str:
+    """Every status as a Markdown table (code, name, success, message): the table of
+    ``docs/tutorials/statuses.md`` (``python docs/regenerate_tables.py --only statuses``
+    prints it; a test checks the page holds it).
+
+    Returns
+    -------
+    str
+        The table, one row per ``Status`` member, ending with a newline.
+    """
+    rows = ["| code | status | success | message |", "|---:|---|---|---|"]
+    for member in Status:
+        success = "yes" if member.is_success else "no"
+        message = member.message.replace("|", "\\|")  # a cell's pipes escaped
+        rows.append(f"| {int(member)} | `{member.name}` | {success} | {message} |")
+    return "\n".join(rows) + "\n"
 
 
 def ran_to_end(status: int) -> bool:

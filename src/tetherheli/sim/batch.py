@@ -57,7 +57,7 @@ from ..layout import (
 )
 from ..names import METRIC_NAMES
 from ..params import Params
-from ..status import Status, status_message
+from ..status import Status, finite_status, is_success, status_message
 from ..wind import compile_wind
 from . import engine, lanes
 from .closed_loop import check_run_memory
@@ -198,8 +198,8 @@ class BatchResult:
 
     @property
     def ok(self) -> np.ndarray:
-        """``(N,)`` bool: the run completed."""
-        return self.status == Status.OK
+        """``(N,)`` bool: the run succeeded (``status.is_success``: completed, or landed)."""
+        return is_success(self.status)
 
     @property
     def release_time(self) -> np.ndarray:
@@ -560,7 +560,7 @@ def run_batch(
                 reasons[i] = r
             if on_done is not None:
                 on_done(len(idx))
-        return BatchResult(summaries, status, done, tuple(reasons))
+        return _finished(summaries, status, done, reasons)
     # group by (params, control, q9) so each group's gain is designed once (paper_gain caches)
     order = sorted(
         range(n),
@@ -659,4 +659,19 @@ def run_batch(
                 fut.result()
                 if on_done is not None:
                     on_done(m)
+    return _finished(summaries, status, done, reasons)
+
+
+#: the summary's metrics (the fields before ``n_samples`` in ``engine.SUMMARY_FIELDS``): finite
+#: in every successful run; the event slots (release, payout limit) hold NaN for "none"
+_METRIC_FIELDS = _I["n_samples"]
+
+
+def _finished(
+    summaries: np.ndarray, status: np.ndarray, done: np.ndarray, reasons: Sequence[str]
+) -> BatchResult:
+    """The batch's result; a successful run whose metrics are not finite is NONFINITE
+    (``status.finite_status``: never completed)."""
+    for i in range(status.shape[0]):
+        status[i] = finite_status(int(status[i]), summaries[i, :_METRIC_FIELDS])
     return BatchResult(summaries, status, done, tuple(reasons))

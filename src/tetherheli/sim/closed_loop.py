@@ -38,7 +38,7 @@ from ..model.kernels import angle_trig, angle_trig_from
 from ..params import Params
 from ..resources import check_memory
 from ..sensing.config import N_CHANNELS, N_GROUPS
-from ..status import FALLBACK_COLUMN, Status, solver_status
+from ..status import FALLBACK_COLUMN, Status, finite_status, solver_status
 from . import engine, stepping
 from .landing import Touchdown, ground_hold_controller, landing_controller
 from .mpc_setup import mpc_controller
@@ -252,6 +252,11 @@ class _Recorder:
             for i in range(3):
                 extra[BASE_POSITION_COLUMNS[i]] = motion[:, 0, i].copy()
                 extra[BASE_VELOCITY_COLUMNS[i]] = motion[:, 1, i].copy()
+        # a run whose recorded values overflowed is never completed (status.finite_status)
+        status = finite_status(
+            status, sig.x[:k], sig.y[:k], sig.u[:k], sig.tension[:k], sig.rate[:k],
+            sig.wind[:k], *extra.values(),
+        )  # fmt: skip
         # views, not copies: the recorder is dropped here, so a long run is held once
         return SimulationResult(
             time=np.arange(k) * scenario.control.dt,

@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 
 from .._compile import borrowed, compiled, frozen, inline_here, keep_alive, plain
-from ..control.paper import limit_rate_change_jit, paper_control_sc
+from ..control.paper import paper_control_sc, reel_command
 from ..layout import (
     ACT_BREAK,
     ACT_DRUM,
@@ -47,6 +47,7 @@ from ..layout import (
     ACT_MAX_LENGTH,
     ACT_MIN_LENGTH,
     ACT_REEL_ACCEL,
+    ACT_REEL_RATE,
     ACT_SIZE,
     ACT_TAU,
     ACT_U_MAX,
@@ -398,7 +399,9 @@ def actuate(inp, held, rate, act, dt, first, tension_ground, measured_tension, l
     """Phase 3: the actuators on a controller's command. Rotor inputs: saturation and lag
     (``apply_actuators``, in place). Reel rate, ideal winch: the acceleration limit relative
     to the rate applied at the previous sample (the paper's PI already keeps within it and
-    holds its integral meanwhile: ``control.paper.winch_step``). Drum winch (``drum``, True
+    holds its integral meanwhile: ``control.paper.winch_step``), after the rate limit
+    ``[actuators] reel_rate_limit`` (``clamp_reel_rate``: every controller's command, its
+    feed-forward included, passes here last). Drum winch (``drum``, True
     when act[ACT_DRUM]; a constant of a specialised caller prunes the other winch's code):
     the command is the drive's speed reference and the drum is advanced over the sample
     (``drum_winch``) under the tension at the winch, tension_ground [N] (the load cell reads
@@ -407,12 +410,22 @@ def actuate(inp, held, rate, act, dt, first, tension_ground, measured_tension, l
     the sample [m/s]."""
     apply_actuators(inp, held, act, dt, first)
     if drum:
-        rate = drum_winch(held, rate, act, dt, tension_ground, measured_tension)
+        speed_reference = clamp_reel_rate(rate, act)
+        rate = drum_winch(held, speed_reference, act, dt, tension_ground, measured_tension)
     else:
-        rate = limit_rate_change_jit(rate, held[HELD_REEL_RATE], act[ACT_REEL_ACCEL], dt)
+        rate = reel_command(rate, held[HELD_REEL_RATE], act[ACT_REEL_RATE], act[ACT_REEL_ACCEL], dt)
     rate = winch_limits(held, rate, act, dt, length, t)
     held[HELD_REEL_RATE] = rate
     return rate
+
+
+@_jit_inline
+def clamp_reel_rate(rate, act):
+    """A reel-rate command [m/s] clamped to ``[actuators] reel_rate_limit``
+    (act[ACT_REEL_RATE]): the actuator stage's rate limit, for both winch models (the drum's
+    speed reference)."""
+    limit = act[ACT_REEL_RATE]
+    return min(max(rate, -limit), limit)
 
 
 @_jit_inline

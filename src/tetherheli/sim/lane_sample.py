@@ -29,7 +29,6 @@ import numpy as np
 
 from .._compile import compiled
 from ..control.paper import (
-    limit_rate_change_jit,
     reel_command,
     tension_q9_of,
     winch_pi,
@@ -40,6 +39,7 @@ from ..layout import (
     ACT_MAX_LENGTH,
     ACT_MIN_LENGTH,
     ACT_REEL_ACCEL,
+    ACT_REEL_RATE,
     ACT_SIZE,
     ACT_TAU,
     ACT_U_MAX,
@@ -93,6 +93,7 @@ from .engine import (
     STATUS_OK,
     actuator_lag_gain,
     actuator_value,
+    clamp_reel_rate,
     drum_winch,
     payout_limited_rate,
     state_status,
@@ -425,8 +426,9 @@ def _outside(inp, ctrl, i, j):
 @_jit_inline
 def _apply(k, x, s, lanes_drum, rows):
     """Phase 3 (``engine.actuate`` and ``engine.sample_outputs``' checks): the rotor inputs
-    saturated and lagged (``actuator_value``), the reel rate's acceleration limit (the ideal
-    winch) or the drum winch (``engine.drum_winch``, per lane on its rows, where
+    saturated and lagged (``actuator_value``), the reel rate's rate and acceleration limits
+    (the ideal winch: ``control.paper.reel_command``) or the drum winch on the clamped
+    command (``engine.clamp_reel_rate``, ``engine.drum_winch``, per lane on its rows, where
     ``lanes_drum``), the payout limits (``payout_limited_rate``) on the true length; s.rate
     becomes the applied rate."""
     cfg, act, held, inp = s.cfg, s.act, s.held, s.inp
@@ -442,9 +444,9 @@ def _apply(k, x, s, lanes_drum, rows):
             held[e] = v
             inp[i * LANES + j] = v
     for j in range(n):
-        s.rate[j] = limit_rate_change_jit(
-            s.rate[j], held[HELD_REEL_RATE * LANES + j], act[ACT_REEL_ACCEL * LANES + j],
-            cfg[CFG_DT * LANES + j],
+        s.rate[j] = reel_command(
+            s.rate[j], held[HELD_REEL_RATE * LANES + j], act[ACT_REEL_RATE * LANES + j],
+            act[ACT_REEL_ACCEL * LANES + j], cfg[CFG_DT * LANES + j],
         )  # fmt: skip
     if lanes_drum.any():
         held_row, act_row = rows
@@ -456,7 +458,8 @@ def _apply(k, x, s, lanes_drum, rows):
                     act_row[i] = act[i * LANES + j]
                 # the command, before the ideal winch's limit: undo it (the drum's own law)
                 s.rate[j] = drum_winch(
-                    held_row, s.scratch[7 * LANES + j], act_row, cfg[CFG_DT * LANES + j],
+                    held_row, clamp_reel_rate(s.scratch[7 * LANES + j], act_row), act_row,
+                    cfg[CFG_DT * LANES + j],
                     s.tension[j], s.measured[j],
                 )  # fmt: skip
                 for i in range(HELD_SIZE):

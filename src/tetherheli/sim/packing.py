@@ -23,6 +23,7 @@ from ..layout import (
     ACT_MAX_LENGTH,
     ACT_MIN_LENGTH,
     ACT_REEL_ACCEL,
+    ACT_REEL_RATE,
     ACT_TAU,
     ACT_U_MAX,
     ACT_U_MIN,
@@ -76,6 +77,7 @@ def actuator_array(scenario: Scenario, trim: TrimPoint, ctrl: np.ndarray) -> np.
     act[ACT_TAU] = a.time_constant
     act[ACT_BREAK] = a.breaking_tension
     act[ACT_REEL_ACCEL] = a.reel_acceleration_limit
+    act[ACT_REEL_RATE] = a.reel_rate_limit
     winch_into(act, scenario.winch)
     w = scenario.winch
     act[ACT_MIN_LENGTH] = w.min_length

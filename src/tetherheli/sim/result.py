@@ -16,7 +16,13 @@ import numpy as np
 
 from .._io import OutputPathError, atomic_write_bytes, atomic_write_text
 from ..names import INPUT_UNITS, OUTPUT_UNITS, POSITION
-from ..status import FALLBACK_COLUMN, Status, ran_to_end, release_sentence, status_message
+from ..status import (
+    FALLBACK_COLUMN,
+    is_success,
+    ran_to_end,
+    release_sentence,
+    status_message,
+)
 from .result_files import (
     _ESTIMATE_SUFFIX,
     _FEEDFORWARD,
@@ -161,8 +167,8 @@ class SimulationResult:
     @property
     def ok(self) -> bool:
         """True when the run succeeded: completed without a stop condition, or a landing
-        that touched down within its limits (``Status.succeeded``)."""
-        return Status(int(self.status)).succeeded
+        that touched down within its limits (``status.is_success``)."""
+        return bool(is_success(self.status))
 
     @property
     def message(self) -> str:

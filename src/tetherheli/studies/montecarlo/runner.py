@@ -36,7 +36,7 @@ from ...progress import Progress
 from ...resources import check_memory
 from ...sim.batch import METRIC_NAMES, run_batch
 from ...sim.scenario import Scenario
-from ...status import Status
+from ...status import Status, is_success
 from ...wind import Turbulence
 from .config import CONFIGURATIONS, MAX_RUNS, MonteCarloConfig, _wind_parts
 from .draws import draw, draw_seed, free_reference
@@ -648,7 +648,7 @@ def _paired(columns: dict[str, np.ndarray]) -> dict[str, np.ndarray] | None:
     ):
         return None
     pairs = {m: columns[m].reshape(-1, 2) for m in METRIC_NAMES}
-    pairs["ok"] = (columns["status"] == Status.OK).reshape(-1, 2)
+    pairs["ok"] = is_success(columns["status"]).reshape(-1, 2)
     return pairs
 
 
@@ -660,7 +660,7 @@ def _summarize(
     stats: dict[str, Any] = {}
     for c, cfg in enumerate(CONFIGURATIONS):
         sel = columns["configuration"] == cfg
-        ok = sel & (columns["status"] == Status.OK)
+        ok = sel & is_success(columns["status"])
         entry: dict[str, Any] = {
             "runs": int(sel.sum()),
             "completed": int(ok.sum()),
@@ -743,7 +743,7 @@ def paired_metric(
     values : dict of str to ndarray
         Configuration -> the metric per draw, shape (N,).
     ok : dict of str to ndarray
-        Configuration -> whether the draw's run completed (``Status.OK``), shape (N,).
+        Configuration -> whether the draw's run succeeded (``status.is_success``), shape (N,).
     """
     pairs = _paired(columns)
     if pairs is None:
