@@ -97,7 +97,8 @@ class WeightsError(InfeasibleError):
 
 def named_source(path: str, run: Callable[..., Any], *args: object, **kwargs: object) -> Any:
     """``run(*args, **kwargs)``, with a ``ParameterError`` that has no source (a set-up's:
-    weights with no stabilising design, limits the hover does not fit) named after ``path``.
+    weights with no stabilising design, limits the hover does not fit) named after ``path``,
+    and one whose source is a part of the work (a sweep point) named after both.
 
     Parameters
     ----------
@@ -116,9 +117,11 @@ def named_source(path: str, run: Callable[..., Any], *args: object, **kwargs: ob
     try:
         return run(*args, **kwargs)
     except ParameterError as exc:
-        if exc.source is not None:
+        if exc.source is not None and exc.source.startswith(str(path)):
             raise
-        raise type(exc)(exc.field, exc.value, exc.allowed, source=str(path)) from None
+        # a source that is not the file (a sweep point) is named after it
+        source = str(path) if exc.source is None else f"{path}, {exc.source}"
+        raise type(exc)(exc.field, exc.value, exc.allowed, source=source) from None
 
 
 class DesignError(TetherheliError):

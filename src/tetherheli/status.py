@@ -37,6 +37,7 @@ __all__ = [
     "release_sentence",
     "solver_status",
     "status_message",
+    "stopped",
 ]
 
 #: The result column (``SimulationResult.extra``) marking the samples a fallback flew.
@@ -220,8 +221,9 @@ def markdown_table() -> str:
 
 
 def ran_to_end(status: int) -> bool:
-    """Whether a run of ``status`` was flown to its end (``OK``, ``DEGRADED``,
-    ``SOLVER_FAILED``), rather than stopped at a failure.
+    """Whether a run of ``status`` was flown to the run's end (``OK``, ``DEGRADED``,
+    ``SOLVER_FAILED``, and ``NOT_LANDED``: a landing that reached the end without touching
+    down), rather than stopped at a failure or ended by a touchdown.
 
     Parameters
     ----------
@@ -233,7 +235,37 @@ def ran_to_end(status: int) -> bool:
     bool
         True for a run that reached its last sample.
     """
-    return int(status) == Status.OK or int(status) in _LIMITS
+    return int(status) in (Status.OK, Status.NOT_LANDED) or int(status) in _LIMITS
+
+
+#: the engine's stop checks: a run of these statuses stopped at a sample whose state failed
+#: the checks (that sample is not recorded)
+_STOPS = (
+    Status.NONFINITE,
+    Status.GROUND,
+    Status.MAX_TENSION,
+    Status.DIVERGED,
+    Status.SINGULAR,
+    Status.TETHER_LENGTH,
+)
+
+
+def stopped(status: int) -> bool:
+    """Whether a run of ``status`` was stopped by one of the engine's checks at a sample it
+    did not record (so it ended one sample after its last recorded one); False for a run
+    flown to its end (``ran_to_end``) or ended at a recorded touchdown.
+
+    Parameters
+    ----------
+    status : int
+        A ``Status`` code.
+
+    Returns
+    -------
+    bool
+        True for a run stopped by a check.
+    """
+    return int(status) in _STOPS
 
 
 def solver_status(status: int, fallbacks) -> int:

@@ -116,8 +116,13 @@ def _print_statistics(summary: dict, m: str, configurations: tuple[str, ...]) ->
             f"  {cfg:<9} completed {s['completed']}/{s['runs']}, {m} median "
             f"{value(p['p50'])} {unit}, p95 {value(p['p95'])} {unit}"
         )
-    if m in summary["reduction_percent"]:
-        r = summary["reduction_percent"][m]
+    r = summary["reduction_percent"].get(m)
+    if r is not None and r["draws_with_reference"] == 0:
+        print(
+            f"  paired reduction of {m} by the tether: none (the free reference of every one "
+            f"of the {r['draws']} draws failed)"
+        )
+    elif r is not None:
         lo, hi = r["ci95"]["p50"]
         print(
             f"  paired reduction of {m} by the tether per draw: median {value(r['p50'], '.1f')} "

@@ -30,7 +30,7 @@ def run(args: argparse.Namespace) -> int:
     from ..sim.closed_loop import check_run_memory
     from ..sim.result import check_result_format
     from ..sim.scenario import check_distinct_names
-    from ..status import ran_to_end
+    from ..status import stopped
 
     check_result_format(args.data_format)  # before the runs
     scenarios = [load_scenario(path) for path in args.scenario]  # all validated first
@@ -59,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"tetherheli: run {r.name}: {r.release_note()}", file=sys.stderr)
     failed = [r for r in results if not r.ok]
     for r in failed:
-        ended = "ended" if ran_to_end(r.status) else "stopped"
+        ended = "stopped" if stopped(r.status) else "ended"
         print(
             f"tetherheli: run {r.name} {ended} at t = {r.end_time:g} s: {r.message} "
             f"(partial results in {args.out})",

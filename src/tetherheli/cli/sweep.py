@@ -44,6 +44,7 @@ def run(args: argparse.Namespace) -> int:
         criterion (``--find-min``).
     """
     from .._io import claim_output_directory
+    from ..errors import named_source
     from ..sim import load_scenario
 
     scenario = load_scenario(args.scenario)
@@ -60,7 +61,9 @@ def run(args: argparse.Namespace) -> int:
 
     metric = args.metric or "rms_q1"
     claim_output_directory(args.out, inputs=inputs, force=args.force)
-    result = sweep(
+    result = named_source(
+        args.scenario,
+        sweep,
         scenario,
         args.param,
         args.values,

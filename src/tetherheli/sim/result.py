@@ -15,13 +15,13 @@ from typing import Any
 import numpy as np
 
 from .._io import OutputPathError, atomic_write_bytes, atomic_write_text
-from ..names import INPUT_UNITS, OUTPUT_UNITS, POSITION
+from ..names import INPUT, INPUT_UNITS, OUTPUT_UNITS, POSITION
 from ..status import (
     FALLBACK_COLUMN,
     is_success,
-    ran_to_end,
     release_sentence,
     status_message,
+    stopped,
 )
 from .result_files import (
     _ESTIMATE_SUFFIX,
@@ -187,13 +187,76 @@ class SimulationResult:
 
     @property
     def end_time(self) -> float:
-        """Where the run ended [s]: the last sample of a completed run; for a failed run the
-        control sample at which the failure was detected (the first one not recorded: its
-        state failed the checks, or the integration towards it failed)."""
+        """Where the run ended [s]: its last recorded sample (the run's end, or a landing's
+        touchdown); for a run stopped by a check (``status.stopped``) the control sample at
+        which the failure was detected (the first one not recorded: its state failed the
+        checks, or the integration towards it failed)."""
         dt = self.configuration.get("control", {}).get("dt")
-        if ran_to_end(self.status) or dt is None:
+        if not stopped(self.status) or dt is None:
             return float(self.time[-1]) if self.time.size else 0.0
         return self.time.size * float(dt)
+
+    def limit_violations(self, *, rtol: float = 1e-9) -> list[str]:
+        """The limits of the run's scenario that its recorded series break, checked sample by
+        sample (empty for a run that kept them all): every recorded value finite; the applied
+        inputs within ``[actuators] u_min``, ``u_max``; the reel rate within ``reel_rate_limit``
+        and, for the ideal winch, its change within ``reel_acceleration_limit``; the natural
+        length within ``[winch] min_length``, ``max_length``; the tension at most
+        ``[limits] max_tension``. The engine enforces each; this is the independent check of
+        the recorded results (the fuzzers' property: a success keeps every limit).
+
+        Parameters
+        ----------
+        rtol : float, optional
+            Relative tolerance on each bound (default 1e-9: rounding).
+
+        Returns
+        -------
+        list of str
+            One line per limit broken: the limit, the worst value and its time.
+        """
+        cfg = self.configuration
+        out: list[str] = []
+
+        def check(name: str, values: np.ndarray, low: float, high: float) -> None:
+            if values.size == 0:
+                return
+            slack = rtol * max(1.0, abs(low) if math.isfinite(low) else 0.0,
+                               abs(high) if math.isfinite(high) else 0.0)  # fmt: skip
+            bad = (values < low - slack) | (values > high + slack)
+            if bad.any():
+                k = int(np.flatnonzero(bad)[0])
+                out.append(
+                    f"{name}: {float(values[k]):.6g} outside [{low:g}, {high:g}] at "
+                    f"t = {float(self.time[k]):g} s"
+                )
+
+        for label, values in (
+            ("states", self.states), ("inputs", self.inputs), ("tension", self.tension),
+            ("reel_rate", self.reel_rate), ("wind", self.wind),
+            *((f"extra {name}", v) for name, v in self.extra.items() if v.dtype.kind == "f"),
+        ):  # fmt: skip
+            if not np.isfinite(values).all():
+                out.append(f"{label}: a recorded value is not finite")
+        act = cfg.get("actuators", {})
+        u_min = act.get("u_min", (-math.inf,) * 4)
+        u_max = act.get("u_max", (math.inf,) * 4)
+        for i, name in enumerate(INPUT):
+            check(f"actuators.u_min/u_max ({name})", self.inputs[:, i], u_min[i], u_max[i])
+        rate_limit = act.get("reel_rate_limit", math.inf)
+        check("actuators.reel_rate_limit", self.reel_rate, -rate_limit, rate_limit)
+        winch = cfg.get("winch", {})
+        accel = act.get("reel_acceleration_limit", math.inf)
+        dt = cfg.get("control", {}).get("dt")
+        if winch.get("model", "ideal") == "ideal" and dt and self.reel_rate.size > 1:
+            change = np.diff(self.reel_rate) / dt
+            check("actuators.reel_acceleration_limit", change, -accel, accel)
+        if cfg.get("configuration") == "tethered" and self.states.shape[1] > 12:
+            low, high = winch.get("min_length", 0.0), winch.get("max_length", math.inf)
+            check("winch.min_length/max_length (L_N)", self.states[:, 12], low, high)
+        max_tension = cfg.get("limits", {}).get("max_tension", math.inf)
+        check("limits.max_tension", self.tension, -math.inf, max_tension)
+        return out
 
     def release_info(self) -> dict[str, float] | None:
         """The tether release as plain data.

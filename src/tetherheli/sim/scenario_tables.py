@@ -687,13 +687,15 @@ class ManeuverSettings:
     )  # fmt: skip
     max_touchdown_speed: float = _key(
         0.5,
-        Key("the largest vertical speed relative to the deck at touchdown of a landing",
-            "m/s", low=0.0, low_open=True),
+        Key("the largest vertical speed relative to the deck at touchdown of a landing (a "
+            "skid gear's design sink rate is 2-3 m/s; beyond 5 m/s a touchdown is a crash)",
+            "m/s", low=0.0, low_open=True, high=5.0),
     )  # fmt: skip
     max_touchdown_offset: float = _key(
         0.5,
-        Key("the largest horizontal distance of HO from the pad (the winch) at touchdown",
-            "m", low=0.0, low_open=True),
+        Key("the largest horizontal distance of HO from the pad (the winch) at touchdown "
+            "(a landing spot on a ship's deck is a few metres across)",
+            "m", low=0.0, low_open=True, high=10.0),
     )  # fmt: skip
     max_touchdown_attitude: float = _key(
         0.26,

@@ -297,7 +297,7 @@ def _prepare_points(
 ) -> tuple[list[Scenario | None], list[str]]:
     """The scenario of every value, or None with the reason when the physics cannot meet it
     (``InfeasibleError``: e.g. a T_ref above what the tether gives); malformed values
-    (``ParameterError``) stop the sweep."""
+    (``ParameterError``) stop the sweep, naming the point."""
     scenarios: list[Scenario | None] = []
     reasons: list[str] = []
     for v in values:
@@ -307,6 +307,10 @@ def _prepare_points(
         except InfeasibleError as exc:
             scenarios.append(None)
             reasons.append(_INVALID + str(exc))
+        except ParameterError as exc:  # named with the point that made it
+            raise type(exc)(
+                exc.field, exc.value, exc.allowed, source=f"sweep point {parameter} = {v:g}"
+            ) from None
     return scenarios, reasons
 
 

@@ -17,6 +17,7 @@ from matplotlib.figure import Figure
 from .._io import atomic_write_bytes
 from ..errors import ParameterError
 from ..sim.result import SimulationResult
+from ..status import stopped
 from .formats import PRINT_DPI, check_figure_format
 
 __all__ = [
@@ -69,7 +70,8 @@ def _style(result: SimulationResult) -> dict:
     st = dict(_STYLE.get(str(result.configuration.get("configuration")), dict(lw=1.1)))
     label = st.get("label", result.name)
     if not result.ok:  # a failed run is drawn up to its last recorded sample
-        label += f" (stopped at t = {result.end_time:g} s)"
+        ended = "stopped" if stopped(result.status) else "ended"
+        label += f" ({ended} at t = {result.end_time:g} s)"
     elif result.released:
         label += f" (tether released at t = {result.release_time:g} s)"
     st["label"] = label

@@ -178,8 +178,20 @@ def load_montecarlo(path: str | Path) -> tuple[Scenario, MonteCarloConfig]:
     source = str(path)
     data = read_toml(path, "scenario TOML file")
     if "montecarlo" not in data:
-        raise ParameterError("montecarlo", None, "a [montecarlo] table", source=source)
+        raise ParameterError(
+            "[montecarlo]", "missing", "a scenario file with a [montecarlo] table of "
+            "dispersions (e.g. tetherheli scenarios montecarlo_paper_sim1)", source=source,
+        )  # fmt: skip
     config = montecarlo_config_from_dict(data.pop("montecarlo"), source=source)
+    maneuver = data.get("maneuver")
+    if isinstance(maneuver, dict) and maneuver.get("type", "none") != "none":
+        # each draw flies free and tethered; a landing has no free run (checked before the
+        # scenario, whose free twin would be refused for a reason the file does not show)
+        raise ParameterError(
+            "maneuver.type", maneuver["type"], "'none' in a Monte Carlo (each draw is flown "
+            "free and tethered, and a tethered landing has no free run: fly a landing with "
+            "simulate, sweep or run_batch)", source=source,
+        )  # fmt: skip
     scenario = scenario_from_dict(data, source=source)
     _wind_parts(scenario.wind, source)
     return scenario, config
