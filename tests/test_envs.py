@@ -178,7 +178,7 @@ def test_residual_action_changes_inputs_by_scale():
         ({"residual": 1}, "residual"),
         ({"action_scale": (1.0, 1.0, 0.0, 1.0)}, "action_scale"),
         ({"max_episode_time": -1.0}, "max_episode_time"),
-        ({"max_episode_time": 1.005}, "duration"),
+        ({"max_episode_time": 1.005}, "max_episode_time"),
         ({"render_mode": "ansi"}, "render_mode"),
         ({"effort_weight": float("nan")}, "effort_weight"),
     ],
@@ -187,6 +187,129 @@ def test_invalid_arguments_are_rejected(kwargs, field):
     with pytest.raises(ParameterError) as err:
         TetheredHoverEnv(**kwargs)
     assert err.value.field == field
+    assert "\n" not in str(err.value)
+
+
+def test_messages_name_max_episode_time_not_duration():
+    """Issue 43, item 13: the episode's length is the user's ``max_episode_time``; a check
+    the scenario makes of it (whole samples, the sample count) names that argument, while a
+    table's own ``duration`` key (a turbulence's) keeps its name."""
+    from tetherheli.wind import DragModel, GaussMarkovTurbulence, Turbulence
+
+    for value in (1.005, 1e9):
+        with pytest.raises(ParameterError) as err:
+            TetheredHoverEnv(max_episode_time=value)
+        assert err.value.field == "max_episode_time"
+        assert "duration" not in str(err.value)
+    short = Turbulence(GaussMarkovTurbulence(), DragModel((0.3, 0.3, 0.5)), 1, 1.0, 0.05)
+    with pytest.raises(ParameterError) as err:
+        TetheredHoverEnv(wind=short, max_episode_time=2.0)
+    assert err.value.field == "wind.duration"
+    assert "max_episode_time (2 s" in str(err.value)
+
+
+def test_moving_base_zero_residual_equals_simulate():
+    """Issue 43, item 4: the environment flies the scenario's ``[base]`` through the
+    engine's sample step and integrator as ``simulate`` does: a heaving deck's episode with
+    a zero residual equals ``simulate`` of the same scenario (it was flown as the still
+    winch, status 0)."""
+    from tetherheli.sim.scenario import BaseSettings
+
+    deck = BaseSettings(motion="harmonic", amplitude=(0.0, 0.0, 0.5), frequency=(0.0, 0.0, 0.2))
+    scenario = Scenario(duration=2.0, base=deck)
+    result = simulate(scenario)
+    assert result.ok
+    env = TetheredHoverEnv(scenario, wind="none")
+    _, info = env.reset(seed=0)
+    outputs, states, inputs, truncated = [info["outputs"]], [env.state], [], False
+    while not truncated:
+        _, _, terminated, truncated, info = env.step(np.zeros(4, dtype=np.float32))
+        assert not terminated
+        outputs.append(info["outputs"])
+        states.append(env.state)
+        inputs.append(info["inputs"])
+    np.testing.assert_allclose(np.array(states), result.states, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(np.array(outputs), result.outputs, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(np.array(inputs), result.inputs[:-1], rtol=0, atol=1e-12)
+    # the deck's heave moved the helicopter relative to it: not the still winch's episode
+    still = simulate(scenario.replace(base=BaseSettings()))
+    assert np.abs(still.states - result.states).max() > 0.1
+
+
+def _refused_scenarios() -> dict:
+    """A scenario per key an environment refuses (``env_checks.SCENARIO_USE``'s "refused"
+    fields), each otherwise valid for ``simulate``."""
+    from tetherheli.sensing.config import SensorConfig
+    from tetherheli.shipped import shipped_scenario
+    from tetherheli.sim.scenario import BaseSettings, ControlSettings, TetherSettings
+
+    deck = BaseSettings(motion="harmonic", amplitude=(0.0, 0.0, 0.5), frequency=(0.0, 0.0, 0.2))
+    return {
+        "control.controller": Scenario(control=ControlSettings(controller="tether_lqi")),
+        "control.base_feedforward": Scenario(
+            base=deck, control=ControlSettings(base_feedforward=True)
+        ),
+        "control.reference": Scenario(base=deck, control=ControlSettings(reference="ground")),
+        "maneuver.type": shipped_scenario("landing_calm_deck"),
+        "tether.model": Scenario(tether=TetherSettings(model="lumped")),
+        "seed": Scenario(seed=3, sensors=SensorConfig(encoder_std=0.01)),
+        "metrics_start": Scenario(metrics_start=1.0),
+    }
+
+
+def test_every_scenario_key_is_flown_or_refused():
+    """Issue 43, item 4: no key of a scenario is dropped silently. Every field of
+    ``Scenario`` has its use in ``SCENARIO_USE``; each refused one is refused in one line
+    naming its key (a landing, the deck's feed-forward, a point of N over a moving base, ...);
+    the two an argument replaces (``duration``, ``wind``) are flown when it is left out."""
+    import dataclasses
+
+    from tetherheli.envs import DEFAULT_EPISODE_TIME, SCENARIO_USE
+
+    fields = {f.name for f in dataclasses.fields(Scenario)}
+    assert set(SCENARIO_USE) == fields
+    assert set(SCENARIO_USE.values()) <= {"flown", "argument", "label", "refused"}
+    cases = _refused_scenarios()
+    refused_tables = {k for k, use in SCENARIO_USE.items() if use == "refused"}
+    assert {key.split(".")[0] for key in cases} == refused_tables
+    for key, scenario in cases.items():
+        with pytest.raises(ParameterError) as err:
+            TetheredHoverEnv(scenario)
+        assert err.value.field == f"scenario.{key}", key
+        assert "\n" not in str(err.value)
+    # an argument left out: the scenario's own duration and wind are flown
+    pulse = Pulse(start=0.1, duration=0.2, magnitude=5.0, direction=(1.0, 0.0, 0.0))
+    env = TetheredHoverEnv(Scenario(duration=0.5, wind=pulse))
+    env.reset(seed=0)
+    assert env.max_episode_time == 0.5 and env.n_max == 50
+    assert env.wind_disturbance == pulse
+    env = TetheredHoverEnv(Scenario(duration=0.5, wind=pulse), wind="none", max_episode_time=0.2)
+    env.reset(seed=0)
+    assert env.max_episode_time == 0.2 and env.wind_disturbance != pulse
+    assert TetheredHoverEnv().max_episode_time == DEFAULT_EPISODE_TIME
+
+
+@pytest.mark.parametrize(
+    ("options", "field"),
+    [
+        ("wind", "options"),
+        ([("wind", None)], "options"),
+        (3, "options"),
+        ({"wnd": None}, "options['wnd']"),
+        ({"wind": "pulse"}, "options['wind']"),
+    ],
+)
+def test_reset_options_are_checked(options, field):
+    """Issue 43, item 10: ``reset(options=...)`` takes None or a dict with the documented
+    keys; anything else is one ``ParameterError`` line naming ``options`` (it raised
+    ``AttributeError``)."""
+    env = TetheredHoverEnv(wind="none", max_episode_time=0.1)
+    with pytest.raises(ParameterError) as err:
+        env.reset(seed=0, options=options)
+    assert err.value.field == field
+    assert "\n" not in str(err.value)
+    obs, _ = env.reset(seed=0, options={})
+    assert env.observation_space.contains(obs)
 
 
 def test_sensors_feed_controller_and_observation():
@@ -200,9 +323,11 @@ def test_sensors_feed_controller_and_observation():
     sensors = SensorConfig(position_source="tether", encoder_std=0.002, altimeter_std=0.05)
     scenario = Scenario(duration=2.0, wind=pulse, sensors=sensors, seed=4)
     result = simulate(scenario)
+    # the episodes' noise is seeded by reset (a scenario's seed of noisy sensors is refused)
+    scenario = scenario.replace(seed=0)
     env = TetheredHoverEnv(scenario, wind=pulse, max_episode_time=2.0)
     obs0, _ = env.reset(seed=0)
-    env._noise = sensor_noise(scenario)  # the run's table, to compare with simulate
+    env._noise = sensor_noise(scenario.replace(seed=4))  # the run's table, as simulate's
     env._observe(env._tension())
     states, truncated = [env.state], False
     while not truncated:
@@ -295,3 +420,14 @@ def test_reset_leaves_nothing_of_the_previous_episode():
                 assert math.isnan(mine[-1][key]), key
             else:
                 assert mine[-1][key] == value, key
+
+
+def test_a_drawn_wind_without_a_trim_names_its_bound():
+    """Found by the environment fuzzer (issue 43): a turbulence drawn with a mean wind no
+    hover can trim in (``max_mean_wind = 1e300``) raised the trim's ``N_F_wind`` (after an
+    overflow warning); it is one line naming ``max_mean_wind``."""
+    env = TetheredHoverEnv(wind="turbulence", max_mean_wind=1e300, max_episode_time=0.05)
+    with pytest.raises(ParameterError) as err:
+        env.reset(seed=0)
+    assert err.value.field == "max_mean_wind"
+    assert "\n" not in str(err.value)

@@ -105,7 +105,7 @@ def test_reward_uses_the_true_state_not_the_measurement():
     truth) while the reward is the true squared position error of eqs 43-45."""
     arm = _arm(Params.paper())
     sensors = SensorConfig(position_source="tether", encoder_std=0.002, altimeter_std=0.05)
-    scenario = Scenario(duration=0.3, wind=PULSE, sensors=sensors, seed=4)
+    scenario = Scenario(duration=0.3, wind=PULSE, sensors=sensors)
     env = TetheredHoverEnv(scenario, wind=PULSE, max_episode_time=0.3, effort_weight=0.0)
     p_ref = _position(env.trim.x, arm)
     steps = _episode(env, np.zeros((30, 4), dtype=np.float32))

@@ -259,6 +259,38 @@ def test_bad_arguments_are_rejected(call, field):
         call()
 
 
+def test_moving_base_copies_equal_single_envs():
+    """Issue 43, item 4: over a heaving deck each copy is advanced by the single
+    environment's integrator (``engine.rk4_interval`` with the packed base; the lane engine
+    flies a still base only): copy i equals ``TetheredHoverEnv`` bit for bit, with random
+    actions, pulse and turbulence winds and an autoreset."""
+    from tetherheli.sim.scenario import BaseSettings
+
+    deck = BaseSettings(motion="harmonic", amplitude=(0.0, 0.0, 0.5), frequency=(0.0, 0.0, 0.2))
+    rng = np.random.default_rng(3)
+    seen = _compare(
+        3, 40, lambda _: rng.uniform(-1.0, 1.0, (3, 4)), 5,
+        scenario=Scenario(duration=1.0, base=deck), wind=("pulse", "turbulence"),
+        max_episode_time=0.3,
+    )  # fmt: skip
+    assert seen["truncated"] == 3 and seen["restarts"] >= 3
+
+
+@pytest.mark.parametrize(
+    ("options", "field"),
+    [("wind", "options"), (["wind"], "options"), ({"gust": 1}, "options['gust']")],
+)
+def test_reset_options_are_checked(options, field):
+    """Issue 43, item 10: the vector environment's ``reset(options=...)`` is checked as the
+    single one's (it raised ``AttributeError``), before any copy is reseeded."""
+    vec = TetheredHoverVectorEnv(2, wind="none", max_episode_time=0.1)
+    with pytest.raises(ParameterError) as err:
+        vec.reset(seed=0, options=options)
+    assert err.value.field == field
+    with pytest.raises(ParameterError, match="seed"):
+        vec.reset(seed=[0, -1])
+
+
 def test_step_before_reset_and_bad_actions_raise():
     vec = TetheredHoverVectorEnv(2, max_episode_time=0.1)
     with pytest.raises(RuntimeError, match="reset"):

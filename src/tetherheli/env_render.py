@@ -15,23 +15,30 @@ import numpy as np
 from .sim.scenario import Scenario
 from .status import status_message
 from .wind import CompiledWind
-from .wind.evaluate import wind_force
+from .wind.evaluate import air_force_on_base
 
 __all__ = ["close_window", "draw_frame", "episode_data", "episode_row", "show_frame"]
 
 
 def episode_row(
-    t: float, y: np.ndarray, x: np.ndarray, wind: CompiledWind, gust_dt: float, tension: float
+    t: float,
+    y: np.ndarray,
+    x: np.ndarray,
+    wind: CompiledWind,
+    gust_dt: float,
+    tension: float,
+    base: np.ndarray,
 ) -> np.ndarray:
     """One sample of the rendered episode (14,): t, q1..q9 (outputs y[:3], then x[:6]), the
-    wind force on HO (``wind_force``, as ``simulate`` records it) and the tension."""
+    wind force on HO (``air_force_on_base`` over the packed ``base``, as ``simulate`` records
+    it) and the tension."""
     row = np.empty(14)
     row[0] = t
     row[1:4] = y[:3]
     row[4:10] = x[:6]
     force = np.zeros(3)
-    wind_force(
-        wind.program, wind.gust, gust_dt, wind.drag, t, 1, x[6], x[7], x[8], force
+    air_force_on_base(
+        wind.program, wind.gust, gust_dt, wind.drag, base, t, 1, x[6], x[7], x[8], force
     )  # fmt: skip
     row[10:13] = force
     row[13] = tension

@@ -88,17 +88,20 @@ from gymnasium import spaces
 
 from ._gym_registration import ENV_ID, MAX_EPISODE_STEPS, register_envs
 from ._validation import check_bool, check_number, check_vector
-from .base.compiled import STILL_BASE
 from .env_checks import (
     RENDER_MODES,
+    SCENARIO_USE,
     RenderModeError,
+    argument_names,
     check_display,
     check_env_memory,
+    check_env_scenario,
+    check_reset_options,
     display_backend,
 )
 from .env_kernels import OBS_LIMIT, finish_step, observe_into, start_episode, tether_tension
 from .env_render import close_window, draw_frame, episode_data, episode_row, show_frame
-from .errors import ParameterError
+from .errors import InfeasibleError, ParameterError
 from .layout import CFG_GUST_DT, CTRL_T_REF, LAW_Z0, LOOP_EVENT, LOOP_INPUTS
 from .model.kernels import tethered_outputs
 from .names import FREE_STATE
@@ -107,7 +110,7 @@ from .sensing.noise import noise_table
 from .sim import engine
 from .sim.packing import actuator_array, read_only, sensor_schedule, sensor_tuple
 from .sim.scenario import Scenario
-from .sim.setup import run_setup
+from .sim.setup import run_base, run_setup
 from .sim.start import StartPoint, free_trim_input, paper_law, start_point
 from .status import Status, status_message
 from .wind import (
@@ -131,6 +134,7 @@ __all__ = [
     "OBSERVATION_NAMES",
     "OBS_LIMIT",
     "RENDER_MODES",
+    "SCENARIO_USE",
     "WIND_KINDS",
     "RenderModeError",
     "TetheredHoverEnv",
@@ -151,6 +155,9 @@ WIND_KINDS = ("none", "pulse", "sine", "turbulence")
 #: Default episode length [s] of :class:`TetheredHoverEnv` (``max_episode_time``).
 DEFAULT_EPISODE_TIME = 30.0
 
+#: Wind kinds drawn by default (a scenario without wind, no ``wind`` argument).
+DEFAULT_WIND_KINDS = ("pulse", "sine", "turbulence")
+
 _DEFAULT_ACTION_SCALE = (20.0, 2.0, 2.0, 5.0)
 _DEFAULT_DRAG = DragModel(cd_area_m2=(0.3, 0.3, 0.5))
 
@@ -161,19 +168,28 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
     Parameters
     ----------
     scenario : Scenario, optional
-        Parameters, configuration (``"tethered"``, or ``"free"`` with the tether removed),
+        Flown as ``simulate`` flies it (``SCENARIO_USE`` says what becomes of each key):
+        parameters, configuration (``"tethered"``, or ``"free"`` with the tether removed),
         tether length ``q9``, controller settings (``dt``, RK4 ``substeps``, feed-forward, LQI
-        weights) and failure limits. Its ``duration`` and ``wind`` are ignored (see
-        ``max_episode_time`` and ``wind``). Its actuators (saturation, lag, winch rate and
-        acceleration limits, tether release) act on the total command exactly as in
+        weights), failure limits, the winch and its base (``[base]``: a moving deck through
+        the engine's packed base, the controller holding a point of the base). Its
+        ``duration`` is the episode length and its wind the episode wind unless
+        ``max_episode_time`` or ``wind`` is given. Its actuators (saturation, lag, winch rate
+        and acceleration limits, tether release) act on the total command exactly as in
         ``simulate``. Its sensors (``[sensors]``: noise, biases, GPS or tether position
         source) feed both the paper's controller and the observation, with each episode's
         noise drawn from ``np_random``; the reward and the failure checks use the true state.
-        Default: ``Scenario()``, the paper's tethered helicopter with 10 ms samples.
+        What an environment cannot fly is refused (``ParameterError`` naming the key): a
+        controller other than the paper's, a ``[maneuver]``, the deck's feed-forward, a point
+        of N held over a moving base, the lumped tether, a ``seed`` of noisy sensors (the
+        episodes' draws are seeded by ``reset(seed=...)``) and ``metrics_start``.
+        Default: ``Scenario(duration=DEFAULT_EPISODE_TIME)``, the paper's tethered
+        helicopter with 10 ms samples.
     wind : str, sequence of str or Disturbance, optional
         The episode wind: a kind from ``WIND_KINDS``, several kinds (one drawn uniformly per
-        episode), or a fixed built-in disturbance used in every episode. Default
-        ``("pulse", "sine", "turbulence")``.
+        episode), or a fixed built-in disturbance used in every episode. Default: the
+        scenario's wind when it has one, else ``DEFAULT_WIND_KINDS`` ("pulse", "sine",
+        "turbulence").
     residual : bool, optional
         True (default): the action corrects the paper controller's command. False: the action
         sets the rotor inputs around trim directly.
@@ -181,7 +197,8 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         Input per unit action for ``[fMR3, tMR1, tMR2, fTR2]`` [N, N m, N m, N], > 0. Default
         ``(20, 2, 2, 5)``.
     max_episode_time : float, optional
-        Episode length before truncation [s], a whole number of samples (default 30).
+        Episode length before truncation [s], a whole number of samples (default: the
+        scenario's ``duration``; 30 s, ``DEFAULT_EPISODE_TIME``, without a scenario).
     max_wind_force : float, optional
         Largest pulse magnitude and sine amplitude drawn [N], >= 0 (default 20, the paper's).
     max_mean_wind : float, optional
@@ -219,10 +236,10 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self,
         scenario: Scenario | None = None,
         *,
-        wind: str | Sequence[str] | Disturbance = ("pulse", "sine", "turbulence"),
+        wind: str | Sequence[str] | Disturbance | None = None,
         residual: bool = True,
         action_scale: Sequence[float] = _DEFAULT_ACTION_SCALE,
-        max_episode_time: float = DEFAULT_EPISODE_TIME,
+        max_episode_time: float | None = None,
         max_wind_force: float = 20.0,
         max_mean_wind: float = 3.0,
         turbulence: GaussMarkovTurbulence | None = None,
@@ -240,26 +257,29 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._frames: list[np.ndarray] = []  # the recorded episode (rendering only)
         self._window: Any = None  # the "human" mode's (figure, image)
         if scenario is None:
-            scenario = Scenario()
+            scenario = Scenario(duration=DEFAULT_EPISODE_TIME)
         if not isinstance(scenario, Scenario):
             raise ParameterError("scenario", scenario, "a tetherheli Scenario or None")
-        if scenario.tether.lumped:
-            raise ParameterError(
-                "scenario.tether.model", scenario.tether.model, "'elastic' (the environments "
-                "fly eq 28's massless tether)"
-            )  # fmt: skip
-        if scenario.control.controller != "paper":  # never substitute the paper's law
-            raise ParameterError(
-                "scenario.control.controller", scenario.control.controller, "'paper' (the "
-                "environments fly the paper's controller; the action corrects or replaces it)"
-            )  # fmt: skip
-        max_episode_time = check_number(
-            "max_episode_time", max_episode_time, low=0.0, low_open=True
-        )
-        # validates that the episode is a whole number of samples
-        self.scenario = scenario.replace(duration=max_episode_time, wind=NoWind())
-        self.max_episode_time = max_episode_time
+        check_env_scenario(scenario)  # what the environment cannot fly, by its key
+        renamed: dict[str, str] = {}
+        if max_episode_time is None:
+            max_episode_time = scenario.duration
+        else:
+            max_episode_time = check_number(
+                "max_episode_time", max_episode_time, low=0.0, low_open=True
+            )
+            renamed["duration"] = "max_episode_time"
+        if wind is None:  # the scenario's wind, else the default draws
+            wind = DEFAULT_WIND_KINDS if isinstance(scenario.wind, NoWind) else scenario.wind
         self._kinds, self._fixed_wind = self._parse_wind(wind)
+        self._renamed = renamed
+        with argument_names(renamed):  # the checks of the episode's length name the argument
+            # validates that the episode is a whole number of samples (the episode's wind is
+            # checked per episode, ``draw_episode``)
+            self.scenario = scenario.replace(duration=max_episode_time, wind=NoWind())
+            if self._fixed_wind is not None:  # a gust grid as long as the episode
+                check_wind_covers(self._fixed_wind, max_episode_time)
+        self.max_episode_time = max_episode_time
         self.residual = check_bool("residual", residual)
         self.action_scale = np.array(
             check_vector("action_scale", action_scale, 4, low=0.0, low_open=True)
@@ -283,6 +303,8 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         check_env_memory(self.scenario, 1, self.gust_dt)  # before an episode's tables exist
         model, trim, gain, ctrl, cfg = run_setup(self.scenario)
         self._model, self._lqi = model, gain
+        # the winch's base as simulate flies it (the paper's still winch without [base])
+        self._base = read_only(run_base(self.scenario, model).packed)
         # the engine's read-only inputs as ``simulate`` hands them (``packing.read_only``): one
         # compiled signature of each phase for both
         self._act = read_only(
@@ -349,7 +371,12 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             if compile_wind(wind) is None:
                 raise ParameterError("wind", wind, allowed)
             return (), wind
-        kinds = (wind,) if isinstance(wind, str) else tuple(wind)
+        if isinstance(wind, str):
+            kinds: tuple = (wind,)
+        elif isinstance(wind, (list, tuple)):
+            kinds = tuple(wind)
+        else:  # not a sequence of kinds (a number, a dict, a generator, ...)
+            raise ParameterError("wind", wind, allowed)
         if not kinds or not all(isinstance(k, str) and k in WIND_KINDS for k in kinds):
             raise ParameterError("wind", wind, allowed)
         return kinds, None
@@ -442,18 +469,31 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         noise : ndarray, shape (n_samples + 1, N_CHANNELS) or (0, N_CHANNELS)
             The episode's sensor noise table (empty with perfect sensors).
         """
+        name = "wind" if wind is None else "options['wind']"
+        limit = name  # the user's field a start without trim is refused under
         if wind is None:
             if self._fixed_wind is not None:
                 wind = self._fixed_wind
             else:
-                wind = self.draw_wind(self._kinds[int(rng.integers(len(self._kinds)))], rng)
+                kind = self._kinds[int(rng.integers(len(self._kinds)))]
+                wind = self.draw_wind(kind, rng)
+                limit = "max_mean_wind" if kind == "turbulence" else "max_wind_force"
         compiled = compile_wind(wind) if isinstance(wind, Disturbance) else None
         if compiled is None:
             raise ParameterError("options['wind']", wind, "a built-in Disturbance")
-        check_wind_covers(wind, self.max_episode_time)  # a gust grid as long as the episode
-        start = start_point(
-            self._model, self.trim, self._lqi, self._ctrl_base, wind, self.scenario.q9
-        )
+        with argument_names(self._renamed):  # a gust grid as long as the episode
+            check_wind_covers(wind, self.max_episode_time, name=name)
+        try:
+            with np.errstate(over="ignore"):  # a force beyond float range: no trim, below
+                start = start_point(
+                    self._model, self.trim, self._lqi, self._ctrl_base, wind, self.scenario.q9
+                )
+        except InfeasibleError as exc:  # named by the user's field, not the trim's force
+            value = getattr(self, limit) if limit.startswith("max_") else wind
+            raise ParameterError(
+                limit, value, f"a wind the helicopter can start in at rest (this episode's "
+                f"{type(wind).__name__} at t = 0: {exc.allowed})"
+            ) from None  # fmt: skip
         if self._sensors.is_perfect:
             noise = np.zeros((0, N_CHANNELS))
         else:  # the episode's sensor noise, from the seeded generator
@@ -514,7 +554,8 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             Reseeds ``np_random`` (which draws the wind).
         options : dict, optional
             ``{"wind": Disturbance}`` uses that (built-in) disturbance for this episode
-            instead of a draw.
+            instead of a draw; None or ``{}``: the environment's wind. Anything else
+            (another type, another key) is a ``ParameterError`` naming ``options``.
 
         Returns
         -------
@@ -524,13 +565,14 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         info : dict
             As for :meth:`step`; ``inputs`` (no input applied yet) and ``reel_rate`` are NaN.
         """
+        options_wind = check_reset_options(options)
         super().reset(seed=seed)
-        options_wind = (options or {}).get("wind")
         wind, compiled, start, noise = self.draw_episode(self.np_random, options_wind)
         self.wind_disturbance = wind
         self._wind = compiled
-        self._wind_args = tuple(
-            read_only(a) for a in (compiled.program, compiled.gust, compiled.drag, STILL_BASE)
+        self._wind_args = (
+            *(read_only(a) for a in (compiled.program, compiled.gust, compiled.drag)),
+            self._base,
         )
         self._law = (*self._law[:LAW_Z0], read_only(start.z))
         self._noise = noise
@@ -660,7 +702,9 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         wind = self._wind
         assert wind is not None
         t = self._k * self.dt
-        row = episode_row(t, self._y, self._x, wind, self._cfg[CFG_GUST_DT], self._tension())
+        row = episode_row(
+            t, self._y, self._x, wind, self._cfg[CFG_GUST_DT], self._tension(), self._base
+        )
         self._frames.append(row)
         if self.render_mode == "human":
             self._show(self._draw())

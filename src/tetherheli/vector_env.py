@@ -54,12 +54,13 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from ._compile import compiled, frozen
-from ._validation import check_integer
-from .env_checks import RenderModeError, check_env_memory
+from ._validation import check_integer, is_integer
+from .env_checks import RenderModeError, check_env_memory, check_reset_options
 from .env_kernels import finish_step, observe_into, start_episode, tether_tension
 from .envs import OBSERVATION_NAMES, TetheredHoverEnv
 from .errors import ParameterError
 from .layout import (
+    BASE_MOVING,
     CFG_ATTACHED,
     CFG_DT,
     CFG_K_C,
@@ -97,14 +98,18 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
     copy's observation is written by ``env_kernels.observe_into``. ``copies`` holds the
     per-copy state (rows: copies, padded to whole blocks), ``shared`` what all copies share,
     ``lanes`` the lane engine's block arrays, ``wind`` the copies' winds in lane form;
-    ``out`` = (obs, reward, status, tension, rate, y) receives the step's results.
+    ``out`` = (obs, reward, status, tension, rate, y) receives the step's results. Over a
+    moving base (``moving``) each copy is advanced by ``engine.rk4_interval``, the single
+    environment's (and ``simulate``'s) integrator, with its own wind rows and the packed
+    base (the lane engine flies a still base only).
     """
     (x, k, cfg, ctrl, z, winch, held, event, x_meas, sc_meas, sc_true, y_loop, y_est, inp,
      ffwd, noise, noise_rows, ring, _, _) = copies  # fmt: skip
     (x_trim, cfg0, _, act, c, law, source, arm, scratch, schedule, t_ref, weight, penalty,
      x_scr, y_scr) = shared  # fmt: skip
     x_l, sc_l, inp_l, rate_l, t0_l, h_l, attached_l, k_c_l, c_l, sc_park, work = lanes
-    programs, n_rows, gusts, gust_rows, gust_dt, drag = wind
+    programs, n_rows, gusts, gust_rows, gust_dt, drag = wind[:6]
+    copy_programs, program_rows, copy_drag, base, moving, rk4_work = wind[6:]
     obs, reward, status, tension, rate, y = out
     y_ref, u0 = law[LAW_Y_REF], law[LAW_U0]
     n = reset.shape[0]
@@ -121,30 +126,48 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
                 x[i], k[i], cfg[i], ctrl[i], act, sensors, c, law, loop, command[i], mode
             )
     n_sub = int(cfg0[CFG_N_SUB])
-    for b in range(x_l.shape[0]):
-        xb, scb, inpb = x_l[b], sc_l[b], inp_l[b]
-        busy = False
-        for j in range(LANES):
-            i = b * LANES + j
-            lane_in = (xb, scb, inpb, rate_l, t0_l, attached_l)
-            if i < n and not reset[i]:
-                busy = True
-                lane_engine.set_lane(lane_in, j, x[i], sc_true[i], inp[i], rate[i],
-                                k[i] * cfg[i, CFG_DT], cfg[i, CFG_ATTACHED])  # fmt: skip
-            else:  # parked at the trim (finite arithmetic, result unused)
-                lane_engine.park_lane(lane_in, j, x_trim, sc_park, u0)
-        if not busy:
-            continue
-        lo, hi = b * LANES, (b + 1) * LANES
-        lane_wind = (programs[b], n_rows, gusts[lo:hi], gust_rows[lo:hi], gust_dt[lo:hi], drag[b])
-        lane_engine.rk4_lanes(
-            xb, scb, inpb, rate_l, t0_l, h_l, n_sub, attached_l, k_c_l, c_l, lane_wind, work
-        )
-        for j in range(LANES):
-            i = b * LANES + j
-            if i < n and not reset[i]:
-                for v in range(13):
-                    x[i, v] = xb[v * LANES + j]
+    if moving:  # copy by copy, as TetheredHoverEnv.step (sin, cos of x in work[6])
+        for i in range(n):
+            if not reset[i]:
+                for v in range(10):
+                    rk4_work[6, v] = sc_true[i, v]
+                engine.rk4_interval(
+                    x[i], inp[i], rate[i], k[i] * cfg[i, CFG_DT], cfg[i], c,
+                    copy_programs[i, : program_rows[i]], gusts[i, : gust_rows[i]], copy_drag[i],
+                    base, rk4_work, True,
+                )  # fmt: skip
+    else:  # the lane engine, LANES copies at a time
+        for b in range(x_l.shape[0]):
+            xb, scb, inpb = x_l[b], sc_l[b], inp_l[b]
+            busy = False
+            for j in range(LANES):
+                i = b * LANES + j
+                lane_in = (xb, scb, inpb, rate_l, t0_l, attached_l)
+                if i < n and not reset[i]:
+                    busy = True
+                    lane_engine.set_lane(lane_in, j, x[i], sc_true[i], inp[i], rate[i],
+                                         k[i] * cfg[i, CFG_DT], cfg[i, CFG_ATTACHED])  # fmt: skip
+                else:  # parked at the trim (finite arithmetic, result unused)
+                    lane_engine.park_lane(lane_in, j, x_trim, sc_park, u0)
+            if not busy:
+                continue
+            lo, hi = b * LANES, (b + 1) * LANES
+            lane_wind = (
+                programs[b],
+                n_rows,
+                gusts[lo:hi],
+                gust_rows[lo:hi],
+                gust_dt[lo:hi],
+                drag[b],
+            )
+            lane_engine.rk4_lanes(
+                xb, scb, inpb, rate_l, t0_l, h_l, n_sub, attached_l, k_c_l, c_l, lane_wind, work
+            )
+            for j in range(LANES):
+                i = b * LANES + j
+                if i < n and not reset[i]:
+                    for v in range(13):
+                        x[i, v] = xb[v * LANES + j]
     for i in range(n):
         if reset[i]:
             observe_start(i, copies, shared, out)
@@ -318,8 +341,14 @@ class TetheredHoverVectorEnv(VectorEnv):
             sc_park,
             lane_engine.lane_work(),
         )
-        # the winds in lane form; profile rows and gust rows grow as episodes need them
+        # the winds in lane form; profile rows and gust rows grow as episodes need them; the
+        # same programs and drag per copy for the copy-by-copy integration over a moving base
         self._programs = np.empty((n_blocks, 0, WIND_COLUMNS, LANES))
+        self._copy_programs = np.zeros((n_pad, 0, WIND_COLUMNS))
+        self._program_rows = np.zeros(n_pad, dtype=np.int64)
+        self._copy_drag = np.zeros((n_pad, 3))
+        self._moving = bool(env._base[0, BASE_MOVING] > 0.5)
+        self._rk4_work = np.empty((engine.RK4_WORK_ROWS, 13))
         self._gusts = np.zeros((n_pad, 0, 3))
         self._gust_rows = np.zeros(n_pad, dtype=np.int64)
         self._gust_dt = np.zeros(n_pad)
@@ -365,6 +394,15 @@ class TetheredHoverVectorEnv(VectorEnv):
                 for jj in range(LANES):
                     lane_program_into(self._programs[bb], jj, old[bb, :, :, jj])
         lane_program_into(self._programs[b], j, program)
+        if program.shape[0] > self._copy_programs.shape[1]:
+            grown_programs = np.zeros(
+                (self._copy_programs.shape[0], program.shape[0], WIND_COLUMNS)
+            )
+            grown_programs[:, : self._copy_programs.shape[1]] = self._copy_programs
+            self._copy_programs = grown_programs
+        self._copy_programs[i, : program.shape[0]] = program
+        self._program_rows[i] = program.shape[0]
+        self._copy_drag[i] = compiled_wind.drag
         gust = np.asarray(compiled_wind.gust, dtype=float).reshape(-1, 3)
         if gust.shape[0] > self._gusts.shape[1]:
             grown = np.zeros((self._gusts.shape[0], gust.shape[0], 3))
@@ -385,6 +423,12 @@ class TetheredHoverVectorEnv(VectorEnv):
             self._gust_rows,
             self._gust_dt,
             self._drag,
+            self._copy_programs,
+            self._program_rows,
+            self._copy_drag,
+            self.env._base,
+            self._moving,
+            self._rk4_work,
         )
 
     def _run(self, restart: np.ndarray, a: np.ndarray, command: np.ndarray, mode: int) -> None:
@@ -465,7 +509,9 @@ class TetheredHoverVectorEnv(VectorEnv):
             An int s seeds copy i with s + i; a list gives one seed (or None) per copy; None
             keeps each copy's generator.
         options : dict, optional
-            ``{"wind": Disturbance}``: that built-in disturbance in every copy this episode.
+            ``{"wind": Disturbance}``: that built-in disturbance in every copy this episode;
+            None or ``{}``: each copy's draw. Anything else is a ``ParameterError`` naming
+            ``options``.
 
         Returns
         -------
@@ -475,18 +521,23 @@ class TetheredHoverVectorEnv(VectorEnv):
             As for :meth:`step`.
         """
         n = self.num_envs
+        wind = check_reset_options(options)  # before any copy's generator is reseeded
+        allowed = f"an int >= 0, None, or a list of {n} ints >= 0 or None"
         if seed is None:
             seeds: list[int | None] = [None] * n
-        elif isinstance(seed, (int, np.integer)):
+        elif is_integer(seed) and seed >= 0:
             seeds = [int(seed) + i for i in range(n)]
-        elif isinstance(seed, (list, tuple)) and len(seed) == n:
-            seeds = list(seed)
+        elif (
+            isinstance(seed, (list, tuple))
+            and len(seed) == n
+            and all(s is None or (is_integer(s) and s >= 0) for s in seed)
+        ):
+            seeds = [None if s is None else int(s) for s in seed]
         else:
-            raise ParameterError("seed", seed, f"an int, None, or a list of {n} ints or None")
+            raise ParameterError("seed", seed, allowed)
         for i, s in enumerate(seeds):
             if s is not None:
                 self._rngs[i], _ = seeding.np_random(s)
-        wind = (options or {}).get("wind")
         for i in range(n):
             self._start_episode(i, wind)
         zeros = np.zeros((n, 4))

@@ -100,6 +100,7 @@ __all__ = [
     "paper_gain",
     "paper_law",
     "python_controlled",
+    "run_base",
     "run_setup",
     "sensor_noise",
     "sensor_schedule",
@@ -436,5 +437,24 @@ def engine_setup(scenario: Scenario, design_params: Params | None = None) -> Eng
         free_trim_input(scenario, model, trim),
         start,
         chain_start(scenario, trim),
-        compile_base(scenario.base_motion, model.params.helicopter.m),
+        run_base(scenario, model),
     )
+
+
+def run_base(scenario: Scenario, model: TetheredHelicopter) -> CompiledBase:
+    """The winch's base of a run in the engine's packed form (``base.compile_base``), with
+    the helicopter's mass for the frame's inertial force: what ``simulate`` and the
+    Gymnasium environments fly (the paper's still winch without a ``[base]`` table).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The run (its ``base_motion``).
+    model : TetheredHelicopter
+        The plant (``run_setup``'s), on the scenario's parameters.
+
+    Returns
+    -------
+    CompiledBase
+    """
+    return compile_base(scenario.base_motion, model.params.helicopter.m)
