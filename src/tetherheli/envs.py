@@ -110,7 +110,7 @@ from .sensing.noise import noise_table
 from .sim import engine
 from .sim.packing import actuator_array, read_only, sensor_schedule, sensor_tuple
 from .sim.scenario import Scenario
-from .sim.setup import run_base, run_setup
+from .sim.setup import base_velocity, run_base, run_setup
 from .sim.start import StartPoint, free_trim_input, paper_law, start_point
 from .status import Status, status_message
 from .wind import (
@@ -486,8 +486,9 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         try:
             with np.errstate(over="ignore"):  # a force beyond float range: no trim, below
                 start = start_point(
-                    self._model, self.trim, self._lqi, self._ctrl_base, wind, self.scenario.q9
-                )
+                    self._model, self.trim, self._lqi, self._ctrl_base, wind, self.scenario.q9,
+                    base_velocity(self.scenario),
+                )  # fmt: skip
         except InfeasibleError as exc:  # named by the user's field, not the trim's force
             value = getattr(self, limit) if limit.startswith("max_") else wind
             raise ParameterError(

@@ -420,7 +420,9 @@ def engine_setup(scenario: Scenario, design_params: Params | None = None) -> Eng
     if scenario.tether.lumped:  # the windless hanging chain, even in a gust (its drag then
         start = StartPoint(trim, np.zeros(4))  # acts from t = 0 as a disturbance)
     else:
-        start = start_point(model, trim, gain, ctrl, scenario.wind, scenario.q9)
+        start = start_point(
+            model, trim, gain, ctrl, scenario.wind, scenario.q9, base_velocity(scenario)
+        )
     act = actuator_array(scenario, start.trim, ctrl)
     return EngineSetup(
         model,
@@ -458,3 +460,23 @@ def run_base(scenario: Scenario, model: TetheredHelicopter) -> CompiledBase:
     CompiledBase
     """
     return compile_base(scenario.base_motion, model.params.helicopter.m)
+
+
+def base_velocity(scenario: Scenario) -> np.ndarray:
+    """The base's velocity b'(0) in N at the run's start [m/s] (zero for the paper's still
+    winch): HO starts at rest relative to the base, so at this velocity in N, and the start's
+    trim balances the air relative to it (``start.start_point``).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The run (its ``base_motion``).
+
+    Returns
+    -------
+    numpy.ndarray, shape (3,)
+    """
+    motion = scenario.base_motion
+    if motion.fixed:
+        return np.zeros(3)
+    return np.asarray(motion.state(0.0), dtype=float)[0, 1].copy()  # (t, [b, b', b"], axis)

@@ -293,9 +293,12 @@ def start_point(
     ctrl: np.ndarray,
     wind: Disturbance,
     q9: float,
+    base_velocity: np.ndarray | None = None,
 ) -> StartPoint:
     """The equilibrium a run starts from in the air of ``wind`` at t = 0: the drag F of the
-    turbulence's mean wind plus its gust at t = 0 (``wind.initial_wind_force``).
+    turbulence's mean wind plus its gust at t = 0 (``wind.initial_wind_force``), relative
+    to HO, which starts at rest relative to the winch's base (over a moving base it moves at
+    the base's velocity b'(0) in N: a ship under way meets its apparent wind).
 
     The trim in F (``hover_trim(..., N_F_wind=F)``) keeps the windless
     trim's outputs, which stay the controller's references. The paper law (eq 54),
@@ -318,6 +321,8 @@ def start_point(
         The run's disturbance.
     q9 : float
         The tether length of the windless trim [m].
+    base_velocity : numpy.ndarray, shape (3,), optional
+        The base's velocity b'(0) in N [m/s] (default None: a still base).
 
     Returns
     -------
@@ -330,7 +335,7 @@ def start_point(
         No trim in that wind (naming ``N_F_wind``).
         Or K_z is singular (naming ``control.Qy/Ru``).
     """
-    force = initial_wind_force(wind)
+    force = initial_wind_force(wind, np.zeros(3) if base_velocity is None else base_velocity)
     if not np.any(force):
         return StartPoint(trim, np.zeros(4))
     windy = _hover_trim(model.params, trim.tension, q9, force)

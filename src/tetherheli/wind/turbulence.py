@@ -12,6 +12,7 @@ a time grid into a ``Disturbance``. The gust models' names are re-exported here.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -200,7 +201,25 @@ class Turbulence(Disturbance):
         """Drag on HO at rest of the air at t = 0, the mean wind plus the gust drawn for
         t = 0, shape (3,) [N]: the force the run's initial trim balances
         (``initial_wind_force``)."""
-        return self.drag.force(np.asarray(self.N_v_mean_wind, dtype=float) + self._gust[0])
+        return self.initial_force_on((0.0, 0.0, 0.0))
+
+    def initial_force_on(self, N_v_HO: Sequence[float] | np.ndarray) -> np.ndarray:
+        """Drag at t = 0 on HO moving at ``N_v_HO`` in N (over a moving base, the base's
+        velocity b'(0): the air relative to HO is the mean wind plus the gust at t = 0 less
+        it), shape (3,) [N].
+
+        Parameters
+        ----------
+        N_v_HO : array_like, shape (3,)
+            HO's velocity in N at t = 0 [m/s].
+
+        Returns
+        -------
+        ndarray, shape (3,)
+            The force along n1, n2, n3 [N].
+        """
+        air = np.asarray(self.N_v_mean_wind, dtype=float) + self._gust[0]
+        return self.drag.force(air, np.asarray(N_v_HO, dtype=float))
 
     def to_dict(self) -> dict[str, Any]:
         """See ``Disturbance.to_dict``; the gusts themselves are regenerated from the seed.
@@ -236,16 +255,22 @@ def _check_calibrated_mean_wind(model: CalibratedGaussMarkovTurbulence, N_v_mean
             )
 
 
-def initial_wind_force(wind: Disturbance) -> np.ndarray:
-    """The force of the air on HO at rest at t = 0, shape (3,) [N]: the drag of the mean wind
-    plus the gust at t = 0 of every ``Turbulence`` in ``wind`` (``Turbulence.initial_force``);
-    zero for the force profiles (pulse, step, sine, constant), which a run meets as they
-    come. A run starts in the trim that balances it (``sim.start.start_point``).
+def initial_wind_force(
+    wind: Disturbance, N_v_HO: Sequence[float] | np.ndarray = (0.0, 0.0, 0.0)
+) -> np.ndarray:
+    """The force of the air at t = 0 on HO moving at ``N_v_HO`` in N, shape (3,) [N]: the
+    drag of the mean wind plus the gust at t = 0 of every ``Turbulence`` in ``wind``
+    (``Turbulence.initial_force_on``) relative to HO; zero for the force profiles (pulse,
+    step, sine, constant), which a run meets as they come. A run starts in the trim that
+    balances it (``sim.start.start_point``); over a moving base HO starts at rest relative
+    to the base, so ``N_v_HO`` is the base's velocity b'(0).
 
     Parameters
     ----------
     wind : Disturbance
         The run's wind (a sum is summed part by part).
+    N_v_HO : array_like, shape (3,), optional
+        HO's velocity in N at t = 0 [m/s] (default: at rest).
 
     Returns
     -------
@@ -253,10 +278,10 @@ def initial_wind_force(wind: Disturbance) -> np.ndarray:
         The force along n1, n2, n3 [N].
     """
     if isinstance(wind, WindSum):
-        parts = [initial_wind_force(part) for part in wind.components]
+        parts = [initial_wind_force(part, N_v_HO) for part in wind.components]
         return np.sum(parts, axis=0) + np.zeros(3)
     if isinstance(wind, Turbulence):
-        return wind.initial_force
+        return wind.initial_force_on(N_v_HO)
     return np.zeros(3)
 
 
