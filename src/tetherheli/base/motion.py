@@ -451,6 +451,7 @@ _TRACK_BYTES_PER_ROW = 768
 _MEMORY_BLOCK_ROWS = 65_536
 _SHA256 = re.compile(r"[0-9a-f]{64}")
 _CELLS = "4 plain decimal numbers t,n1,n2,n3 (e.g. -0.5,1.25e-3,0,12)"
+_HEADER_TEXT = "the header t,n1,n2,n3 (time [s], then the base's position along n1, n2, n3 [m])"
 
 
 def read_base_csv(path: str | Path, *, sha256: str = "") -> FileBase:
@@ -536,11 +537,11 @@ def _stream_track(fh: Any, src: str) -> tuple[str, array, array]:
                                  f"at most {FILE_MAX_ROWS} rows after the header (blank lines "
                                  "count)", source=src)  # fmt: skip
         if len(line) > TRACK_MAX_LINE:
-            refuse(row, f"a line longer than {TRACK_MAX_LINE} bytes", _CELLS)
+            refuse(row, f"a line longer than {TRACK_MAX_LINE} bytes", _HEADER_TEXT if row == 1
+                   else _CELLS)  # fmt: skip
         if row == 1:
             if line.removeprefix(b"\xef\xbb\xbf").strip().replace(b" ", b"") != _HEADER:
-                refuse(1, "not the header", "the header t,n1,n2,n3 (time [s], then the base's "
-                       "position along n1, n2, n3 [m])")  # fmt: skip
+                refuse(1, "not the header", _HEADER_TEXT)
             continue
         found = _ROW.fullmatch(line)
         if found is None:
