@@ -120,8 +120,9 @@ def test_file_motion_reproduces_a_sampled_harmonic_within_the_splines_error(tmp_
         ("t,n1,n2,n3\n0,0,0,0\n1,0,0,0\n1,0,0,0\n2,0,0,0\n", "row 4.*strictly increasing"),
         ("t,n1,n2,n3\n0,0,0,0\n1,0,0,0\n2,0,0,0\n3,0,0,0\n40,0,0,0\n", "row 6.*gap"),
         ("t,n1,n2,n3\n0.5,0,0,0\n1,0,0,0\n2,0,0,0\n3,0,0,0\n", "first time <= 0"),
-        ("t,n1,n2,n3\n0,0,0,0\n1,0,x,0\n2,0,0,0\n3,0,0,0\n", "row 3.*4 numbers"),
-        ("t,n1,n2,n3\n0,0,0,0\n1,0,nan,0\n2,0,0,0\n3,0,0,0\n", "row 3.*finite"),
+        ("t,n1,n2,n3\n0,0,0,0\n1,0,x,0\n2,0,0,0\n3,0,0,0\n", "row 3 column n2.*plain decimal"),
+        ("t,n1,n2,n3\n0,0,0,0\n1,0,nan,0\n2,0,0,0\n3,0,0,0\n", "row 3 column n2.*plain decimal"),
+        ("t,n1,n2,n3\n0,0,0,0\n1,0,0\n2,0,0,0\n3,0,0,0\n", "row 3 = '3 cells'.*4 plain decimal"),
     ],
 )
 def test_a_bad_file_is_one_line_naming_the_row(tmp_path, text, match):

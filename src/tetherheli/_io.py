@@ -37,6 +37,7 @@ __all__ = [
     "check_real_folders",
     "claim_output_directory",
     "foreign_files",
+    "open_user_file",
     "output_directory",
     "read_toml",
     "record_output_file",
@@ -85,6 +86,81 @@ def read_toml(path: str | Path, what: str = "TOML file") -> dict[str, Any]:
         raise ParameterError(
             "file", source, "valid TOML with arrays and tables nested a few levels deep"
         ) from None
+
+
+#: The files a scenario names (a base's track) may be any regular file that the user running
+#: tetherheli may read: tetherheli reads with the user's own rights, so a scenario cannot reach
+#: a file its user could not read anyway, and it never shows a byte of what it reads (a
+#: refusal names the row, the column and what is wrong). A relative path is taken from the
+#: scenario file's folder; the run records the resolved path and the SHA-256 of the bytes read.
+USER_FILE_RULE = (
+    "a regular file you may read (not a folder, device or pipe); a relative path is taken "
+    "from the scenario file's folder"
+)
+
+
+@contextlib.contextmanager
+def open_user_file(
+    path: str | Path, *, field: str, what: str, max_bytes: int, source: str | None = None
+) -> Iterator[tuple[IO[bytes], Path, int]]:
+    """Open a file that a user's input names (a scenario's track) for reading in binary: the one
+    way tetherheli opens such files (``USER_FILE_RULE``).
+
+    It is opened without blocking (a pipe is refused, never waited on), checked on the open
+    descriptor to be a regular file of at most ``max_bytes`` bytes, then handed to the caller,
+    who streams it. No message shows its contents.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file as the input names it.
+    field : str
+        The key that names it, e.g. ``"base.file"``, for the messages.
+    what : str
+        What the file should be, e.g. ``"a CSV track t,n1,n2,n3"``.
+    max_bytes : int
+        The largest size allowed.
+    source : str, optional
+        The input that names the file, put in front of a message.
+
+    Yields
+    ------
+    (binary file, pathlib.Path, int)
+        The open file, its resolved path and its size [bytes].
+
+    Raises
+    ------
+    ParameterError
+        Missing, not readable, not a regular file, or larger than ``max_bytes``: one line
+        naming ``field`` and the path.
+    """
+    shown = str(path)
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0)
+    try:
+        resolved = Path(path).expanduser().resolve()
+        fd = os.open(resolved, flags)
+    except FileNotFoundError:
+        raise ParameterError(field, shown, f"an existing file: {what}", source=source) from None
+    except (OSError, ValueError, RuntimeError) as exc:  # ValueError: a NUL in the path
+        reason = getattr(exc, "strerror", None) or type(exc).__name__
+        raise ParameterError(
+            field, shown, f"{USER_FILE_RULE}: {what} ({reason})", source=source
+        ) from None
+    try:
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode):
+            raise ParameterError(field, shown, f"{USER_FILE_RULE}: {what}", source=source)
+        if st.st_size > max_bytes:
+            raise ParameterError(
+                field, f"{shown} ({st.st_size} bytes)", f"{what} of at most {max_bytes} bytes",
+                source=source,
+            )  # fmt: skip
+        fh = os.fdopen(fd, "rb")
+    except BaseException:
+        os.close(fd)
+        raise
+    with fh:
+        yield fh, resolved, st.st_size
 
 
 def _umask() -> int:

@@ -16,10 +16,14 @@ of sinusoids per axis, and cubic pieces, so one compiled evaluation serves them 
 from __future__ import annotations
 
 import functools
+import hashlib
 import math
+import re
+from array import array
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -28,9 +32,11 @@ from ..errors import ParameterError
 
 __all__ = [
     "BASE_KEYS",
+    "FILE_MAX_BYTES",
     "FILE_MAX_ROWS",
     "MOTIONS",
     "MOTION_KEYS",
+    "TRACK_COLUMNS",
     "BaseMotion",
     "FileBase",
     "FixedBase",
@@ -42,10 +48,31 @@ __all__ = [
     "read_base_csv",
 ]
 
-#: The most rows a base motion file may hold (checked before reading it whole).
+#: The most rows a track file may hold after its header, blank lines included (counted while
+#: it is streamed, refused before more is read).
 FILE_MAX_ROWS = 1_000_000
+#: The longest line of a track file [bytes]: four numbers of 17 significant digits with
+#: their signs and exponents fit in a third of it.
+TRACK_MAX_LINE = 256
+#: The largest track file [bytes] (checked before it is opened for reading).
+FILE_MAX_BYTES = 128_000_000
 #: The most sinusoids of a sea state (the engine evaluates each at every step).
 SEA_STATE_MAX_COMPONENTS = 1024
+
+# The physical range of the base's inputs: one rule for the [base] keys and the track's columns
+#: [m] the farthest the base may be from the origin of N on each axis (a ship's track of
+#: 1000 km; a deck's heave is metres)
+BASE_POSITION_MAX_M = 1e6
+#: [m/s] the fastest a base may move on each axis (the fastest ships are ~25 m/s, vehicles ~
+#: 100 m/s)
+BASE_SPEED_MAX_M_S = 100.0
+#: [m] the largest harmonic amplitude per axis (the highest ocean waves are ~30 m)
+BASE_AMPLITUDE_MAX_M = 100.0
+#: [s] the track's times lie within +-this (3 years; a run has at most 1e9 samples)
+TRACK_TIME_MAX_S = 1e8
+#: [s] the shortest step between two rows of a track (10 kHz); with the bounds above every
+#: spline coefficient stays finite
+TRACK_MIN_STEP_S = 1e-4
 
 #: the motions a ``[base]`` table's ``motion`` names
 MOTIONS: tuple[str, ...] = ("fixed", "velocity", "harmonic", "sea_state", "file")
@@ -56,14 +83,17 @@ BASE_KEYS: dict[str, Key] = {
                   "harmonic per axis, a JONSWAP sea state, or a recorded track (CSV)",
                   kind="text", choices=MOTIONS),
     "position": Key("the base's position at t = 0 (motion fixed or velocity)", "m",
-                    kind="vector", length=3),
+                    kind="vector", length=3, low=-BASE_POSITION_MAX_M,
+                    high=BASE_POSITION_MAX_M),
     "velocity": Key("the base's constant velocity (motion velocity)", "m/s", kind="vector",
-                    length=3),
+                    length=3, low=-BASE_SPEED_MAX_M_S, high=BASE_SPEED_MAX_M_S),
     "amplitude": Key("amplitude of b_i = A_i sin(2 pi f_i t + p_i) per axis of N (motion "
-                     "harmonic)", "m", kind="vector", length=3, low=0.0),
+                     "harmonic)", "m", kind="vector", length=3, low=0.0,
+                     high=BASE_AMPLITUDE_MAX_M),
     "frequency": Key("frequency f_i per axis (motion harmonic)", "Hz", kind="vector", length=3,
                      low=0.0, high=100.0),
-    "phase": Key("phase p_i per axis (motion harmonic)", "rad", kind="vector", length=3),
+    "phase": Key("phase p_i per axis (motion harmonic)", "rad", kind="vector", length=3,
+                 low=-2 * math.pi, high=2 * math.pi),
     "significant_wave_height": Key("Hs = 4 sqrt(m0) of the deck's heave (motion sea_state)",
                                    "m", low=0.0, low_open=True, high=20.0),
     "peak_period": Key("the JONSWAP spectrum's peak period Tp (motion sea_state)", "s",
@@ -78,7 +108,21 @@ BASE_KEYS: dict[str, Key] = {
     "components": Key("sinusoids of the sea state, evenly over [0.5, 4] wp (motion sea_state)",
                       kind="integer", low=1, high=SEA_STATE_MAX_COMPONENTS),
     "file": Key("CSV t,n1,n2,n3 [s, m, m, m] of the base's track, relative to the scenario "
-                "file (motion file)", kind="text"),
+                "file (motion file; see 'Track files' below)", kind="text"),
+    "file_sha256": Key("the SHA-256 of the track's bytes (motion file): unset, it is taken "
+                       "when the file is read; a result's saved scenario records it, and a "
+                       "track whose bytes differ is refused", kind="text",
+                       note="64 hexadecimal digits or empty"),
+}  # fmt: skip
+#: the columns of a track file, each with its physical range (the same as the [base] keys')
+TRACK_COLUMNS: dict[str, Key] = {
+    "t": Key("time", "s", low=-TRACK_TIME_MAX_S, high=TRACK_TIME_MAX_S),
+    "n1": Key("the base's position along n1", "m", low=-BASE_POSITION_MAX_M,
+              high=BASE_POSITION_MAX_M),
+    "n2": Key("the base's position along n2", "m", low=-BASE_POSITION_MAX_M,
+              high=BASE_POSITION_MAX_M),
+    "n3": Key("the base's position along n3", "m", low=-BASE_POSITION_MAX_M,
+              high=BASE_POSITION_MAX_M),
 }  # fmt: skip
 #: the keys each motion reads besides ``motion`` (the others must keep their defaults)
 MOTION_KEYS: dict[str, tuple[str, ...]] = {
@@ -87,7 +131,7 @@ MOTION_KEYS: dict[str, tuple[str, ...]] = {
     "harmonic": ("amplitude", "frequency", "phase"),
     "sea_state": ("significant_wave_height", "peak_period", "peak_enhancement", "seed",
                   "sway_scale", "surge_scale", "components"),
-    "file": ("file",),
+    "file": ("file", "file_sha256"),
 }  # fmt: skip
 
 
@@ -305,54 +349,44 @@ class FileBase(BaseMotion):
 
     Parameters
     ----------
-    times : (n,) strictly increasing [s], n >= 4, starting at or before 0, no gap longer
-        than ten times the median step
-    positions : (n, 3) [m], N components
+    times : (n,) strictly increasing [s], n >= 4, starting at or before 0, steps of at least
+        ``TRACK_MIN_STEP_S`` and no gap longer than ten times the median step, within
+        ``TRACK_COLUMNS["t"]``'s range
+    positions : (n, 3) [m], N components, within ``TRACK_COLUMNS``' ranges
     source : str, optional
-        Where they came from (a file name), named in error messages.
+        Where they came from (a file's resolved path), named in error messages.
+    row_offset : int, optional
+        The row number of ``times[0]`` in the messages.
+    sha256 : str, optional
+        The SHA-256 of the file's bytes (``read_base_csv``), recorded with the run.
     """
 
     times: np.ndarray
     positions: np.ndarray
     source: str = ""
     row_offset: int = 0
+    sha256: str = ""
 
     def __post_init__(self) -> None:
-        from scipy.interpolate import CubicSpline
-
         t = np.asarray(self.times, dtype=np.float64)
         b = np.asarray(self.positions, dtype=np.float64)
         src = self.source or None
         if t.ndim != 1 or b.shape != (t.size, 3):
             raise ParameterError("base.file", f"{t.shape} times, {b.shape} positions",
                                  "n times and n rows of 3 positions", source=src)  # fmt: skip
-        if t.size < 4:
-            raise ParameterError("base.file", f"{t.size} rows", "at least 4 rows", source=src)
-        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(b))):
-            row = int(np.flatnonzero(~np.isfinite(np.column_stack([t, b])).all(axis=1))[0])
-            raise ParameterError(f"base.file row {row + self.row_offset}", "not finite",
-                                 "finite numbers", source=src)  # fmt: skip
-        steps = np.diff(t)
-        if np.any(steps <= 0):
-            row = int(np.flatnonzero(steps <= 0)[0]) + 1
-            raise ParameterError(f"base.file row {row + self.row_offset}", f"t = {t[row]:g}",
-                                 "times strictly increasing", source=src)  # fmt: skip
-        median = float(np.median(steps))
-        if np.any(steps > 10 * median):
-            row = int(np.flatnonzero(steps > 10 * median)[0]) + 1
-            raise ParameterError(
-                f"base.file row {row + self.row_offset}", f"a gap of {steps[row - 1]:g} s",
-                f"steps at most 10x the median step ({10 * median:g} s)", source=src,
-            )  # fmt: skip
-        if t[0] > 0.0:
-            raise ParameterError("base.file", f"starts at t = {t[0]:g}", "a first time <= 0",
-                                 source=src)  # fmt: skip
-        spline = CubicSpline(t, b, bc_type="not-a-knot")
-        coef = np.ascontiguousarray(np.moveaxis(spline.c, 0, 1))  # (n - 1, 4, 3)
-        for arr in (t, coef):
-            arr.setflags(write=False)
+        _check_track(t, b, np.arange(t.size) + self.row_offset, src)
         object.__setattr__(self, "times", t)
         object.__setattr__(self, "positions", b)
+        self._derive()
+
+    def _derive(self) -> None:
+        """The spline of the checked track (``_coef``); also run by ``_validation.trusted``."""
+        from scipy.interpolate import CubicSpline
+
+        spline = CubicSpline(self.times, self.positions, bc_type="not-a-knot")
+        coef = np.ascontiguousarray(np.moveaxis(spline.c, 0, 1))  # (n - 1, 4, 3)
+        for arr in (self.times, self.positions, coef):
+            arr.setflags(write=False)
         object.__setattr__(self, "_coef", coef)
 
     @property
@@ -364,50 +398,178 @@ class FileBase(BaseMotion):
         return _ZERO, _ZERO, _NO_WAVES, self.times, self._coef
 
     def to_dict(self) -> dict:
-        return {"motion": "file", "file": self.source}
+        return {"motion": "file", "file": self.source, "file_sha256": self.sha256}
 
 
-def read_base_csv(path: str | Path) -> FileBase:
+def _check_track(t: np.ndarray, b: np.ndarray, rows: np.ndarray, src: str | None) -> None:
+    """Refuse a track (times ``t``, positions ``b``; ``rows`` their row numbers) outside the
+    one rule: at least 4 rows, every value in its column's range (``TRACK_COLUMNS``), times
+    increasing by ``TRACK_MIN_STEP_S`` at least and by at most ten times the median step,
+    the first at or before 0. Each message names the row and the column, never a value."""
+    if t.size < 4:
+        raise ParameterError("base.file", f"{t.size} rows", "at least 4 rows", source=src)
+    for j, (name, key) in enumerate(TRACK_COLUMNS.items()):
+        x = t if j == 0 else b[:, j - 1]
+        bad = ~(np.abs(x) <= key.high)  # NaN too
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            raise ParameterError(f"base.file row {rows[i]} column {name}", "out of its range",
+                                 key.allowed(), source=src)  # fmt: skip
+    steps = np.diff(t)
+    if np.any(steps < TRACK_MIN_STEP_S):
+        i = int(np.flatnonzero(steps < TRACK_MIN_STEP_S)[0]) + 1
+        raise ParameterError(
+            f"base.file row {rows[i]} column t", "not a step above the previous row's",
+            f"times strictly increasing, by at least {TRACK_MIN_STEP_S:g} s a row", source=src,
+        )  # fmt: skip
+    median = float(np.median(steps))
+    if np.any(steps > 10 * median):
+        i = int(np.flatnonzero(steps > 10 * median)[0]) + 1
+        raise ParameterError(
+            f"base.file row {rows[i]} column t", "a gap after the previous row",
+            f"steps at most 10x the median step ({10 * median:g} s)", source=src,
+        )  # fmt: skip
+    if t[0] > 0.0:
+        raise ParameterError(f"base.file row {rows[0]} column t", "a first time after 0",
+                             "a first time <= 0 s (the track covers the run's start)",
+                             source=src)  # fmt: skip
+
+
+#: a cell of a track: a plain decimal number (digits, at most one '.', an optional exponent),
+#: never Python's wider float() grammar ('1_0', 'inf', 'nan', non-ASCII digits)
+_CELL = rb"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
+_ROW = re.compile(
+    rb"[ \t]*(" + _CELL + rb")[ \t]*,[ \t]*(" + _CELL + rb")[ \t]*,[ \t]*(" + _CELL
+    + rb")[ \t]*,[ \t]*(" + _CELL + rb")[ \t]*\r?\n?"
+)  # fmt: skip
+_CELL_ALONE = re.compile(rb"[ \t]*" + _CELL + rb"[ \t]*\r?\n?")
+_HEADER = b"t,n1,n2,n3"
+#: Peak memory of a track per data row while it is read and splined [bytes]: the parsed
+#: numbers, the arrays and SciPy's spline (measured 500 with tracemalloc); margin kept.
+_TRACK_BYTES_PER_ROW = 768
+#: The data rows read between two checks of the memory budget while a track is streamed.
+_MEMORY_BLOCK_ROWS = 65_536
+_SHA256 = re.compile(r"[0-9a-f]{64}")
+_CELLS = "4 plain decimal numbers t,n1,n2,n3 (e.g. -0.5,1.25e-3,0,12)"
+_HEADER_TEXT = "the header t,n1,n2,n3 (time [s], then the base's position along n1, n2, n3 [m])"
+
+
+def read_base_csv(path: str | Path, *, sha256: str = "") -> FileBase:
     """A ``FileBase`` from a CSV file with the header ``t,n1,n2,n3`` (s, m, m, m).
+
+    The file is opened by ``_io.open_user_file`` (any regular file the user may read; its size
+    checked first) and streamed: every line counts as a row (blank ones too), refused past
+    ``FILE_MAX_ROWS`` before more is read, and the memory its rows need (the spline's
+    included) is checked against the budget before each block of rows is held. Each cell is
+    a plain decimal number (``_CELL``). The bytes read are hashed (SHA-256), recorded with the
+    run.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file.
+    sha256 : str, optional
+        The SHA-256 the file must have (a result's saved scenario records it); empty: any.
+
+    Returns
+    -------
+    FileBase
+        Its ``source`` is the resolved path, its ``sha256`` the hash of the bytes.
 
     Raises
     ------
     ParameterError
-        A missing or unreadable file, a wrong header, more than ``FILE_MAX_ROWS`` rows, or a
-        track ``FileBase`` refuses, in one line naming the file and the row.
+        A missing, unreadable or oversized file, a wrong header, too many rows, a cell that is
+        not a plain decimal number, a track ``FileBase`` refuses, or other bytes than
+        ``sha256``: one line naming the file, the row and the column, never its contents.
+    ResourceLimitError
+        Its rows would need more than the memory budget (``tetherheli.resources``).
     """
-    path = Path(path)
+    from .._io import open_user_file
+
+    if sha256 and not (isinstance(sha256, str) and _SHA256.fullmatch(sha256)):
+        raise ParameterError("base.file_sha256", sha256, "64 hexadecimal digits (lower case) or "
+                             "empty")  # fmt: skip
     src = str(path)
-    try:
-        size = path.stat().st_size
-        if not path.is_file():
-            raise OSError("not a regular file")
-        if size > FILE_MAX_ROWS * 120:
-            raise ParameterError("base.file", f"{size} bytes",
-                                 f"at most {FILE_MAX_ROWS} rows", source=src)  # fmt: skip
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ParameterError("base.file", src, f"a readable CSV file ({exc})") from None
-    lines = text.splitlines()
-    header = lines[0].replace(" ", "") if lines else ""
-    if header != "t,n1,n2,n3":
-        raise ParameterError("base.file row 1", lines[0] if lines else "", "the header t,n1,n2,n3",
-                             source=src)  # fmt: skip
-    rows = [ln for ln in lines[1:] if ln.strip()]
-    if len(rows) > FILE_MAX_ROWS:
-        raise ParameterError("base.file", f"{len(rows)} rows", f"at most {FILE_MAX_ROWS} rows",
-                             source=src)  # fmt: skip
-    data = np.empty((len(rows), 4))
-    for i, line in enumerate(rows):
-        cells = line.split(",")
+    with open_user_file(path, field="base.file", what="a CSV track t,n1,n2,n3",
+                        max_bytes=FILE_MAX_BYTES) as (fh, resolved, _):  # fmt: skip
         try:
+            digest, data, rows = _stream_track(fh, src)
+        except OSError as exc:
+            reason = exc.strerror or "a read error"
+            raise ParameterError("base.file", src, f"a readable CSV track ({reason})",
+                                 source=None) from None  # fmt: skip
+    if sha256 and digest != sha256:
+        raise ParameterError(
+            "base.file_sha256", sha256, f"the SHA-256 of {src}'s bytes (the file changed since "
+            "it was recorded: restore it, or fly the scenario that named it first)",
+        )  # fmt: skip
+    table = np.frombuffer(data, dtype=np.float64).reshape(-1, 4)
+    times, positions = table[:, 0].copy(), table[:, 1:].copy()
+    _check_track(times, positions, np.frombuffer(rows, dtype=np.int64), src)
+    return trusted(FileBase, times=times, positions=positions, source=str(resolved),
+                   sha256=digest)  # fmt: skip
+
+
+def _stream_track(fh: Any, src: str) -> tuple[str, array, array]:
+    """Read the open track ``fh`` line by line: (SHA-256 of its bytes, its numbers by row,
+    the row number of each data row); a bad line, a row past ``FILE_MAX_ROWS`` or a block of
+    rows beyond the memory budget (``tetherheli.resources``) is refused as soon as it is
+    read, before it is held."""
+    from ..resources import check_memory
+
+    digest = hashlib.sha256()
+    data, rows = array("d"), array("q")
+
+    def refuse(row: int, value: str, allowed: str, column: str = "") -> None:
+        where = f"base.file row {row}" + (f" column {column}" if column else "")
+        raise ParameterError(where, value, allowed, source=src)
+
+    row = 0
+    while True:
+        line = fh.readline(TRACK_MAX_LINE + 1)
+        if not line:
+            break
+        row += 1
+        digest.update(line)
+        if row > FILE_MAX_ROWS + 1:
+            raise ParameterError("base.file", f"more than {FILE_MAX_ROWS} rows",
+                                 f"at most {FILE_MAX_ROWS} rows after the header (blank lines "
+                                 "count)", source=src)  # fmt: skip
+        if len(line) > TRACK_MAX_LINE:
+            refuse(row, f"a line longer than {TRACK_MAX_LINE} bytes", _HEADER_TEXT if row == 1
+                   else _CELLS)  # fmt: skip
+        if row == 1:
+            if line.removeprefix(b"\xef\xbb\xbf").strip().replace(b" ", b"") != _HEADER:
+                refuse(1, "not the header", _HEADER_TEXT)
+            continue
+        found = _ROW.fullmatch(line)
+        if found is None:
+            if not line.strip():
+                continue  # a blank line: counted, no data
+            cells = line.split(b",")
             if len(cells) != 4:
-                raise ValueError
-            data[i] = [float(c) for c in cells]
-        except ValueError:
-            raise ParameterError(f"base.file row {i + 2}", line.strip(), "4 numbers t,n1,n2,n3",
-                                 source=src) from None  # fmt: skip
-    return FileBase(data[:, 0], data[:, 1:], source=src, row_offset=2)
+                refuse(row, f"{len(cells)} cells", _CELLS)
+            for name, cell in zip(TRACK_COLUMNS, cells, strict=True):
+                if not _CELL_ALONE.fullmatch(cell):
+                    refuse(row, "not a plain decimal number", "a plain decimal number such as "
+                           "-0.5, 12 or 1.25e-3 (no '_', inf or nan)", column=name)  # fmt: skip
+            refuse(row, "not a row of 4 numbers", _CELLS)  # e.g. a carriage return inside
+        if rows and len(rows) % _MEMORY_BLOCK_ROWS == 0:  # before the next block is held
+            check_memory(
+                f"reading the track {src} (more than {len(rows)} rows)",
+                (len(rows) + _MEMORY_BLOCK_ROWS) * _TRACK_BYTES_PER_ROW,
+                hint="a shorter track (fewer rows)",
+            )
+        data.extend(map(float, found.groups()))  # type: ignore[union-attr]
+        rows.append(row)
+    if row == 0:
+        refuse(1, "an empty file", "the header t,n1,n2,n3, then the track's rows")
+    check_memory(  # before the arrays and the spline
+        f"reading the track {src} ({len(rows)} rows)", len(rows) * _TRACK_BYTES_PER_ROW,
+        hint="a shorter track (fewer rows)",
+    )  # fmt: skip
+    return digest.hexdigest(), data, rows
 
 
 def base_motion_from(settings: object) -> BaseMotion:
@@ -443,7 +605,7 @@ def _motion(kind: str, settings: object, build: Callable[..., BaseMotion] | None
     if build is None:  # kind == "file"
         if not kw["file"]:
             raise ParameterError("base.file", kw["file"], "a CSV file t,n1,n2,n3 (motion file)")
-        return read_base_csv(kw["file"])
+        return read_base_csv(kw["file"], sha256=kw["file_sha256"])
     return build(**kw)
 
 

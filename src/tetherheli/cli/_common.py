@@ -11,7 +11,11 @@ from __future__ import annotations
 import argparse
 import math
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Sequence
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..sim.scenario import Scenario
 
 __all__ = [
     "Formatter",
@@ -27,6 +31,7 @@ __all__ = [
     "positive_float",
     "report_failures",
     "runs",
+    "scenario_inputs",
     "seconds_arg",
     "seed",
     "workers",
@@ -191,6 +196,27 @@ def seconds_arg(what: str, high: float) -> Callable[[str], float]:
         return value
 
     return parse
+
+
+def scenario_inputs(paths: Sequence[str], scenarios: Iterable[Scenario]) -> tuple[str, ...]:
+    """The inputs of a run that ``--out`` must not hold or lie in (``_io``'s output rules):
+    the scenario files given and every file they name (``Scenario.input_files``, a base's
+    track), all protected alike.
+
+    Parameters
+    ----------
+    paths : sequence of str
+        The scenario (or Monte Carlo) files on the command line.
+    scenarios : iterable of Scenario
+        The scenarios they hold.
+
+    Returns
+    -------
+    tuple of str
+        Each input once, the given files first.
+    """
+    named = [path for s in scenarios for path in s.input_files]
+    return tuple(dict.fromkeys([*paths, *named]))
 
 
 # --- the shared flags, one parent parser each ------------------------------------------------

@@ -29,7 +29,7 @@ def run(args: argparse.Namespace) -> int:
     from .._validation import check_integer
     from ..compare import compare, markdown_reductions, markdown_table, write_compare
     from ..errors import ParameterError
-    from ..sim.scenario import CONTROLLERS
+    from ..sim.scenario import CONTROLLERS, load_scenario
 
     names = tuple(n.strip() for n in args.controllers.split(",") if n.strip())
     if not names or any(n not in CONTROLLERS for n in names):
@@ -57,7 +57,8 @@ def run(args: argparse.Namespace) -> int:
             named_source(path, check_design, with_controller(flown, name))
     for _, config in mc_inputs:  # and refuse what cannot fit, before the first run
         check_comparison_memory(config.runs if args.runs is None else args.runs, 1 + len(names))
-    inputs = (*args.scenarios, *mc_files)
+    named = [load_scenario(path) for path in args.scenarios] + [b for b, _ in mc_inputs]
+    inputs = c.scenario_inputs([*args.scenarios, *mc_files], named)  # the tracks they name too
     claim_output_directory(args.out, inputs=inputs, force=args.force)
     rows = compare(list(args.scenarios), names, eq40=args.eq40)
     montecarlo = []

@@ -58,7 +58,7 @@ def run(args: argparse.Namespace) -> int:
             progress=not args.quiet,
             client=client,
             worker_timeout_s=args.worker_timeout,
-            inputs=(args.scenario,),
+            inputs=c.scenario_inputs([args.scenario], [base]),  # the track it names too
             force=args.force,
             table_format=args.data_format,
             metric=args.metric,

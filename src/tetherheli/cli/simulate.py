@@ -37,7 +37,7 @@ def run(args: argparse.Namespace) -> int:
     check_distinct_names(s.name for s in scenarios)  # one file or folder each
     for s in scenarios:  # refuse what cannot fit before the first run
         check_run_memory(s)
-    inputs = tuple(args.scenario)
+    inputs = c.scenario_inputs(args.scenario, scenarios)  # the tracks they name too
     claim_output_directory(args.out, inputs=inputs, force=args.force)
     command = "tetherheli simulate " + " ".join(args.scenario)
     results = [

@@ -52,7 +52,7 @@ def run(args: argparse.Namespace) -> int:
         from ..studies.controllers import with_controller
 
         scenario = with_controller(scenario, args.controller)
-    inputs = (args.scenario,)
+    inputs = c.scenario_inputs([args.scenario], [scenario])  # the track it names too
     command = "tetherheli sweep " + " ".join(sys.argv[2:])
     if args.find_min is not None:
         return _find_min(args, scenario, inputs, command)

@@ -217,6 +217,46 @@ def _wind_rows(registry: dict[str, type], where: str, title: str = "") -> list[s
     return out
 
 
+def _track_rows() -> list[str]:
+    """The rules of a track file (``motion = "file"``): which paths, its grammar, its columns."""
+    from ..base.motion import (
+        FILE_MAX_BYTES,
+        FILE_MAX_ROWS,
+        TRACK_COLUMNS,
+        TRACK_MAX_LINE,
+        TRACK_MIN_STEP_S,
+    )
+
+    out = [
+        "",
+        '### Track files (`motion = "file"`)',
+        "",
+        "Which files: `base.file` may name any regular file that the user running tetherheli",
+        "may read (not a folder, device or pipe); a relative path is taken from the scenario",
+        "file's folder. tetherheli reads with the user's own rights, so a scenario reaches no",
+        "file its user could not read anyway, and no message ever shows a byte of the file: a",
+        "refusal names the file, the row and the column and says what is wrong. The run",
+        "records the resolved path and the SHA-256 of the bytes it read (`base.file`,",
+        "`base.file_sha256` in the saved `scenario.toml` and the result), so the saved",
+        "scenario flies the same track again from any folder and refuses a track that has",
+        "changed; a Monte Carlo resumes only over the same bytes, and `--out` may not be a",
+        "folder that holds the track (as for the scenario file).",
+        "",
+        "The file: the header `t,n1,n2,n3`, then one row per line of four plain decimal",
+        "numbers (digits, one `.`, an optional exponent such as `1.5e-3`; no `_`, `inf` or",
+        f"`nan`); at most {FILE_MAX_BYTES} bytes, lines of at most {TRACK_MAX_LINE} bytes and",
+        f"{FILE_MAX_ROWS} rows after the header (blank lines count); at least 4 rows; times",
+        f"strictly increasing by at least {TRACK_MIN_STEP_S:g} s a row and by at most ten",
+        "times the median step, the first at or before 0, the last at or after `duration`.",
+        "",
+        "| column | meaning | unit | allowed |",
+        "|---|---|---|---|",
+    ]
+    for name, key in TRACK_COLUMNS.items():
+        out.append(f"| `{name}` | {_cell(key.doc)} | {key.unit} | {_cell(key.allowed())} |")
+    return out
+
+
 def scenario_reference() -> str:
     """The scenario TOML reference as a Markdown page.
 
@@ -253,6 +293,8 @@ def scenario_reference() -> str:
         top += ["", f"## `[{table}]`", "", _summary(cls), ""]
         defaults = functools.reduce(getattr, table.split("."), scenario)
         top += [*_HEADER, *_key_rows(f"{table}.", cls, defaults)]
+        if table == "base":
+            top += _track_rows()
     top += [
         "",
         "## `[params.helicopter]`, `[params.tether]`, `[params.tension_control]`",

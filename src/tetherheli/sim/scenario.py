@@ -218,6 +218,21 @@ class Scenario:
         return self.__dict__["_base_motion"]
 
     @property
+    def input_files(self) -> dict[str, str]:
+        """Every file the scenario names (the base's track), as read when the scenario was
+        built: resolved path -> SHA-256 of its bytes. Part of a run's identity (a Monte Carlo
+        resumes only over the same bytes) and protected like the scenario file by the output
+        rules (``cli._common.scenario_inputs``).
+
+        Returns
+        -------
+        dict of str to str
+        """
+        if self.base.motion != "file":
+            return {}
+        return {self.base.file: self.base.file_sha256}
+
+    @property
     def reference(self) -> str:
         """What the controller holds: ``control.reference``, or when unset 'ground' over a
         still base and 'base' over a moving one.
@@ -467,7 +482,8 @@ def _scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> S
     if "base" in data:
         table = _vectors(source, "base", data["base"], BaseSettings)
         if isinstance(table.get("file"), str) and table["file"] and source is not None:
-            # a track file named relative to the scenario file's folder
+            # a track file named relative to the scenario file's folder (an absolute path
+            # stays as it is); the checks record it resolved, with its SHA-256
             table["file"] = str(Path(source).parent / table["file"])
         kwargs["base"] = BaseSettings(**table)
     if "maneuver" in data:

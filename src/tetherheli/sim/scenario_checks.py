@@ -262,11 +262,14 @@ def _check_base(s: Scenario, source: str | None) -> None:
         raise ParameterError(
             exc.field, exc.value, exc.allowed, source=exc.source or source
         ) from None
-    if isinstance(motion, FileBase) and motion.end < s.duration:
-        raise ParameterError(
-            "base.file", f"a track ending at t = {motion.end:g} s",
-            f"a track covering the run (duration = {s.duration:g} s)", source=source,
-        )  # fmt: skip
+    if isinstance(motion, FileBase):
+        if motion.end < s.duration:
+            raise ParameterError(
+                "base.file", base.file, f"a track covering the run (duration = {s.duration:g} "
+                "s; this one ends before)", source=source,
+            )  # fmt: skip
+        # the run records the track it flew: its resolved path and the SHA-256 of its bytes
+        base = dataclasses.replace(base, file=motion.source, file_sha256=motion.sha256)
     _set(s, "base", base)
     object.__setattr__(s, "_base_motion", motion)
     reference = s.control.reference

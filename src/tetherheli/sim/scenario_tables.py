@@ -611,7 +611,7 @@ class BaseSettings:
     Parameters
     ----------
     motion, position, velocity, amplitude, frequency, phase, significant_wave_height,
-    peak_period, peak_enhancement, seed, sway_scale, surge_scale, components, file
+    peak_period, peak_enhancement, seed, sway_scale, surge_scale, components, file, file_sha256
         The keys of a scenario's ``[base]`` table, described once in
         ``tetherheli.base.motion.BASE_KEYS``; ``MOTION_KEYS`` says which keys each motion
         reads (the others keep their defaults).
@@ -631,6 +631,7 @@ class BaseSettings:
     surge_scale: float = _key(0.0, BASE_KEYS["surge_scale"])
     components: int = _key(128, BASE_KEYS["components"])
     file: str = _key("", BASE_KEYS["file"])
+    file_sha256: str = _key("", BASE_KEYS["file_sha256"])
 
 
 #: a landing's reference descends this far below the touchdown height [m], so that the

@@ -203,12 +203,14 @@ def _run_chunk(
 
 
 def _fingerprint(base: Scenario, config: MonteCarloConfig, chunk_size: int) -> dict[str, Any]:
-    """What a chunk's rows depend on: not N (draw i does not depend on it), so a finished
-    job can be extended with more runs in the same directory."""
+    """What a chunk's rows depend on (the job's identity): the scenario, the bytes of every
+    file it names (``Scenario.input_files``), the dispersions; not N (draw i does not depend
+    on it), so a finished job can be extended with more runs in the same directory."""
     mc = config.to_dict()
     del mc["runs"]
     return {
         "scenario": base.to_dict(),
+        "inputs": base.input_files,  # every file the scenario names: path -> SHA-256 of its bytes
         "montecarlo": mc,
         "chunk_size": chunk_size,
         "columns": _columns(config),  # chunks of another table layout are not reused
@@ -430,6 +432,7 @@ def run_montecarlo_chunks(
                 "to start the job over",
             ) from None
         if recorded != json.loads(json.dumps(fp)):
+            _refuse_changed_inputs(recorded, fp["inputs"], out, part)
             raise ParameterError(
                 "out",
                 str(out),
@@ -460,6 +463,28 @@ def run_montecarlo_chunks(
             computed += 1
             bar.update_to(hi)
     return MonteCarloJob(base, config, out, chunk_size, tuple(header))
+
+
+def _refuse_changed_inputs(recorded: Any, inputs: dict[str, str], out: Path, part: Path) -> None:
+    """Refuse, in one line naming the file, to resume the job recorded in ``part`` (its
+    ``job.json`` read as ``recorded``) over an input file whose bytes changed since it started,
+    or over another file than it started with; nothing when the inputs are the same."""
+    before = recorded.get("inputs") if isinstance(recorded, dict) else None
+    if not isinstance(before, dict) or before == inputs:
+        return
+    for path, digest in inputs.items():
+        if path in before and before[path] != digest:
+            raise ParameterError(
+                "base.file", path, f"the bytes the job in {out} started with (the file changed "
+                f"since); restore it, or delete {part} to start the job over",
+            )  # fmt: skip
+    gone = sorted(set(before) - set(inputs))
+    named = sorted(set(inputs) - set(before))
+    raise ParameterError(
+        "base.file", named[0] if named else "", f"the file the job in {out} started with "
+        f"({gone[0] if gone else 'none'}); name it again, or delete {part} to start the job "
+        "over",
+    )  # fmt: skip
 
 
 def _is_job_file(out: Path, rel: str) -> bool:
