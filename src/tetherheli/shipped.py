@@ -10,11 +10,10 @@ folder is a link to the same files.
 from __future__ import annotations
 
 import tomllib
-from importlib import resources
-from importlib.resources.abc import Traversable
 from pathlib import Path
 
 from ._io import atomic_write_text, check_output_file, record_output_file
+from ._shipped_files import shipped_files
 from .errors import ParameterError
 from .sim.scenario import Scenario, scenario_from_dict
 
@@ -24,20 +23,6 @@ __all__ = [
     "shipped_scenario_text",
     "shipped_scenarios",
 ]
-
-_SUFFIX = ".toml"
-
-
-def _folder() -> Traversable:
-    return resources.files("tetherheli").joinpath("scenarios")
-
-
-def _files() -> dict[str, Traversable]:
-    return {
-        f.name.removesuffix(_SUFFIX): f
-        for f in _folder().iterdir()
-        if f.is_file() and f.name.endswith(_SUFFIX)
-    }
 
 
 def _description(text: str) -> str:
@@ -54,7 +39,7 @@ def shipped_scenarios() -> dict[str, str]:
     dict of str to str
         Scenario name -> its TOML ``description``, on one line.
     """
-    files = _files()
+    files = shipped_files()
     return {name: _description(files[name].read_text(encoding="utf-8")) for name in sorted(files)}
 
 
@@ -76,7 +61,7 @@ def shipped_scenario_text(name: str) -> str:
     ParameterError
         If ``name`` is not one of ``shipped_scenarios()``.
     """
-    files = _files()
+    files = shipped_files()
     if name not in files:
         raise ParameterError("scenario", name, f"one of {sorted(files)}")
     return files[name].read_text(encoding="utf-8")

@@ -44,11 +44,13 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
 from .._io import OWN_FILE_STEMS, read_toml
+from .._shipped_files import shipped_files, shipped_name
 from .._validation import Key
 from ..base.motion import BaseMotion
 from ..errors import ParameterError
@@ -519,13 +521,41 @@ def _scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> S
     return scenario
 
 
-def load_scenario(path: str | Path) -> Scenario:
-    """Load and validate a scenario TOML file.
+def read_scenario_table(path: str | Path) -> tuple[dict[str, Any], str]:
+    """The parsed table of a scenario file, or of a shipped scenario named instead of a file
+    (``_shipped_files.shipped_name``), and its source for messages.
 
     Parameters
     ----------
     path : str or pathlib.Path
-        The file; its keys are listed in the scenario TOML reference.
+        A scenario TOML file, or a shipped scenario's name (``tetherheli scenarios`` lists
+        them).
+
+    Returns
+    -------
+    (dict, str)
+        The table and its source (the path, or "shipped scenario NAME").
+    """
+    name = shipped_name(path)
+    if name is not None:
+        text = shipped_files()[name].read_text(encoding="utf-8")
+        return tomllib.loads(text), f"shipped scenario {name}"
+    what = (
+        "scenario TOML file, or a shipped scenario's name (tetherheli scenarios lists them; "
+        "tetherheli.shipped.shipped_scenario)"
+    )
+    return read_toml(path, what), str(path)
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Load and validate a scenario TOML file, or a shipped scenario by name.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file; its keys are listed in the scenario TOML reference. A bare name of a
+        shipped scenario (``"paper_sim1_tethered"``) where no such file exists loads that
+        scenario (``tetherheli.shipped``).
 
     Returns
     -------
@@ -537,7 +567,8 @@ def load_scenario(path: str | Path) -> Scenario:
         An unknown key, a wrong type or a value out of range, in one line naming the file,
         the key, the value and what is allowed.
     """
-    return scenario_from_dict(read_toml(path, "scenario TOML file"), source=str(path))
+    data, source = read_scenario_table(path)
+    return scenario_from_dict(data, source=source)
 
 
 def paper_scenario(

@@ -8,13 +8,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..._io import (
-    read_toml,
-)
 from ..._validation import check_bool, check_integer, check_number
 from ...errors import ParameterError
 from ...params import Params
-from ...sim.scenario import Scenario, scenario_from_dict
+from ...sim.scenario import Scenario, read_scenario_table, scenario_from_dict
 from ...wind import (
     ConstantForce,
     Disturbance,
@@ -175,8 +172,7 @@ def load_montecarlo(path: str | Path) -> tuple[Scenario, MonteCarloConfig]:
     (Scenario, MonteCarloConfig)
         The nominal scenario and the dispersions.
     """
-    source = str(path)
-    data = read_toml(path, "scenario TOML file")
+    data, source = read_scenario_table(path)
     if "montecarlo" not in data:
         raise ParameterError(
             "[montecarlo]", "missing", "a scenario file with a [montecarlo] table of "
