@@ -13,7 +13,7 @@ import pytest
 
 from tetherheli import simulate
 from tetherheli._validation import trusted
-from tetherheli.base.motion import base_motion_from
+from tetherheli.base.motion import VelocityBase
 from tetherheli.cli import main
 from tetherheli.errors import ParameterError
 from tetherheli.shipped import shipped_scenario
@@ -98,7 +98,7 @@ def test_a_run_whose_recorded_values_overflow_is_never_completed():
     )
     absurd = trusted(BaseSettings, motion="velocity", velocity=(1e308, 0.0, 0.0))
     object.__setattr__(s, "base", absurd)
-    object.__setattr__(s, "_base_motion", base_motion_from(absurd))
+    object.__setattr__(s, "_base_motion", trusted(VelocityBase, velocity=absurd.velocity))
     r = simulate(s)
     assert r.status == Status.NONFINITE and not r.ok
     assert "non-finite" in r.message

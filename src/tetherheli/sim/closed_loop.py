@@ -252,10 +252,12 @@ class _Recorder:
             for i in range(3):
                 extra[BASE_POSITION_COLUMNS[i]] = motion[:, 0, i].copy()
                 extra[BASE_VELOCITY_COLUMNS[i]] = motion[:, 1, i].copy()
-        # a run whose recorded values overflowed is never completed (status.finite_status)
+        # a run whose recorded values overflowed is never completed (status.finite_status):
+        # the engine's series (a controller's own columns may hold NaN for "no value")
+        engine_columns = [v for name, v in extra.items() if name not in (columns or {})]
         status = finite_status(
             status, sig.x[:k], sig.y[:k], sig.u[:k], sig.tension[:k], sig.rate[:k],
-            sig.wind[:k], *extra.values(),
+            sig.wind[:k], *engine_columns,
         )  # fmt: skip
         # views, not copies: the recorder is dropped here, so a long run is held once
         return SimulationResult(

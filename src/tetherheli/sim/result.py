@@ -27,6 +27,8 @@ from .result_files import (
     _ESTIMATE_SUFFIX,
     _FEEDFORWARD,
     _WIND,
+    BASE_POSITION_COLUMNS,
+    BASE_VELOCITY_COLUMNS,
     DRUM_COLUMNS,
     EXTRA_UNITS,
     INPUT_NAMES,
@@ -198,7 +200,8 @@ class SimulationResult:
 
     def limit_violations(self, *, rtol: float = 1e-9) -> list[str]:
         """The limits of the run's scenario that its recorded series break, checked sample by
-        sample (empty for a run that kept them all): every recorded value finite; the applied
+        sample (empty for a run that kept them all): the engine's recorded series finite (a
+        controller's own columns may hold NaN for "no value"); the applied
         inputs within ``[actuators] u_min``, ``u_max``; the reel rate within ``reel_rate_limit``
         and, for the ideal winch, its change within ``reel_acceleration_limit``; the natural
         length within ``[winch] min_length``, ``max_length``; the tension at most
@@ -231,10 +234,11 @@ class SimulationResult:
                     f"t = {float(self.time[k]):g} s"
                 )
 
+        base = (*BASE_POSITION_COLUMNS, *BASE_VELOCITY_COLUMNS)  # the engine's own columns
         for label, values in (
-            ("states", self.states), ("inputs", self.inputs), ("tension", self.tension),
-            ("reel_rate", self.reel_rate), ("wind", self.wind),
-            *((f"extra {name}", v) for name, v in self.extra.items() if v.dtype.kind == "f"),
+            ("states", self.states), ("outputs", self.outputs), ("inputs", self.inputs),
+            ("tension", self.tension), ("reel_rate", self.reel_rate), ("wind", self.wind),
+            *((name, self.extra[name]) for name in base if name in self.extra),
         ):  # fmt: skip
             if not np.isfinite(values).all():
                 out.append(f"{label}: a recorded value is not finite")
