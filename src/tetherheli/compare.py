@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import math
 from pathlib import Path
 from typing import Any
@@ -146,7 +145,7 @@ def write_compare(
     None
     """
     from . import __version__
-    from ._io import atomic_write_text, output_directory
+    from ._io import atomic_write_text, output_directory, write_json
     from .studies.controllers import CONTROLLER_METRICS
     from .studies.robust import REDUCED
     from .viz.plots import save_figure
@@ -176,7 +175,7 @@ def write_compare(
             save_figure(fig_mc, tmp / f"compare_montecarlo.{figure_format}")
             atomic_write_text(tmp / "compare_montecarlo.md", markdown_reductions(montecarlo))
             info["montecarlo"] = [mc.as_dict() for mc in montecarlo]
-        atomic_write_text(tmp / "summary.json", json.dumps(info, indent=2) + "\n")
+        write_json(tmp / "summary.json", info)
 
 
 def _json_number(v: Any) -> Any:

@@ -7,14 +7,20 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .._io import atomic_open, atomic_path, atomic_write_text, output_directory
+from .._io import (
+    atomic_open,
+    atomic_path,
+    atomic_write_text,
+    json_from_text,
+    json_text,
+    output_directory,
+)
 from ..errors import ParameterError
 from ..sim.result import check_result_format
 from ..sim.scenario import Scenario
@@ -185,9 +191,9 @@ def _write_results(
                 for text in job.chunks(columns):
                     fh.write(text)
         arrays = columns.arrays()
-        text = json.dumps(job.summarize(arrays), indent=2) + "\n"
-        atomic_write_text(build / "summary.json", text)
-        summary: dict[str, Any] = json.loads(text)
+        text = json_text(job.summarize(arrays))
+        atomic_write_text(build / "summary.json", text + "\n")
+        summary: dict[str, Any] = json_from_text(text)
         _figures(figures, *paired_metric(arrays, metric), metric)
     return summary
 

@@ -6,14 +6,13 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .._io import atomic_write_text, output_directory
+from .._io import atomic_write_text, output_directory, write_json
 from .._version import __version__
 from ..studies.sweep import SweepResult
 from ..viz.formats import check_figure_format
@@ -137,4 +136,4 @@ def write_sweep_folder(
         save_figure(fig, tmp / f"sweep.{figure_format}")
         atomic_write_text(tmp / "sweep.csv", buf.getvalue())
         info = {**summary, "tetherheli_version": __version__, "command": command}
-        atomic_write_text(tmp / "summary.json", json.dumps(info, indent=2) + "\n")
+        write_json(tmp / "summary.json", info)

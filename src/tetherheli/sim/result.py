@@ -6,7 +6,6 @@ listed there are re-exported here, where users import them.
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -14,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from .._io import OutputPathError, atomic_write_bytes, atomic_write_text
+from .._io import OutputPathError, atomic_write_bytes, atomic_write_text, write_json
 from ..names import INPUT, INPUT_UNITS, OUTPUT_UNITS, POSITION
 from ..status import (
     FALLBACK_COLUMN,
@@ -537,7 +536,7 @@ class SimulationResult:
         else:
             self.to_csv(series)
         meta_path = directory / f"{stem}.json"
-        atomic_write_text(meta_path, json.dumps(self.metadata(), indent=2) + "\n")
+        write_json(meta_path, self.metadata())
         return {format: series, "json": meta_path}
 
 
