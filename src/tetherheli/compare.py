@@ -23,6 +23,8 @@ import math
 from pathlib import Path
 from typing import Any
 
+from .viz.formats import figures_for_files
+
 __all__ = ["compare", "markdown_reductions", "write_compare"]
 
 
@@ -87,10 +89,10 @@ def compare(paths: list[str], controllers: tuple[str, ...], *, eq40: bool) -> li
 def _figure(rows: list[dict[str, Any]]):
     import numpy as np
 
-    from .viz.plots import InlineFigure
+    from .viz.plots import new_figure
 
     labels = [f"{r['scenario']}\n{r['controller']}" for r in rows]
-    fig = InlineFigure(figsize=(max(8.0, 1.1 * len(rows) + 4), 4.5))  # no pyplot, no backend
+    fig = new_figure(figsize=(max(8.0, 1.1 * len(rows) + 4), 4.5))  # the backend left alone
     axes = fig.subplots(1, 2)
     x = np.arange(len(rows))
     for ax, kind in zip(axes, ("peak", "rms"), strict=True):
@@ -107,6 +109,7 @@ def _figure(rows: list[dict[str, Any]]):
     return fig
 
 
+@figures_for_files()
 def write_compare(
     rows: list[dict[str, Any]],
     out_dir: str | Path,
@@ -223,9 +226,9 @@ def markdown_reductions(montecarlo: tuple[Any, ...]) -> str:
 
 def _figure_montecarlo(montecarlo: tuple[Any, ...]):
     """Box plots of peak and RMS q1 per run kind (completed runs; failures in the labels)."""
-    from .viz.plots import InlineFigure
+    from .viz.plots import new_figure
 
-    fig = InlineFigure(figsize=(9.0, 3.2 * len(montecarlo)))  # no pyplot, no backend
+    fig = new_figure(figsize=(9.0, 3.2 * len(montecarlo)))  # the backend left alone
     axes = fig.subplots(len(montecarlo), 2, squeeze=False)
     for row, mc in zip(axes, montecarlo, strict=True):
         labels = [f"{lab}\n{mc.failures(lab)}/{mc.runs} failed" for lab in mc.labels]

@@ -35,6 +35,7 @@ from ..studies.montecarlo.runner import (
     paired_metric,
     run_montecarlo_chunks,
 )
+from ..viz.formats import figures_for_files
 
 __all__ = ["FIGURE_KINDS", "RESULT_FILES", "result_files", "run_montecarlo"]
 
@@ -240,6 +241,7 @@ def _parquet_chunk(rows_text: str, schema: Any) -> Any:
     return pa.Table.from_arrays(arrays, schema=schema)
 
 
+@figures_for_files()
 def _figures(
     paths: list[Path],
     values: dict[str, np.ndarray],

@@ -28,6 +28,7 @@ from ..sim.scenario import (
     paper_scenario,
     scenario_toml,
 )
+from ..viz.formats import figures_for_files
 
 __all__ = [
     "PAPER_CLAIM_PERCENT",
@@ -284,6 +285,7 @@ def _report_md(
     return "\n".join(lines)
 
 
+@figures_for_files()
 def run_paper(
     out_dir: str | Path,
     *,
@@ -420,6 +422,7 @@ def write_run(
         return _write_run_files(result, tmp, command, data_format, figure_format)
 
 
+@figures_for_files()
 def _write_run_files(
     result: SimulationResult,
     directory: Path,
@@ -476,6 +479,7 @@ def _write_run_files(
     return info
 
 
+@figures_for_files()
 def write_comparison(
     results: list[SimulationResult],
     out_dir: str | Path,
@@ -588,6 +592,7 @@ def sensing_scenario(source: str) -> Scenario:
     )
 
 
+@figures_for_files()
 def run_sensing(
     out_dir: str | Path,
     *,

@@ -15,7 +15,7 @@ import numpy as np
 from .._io import atomic_write_text, output_directory, write_json
 from .._version import __version__
 from ..studies.sweep import SweepResult
-from ..viz.formats import check_figure_format
+from ..viz.formats import check_figure_format, figures_for_files
 from ..viz.plots import figure_sweep, save_figure
 
 __all__ = ["write_sweep", "write_sweep_folder"]
@@ -90,6 +90,7 @@ def write_sweep(
     )
 
 
+@figures_for_files()
 def write_sweep_folder(
     out_dir: str | Path,
     *,

@@ -22,6 +22,7 @@ from ..studies.tether_study import (
     TetherStudyConfig,
     tether_study,
 )
+from ..viz.formats import figures_for_files
 
 __all__ = ["run_tether_study", "sensing_table", "study_table", "write_tether_study"]
 
@@ -122,6 +123,7 @@ def write_tether_study(
     return _write(result, out, command=command, force=force, figure_format=figure_format)
 
 
+@figures_for_files()
 def _write(
     result: TetherStudy, out: str | Path, *, command: str, force: bool, figure_format: str
 ) -> dict[str, Any]:
