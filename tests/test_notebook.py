@@ -114,7 +114,9 @@ def test_pyplot_idioms_show_each_figure_once(tmp_path: Path, monkeypatch) -> Non
 def test_quickstart_notebook_runs(tmp_path: Path, monkeypatch) -> None:
     """docs/tutorials/quickstart.ipynb runs from a scratch working folder without an error
     (the shipped scenario, simulate, the result's summary, plt.show, to_dataframe) and shows
-    each figure once; it is committed with the outputs the docs site shows."""
+    each figure once; it is committed with the outputs the docs site shows (after a change:
+    ``PYTHONPATH=$PWD/src jupyter nbconvert --to notebook --execute --inplace
+    docs/tutorials/quickstart.ipynb``)."""
     pytest.importorskip("pandas")
     nb = nbformat.read(QUICKSTART, as_version=4)
     stored = [c.get("outputs", []) for c in nb.cells if c.cell_type == "code"]
