@@ -13,6 +13,7 @@ import atexit
 import functools
 import os
 import shutil
+import sys
 import tempfile
 import time
 
@@ -231,6 +232,18 @@ def local_cluster():
     (the workers run tests at once) or a Dask dashboard on this machine may hold."""
     distributed = pytest.importorskip("distributed")
     return functools.partial(distributed.LocalCluster, dashboard_address=":0")
+
+
+@pytest.fixture(autouse=True)
+def _no_pyplot_figures_left():
+    """Once a test process has imported pyplot (a library of a test may), the package's
+    figures get pyplot's figure manager (``viz.figure.new_figure``), as in a user's notebook;
+    they are closed after each test, so none outlives its test and pyplot's warning at 20
+    open figures (an error here) never depends on the order of the tests."""
+    yield
+    pyplot = sys.modules.get("matplotlib.pyplot")
+    if pyplot is not None:
+        pyplot.close("all")
 
 
 @pytest.fixture(scope="session", autouse=True)

@@ -184,7 +184,7 @@ API = {
     "tetherheli.viz.plots": ["figure_outputs", "figure_inputs", "figure_sweep",
                              "figure_limit_search", "figure_release", "figure_montecarlo",
                              "figure_paired", "figure_pareto", "figure_sensing", "save_figure",
-                             "metric_label", "plottable"],
+                             "metric_label", "plottable", "new_figure", "figures_for_files"],
     "tetherheli.viz.formats": ["check_figure_format"],
     "tetherheli.sensing.estimation": ["Fixes", "PositionFilter", "position_filter",
                                       "run_filter", "EstimateResult", "normalized_squares",

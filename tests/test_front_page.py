@@ -30,7 +30,7 @@ STUDIES = sorted((DOCS / "studies").glob("*.md"))
 
 
 def _nav_pages() -> list[str]:
-    return re.findall(r":\s+([\w/]+\.md)\s*$", (ROOT / "mkdocs.yml").read_text(), re.M)
+    return re.findall(r":\s+([\w/]+\.(?:md|ipynb))\s*$", (ROOT / "mkdocs.yml").read_text(), re.M)
 
 
 def test_readme_is_a_front_page():

@@ -122,14 +122,36 @@ def test_tethered_export_is_stabilisable_only_with_the_reel_rate(taut) -> None:
     assert taut.uncontrollable_modes(ROTOR_AND_REEL) == ()
     # the wind is not a control: it does not make LN controllable
     assert taut.uncontrollable_modes((*INPUT, *WIND)) == ((0j, "LN"),)
-    with pytest.raises(ParameterError, match=r"s = 0\+0j \(mostly LN\).*add 'RC'"):
-        taut.to_statespace(require_stabilisable=True)
+    with pytest.raises(ParameterError, match=r"s = 0\+0j \(mostly LN\).*add 'RC'") as info:
+        taut.to_statespace(inputs=INPUT, require_stabilisable=True)
+    assert "\n" not in str(info.value) and str(info.value).startswith("inputs = ('fMR3'")
     sys = taut.to_statespace(inputs=ROTOR_AND_REEL, require_stabilisable=True)
     # and a continuous LQR then exists on all 13 states (it fails without RC)
     K, _, E = control.lqr(sys, np.eye(n), np.eye(5))
     assert K.shape == (5, n) and np.all(E.real < 0.0)
     with pytest.raises(Exception):  # noqa: B017 - python-control's own error type
-        control.lqr(taut.to_statespace(), np.eye(n), np.eye(4))
+        control.lqr(taut.to_statespace(inputs=INPUT), np.eye(n), np.eye(4))
+
+
+def test_default_tethered_export_has_the_reel_rate_and_lqr_succeeds(taut, free) -> None:
+    """Issue 47 item 7: the default export of the tethered model is its controls, the rotor
+    inputs and the reel rate RC, so control.lqr and control.dlqr with identity weights find a
+    stabilising gain on all 13 states; the free model's default is the rotor inputs."""
+    assert taut.control_inputs == ROTOR_AND_REEL
+    sys = taut.to_statespace(require_stabilisable=True)
+    assert sys.input_labels == list(ROTOR_AND_REEL) and taut.uncontrollable_modes() == ()
+    np.testing.assert_array_equal(taut.input_matrix(), np.column_stack([taut.B, taut.B_reel]))
+    n, m = sys.nstates, sys.ninputs
+    K, _, E = control.lqr(sys, np.eye(n), np.eye(m))
+    assert K.shape == (m, n) and np.all(E.real < 0.0)
+    dt = ControlSettings().dt
+    sysd = taut.to_statespace(dt)
+    assert sysd.input_labels == list(ROTOR_AND_REEL)
+    Kd, _, Ed = control.dlqr(sysd, np.eye(n), np.eye(m))
+    assert Kd.shape == (m, n) and np.all(np.abs(Ed) < 1.0)
+    lin_free = linearize(free, free.trim())
+    assert lin_free.control_inputs == INPUT
+    assert lin_free.to_statespace().input_labels == list(INPUT)
 
 
 def test_bad_inputs_are_named(taut, free) -> None:

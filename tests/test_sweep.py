@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from tetherheli import ParameterError, Params
+from tetherheli._io import read_json
 from tetherheli.cli import main
 from tetherheli.sim.scenario import load_scenario, paper_scenario, scenario_from_dict
 from tetherheli.studies.sweep import paper_cyclic_limit, sweep, tension_bound
@@ -78,7 +78,7 @@ def test_sweep_cli(tmp_path, capsys):
         "--quiet",
     ]
     assert main(argv) == 0
-    info = json.loads((out / "summary.json").read_text())
+    info = read_json(out / "summary.json")  # the configuration's "Infinity" strings: floats
     assert info["best_value"] == 20.0 and (out / "sweep.png").exists()
     # the summary records the whole swept scenario, which re-creates it
     recorded = scenario_from_dict(info["configuration"])

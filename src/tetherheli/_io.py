@@ -5,12 +5,17 @@ path. Output files are written whole or not at all and are on disk (file and dir
 fsync) when the call returns; an output directory never loses a file that tetherheli did not
 write, is changed all or nothing, and is never written through a link inside it
 (``output_directory``); temporary files carry a tag and the writer's process id so that the
-next run recognises and removes what a killed one left (``recover_output_directory``)."""
+next run recognises and removes what a killed one left (``recover_output_directory``).
+
+Every JSON file is written by ``write_json`` (text by ``json_text``) and read by ``read_json``
+(text by ``json_from_text``): strict JSON, a float that is not finite written as one of the
+strings of ``NONFINITE_JSON`` and read back as that float."""
 
 from __future__ import annotations
 
 import contextlib
 import json
+import math
 import os
 import re
 import shutil
@@ -26,6 +31,7 @@ from .errors import ParameterError, TetherheliError
 from .resources import check_memory
 
 __all__ = [
+    "NONFINITE_JSON",
     "OUTPUT_RECORD",
     "OutputPathError",
     "atomic_open",
@@ -37,11 +43,15 @@ __all__ = [
     "check_real_folders",
     "claim_output_directory",
     "foreign_files",
+    "json_from_text",
+    "json_text",
     "open_user_file",
     "output_directory",
+    "read_json",
     "read_toml",
     "record_output_file",
     "record_outputs",
+    "write_json",
 ]
 
 
@@ -338,6 +348,75 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
         raise
 
 
+# --- JSON: strict, with the non-finite floats as strings ------------------------------------
+
+#: How every JSON file tetherheli writes holds a float that is not finite (strict JSON, RFC
+#: 8259, has no Infinity or NaN): as one of these strings, the spellings JavaScript's
+#: ``Number()`` and Python's ``float()`` read; ``read_json`` reads them back as the floats.
+#: Text keys refuse these three words (``_validation.Key``, ``check_name``), so no text is
+#: ever read back as a number.
+NONFINITE_JSON: dict[str, float] = {"Infinity": math.inf, "-Infinity": -math.inf, "NaN": math.nan}
+
+
+def _encode_nonfinite(value: Any) -> Any:
+    if isinstance(value, float):
+        if math.isfinite(value):
+            return value
+        return "NaN" if math.isnan(value) else ("Infinity" if value > 0 else "-Infinity")
+    if isinstance(value, dict):
+        return {k: _encode_nonfinite(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_encode_nonfinite(v) for v in value]
+    return value
+
+
+def _decode_nonfinite(value: Any) -> Any:
+    if isinstance(value, str):
+        return NONFINITE_JSON.get(value, value)
+    if isinstance(value, dict):
+        return {k: _decode_nonfinite(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_decode_nonfinite(v) for v in value]
+    return value
+
+
+def json_text(data: Any, *, indent: int | None = 2) -> str:
+    """``data`` as strict JSON text: each non-finite float as its string of
+    ``NONFINITE_JSON``, nothing else changed (``allow_nan=False``: any other non-finite
+    number raises ValueError)."""
+    return json.dumps(_encode_nonfinite(data), indent=indent, allow_nan=False)
+
+
+def json_from_text(text: str) -> Any:
+    """Parsed JSON text of ``json_text`` (or of an older file with bare ``Infinity``/``NaN``):
+    the strings of ``NONFINITE_JSON`` become their floats again.
+
+    Raises
+    ------
+    ValueError
+        Not JSON (``json.JSONDecodeError``).
+    """
+    return _decode_nonfinite(json.loads(text))
+
+
+def write_json(path: str | Path, data: Any, *, indent: int | None = 2) -> None:
+    """Write ``json_text(data)`` and a newline to ``path``, whole or not at all."""
+    atomic_write_text(Path(path), json_text(data, indent=indent) + "\n")
+
+
+def read_json(path: str | Path) -> Any:
+    """The content of a JSON file (``json_from_text``).
+
+    Raises
+    ------
+    OSError
+        Unreadable.
+    ValueError
+        Not UTF-8 (``UnicodeDecodeError``) or not JSON (``json.JSONDecodeError``).
+    """
+    return json_from_text(Path(path).read_text(encoding="utf-8"))
+
+
 # --- output directories: never delete or overwrite what tetherheli did not write ------------
 
 #: The record, inside every output directory tetherheli writes, of the files it wrote there:
@@ -416,7 +495,7 @@ def _read_record(directory: Path) -> dict[str, dict[str, Any]] | None:
     try:
         if not stat.S_ISREG(os.lstat(path).st_mode):
             return None
-        data = json.loads(path.read_text(encoding="utf-8"))
+        data = read_json(path)
         files = data["files"]
     except (OSError, ValueError, KeyError, TypeError):
         return None
@@ -551,7 +630,7 @@ def record_outputs(directory: Path, rels: Iterable[str], *, writer: str) -> None
 
 def _write_record(directory: Path, record: dict[str, dict[str, Any]]) -> None:
     data = {"tetherheli_version": __version__, "files": dict(sorted(record.items()))}
-    atomic_write_text(directory / OUTPUT_RECORD, json.dumps(data, indent=2) + "\n")
+    write_json(directory / OUTPUT_RECORD, data)
 
 
 def _recording_folder(path: Path) -> Path | None:
@@ -718,7 +797,7 @@ def _install(build: Path, target: Path, *, writer: str, shown: str, remove_earli
     try:
         swap.mkdir()
         _write_record(swap, kept)  # staged: its rename into target is the commit
-        atomic_write_text(swap / "journal.json", json.dumps(journal) + "\n")  # then moves
+        write_json(swap / "journal.json", journal, indent=None)  # then moves
         for p in folders:
             (target / p).mkdir()
         for rel in aside:
@@ -774,7 +853,7 @@ def _undo_swap(build: Path, target: Path, *, shown: str) -> None:
     without a journal (no file was moved yet) or without the staged record (committed)."""
     swap = build / _SWAP
     try:
-        journal = json.loads((swap / "journal.json").read_text(encoding="utf-8"))
+        journal = read_json(swap / "journal.json")
     except (OSError, ValueError):
         return
     if not (swap / OUTPUT_RECORD).is_file():

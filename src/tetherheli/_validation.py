@@ -21,6 +21,7 @@ from typing import Any, TypeVar
 
 import numpy as np
 
+from ._io import NONFINITE_JSON
 from .errors import ParameterError
 
 __all__ = [
@@ -314,7 +315,9 @@ class Key:
         if self.kind == "bool":
             return "true or false"
         if self.kind == "text":
-            return "one of " + ", ".join(map(repr, self.choices)) if self.choices else "a string"
+            if self.choices:
+                return "one of " + ", ".join(map(repr, self.choices))
+            return "a string other than " + ", ".join(map(repr, NONFINITE_JSON))
         if self.kind == "vector":
             numbers = "finite numbers" if self.finite else "numbers"
             return (
@@ -369,7 +372,11 @@ class Key:
         if self.kind == "bool":
             return check_bool(field, value, source=source)
         if self.kind == "text":
-            if not isinstance(value, str) or (self.choices and value not in self.choices):
+            if (
+                not isinstance(value, str)
+                or (self.choices and value not in self.choices)
+                or value in NONFINITE_JSON  # JSON files write non-finite numbers so
+            ):
                 raise ParameterError(field, value, self.allowed(), source=source)
             return value
         if self.kind == "integer":

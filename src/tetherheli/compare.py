@@ -19,10 +19,11 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import math
 from pathlib import Path
 from typing import Any
+
+from .viz.formats import figures_for_files
 
 __all__ = ["compare", "markdown_reductions", "write_compare"]
 
@@ -88,10 +89,10 @@ def compare(paths: list[str], controllers: tuple[str, ...], *, eq40: bool) -> li
 def _figure(rows: list[dict[str, Any]]):
     import numpy as np
 
-    from .viz.plots import InlineFigure
+    from .viz.plots import new_figure
 
     labels = [f"{r['scenario']}\n{r['controller']}" for r in rows]
-    fig = InlineFigure(figsize=(max(8.0, 1.1 * len(rows) + 4), 4.5))  # no pyplot, no backend
+    fig = new_figure(figsize=(max(8.0, 1.1 * len(rows) + 4), 4.5))  # the backend left alone
     axes = fig.subplots(1, 2)
     x = np.arange(len(rows))
     for ax, kind in zip(axes, ("peak", "rms"), strict=True):
@@ -108,6 +109,7 @@ def _figure(rows: list[dict[str, Any]]):
     return fig
 
 
+@figures_for_files()
 def write_compare(
     rows: list[dict[str, Any]],
     out_dir: str | Path,
@@ -146,7 +148,7 @@ def write_compare(
     None
     """
     from . import __version__
-    from ._io import atomic_write_text, output_directory
+    from ._io import atomic_write_text, output_directory, write_json
     from .studies.controllers import CONTROLLER_METRICS
     from .studies.robust import REDUCED
     from .viz.plots import save_figure
@@ -176,7 +178,7 @@ def write_compare(
             save_figure(fig_mc, tmp / f"compare_montecarlo.{figure_format}")
             atomic_write_text(tmp / "compare_montecarlo.md", markdown_reductions(montecarlo))
             info["montecarlo"] = [mc.as_dict() for mc in montecarlo]
-        atomic_write_text(tmp / "summary.json", json.dumps(info, indent=2) + "\n")
+        write_json(tmp / "summary.json", info)
 
 
 def _json_number(v: Any) -> Any:
@@ -224,9 +226,9 @@ def markdown_reductions(montecarlo: tuple[Any, ...]) -> str:
 
 def _figure_montecarlo(montecarlo: tuple[Any, ...]):
     """Box plots of peak and RMS q1 per run kind (completed runs; failures in the labels)."""
-    from .viz.plots import InlineFigure
+    from .viz.plots import new_figure
 
-    fig = InlineFigure(figsize=(9.0, 3.2 * len(montecarlo)))  # no pyplot, no backend
+    fig = new_figure(figsize=(9.0, 3.2 * len(montecarlo)))  # the backend left alone
     axes = fig.subplots(len(montecarlo), 2, squeeze=False)
     for row, mc in zip(axes, montecarlo, strict=True):
         labels = [f"{lab}\n{mc.failures(lab)}/{mc.runs} failed" for lab in mc.labels]

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
 from collections.abc import Callable
 
@@ -59,6 +58,7 @@ def run(args: argparse.Namespace) -> int:
     int
         The exit code, 0.
     """
+    from .._io import json_text
     from .._version import __version__
 
     values = _trim_values(args)
@@ -71,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
             "units": "SI (rad, m, N, N m)",
             "version": __version__,
         }
-        print(json.dumps(document, indent=2))
+        print(json_text(document))
         return 0
     table = "Table IV" if args.tension == 0 else "Table V"
     print(

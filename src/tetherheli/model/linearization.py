@@ -29,6 +29,7 @@ __all__ = ["EXPORT_INPUTS", "LinearModel", "discretize_zoh", "linearize"]
 #: The input names ``LinearModel.to_statespace(inputs=...)`` accepts: the four rotor inputs
 #: (columns of B), the reel rate RC (``B_reel``, tethered model only), the wind force on HO
 #: (columns of ``E_wind``) and a moving winch's acceleration b'' (columns of ``E_base``).
+#: Unless chosen, the inputs are the controls (``LinearModel.control_inputs``).
 EXPORT_INPUTS: tuple[str, ...] = (*INPUT, REEL_RATE, *WIND, *BASE_ACCELERATION)
 
 
@@ -116,21 +117,34 @@ class LinearModel:
         """True for the tethered model (its state ends with the tether's natural length LN)."""
         return "LN" in self.state_names
 
-    def input_matrix(self, inputs: tuple[str, ...] = INPUT) -> np.ndarray:
+    @property
+    def control_inputs(self) -> tuple[str, ...]:
+        """The inputs a controller sets, the default of ``to_statespace``, ``input_matrix``
+        and ``uncontrollable_modes``: the four rotor inputs, and the reel rate RC on a model
+        whose state has LN (eq 37: only RC moves LN, so without it (A, B) is not
+        stabilisable).
+
+        Returns
+        -------
+        tuple of str
+        """
+        return (*INPUT, REEL_RATE) if self.tethered else INPUT
+
+    def input_matrix(self, inputs: tuple[str, ...] | None = None) -> np.ndarray:
         """The continuous input columns of the named inputs.
 
         Parameters
         ----------
         inputs : tuple of str, optional
-            Names among ``EXPORT_INPUTS``: rotor inputs (from B, the default), ``"RC"`` (from
-            ``B_reel``), ``"Fw1"``, ``"Fw2"``, ``"Fw3"`` (from ``E_wind``), ``"ab1"``,
-            ``"ab2"``, ``"ab3"`` (from ``E_base``).
+            Names among ``EXPORT_INPUTS``: rotor inputs (from B), ``"RC"`` (from ``B_reel``),
+            ``"Fw1"``, ``"Fw2"``, ``"Fw3"`` (from ``E_wind``), ``"ab1"``, ``"ab2"``, ``"ab3"``
+            (from ``E_base``); None (default): ``control_inputs``.
 
         Returns
         -------
         numpy.ndarray, shape (n, len(inputs))
         """
-        inputs = tuple(inputs)
+        inputs = self.control_inputs if inputs is None else tuple(inputs)
         if not inputs:
             raise ParameterError("inputs", inputs, f"one or more of {EXPORT_INPUTS}")
         cols = []
@@ -154,14 +168,14 @@ class LinearModel:
         return np.column_stack(cols)
 
     def uncontrollable_modes(
-        self, inputs: tuple[str, ...] = INPUT
+        self, inputs: tuple[str, ...] | None = None
     ) -> tuple[tuple[complex, str], ...]:
         """The modes that make (A, B[inputs]) not stabilisable (PBH test, Hautus 1969).
 
         Parameters
         ----------
         inputs : tuple of str, optional
-            The inputs, as for ``input_matrix`` (default the rotor inputs).
+            The inputs, as for ``input_matrix`` (default ``control_inputs``).
 
         Returns
         -------
@@ -191,22 +205,23 @@ class LinearModel:
         self,
         dt: float | None = None,
         *,
-        inputs: tuple[str, ...] = INPUT,
+        inputs: tuple[str, ...] | None = None,
         name: str | None = None,
         require_stabilisable: bool = False,
     ):
         """The system as a python-control ``StateSpace``, labelled with our names.
 
         States are ``state_names``, inputs the chosen ``inputs`` (from ``EXPORT_INPUTS``,
-        default the four rotor inputs), outputs ``names.OUTPUT``; the units of every label are
+        default ``control_inputs``: the four rotor inputs and, tethered, the reel rate RC),
+        outputs ``names.OUTPUT``; the units of every label are
         ``names.UNITS[label]`` (python-control labels carry no units). With ``dt`` [s] the
         system is ZOH-discretised by ``discretize`` (eq 46), so A, B equal our G, H exactly.
 
-        Without ``"RC"`` the tethered model is not stabilisable: LN changes only through the
-        reel rate (eq 37, dLN/dt = RC), so its row of A and B is zero and LN is an
-        uncontrollable integrator at s = 0 (python-control's ``lqr``/``dlqr`` then fail on
-        the full 13-state system). Include ``"RC"`` (or ``select`` the first 12 states, as
-        the paper's LQI design does) to get a stabilisable pair. ``require_stabilisable``
+        Without ``"RC"`` (inputs chosen without it) the tethered model is not stabilisable:
+        LN changes only through the reel rate (eq 37, dLN/dt = RC), so its row of A and B is
+        zero and LN is an uncontrollable integrator at s = 0 (python-control's
+        ``lqr``/``dlqr`` then fail on the full 13-state system); ``select`` the first 12
+        states, as the paper's LQI design does, for a rotor-only pair. ``require_stabilisable``
         raises ``ParameterError`` naming the offending modes (see ``uncontrollable_modes``).
 
         Parameters
@@ -214,7 +229,7 @@ class LinearModel:
         dt : float, optional
             Sample time (s) for a discrete system; None (default): continuous.
         inputs : tuple of str, optional
-            The inputs, as for ``input_matrix`` (default the rotor inputs).
+            The inputs, as for ``input_matrix`` (default ``control_inputs``).
         name : str, optional
             The system's name in python-control.
         require_stabilisable : bool, optional
@@ -226,7 +241,7 @@ class LinearModel:
         """
         import control
 
-        inputs = tuple(inputs)
+        inputs = self.control_inputs if inputs is None else tuple(inputs)
         B = self.input_matrix(inputs)
         if require_stabilisable:
             bad = self.uncontrollable_modes(inputs)

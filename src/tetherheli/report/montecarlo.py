@@ -7,14 +7,20 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .._io import atomic_open, atomic_path, atomic_write_text, output_directory
+from .._io import (
+    atomic_open,
+    atomic_path,
+    atomic_write_text,
+    json_from_text,
+    json_text,
+    output_directory,
+)
 from ..errors import ParameterError
 from ..sim.result import check_result_format
 from ..sim.scenario import Scenario
@@ -29,6 +35,7 @@ from ..studies.montecarlo.runner import (
     paired_metric,
     run_montecarlo_chunks,
 )
+from ..viz.formats import figures_for_files
 
 __all__ = ["FIGURE_KINDS", "RESULT_FILES", "result_files", "run_montecarlo"]
 
@@ -185,9 +192,9 @@ def _write_results(
                 for text in job.chunks(columns):
                     fh.write(text)
         arrays = columns.arrays()
-        text = json.dumps(job.summarize(arrays), indent=2) + "\n"
-        atomic_write_text(build / "summary.json", text)
-        summary: dict[str, Any] = json.loads(text)
+        text = json_text(job.summarize(arrays))
+        atomic_write_text(build / "summary.json", text + "\n")
+        summary: dict[str, Any] = json_from_text(text)
         _figures(figures, *paired_metric(arrays, metric), metric)
     return summary
 
@@ -234,6 +241,7 @@ def _parquet_chunk(rows_text: str, schema: Any) -> Any:
     return pa.Table.from_arrays(arrays, schema=schema)
 
 
+@figures_for_files()
 def _figures(
     paths: list[Path],
     values: dict[str, np.ndarray],

@@ -7,7 +7,6 @@
 from __future__ import annotations
 
 import dataclasses
-import json
 import platform
 import sys
 from pathlib import Path
@@ -15,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from .._io import atomic_write_text, claim_output_directory, output_directory
+from .._io import atomic_write_text, claim_output_directory, output_directory, write_json
 from .._version import __version__, dependency_versions, git_commit
 from ..analysis import metric_samples, reduction_percent, run_metrics
 from ..errors import ParameterError
@@ -29,6 +28,7 @@ from ..sim.scenario import (
     paper_scenario,
     scenario_toml,
 )
+from ..viz.formats import figures_for_files
 
 __all__ = [
     "PAPER_CLAIM_PERCENT",
@@ -285,6 +285,7 @@ def _report_md(
     return "\n".join(lines)
 
 
+@figures_for_files()
 def run_paper(
     out_dir: str | Path,
     *,
@@ -368,10 +369,8 @@ def run_paper(
                 ),
                 tmp / f"{fi}_sim{sim}_inputs.{figure_format}",
             )
-        atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=2) + "\n")
-        atomic_write_text(
-            tmp / "manifest.json", json.dumps(_manifest(command, scenarios), indent=2) + "\n"
-        )
+        write_json(tmp / "summary.json", summary)
+        write_json(tmp / "manifest.json", _manifest(command, scenarios))
         atomic_write_text(
             tmp / "report.md", _report_md(summary, command, data_format, figure_format)
         )
@@ -423,6 +422,7 @@ def write_run(
         return _write_run_files(result, tmp, command, data_format, figure_format)
 
 
+@figures_for_files()
 def _write_run_files(
     result: SimulationResult,
     directory: Path,
@@ -450,7 +450,7 @@ def _write_run_files(
     if result.time.size > 1:
         save_figure(figure_outputs([result], result.name), directory / f"outputs.{ext}")
         save_figure(figure_inputs([result], result.name), directory / f"inputs.{ext}")
-    atomic_write_text(directory / "summary.json", json.dumps(info, indent=2) + "\n")
+    write_json(directory / "summary.json", info)
     lines = [
         f"# {result.name}",
         "",
@@ -479,6 +479,7 @@ def _write_run_files(
     return info
 
 
+@figures_for_files()
 def write_comparison(
     results: list[SimulationResult],
     out_dir: str | Path,
@@ -521,7 +522,7 @@ def write_comparison(
             save_figure(figure_outputs(plotted, title), tmp / f"outputs.{ext}")
             save_figure(figure_inputs(plotted, title), tmp / f"inputs.{ext}")
         summary = {"tetherheli_version": __version__, "command": command, "runs": infos}
-        atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=2) + "\n")
+        write_json(tmp / "summary.json", summary)
         lines = [f"# {title if plotted else 'comparison'}", "", f"Produced by `{command}`.", ""]
         lines += ["| metric | " + " | ".join(infos) + " |"]
         lines += ["|---|" + "---:|" * len(infos)]
@@ -591,6 +592,7 @@ def sensing_scenario(source: str) -> Scenario:
     )
 
 
+@figures_for_files()
 def run_sensing(
     out_dir: str | Path,
     *,
@@ -688,5 +690,5 @@ def run_sensing(
             "failed": [name for name, r in results.items() if not r.ok],
             "runs": table,
         }
-        atomic_write_text(tmp / "summary.json", json.dumps(info, indent=2) + "\n")
+        write_json(tmp / "summary.json", info)
     return table

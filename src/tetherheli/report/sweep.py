@@ -6,17 +6,16 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .._io import atomic_write_text, output_directory
+from .._io import atomic_write_text, output_directory, write_json
 from .._version import __version__
 from ..studies.sweep import SweepResult
-from ..viz.formats import check_figure_format
+from ..viz.formats import check_figure_format, figures_for_files
 from ..viz.plots import figure_sweep, save_figure
 
 __all__ = ["write_sweep", "write_sweep_folder"]
@@ -91,6 +90,7 @@ def write_sweep(
     )
 
 
+@figures_for_files()
 def write_sweep_folder(
     out_dir: str | Path,
     *,
@@ -137,4 +137,4 @@ def write_sweep_folder(
         save_figure(fig, tmp / f"sweep.{figure_format}")
         atomic_write_text(tmp / "sweep.csv", buf.getvalue())
         info = {**summary, "tetherheli_version": __version__, "command": command}
-        atomic_write_text(tmp / "summary.json", json.dumps(info, indent=2) + "\n")
+        write_json(tmp / "summary.json", info)

@@ -6,13 +6,12 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import math
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from .._io import atomic_write_text, claim_output_directory, output_directory
+from .._io import atomic_write_text, claim_output_directory, output_directory, write_json
 from .._version import __version__
 from ..studies.tether_cables import STUDY_CABLES, StudyCable
 from ..studies.tether_study import (
@@ -23,6 +22,7 @@ from ..studies.tether_study import (
     TetherStudyConfig,
     tether_study,
 )
+from ..viz.formats import figures_for_files
 
 __all__ = ["run_tether_study", "sensing_table", "study_table", "write_tether_study"]
 
@@ -123,6 +123,7 @@ def write_tether_study(
     return _write(result, out, command=command, force=force, figure_format=figure_format)
 
 
+@figures_for_files()
 def _write(
     result: TetherStudy, out: str | Path, *, command: str, force: bool, figure_format: str
 ) -> dict[str, Any]:
@@ -149,7 +150,7 @@ def _write(
         atomic_write_text(tmp / "dynamic.csv", _csv(result.dynamic))
         atomic_write_text(tmp / "sensing.csv", _csv(result.sensing))
         atomic_write_text(tmp / "sensing.md", sensing_table(result.sensing))
-        atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=1) + "\n")
+        write_json(tmp / "summary.json", summary, indent=1)
     return summary
 
 

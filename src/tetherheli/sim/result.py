@@ -6,7 +6,6 @@ listed there are re-exported here, where users import them.
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -14,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from .._io import OutputPathError, atomic_write_bytes, atomic_write_text
+from .._io import OutputPathError, atomic_write_bytes, atomic_write_text, write_json
 from ..names import INPUT, INPUT_UNITS, OUTPUT_UNITS, POSITION
 from ..status import (
     FALLBACK_COLUMN,
@@ -59,6 +58,7 @@ __all__ = [
     "TENSION_GROUND_COLUMN",
     "WINCH_LIMITS",
     "SimulationResult",
+    "SummaryRepr",
     "atomic_write_bytes",
     "atomic_write_text",
     "check_result_format",
@@ -68,11 +68,43 @@ __all__ = [
 ]
 
 
-@dataclass(frozen=True)
-class SimulationResult:
+class SummaryRepr:
+    """A result's short summary as its ``repr`` (a few lines of text) and, in Jupyter, an
+    HTML table (``_repr_html_``), from the class's ``_summary_rows``; never its arrays. A
+    dataclass using it sets ``repr=False`` (else the dataclass writes its own)."""
+
+    def _summary_rows(self) -> list[tuple[str, str]]:
+        raise NotImplementedError
+
+    def __repr__(self) -> str:
+        rows = self._summary_rows()
+        width = max((len(k) for k, _ in rows), default=0)
+        lines = [f"  {k.ljust(width)}  {v}" for k, v in rows]
+        return "\n".join([f"<{type(self).__name__}", *lines]) + ">"
+
+    def _repr_html_(self) -> str:
+        from html import escape
+
+        body = "".join(
+            f"<tr><th style='text-align:left'>{escape(k)}</th>"
+            f"<td style='text-align:left'>{escape(v)}</td></tr>"
+            for k, v in self._summary_rows()
+        )
+        return f"<table><caption>{escape(type(self).__name__)}</caption>{body}</table>"
+
+
+def _number(value: float, unit: str = "") -> str:
+    """``value`` with 4 significant digits and its unit, e.g. "0.03475 m"."""
+    return f"{value:.4g}" + (f" {unit}" if unit else "")
+
+
+@dataclass(frozen=True, repr=False)
+class SimulationResult(SummaryRepr):
     """A sampled closed-loop run (one row per control sample t_k = k dt).
 
-    ``simulate`` builds it; plotting and export only read it.
+    ``simulate`` builds it; plotting and export only read it. Its ``repr`` (and, in
+    Jupyter, an HTML table) is a summary: name, configuration, status, duration, samples
+    and the peak deviations from trim (``peak_deviations``), never the arrays.
 
     Parameters
     ----------
@@ -304,6 +336,47 @@ class SimulationResult:
     @property
     def name(self) -> str:
         return str(self.configuration.get("name", "run"))
+
+    def peak_deviations(self) -> dict[str, float]:
+        """The largest |deviation from trim| of each of ``deviations`` over the samples the
+        metrics cover (from ``metrics_start``; ``analysis.run_metrics`` has the same peaks
+        from the engine's summary), q4 and q5 in degrees.
+
+        Returns
+        -------
+        dict of str to float
+            ``q1``, ``q2``, ``q3`` [m], ``q4_deg``, ``q5_deg`` [deg]; empty without a
+            sample in the window.
+        """
+        from .scenario import metrics_first_sample
+
+        dt = self.configuration.get("control", {}).get("dt")
+        start = self.configuration.get("metrics_start", 0.0)
+        k0 = metrics_first_sample(start, dt) if dt else 0
+        if self.time.size <= k0:
+            return {}
+        peaks = {k: float(np.max(np.abs(v[k0:]))) for k, v in self.deviations().items()}
+        for k in ("q4", "q5"):
+            peaks[f"{k}_deg"] = math.degrees(peaks.pop(k))
+        return peaks
+
+    def _summary_rows(self) -> list[tuple[str, str]]:
+        duration = float(self.time[-1] - self.time[0]) if self.time.size else 0.0
+        dt = self.configuration.get("control", {}).get("dt", "?")
+        rows = [
+            ("name", self.name),
+            ("configuration", str(self.configuration.get("configuration", "?"))),
+            ("status", f"{int(self.status)} ({self.message})"),
+            ("duration", f"{duration:g} s (ended at t = {self.end_time:g} s)"),
+            ("samples", f"{self.time.size} (dt = {dt} s)"),
+        ]
+        peaks = [
+            f"{k.removesuffix('_deg')} {_number(v, 'deg' if k.endswith('_deg') else 'm')}"
+            for k, v in self.peak_deviations().items()
+        ]
+        if peaks:
+            rows.append(("peak |deviation|", ", ".join(peaks)))
+        return rows
 
     def deviations(self) -> dict[str, np.ndarray]:
         """Deviations from the run's own trim.
@@ -541,7 +614,7 @@ class SimulationResult:
         else:
             self.to_csv(series)
         meta_path = directory / f"{stem}.json"
-        atomic_write_text(meta_path, json.dumps(self.metadata(), indent=2) + "\n")
+        write_json(meta_path, self.metadata())
         return {format: series, "json": meta_path}
 
 

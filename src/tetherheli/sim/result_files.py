@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from .._io import atomic_open, atomic_path
+from .._io import atomic_open, atomic_path, json_text, read_json
 from ..errors import ParameterError
 from ..names import (
     INPUT,
@@ -244,7 +244,7 @@ def write_parquet(
         for f in table.schema
     ]
     # pandas.DataFrame.to_parquet keeps df.attrs under this key; read_parquet restores them
-    metadata = {**(table.schema.metadata or {}), b"PANDAS_ATTRS": json.dumps(df.attrs)}
+    metadata = {**(table.schema.metadata or {}), b"PANDAS_ATTRS": json_text(df.attrs, indent=None)}
     table = pa.Table.from_arrays(table.columns, schema=pa.schema(fields, metadata=metadata))
     with atomic_path(Path(path)) as tmp:
         pq.write_table(table, tmp)
@@ -265,7 +265,7 @@ def _result_directory(directory: str | Path) -> Path:
 
 def _read_metadata(path: Path) -> dict[str, Any]:
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
+        data = read_json(path)
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise ParameterError(
             "metadata", path.name, f"readable JSON ({exc})", source=str(path)

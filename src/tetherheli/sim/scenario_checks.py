@@ -14,7 +14,7 @@ import re
 from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
 
-from .._io import OWN_FILE_STEMS
+from .._io import NONFINITE_JSON, OWN_FILE_STEMS
 from ..base.motion import MOTION_KEYS, FileBase, _base_motion_from
 from ..errors import ParameterError
 from ..params import Params, check_tether_length, check_tether_strain
@@ -50,20 +50,23 @@ def check_name(key: str, value: object, *, source: str | None = None) -> str:
     """A name that becomes a file stem or a folder: 1-100 letters, digits, '_', '.', '-'
     (never a path), not starting with '.' (tetherheli's record and temporary files do), and
     not one of the stems of tetherheli's own files (``_io.OWN_FILE_STEMS``, alone or before a
-    '.', in any letter case), so that no run's file or folder is ever one of them; else
+    '.', in any letter case), so that no run's file or folder is ever one of them, nor one of
+    the JSON files' words for non-finite numbers (``_io.NONFINITE_JSON``); else
     ParameterError naming ``key``."""
     if (
         not isinstance(value, str)
         or not _NAME_PATTERN.fullmatch(value)
         or value.startswith(".")
         or value.casefold().partition(".")[0] in OWN_FILE_STEMS
+        or value in NONFINITE_JSON  # the JSON files' words for non-finite numbers
     ):
         raise ParameterError(
             key,
             value,
             "a plain name of 1-100 letters, digits, '_', '.' or '-' (no path separators), "
             "not starting with '.' and not one of tetherheli's own file names "
-            f"({', '.join(OWN_FILE_STEMS)}, with or without a suffix)",
+            f"({', '.join(OWN_FILE_STEMS)}, with or without a suffix) or "
+            f"{', '.join(NONFINITE_JSON)}",
             source=source,
         )
     return value
@@ -102,6 +105,7 @@ def validate_scenario(s: Scenario, source: str | None) -> None:
     """Check every field of ``s`` and store the checked values (Python floats and ints, so a
     NumPy scalar is accepted and recorded as plain data)."""
     check_name("name", s.name, source=source)
+    field_key(type(s), "description").check("description", s.description, source=source)
     field_key(type(s), "configuration").check("configuration", s.configuration, source=source)
     _set(s, "duration", field_key(type(s), "duration").check("duration", s.duration, source=source))
     _set(s, "q9", check_tether_length(s.q9, "q9", source=source))

@@ -31,6 +31,7 @@ import numpy as np
 from ..errors import InfeasibleError, ParameterError
 from ..progress import Progress
 from ..sim import Scenario
+from ..sim.result import SummaryRepr
 from .sweep import METRICS, _evaluate, _prepare_points, _with
 
 __all__ = [
@@ -100,8 +101,8 @@ def bisect_criterion(
     return lo, hi, evaluated
 
 
-@dataclass(frozen=True)
-class LimitSearch:
+@dataclass(frozen=True, repr=False)
+class LimitSearch(SummaryRepr):
     """The result of ``minimum_cyclic_limit``.
 
     Parameters
@@ -150,6 +151,15 @@ class LimitSearch:
     meets: np.ndarray
     n_grid: int
     configuration: dict[str, Any] = field(default_factory=dict)
+
+    def _summary_rows(self) -> list[tuple[str, str]]:
+        return [
+            ("scenario", self.scenario_name),
+            ("metric", f"{self.metric_name}: reference {self.reference:.4g}, threshold "
+                       f"{self.threshold:.4g} (+{100 * self.within:g} %)"),
+            ("minimum cyclic limit", self.interval_text()),
+            ("runs", f"{self.values.size} ({self.n_grid} on the grid)"),
+        ]  # fmt: skip
 
     def interval_text(self) -> str:
         """The answer in words, e.g. "4.375-4.380 N m".

@@ -16,7 +16,7 @@ import numpy as np
 from ..control.paper import PaperController
 from ..errors import ParameterError
 from ..sim import Scenario, simulate
-from ..sim.result import SimulationResult
+from ..sim.result import SimulationResult, SummaryRepr
 from ..sim.setup import engine_setup
 
 __all__ = ["ReleaseComparison", "altitude_excursion", "release_comparison"]
@@ -39,8 +39,8 @@ def altitude_excursion(result: SimulationResult) -> float:
     return float(np.max(np.abs(result.outputs[k:, 2] - result.trim_output[2])))
 
 
-@dataclass(frozen=True)
-class ReleaseComparison:
+@dataclass(frozen=True, repr=False)
+class ReleaseComparison(SummaryRepr):
     """A tether release flown twice (``release_comparison``).
 
     Parameters
@@ -54,6 +54,9 @@ class ReleaseComparison:
 
     switched: SimulationResult
     kept: SimulationResult
+
+    def _summary_rows(self) -> list[tuple[str, str]]:
+        return [(q, f"kept u0|T {k}, switched to u0|F {s}") for q, k, s in self.rows()]
 
     def rows(self) -> list[tuple[str, str, str]]:
         """(quantity, kept u0|T, switched to u0|F) for a table.

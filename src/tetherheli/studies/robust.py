@@ -32,6 +32,7 @@ import numpy as np
 from .._validation import check_integer
 from ..errors import TetherheliError
 from ..resources import check_memory
+from ..sim.result import SummaryRepr
 from ..sim.scenario import Scenario
 from .controllers import CONTROLLER_METRICS, eq40_saturated, fly, with_controller
 from .montecarlo import MonteCarloConfig, draw, draw_seed
@@ -72,8 +73,8 @@ def _sensor_seed(root: int, index: int) -> int:
     return int(np.random.SeedSequence(root, spawn_key=(index, 1)).generate_state(1)[0])
 
 
-@dataclass(frozen=True)
-class MonteCarloComparison:
+@dataclass(frozen=True, repr=False)
+class MonteCarloComparison(SummaryRepr):
     """The result of ``montecarlo_compare``.
 
     Parameters
@@ -104,6 +105,13 @@ class MonteCarloComparison:
     ok: dict[str, np.ndarray]
     statuses: dict[str, tuple[str, ...]]
     configuration: dict[str, Any] = field(default_factory=dict)
+
+    def _summary_rows(self) -> list[tuple[str, str]]:
+        return [
+            ("scenario", self.scenario_name),
+            ("draws", f"{self.runs} (seed {self.seed})"),
+            ("failed", ", ".join(f"{lab} {self.failures(lab)}" for lab in self.labels)),
+        ]
 
     def failures(self, label: str) -> int:
         """Draws of ``label`` that failed (in flight or at set-up).

@@ -33,6 +33,7 @@ from ..params import Params
 from ..progress import Progress
 from ..sim import Scenario, simulate
 from ..sim.batch import run_batch
+from ..sim.result import SummaryRepr
 from ..wind import compile_wind
 
 __all__ = [
@@ -174,8 +175,8 @@ def _with(scenario: Scenario, parameter: str, value: float) -> Scenario:
     return scenario.replace(params=scenario.params.replace({parameter: value}))
 
 
-@dataclass(frozen=True)
-class SweepResult:
+@dataclass(frozen=True, repr=False)
+class SweepResult(SummaryRepr):
     """values (n,), metric (n,) (NaN where the run failed or the point was invalid),
     statuses (n,), completed (n,) (the run completed; a tether release counts as completed),
     and the best value among the completed runs.
@@ -244,6 +245,21 @@ class SweepResult:
     def failed(self) -> tuple[int, ...]:
         """Indices of the points whose run failed or that were invalid."""
         return tuple(i for i, ok in enumerate(self.completed) if not ok)
+
+    def _summary_rows(self) -> list[tuple[str, str]]:
+        values = self.values
+        span = f"{values.min():g} .. {values.max():g}" if values.size else "none"
+        rows = [
+            ("parameter", f"{self.parameter}: {values.size} values, {span}"),
+            ("metric", self.metric_name),
+            ("failed", f"{len(self.failed)} of {values.size}"),
+            ("best value", "none" if self.best_value is None else f"{self.best_value:g}"),
+        ]
+        if self.bound is not None:
+            within = self.best_within_bound
+            rows.append(("eq 40 bound", f"{self.bound:g} N (best within: "
+                         f"{'none' if within is None else f'{within:g}'})"))  # fmt: skip
+        return rows
 
     @property
     def limit_source(self) -> str:

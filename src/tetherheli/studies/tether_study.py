@@ -58,6 +58,7 @@ import numpy as np
 from .. import names
 from ..errors import ParameterError
 from ..params import TETHER_LENGTH_RANGE, Params
+from ..sim.result import SummaryRepr
 from .tether_cables import (
     DEFAULT_THRUST_TO_WEIGHT,
     DYNAMIC_CASES,
@@ -201,8 +202,8 @@ class TetherStudyConfig:
             object.__setattr__(self, name, value)
 
 
-@dataclass(frozen=True)
-class TetherStudy:
+@dataclass(frozen=True, repr=False)
+class TetherStudy(SummaryRepr):
     """The whole study's rows (``tether_study``): its static half per cable and length, the
     hover limits per cable, the dynamic half per cable and length (a row per case's free and
     tethered runs, marked failed where the hover exceeds the maximum thrust), the sensing half
@@ -234,6 +235,16 @@ class TetherStudy:
     dynamic: tuple[dict[str, Any], ...]
     sensing: tuple[dict[str, Any], ...]
     scenarios: dict[str, Any]
+
+    def _summary_rows(self) -> list[tuple[str, str]]:
+        c = self.config
+        return [
+            ("cables", ", ".join(cable.key for cable in c.cables)),
+            ("lengths", ", ".join(f"{x:g}" for x in c.lengths_m) + " m"),
+            ("tether model", c.model),
+            ("rows", f"{len(self.static)} static, {len(self.dynamic)} dynamic "
+                     f"({len(self.failed)} failed), {len(self.sensing)} sensing"),
+        ]  # fmt: skip
 
     @property
     def labels(self) -> dict[str, str]:

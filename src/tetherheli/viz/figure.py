@@ -1,6 +1,7 @@
-"""What every figure shares: ``InlineFigure`` (built without pyplot, shown inline in
-Jupyter), the configurations' colours, the styles, the dropping of samples that cannot be
-drawn (``plottable``, ``PLOT_LIMIT``), the figure's assembly and ``save_figure``.
+"""What every figure shares: ``InlineFigure`` (shown inline in Jupyter; with pyplot's
+figure manager when the user's code imported pyplot, ``new_figure``), the configurations'
+colours, the styles, the dropping of samples that cannot be drawn (``plottable``,
+``PLOT_LIMIT``), the figure's assembly and ``save_figure``.
 
 The figures themselves are ``viz.plots`` (the runs', Figs. 6-9) and ``viz.study_figures``
 (sweep, Monte Carlo, sensing, trade-off); ``viz.plots`` re-exports every public name.
@@ -8,6 +9,7 @@ The figures themselves are ``viz.plots`` (the runs', Figs. 6-9) and ``viz.study_
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -18,14 +20,16 @@ from .._io import atomic_write_bytes
 from ..errors import ParameterError
 from ..sim.result import SimulationResult
 from ..status import stopped
-from .formats import PRINT_DPI, check_figure_format
+from .formats import FOR_FILES, PRINT_DPI, check_figure_format, figures_for_files
 
 __all__ = [
     "CONFIGURATION_COLOURS",
     "PLOT_LIMIT",
     "InlineFigure",
     "figure_dpi",
+    "figures_for_files",
     "metric_label",
+    "new_figure",
     "plottable",
     "save_figure",
 ]
@@ -114,11 +118,15 @@ class _Plotter:
 
 
 class InlineFigure(Figure):
-    """A Matplotlib ``Figure`` built without pyplot that shows itself in Jupyter: as a cell's
-    last expression it renders as a PNG (``_repr_png_``, at the figure's own dpi) in any
-    kernel and backend, where a plain ``Figure`` prints ``<Figure size ... with n Axes>``.
-    It is not registered with pyplot, so ``plt.show()`` and the inline backend never show
-    it twice, and making one never changes the process's backend."""
+    """A Matplotlib ``Figure`` that shows itself in Jupyter: as a cell's last expression or
+    through ``display(fig)`` it renders as a PNG (at the figure's own dpi) in any kernel and
+    backend, where a plain ``Figure`` prints ``<Figure size ... with n Axes>``.
+
+    ``new_figure`` makes one: with pyplot's figure manager when the user's code imported
+    pyplot (so ``plt.show()`` and ``%matplotlib inline`` show it), else without pyplot;
+    never changing the process's backend. Shown inline, a figure whose manager has no
+    window (the inline backend's, Agg's) leaves pyplot's figures (``plt.close``), so the
+    inline backend's end-of-cell flush does not show it a second time."""
 
     def _repr_png_(self) -> bytes:
         """The figure as PNG bytes (IPython's display protocol), at the resolution
@@ -126,12 +134,51 @@ class InlineFigure(Figure):
         default), drawn once (``_png_bytes``: ``savefig`` draws a constrained layout twice)."""
         return _png_bytes(self, figure_dpi(self.dpi))
 
+    def _ipython_display_(self) -> None:
+        """Show the PNG (``_repr_png_``) in IPython, ahead of the formatter the inline
+        backend registers for every ``Figure``; then out of pyplot if its manager has no
+        window (``_shown_inline``)."""
+        from IPython.display import display
+
+        display({"image/png": self._repr_png_(), "text/plain": repr(self)}, raw=True)
+        self._shown_inline()
+
+    def _shown_inline(self) -> None:
+        from matplotlib.backend_bases import FigureManagerBase
+
+        manager = getattr(self.canvas, "manager", None)
+        pyplot = sys.modules.get("matplotlib.pyplot")
+        if pyplot is not None and manager is not None and type(manager) is FigureManagerBase:
+            pyplot.close(self)
+
+
+def new_figure(**kwargs: Any) -> Figure:
+    """A new ``InlineFigure``: made by ``pyplot.figure(FigureClass=InlineFigure, ...)``,
+    Matplotlib's documented way to give a Figure subclass pyplot's figure manager, when
+    ``matplotlib.pyplot`` is already imported (the user's code uses pyplot: ``plt.show()``,
+    ``%matplotlib inline`` then show it), else without pyplot, which tetherheli never imports
+    for a figure (the backend is left alone). Within ``figures_for_files``: never pyplot.
+
+    Parameters
+    ----------
+    **kwargs
+        ``Figure``'s arguments (``figsize`` [in], ``layout``, ...).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        An ``InlineFigure``.
+    """
+    pyplot = sys.modules.get("matplotlib.pyplot")
+    if pyplot is None or FOR_FILES.get():
+        return InlineFigure(**kwargs)
+    return pyplot.figure(FigureClass=InlineFigure, **kwargs)
+
 
 def _new_figure(fig: Figure | None, size: tuple[float, float]) -> Figure:
-    """``fig`` (a caller's empty figure) or a new constrained-layout ``InlineFigure`` (no
-    pyplot)."""
+    """``fig`` (a caller's empty figure) or a new constrained-layout figure (``new_figure``)."""
     if fig is None:
-        return InlineFigure(figsize=size, layout="constrained")
+        return new_figure(figsize=size, layout="constrained")
     if fig.axes:
         raise ParameterError("fig", "a figure with axes", "an empty figure")
     return fig
@@ -141,14 +188,14 @@ def _single_axes(ax: Any, size: tuple[float, float]) -> tuple[Figure, Any]:
     """``ax`` and its figure, or a new figure with one axes."""
     if ax is not None:
         return ax.get_figure(), ax
-    fig = InlineFigure(figsize=size, layout="constrained")
+    fig = new_figure(figsize=size, layout="constrained")
     return fig, fig.add_subplot()
 
 
 def _stacked(
     rows: int, size: tuple[float, float], fig: Figure | None = None
 ) -> tuple[Figure, np.ndarray]:
-    """A figure of ``rows`` axes stacked over a shared time axis (no pyplot)."""
+    """A figure of ``rows`` axes stacked over a shared time axis (``new_figure``)."""
     fig = _new_figure(fig, size)
     return fig, np.atleast_1d(fig.subplots(rows, 1, sharex=True))
 

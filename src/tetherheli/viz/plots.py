@@ -1,9 +1,11 @@
 """Every figure of the package: the paper's Figs. 6-9 (free and tethered overlaid), the
 sweep, the Monte Carlo, the sensing and the controller trade-off figures.
 
-These functions only read results and return Matplotlib figures built without pyplot
-(``InlineFigure``, which shows itself inline in Jupyter as a cell's last expression), so
-importing or calling them leaves the process's Matplotlib backend alone.
+These functions only read results and return Matplotlib figures (``InlineFigure``, which
+shows itself inline in Jupyter as a cell's last expression or through ``display(fig)``).
+They never import pyplot: when the caller's code has imported it, a figure gets pyplot's
+figure manager (``new_figure``), so ``plt.show()`` and ``%matplotlib inline`` show it as
+any pyplot figure; importing or calling them leaves the process's Matplotlib backend alone.
 Each takes an optional ``fig`` (an empty figure to draw into, e.g. one from
 ``plt.figure()`` in a notebook) or, for the one-panel figures, ``ax`` (axes to draw on), and
 returns the figure. ``save_figure`` writes one as PNG (at ``figure_dpi()``: ``PRINT_DPI``
@@ -36,7 +38,9 @@ from .figure import (
     _stacked,
     _style,
     figure_dpi,
+    figures_for_files,
     metric_label,
+    new_figure,
     plottable,
     save_figure,
 )
@@ -67,7 +71,9 @@ __all__ = [
     "figure_release",
     "figure_sensing",
     "figure_sweep",
+    "figures_for_files",
     "metric_label",
+    "new_figure",
     "plottable",
     "save_figure",
 ]

@@ -8,7 +8,6 @@ from __future__ import annotations
 import csv
 import hashlib
 import io
-import json
 import math
 import os
 import re
@@ -27,6 +26,10 @@ from ..._io import (
     check_output_file,
     check_real_folders,
     claim_output_directory,
+    json_from_text,
+    json_text,
+    read_json,
+    write_json,
 )
 from ..._validation import check_integer
 from ..._version import __version__
@@ -422,7 +425,7 @@ def run_montecarlo_chunks(
     fp_path = part / "job.json"
     if fp_path.exists():
         try:
-            recorded = json.loads(fp_path.read_text(encoding="utf-8"))
+            recorded = read_json(fp_path)
         except (OSError, ValueError) as exc:  # ValueError: not UTF-8, not JSON
             reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
             raise ParameterError(
@@ -431,7 +434,7 @@ def run_montecarlo_chunks(
                 f"the job record of a Monte Carlo in this folder ({reason}); delete {part} "
                 "to start the job over",
             ) from None
-        if recorded != json.loads(json.dumps(fp)):
+        if recorded != json_from_text(json_text(fp)):
             _refuse_changed_inputs(recorded, fp["inputs"], out, part)
             raise ParameterError(
                 "out",
@@ -439,7 +442,7 @@ def run_montecarlo_chunks(
                 "a new directory, or one of the same job (partial/job.json differs)",
             )
     else:
-        atomic_write_text(fp_path, json.dumps(fp, indent=2))
+        write_json(fp_path, fp)
     n = config.runs
     header = _columns(config)
     computed = 0
