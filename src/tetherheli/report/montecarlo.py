@@ -16,7 +16,7 @@ import numpy as np
 
 from .._io import atomic_open, atomic_path, atomic_write_text, output_directory
 from ..errors import ParameterError
-from ..sim.result import check_result_format
+from ..sim.result import TABLE_FORMATS, check_result_format
 from ..sim.scenario import Scenario
 from ..studies.montecarlo.config import CONFIGURATIONS, MonteCarloConfig
 from ..studies.montecarlo.runner import (
@@ -137,7 +137,7 @@ def run_montecarlo(
     if metric not in METRICS:
         raise ParameterError("metric", metric, f"one of {list(METRICS)}")
     figure_format = check_figure_format(figure_format)
-    files = result_files(metric, figure_format, check_result_format(table_format))
+    files = result_files(metric, figure_format, check_result_format(table_format, TABLE_FORMATS))
     job = run_montecarlo_chunks(
         base,
         config,
