@@ -30,7 +30,9 @@ scene.add(sun);
 
 const lo = new THREE.Vector3(...data.bounds.lo);
 const hi = new THREE.Vector3(...data.bounds.hi);
+// the camera looks a little above the middle: the helicopters, not the ground, fill the view
 const centre = lo.clone().add(hi).multiplyScalar(0.5);
+centre.z = lo.z + 0.58 * (hi.z - lo.z);
 const radius = Math.max(hi.clone().sub(lo).length() / 2, 2);
 
 // the ground z = 0 (a grid in the n1-n2 plane) and the axes n1, n2, n3 at NO (1 m)
@@ -239,7 +241,7 @@ function update(k) {
 const camera = new THREE.PerspectiveCamera(40, 1, 0.05, 10000);
 let azimuth = (-60 * Math.PI) / 180;
 let elevation = (18 * Math.PI) / 180;
-let distance = (0.9 * radius) / Math.sin((20 * Math.PI) / 180);
+let distance = (1.05 * radius) / Math.sin((20 * Math.PI) / 180);
 let frame = 0;
 const follow = $("follow");
 function placeCamera() {
