@@ -25,6 +25,7 @@ from tetherheli.viz.animation import (
     load_run,
     render_frame,
 )
+from tetherheli.viz.scene import _Scene
 
 COLUMNS = (
     "t", "q4", "q5", "q6", "q7", "q8", "q9", "u1", "u2", "u3", "u4", "u5", "u6", "LN",
@@ -276,10 +277,10 @@ def test_failed_rendering_leaves_no_file(results: Path, tmp_path: Path, monkeypa
     out_dir.mkdir()
     out = out_dir / "broken.gif"
 
-    def boom(self, **kwargs):
+    def boom(self, *args, **kwargs):
         raise RuntimeError("disk full")
 
-    monkeypatch.setattr(animation.PillowWriter, "grab_frame", boom)
+    monkeypatch.setattr(_Scene, "render", boom)  # a GIF's frames are drawn by blitting
     with pytest.raises(RuntimeError, match="disk full"):
         animate(results, out, fps=2, dpi=20)
     assert list(out_dir.iterdir()) == []
@@ -290,7 +291,7 @@ def test_failed_rendering_leaves_no_file(results: Path, tmp_path: Path, monkeypa
     record_outputs(out_dir, [], writer="simulate")
     animate(results, out, fps=2, dpi=20)
     old = out.read_bytes()
-    monkeypatch.setattr(animation.PillowWriter, "finish", boom)
+    monkeypatch.setattr(Image.Image, "save", boom)  # the GIF's writing
     with pytest.raises(RuntimeError, match="disk full"):
         animate(results, out, fps=2, dpi=20)
     assert sorted(p.name for p in out_dir.iterdir()) == [OUTPUT_RECORD, "broken.gif"]
@@ -353,3 +354,87 @@ def test_render_frame_writes_a_png(results: Path, tmp_path: Path):
     with pytest.raises(ParameterError, match=r"\.png"):
         render_frame(results, tmp_path / "frame.xyz", time=1.0)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["frame.png", "results"]
+
+
+# --- the moving deck, the run lines and the layout (issue 47 item 6) ------------------------
+
+
+def _with_base(directory: Path, stem: str, heave: float) -> None:
+    """Add a heaving base (base_n1..3, 2 s period) to a saved run's CSV."""
+    path = directory / f"{stem}.csv"
+    header, *rows = path.read_text().splitlines()
+    out = [header + ",base_n1,base_n2,base_n3"]
+    for row in rows:
+        t = float(row.split(",")[0])
+        out.append(row + f",0.0,0.0,{float(heave * np.sin(np.pi * t))!r}")
+    path.write_text("\n".join(out) + "\n")
+
+
+def test_a_moving_base_moves_the_deck_winch_and_helicopter(tmp_path: Path):
+    write_run(tmp_path, "deck", "free")
+    _with_base(tmp_path, "deck", 2.0)
+    run = load_run(tmp_path, "deck")
+    assert run.base_moves
+    times = np.array([0.0, 0.5, 1.5])
+    scene = _Scene([run], times, rotor_radius=0.9, wind_scale=None, dpi=20)
+    assert scene.whole and len(scene.decks) == 1  # a free run over a deck: the whole scene too
+    _, winch, _ = scene.decks[0]
+    heights = []
+    for k in range(len(times)):
+        scene.update(k)
+        heights.append(float(np.asarray(winch.get_data_3d()[2])[0]))
+        sample = round(100 * times[k])
+        assert scene.shapes[0].HO[k, 2] == pytest.approx(run.world_position[sample, 2])
+    assert heights == pytest.approx([0.0, 2.0, -2.0], abs=1e-9)
+    gif = animate(tmp_path, tmp_path / "deck.gif", fps=2, speed=1.0, dpi=30)
+    with Image.open(gif) as im:
+        pictures = []
+        for k in (1, 3):
+            im.seek(k)
+            pictures.append(np.asarray(im.convert("RGB"), dtype=int))
+    assert (np.abs(pictures[0] - pictures[1]).max(axis=2) > 60).any()
+
+
+def test_run_lines_fit_the_figure_and_nothing_overlaps(tmp_path: Path):
+    """Long run names and a failure message are cut to fit; the clock, the run lines, the
+    panels' labels, the colour bar and the legend keep apart."""
+    long = "a_scenario_with_a_rather_long_descriptive_name"
+    for config in ("free", "tethered"):
+        write_run(tmp_path, f"{long}_{config}", config)
+    meta_path = tmp_path / f"{long}_tethered.json"
+    meta = json.loads(meta_path.read_text())
+    meta.update(status=4, message="the integration failed: a state was not finite " * 3)
+    meta_path.write_text(json.dumps(meta))
+    runs = [load_run(tmp_path, f"{long}_{c}") for c in ("free", "tethered")]
+    scene = _Scene(runs, np.array([0.0, 2.0]), rotor_radius=0.9, wind_scale=None, dpi=80)
+    scene.update(1)
+    fig = scene.fig
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    page = fig.bbox
+    texts = [scene.clock, *scene.labels]
+    boxes = [t.get_window_extent(renderer) for t in texts]
+    for t, box in zip(texts, boxes, strict=True):
+        assert t.get_text() and page.x0 <= box.x0 and box.x1 <= page.x1, t.get_text()
+        assert page.y0 <= box.y0 and box.y1 <= page.y1, t.get_text()
+    assert scene.labels[1].get_text().endswith("...")  # the long failure message, cut
+    for i, a in enumerate(boxes):
+        for b in boxes[i + 1 :]:
+            assert not a.overlaps(b)
+    legend = fig.legends[0].get_window_extent(renderer)
+    colour_bar = next(ax for ax in fig.axes if not hasattr(ax, "zaxis"))
+    bar = colour_bar.get_tightbbox(renderer)
+    close_up = scene.views[-1].ax
+    labels = [
+        close_up.zaxis.label.get_window_extent(renderer),
+        close_up.yaxis.label.get_window_extent(renderer),
+        *(t.get_window_extent(renderer) for t in close_up.zaxis.get_ticklabels() if t.get_text()),
+    ]
+    for box in labels:
+        assert not box.overlaps(bar)
+    for view in scene.views:
+        for axis in (view.ax.xaxis, view.ax.yaxis):
+            assert not axis.label.get_window_extent(renderer).overlaps(legend)
+        assert not view.ax.title.get_window_extent(renderer).overlaps(boxes[-1])
+    for box in boxes:
+        assert not box.overlaps(legend)

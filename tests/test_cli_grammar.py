@@ -30,6 +30,7 @@ SHARED_FLAGS = {
     "paper": ("--out", "--format", "--figure-format", "--force"),
     "simulate": ("--out", "--format", "--figure-format", "--force"),
     "animate": (),
+    "view": (),
     "sweep": ("--out", "--workers", "--figure-format", "--force"),
     "montecarlo": (
         "--out", "--runs", "--seed", "--workers", "--format", "--figure-format", "--force",
@@ -40,8 +41,14 @@ SHARED_FLAGS = {
     "scenarios": (),
 }  # fmt: skip
 #: A command's own flags that share a shared flag's name but not its meaning: the ``--out``
-#: FILE of derive, animate and scenarios; animate's ``--runs`` (run names, not draws).
-OWN = {"derive": {"--out"}, "animate": {"--out", "--runs"}, "scenarios": {"--out"}}
+#: FILE of derive, animate, view and scenarios; animate's and view's ``--runs`` (run names,
+#: not draws).
+OWN = {
+    "derive": {"--out"},
+    "animate": {"--out", "--runs"},
+    "view": {"--out", "--runs"},
+    "scenarios": {"--out"},
+}
 
 
 def _subcommands() -> dict[str, argparse.ArgumentParser]:

@@ -218,6 +218,8 @@ API = {
                                                  "tail_percentile", "with_failures"],
     "tetherheli.viz.animation": ["RunData", "animate", "frame_rgb", "load_run", "render_frame",
                                  "run_colours"],
+    "tetherheli.viz.replay": ["replay_data", "replay_html", "write_replay"],
+    "tetherheli.sim.result_mcap": ["write_mcap", "read_mcap_table", "tension_colour"],
     "tetherheli.studies.release": ["ReleaseComparison", "altitude_excursion",
                                    "release_comparison"],
     "tetherheli.analysis": ["RunMetrics", "TetherMoment", "metric_samples", "reduction_percent",

@@ -13,7 +13,7 @@ import pytest
 from tetherheli import ParameterError, cli, load_result, simulate
 from tetherheli.report import run_montecarlo
 from tetherheli.sim import list_results
-from tetherheli.sim.result import RESULT_COLUMNS, RESULT_FORMATS
+from tetherheli.sim.result import RESULT_COLUMNS, RESULT_FORMATS, TABLE_FORMATS
 from tetherheli.sim.scenario import Scenario
 from tetherheli.studies.montecarlo import load_montecarlo
 from tetherheli.wind import Pulse
@@ -93,7 +93,8 @@ def test_cli_format_choices_are_the_result_formats():
     commands = cli.build_parser()._subparsers._group_actions[0].choices
     for command in ("simulate", "paper", "montecarlo"):
         action = next(a for a in commands[command]._actions if a.dest == "data_format")
-        assert tuple(action.choices) == RESULT_FORMATS and action.default == "csv"
+        formats = TABLE_FORMATS if command == "montecarlo" else RESULT_FORMATS
+        assert tuple(action.choices) == formats and action.default == "csv"
 
 
 def test_simulate_cli_writes_parquet_that_load_result_reads(tmp_path, capsys):

@@ -425,12 +425,13 @@ def read_json(path: str | Path) -> Any:
 OUTPUT_RECORD = ".tetherheli-output.json"
 #: The stems of the files tetherheli writes where a run's name also names a file or a folder:
 #: ``simulate``'s summary.json, report.md, outputs.<fmt> and inputs.<fmt> beside the runs'
-#: ``<name>.csv``/``<name>.json`` or ``<name>/`` folders, and ``animate``'s animation.gif. No
+#: ``<name>.csv``/``<name>.json`` or ``<name>/`` folders, ``animate``'s animation.gif and
+#: ``view``'s replay.html. No
 #: scenario may be named so (alone or followed by a suffix, in any letter case), and no name
 #: starts with '.' as the record and the temporary files do (``sim.scenario.check_name``): a
 #: run's file or folder can never be one of tetherheli's own. (scenario.toml needs no guard:
 #: no run writes a .toml file, and it lies inside each run's folder.)
-OWN_FILE_STEMS = ("animation", "inputs", "outputs", "report", "summary")
+OWN_FILE_STEMS = ("animation", "inputs", "outputs", "replay", "report", "summary")
 #: Inside a folder being built (``output_directory``): the record to be put in place (its
 #: rename is the commit), the journal of the swap and the files it replaces, until the end.
 _SWAP = ".tetherheli-swap"

@@ -7,9 +7,9 @@ error (a bug: one line, ``--debug`` prints the traceback); 130 interrupted. A re
 closes the pipe early (``tetherheli scenarios | head -1``) ends the command quietly, exit 0.
 
 One module per command (``trim``, ``derive``, ``paper``, ``simulate``, ``animate``,
-``sweep``, ``montecarlo``, ``sensing``, ``compare``, ``tether_study``, ``scenarios``), each
-with ``register(sub)`` and ``run(args)``; the shared flags are parent parsers in
-``_common``. Building the parser imports neither the compiled engine nor Matplotlib.
+``view``, ``sweep``, ``montecarlo``, ``sensing``, ``compare``, ``tether_study``,
+``scenarios``), each with ``register(sub)`` and ``run(args)``; the shared flags are parent
+parsers in ``_common``. Building the parser imports neither the compiled engine nor Matplotlib.
 """
 
 from __future__ import annotations
@@ -35,6 +35,7 @@ from . import (
     sweep,
     tether_study,
     trim,
+    view,
 )
 from ._common import Parser, UsageError, common, plain
 from .montecarlo import EXIT_STOPPED
@@ -47,7 +48,7 @@ EXIT_INTERRUPTED = 130
 
 #: The commands, in the order ``tetherheli --help`` lists them.
 COMMANDS = (
-    trim, derive, paper, simulate, animate, sweep, montecarlo, sensing, compare, tether_study,
+    trim, derive, paper, simulate, animate, view, sweep, montecarlo, sensing, compare, tether_study,
     scenarios,
 )  # fmt: skip
 

@@ -50,7 +50,8 @@ HELP = {
     "--seed": "root seed of the random draws (default: the file's [montecarlo] seed)",
     "--runs": "Monte Carlo draws N (default: the file's [montecarlo] runs)",
     "--format": "file format of the tables (time series, results): csv, or parquet (needs "
-    "pandas and pyarrow)",
+    "pandas and pyarrow); a run's time series also mcap (needs mcap: the signals and a 3-D "
+    "scene for Foxglove)",
     "--figure-format": (
         "format of the figures: png (raster, {dpi} dpi or Matplotlib's savefig.dpi), or pdf "
         "or svg (vector)"
@@ -313,22 +314,30 @@ def runs() -> argparse.ArgumentParser:
     return p
 
 
-def data_format() -> argparse.ArgumentParser:
-    """``--format csv|parquet``, the tables' file format (``sim.result.RESULT_FORMATS``).
+def data_format(*, runs: bool = True) -> argparse.ArgumentParser:
+    """``--format csv|parquet|mcap``, the time series' file format
+    (``sim.result.RESULT_FORMATS``), or ``--format csv|parquet`` for a table of many runs
+    (``runs=False``: ``TABLE_FORMATS``).
+
+    Parameters
+    ----------
+    runs : bool, optional
+        The command writes runs (True), or one table of many runs' results (False).
 
     Returns
     -------
     argparse.ArgumentParser
         A parent parser.
     """
-    from ..sim.result import RESULT_FORMATS  # light: numpy only
+    from ..sim.result import RESULT_FORMATS, TABLE_FORMATS  # light: numpy only
 
+    formats = RESULT_FORMATS if runs else TABLE_FORMATS
     p = _parent()
     p.add_argument(
         "--format",
         dest="data_format",
-        choices=RESULT_FORMATS,
-        default=RESULT_FORMATS[0],
+        choices=formats,
+        default=formats[0],
         help=HELP["--format"],
     )
     return p

@@ -163,7 +163,7 @@ def register(sub: argparse._SubParsersAction) -> None:
             c.runs(),
             c.seed(),
             c.workers(),
-            c.data_format(),
+            c.data_format(runs=False),
             c.figure_format(),
             c.force(),
         ],

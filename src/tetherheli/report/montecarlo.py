@@ -22,7 +22,7 @@ from .._io import (
     output_directory,
 )
 from ..errors import ParameterError
-from ..sim.result import check_result_format
+from ..sim.result import TABLE_FORMATS, check_result_format
 from ..sim.scenario import Scenario
 from ..studies.montecarlo.config import CONFIGURATIONS, MonteCarloConfig
 from ..studies.montecarlo.runner import (
@@ -144,7 +144,7 @@ def run_montecarlo(
     if metric not in METRICS:
         raise ParameterError("metric", metric, f"one of {list(METRICS)}")
     figure_format = check_figure_format(figure_format)
-    files = result_files(metric, figure_format, check_result_format(table_format))
+    files = result_files(metric, figure_format, check_result_format(table_format, TABLE_FORMATS))
     job = run_montecarlo_chunks(
         base,
         config,

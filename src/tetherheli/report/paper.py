@@ -300,7 +300,8 @@ def run_paper(
     """Run the four simulations of Sec. VI and write the paper's outputs into ``out_dir``
     (``_io.output_directory``: refused before any run if it holds files tetherheli did not
     write, unless ``force``; those are kept). The time series are ``<run>.csv``, or
-    ``<run>.parquet`` with ``data_format="parquet"`` (``sim.result.RESULT_FORMATS``); the
+    ``<run>.parquet`` or ``<run>.mcap`` with ``data_format`` "parquet" or "mcap"
+    (``sim.result.RESULT_FORMATS``); the
     figures are ``figure_format`` files (png, pdf or svg); ``progress`` shows the runs done on
     stderr (``tetherheli.progress``).
 
@@ -320,7 +321,7 @@ def run_paper(
         The command line recorded in summary.json and report.md.
     force : bool
         Write into a directory that holds files tetherheli did not write (they are kept).
-    data_format : {"csv", "parquet"}
+    data_format : {"csv", "parquet", "mcap"}
         Format of the time series.
     figure_format : {"png", "pdf", "svg"}
         Format of the figures.
@@ -387,7 +388,7 @@ def write_run(
     data_format: str = "csv",
     figure_format: str = "png",
 ) -> dict[str, Any]:
-    """Write one run (time series as ``data_format``, "csv" or "parquet"; figures as
+    """Write one run (time series as ``data_format``, "csv", "parquet" or "mcap"; figures as
     ``figure_format`` files: png, pdf or svg; metrics, report) into ``out_dir``
     (``_io.output_directory``: the user's files there are kept, never replaced).
 
@@ -403,7 +404,7 @@ def write_run(
         Input files (scenarios) the output directory records as read.
     force : bool
         Write into a directory that holds files tetherheli did not write (they are kept).
-    data_format : {"csv", "parquet"}
+    data_format : {"csv", "parquet", "mcap"}
         Format of the time series.
     figure_format : {"png", "pdf", "svg"}
         Format of the figures.

@@ -38,6 +38,7 @@ from .result_files import (
     RESULT_UNITS,
     STATE_NAMES,
     STATE_UNITS,
+    TABLE_FORMATS,
     TENSION_GROUND_COLUMN,
     WINCH_LIMITS,
     _optional,
@@ -55,6 +56,7 @@ __all__ = [
     "RESULT_DESCRIPTIONS",
     "RESULT_FORMATS",
     "RESULT_UNITS",
+    "TABLE_FORMATS",
     "TENSION_GROUND_COLUMN",
     "WINCH_LIMITS",
     "SimulationResult",
@@ -537,6 +539,34 @@ class SimulationResult(SummaryRepr):
             path, self.to_dataframe().reset_index(), self.column_units(), self.column_descriptions()
         )
 
+    def to_mcap(self, path: str | Path) -> Path:
+        """Write the run as MCAP, atomically (``sim.result_mcap``): every column of ``to_csv``
+        as JSON ``/signals`` messages, the vehicle's and the base's frames as
+        ``foxglove.FrameTransform`` on ``/tf`` and the deck, body, tether and wind as
+        ``foxglove.SceneUpdate`` on ``/scene``, for Foxglove (or any MCAP reader). Needs the
+        ``mcap`` package (``pip install tetherheli[replay]``).
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The file to write.
+
+        Returns
+        -------
+        pathlib.Path
+            The file written.
+        """
+        from .result_mcap import write_mcap
+
+        return write_mcap(
+            path,
+            self.columns(),
+            self.column_units(),
+            self.column_descriptions(),
+            self.configuration,
+            tethered=self.configuration.get("configuration") == "tethered",
+        )
+
     def metadata(self) -> dict[str, Any]:
         """What is recorded next to the results.
 
@@ -574,7 +604,7 @@ class SimulationResult(SummaryRepr):
     def save(
         self, directory: str | Path, stem: str | None = None, *, format: str = "csv"
     ) -> dict[str, Path]:
-        """Write the time series ``<stem>.csv`` (or ``<stem>.parquet``) and ``<stem>.json``
+        """Write the time series ``<stem>.csv`` (or ``.parquet``, ``.mcap``) and ``<stem>.json``
         (configuration, trim, version) into directory; ``load_result(directory, stem)`` reads
         them back.
 
@@ -584,7 +614,7 @@ class SimulationResult(SummaryRepr):
             The directory (created with its parents if missing).
         stem : str, optional
             The files' stem (default: the scenario's name).
-        format : {"csv", "parquet"}, optional
+        format : {"csv", "parquet", "mcap"}, optional
             The time series' format (``RESULT_FORMATS``).
 
         Returns
@@ -611,6 +641,8 @@ class SimulationResult(SummaryRepr):
         series = directory / f"{stem}.{format}"
         if format == "parquet":
             self.to_parquet(series)
+        elif format == "mcap":
+            self.to_mcap(series)
         else:
             self.to_csv(series)
         meta_path = directory / f"{stem}.json"
@@ -648,8 +680,8 @@ def load_result(directory: str | Path, stem: str | None = None) -> SimulationRes
     Parameters
     ----------
     directory : str or pathlib.Path
-        The result directory, or the path of one run's ``<stem>.csv``, ``<stem>.parquet`` or
-        ``<stem>.json`` (then ``stem`` is that file's).
+        The result directory, or the path of one run's ``<stem>.csv``, ``<stem>.parquet``,
+        ``<stem>.mcap`` or ``<stem>.json`` (then ``stem`` is that file's).
     stem : str, optional
         Which run (``list_results``); None when the directory holds exactly one.
 

@@ -36,6 +36,7 @@ __all__ = [
     "RESULT_DESCRIPTIONS",
     "RESULT_FORMATS",
     "RESULT_UNITS",
+    "TABLE_FORMATS",
     "TENSION_GROUND_COLUMN",
     "WINCH_LIMITS",
     "check_result_format",
@@ -132,25 +133,30 @@ RESULT_DESCRIPTIONS: dict[str, str] = {
     **{f"base_v{i}": f"velocity of the winch's base in N, axis n{i}" for i in (1, 2, 3)},
 }
 #: File formats of a saved run's time series (``SimulationResult.save``): ``<stem>.csv`` (the
-#: default, text) or ``<stem>.parquet`` (Apache Parquet through pandas + pyarrow, the
-#: ``data`` extra); ``load_result`` reads either.
-RESULT_FORMATS = ("csv", "parquet")
+#: default, text), ``<stem>.parquet`` (Apache Parquet through pandas + pyarrow, the ``data``
+#: extra) or ``<stem>.mcap`` (MCAP: the signals and a 3-D scene for Foxglove, through the
+#: ``mcap`` package, the ``replay`` extra; ``sim.result_mcap``); ``load_result`` reads each.
+RESULT_FORMATS = ("csv", "parquet", "mcap")
+#: The formats of a table of many runs' results (``montecarlo --format``): no MCAP.
+TABLE_FORMATS = ("csv", "parquet")
 #: Extra columns named ``<output>_est`` (the controller's estimate) carry the output's unit.
 _ESTIMATE_SUFFIX = "_est"
 _RESULT_HINT = (
-    "<stem>.csv (or .parquet) + <stem>.json result pairs written by SimulationResult.save"
+    "<stem>.csv (or .parquet, .mcap) + <stem>.json result pairs written by SimulationResult.save"
 )
 
 
-def check_result_format(fmt: str) -> str:
-    """``fmt`` if it is one of ``RESULT_FORMATS`` whose packages are installed (Parquet needs
-    pandas and pyarrow), else a one-line ``ParameterError``: checked before a run, not after
-    it.
+def check_result_format(fmt: str, formats: tuple[str, ...] = RESULT_FORMATS) -> str:
+    """``fmt`` if it is one of ``formats`` whose packages are installed (Parquet needs pandas
+    and pyarrow, MCAP the ``mcap`` package), else a one-line ``ParameterError``: checked
+    before a run, not after it.
 
     Parameters
     ----------
     fmt : str
         The requested result format (``RESULT_FORMATS``, e.g. "csv" or "parquet").
+    formats : tuple of str, optional
+        The formats allowed here (``TABLE_FORMATS`` for a table of many runs).
 
     Returns
     -------
@@ -160,16 +166,16 @@ def check_result_format(fmt: str) -> str:
     Raises
     ------
     ParameterError
-        An unknown format, or Parquet without pandas and pyarrow.
+        An unknown format, or one whose packages are not installed.
     """
-    if fmt not in RESULT_FORMATS:
-        raise ParameterError("format", fmt, f"one of {RESULT_FORMATS}")
-    if fmt == "parquet":
-        try:
-            _optional("pandas")
-            _optional("pyarrow")
-        except ImportError as exc:
-            raise ParameterError("format", fmt, f"'csv' here ({exc})") from None
+    if fmt not in formats:
+        raise ParameterError("format", fmt, f"one of {formats}")
+    needs = {"parquet": ("pandas", "pyarrow"), "mcap": ("mcap",)}.get(fmt, ())
+    try:
+        for module in needs:
+            _optional(module)
+    except ImportError as exc:
+        raise ParameterError("format", fmt, f"'csv' here ({exc})") from None
     return fmt
 
 
@@ -180,9 +186,10 @@ def _optional(module: str) -> Any:
     try:
         return importlib.import_module(module)
     except ImportError:
+        extra = "replay" if module == "mcap" else "data"
         raise ImportError(
             f"{module} is needed for this format and is not installed: "
-            f"pip install {module} (or tetherheli[data])"
+            f"pip install {module} (or tetherheli[{extra}])"
         ) from None
 
 
@@ -288,10 +295,10 @@ def _is_result(json_path: Path) -> bool:
 def list_results(directory: str | Path) -> list[str]:
     """Stems of the saved runs in a directory, sorted.
 
-    A run is a ``<stem>.csv`` or ``<stem>.parquet`` with a ``<stem>.json`` beside it whose
-    JSON object has a ``configuration`` table (as ``SimulationResult.save`` writes), in the
-    directory or one folder below it (``<name>/<stem>``, as ``tetherheli simulate`` writes
-    several runs); other files are ignored.
+    A run is a ``<stem>.csv``, ``<stem>.parquet`` or ``<stem>.mcap`` with a ``<stem>.json``
+    beside it whose JSON object has a ``configuration`` table (as ``SimulationResult.save``
+    writes), in the directory or one folder below it (``<name>/<stem>``, as ``tetherheli
+    simulate`` writes several runs); other files are ignored.
 
     Parameters
     ----------
@@ -319,7 +326,7 @@ def list_results(directory: str | Path) -> list[str]:
 
 
 def _series_path(path: Path, stem: str) -> Path:
-    """The time-series file of a run: ``<stem>.csv`` or ``<stem>.parquet``, not both."""
+    """The time-series file of a run: ``<stem>.csv``, ``.parquet`` or ``.mcap``, only one."""
     found = [path / f"{stem}.{fmt}" for fmt in RESULT_FORMATS if (path / f"{stem}.{fmt}").is_file()]
     if len(found) != 1:
         names = " and ".join(p.name for p in found)
@@ -331,6 +338,11 @@ def _series_path(path: Path, stem: str) -> Path:
 
 def _read_table(path: Path) -> tuple[list[str], np.ndarray]:
     """The header and the values (rows x columns) of a run's time-series file."""
+    if path.suffix == ".mcap":
+        _optional("mcap")
+        from .result_mcap import read_mcap_table
+
+        return read_mcap_table(path)
     if path.suffix == ".parquet":
         pd = _optional("pandas")
         _optional("pyarrow")
@@ -376,17 +388,18 @@ def _read_csv_table(path: Path) -> tuple[list[str], np.ndarray]:
 
 
 def _read_columns(path: Path) -> dict[str, np.ndarray]:
-    """The time series' columns by name (``<stem>.csv`` or ``.parquet``): every one of
+    """The time series' columns by name (``<stem>.csv``, ``.parquet`` or ``.mcap``): every one of
     ``RESULT_COLUMNS`` present and finite, times increasing."""
     header, values = _read_table(path)
     src = str(path)
-    csv_file = path.suffix == ".csv"
-    _check_header(header, "csv header" if csv_file else "parquet columns", src)
+    kind = path.suffix[1:]
+    csv_file = kind == "csv"
+    _check_header(header, "csv header" if csv_file else f"{kind} columns", src)
     cols = {name: values[:, j] for j, name in enumerate(header)}
     for name in RESULT_COLUMNS:
         bad = np.flatnonzero(~np.isfinite(cols[name]))
         if bad.size:
-            where = f"csv line {bad[0] + 2}" if csv_file else f"parquet row {bad[0]}"
+            where = f"csv line {bad[0] + 2}" if csv_file else f"{kind} row {bad[0]}"
             raise ParameterError(
                 f"{where} column {name}",
                 cols[name][bad[0]],

@@ -44,7 +44,7 @@ from ..model.kinematics import HelicopterPoints, direction_cosines, helicopter_p
 from ..progress import Progress
 from ..resources import check_memory
 from .run_data import RunData, _load_runs, list_runs, load_run
-from .scene import _FIGURE_INCHES, _frame_times, _Scene, run_colours
+from .scene import _FIGURE_INCHES, _WIND_COLOUR, _frame_times, _Scene, run_colours
 
 __all__ = [
     "HelicopterPoints",
@@ -187,6 +187,10 @@ def animate(
     times, playback = _frame_times(runs, fps, speed, max_frames)
     _check_render_memory(len(times), dpi, gif=suffix == ".gif")
     scene = _Scene(runs, times, rotor_radius=rotor_radius, wind_scale=wind_scale, dpi=dpi)
+    if suffix == ".gif":
+        _write_gif(scene, out, playback, progress=progress)
+        record_output_file(out, writer="animate")
+        return out
     writer = _writer(suffix, playback)
     with atomic_path(out) as tmp, mpl.rc_context({"savefig.bbox": None}):
         writer.setup(scene.fig, tmp, dpi=dpi)  # may round the figure size (ffmpeg)
@@ -204,6 +208,54 @@ def animate(
         writer.finish()
     record_output_file(out, writer="animate")
     return out
+
+
+def _gif_palette(scene: _Scene) -> Image.Image:
+    """One palette for every frame of a GIF, so that each frame is only mapped to it (a
+    table look-up) instead of getting a palette of its own: the drawn colours kept exactly
+    (the runs', the wind's, black, white, greys and 64 steps of the tension colour map),
+    the rest from the first, middle and last frames (Pillow's median cut)."""
+    from matplotlib.colors import to_rgb
+
+    n = len(scene.times)
+    named = [*scene.colours, _WIND_COLOUR, "black", "white", "0.5", "0.85"]
+    fixed = [to_rgb(c) for c in named] + [scene.cmap(x)[:3] for x in np.linspace(0, 1, 64)]
+    fixed_rgb = (np.array(fixed) * 255).round().astype(np.uint8)
+    samples = [_rgb(scene.render(k)) for k in sorted({0, n // 2, n - 1})]
+    strip = Image.fromarray(np.concatenate([np.asarray(im) for im in samples], axis=0))
+    rest = strip.quantize(256 - len(fixed_rgb), method=Image.Quantize.MEDIANCUT)
+    colours = np.asarray(rest.getpalette()[: 3 * (256 - len(fixed_rgb))], dtype=np.uint8)
+    palette = Image.new("P", (1, 1))
+    palette.putpalette(np.concatenate([fixed_rgb.ravel(), colours]).tolist())
+    return palette
+
+
+def _rgb(rgba: np.ndarray) -> Image.Image:
+    """An RGBA canvas buffer (H, W, 4) as an RGB image."""
+    height, width = rgba.shape[:2]
+    return Image.frombuffer("RGBA", (width, height), rgba.tobytes()).convert("RGB")
+
+
+def _write_gif(scene: _Scene, out: Path, playback: float, *, progress: bool) -> None:
+    """Render the scene's frames by blitting (``_Scene.render``), map each to one shared
+    palette, and write them as a looping GIF, atomically."""
+    scene.blit_background()
+    palette = _gif_palette(scene)
+    frames = []
+    with Progress("animate", len(scene.times), "frames", enabled=progress) as bar:
+        for k in range(len(scene.times)):
+            rgb = _rgb(scene.render(k))
+            frames.append(rgb.quantize(palette=palette, dither=Image.Dither.NONE))
+            bar.update(1)
+    with atomic_path(out) as tmp:
+        frames[0].save(
+            tmp,
+            format="GIF",
+            save_all=True,
+            append_images=frames[1:],
+            duration=int(1000 / playback),
+            loop=0,
+        )
 
 
 def render_frame(

@@ -11,12 +11,23 @@ from contextvars import ContextVar
 
 from ..errors import ParameterError
 
-__all__ = ["FIGURE_FORMATS", "PRINT_DPI", "check_figure_format", "figures_for_files"]
+__all__ = [
+    "FIGURE_FORMATS",
+    "PRINT_DPI",
+    "REPLAY_FPS",
+    "REPLAY_MAX_FRAMES",
+    "check_figure_format",
+    "figures_for_files",
+]
 
 #: The formats ``viz.plots.save_figure`` writes (by the file's suffix).
 FIGURE_FORMATS = ("png", "pdf", "svg")
 #: Resolution of the saved raster figures [dots per inch]: print quality.
 PRINT_DPI = 300
+#: Frames per second of simulated time a 3-D replay keeps by default (``view --fps``,
+#: ``viz.replay``), and at most this many frames.
+REPLAY_FPS = 25.0
+REPLAY_MAX_FRAMES = 50_000
 
 
 def check_figure_format(figure_format: str) -> str:

@@ -16,7 +16,7 @@ from ..errors import ParameterError
 from ..model.kinematics import HelicopterPoints, helicopter_points
 from ..params import HelicopterParams, Params
 from ..sim.result import list_results, load_result
-from ..sim.result_files import _series_path
+from ..sim.result_files import BASE_POSITION_COLUMNS, _series_path
 
 __all__ = ["RunData", "list_runs", "load_run"]
 
@@ -53,6 +53,12 @@ class RunData:
         The simulator's status message.
     version : str
         The tetherheli version that wrote the run.
+    base : ndarray, shape (n, 3), optional
+        The winch's base in N at each sample [m] (``base_n1..3``; None: a fixed base at NO,
+        stored as zeros). Over a moving base q1..q3 are relative to it.
+    nodes : ndarray, shape (n, N + 1, 3), optional
+        A lumped tether's recorded node positions relative to the base [m], row 0 the winch
+        and row N the point P (``node<i>_n<a>``; None when not recorded).
     """
 
     stem: str
@@ -67,15 +73,31 @@ class RunData:
     status: int
     message: str
     version: str
+    base: np.ndarray | None = None
+    nodes: np.ndarray | None = None
 
     def __post_init__(self) -> None:
-        for name in ("time", "q", "wind", "tension", "trim_position"):
-            getattr(self, name).setflags(write=False)
+        if self.base is None:
+            object.__setattr__(self, "base", np.zeros((len(self.time), 3)))
+        for name in ("time", "q", "wind", "tension", "trim_position", "base", "nodes"):
+            value = getattr(self, name)
+            if value is not None:
+                value.setflags(write=False)
 
     @property
     def position(self) -> np.ndarray:
         """HO in N, (n, 3) [m]."""
         return self.q[:, 0:3]
+
+    @property
+    def world_position(self) -> np.ndarray:
+        """HO in N with the base's motion added, (n, 3) [m] (``position`` + ``base``)."""
+        return self.position + self.base
+
+    @property
+    def base_moves(self) -> bool:
+        """True when the recorded base moved (any ``base_n1..3`` other than its first)."""
+        return bool(np.any(self.base != self.base[:1]))
 
     @property
     def angles(self) -> np.ndarray:
@@ -148,6 +170,28 @@ def load_run(directory: str | Path, stem: str | None = None) -> RunData:
         status=result.status,
         message=result.message,
         version=result.version,
+        base=_base(result.extra),
+        nodes=_nodes(result.extra),
+    )
+
+
+def _base(extra: dict[str, np.ndarray]) -> np.ndarray | None:
+    """The recorded base position (``base_n1..3``), or None for a fixed base."""
+    if all(name in extra for name in BASE_POSITION_COLUMNS):
+        return np.column_stack([extra[name] for name in BASE_POSITION_COLUMNS])
+    return None
+
+
+def _nodes(extra: dict[str, np.ndarray]) -> np.ndarray | None:
+    """A lumped tether's recorded nodes (``node<i>_n<a>``), (n, N + 1, 3), or None."""
+    count = 0
+    while all(f"node{count}_n{a}" in extra for a in (1, 2, 3)):
+        count += 1
+    if count < 2:
+        return None
+    return np.stack(
+        [np.column_stack([extra[f"node{i}_n{a}"] for a in (1, 2, 3)]) for i in range(count)],
+        axis=1,
     )
 
 

@@ -6,6 +6,7 @@ renders and writes the frames.
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -37,6 +38,10 @@ _WIND_ARROW = 1.0  # [m] drawn length of the largest wind force when auto-scalin
 _ZOOM = 1.15  # the close-up box fills more of its panel than Matplotlib's default
 _MARGIN = 0.3  # [m] free space around the drawn helicopter(s) in the close-up
 _FIGURE_INCHES = (10.0, 6.0)  # [in] the animation's figure
+_DECK = 1.5  # [m] half the side of the drawn deck around the winch
+_LABEL_X = 0.2  # the run lines start here (figure fraction), right of the clock
+_LABEL_POINTS = 8.5  # [pt] their font size
+_MONO_WIDTH = 0.6  # a monospace character's advance over its font size
 
 
 def run_colours(runs: Sequence[RunData]) -> list[str]:
@@ -113,10 +118,15 @@ class _Shape:
     tail: np.ndarray  # (m, j, 3) tail-rotor rim
     HO: np.ndarray  # (m, 3)
     P: np.ndarray  # (m, 3)
+    base: np.ndarray  # (m, 3) the winch's base (the deck's pad)
+    nodes: np.ndarray | None  # (m, N + 1, 3) a lumped chain's recorded nodes, or None
 
 
 def _shape(run: RunData, index: np.ndarray, rotor_radius: float) -> _Shape:
-    pts = helicopter_points(run.position[index], run.angles[index], run.helicopter)
+    """The run's geometry at the samples ``index``, in N: over a moving base the recorded
+    positions (relative to it) plus the base's position (``RunData.base``)."""
+    base = run.base[index]
+    pts = helicopter_points(run.position[index] + base, run.angles[index], run.helicopter)
     h = run.helicopter
     tmpl = _wireframe(h, rotor_radius)
     rim = _circle(np.array([0.0, 0.0, h.d_O_MRO3]), rotor_radius, (0, 1), 73)
@@ -127,7 +137,8 @@ def _shape(run: RunData, index: np.ndarray, rotor_radius: float) -> _Shape:
         out = pts.N_p_O[:, None, :] + np.einsum("mij,kj->mki", pts.N_R_F, flat)
         return out.reshape((len(index), *local.shape))
 
-    return _Shape(place(tmpl), place(rim), place(tail), pts.N_p_HO, pts.N_p_P)
+    nodes = None if run.nodes is None else run.nodes[index] + base[:, None, :]
+    return _Shape(place(tmpl), place(rim), place(tail), pts.N_p_HO, pts.N_p_P, base, nodes)
 
 
 def _frame_times(runs: Sequence[RunData], fps: float, speed: float, max_frames: int):
@@ -212,6 +223,7 @@ class _Scene:
         self.index = [_nearest(r.time, times) for r in runs]
         self.shapes = [_shape(r, i, rotor_radius) for r, i in zip(runs, self.index, strict=True)]
         self.tethered = any(r.tethered for r in runs)
+        self.moving_base = any(r.base_moves for r in runs)
         wind_max = max(float(np.max(np.linalg.norm(r.wind, axis=1))) for r in runs)
         if wind_scale is None:
             wind_scale = _WIND_ARROW / wind_max if wind_max > 0.0 else 0.0
@@ -226,9 +238,12 @@ class _Scene:
 
         # Camera: fixed limits from every sample of every run, not only the drawn frames. The
         # wind arrow may leave the box (including it would shrink the helicopter).
-        trims = np.array([r.trim_position for r in runs])
+        trims = np.array([r.trim_position + r.base[0] for r in runs])
         close_lo, close_hi = trims.min(axis=0), trims.max(axis=0)
+        base_lo, base_hi = np.zeros(3), np.zeros(3)
         for r in runs:
+            base_lo = np.minimum(base_lo, r.base.min(axis=0))
+            base_hi = np.maximum(base_hi, r.base.max(axis=0))
             s = _shape(r, np.arange(len(r.time)), rotor_radius)
             for pts in (s.segments, s.rotor, s.tail):
                 flat = pts.reshape(-1, 3)
@@ -238,13 +253,15 @@ class _Scene:
 
         self.fig = Figure(figsize=_FIGURE_INCHES, dpi=dpi)
         FigureCanvasAgg(self.fig)
-        top = 0.92 - 0.035 * len(runs)  # the run lines sit above the panels
-        bottom = 0.1
+        top = 0.93 - 0.032 * max(len(runs), 1)  # the run lines sit above the panels
+        bottom = 0.13  # the legend's rows below
         self.views: list[_View] = []
-        if self.tethered:
-            lo = np.minimum(close_lo, [-1.0, -1.0, 0.0])
-            hi = np.maximum(close_hi, [1.0, 1.0, 0.0])
-            ax = self.fig.add_axes((0.0, bottom, 0.36, top - bottom), projection="3d")
+        self.whole = self.tethered or self.moving_base
+        if self.whole:
+            deck = np.array([_DECK, _DECK, 0.0])
+            lo = np.minimum(np.minimum(close_lo, base_lo - deck), [-1.0, -1.0, 0.0])
+            hi = np.maximum(np.maximum(close_hi, base_hi + deck), [1.0, 1.0, 0.0])
+            ax = self.fig.add_axes((0.0, bottom, 0.34, top - bottom), projection="3d")
             self.views.append(_View(ax, lo, hi, close_up=False))
             self._decorate(ax, "whole scene", bins=3)
             ground = [
@@ -254,19 +271,39 @@ class _Scene:
                 Poly3DCollection(ground, facecolor="0.85", edgecolor="0.6", alpha=0.5),
                 autolim=False,
             )
-            ax.plot([0.0], [0.0], [0.0], marker="s", markersize=8, color="black")
-            ax.text(0.0, 0.0, 0.0, "  winch NO", fontsize=8)
-            cax = self.fig.add_axes((0.925, 0.25, 0.012, 0.5))
-            self.fig.colorbar(
-                ScalarMappable(self.norm, self.cmap), cax=cax, label="tether tension TC [N]"
-            )
-            rect = (0.33, bottom, 0.58, top - bottom)
+        if self.tethered:
+            cax = self.fig.add_axes((0.915, 0.28, 0.012, 0.44))
+            bar = self.fig.colorbar(ScalarMappable(self.norm, self.cmap), cax=cax)
+            bar.set_label("tether tension TC [N]", fontsize=8)
+            bar.ax.tick_params(labelsize=7)
+            rect = (0.31, bottom, 0.56, top - bottom)
+        elif self.whole:
+            rect = (0.31, bottom, 0.66, top - bottom)
         else:
             rect = (0.05, bottom, 0.90, top - bottom)
         ax = self.fig.add_axes(rect, projection="3d")
         self.views.append(_View(ax, close_lo, close_hi, close_up=True))
         self._decorate(ax, "close-up around the trim point", bins=5)
-        ax.plot(*trims.T, marker="x", markersize=8, linestyle="", color="black")
+        # the trim points (relative to the base: they move with a moving deck)
+        self.trim_marker = ax.plot(*trims.T, marker="x", markersize=8, linestyle="", color="black")[
+            0
+        ]
+        # the deck (a square around the winch) and the winch, where the base is
+        self.decks: list[tuple[Any, Any, int]] = []
+        if self.whole:
+            seen: list[np.ndarray] = []
+            for i, r in enumerate(runs):
+                if any(np.array_equal(r.base, b) for b in seen):
+                    continue
+                seen.append(r.base)
+                plate = Poly3DCollection(
+                    [], facecolor="0.55", edgecolor="0.35", alpha=0.7, linewidths=0.8
+                )
+                self.views[0].ax.add_collection(plate, autolim=False)
+                winch = self.views[0].ax.plot(
+                    [], [], [], marker="s", markersize=6, color="black", linestyle=""
+                )[0]
+                self.decks.append((plate, winch, i))
 
         self.artists = [
             [self._add_run(v.ax, r, c) for r, c in zip(runs, self.colours, strict=True)]
@@ -279,11 +316,19 @@ class _Scene:
             zoom = _ZOOM if v.close_up else 1.0
             v.ax.set_box_aspect(tuple(np.maximum(v.hi - v.lo, 1e-6)), zoom=zoom)  # true scale
 
-        self.clock = self.fig.text(0.02, 0.95, "", fontsize=12, family="monospace")
+        self.clock = self.fig.text(
+            0.015, 0.965, "", fontsize=11, family="monospace", va="top", ha="left"
+        )
         self.labels = [
-            self.fig.text(0.21, 0.955 - 0.035 * i, "", fontsize=9, color=c, family="monospace")
+            self.fig.text(
+                _LABEL_X, 0.965 - 0.032 * i, "", fontsize=_LABEL_POINTS, color=c,
+                family="monospace", va="top", ha="left",
+            )
             for i, c in enumerate(self.colours)
-        ]
+        ]  # fmt: skip
+        # a run line never runs off the figure: at most this many characters
+        room = (0.99 - _LABEL_X) * _FIGURE_INCHES[0] * 72.0
+        self.label_chars = max(int(room / (_MONO_WIDTH * _LABEL_POINTS)), 20)
         self._legend()
 
     @staticmethod
@@ -341,13 +386,24 @@ class _Scene:
                     label=f"wind force on HO (1 m = {1.0 / self.wind_scale:.3g} N)",
                 )
             )
+        if self.whole:
+            handles.append(
+                Line2D(
+                    [], [], color="0.55", marker="s", linestyle="", markersize=8,
+                    label="deck, winch" + (" (moving base)" if self.moving_base else " NO"),
+                )
+            )  # fmt: skip
         handles.append(Line2D([], [], color="black", marker="x", linestyle="", label="trim point"))
         self.fig.legend(
             handles=handles,
             loc="lower center",
-            ncols=min(len(handles), 4),
-            fontsize=8,
+            ncols=min(len(handles), 3),
+            fontsize=7.5,
             frameon=False,
+            bbox_to_anchor=(0.5, 0.0),
+            borderaxespad=0.3,
+            handlelength=1.6,
+            columnspacing=1.2,
         )
 
     def _wind_segments(self, ho: np.ndarray, force: np.ndarray) -> list[np.ndarray]:
@@ -369,23 +425,40 @@ class _Scene:
             np.array([tip, tip - head * (u - 0.5 * side)]),
         ]
 
+    def _label(self, r: RunData, j: int) -> str:
+        """The run's line at its sample j, cut to ``label_chars`` characters."""
+        wind = float(np.linalg.norm(r.wind[j]))
+        dev = float(np.linalg.norm(r.position[j] - r.trim_position))
+        text = f"{r.name}: |Fw| {wind:5.1f} N  |HO-trim| {dev:5.2f} m"
+        if r.tethered:
+            text += f"  TC {float(r.tension[j]):6.1f} N"
+        if j == len(r.time) - 1 and r.status != 0:
+            text += f"  stopped: {r.message}"
+        if len(text) > self.label_chars:
+            text = text[: self.label_chars - 3] + "..."
+        return text
+
     def update(self, k: int) -> None:
         """Draw frame k (time ``times[k]``)."""
         t = self.times[k]
         self.clock.set_text(f"t = {t:6.2f} s")
+        for plate, winch, i in self.decks:
+            b = self.shapes[i].base[k]
+            corners = [(-1, -1), (1, -1), (1, 1), (-1, 1)]
+            plate.set_verts([[(b[0] + _DECK * x, b[1] + _DECK * y, b[2]) for x, y in corners]])
+            winch.set_data_3d([b[0]], [b[1]], [b[2]])
+        if self.moving_base:
+            trims = np.array(
+                [r.trim_position + s.base[k] for r, s in zip(self.runs, self.shapes, strict=True)]
+            )
+            self.trim_marker.set_data_3d(*trims.T)
         for i, (r, s, idx) in enumerate(zip(self.runs, self.shapes, self.index, strict=True)):
             j = idx[k]
             tension = float(r.tension[j])
-            wind = float(np.linalg.norm(r.wind[j]))
-            dev = float(np.linalg.norm(r.position[j] - r.trim_position))
-            text = f"{r.stem:<16s} |Fw| = {wind:5.1f} N  |HO - trim| = {dev:5.2f} m"
-            if r.tethered:
-                text += f"  TC = {tension:6.1f} N"
-            if j == len(r.time) - 1 and r.status != 0:
-                text += f"  (stopped: {r.message})"
-            self.labels[i].set_text(text)
-            trail = r.position[: j + 1]
+            self.labels[i].set_text(self._label(r, j))
+            trail = r.world_position[: j + 1]
             arrow = self._wind_segments(s.HO[k], r.wind[j])
+            chain = s.nodes[k] if s.nodes is not None else np.array([s.base[k], s.P[k]])
             for view, per_run in zip(self.views, self.artists, strict=True):
                 a = per_run[i]
                 a.body.set_segments(s.segments[k])
@@ -394,16 +467,52 @@ class _Scene:
                 a.trail.set_data_3d(*trail.T)
                 a.wind.set_segments(arrow)
                 if a.tether is not None:
-                    self._draw_tether(a, view, s.P[k], tension)
+                    self._draw_tether(a, view, chain, tension)
 
     def _moving(self) -> list[Any]:
-        """The artists that change from frame to frame."""
-        out: list[Any] = [self.clock, *self.labels]
+        """The artists that change from frame to frame, back to front."""
+        out: list[Any] = [a for plate, winch, _ in self.decks for a in (plate, winch)]
+        if self.moving_base:
+            out.append(self.trim_marker)
         for per_run in self.artists:
             for a in per_run:
-                out += [a.body, a.disc, a.tail, a.trail, a.wind]
-                out += [x for x in (a.tether, a.P) if x is not None]
-        return out
+                out += [a.trail, *(x for x in (a.tether, a.P) if x is not None)]
+                out += [a.body, a.disc, a.tail, a.wind]
+        return [*out, self.clock, *self.labels]
+
+    def blit_background(self) -> None:
+        """Render everything that never changes once and keep the picture (blitting): each
+        frame then restores it and draws only the moving artists (``render``). The camera
+        is fixed, so the 3-D projections stay those of this drawing."""
+        moving = self._moving()
+        for artist in moving:
+            artist.set_visible(False)
+        self.fig.canvas.draw()
+        self._background = self.fig.canvas.copy_from_bbox(self.fig.bbox)
+        for artist in moving:
+            artist.set_visible(True)
+
+    def render(self, k: int) -> np.ndarray:
+        """Frame k as an RGBA image (H, W, 4), over the background of ``blit_background``.
+
+        Parameters
+        ----------
+        k : int
+            The frame (time ``times[k]``).
+
+        Returns
+        -------
+        numpy.ndarray
+            The canvas's pixels (a view: copy or convert before the next frame).
+        """
+        self.update(k)
+        canvas = self.fig.canvas
+        canvas.restore_region(self._background)
+        for artist in self._moving():
+            if hasattr(artist, "do_3d_projection"):
+                artist.do_3d_projection()
+            self.fig.draw_artist(artist)
+        return np.asarray(canvas.buffer_rgba())
 
     def freeze_background(self) -> None:
         """Render everything that never changes once, as a picture behind the moving parts.
@@ -432,14 +541,18 @@ class _Scene:
             legend.set_visible(False)
         self.fig.figimage(background, zorder=-1)
 
-    def _draw_tether(self, a: _RunArtists, view: _View, P: np.ndarray, tension: float) -> None:
-        """Straight tether NO-P, coloured by tension (dashed grey when slack)."""
-        origin = np.zeros(3)
+    def _draw_tether(self, a: _RunArtists, view: _View, chain: np.ndarray, tension: float) -> None:
+        """The tether from the winch to P (straight, or through a lumped chain's recorded
+        nodes), coloured by tension (dashed grey when slack)."""
+        P = chain[-1]
         if view.close_up:  # only the part inside the close-up box
-            part = _clip_segment(origin, P, view.lo, view.hi)
-            ends = np.array(part) if part is not None else np.empty((0, 3))
+            parts = [
+                _clip_segment(a0, b0, view.lo, view.hi) for a0, b0 in itertools.pairwise(chain)
+            ]
+            kept = [p for p in parts if p is not None]
+            ends = np.array([kept[0][0], *(p[1] for p in kept)]) if kept else np.empty((0, 3))
         else:
-            ends = np.array([origin, P])
+            ends = chain
         a.tether.set_data_3d(*ends.T)
         if tension <= _SLACK:
             a.tether.set_color("0.5")
