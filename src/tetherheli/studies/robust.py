@@ -356,7 +356,7 @@ def montecarlo_compare(
     runs: int | None = None,
     eq40: bool = False,
     seed: int | None = None,
-    workers: int | None = None,
+    workers: int | None = 1,
 ) -> MonteCarloComparison:
     """Fly the first ``runs`` draws of a Monte Carlo free (paper) and tethered under each of
     ``controllers``, all designed on ``base``'s nominal parameters (module docstring).
@@ -377,9 +377,9 @@ def montecarlo_compare(
         The root seed of the draws (default ``config.seed``): draw i is that of
         ``draw_seed(seed, i)``, the same for the same seed.
     workers : int, optional
-        Threads flying the draws (default: the CPUs available; ``run_threads``). The
-        measures do not depend on it, but for the compute time, which is taken with the other
-        runs in flight: 1 times each run alone.
+        Threads flying the draws (default 1, one after the other; None: the CPUs available;
+        ``run_threads``). The measures do not depend on it, but for the compute time, which
+        is taken with the other runs in flight.
 
     Returns
     -------
