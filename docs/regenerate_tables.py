@@ -169,6 +169,8 @@ def table_eq40(work: Path, figures: Path | None) -> None:
         "0,10,20,25,30,40,50,60,70,80",
         "--cyclic-limit",
         PAPER_CYCLIC_LIMIT,
+        "--metric",
+        "rms_q1",
         "--out",
         out,
         "--force",

@@ -88,8 +88,9 @@ def test_derive_output_is_removed(tmp_path, capsys, monkeypatch):
     new, old = tmp_path / "new.py", tmp_path / "old.py"
     assert cli.main(["derive", "--out", str(new)]) == 0
     assert new.read_text() == "# generated\n" and capsys.readouterr().err == ""
-    assert cli.main(["derive", "--output", str(old)]) == 2
-    assert not old.exists() and "--output" in capsys.readouterr().err
+    other = tmp_path / "other.py"
+    assert cli.main(["derive", "--output", str(old), "--out", str(other)]) == 2
+    assert not old.exists() and not other.exists() and "--output" in capsys.readouterr().err
     help_text = _subparsers(cli.build_parser())["derive"].format_help()
     assert "--out " in help_text and "--output" not in help_text
 

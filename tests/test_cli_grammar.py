@@ -31,13 +31,16 @@ SHARED_FLAGS = {
     "simulate": ("--out", "--format", "--figure-format", "--force"),
     "animate": (),
     "view": (),
-    "sweep": ("--out", "--workers", "--figure-format", "--force"),
+    "sweep": ("--out", "--metric", "--workers", "--format", "--figure-format", "--force"),
     "montecarlo": (
+        "--out", "--runs", "--seed", "--metric", "--workers", "--format", "--figure-format",
+        "--force",
+    ),
+    "sensing": ("--out", "--format", "--figure-format", "--force"),
+    "compare": (
         "--out", "--runs", "--seed", "--workers", "--format", "--figure-format", "--force",
     ),
-    "sensing": ("--out", "--figure-format", "--force"),
-    "compare": ("--out", "--runs", "--figure-format", "--force"),
-    "tether-study": ("--out", "--workers", "--figure-format", "--force"),
+    "tether-study": ("--out", "--workers", "--format", "--figure-format", "--force"),
     "scenarios": (),
 }  # fmt: skip
 #: A command's own flags that share a shared flag's name but not its meaning: the ``--out``
@@ -103,6 +106,43 @@ def test_every_default_is_stated():
                 assert "(required)" in shown, (name, action.option_strings)
             elif action.default not in (None, False, argparse.SUPPRESS):
                 assert "default" in shown, (name, action.option_strings, shown)
+
+
+def test_every_option_states_its_default_or_that_it_is_required():
+    """Every option that takes a value says its default in its rendered help (argparse's
+    %(default)s, the formatter's " (default: X)", or the text's own "default: ..."), or that
+    it is required; only --help, flags (no value) and hidden deprecated spellings are exempt.
+    (``trim --params``, ``montecarlo --scheduler`` and ``--max-chunks`` said neither.)"""
+    formatter = _common.Formatter("tetherheli")
+    silent = []
+    for name, sub in _subcommands().items():
+        for action in sub._actions:
+            if not action.option_strings or isinstance(action, argparse._HelpAction):
+                continue
+            if action.help == argparse.SUPPRESS or action.nargs == 0:  # hidden, or a flag
+                continue
+            shown = formatter._get_help_string(action) % {"default": action.default}
+            if "default" not in shown and "required" not in shown:
+                silent.append(f"{name} {'/'.join(action.option_strings)}")
+    assert silent == []
+
+
+def test_one_default_metric_for_every_command():
+    """``sweep``, ``sweep --find-min`` and ``montecarlo`` report ``names.DEFAULT_METRIC``
+    (peak_q1, the paper's first claim) without --metric; sweep's was rms_q1."""
+    from tetherheli.names import DEFAULT_METRIC
+
+    assert DEFAULT_METRIC == "peak_q1"
+    parser = cli.build_parser()
+    for argv in (
+        ["sweep", "s.toml", "--param", "q9", "--values", "9,10", "--out", "o"],
+        ["sweep", "s.toml", "--find-min", "actuators.cyclic_limit", "--values", "1:2:2",
+         "--out", "o"],
+        ["montecarlo", "mc.toml", "--out", "o"],
+    ):  # fmt: skip
+        assert parser.parse_args(argv).metric == DEFAULT_METRIC, argv[0]
+    for name in ("sweep", "montecarlo"):
+        assert _flags(_subcommands()[name])["--metric"].help == _common.HELP["--metric"]
 
 
 def test_the_formatter_states_a_default_once():

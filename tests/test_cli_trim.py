@@ -66,3 +66,22 @@ def test_python_dash_m_is_the_same_program():
         check=False,
     )
     assert res.returncode == 2 and "Traceback" not in res.stderr
+
+
+def test_derive_needs_out_and_never_writes_the_package_by_default(monkeypatch, capsys):
+    """``derive`` without ``--out`` is one usage line naming ``--out`` (exit 2), and the
+    package's own _generated.py is not touched (it was the default target)."""
+    from tetherheli.model import codegen
+
+    calls = []
+    monkeypatch.setattr(codegen, "generate_source", lambda: calls.append(1) or "# generated\n")
+    before = codegen.GENERATED_PATH.stat()
+    for argv in (["derive"], ["derive", "--check"]):
+        assert main(argv) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "--out" in err[0] and "required" in err[0], err
+    after = codegen.GENERATED_PATH.stat()
+    assert calls == [] and (after.st_mtime_ns, after.st_size) == (
+        before.st_mtime_ns,
+        before.st_size,
+    )

@@ -248,3 +248,52 @@ def test_compare_figure_leaves_failed_percentiles_out_without_warnings():
     fig.canvas.draw()
     heights = [p.get_height() for p in fig.axes[0].patches]
     assert heights[:1] == [1.2] and all(math.isnan(h) for h in heights[1::2])
+
+
+def test_compare_seed_workers_and_parquet(tmp_path, short_mc):
+    """``compare --seed`` sets the Monte Carlo's draws: the same seed gives the same table
+    (whatever --workers and --format; only the measured compute time differs), another seed
+    other draws; ``--format parquet`` writes compare.parquet, read back by pyarrow equal to
+    compare.csv, with the measures' units in its fields."""
+    import csv
+
+    import pyarrow.parquet as pq
+
+    from tests.tables import assert_same_table
+
+    base, _ = short_mc
+    mc = tmp_path / "mc.toml"
+    mc.write_text(
+        base.replace(duration=11.0).to_toml()
+        + '\n[montecarlo]\nruns = 50\nseed = 20261122\nparams = { "helicopter.m_F" = 5.0 }\n'
+    )
+    single = tmp_path / "single.toml"
+    single.write_text(base.replace(name="single", duration=3.0).to_toml())
+    argv = ["compare", str(single), "--montecarlo", str(mc), "--runs", "2", "--controllers",
+            "paper", "--quiet"]  # fmt: skip
+    a, b, c = (tmp_path / k for k in "abc")
+    assert main([*argv, "--seed", "1", "--workers", "2", "--out", str(a)]) == 0
+    assert (
+        main([*argv, "--seed", "1", "--workers", "1", "--format", "parquet", "--out", str(b)]) == 0
+    )
+    assert main([*argv, "--seed", "2", "--workers", "2", "--out", str(c)]) == 0
+    assert not (b / "compare.csv").exists()
+    assert_same_table(a / "compare.csv", b / "compare.parquet", skip=("compute_us_per_sample",))
+    schema = pq.read_schema(b / "compare.parquet")
+    assert schema.field("peak_q1").metadata[b"units"] == b"m"
+    assert schema.field("reduction_peak_q1_p50").metadata[b"units"] == b"%"
+    for out, seed in ((a, 1), (c, 2)):
+        assert json.loads((out / "summary.json").read_text())["montecarlo"][0]["seed"] == seed
+
+    def rows(out):
+        with open(out / "compare.csv", newline="") as fh:
+            found = list(csv.DictReader(fh))
+        for r in found:
+            del r["compute_us_per_sample"]
+        return [r for r in found if r["scenario"] == "single"], [
+            r for r in found if r["scenario"] != "single"
+        ]
+
+    (single_a, drawn_a), (single_c, drawn_c) = rows(a), rows(c)
+    assert single_a == single_c and len(single_a) == 1  # a single run has no draws
+    assert [r["peak_q1"] for r in drawn_a] != [r["peak_q1"] for r in drawn_c]

@@ -280,3 +280,36 @@ def test_gnss_outage_loses_gnss_flight_not_tether_flight():
     clean = simulate(sensing_scenario("tether"))
     assert tether.ok
     np.testing.assert_array_equal(tether.states, clean.states)
+
+
+# ---------------------------------------------------------------------------------------------
+# the command: scenario files as arguments, the time series' format
+# ---------------------------------------------------------------------------------------------
+def test_sensing_command_takes_files_as_arguments_and_parquet(tmp_path, capsys):
+    """``tetherheli sensing A.toml B.toml --format parquet --out DIR`` (scenario files as
+    arguments, as every command takes them; ``--scenario`` was the only spelling): each run's
+    time series is ``<name>.parquet``, read back equal to the CSV of the same run. The old
+    ``--scenario FILE`` still flies the file, with one deprecation line on stderr."""
+    from tetherheli.cli import main
+    from tetherheli.sim import load_result
+
+    files = []
+    for key in ("gps", "tether"):
+        path = tmp_path / f"{key}.toml"
+        path.write_text(sensing_scenario(key).replace(duration=2.0).to_toml())
+        files.append(str(path))
+    assert (
+        main(["sensing", *files, "--quiet", "--format", "parquet", "--out", str(tmp_path / "p")])
+        == 0
+    )
+    assert main(["sensing", "--quiet", "--scenario", files[0], "--out", str(tmp_path / "c")]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--scenario" in err[0] and "deprecated" in err[0], err
+    name = sensing_scenario("gps").name
+    written = {p.name for p in (tmp_path / "p").iterdir()}
+    assert {f"{sensing_scenario(k).name}.parquet" for k in ("gps", "tether")} <= written
+    assert not any(n.endswith(".csv") for n in written)
+    from_parquet = load_result(tmp_path / "p", name)
+    from_csv = load_result(tmp_path / "c", name)
+    np.testing.assert_array_equal(from_parquet.time, from_csv.time)
+    np.testing.assert_array_equal(from_parquet.outputs, from_csv.outputs)

@@ -263,7 +263,7 @@ def test_sensing_with_failing_scenario_reports_it(tmp_path, capsys):
     direct = simulate(load_scenario(path))
     assert not direct.ok
     out = tmp_path / "sensing"
-    assert main(["sensing", "--scenario", str(path), "--out", str(out)]) == 1
+    assert main(["sensing", str(path), "--out", str(out)]) == 1
     err = capsys.readouterr().err
     assert err.strip().splitlines() == [
         f"tetherheli: run sensing_fails failed at t = {direct.end_time:g} s: {direct.message} "

@@ -122,3 +122,31 @@ def test_sweep_actuator_settings_and_batch_equals_simulate():
     assert lag.metric[0] != lag.metric[1]
     with pytest.raises(ParameterError, match=r"actuators\.cyclic_limit"):
         sweep(s, "actuators.cyclic_limit", np.array([-1.0]))
+
+
+@pytest.mark.parametrize("find_min", [False, True], ids=["sweep", "find_min"])
+def test_sweep_default_metric_and_parquet_table(tmp_path, find_min):
+    """Without --metric the sweep (and its --find-min) reports peak_q1, the default of every
+    command (``names.DEFAULT_METRIC``; the sweep's was rms_q1); ``--format parquet`` writes
+    sweep.parquet, which pyarrow reads back equal to sweep.csv, units in its fields."""
+    import pyarrow.parquet as pq
+
+    from tests.tables import assert_same_table
+
+    scenario = tmp_path / "short.toml"
+    scenario.write_text(load_scenario(SIM1_TETHERED).replace(duration=12.0).to_toml())
+    what = (
+        ["--find-min", "actuators.cyclic_limit", "--values", "2,8", "--tol", "4"]
+        if find_min
+        else ["--param", "tension_control.T_ref", "--values", "10,20"]
+    )
+    argv = ["sweep", str(scenario), *what, "--quiet"]
+    assert main([*argv, "--out", str(tmp_path / "c")]) in (0, 1)
+    assert read_json(tmp_path / "c" / "summary.json")["metric"] == "peak_q1"
+    assert main([*argv, "--format", "parquet", "--out", str(tmp_path / "p")]) in (0, 1)
+    assert not (tmp_path / "p" / "sweep.csv").exists()
+    assert_same_table(tmp_path / "c" / "sweep.csv", tmp_path / "p" / "sweep.parquet")
+    schema = pq.read_schema(tmp_path / "p" / "sweep.parquet")
+    first = "cyclic_limit_Nm" if find_min else "value"
+    assert schema.field(first).metadata[b"units"] == (b"N m" if find_min else b"N")
+    assert schema.field("metric").metadata[b"units"] == b"m"

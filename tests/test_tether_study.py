@@ -281,3 +281,34 @@ def test_scaled_winch_gain_keeps_the_papers_loop_gain():
 def test_json_ready_writes_nan_as_null():
     """summary.json is strict JSON: NaN (a failed run's metric) becomes null."""
     assert ts.json_ready([{"a": math.nan, "b": 1.0}]) == [{"a": None, "b": 1.0}]
+
+
+def test_tables_as_parquet_equal_the_csv(tmp_path):
+    """``tether-study --format parquet`` writes static, dynamic and sensing.parquet, each read
+    back by pyarrow equal to its CSV (the same study), units in the fields named by them."""
+    import pyarrow.parquet as pq
+
+    from tests.tables import assert_same_table
+
+    argv = [
+        "tether-study", "--cables", "paper", "--lengths", "20", "--winds", "5",
+        "--elevations", "90", "--duration", "11", "--model", "massless", "--workers", "1",
+        "--quiet",
+    ]  # fmt: skip
+    csv_out, pq_out = tmp_path / "csv", tmp_path / "pq"
+    assert main([*argv, "--out", str(csv_out)]) == 0
+    assert main([*argv, "--format", "parquet", "--out", str(pq_out)]) == 0
+    for table in ("static", "dynamic", "sensing"):
+        assert not (pq_out / f"{table}.csv").exists()
+        assert_same_table(csv_out / f"{table}.csv", pq_out / f"{table}.parquet")
+    units = {
+        ("static", "length_m"): b"m",
+        ("static", "k_lateral_N_m"): b"N/m",
+        ("dynamic", "sim1_peak_q1_free"): b"m",
+        ("dynamic", "sim1_peak_q1_reduction_pct"): b"%",
+        ("sensing", "wind_m_s"): b"m/s",
+        ("sensing", "ivf"): b"m",
+    }
+    for (table, column), unit in units.items():
+        field = pq.read_schema(pq_out / f"{table}.parquet").field(column)
+        assert field.metadata[b"units"] == unit, (table, column)

@@ -17,23 +17,51 @@ against the free helicopter (median and 5th percentile over the draws).
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 from pathlib import Path
 from typing import Any
 
 from .viz.formats import figures_for_files
 
-__all__ = ["compare", "markdown_reductions", "write_compare"]
+__all__ = ["COLUMN_UNITS", "compare", "markdown_reductions", "write_compare"]
 
 
-def compare(paths: list[str], controllers: tuple[str, ...], *, eq40: bool) -> list[dict[str, Any]]:
+def _column_units() -> dict[str, str]:
+    from .names import INPUT, INPUT_UNITS
+
+    return {
+        **{f"{k}_q{a}": "m" for k in ("peak", "rms") for a in (1, 2, 3)},
+        "peak_attitude_deg": "deg",
+        **{
+            f"{k}_d{n}": u for k in ("rms", "peak") for n, u in zip(INPUT, INPUT_UNITS, strict=True)
+        },
+        "peak_cyclic": "N m",
+        "cyclic_limit": "N m",
+        "tension_min": "N",
+        "tension_max": "N",
+        "compute_us_per_sample": "us",
+    }
+
+
+#: The unit of each measure of the table (``controllers.CONTROLLER_METRICS``); the paired
+#: reductions are in %.
+COLUMN_UNITS: dict[str, str] = _column_units()
+
+
+def compare(
+    paths: list[str],
+    controllers: tuple[str, ...],
+    *,
+    eq40: bool,
+    workers: int | None = 1,
+) -> list[dict[str, Any]]:
     """One row per (scenario, controller): ``scenario``, ``configuration``, ``controller``,
     ``status`` and ``controllers.CONTROLLER_METRICS``.
 
     Each run is flown twice and the second timed (the first compiles what it needs). A
-    free scenario is flown under the paper's controller only.
+    free scenario is flown under the paper's controller only. With ``workers`` > 1 the runs
+    fly side by side (``studies.robust.run_threads``): the same measures, but each compute
+    time is taken with the other runs in flight.
 
     Parameters
     ----------
@@ -44,6 +72,8 @@ def compare(paths: list[str], controllers: tuple[str, ...], *, eq40: bool) -> li
         "tether_lqi")``.
     eq40 : bool
         Saturate tMR1, tMR2 at eq 40's cyclic limit (``eq40_saturated``).
+    workers : int, optional
+        Threads flying the runs (default 1: one after the other; None: the CPUs available).
 
     Returns
     -------
@@ -54,8 +84,9 @@ def compare(paths: list[str], controllers: tuple[str, ...], *, eq40: bool) -> li
     from .errors import TetherheliError, WeightsError, named_source
     from .sim import load_scenario
     from .studies.controllers import check_design, eq40_saturated, fly, with_controller
+    from .studies.robust import run_threads, thread_count
 
-    rows = []
+    runs = []  # (scenario, controller) in table order
     for path in paths:
         base = load_scenario(path)
         if eq40:
@@ -63,26 +94,34 @@ def compare(paths: list[str], controllers: tuple[str, ...], *, eq40: bool) -> li
         names = controllers if base.configuration == "tethered" else ("paper",)
         for name in names:  # weights without a design are the file's error: refused, named
             named_source(path, check_design, with_controller(base, name))
-        for name in names:
-            row: dict[str, Any] = {
-                "scenario": base.name,
-                "configuration": base.configuration,
-                "controller": name,
-            }
-            try:
-                scenario = with_controller(base, name)
-                fly(scenario)  # a first run compiles what it needs: not part of the time
-                result, metrics = fly(scenario)
-                row["status"] = result.message
-                row.update(metrics)
-            except WeightsError:
-                raise
-            except TetherheliError as exc:
-                row["status"] = str(exc).splitlines()[0]
-                row["completed"] = False
-            row["runs"] = 1
-            row["failures"] = 0 if row["completed"] else 1
-            rows.append(row)
+        runs.extend((base, name) for name in names)
+    rows: list[dict[str, Any]] = [{} for _ in runs]
+
+    def fly_one(i: int) -> None:  # row i only
+        base, name = runs[i]
+        row: dict[str, Any] = {
+            "scenario": base.name,
+            "configuration": base.configuration,
+            "controller": name,
+        }
+        try:
+            scenario = with_controller(base, name)
+            fly(scenario)  # a first run compiles what it needs: not part of the time
+            result, metrics = fly(scenario)
+            row["status"] = result.message
+            row.update(metrics)
+        except WeightsError:
+            raise
+        except TetherheliError as exc:
+            row["status"] = str(exc).splitlines()[0]
+            row["completed"] = False
+        row["runs"] = 1
+        row["failures"] = 0 if row["completed"] else 1
+        rows[i] = row
+
+    longest = max(runs, key=lambda r: r[0].n_samples, default=None)
+    threads = thread_count(workers, len(runs), longest[0] if longest else None)
+    run_threads(fly_one, len(runs), threads)
     return rows
 
 
@@ -119,8 +158,10 @@ def write_compare(
     force: bool = False,
     montecarlo: tuple[Any, ...] = (),
     figure_format: str = "png",
+    data_format: str = "csv",
 ) -> None:
-    """compare.csv (every measure), compare.md (the main columns), compare.png and
+    """compare.csv or compare.parquet (every measure, ``data_format``; ``write_table``, units
+    in the Parquet fields' metadata), compare.md (the main columns), compare.png and
     summary.json, written whole or not at all (``_io.output_directory``); with Monte Carlo
     comparisons also compare_montecarlo.md (the paired reductions), compare_montecarlo.png
     (``_figure_montecarlo``) and their per-draw values in summary.json.
@@ -142,6 +183,8 @@ def write_compare(
         in ``rows``.
     figure_format : {"png", "pdf", "svg"}, optional
         File format of the figures (default "png").
+    data_format : {"csv", "parquet"}, optional
+        File format of the table (default "csv").
 
     Returns
     -------
@@ -149,6 +192,7 @@ def write_compare(
     """
     from . import __version__
     from ._io import atomic_write_text, output_directory, write_json
+    from .sim.result_files import check_result_format, write_table
     from .studies.controllers import CONTROLLER_METRICS
     from .studies.robust import REDUCED
     from .viz.plots import save_figure
@@ -158,16 +202,15 @@ def write_compare(
         "scenario", "configuration", "controller", "status", "runs", "failures",
         *CONTROLLER_METRICS, *(reductions if montecarlo else ()),
     ]  # fmt: skip
-    buf = io.StringIO()
-    writer = csv.writer(buf, lineterminator="\n")
-    writer.writerow(columns)
-    for r in rows:
-        writer.writerow([r.get(c, "") for c in columns])
+    data_format = check_result_format(data_format)
+    table = [[r.get(c, "") for c in columns] for r in rows]
+    units = {c: u for c in columns if (u := COLUMN_UNITS.get(c)) is not None}
+    units.update({c: "%" for c in reductions if c in columns})
     fig = _figure([r for r in rows if r.get("runs", 1) == 1] or rows)
     fig_mc = _figure_montecarlo(montecarlo) if montecarlo else None
     with output_directory(out_dir, writer="compare", inputs=inputs, force=force) as tmp:
         save_figure(fig, tmp / f"compare.{figure_format}")
-        atomic_write_text(tmp / "compare.csv", buf.getvalue())
+        write_table(tmp / f"compare.{data_format}", columns, table, units=units)
         atomic_write_text(tmp / "compare.md", markdown_table(rows))
         info = {
             "rows": [{k: _json_number(v) for k, v in r.items()} for r in rows],

@@ -6,6 +6,7 @@ from __future__ import annotations
 __all__ = [
     "BASE_ACCELERATION",
     "BASE_ACCELERATION_UNITS",
+    "DEFAULT_METRIC",
     "FREE_STATE",
     "FREE_STATE_UNITS",
     "INPUT",
@@ -89,6 +90,9 @@ METRIC_UNITS: dict[str, str] = {
 }  # fmt: skip
 #: The Monte Carlo table's metrics (``studies.montecarlo.runner.METRICS``): all but the count
 MONTECARLO_METRICS = tuple(m for m in METRIC_NAMES if m != "n_samples")
+#: The metric of every command that takes ``--metric`` when none is given (``sweep``, its
+#: ``--find-min``, ``montecarlo``): the peak deviation along n1, the paper's first claim.
+DEFAULT_METRIC = "peak_q1"
 
 # The tether study's (``studies.tether_study``) choices and default grids, named here so that
 # the command line's help builds without the study (which imports the lumped chain's compiled

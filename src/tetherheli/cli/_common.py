@@ -26,6 +26,7 @@ __all__ = [
     "data_format",
     "figure_format",
     "force",
+    "metric",
     "out_directory",
     "plain",
     "positive_float",
@@ -52,6 +53,8 @@ HELP = {
     "--format": "file format of the tables (time series, results): csv, or parquet (needs "
     "pandas and pyarrow); a run's time series also mcap (needs mcap: the signals and a 3-D "
     "scene for Foxglove)",
+    "--metric": "the metric reported and plotted: a peak or RMS deviation from the trim "
+    "(peak_q1, rms_q1, ...: m; peak_q4_deg, peak_q5_deg: deg) or a tension (N)",
     "--figure-format": (
         "format of the figures: png (raster, {dpi} dpi or Matplotlib's savefig.dpi), or pdf "
         "or svg (vector)"
@@ -311,6 +314,27 @@ def runs() -> argparse.ArgumentParser:
     """
     p = _parent()
     p.add_argument("--runs", type=int, help=HELP["--runs"])
+    return p
+
+
+def metric(choices: Sequence[str] | None = None) -> argparse.ArgumentParser:
+    """``--metric NAME``, the metric a command reports and plots; one default for every
+    command (``names.DEFAULT_METRIC``).
+
+    Parameters
+    ----------
+    choices : sequence of str, optional
+        The metrics the command takes (None: the command checks the name).
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        A parent parser.
+    """
+    from ..names import DEFAULT_METRIC
+
+    p = _parent()
+    p.add_argument("--metric", choices=choices, default=DEFAULT_METRIC, help=HELP["--metric"])
     return p
 
 

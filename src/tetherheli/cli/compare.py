@@ -38,6 +38,7 @@ def run(args: argparse.Namespace) -> int:
     if not args.scenarios and not mc_files:
         raise ParameterError("scenarios", "none", "scenario files or --montecarlo FILE")
     from ..errors import named_source
+    from ..sim.result import check_result_format
     from ..studies.controllers import check_design, with_controller
     from ..studies.montecarlo import load_montecarlo
     from ..studies.montecarlo.config import MAX_RUNS
@@ -46,6 +47,7 @@ def run(args: argparse.Namespace) -> int:
 
     if args.runs is not None:
         check_integer("--runs", args.runs, low=1, high=MAX_RUNS)
+    check_result_format(args.data_format)  # before the runs
     mc_inputs = []
     for path in mc_files:  # read them all before any run: a bad file fails fast
         mc_inputs.append(load_montecarlo(path))
@@ -60,16 +62,20 @@ def run(args: argparse.Namespace) -> int:
     named = [load_scenario(path) for path in args.scenarios] + [b for b, _ in mc_inputs]
     inputs = c.scenario_inputs([*args.scenarios, *mc_files], named)  # the tracks they name too
     claim_output_directory(args.out, inputs=inputs, force=args.force)
-    rows = compare(list(args.scenarios), names, eq40=args.eq40)
+    rows = compare(list(args.scenarios), names, eq40=args.eq40, workers=args.workers)
     montecarlo = []
     for base, config in mc_inputs:
-        mc = montecarlo_compare(base, config, names, runs=args.runs, eq40=args.eq40)
+        mc = montecarlo_compare(
+            base, config, names, runs=args.runs, eq40=args.eq40, seed=args.seed,
+            workers=args.workers,
+        )  # fmt: skip
         montecarlo.append(mc)
         rows.extend(mc.rows())
     command = "tetherheli compare " + " ".join(sys.argv[2:])
     write_compare(
         rows, args.out, command=command, inputs=inputs, force=args.force,
         montecarlo=tuple(montecarlo), figure_format=args.figure_format,
+        data_format=args.data_format,
     )  # fmt: skip
     print(markdown_table(rows), end="")
     if montecarlo:
@@ -96,7 +102,19 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "compare",
         help="fly scenarios under several controllers: table, figure",
-        parents=[c.out_directory(), c.runs(), c.figure_format(), c.force()],
+        description="Fly scenarios (and a Monte Carlo's draws) under several controllers: "
+        "one table, figures. The runs fly side by side on --workers threads; each run's "
+        "compute time (us/sample) is taken with the others in flight, --workers 1 times "
+        "each run alone.",
+        parents=[
+            c.out_directory(),
+            c.runs(),
+            c.seed(),
+            c.workers(),
+            c.data_format(runs=False),
+            c.figure_format(),
+            c.force(),
+        ],
     )
     p.add_argument("scenarios", nargs="*", help="scenario TOML files")
     p.add_argument(
@@ -110,6 +128,6 @@ def register(sub: argparse._SubParsersAction) -> None:
         action="append",
         metavar="FILE",
         help="a Monte Carlo file ([montecarlo]): its draws under every controller, designed "
-        "on the nominal plant; percentiles and paired reductions (repeatable)",
+        "on the nominal plant; percentiles and paired reductions (repeatable; default: none)",
     )
     p.set_defaults(func=run)

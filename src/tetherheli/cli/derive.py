@@ -15,7 +15,8 @@ def run(args: argparse.Namespace) -> int:
     Parameters
     ----------
     args : argparse.Namespace
-        The parsed command line (``--out``, ``--check``).
+        The parsed command line (``--out``, required: nothing is written into the installed
+        package unless asked for by name; ``--check``).
 
     Returns
     -------
@@ -25,7 +26,7 @@ def run(args: argparse.Namespace) -> int:
     from .._io import atomic_write_text, check_output_file, record_output_file
     from ..model.codegen import GENERATED_PATH, generate_source
 
-    target = Path(args.out) if args.out else GENERATED_PATH
+    target = Path(args.out)  # required: never the installed package's file by default
     generated = target.resolve() == GENERATED_PATH.resolve()
     if not (args.check or generated):  # a user's path: a new file, or one derive wrote
         check_output_file(target, option="--out")
@@ -58,11 +59,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     """
     p = sub.add_parser("derive", help="regenerate the numeric model code from Kane's method")
     p.add_argument(
-        "--out", metavar="FILE", help="where to write (default: the package's _generated.py)"
+        "--out",
+        metavar="FILE",
+        required=True,
+        help="the file to write, or with --check to compare (the package's own code is "
+        "src/tetherheli/model/_generated.py in a source checkout)",
     )
     p.add_argument(
         "--check",
         action="store_true",
-        help="only compare the committed code with a fresh derivation",
+        help="only compare the --out file with a fresh derivation, writing nothing",
     )
     p.set_defaults(func=run)

@@ -162,6 +162,7 @@ def register(sub: argparse._SubParsersAction) -> None:
             c.out_directory(),
             c.runs(),
             c.seed(),
+            c.metric(MONTECARLO_METRICS),
             c.workers(),
             c.data_format(runs=False),
             c.figure_format(),
@@ -176,23 +177,22 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="draws per resumable chunk file",
     )
     p.add_argument(
-        "--metric",
-        choices=MONTECARLO_METRICS,
-        default="peak_q1",
-        help="the metric of the figures (histogram, CDF, paired scatter)",
-    )
-    p.add_argument(
         "--max-chunks",
         type=c.count_arg("--max-chunks", 0, 10_000_000),
         help="compute at most this many new chunks, then stop with exit code 3 if the job is "
-        "not finished (resume by running the same command again)",
+        "not finished (resume by running the same command again; default: no limit, run "
+        "to the end)",
     )
     p.add_argument(
         "--strict",
         action="store_true",
         help="exit 1 if any run failed (by default failed runs are rows of the table, exit 0)",
     )
-    p.add_argument("--scheduler", help="run on a dask.distributed scheduler, e.g. tcp://host:8786")
+    p.add_argument(
+        "--scheduler",
+        help="run on a dask.distributed scheduler, e.g. tcp://host:8786 (default: none, "
+        "in this process with --workers threads)",
+    )
     p.add_argument(
         "--connect-timeout",
         type=c.positive_float("--connect-timeout"),

@@ -62,5 +62,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "write).",
     )
     p.add_argument("name", nargs="?", help="a shipped scenario's name (see the list)")
-    p.add_argument("--out", metavar="FILE", help="file to write the scenario to (with NAME)")
+    p.add_argument(
+        "--out", metavar="FILE", help="file to write the scenario to (required with NAME)"
+    )
     p.set_defaults(func=run)

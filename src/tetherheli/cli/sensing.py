@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
 from . import _common as c
 
@@ -24,13 +25,24 @@ def run(args: argparse.Namespace) -> int:
     """
     from ..report.paper import run_sensing
 
+    if args.scenario_option:  # the deprecated spelling: still flown, after the arguments
+        print(
+            "tetherheli: warning: sensing --scenario FILE is deprecated; give the scenario "
+            "files as arguments (tetherheli sensing FILE ... --out DIR)",
+            file=sys.stderr,
+        )
+    files = (*args.scenarios, *args.scenario_option)
     table = run_sensing(
         args.out,
-        scenarios=tuple(args.scenario) or None,
+        scenarios=files or None,
         force=args.force,
         figure_format=args.figure_format,
+        data_format=args.data_format,
     )
-    print(f"wrote {args.out}/ (sensing.{args.figure_format}, summary.json, time series)")
+    print(
+        f"wrote {args.out}/ (sensing.{args.figure_format}, summary.json, time series as "
+        f"{args.data_format})"
+    )
     print("RMS q1/q2/q3 [m]: the controller's estimate error, the true deviation from trim,")
     print("and the Kalman filter's error fusing the IMU with each source (over the GNSS outage)")
 
@@ -65,12 +77,18 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "sensing",
         help="the tether as a GPS-free position sensor (Sec. IV-F)",
-        parents=[c.out_directory("sensing_out"), c.figure_format(), c.force()],
-    )
+        parents=[
+            c.out_directory("sensing_out"), c.data_format(), c.figure_format(), c.force(),
+        ],
+    )  # fmt: skip
     p.add_argument(
-        "--scenario",
-        action="append",
-        default=[],
-        help="scenario with [sensors] (repeatable; default: the shipped sensing_*.toml)",
+        "scenarios",
+        nargs="*",
+        metavar="SCENARIO",
+        help="scenario TOML files with [sensors] (default: the shipped sensing_*.toml)",
+    )
+    # deprecated: the scenario files are arguments, as in every other command
+    p.add_argument(
+        "--scenario", action="append", default=[], dest="scenario_option", help=argparse.SUPPRESS
     )
     p.set_defaults(func=run)

@@ -46,7 +46,9 @@ def run(args: argparse.Namespace) -> int:
     from .._io import claim_output_directory
     from ..errors import named_source
     from ..sim import load_scenario
+    from ..sim.result import check_result_format
 
+    check_result_format(args.data_format)  # before the runs
     scenario = load_scenario(args.scenario)
     if args.controller is not None:  # every run under this controller
         from ..studies.controllers import with_controller
@@ -59,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
     from ..report.sweep import write_sweep
     from ..studies.sweep import sweep
 
-    metric = args.metric or "rms_q1"
+    metric = args.metric
     claim_output_directory(args.out, inputs=inputs, force=args.force)
     result = named_source(
         args.scenario,
@@ -79,6 +81,7 @@ def run(args: argparse.Namespace) -> int:
         inputs=inputs,
         force=args.force,
         figure_format=args.figure_format,
+        data_format=args.data_format,
     )
     moments = result.peak_tether_moment
     for i, (v, m, s) in enumerate(zip(result.values, result.metric, result.statuses, strict=True)):
@@ -121,7 +124,7 @@ def _find_min(args: argparse.Namespace, scenario, inputs: tuple, command: str) -
         from ..errors import ParameterError
 
         raise ParameterError("--cyclic-limit", args.cyclic_limit, "not with --find-min")
-    metric = args.metric or "peak_q1"
+    metric = args.metric
     claim_output_directory(args.out, inputs=inputs, force=args.force)
     result = minimum_cyclic_limit(
         scenario,
@@ -139,6 +142,7 @@ def _find_min(args: argparse.Namespace, scenario, inputs: tuple, command: str) -
         inputs=inputs,
         force=args.force,
         figure_format=args.figure_format,
+        data_format=args.data_format,
     )
     print(f"{scenario.name}: {metric} without cyclic limits = {result.reference:.6g}")
     rows = zip(result.values, result.metric, result.meets, result.statuses, strict=True)
@@ -167,35 +171,34 @@ def register(sub: argparse._SubParsersAction) -> None:
         "sweep",
         help="a metric against a parameter (e.g. Tref), or the smallest cyclic limit",
         description="A metric against a parameter (--param), or with --find-min "
-        "actuators.cyclic_limit the smallest cyclic limit whose runs keep the metric (default "
-        "peak_q1) within --within of the unlimited run's: a grid scan over --values, then "
+        "actuators.cyclic_limit the smallest cyclic limit whose runs keep the metric "
+        "within --within of the unlimited run's: a grid scan over --values, then "
         "bisection to --tol (exit 1 when none within the grid).",
-        parents=[c.out_directory(), c.workers(), c.figure_format(), c.force()],
-    )
+        parents=[
+            c.out_directory(), c.metric(), c.workers(), c.data_format(runs=False),
+            c.figure_format(), c.force(),
+        ],
+    )  # fmt: skip
     p.add_argument("scenario", help="scenario TOML file")
     which = p.add_mutually_exclusive_group(required=True)
     which.add_argument(
         "--find-min",
         choices=("actuators.cyclic_limit",),
-        help="find the smallest value of this setting that meets the criterion",
+        help="find the smallest value of this setting that meets the criterion (required, or "
+        "--param)",
     )
     which.add_argument(
         "--param",
         help="section.field of the parameters (e.g. tension_control.T_ref, "
         "tether.K_C, helicopter.d_O_P3), q9, control.dt, or an actuator setting "
         "(actuators.cyclic_limit, .time_constant, .reel_rate_limit, "
-        ".reel_acceleration_limit, .breaking_tension)",
+        ".reel_acceleration_limit, .breaking_tension; required, or --find-min)",
     )
     p.add_argument(
         "--values",
         type=_values_arg,
         required=True,
         help="START:STOP:N or a,b,c (with --find-min: the grid)",
-    )
-    p.add_argument(
-        "--metric",
-        default=None,
-        help="rms_q1, peak_q1, ... (default rms_q1; with --find-min peak_q1)",
     )
     p.add_argument(
         "--cyclic-limit",

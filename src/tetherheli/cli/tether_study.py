@@ -66,9 +66,11 @@ def run(args: argparse.Namespace) -> int:
         force=args.force,
         progress=not args.quiet,
         figure_format=args.figure_format,
+        data_format=args.data_format,
     )
     failed = [r for r in summary["dynamic"] if not r["completed"]]
-    print(f"wrote {args.out}/ (study.md, static.csv, dynamic.csv, sensing.csv, figures)")
+    tables = ", ".join(f"{t}.{args.data_format}" for t in ("static", "dynamic", "sensing"))
+    print(f"wrote {args.out}/ (study.md, {tables}, figures)")
     for r in failed:
         print(
             f"tetherheli: {r['cable']} at {r['length_m']:g} m: a run failed "
@@ -93,8 +95,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "tether-study",
         help="does the tether's benefit survive at 10-100 m of real cable?",
-        parents=[c.out_directory("tether_study_out"), c.workers(), c.figure_format(), c.force()],
-    )
+        parents=[
+            c.out_directory("tether_study_out"), c.workers(), c.data_format(runs=False),
+            c.figure_format(), c.force(),
+        ],
+    )  # fmt: skip
     p.add_argument(
         "--cables",
         default=",".join(TETHER_STUDY_CABLES),

@@ -111,6 +111,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="tether tension TC [N] (0: free configuration, Table IV)",
     )
     p.add_argument("--q9", type=positive_float("--q9"), default=10.0, help="tether length [m]")
-    p.add_argument("--params", help="TOML file overriding the paper's parameters")
+    p.add_argument(
+        "--params",
+        help="TOML file overriding the paper's parameters (default: the paper's, Tables II-III)",
+    )
     p.add_argument("--json", action="store_true", help="machine-readable output (SI units)")
     p.set_defaults(func=run)

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..names import METRIC_UNITS
 from ..studies.cyclic_limit import LimitSearch
 from ..viz.plots import figure_limit_search
 from .sweep import write_sweep_folder
@@ -21,15 +22,17 @@ def write_limit_search(
     inputs: tuple[str | Path, ...] = (),
     force: bool = False,
     figure_format: str = "png",
+    data_format: str = "csv",
 ) -> None:
-    """Table (CSV: every run), plot (``sweep.<figure_format>``: png, pdf or svg) and
-    summary.json of a search, written whole or not at all (``sweep.write_sweep_folder``).
+    """Table (``sweep.<data_format>``, csv or parquet: every run), plot
+    (``sweep.<figure_format>``: png, pdf or svg) and summary.json of a search, written whole
+    or not at all (``sweep.write_sweep_folder``).
 
     Parameters
     ----------
     result : LimitSearch
         The search.
-    out_dir, command, inputs, force, figure_format
+    out_dir, command, inputs, force, figure_format, data_format
         As for ``report.sweep.write_sweep``.
 
     Returns
@@ -55,4 +58,6 @@ def write_limit_search(
         inputs=inputs,
         force=force,
         figure_format=figure_format,
+        data_format=data_format,
+        units={"cyclic_limit_Nm": "N m", "metric": METRIC_UNITS.get(result.metric_name, "")},
     )

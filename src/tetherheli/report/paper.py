@@ -601,6 +601,7 @@ def run_sensing(
     command: str = "tetherheli sensing",
     force: bool = False,
     figure_format: str = "png",
+    data_format: str = "csv",
 ) -> dict[str, Any]:
     """The tether as a GPS-free position sensor (Sec. IV-F): fly the shipped
     ``sensing_*`` scenarios (``SENSING_RUNS``, or the given ones), compare the controller's
@@ -625,6 +626,8 @@ def run_sensing(
         Write into a directory that holds files tetherheli did not write (they are kept).
     figure_format : {"png", "pdf", "svg"}
         Format of the figures.
+    data_format : {"csv", "parquet"}
+        Format of the time series (``sim.result.RESULT_FORMATS``, default "csv").
 
     Returns
     -------
@@ -640,6 +643,7 @@ def run_sensing(
     from ..viz.plots import figure_sensing, save_figure
 
     figure_format = check_figure_format(figure_format)
+    check_result_format(data_format)
     claim_output_directory(out_dir, inputs=scenarios or (), force=force)
     if scenarios:
         runs = [load_scenario(p) for p in scenarios]
@@ -683,7 +687,7 @@ def run_sensing(
     fig = figure_sensing(results, estimates)
     with output_directory(out_dir, writer="sensing", inputs=scenarios or (), force=force) as tmp:
         for name, r in results.items():
-            r.save(tmp, name)
+            r.save(tmp, name, format=data_format)
         save_figure(fig, tmp / f"sensing.{figure_format}")
         info = {
             "tetherheli_version": __version__,

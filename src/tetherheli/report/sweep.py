@@ -4,17 +4,18 @@ its summary."""
 
 from __future__ import annotations
 
-import csv
-import io
+import re
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .._io import atomic_write_text, output_directory, write_json
+from .._io import output_directory, write_json
 from .._version import __version__
-from ..studies.sweep import SweepResult
+from ..names import METRIC_UNITS
+from ..sim.result_files import check_result_format, write_table
+from ..studies.sweep import SweepResult, parameter_label
 from ..viz.formats import check_figure_format, figures_for_files
 from ..viz.plots import figure_sweep, save_figure
 
@@ -29,10 +30,11 @@ def write_sweep(
     inputs: tuple[str | Path, ...] = (),
     force: bool = False,
     figure_format: str = "png",
+    data_format: str = "csv",
 ) -> None:
-    """Table (CSV), plot (``sweep.<figure_format>``: png, pdf or svg) and summary.json of a
-    sweep, written whole or not at all (``_io.output_directory``: the user's files in
-    ``out_dir`` are kept, never replaced).
+    """Table (``sweep.<data_format>``: csv or parquet), plot (``sweep.<figure_format>``: png,
+    pdf or svg) and summary.json of a sweep, written whole or not at all
+    (``_io.output_directory``: the user's files in ``out_dir`` are kept, never replaced).
 
     Parameters
     ----------
@@ -48,6 +50,9 @@ def write_sweep(
         Replace this command's earlier output (default False).
     figure_format : str, optional
         "png" (default), "pdf" or "svg".
+    data_format : str, optional
+        "csv" (default) or "parquet" (``sim.result_files.write_table``, units in the Arrow
+        fields' metadata).
 
     Returns
     -------
@@ -87,7 +92,21 @@ def write_sweep(
         inputs=inputs,
         force=force,
         figure_format=figure_format,
+        data_format=data_format,
+        units={
+            "value": _label_unit(parameter_label(result.parameter)),
+            "metric": METRIC_UNITS.get(result.metric_name, ""),
+            "peak_tether_moment_Nm": "N m",
+            "peak_tether_angle_deg": "deg",
+            "eq40_worst_case_moment_Nm": "N m",
+        },
     )
+
+
+def _label_unit(label: str) -> str:
+    """The unit of an axis label "name [unit]" ("" without one)."""
+    found = re.search(r"\[([^\]]*)\]\s*$", label)
+    return found.group(1) if found else ""
 
 
 @figures_for_files()
@@ -102,11 +121,14 @@ def write_sweep_folder(
     inputs: tuple[str | Path, ...] = (),
     force: bool = False,
     figure_format: str = "png",
+    data_format: str = "csv",
+    units: dict[str, str] | None = None,
 ) -> None:
     """A sweep's folder, written whole or not at all (``_io.output_directory``: the user's
-    files in ``out_dir`` are kept, never replaced): ``sweep.<figure_format>``, ``sweep.csv``
-    (``header``, then ``rows``) and ``summary.json`` (``summary`` with the version and the
-    command). The one writer of ``write_sweep`` and ``cyclic_limit.write_limit_search``.
+    files in ``out_dir`` are kept, never replaced): ``sweep.<figure_format>``,
+    ``sweep.<data_format>`` (``header``, then ``rows``) and ``summary.json`` (``summary``
+    with the version and the command). The one writer of ``write_sweep`` and
+    ``cyclic_limit.write_limit_search``.
 
     Parameters
     ----------
@@ -117,24 +139,25 @@ def write_sweep_folder(
     header : sequence of str
         The CSV's column names.
     rows : iterable of sequences of str
-        The CSV's rows, each value already text (floats as ``repr``: read back exactly).
+        The table's rows, each value already text (floats as ``repr``: read back exactly).
     summary : dict
         The study's plain data (``as_dict``), written to summary.json.
-    command, inputs, force, figure_format
+    command, inputs, force, figure_format, data_format
         As for ``write_sweep``.
+    units : dict of str to str, optional
+        Column name -> unit (the Parquet fields' metadata; "" or missing: none).
 
     Returns
     -------
     None
     """
     figure_format = check_figure_format(figure_format)
+    data_format = check_result_format(data_format)
     fig = draw()
-    buf = io.StringIO()
-    writer = csv.writer(buf, lineterminator="\n")  # quotes a status holding a comma
-    writer.writerow(header)
-    writer.writerows(rows)
+    units = {k: v for k, v in (units or {}).items() if v}
     with output_directory(out_dir, writer="sweep", inputs=inputs, force=force) as tmp:
         save_figure(fig, tmp / f"sweep.{figure_format}")
-        atomic_write_text(tmp / "sweep.csv", buf.getvalue())
+        # the CSV quotes a status holding a comma
+        write_table(tmp / f"sweep.{data_format}", header, rows, units=units)
         info = {**summary, "tetherheli_version": __version__, "command": command}
         write_json(tmp / "summary.json", info)

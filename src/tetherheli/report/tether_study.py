@@ -4,8 +4,6 @@ CSV), its page study.md, its figures (``viz.tether_study``) and its summary."""
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 from collections.abc import Sequence
 from pathlib import Path
@@ -13,6 +11,8 @@ from typing import Any
 
 from .._io import atomic_write_text, claim_output_directory, output_directory, write_json
 from .._version import __version__
+from ..names import METRIC_UNITS
+from ..sim.result_files import check_result_format, write_table
 from ..studies.tether_cables import STUDY_CABLES, StudyCable
 from ..studies.tether_study import (
     DEFAULT_ELEVATIONS_DEG,
@@ -43,6 +43,7 @@ def run_tether_study(
     force: bool = False,
     progress: bool = True,
     figure_format: str = "png",
+    data_format: str = "csv",
 ) -> dict[str, Any]:
     """Run the whole study (``studies.tether_study.tether_study``) and write it to ``out``
     (``write_tether_study``); the choices and ``out`` are checked before any work.
@@ -60,7 +61,7 @@ def run_tether_study(
         ``run_batch``'s threads.
     progress : bool, optional
         Progress on stderr.
-    command, force, figure_format
+    command, force, figure_format, data_format
         As for ``write_tether_study``.
 
     Returns
@@ -81,9 +82,13 @@ def run_tether_study(
         max_thrust_N=max_thrust_N,
     )
     figure_format = check_figure_format(figure_format)
+    data_format = check_result_format(data_format)
     claim_output_directory(out, force=force)
     result = tether_study(config, workers=workers, progress=progress)
-    return _write(result, out, command=command, force=force, figure_format=figure_format)
+    return _write(
+        result, out, command=command, force=force, figure_format=figure_format,
+        data_format=data_format,
+    )  # fmt: skip
 
 
 def write_tether_study(
@@ -93,9 +98,11 @@ def write_tether_study(
     command: str = "",
     force: bool = False,
     figure_format: str = "png",
+    data_format: str = "csv",
 ) -> dict[str, Any]:
     """Write the study to ``out``, whole or not at all (``_io.output_directory``): study.md
-    (the main table and the hover limits), static.csv, dynamic.csv, sensing.csv / sensing.md,
+    (the main table and the hover limits), static, dynamic and sensing tables as
+    ``<table>.<data_format>`` (csv or parquet, ``sim.result_files.write_table``), sensing.md,
     reduction.png, static.png, sensing.png and summary.json (every row, the cables, the grids
     and every run's configuration).
 
@@ -111,6 +118,9 @@ def write_tether_study(
         Replace this command's earlier output in ``out``.
     figure_format : {"png", "pdf", "svg"}, optional
         File format of the three figures (default "png").
+    data_format : {"csv", "parquet"}, optional
+        File format of the three tables (default "csv"; Parquet with each column's unit in
+        its Arrow field's metadata where the column's name gives it).
 
     Returns
     -------
@@ -120,14 +130,24 @@ def write_tether_study(
     from ..viz.formats import check_figure_format
 
     figure_format = check_figure_format(figure_format)
-    return _write(result, out, command=command, force=force, figure_format=figure_format)
+    data_format = check_result_format(data_format)
+    return _write(
+        result, out, command=command, force=force, figure_format=figure_format,
+        data_format=data_format,
+    )  # fmt: skip
 
 
 @figures_for_files()
 def _write(
-    result: TetherStudy, out: str | Path, *, command: str, force: bool, figure_format: str
+    result: TetherStudy,
+    out: str | Path,
+    *,
+    command: str,
+    force: bool,
+    figure_format: str,
+    data_format: str = "csv",
 ) -> dict[str, Any]:
-    """``write_tether_study`` with ``figure_format`` checked."""
+    """``write_tether_study`` with ``figure_format`` and ``data_format`` checked."""
     from ..viz.plots import save_figure
     from ..viz.tether_study import (
         figure_study_reduction,
@@ -146,9 +166,8 @@ def _write(
         for name, fig in figures.items():
             save_figure(fig, tmp / name)
         atomic_write_text(tmp / "study.md", _study_page(result))
-        atomic_write_text(tmp / "static.csv", _csv(result.static))
-        atomic_write_text(tmp / "dynamic.csv", _csv(result.dynamic))
-        atomic_write_text(tmp / "sensing.csv", _csv(result.sensing))
+        for name in ("static", "dynamic", "sensing"):
+            _table(tmp / f"{name}.{data_format}", getattr(result, name))
         atomic_write_text(tmp / "sensing.md", sensing_table(result.sensing))
         write_json(tmp / "summary.json", summary, indent=1)
     return summary
@@ -171,14 +190,35 @@ def _study_page(result: TetherStudy) -> str:
     )
 
 
-def _csv(rows: Sequence[dict[str, Any]]) -> str:
-    buf = io.StringIO()
+#: The units of the study's columns named by suffix (``lift_margin_N``, ``k_lateral_N_m``,
+#: ``wind_m_s``, ...), longest suffix first.
+_SUFFIX_UNITS = (
+    ("_reduction_pct", "%"), ("_N_m", "N/m"), ("_m_s", "m/s"), ("_Nm", "N m"),
+    ("_deg", "deg"), ("_N", "N"), ("_m", "m"), ("_s", "s"),
+)  # fmt: skip
+#: The sensing half's horizontal position errors of each estimate [m] (``tether_sensing``).
+_SENSING_ERRORS = ("ivf", "catenary_wind_known", "catenary_wind_ignored", "catenary_wind_1ms")
+
+
+def _unit(column: str) -> str | None:
+    """A study column's unit: by its suffix, a sensing error's (m), or the metric's of a
+    dynamic column ``<case>_<metric>_<free|tethered>``; None where the name does not say."""
+    if column in _SENSING_ERRORS:
+        return "m"
+    for suffix, unit in _SUFFIX_UNITS:
+        if column.endswith(suffix):
+            return unit
+    for metric, unit in METRIC_UNITS.items():
+        if column.endswith((f"_{metric}_free", f"_{metric}_tethered")):
+            return unit
+    return None
+
+
+def _table(path: Path, rows: Sequence[dict[str, Any]]) -> None:
+    """One of the study's tables (``write_table``): a column per key of the first row."""
     columns = list(rows[0]) if rows else []
-    writer = csv.writer(buf, lineterminator="\n")
-    writer.writerow(columns)
-    for r in rows:
-        writer.writerow([r.get(c, "") for c in columns])
-    return buf.getvalue()
+    units = {c: u for c in columns if (u := _unit(c)) is not None}
+    write_table(path, columns, [[r.get(c, "") for c in columns] for r in rows], units=units)
 
 
 def _f(x: Any, spec: str) -> str:

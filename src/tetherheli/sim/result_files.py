@@ -8,13 +8,16 @@ names below; ``load_result`` builds one from ``read_result_fields``.
 from __future__ import annotations
 
 import csv
+import io
 import json
+import re
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .._io import atomic_open, atomic_path, json_text, read_json
+from .._io import atomic_open, atomic_path, atomic_write_text, json_text, read_json
 from ..errors import ParameterError
 from ..names import (
     INPUT,
@@ -42,8 +45,10 @@ __all__ = [
     "check_result_format",
     "list_results",
     "read_result_fields",
+    "table_csv",
     "write_csv",
     "write_parquet",
+    "write_table",
 ]
 
 STATE_NAMES, STATE_UNITS = TETHERED_STATE, TETHERED_STATE_UNITS
@@ -256,6 +261,118 @@ def write_parquet(
     with atomic_path(Path(path)) as tmp:
         pq.write_table(table, tmp)
     return Path(path)
+
+
+# --- a study's table: CSV or Parquet from one header and its rows ------------------------------
+
+_INT = re.compile(r"[+-]?[0-9]+")
+
+
+def table_csv(header: Sequence[str], rows: Iterable[Sequence[Any]]) -> str:
+    """A table as CSV text: the header, then each row (None as an empty cell, a float as its
+    ``repr``: read back exactly; a cell with a comma or a quote quoted).
+
+    Parameters
+    ----------
+    header : sequence of str
+        The column names.
+    rows : iterable of sequences
+        The rows, one value per column.
+
+    Returns
+    -------
+    str
+        The CSV text, "\n" line ends.
+    """
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    writer.writerow(header)
+    writer.writerows(rows)
+    return buf.getvalue()
+
+
+def _float(cell: str) -> float | None:
+    if "_" in cell or cell != cell.strip():
+        return None
+    try:
+        return float(cell)
+    except ValueError:
+        return None
+
+
+def _arrow_column(pa: Any, cells: list[str]) -> Any:
+    """A column's cells as an Arrow array: int64 when every non-empty cell is an integer,
+    float64 when every one is a number (nan and inf included), else string; in a numeric
+    column an empty cell is null."""
+    given = [v for v in cells if v != ""]
+    if given and all(_INT.fullmatch(v) and -(2**63) <= int(v) < 2**63 for v in given):
+        return pa.array([int(v) if v != "" else None for v in cells], type=pa.int64())
+    if given and all(_float(v) is not None for v in given):
+        return pa.array([_float(v) if v != "" else None for v in cells], type=pa.float64())
+    return pa.array(cells, type=pa.string())
+
+
+def write_table(
+    path: str | Path,
+    header: Sequence[str],
+    rows: Iterable[Sequence[Any]],
+    *,
+    units: dict[str, str] | None = None,
+) -> Path:
+    """Write a study's table, atomically, in the format its suffix names: ``.csv``
+    (``table_csv``) or ``.parquet`` (Apache Parquet through pyarrow, the ``data`` extra). The
+    one writer of the commands' tables (sweep.csv, compare.csv, the tether study's).
+
+    The Parquet columns hold the CSV's cells typed: int64 where every non-empty cell is an
+    integer, float64 where every one is a number, string otherwise (an empty cell of a
+    numeric column is null); a column's unit, when ``units`` names it, is its Arrow field's
+    ``units`` metadata (``pyarrow.parquet.read_schema(path).field(name).metadata``).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file to write: ``<stem>.csv`` or ``<stem>.parquet``.
+    header : sequence of str
+        The column names.
+    rows : iterable of sequences
+        The rows, one value per column (None: an empty cell).
+    units : dict of str to str, optional
+        Column name -> unit, for the columns whose unit is known.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+
+    Raises
+    ------
+    ParameterError
+        A suffix other than .csv or .parquet.
+    ImportError
+        Parquet without pyarrow (``check_result_format`` says so before a run).
+    """
+    path = Path(path)
+    fmt = check_result_format(path.suffix[1:])
+    if fmt == "csv":
+        atomic_write_text(path, table_csv(header, rows))
+        return path
+    pa = _optional("pyarrow")
+    import pyarrow.parquet as pq
+
+    # the CSV's own cells, so that the two formats hold the same table
+    head, *cells = csv.reader(io.StringIO(table_csv(header, rows)))
+    if any(len(r) != len(head) for r in cells):
+        raise ValueError(f"a row of {path.name} does not have {len(head)} values")
+    columns = [_arrow_column(pa, [r[j] for r in cells]) for j in range(len(header))]
+    units = units or {}
+    fields = [
+        pa.field(name, col.type, metadata={"units": units[name]} if name in units else None)
+        for name, col in zip(header, columns, strict=True)
+    ]
+    table = pa.Table.from_arrays(columns, schema=pa.schema(fields))
+    with atomic_path(path) as tmp:
+        pq.write_table(table, tmp)
+    return path
 
 
 # --- reading saved results ---------------------------------------------------------------------

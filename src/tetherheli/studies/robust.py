@@ -24,7 +24,9 @@ draws, and a controller's status counts the draws without a reference.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -48,6 +50,8 @@ __all__ = [
     "check_comparison_memory",
     "controller_cyclic_limits",
     "montecarlo_compare",
+    "run_threads",
+    "thread_count",
 ]
 
 #: the label of the free helicopter's runs (the paper's free law)
@@ -58,6 +62,65 @@ PERCENTILES = (50.0, 95.0)
 REDUCED = ("peak_q1", "peak_q2", "rms_q1", "rms_q2")
 #: the numeric measures summarised by percentiles (``CONTROLLER_METRICS`` but the flags)
 _MEASURES = tuple(m for m in CONTROLLER_METRICS if m not in ("completed", "cyclic_limit"))
+
+
+def thread_count(workers: int | None, n: int, scenario: Scenario | None = None) -> int:
+    """The threads ``run_threads`` uses for ``n`` tasks: ``workers`` (default: the CPUs
+    available), at most ``n``; with ``scenario``, refused (``ResourceLimitError``) when that
+    many of its recorded runs at once exceed the memory budget.
+
+    Parameters
+    ----------
+    workers : int, optional
+        Threads asked for, >= 1.
+    n : int
+        Number of tasks.
+    scenario : Scenario, optional
+        The run each thread records (its size).
+
+    Returns
+    -------
+    int
+        Threads, >= 1.
+    """
+    from ..sim.batch import _default_workers
+    from ..sim.closed_loop import check_run_memory
+
+    workers = _default_workers() if workers is None else check_integer("workers", workers, low=1)
+    threads = max(1, min(workers, n))
+    if scenario is not None:
+        check_run_memory(
+            scenario, concurrent=threads, hint="shorten the duration, or fewer --workers"
+        )
+    return threads
+
+
+def run_threads(task: Callable[[int], None], n: int, workers: int | None) -> None:
+    """Call ``task(i)`` for i in 0..n-1 on ``workers`` threads (default: the CPUs available;
+    1: one after the other, in order); an exception of a task is raised here. The compiled
+    engine releases the GIL, so the runs of a comparison fly side by side.
+
+    Parameters
+    ----------
+    task : callable
+        Index -> None; each index's results go to its own slots.
+    n : int
+        Number of tasks.
+    workers : int, optional
+        Threads, >= 1.
+
+    Returns
+    -------
+    None
+    """
+    threads = thread_count(workers, n)
+    if threads == 1:
+        for i in range(n):
+            task(i)
+        return
+    with ThreadPoolExecutor(max_workers=threads) as pool:
+        for _ in pool.map(task, range(n)):
+            pass
 
 
 def _worst(metric: str) -> float:
@@ -300,6 +363,8 @@ def montecarlo_compare(
     *,
     runs: int | None = None,
     eq40: bool = False,
+    seed: int | None = None,
+    workers: int | None = 1,
 ) -> MonteCarloComparison:
     """Fly the first ``runs`` draws of a Monte Carlo free (paper) and tethered under each of
     ``controllers``, all designed on ``base``'s nominal parameters (module docstring).
@@ -316,6 +381,13 @@ def montecarlo_compare(
         Draws N (default ``config.runs``).
     eq40 : bool, optional
         Saturate tMR1, tMR2 at eq 40's limit of the nominal parameters (default False).
+    seed : int, optional
+        The root seed of the draws (default ``config.seed``): draw i is that of
+        ``draw_seed(seed, i)``, the same for the same seed.
+    workers : int, optional
+        Threads flying the draws (default 1, one after the other; None: the CPUs available;
+        ``run_threads``). The measures do not depend on it, but for the compute time, which
+        is taken with the other runs in flight.
 
     Returns
     -------
@@ -323,8 +395,11 @@ def montecarlo_compare(
         Per-draw measures of every run, failures included.
     """
     n = check_integer("runs", config.runs if runs is None else runs, low=1, high=MAX_RUNS)
+    if seed is not None:
+        config = replace(config, seed=check_integer("seed", seed, low=0, high=2**63 - 1))
     labels = (FREE, *controllers)
     check_comparison_memory(n, len(labels))
+    threads = thread_count(workers, n, base)  # recorded runs in flight at once
     if eq40:
         base = eq40_saturated(base)
     cols = {lab: {m: np.full(n, math.nan) for m in CONTROLLER_METRICS} for lab in labels}
@@ -336,7 +411,8 @@ def montecarlo_compare(
             fly(_flown(base, lab).replace(duration=min(base.duration, 1.0)))
         except TetherheliError:  # the nominal plant cannot be set up: its draws will say why
             pass
-    for i in range(n):
+
+    def fly_draw(i: int) -> None:  # draw i's runs: its own slots of cols, ok and statuses
         d = draw(base, config, draw_seed(config.seed, i), i)
         for lab in labels:
             if d.scenario is None:
@@ -352,6 +428,8 @@ def montecarlo_compare(
             ok[lab][i] = bool(result.ok)
             for m in CONTROLLER_METRICS:
                 cols[lab][m][i] = float(metrics[m]) if result.ok else math.nan
+
+    run_threads(fly_draw, n, threads)
     for lab in labels:  # the limit is a setting, not an outcome: kept for failed runs too
         cols[lab]["cyclic_limit"][:] = _cyclic_limit(base)
     return MonteCarloComparison(
