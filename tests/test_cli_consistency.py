@@ -70,7 +70,8 @@ def test_the_same_things_are_spelled_the_same():
     for name, sub in subs.items():  # --format is always the tables' data format
         if "--format" in _flags(sub):
             data = _flags(sub)["--format"]
-            formats = TABLE_FORMATS if name == "montecarlo" else RESULT_FORMATS  # no MCAP table
+            tables = ("montecarlo", "sweep", "compare", "tether-study")  # no MCAP table
+            formats = TABLE_FORMATS if name in tables else RESULT_FORMATS
             assert tuple(data.choices) == formats and data.default == "csv", name
     for name in ("paper", "simulate", "montecarlo"):
         assert "--format" in _flags(subs[name]), name
