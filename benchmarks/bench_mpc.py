@@ -34,13 +34,14 @@ tether's moment about HO stays below the cyclic limit (eq 40, measured:
 ``analysis.tether_moment``) and the goal's altitude and off-axis bounds hold. The MPC's own
 soft tension bounds are set to ``TENSION_RANGE`` on every design. Writes OUT/mpc_pareto.csv
 (every design), OUT/mpc_pareto.md (the front and the answer) and OUT/mpc_pareto.png
-(``viz.plots.figure_pareto``); ``--pareto-csv FILE`` redraws those from a written CSV without
-flying. ``--tension T`` flies the report and timing at the operating tension T [N].
+(``viz.plots.figure_pareto``), whole at the end by the commands' output rules (OUT is
+checked before anything flies: ``cli._script.claim``); ``--pareto-csv FILE`` redraws those
+from a written CSV without flying. ``--tension T`` flies the report and timing at the
+operating tension T [N]. Every argument is checked before anything runs (one line, exit 2).
 """
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import math
 import os
@@ -51,6 +52,9 @@ from scipy.optimize import minimize
 from tune_tether_lqi import MAX_OFF_AXIS, MAX_Q3, goal, references
 
 from tetherheli import simulate
+from tetherheli.cli._common import count_arg
+from tetherheli.cli._script import claim, number_arg, run_script, script_parser
+from tetherheli.errors import TetherheliError
 from tetherheli.names import INPUT
 from tetherheli.sim import Scenario
 from tetherheli.sim.mpc_setup import mpc_controller
@@ -75,6 +79,12 @@ PARETO_COLUMNS = (
     "tension_min", "tension_max", "peak_tether_moment", "cyclic_limit", "peak_q3",
     "peak_off_axis", "fallbacks", "trim_fMR3", "completed", "admissible",
 )  # fmt: skip
+#: The files ``--pareto`` writes into OUT.
+PARETO_FILES = ("mpc_pareto.csv", "mpc_pareto.md", "mpc_pareto.png")
+#: The largest CSV ``--pareto-csv`` reads [bytes] (one that ``--pareto`` wrote: ~30 KB).
+PARETO_CSV_MAX_BYTES = 10 * 2**20
+#: The bounds of ``--start``'s log10 factors [decades].
+START_DECADES = 3.0
 
 
 def start_settings() -> MPCSettings:
@@ -334,15 +344,17 @@ def pareto_markdown(rows: list[dict], refs: dict[str, tuple[float, float]]) -> s
     return "\n".join(lines) + "\n"
 
 
-def write_pareto(out: str, rows: list[dict], refs: dict[str, tuple[float, float]]) -> None:
+def write_pareto(
+    out: str, rows: list[dict], refs: dict[str, tuple[float, float]], force: bool = False
+) -> None:
     """OUT/mpc_pareto.csv, .md and .png (``tetherheli._io.output_directory``: written whole,
-    never over a file tetherheli did not write)."""
+    never over a file tetherheli did not write; ``force``: beside foreign files)."""
     import csv
 
     from tetherheli._io import output_directory
     from tetherheli.viz.plots import figure_pareto, save_figure
 
-    with output_directory(out, writer="bench_mpc --pareto", option="--pareto") as tmp:
+    with output_directory(out, writer="bench_mpc --pareto", option="--pareto", force=force) as tmp:
         with open(tmp / "mpc_pareto.csv", "w", newline="", encoding="utf-8") as fh:
             w = csv.DictWriter(fh, fieldnames=PARETO_COLUMNS)
             w.writeheader()
@@ -365,20 +377,57 @@ def write_pareto(out: str, rows: list[dict], refs: dict[str, tuple[float, float]
 
 
 def read_pareto(path: str) -> tuple[list[dict], dict[str, tuple[float, float]]]:
-    """The rows and references of a CSV that ``--pareto`` wrote."""
+    """The rows and references of a CSV that ``--pareto`` wrote.
+
+    Raises
+    ------
+    TetherheliError
+        One line naming the file and the row or line at fault (never its content): too
+        large, not UTF-8, other columns, a cell that is not a number.
+    """
     import csv
 
-    text = open(path, encoding="utf-8").read().splitlines()
+    def refuse(what: str) -> TetherheliError:
+        return TetherheliError(
+            f"--pareto-csv {path}: {what}; allowed: a CSV that bench_mpc.py --pareto wrote"
+        )
+
+    if os.path.getsize(path) > PARETO_CSV_MAX_BYTES:
+        raise refuse(f"larger than {PARETO_CSV_MAX_BYTES // 2**20} MiB")
+    try:
+        with open(path, encoding="utf-8") as fh:
+            text = fh.read().splitlines()
+    except UnicodeDecodeError:
+        raise refuse("not UTF-8 text") from None
     refs = {}
-    for ln in text:
+    for n, ln in enumerate(text, 1):
         if ln.startswith("# references: "):
             for item in ln[len("# references: ") :].split("; "):
                 name, _, xy = item.rpartition("=")
-                refs[name] = tuple(float(v) for v in xy.split(","))
+                try:
+                    x, y = (float(v) for v in xy.split(","))
+                except ValueError:
+                    raise refuse(f"line {n}: a reference that is not two numbers") from None
+                refs[name] = (x, y)
     rows = []
-    for r in csv.DictReader([ln for ln in text if not ln.startswith("#")]):
-        rows.append({k: (v == "True") if k in ("completed", "admissible") else float(v)
-                     for k, v in r.items()})  # fmt: skip
+    reader = csv.DictReader([ln for ln in text if not ln.startswith("#")])
+    if tuple(reader.fieldnames or ()) != PARETO_COLUMNS:
+        raise refuse("other columns than PARETO_COLUMNS")
+    for n, r in enumerate(reader, 1):
+        row = {}
+        for k, v in r.items():
+            if k in ("completed", "admissible"):
+                if v not in ("True", "False"):
+                    raise refuse(f"row {n}: {k} is not True or False")
+                row[k] = v == "True"
+                continue
+            try:
+                row[k] = float(v)
+            except (TypeError, ValueError):
+                raise refuse(f"row {n}: {k} is not a number") from None
+        rows.append(row)
+    if not rows:
+        raise refuse("no designs")
     return rows, refs
 
 
@@ -411,34 +460,74 @@ def robust(runs: int, tension: float | None) -> None:
     print(markdown_reductions(tuple(results)))
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--tune", type=int, default=0, metavar="EVALUATIONS")
-    parser.add_argument("--start", default="0,0,0,0", help="log10 factors the search starts at")
+def _start(text: str) -> np.ndarray:
+    """``--start``: four comma-separated log10 factors within +-``START_DECADES``."""
+    import argparse
+
+    try:
+        p = np.array([float(v) for v in text.split(",")])
+    except ValueError:
+        p = np.array([])
+    if p.shape != (4,) or not np.all(np.abs(p) <= START_DECADES):
+        raise argparse.ArgumentTypeError(
+            f"--start = {text!r}: allowed: four comma-separated numbers in "
+            f"[-{START_DECADES:g}, {START_DECADES:g}]"
+        )
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the benchmark (module docstring).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments (default ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        0 done, 2 a wrong argument or output folder (one line, nothing run or written).
+    """
+    return run_script(__file__, _bench, argv)
+
+
+def _bench(argv: list[str]) -> int:
+    parser = script_parser(__file__, __doc__)
+    parser.add_argument("--tune", type=count_arg("--tune", 0, 10_000), default=0,
+                        metavar="EVALUATIONS")  # fmt: skip
+    parser.add_argument("--start", type=_start, default=_start("0,0,0,0"),
+                        help="log10 factors the search starts at (default 0,0,0,0)")  # fmt: skip
     parser.add_argument("--pareto", metavar="OUT", help="map the trade-off into directory OUT")
     parser.add_argument("--pareto-csv", metavar="FILE", help="with --pareto: redraw from FILE")
-    parser.add_argument("--tension", type=float, metavar="T_REF",
+    parser.add_argument("--force", action="store_true",
+                        help="with --pareto: write beside files tetherheli did not write "
+                        "(they are kept)")  # fmt: skip
+    parser.add_argument("--tension", type=number_arg("--tension", *TENSION_RANGE),
+                        metavar="T_REF",
                         help="report at the operating tension T_REF [N] (tension bounds "
                         f"{TENSION_RANGE})")  # fmt: skip
-    parser.add_argument("--robust", type=int, metavar="N",
+    parser.add_argument("--robust", type=count_arg("--robust", 1, 1000), metavar="N",
                         help="only: the MPC (at --tension) on the first N draws of the "
                         "sim-1 and turbulence Monte Carlos, eq 40")  # fmt: skip
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     if args.robust:
         robust(args.robust, args.tension)
-        return
+        return 0
     if args.pareto_csv and not args.pareto:
         parser.error("--pareto-csv needs --pareto OUT")
+    if args.pareto:  # before anything flies
+        claim(args.pareto, option="--pareto", force=args.force, names=PARETO_FILES)
+    if args.pareto and args.pareto_csv:
+        write_pareto(args.pareto, *read_pareto(args.pareto_csv), force=args.force)
+        return 0
     if hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})  # one core
-    if args.pareto and args.pareto_csv:
-        write_pareto(args.pareto, *read_pareto(args.pareto_csv))
-        return
     sims = references()
     if args.pareto:
         refs = references_on_front(sims)
-        write_pareto(args.pareto, pareto_rows(sims), refs)
-        return
+        write_pareto(args.pareto, pareto_rows(sims), refs, force=args.force)
+        return 0
     base = MPCSettings()
     if args.tension is not None:
         base = dataclasses.replace(base, tension_bounds=TENSION_RANGE)
@@ -454,7 +543,7 @@ def main() -> None:
                 print(f"best {f:.4f} at", ",".join(f"{v:.3f}" for v in p), flush=True)
             return f
 
-        p0 = np.array([float(v) for v in args.start.split(",")])
+        p0 = args.start
         simplex = np.vstack([p0, p0 + STEP * np.diag([-1.0, -1.0, 1.0, 1.0])])
         minimize(objective, p0, method="Nelder-Mead", options={
             "maxfev": args.tune, "initial_simplex": simplex, "xatol": 1e-3})  # fmt: skip
@@ -470,7 +559,8 @@ def main() -> None:
         what += f" at T_ref = {args.tension:g} N (tether_lqi too), tension bounds {TENSION_RANGE}"
     report(sims, base, what)
     timing(sims, base)
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

@@ -5,25 +5,33 @@ Flies ``tetherheli.studies.deck``: station-keeping relative to a heaving deck
 (``deck_sea_state_tethered``/``_free``: the paper's simulation 1 winds) over significant wave
 heights 0.5-3 m, free against tethered, perfect sensors, GNSS or the tether as the position
 sensor, the deck's heave fed forward or not; then the tethered landing
-(``landing_sea_state``) over the same sea states and N seeds each. Writes the page
-(``--print``: prints it instead). About five minutes on two shared cores at the default
-seeds.
+(``landing_sea_state``) over the same sea states and N seeds each (1 to ``MAX_SEEDS``; the
+station-keeping table at most 5). Writes the page whole once the study is done (the
+project's own file: ``cli._script.write_docs_file``, checked before anything runs;
+``--print``: prints it instead). A wrong argument is one line and exit 2, before anything
+runs. About five minutes on two shared cores at the default seeds.
 """
 
 from __future__ import annotations
 
-import argparse
 import platform
 import sys
 import time
 from pathlib import Path
 
 from tetherheli import __version__
+from tetherheli.cli._common import count_arg
+from tetherheli.cli._script import docs_file, run_script, script_parser, write_docs_file
 from tetherheli.studies.deck import landing_rows, station_rows
 
 ROOT = Path(__file__).resolve().parents[1]
-PAGE = ROOT / "docs" / "studies" / "deck.md"
+#: The page written (relative to ``ROOT``).
+PAGE = "docs/studies/deck.md"
 HEIGHTS = (0.5, 1.0, 2.0, 3.0)
+#: The most seeds per case (``--seeds``): the landing table flies 8 runs per seed.
+MAX_SEEDS = 100
+#: The station-keeping table's seeds: the first ``--seeds``, at most this many.
+STATION_SEEDS = 5
 
 
 def _f(x: float, digits: int = 3) -> str:
@@ -79,6 +87,15 @@ STATION_READING = [
 
 
 def page(station, landing, seeds: int, seconds: float) -> str:
+    """The page's Markdown: the station-keeping and landing tables and how they were made.
+
+    Raises
+    ------
+    ValueError
+        A table without rows (a study with nothing to report writes nothing).
+    """
+    if not station or not landing or seeds < 1:
+        raise ValueError(f"nothing to report: {len(station)} station, {len(landing)} landing rows")
     lines = [
         "# A winch on a moving deck",
         "",
@@ -137,20 +154,41 @@ def page(station, landing, seeds: int, seconds: float) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seeds", type=int, default=10, help="sea-state seeds per case")
+    """Run the study and write (or print) the page.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments (default ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        0 done, 2 a wrong argument or a page that may not be written (one line, nothing
+        run or written).
+    """
+    return run_script(__file__, _study, argv)
+
+
+def _study(argv: list[str]) -> int:
+    parser = script_parser(__file__, __doc__)
+    parser.add_argument(
+        "--seeds", type=count_arg("--seeds", 1, MAX_SEEDS), default=10,
+        help=f"sea-state seeds per case, 1 to {MAX_SEEDS} (default 10)",
+    )  # fmt: skip
     parser.add_argument("--print", action="store_true", help="print the page instead")
     args = parser.parse_args(argv)
+    if not args.print:
+        docs_file(ROOT, PAGE)  # before the minutes of flying
     t0 = time.perf_counter()
-    seeds = range(args.seeds)
-    station = station_rows(HEIGHTS, range(min(args.seeds, 5)))
-    landing = landing_rows(HEIGHTS, seeds)
+    station = station_rows(HEIGHTS, range(min(args.seeds, STATION_SEEDS)))
+    landing = landing_rows(HEIGHTS, range(args.seeds))
     text = page(station, landing, args.seeds, time.perf_counter() - t0)
     if args.print:
         sys.stdout.write(text)
     else:
-        PAGE.write_text(text, encoding="utf-8")
-        print(f"wrote {PAGE.relative_to(ROOT)}")
+        write_docs_file(ROOT, PAGE, text)
+        print(f"wrote {PAGE}")
     return 0
 
 

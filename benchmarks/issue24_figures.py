@@ -15,13 +15,15 @@ It orchestrates the existing benchmarks, each in a subprocess with the tree's PY
 - ``bench_vector_env.py --autoreset --rounds N`` (with ``--baseline`` only if the baseline
   tree has the vector environment).
 
-Prints one table (figure, baseline, candidate, candidate / baseline) and the processor.
-Timings vary with the machine and its load; no test asserts them.
+Prints one table (figure, baseline, candidate, candidate / baseline) and the processor;
+``--json PATH`` also writes it, whole, to a new file or one this script wrote before (the
+commands' rule for an output file, checked before anything runs: ``cli._script.claim_file``).
+Every argument is checked first (one line, exit 2). Timings vary with the machine and its
+load; no test asserts them.
 """
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import re
@@ -30,6 +32,10 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+from tetherheli.cli._common import count_arg
+from tetherheli.cli._script import claim_file, run_script, script_parser, write_file
+from tetherheli.errors import TetherheliError
 
 HERE = Path(__file__).resolve().parent
 CANDIDATE = HERE.parent / "src"
@@ -157,14 +163,37 @@ def fmt(v: float | None) -> str:
     return "n/a" if v is None else f"{v:,.3f}" if v < 10 else f"{v:,.1f}"
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def main(argv: list[str] | None = None) -> int:
+    """Measure every figure (module docstring).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments (default ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        0 done, 2 a wrong argument or output file (one line, nothing run or written).
+    """
+    return run_script(__file__, _figures, argv)
+
+
+def _figures(argv: list[str]) -> int:
+    parser = script_parser(__file__, __doc__)
     parser.add_argument("--baseline", type=Path, required=True, help="src folder of the baseline")
-    parser.add_argument("--rounds", type=int, default=2)
+    parser.add_argument("--rounds", type=count_arg("--rounds", 1, 100), default=2)
     parser.add_argument("--skip-cold", action="store_true", help="no cold paper runs")
     parser.add_argument("--json", type=Path, help="also write the table as JSON here")
-    opts = parser.parse_args()
+    opts = parser.parse_args(argv)
     baseline = opts.baseline.resolve()
+    if not (baseline / "tetherheli" / "__init__.py").is_file():
+        raise TetherheliError(
+            f"--baseline {opts.baseline} holds no tetherheli package; allowed: the src folder "
+            "of a tetherheli tree"
+        )
+    if opts.json:
+        claim_file(opts.json, option="--json")  # before the minutes of measuring
     trees = {"baseline": baseline, "candidate": CANDIDATE}
     warm = tempfile.mkdtemp(prefix="fig-warm-")
     rows = bench_ab(baseline, opts.rounds, warm)
@@ -190,18 +219,12 @@ def main() -> None:
         )
     print("ratio = candidate / baseline; n/a: the baseline tree cannot measure it")
     if opts.json:
-        opts.json.write_text(
-            json.dumps(
-                {
-                    "processor": cpu,
-                    "date": time.strftime("%Y-%m-%d"),
-                    "rounds": opts.rounds,
-                    "rows": table,
-                },
-                indent=1,
-            )
-        )
+        data = {"processor": cpu, "date": time.strftime("%Y-%m-%d"), "rounds": opts.rounds}
+        text = json.dumps({**data, "rows": table}, indent=1)
+        write_file(opts.json, text.encode("utf-8"), option="--json", writer="issue24_figures.py")
+        print(f"wrote {opts.json}")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

@@ -5,13 +5,13 @@ Run: python benchmarks/moordyn_validation.py [--print]
 Flies every case of ``tetherheli.tether._moordyn_cases.MOORDYN_CASES`` and
 ``MOVING_ANCHOR_CASES`` in MoorDyn (dtM 1e-4 s, RK4, 20 couplings per 10 ms sample: the
 reference) and in ours (the engine's default 10 ms, and 10 ms / 64 as our converged run), then
-the differences by design, and writes the page (``--print``: prints it instead). Needs
-``pip install "tetherheli[validation]"``; a few minutes on two shared cores.
+the differences by design, and writes the page whole at the end (the project's own file:
+``cli._script.write_docs_file``, checked before anything runs; ``--print``: prints it
+instead). Needs ``pip install "tetherheli[validation]"``; a few minutes on two shared cores.
 """
 
 from __future__ import annotations
 
-import argparse
 import math
 import sys
 import textwrap
@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from tetherheli.cli._script import docs_file, run_script, script_parser, write_docs_file
 from tetherheli.tether import buoyant_gravity, drive_cable, drive_moordyn
 from tetherheli.tether._moordyn_cases import (
     MOORDYN_CASES,
@@ -31,7 +32,9 @@ from tetherheli.tether._moordyn_cases import (
     steady_state,
 )
 
-PAGE = Path(__file__).resolve().parents[1] / "docs" / "studies" / "moordyn.md"
+ROOT = Path(__file__).resolve().parents[1]
+#: The page written (relative to ``ROOT``).
+PAGE = "docs/studies/moordyn.md"
 COUPLING = 20
 
 
@@ -244,14 +247,33 @@ def page() -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    """Compare the cases and write (or print) the page.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments (default ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        0 done, 2 a wrong argument or a page that may not be written (one line, nothing
+        run or written).
+    """
+    return run_script(__file__, _compare, argv)
+
+
+def _compare(argv: list[str]) -> int:
+    parser = script_parser(__file__, __doc__)
     parser.add_argument("--print", action="store_true", help="print the page, do not write it")
     args = parser.parse_args(argv)
+    if not args.print:
+        docs_file(ROOT, PAGE)  # before the minutes of flying
     text = page()
     if args.print:
         print(text)
     else:
-        PAGE.write_text(text, encoding="utf-8")
+        write_docs_file(ROOT, PAGE, text)
         print(f"wrote {PAGE}")
     return 0
 

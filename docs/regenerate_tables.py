@@ -9,7 +9,10 @@ Run from the repository root (the package importable, e.g. ``pip install -e .``)
 
 Each table is printed after the command(s) that made it, so the output can be pasted into the
 README or compared with it. The commands write into a temporary folder (``--workdir`` keeps
-them). Tables (``--only`` NAME, repeatable):
+them). The figures are gathered aside and written once every table is done: into the
+checkout's ``docs/`` (the project's own files, ``cli._script.write_docs_file``), or into any
+other folder by the commands' output rules (``--force`` to write beside foreign files); the
+place is checked before anything runs. Tables (``--only`` NAME, repeatable):
 
 - claim: "Our measurement of the paper's claim" and the tension ranges (``tetherheli paper``)
 - turbulence: the hover-turbulence pair (``tetherheli simulate``)
@@ -23,9 +26,9 @@ them). Tables (``--only`` NAME, repeatable):
 
 from __future__ import annotations
 
-import argparse
 import csv
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -33,6 +36,8 @@ import tempfile
 import time
 from collections.abc import Callable
 from pathlib import Path
+
+from tetherheli.cli._script import claim, docs_file, run_script, script_parser, write_docs_file
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENARIOS = ROOT / "scenarios"
@@ -307,6 +312,16 @@ def table_speed(work: Path, figures: Path | None) -> None:
     print("(the README gives the range over several such runs)")
 
 
+#: The figures each table writes with ``--figures`` (``sensing``'s only when drawn).
+FIGURES: dict[str, tuple[str, ...]] = {
+    "claim": ("fig6_sim1_outputs.png",),
+    "turbulence": ("turbulence_hover.png",),
+    "sensing": ("sensing.png",),
+    "eq40": ("sweep_tref.png",),
+    "release": ("release.png",),
+    "montecarlo": ("montecarlo_peak_q1_hist.png", "montecarlo_peak_q1_paired.png"),
+}
+
 TABLES: dict[str, tuple[Callable[[Path, Path | None], None], bool]] = {
     # name: (function, expensive)
     "claim": (table_claim, False),
@@ -322,23 +337,87 @@ TABLES: dict[str, tuple[Callable[[Path, Path | None], None], bool]] = {
 }
 
 
+def docs_folder(path: str) -> str | None:
+    """``path`` relative to the checkout when it lies in its ``docs/`` (not following links:
+    ``docs_file`` refuses a link on the way), else None."""
+    rel = os.path.relpath(os.path.abspath(path), ROOT)
+    parts = Path(rel).parts
+    return Path(rel).as_posix() if parts and parts[0] == "docs" else None
+
+
+def check_figures(path: str, names: list[str], force: bool) -> None:
+    """Before any table runs: the figures ``names`` may be written into ``path`` (the
+    checkout's docs: ``docs_file``; elsewhere: ``cli._script.claim``)."""
+    rel = docs_folder(path)
+    if rel is None:
+        claim(path, option="--figures", force=force, names=names)
+        return
+    for name in names:
+        docs_file(ROOT, f"{rel}/{name}")
+
+
+def publish_figures(staged: Path, path: str, force: bool) -> None:
+    """Write the figures gathered in ``staged`` into ``path``, by the rule of
+    ``check_figures``: whole, never through a link or over a file tetherheli did not write."""
+    from tetherheli._io import output_directory
+
+    names = sorted(p.name for p in staged.iterdir())
+    rel = docs_folder(path)
+    if rel is not None:
+        for name in names:
+            write_docs_file(ROOT, f"{rel}/{name}", (staged / name).read_bytes())
+    else:
+        writer = "regenerate_tables.py --figures"
+        with output_directory(path, writer=writer, option="--figures", force=force) as tmp:
+            for name in names:
+                shutil.copyfile(staged / name, tmp / name)
+    for name in names:
+        print(f"wrote {Path(path) / name}")
+
+
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    """Print the tables (module docstring).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments (default ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        0 done, 2 a wrong argument or figures' folder (one line, nothing run or written).
+    """
+    return run_script(__file__, _tables, argv)
+
+
+def _tables(argv: list[str]) -> int:
+    parser = script_parser(__file__, __doc__)
     parser.add_argument("--only", action="append", choices=sorted(TABLES), help="a table")
     parser.add_argument("--expensive", action="store_true", help="also the expensive tables")
     parser.add_argument("--workdir", help="keep the commands' output here (default: temporary)")
     parser.add_argument("--figures", help="also write the README's figures into this folder")
+    parser.add_argument(
+        "--force", action="store_true",
+        help="with --figures outside docs/: write beside files tetherheli did not write",
+    )  # fmt: skip
     args = parser.parse_args(argv)
     names = args.only or [n for n, (_, costly) in TABLES.items() if args.expensive or not costly]
-    figures = Path(args.figures) if args.figures else None
+    if args.figures:
+        check_figures(args.figures, [f for n in names for f in FIGURES.get(n, ())], args.force)
     with tempfile.TemporaryDirectory() as tmp:
-        work = Path(args.workdir) if args.workdir else Path(tmp)
+        work = Path(args.workdir) if args.workdir else Path(tmp) / "work"
         work.mkdir(parents=True, exist_ok=True)
+        staged = Path(tmp) / "figures" if args.figures else None
+        if staged is not None:
+            staged.mkdir()
         for name in names:
             print(f"\n## {name}\n", flush=True)
             t0 = time.perf_counter()
-            TABLES[name][0](work, figures)
+            TABLES[name][0](work, staged)
             print(f"\n({name}: {time.perf_counter() - t0:.0f} s)", flush=True)
+        if staged is not None:
+            publish_figures(staged, args.figures, args.force)
     return 0
 
 

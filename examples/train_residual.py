@@ -21,7 +21,10 @@ Two trainers (``--algo``):
 Everything is seeded (``--seed``; the winds by seed ranges that never overlap). The learning
 curve flies the current policy (deterministic) on the curve's seeds; at the end the policy
 and the zero action fly the same held-out test seeds (``--test-episodes``). Written into
-``--out`` (ALGO is ``ars`` or ``ppo``):
+``--out`` whole at the end, by the commands' output rules (``tetherheli._io``: the folder is
+checked before training; a link, a foreign file or a changed one where an output goes is
+refused, never written through or replaced; ``--force`` writes beside foreign files), ALGO
+``ars`` or ``ppo``:
 
 - ``residual_ALGO_curve.png``: mean episode return on the curve's seeds against training
   steps, with the zero action's mean return on the same seeds as a line;
@@ -32,8 +35,11 @@ and the zero action fly the same held-out test seeds (``--test-episodes``). Writ
   (``residual_ars_gains.npy``) or the PPO model and its normalisation.
 
 ``--update-docs`` also copies the figure to ``docs/img`` and the table into
-``docs/studies/residual_policy.md`` (between its markers). Needs ``pip install
-"tetherheli[rl]"``. Example (a few minutes on two shared cores)::
+``docs/studies/residual_policy.md`` (between its markers; the project's own files, replaced
+whole by ``cli._script.write_docs_file``). Every argument is checked before anything runs
+(one line, exit 2), the environment copies against the memory budget too. ``--algo ppo``
+needs ``pip install "tetherheli[rl]"`` (ARS only Gymnasium). Example (a few minutes on two
+shared cores)::
 
     python examples/train_residual.py --out residual_out --update-docs
 """
@@ -41,19 +47,34 @@ and the zero action fly the same held-out test seeds (``--test-episodes``). Writ
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
 import math
-import sys
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from tetherheli.cli._common import count_arg
+from tetherheli.cli._script import (
+    claim,
+    docs_file,
+    out_argument,
+    run_script,
+    script_parser,
+    write_docs_file,
+)
+from tetherheli.errors import TetherheliError
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
 ROOT = Path(__file__).resolve().parents[1]
-DOC_PAGE = ROOT / "docs" / "studies" / "residual_policy.md"
-DOC_IMG = ROOT / "docs" / "img"
+#: The docs page and the figures' folder ``--update-docs`` writes (relative to ``ROOT``).
+DOC_PAGE = "docs/studies/residual_policy.md"
+DOC_IMG = "docs/img"
 
 #: The task: the registered environment's defaults (paper's controller, pulse/sine/turbulence
 #: winds, reward -(|e|^2 + 0.01 |a|^2)) with 10 s episodes.
@@ -506,10 +527,10 @@ def table(figures: dict, command: str, labels: dict[str, str]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def plot_curve(
-    curve: list[tuple[int, float]], zero: float, label: str, path: Path, keep_best: bool = True
-) -> None:
-    """Write the learning curve with the zero action's return as a line.
+def curve_figure(
+    curve: list[tuple[int, float]], zero: float, label: str, keep_best: bool = True
+) -> Figure:
+    """The learning curve with the zero action's return as a line.
 
     Parameters
     ----------
@@ -519,14 +540,12 @@ def plot_curve(
         The zero action's mean return on the same seeds.
     label : str
         The trained controller's legend entry.
-    path : Path
-        The PNG to write.
     keep_best : bool, optional
         Mark the best point (the policy kept, ARS) rather than the last one (PPO).
 
     Returns
     -------
-    None
+    matplotlib.figure.Figure
     """
     from matplotlib.figure import Figure
 
@@ -553,11 +572,44 @@ def plot_curve(
     ax.set_ylabel("mean episode return, curve seeds")
     ax.grid(alpha=0.3)
     ax.legend(loc="lower left", fontsize=8)
-    fig.savefig(path, dpi=120)
+    return fig
+
+
+def check_docs(algo: str) -> None:
+    """Before training: the docs page (with ``algo``'s markers) and the figure's place in
+    ``docs/img`` may be written (``cli._script.docs_file``).
+
+    Parameters
+    ----------
+    algo : str
+        "ars" or "ppo".
+
+    Raises
+    ------
+    TetherheliError
+        One line: a link or a file on the way, a missing page or markers.
+    """
+    docs_file(ROOT, f"{DOC_IMG}/residual_{algo}_curve.png")
+    page = docs_file(ROOT, DOC_PAGE)
+    _replace_table(page.read_text(encoding="utf-8") if page.is_file() else "", algo, "")
+
+
+def _replace_table(page: str, algo: str, table_text: str) -> str:
+    """``page`` with ``table_text`` between ``algo``'s markers."""
+    begin, end = table_markers(algo)
+    head, sep, rest = page.partition(begin)
+    _, sep_end, tail = rest.partition(end)
+    if not sep or not sep_end:
+        raise TetherheliError(
+            f"--update-docs: {DOC_PAGE} lacks the markers {begin!r} and {end!r}; allowed: "
+            "the repository's page (git checkout it)"
+        )
+    return f"{head}{begin}\n{table_text}{end}{tail}"
 
 
 def update_docs(algo: str, figure: Path, table_text: str) -> None:
-    """Copy the figure to ``docs/img`` and put the table between the page's markers.
+    """Copy the figure to ``docs/img`` and put the table between the page's markers (the
+    project's own files, replaced whole: ``cli._script.write_docs_file``).
 
     Parameters
     ----------
@@ -572,14 +624,10 @@ def update_docs(algo: str, figure: Path, table_text: str) -> None:
     -------
     None
     """
-    (DOC_IMG / figure.name).write_bytes(figure.read_bytes())
-    begin, end = table_markers(algo)
-    page = DOC_PAGE.read_text(encoding="utf-8")
-    head, sep, rest = page.partition(begin)
-    _, sep_end, tail = rest.partition(end)
-    if not sep or not sep_end:
-        raise SystemExit(f"{DOC_PAGE}: the markers {begin!r} and {end!r} are missing")
-    DOC_PAGE.write_text(f"{head}{begin}\n{table_text}{end}{tail}", encoding="utf-8")
+    check_docs(algo)
+    page = (ROOT / DOC_PAGE).read_text(encoding="utf-8")
+    write_docs_file(ROOT, f"{DOC_IMG}/{figure.name}", figure.read_bytes())
+    write_docs_file(ROOT, DOC_PAGE, _replace_table(page, algo, table_text))
 
 
 def table_markers(algo: str) -> tuple[str, str]:
@@ -602,12 +650,13 @@ def table_markers(algo: str) -> tuple[str, str]:
 
 
 def run(args: argparse.Namespace, command: str) -> dict:
-    """Train, evaluate and write the outputs into ``args.out``.
+    """Train, evaluate and write the outputs into ``args.out`` (whole, at the end:
+    ``_io.output_directory``).
 
     Parameters
     ----------
     args : argparse.Namespace
-        The parsed command line (see ``parser``).
+        The parsed command line (see ``parser``), checked by ``check_arguments``.
     command : str
         The command line, quoted in the table.
 
@@ -616,17 +665,16 @@ def run(args: argparse.Namespace, command: str) -> dict:
     dict
         What ``residual_<algo>.json`` holds.
     """
-    import torch
+    from tetherheli._io import output_directory
+    from tetherheli.viz.figure import save_figure
 
-    torch.set_num_threads(args.threads)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     algo = args.algo
     steps = DEFAULT_STEPS[algo] if args.steps is None else args.steps
     curve_seeds = [CURVE_SEED + i for i in range(args.curve_episodes)]
     zero_curve = float(np.mean(evaluate(zero_policy, curve_seeds)["return"]))
     print(f"zero action on the curve's {len(curve_seeds)} seeds: mean return {zero_curve:.3f}")
     extra: dict[str, Any] = {}
+    files: dict[str, Callable[[Path], object]] = {}  # file name -> writes it at that path
     if algo == "ars":
         gains, curve, seconds = train_ars(
             steps, args.seed, args.eval_every or 1, args.curve_episodes,
@@ -634,16 +682,19 @@ def run(args: argparse.Namespace, command: str) -> dict:
         )  # fmt: skip
         policy = linear_policy(gains)
         label = "LQI + linear residual (ARS)"
-        np.save(out / "residual_ars_gains.npy", gains)
+        files["residual_ars_gains.npy"] = lambda path: np.save(path, gains)
         extra["gains"] = gains.tolist()
     else:
+        import torch
+
+        torch.set_num_threads(args.threads)
         model, normalize, curve, seconds = train_ppo(
             steps, args.seed, args.n_envs, args.eval_every or 50_000, args.curve_episodes
         )
         policy = sb3_policy(model, normalize)
         label = "LQI + PPO residual (deterministic)"
-        model.save(out / "residual_ppo_model.zip")
-        normalize.save(str(out / "residual_ppo_vecnormalize.pkl"))
+        files["residual_ppo_model.zip"] = model.save
+        files["residual_ppo_vecnormalize.pkl"] = lambda path: normalize.save(str(path))
     trained = curve[-1][0]
     print(f"trained {trained:,d} steps in {seconds:.0f} s")
     test_seeds = [TEST_SEED + i for i in range(args.test_episodes)]
@@ -659,13 +710,10 @@ def run(args: argparse.Namespace, command: str) -> dict:
         "policy": label,
     }
     text = table(figures, command, labels)
-    figure = out / f"residual_{algo}_curve.png"
-    plot_curve(curve, zero_curve, label, figure, keep_best=algo == "ars")
-    (out / f"residual_{algo}_table.md").write_text(text, encoding="utf-8")
     record = {
         "algo": algo,
         "task": TASK,
-        "settings": vars(args),
+        "settings": {k: v for k, v in vars(args).items() if k not in ("debug", "force")},
         "trained_steps": trained,
         "seconds": seconds,
         "curve": curve,
@@ -674,64 +722,162 @@ def run(args: argparse.Namespace, command: str) -> dict:
         "figures": figures,
         **extra,
     }
-    (out / f"residual_{algo}.json").write_text(json.dumps(record, indent=1), encoding="utf-8")
+    fig = curve_figure(curve, zero_curve, label, keep_best=algo == "ars")
+    figure = f"residual_{algo}_curve.png"
+    files[figure] = lambda path: save_figure(fig, path, dpi=120)
+    files[f"residual_{algo}_table.md"] = lambda path: path.write_text(text, encoding="utf-8")
+    files[f"residual_{algo}.json"] = lambda path: path.write_text(
+        json.dumps(record, indent=1), encoding="utf-8"
+    )
+    assert sorted(files) == sorted(output_names(algo)), sorted(files)
+    writer = f"train_residual.py --algo {algo}"  # ars and ppo keep each other's files
+    with output_directory(args.out, writer=writer, force=args.force) as tmp:
+        for name, write in files.items():
+            write(tmp / name)
     print(text)
-    for name in (figure.name, f"residual_{algo}_table.md", f"residual_{algo}.json"):
+    out = Path(args.out)
+    for name in (figure, f"residual_{algo}_table.md", f"residual_{algo}.json"):
         print(f"wrote {out / name}")
     if args.update_docs:
-        update_docs(algo, figure, text)
-        print(f"updated docs/img/{figure.name} and {DOC_PAGE.relative_to(ROOT)}")
+        update_docs(algo, out / figure, text)
+        print(f"updated {DOC_IMG}/{figure} and {DOC_PAGE}")
     return record
 
 
 #: Default training steps per algorithm (each about 3-5 minutes on two shared cores).
 DEFAULT_STEPS = {"ars": 15_000_000, "ppo": 1_000_000}
+#: The largest values of the counts (each also bounded by the memory its environment copies
+#: need: ``check_arguments``).
+MAX_STEPS = 10**9
+MAX_EPISODES = 10_000
+MAX_COPIES = 1024
 
 
 def parser() -> argparse.ArgumentParser:
-    """The command line.
+    """The command line (every value checked as it is parsed: one line, exit 2).
 
     Returns
     -------
     argparse.ArgumentParser
         Its flags.
     """
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p = script_parser(__file__, __doc__)
     p.add_argument(
         "--algo", choices=("ars", "ppo"), default="ars",
         help="ars: linear residual by random search (default); ppo: Stable-Baselines3 PPO",
     )  # fmt: skip
     p.add_argument(
-        "--steps", type=int, default=None,
+        "--steps", type=count_arg("--steps", 1, MAX_STEPS), default=None,
         help="training steps (default 15000000 for ars, 1000000 for ppo)",
     )  # fmt: skip
-    p.add_argument("--seed", type=int, default=0, help="seed of the training (default 0)")
     p.add_argument(
-        "--directions", type=int, default=ARS_SETTINGS["directions"],
+        "--seed", type=count_arg("--seed", 0, 2**31 - 1), default=0,
+        help="seed of the training (default 0)",
+    )  # fmt: skip
+    p.add_argument(
+        "--directions", type=count_arg("--directions", 1, MAX_COPIES),
+        default=ARS_SETTINGS["directions"],
         help=f"ars: directions per iteration (default {ARS_SETTINGS['directions']})",
     )  # fmt: skip
     p.add_argument(
-        "--episodes", type=int, default=ARS_SETTINGS["episodes"],
+        "--episodes", type=count_arg("--episodes", 1, MAX_COPIES),
+        default=ARS_SETTINGS["episodes"],
         help=f"ars: episodes per candidate (default {ARS_SETTINGS['episodes']})",
     )  # fmt: skip
-    p.add_argument("--n-envs", type=int, default=32, help="ppo: environment copies (default 32)")
     p.add_argument(
-        "--eval-every", type=int, default=None,
+        "--n-envs", type=count_arg("--n-envs", 1, MAX_COPIES), default=32,
+        help="ppo: environment copies (default 32)",
+    )  # fmt: skip
+    p.add_argument(
+        "--eval-every", type=count_arg("--eval-every", 1, MAX_STEPS), default=None,
         help="between curve points: iterations (ars, default 1) or steps (ppo, default 50000)",
     )  # fmt: skip
     p.add_argument(
-        "--curve-episodes", type=int, default=20, help="episodes per curve point (default 20)"
-    )
+        "--curve-episodes", type=count_arg("--curve-episodes", 1, MAX_EPISODES), default=20,
+        help="episodes per curve point (default 20)",
+    )  # fmt: skip
     p.add_argument(
-        "--test-episodes", type=int, default=100, help="held-out test episodes (default 100)"
-    )
-    p.add_argument("--threads", type=int, default=1, help="PyTorch threads (default 1)")
-    p.add_argument("--out", default="residual_out", help="output folder (default residual_out)")
+        "--test-episodes", type=count_arg("--test-episodes", 2, MAX_EPISODES), default=100,
+        help="held-out test episodes (default 100)",
+    )  # fmt: skip
+    p.add_argument(
+        "--threads", type=count_arg("--threads", 1, 1024), default=1,
+        help="PyTorch threads (default 1)",
+    )  # fmt: skip
+    out_argument(p, "residual_out")
     p.add_argument(
         "--update-docs", action="store_true",
         help="copy the figure and the table into docs/ (docs/studies/residual_policy.md)",
     )  # fmt: skip
     return p
+
+
+def output_names(algo: str) -> list[str]:
+    """The files a run of ``algo`` writes into ``--out``.
+
+    Parameters
+    ----------
+    algo : str
+        "ars" or "ppo".
+
+    Returns
+    -------
+    list of str
+        The figure, the table, the record, then the gains or the model and its
+        normalisation.
+    """
+    own = (
+        ["residual_ars_gains.npy"]
+        if algo == "ars"
+        else ["residual_ppo_model.zip", "residual_ppo_vecnormalize.pkl"]
+    )
+    return [
+        f"residual_{algo}_curve.png",
+        f"residual_{algo}_table.md",
+        f"residual_{algo}.json",
+        *own,
+    ]
+
+
+def check_arguments(args: argparse.Namespace) -> None:
+    """What the values allow, checked before anything runs or is written: ``--algo ppo``'s
+    packages, the output folder (``cli._script.claim``), the docs files of
+    ``--update-docs``, and the memory of the most environment copies flown at once
+    (``env_checks.check_env_memory``, the environments' own rule).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Raises
+    ------
+    TetherheliError
+        One line naming the argument.
+    """
+    from tetherheli.env_checks import check_env_memory
+    from tetherheli.envs import TetheredHoverEnv
+    from tetherheli.resources import ResourceLimitError
+
+    if args.algo == "ppo" and importlib.util.find_spec("stable_baselines3") is None:
+        raise TetherheliError(
+            "--algo ppo needs Stable-Baselines3 and PyTorch; allowed: --algo ars, or pip "
+            'install "tetherheli[rl]"'
+        )
+    claim(args.out, force=args.force, names=output_names(args.algo))
+    if args.update_docs:
+        check_docs(args.algo)
+    sizes = {"--curve-episodes": args.curve_episodes, "--test-episodes": args.test_episodes}
+    if args.algo == "ars":
+        sizes["2 x --directions x --episodes"] = 2 * args.directions * args.episodes
+    else:
+        sizes["--n-envs"] = args.n_envs
+    flags = max(sizes, key=sizes.__getitem__)
+    env = TetheredHoverEnv(**TASK)
+    try:
+        check_env_memory(env.scenario, sizes[flags], env.gust_dt)
+    except ResourceLimitError as exc:
+        raise ResourceLimitError(f"{flags} = {sizes[flags]}: {exc}") from None
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -745,21 +891,17 @@ def main(argv: Sequence[str] | None = None) -> int:
     Returns
     -------
     int
-        0 on success, 2 on a bad argument (one line on stderr).
+        0 on success, 2 on a bad argument or output folder (one line on stderr, nothing
+        run or written).
     """
-    argv = list(sys.argv[1:] if argv is None else argv)
-    args = parser().parse_args(argv)
-    for field, low in (
-        ("steps", 1), ("directions", 1), ("episodes", 1), ("n_envs", 1), ("eval_every", 1),
-        ("curve_episodes", 1), ("test_episodes", 2), ("threads", 1),
-    ):  # fmt: skip
-        value = getattr(args, field)
-        if value is not None and value < low:
-            flag = "--" + field.replace("_", "-")
-            print(f"error: {flag} = {value}: allowed an integer >= {low}", file=sys.stderr)
-            return 2
-    run(args, " ".join(["python examples/train_residual.py", *argv]))
-    return 0
+
+    def work(arguments: list[str]) -> int:
+        args = parser().parse_args(arguments)
+        check_arguments(args)
+        run(args, " ".join(["python examples/train_residual.py", *arguments]))
+        return 0
+
+    return run_script(__file__, work, None if argv is None else list(argv))
 
 
 if __name__ == "__main__":

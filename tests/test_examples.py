@@ -38,9 +38,10 @@ def test_example_runs_and_writes_a_figure(script: Path, tmp_path: Path):
         "MPLBACKEND": "Agg",
         "PYTHONPATH": os.pathsep.join(filter(None, [src, os.environ.get("PYTHONPATH")])),
     }
+    out = tmp_path / "out"  # OUT_DIR by the commands' rules: not the current directory
     # generous: the first process on a fresh machine compiles the engine (1-3 min)
     done = subprocess.run(
-        [sys.executable, str(script), str(tmp_path)],
+        [sys.executable, str(script), str(out)],
         cwd=tmp_path,
         env=env,
         capture_output=True,
@@ -48,6 +49,7 @@ def test_example_runs_and_writes_a_figure(script: Path, tmp_path: Path):
         timeout=900,
     )
     assert done.returncode == 0, done.stderr[-2000:]
-    figures = list(tmp_path.glob("*.png"))
+    figures = list(out.glob("*.png"))
     assert len(figures) == 1 and figures[0].stat().st_size > 10_000, done.stdout
     assert f"wrote {figures[0]}" in done.stdout
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]  # nothing else written

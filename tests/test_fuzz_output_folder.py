@@ -36,8 +36,17 @@ says so as a skip). A regular file in place of a folder binds for everyone.
 The figures are drawn as blank figures (``viz.plots.save_figure`` still writes each one):
 the folder rules are under test, not the plots, and a real figure costs a second.
 
+The scripts that write into a folder the user names (issue 43: an example's OUT_DIR,
+``examples/train_residual.py --out``, ``benchmarks/bench_mpc.py --pareto``,
+``docs/regenerate_tables.py --figures``) are fuzzed over the same states and operations with
+the same property (``test_a_script_writes_whole_or_changes_nothing``): each runs its real
+command line and output rules in-process, its work a stub (a blank figure, a fake
+evaluation, a CSV read back); a refusal is one line ``SCRIPT: error: ...`` naming its
+option.
+
 Bounded in CI: a fixed example budget, derandomized, no deadline, about 25 s on a shared
-2-core Xeon. ``TETHERHELI_FUZZ_EXAMPLES=500`` runs longer (and random) on demand.
+2-core Xeon for the commands and 10 s for the scripts. ``TETHERHELI_FUZZ_EXAMPLES=500`` runs
+longer (and random) on demand.
 """
 
 from __future__ import annotations
@@ -52,6 +61,7 @@ import stat
 import subprocess
 import sys
 import tempfile
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -512,14 +522,16 @@ def _dead_temporary(rel: str, dead: int, out_rel: str) -> bool:
 _RECOMPUTED = re.compile(r"tetherheli: \S+/partial/chunk_[0-9_]+\.csv .*; computing it again")
 
 
-def _check_refusal(code: int, out: str, stdout: str, err: str) -> None:
+def _check_refusal(
+    code: int, out: str, stdout: str, err: str, prog: str = "tetherheli", option: str = "--out"
+) -> None:
     assert code == 2, (code, err)
     notes = err.splitlines()[:-1]
     assert all(_RECOMPUTED.fullmatch(n) for n in notes), err
     err = err.splitlines(True)[-1]
-    assert err.count("\n") == 1 and err.startswith("tetherheli: error: "), err
+    assert err.count("\n") == 1 and err.startswith(f"{prog}: error: "), err
     assert "Traceback" not in err and f"{TEMPORARY_TAG}-{os.getpid()}-" not in err, err
-    assert "--out" in err or out.split("/OUT")[0] in err, err
+    assert option in err or out.split("/OUT")[0] in err, err
     assert "wrote" not in stdout, stdout
 
 
@@ -567,7 +579,15 @@ def _check_whole(
             assert got.name == want.name and got.status == want.status
             np.testing.assert_allclose(got.states, want.states, rtol=1e-12, atol=0)
             np.testing.assert_allclose(got.time, want.time, rtol=1e-12, atol=0)
-    # every entry that was not tetherheli's (outside the folder, or the user's in it) is kept
+    _check_kept(before, after, state, earlier, out_rel, record0)
+
+
+def _check_kept(
+    before: dict, after: dict, state: State, earlier: Earlier, out_rel: str, record0: dict
+) -> None:
+    """After a run that succeeded: every entry that was not tetherheli's (outside the folder,
+    or the user's in it) is as before, nothing appeared outside the folder, and neither a
+    dead process's temporaries nor this one's are left."""
     for rel, entry in before.items():
         inner = Path(rel).relative_to(out_rel).as_posix() if rel.startswith(out_rel + "/") else None
         if _dead_temporary(rel, earlier.dead, out_rel):
@@ -623,9 +643,12 @@ class _Killed(BaseException):
     """SIGKILL, as far as the run can tell: nothing of it runs after (no undo, no clean-up)."""
 
 
-def _kill_a_run(state: State, out: Path, ex: Path, earlier: Earlier) -> None:
+def _kill_a_run(
+    state: State, out: Path, ex: Path, earlier: Earlier, invoke: Callable | None = None
+) -> None:
     """Leave what a run of the command killed at rename ``state.kill`` leaves: its swap
-    half done, its temporary folder and files in place, named after a process now gone."""
+    half done, its temporary folder and files in place, named after a process now gone
+    (``invoke``: a script's run instead of the command's)."""
     import tetherheli._io as io
 
     replace, calls = os.replace, []
@@ -642,7 +665,10 @@ def _kill_a_run(state: State, out: Path, ex: Path, earlier: Earlier) -> None:
         m.setattr(io, "_undo_swap", lambda *a, **k: None)
         m.setattr(io.shutil, "rmtree", lambda *a, **k: None)
         try:
-            main(_argv(state.command, earlier.inputs, out, state.force))
+            if invoke is None:
+                main(_argv(state.command, earlier.inputs, out, state.force))
+            else:
+                invoke()
         except _Killed:
             pass
     mine = f"-{os.getpid()}-"
@@ -724,3 +750,275 @@ def test_fuzzer_budget_is_fixed_in_ci():
     """The CI run is bounded: derandomized with a fixed budget unless asked for more."""
     if not _ON_DEMAND:
         assert _SETTINGS.max_examples == _CI_EXAMPLES and _SETTINGS.derandomize
+
+
+# --- the scripts that write (issue 43): examples, benchmarks, the docs' tables ----------------
+#
+# The same folder states and the same property for the repository's scripts that write into
+# a folder the user names: an example's OUT_DIR (trim_and_linearization_poles.py),
+# examples/train_residual.py --out, benchmarks/bench_mpc.py --pareto (from --pareto-csv) and
+# docs/regenerate_tables.py --figures. Each runs its real command line, parsing, output
+# rules and writing, in-process; its work is a stub (a blank figure, a fake evaluation, the
+# CSV read back), so the folder rules are under test, not the physics.
+
+ROOT = Path(__file__).resolve().parents[1]
+_SCRIPT_EXAMPLES = 100
+_SCRIPT_SETTINGS = settings(
+    max_examples=_ON_DEMAND or _SCRIPT_EXAMPLES,
+    derandomize=not _ON_DEMAND,
+    deadline=None,
+    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow],
+    database=None,
+)
+#: script -> (its path, the files it writes, the writer recorded, the option it names)
+SCRIPTS = {
+    "trim": (
+        "examples/trim_and_linearization_poles.py",
+        ("trim_poles.png",),
+        "trim_and_linearization_poles.py",
+        "OUT_DIR",
+    ),
+    "residual": (
+        "examples/train_residual.py",
+        (
+            "residual_ars_curve.png",
+            "residual_ars_table.md",
+            "residual_ars.json",
+            "residual_ars_gains.npy",
+        ),
+        "train_residual.py --algo ars",
+        "--out",
+    ),
+    "pareto": (
+        "benchmarks/bench_mpc.py",
+        ("mpc_pareto.csv", "mpc_pareto.md", "mpc_pareto.png"),
+        "bench_mpc --pareto",
+        "--pareto",
+    ),
+    "figures": (
+        "docs/regenerate_tables.py",
+        ("release.png",),
+        "regenerate_tables.py --figures",
+        "--figures",
+    ),
+}
+#: Names where the scripts' files go (and some that are nobody's).
+SCRIPT_PLACES = (
+    "notes.txt",
+    "trim_poles.png",
+    "residual_ars.json",
+    "residual_ars_curve.png",
+    "residual_ars_gains.npy",
+    "mpc_pareto.csv",
+    "mpc_pareto.md",
+    "release.png",
+    "sub",
+    "sub/notes.txt",
+    OUTPUT_RECORD,
+)
+_TINY_TRAINING = ["--steps", "1", "--directions", "1", "--episodes", "1", "--curve-episodes",
+                  "2", "--test-episodes", "2"]  # fmt: skip
+
+
+def _load_script(rel: str):
+    import importlib.util
+
+    path = ROOT / rel
+    spec = importlib.util.spec_from_file_location(f"fuzzed_{path.stem}", path)
+    module = importlib.util.module_from_spec(spec)
+    sys.path.insert(0, str(path.parent))  # bench_mpc imports its sibling tune_tether_lqi
+    try:
+        spec.loader.exec_module(module)
+    finally:
+        sys.path.remove(str(path.parent))
+    return module
+
+
+def _blank_figure():
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(0.5, 0.5))
+    fig.add_subplot()
+    return fig
+
+
+def _fake_evaluate(policy, seeds, task=None) -> dict:
+    n = len(seeds)
+    return {
+        "return": -1.0 - 0.1 * np.arange(n),
+        "peak": np.full(n, 0.2),
+        "rms": np.full(n, 0.1),
+        "rms_force": np.zeros(n),
+        "failed": np.zeros(n, dtype=bool),
+        "steps": np.full(n, 1000),
+    }
+
+
+class Scripts:
+    """The scripts' modules and how each is stubbed and run (a plain class: Hypothesis
+    prints it by its repr)."""
+
+    def __init__(self, csv_path: Path) -> None:
+        self.modules = {key: _load_script(spec[0]) for key, spec in SCRIPTS.items()}
+        self.csv = csv_path  # the --pareto-csv input
+
+    def __repr__(self) -> str:
+        return "Scripts()"
+
+    def stub(self, m: pytest.MonkeyPatch) -> None:
+        """Each script's work replaced by a quick stand-in (its writes kept)."""
+        import tetherheli.viz.plots as plots
+
+        trim, residual = self.modules["trim"], self.modules["residual"]
+        m.setattr(trim, "figures", lambda: {"trim_poles.png": _blank_figure()})
+        m.setattr(residual, "evaluate", _fake_evaluate)
+        m.setattr(residual, "lqi_feedback_gains", lambda *a, **k: np.zeros((4, 13)))
+        m.setattr(residual, "curve_figure", lambda *a, **k: _blank_figure())
+        m.setattr(plots, "figure_pareto", lambda *a, **k: _blank_figure())
+
+        def release(work: Path, staged: Path | None) -> None:
+            (staged / "release.png").write_bytes(b"\x89PNG a figure\n")
+
+        m.setitem(self.modules["figures"].TABLES, "release", (release, False))
+
+    def argv(self, key: str, out: Path, force: bool) -> list[str]:
+        flag = ["--force"] if force else []
+        return {
+            "trim": [str(out), *flag],
+            "residual": [*_TINY_TRAINING, "--out", str(out), *flag],
+            "pareto": ["--pareto", str(out), "--pareto-csv", str(self.csv), *flag],
+            "figures": ["--only", "release", "--figures", str(out), *flag],
+        }[key]
+
+    def run(self, key: str, out: Path, force: bool) -> int:
+        with pytest.MonkeyPatch.context() as m:
+            self.stub(m)
+            return self.modules[key].main(self.argv(key, out, force))
+
+
+@pytest.fixture(scope="session")
+def scripts(tmp_path_factory: pytest.TempPathFactory) -> Scripts:
+    pytest.importorskip("gymnasium")
+    pytest.importorskip("osqp")
+    base = tmp_path_factory.mktemp("script-inputs")
+    done = Scripts(base / "pareto" / "mpc_pareto.csv")
+    bench = done.modules["pareto"]
+    rows = [
+        {c: (True if c in ("completed", "admissible") else float(i + j))
+         for j, c in enumerate(bench.PARETO_COLUMNS)}
+        for i in range(3)
+    ]  # fmt: skip
+    with pytest.MonkeyPatch.context() as m:
+        done.stub(m)
+        bench.write_pareto(str(base / "pareto"), rows, {"paper": (1.0, 40.0)})
+    return done
+
+
+@pytest.fixture(scope="session")
+def script_earlier(tmp_path_factory: pytest.TempPathFactory, scripts: Scripts) -> Earlier:
+    """Each script's fresh output folder, once per session (the "own" start states)."""
+    base = tmp_path_factory.mktemp("script-earlier")
+    folders = {}
+    for key in SCRIPTS:
+        folders[key] = base / key
+        assert scripts.run(key, folders[key], force=False) == 0, key
+    done = Earlier(scripts.csv.parent, folders, _dead_pid(), os.getppid())
+    assert all(done.records.values()), done.records
+    return done
+
+
+@st.composite
+def script_states(draw) -> State:
+    ops = tuple(o for o in OPS if o != "pin" or PINNING is not None)
+    command = draw(st.sampled_from(sorted(SCRIPTS)))
+    return State(
+        command=command,
+        start=draw(st.sampled_from(STARTS)),
+        start_of=draw(st.sampled_from([command, command, *sorted(SCRIPTS)])),
+        force=draw(st.booleans()),
+        ops=tuple(
+            draw(
+                st.lists(
+                    st.tuples(
+                        st.sampled_from(ops),
+                        st.integers(0, 10**6),
+                        st.sampled_from(SCRIPT_PLACES),
+                    ),
+                    max_size=5,
+                )
+            )
+        ),
+        kill=draw(st.none() | st.integers(0, 8)),
+    )
+
+
+def _check_script_whole(
+    before: dict, after: dict, state: State, earlier: Earlier, real: Path, ex: Path, record0
+) -> None:
+    """A script's run that succeeded: each of its files whole and listed as its own, every
+    other file as before."""
+    _, files, writer, _ = SCRIPTS[state.command]
+    record = _record(real)
+    assert record, "no record"
+    for rel, entry in record.items():
+        assert _own(real, rel, entry), f"{rel} is not as its record says"
+    for rel in files:
+        assert record.get(rel, {}).get("writer") == writer, f"{rel} missing from the record"
+        fresh = earlier.folders[state.command] / rel
+        if rel.endswith((".csv", ".npy")):  # the same inputs give the same bytes
+            assert (real / rel).read_bytes() == fresh.read_bytes(), rel
+    _check_kept(before, after, state, earlier, real.relative_to(ex).as_posix(), record0)
+
+
+def _run_script_state(state: State, ex: Path, earlier: Earlier, scripts: Scripts, capsys):
+    out, pinned = _build(state, ex, earlier)
+    script, _, _, option = SCRIPTS[state.command]
+    try:
+        real = Path(os.path.realpath(out))
+        out_rel = real.relative_to(ex).as_posix()
+        record0 = _record(real) if real.is_dir() else {}
+        before = killed = _snapshot(ex)
+        if state.kill is not None and not pinned and real.is_dir():
+
+            def invoke() -> None:
+                scripts.run(state.command, out, state.force)
+
+            _kill_a_run(state, out, ex, earlier, invoke)
+            before = _snapshot(ex)
+            swap = any(r.endswith(f"/{_SWAP_JOURNAL}") for r in before)
+            event("a killed run's swap left" if swap else "a killed run, no swap begun")
+            _check_recovery(state, ex, out_rel, killed, before, earlier)
+        capsys.readouterr()
+        code = scripts.run(state.command, out, state.force)
+        stdout, err = capsys.readouterr()
+        after = _snapshot(ex)
+        event(f"{state.command}: exit {code}")
+        if code == 0:
+            _check_script_whole(killed, after, state, earlier, real, ex, record0)
+        else:
+            _check_refusal(code, str(out), stdout, err, prog=Path(script).name, option=option)
+            try:
+                _check_unchanged(before, after, state, earlier, out_rel)
+            except AssertionError:
+                if killed is before:
+                    raise
+                _check_unchanged(killed, after, state, earlier, out_rel)
+    finally:
+        _unpin_all(pinned, ex)
+
+
+@_SCRIPT_SETTINGS
+@given(state=script_states())
+def test_a_script_writes_whole_or_changes_nothing(
+    tmp_path_factory, script_earlier, scripts, capsys, state
+):
+    """Issue 43, finding 1: any folder state under a script's output option: the script
+    writes all its files (listed, the user's kept, nothing written through a link) or is
+    refused in one line, exit 2, and leaves every byte as it was."""
+    _run_script_state(state, tmp_path_factory.mktemp("script"), script_earlier, scripts, capsys)
+
+
+def test_script_fuzzer_budget_is_fixed_in_ci():
+    """The scripts' CI run is bounded as the commands' is."""
+    if not _ON_DEMAND:
+        assert _SCRIPT_SETTINGS.max_examples == _SCRIPT_EXAMPLES and _SCRIPT_SETTINGS.derandomize

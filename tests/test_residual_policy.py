@@ -89,7 +89,7 @@ def test_ppo_pipeline_runs_tiny_and_writes_its_outputs(example, tmp_path):
 
 @pytest.mark.parametrize(
     ("args", "flag"),
-    [(["--steps", "0"], "--steps = 0"), (["--test-episodes", "1"], "--test-episodes = 1")],
+    [(["--steps", "0"], "--steps = '0'"), (["--test-episodes", "1"], "--test-episodes = '1'")],
 )
 def test_bad_argument_gives_one_line_and_exit_2(example, capsys, args, flag):
     assert example.main([*args, "--out", "unused"]) == 2

@@ -40,6 +40,7 @@ __all__ = [
     "atomic_write_text",
     "check_output_file",
     "check_output_location",
+    "check_output_names",
     "check_real_folders",
     "claim_output_directory",
     "foreign_files",
@@ -618,6 +619,24 @@ def claim_output_directory(
     if foreign:
         _refuse_foreign(f"{option} {path}", foreign)
     return target
+
+
+def check_output_names(path: str | Path, rels: Iterable[str], *, option: str = "--out") -> None:
+    """Before any work, refuse what ``output_directory`` would refuse at the end for the files
+    ``rels`` a command is going to write into the output directory ``path``: a link or a
+    file on the way to one (``check_real_folders``), or a file in its place that tetherheli
+    did not write (or that changed since), even with ``--force``."""
+    target = _resolved(path)
+    if not target.is_dir():
+        return  # new: nothing in the way
+    shown = f"{option} {path}"
+    record = _read_record(target)
+    if record is None and os.path.lexists(target / OUTPUT_RECORD):
+        _refuse_clash(shown, OUTPUT_RECORD)
+    for rel in rels:
+        check_real_folders(target, rel, shown=shown)
+        if os.path.lexists(target / rel) and not is_own_file(target, rel, record or {}):
+            _refuse_clash(shown, rel)
 
 
 def record_outputs(directory: Path, rels: Iterable[str], *, writer: str) -> None:

@@ -19,7 +19,7 @@ import io
 import os
 import sys
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 from .._version import __version__
 from ..errors import TetherheliError
@@ -40,7 +40,14 @@ from . import (
 from ._common import Parser, UsageError, common, plain
 from .montecarlo import EXIT_STOPPED
 
-__all__ = ["EXIT_INTERNAL", "EXIT_INTERRUPTED", "EXIT_STOPPED", "EXIT_USAGE", "main"]
+__all__ = [
+    "EXIT_INTERNAL",
+    "EXIT_INTERRUPTED",
+    "EXIT_STOPPED",
+    "EXIT_USAGE",
+    "guarded",
+    "main",
+]
 
 EXIT_USAGE = 2
 EXIT_INTERNAL = 70  # sysexits' EX_SOFTWARE
@@ -130,13 +137,42 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
 
 
 def _main(argv: list[str], debug: bool) -> int:
-    try:
+    def command() -> int:
         try:
             args = build_parser().parse_args(argv)
         except SystemExit as exc:  # --help, --version: printed; flush while we can catch
             sys.stdout.flush()
             return exc.code if isinstance(exc.code, int) else 0
-        code = int(args.func(args) or 0)
+        return int(args.func(args) or 0)
+
+    return guarded(command, debug=debug)
+
+
+def guarded(
+    call: Callable[[], int | None], *, debug: bool = False, prog: str = "tetherheli"
+) -> int:
+    """Run ``call`` as a command: its exit code, or the error turned into one line on stderr
+    and its exit code (the module docstring's). The commands and the repository's scripts
+    (``tetherheli._script``) refuse alike.
+
+    Parameters
+    ----------
+    call : callable
+        The command's work; returns its exit code (None: 0).
+    debug : bool, optional
+        Print the traceback of an internal error.
+    prog : str, optional
+        The name in front of the messages (``"tetherheli"``, or a script's).
+
+    Returns
+    -------
+    int
+        The exit code: ``call``'s, ``EXIT_USAGE`` (2) for a user error (``UsageError``,
+        ``TetherheliError``, an OSError about a user's path), ``EXIT_INTERNAL`` (70) for
+        anything else, ``EXIT_INTERRUPTED`` (130).
+    """
+    try:
+        code = int(call() or 0)
         sys.stdout.flush()  # a closed pipe (``| head -1``) surfaces here, not at exit
         return code
     except BrokenPipeError:  # the reader of stdout has gone (``| head -1``): end quietly
@@ -146,18 +182,18 @@ def _main(argv: list[str], debug: bool) -> int:
         print(str(exc), file=sys.stderr)
         return EXIT_USAGE
     except TetherheliError as exc:
-        print(f"tetherheli: error: {_first_line(exc)}", file=sys.stderr)
+        print(f"{prog}: error: {_first_line(exc)}", file=sys.stderr)
         return EXIT_USAGE
     except OSError as exc:
         if exc.filename is None or debug:  # not about a user's path: a fault of ours
-            return _internal_error(exc, debug)
-        print(f"tetherheli: error: {exc.filename}: {exc.strerror or exc}", file=sys.stderr)
+            return _internal_error(exc, debug, prog)
+        print(f"{prog}: error: {exc.filename}: {exc.strerror or exc}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:
-        print("tetherheli: interrupted", file=sys.stderr)
+        print(f"{prog}: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
     except Exception as exc:
-        return _internal_error(exc, debug)
+        return _internal_error(exc, debug, prog)
 
 
 def _drop_stdout() -> None:
@@ -169,13 +205,13 @@ def _drop_stdout() -> None:
         os.close(devnull)
 
 
-def _internal_error(exc: BaseException, debug: bool) -> int:
+def _internal_error(exc: BaseException, debug: bool, prog: str = "tetherheli") -> int:
     if debug:
         import traceback
 
         traceback.print_exception(exc)
     print(
-        f"tetherheli: internal error ({type(exc).__name__}: "
+        f"{prog}: internal error ({type(exc).__name__}: "
         f"{_first_line(exc)}); this is a bug: please report it with the output of the same "
         "command with --debug",
         file=sys.stderr,

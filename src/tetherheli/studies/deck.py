@@ -17,11 +17,14 @@ deck, the tether its geometry from the deck's winch. The study returns rows; the
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
+from ..base.motion import BASE_KEYS
+from ..errors import ParameterError
 from ..shipped import shipped_scenario
 from ..sim.batch import run_batch
 from ..sim.closed_loop import simulate
@@ -43,6 +46,48 @@ SENSINGS: dict[str, str | None] = {
     "gnss": "sensing_gps",
     "tether": "sensing_tether",
 }
+#: the configurations flown (``deck_sea_state_<configuration>``)
+CONFIGURATIONS = ("free", "tethered")
+#: the most values of one argument of the grid (heights, seeds, ...)
+MAX_GRID = 10_000
+
+
+def _grid(name: str, values: Any, allowed: str, ok: Callable[[Any], bool]) -> tuple:
+    """``values`` (a list, tuple, range or 1-D array) as a tuple of 1 to ``MAX_GRID`` items,
+    each passing ``ok``; else ParameterError naming ``name`` with ``allowed``."""
+    allowed = f"1 to {MAX_GRID} values, each {allowed}"
+    if isinstance(values, np.ndarray):
+        values = values.tolist() if values.ndim == 1 else None
+    if not isinstance(values, list | tuple | range) or not 1 <= len(values) <= MAX_GRID:
+        raise ParameterError(name, values, allowed)
+    items = tuple(values)
+    if not all(ok(v) for v in items):
+        raise ParameterError(name, values, allowed)
+    return items
+
+
+def _keyed(name: str, values: Any, key: str) -> tuple:
+    """``values`` for ``_grid``, each as the ``[base]`` key ``key`` allows (``BASE_KEYS``)."""
+    rule = BASE_KEYS[key]
+
+    def ok(value: Any) -> bool:
+        try:
+            rule.check(name, value)
+        except ParameterError:
+            return False
+        return True
+
+    return tuple(rule.check(name, v) for v in _grid(name, values, rule.allowed(), ok))
+
+
+def _choices(name: str, values: Any, choices: Sequence) -> tuple:
+    allowed = "one of " + ", ".join(map(repr, choices))
+    return _grid(name, values, allowed, lambda v: isinstance(v, str) and v in choices)
+
+
+def _feedforwards(values: Any) -> tuple[bool, ...]:
+    items = _grid("feedforwards", values, "true or false", lambda v: isinstance(v, bool | np.bool_))
+    return tuple(bool(v) for v in items)
 
 
 def sea_state(scenario: Scenario, height: float, seed: int) -> Scenario:
@@ -101,7 +146,18 @@ def station_rows(
     Returns
     -------
     list of StationRow
+
+    Raises
+    ------
+    ParameterError
+        An argument that is empty, too long or holds a value outside its range (one line
+        naming the argument).
     """
+    heights = _keyed("heights", heights, "significant_wave_height")
+    seeds = _keyed("seeds", seeds, "seed")
+    configurations = _choices("configurations", configurations, CONFIGURATIONS)
+    sensings = _choices("sensings", sensings, tuple(SENSINGS))
+    feedforwards = _feedforwards(feedforwards)
     cases = []
     for configuration in configurations:
         base = shipped_scenario(f"deck_sea_state_{configuration}")
@@ -182,22 +238,35 @@ def landing_rows(
     Returns
     -------
     list of LandingRow
+
+    Raises
+    ------
+    ParameterError
+        An argument that is empty, too long or holds a value outside its range (one line
+        naming the argument).
     """
+    heights = _keyed("heights", heights, "significant_wave_height")
+    seeds = _keyed("seeds", seeds, "seed")
+    feedforwards = _feedforwards(feedforwards)
     shipped = shipped_scenario("landing_sea_state")
     rows = []
     for ff, h in ((ff, h) for ff in feedforwards for h in heights):
         base = shipped.replace(control=replace(shipped.control, base_feedforward=ff))
-        results = [simulate(sea_state(base, h, s)) for s in seeds]
-        touched = [r.touchdown for r in results if r.touchdown is not None]
-        landed = sum(r.status == Status.LANDED for r in results)
+        statuses, touched = [], []  # a run's status and touchdown, not its whole record
+        for s in seeds:
+            r = simulate(sea_state(base, h, s))
+            statuses.append(Status(r.status))
+            if r.touchdown is not None:
+                touched.append(r.touchdown)
+        landed = sum(status == Status.LANDED for status in statuses)
         failures: dict[str, int] = {}
-        for r in results:
-            if r.status != Status.LANDED:
-                name = Status(r.status).name.lower()
+        for status in statuses:
+            if status != Status.LANDED:
+                name = status.name.lower()
                 failures[name] = failures.get(name, 0) + 1
         speeds = [t["vertical_speed"] for t in touched]
         rows.append(LandingRow(
-            height=h, feedforward=ff, runs=len(results), landed=landed,
+            height=h, feedforward=ff, runs=len(statuses), landed=landed,
             speed_mean=float(np.mean(speeds)) if speeds else math.nan,
             speed_max=max(speeds, default=math.nan),
             offset_max=max((t["offset"] for t in touched), default=math.nan),
