@@ -7,15 +7,10 @@ turbulence_dataframe.png into OUT_DIR, default examples_out, by the commands' ou
 
 from __future__ import annotations
 
-from pathlib import Path
-
 from matplotlib.figure import Figure
 
 import tetherheli as th
 from tetherheli.cli._script import figure_example
-
-SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
-
 
 #: The figure written into OUT_DIR.
 FIGURE = "turbulence_dataframe.png"
@@ -32,7 +27,7 @@ def figures() -> dict[str, Figure]:
     """
     frames = {}
     for c in ("free", "tethered"):
-        s = th.load_scenario(SCENARIOS / f"turbulence_hover_{c}.toml").replace(duration=30.0)
+        s = th.load_scenario(f"turbulence_hover_{c}").replace(duration=30.0)
         frames[c] = th.simulate(s).to_dataframe()  # index t [s], units in df.attrs["units"]
 
     df = frames["tethered"]
