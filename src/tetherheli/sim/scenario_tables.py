@@ -472,7 +472,7 @@ class TetherSettings:
             doc="axial stiffness; 0: the paper's K_C times the massless trim's natural length "
             "q9 - T_ref / K_C",
             low=0.0,
-            note="0 or in [1, 1e10]",
+            note="0 or at least 1",
         ),
     )
     damping_ratio: float = _key(0.1, CABLE_KEYS["damping_ratio"])

@@ -61,8 +61,7 @@ CABLE_KEYS: dict[str, Key] = {
                     high=1000),
     "mass_per_length": Key("mass per unstretched length (from the massless limit to a 1 t/m "
                            "chain)", "kg/m", low=1e-12, high=1000.0),
-    "EA": Key("axial stiffness (from an elastic cord's 1 N to a 250 mm steel bar's)", "N",
-              low=1.0, high=1e10),
+    "EA": Key("axial stiffness (at least an elastic cord's)", "N", low=1.0),
     "damping_ratio": Key("damping ratio of the cable's fundamental axial mode (ends fixed), "
                          "whatever N; 0 with internal_damping > 0", low=0.0, high=10.0),
     "internal_damping": Key("internal damping BA: axial damping force per unit strain rate "
