@@ -10,7 +10,8 @@ one line), within a time bound (no hang) and a low memory budget (``TETHERHELI_M
 = 4M, so no call can allocate much).
 
 Bounded in CI: a fixed example budget, derandomized (the same examples on every run), no
-deadline, about 10-20 s. ``TETHERHELI_FUZZ_EXAMPLES=2000`` runs longer (and random) on demand.
+deadline, about 3 s (300 cases). ``TETHERHELI_FUZZ_EXAMPLES=2000`` runs longer (and random)
+on demand.
 """
 
 from __future__ import annotations
