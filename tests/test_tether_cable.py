@@ -164,7 +164,7 @@ def test_both_dampings_are_refused_and_bad_input_names_the_field():
         LumpedTether(damping_ratio=0.1, internal_damping_Ns=1.0)
     with pytest.raises(ParameterError, match=r"cable.unstretched_length"):
         Cable(unstretched_length=0.0, EA=375.0)
-    with pytest.raises(ParameterError, match=r"cable.EA_N"):
+    with pytest.raises(ParameterError, match=r"^cable.EA = "):  # the Cable's name, not EA_N
         Cable(unstretched_length=1.0, EA=-1.0)
     with pytest.raises(ParameterError, match=r"^dt"):
         drive_cable(PAPER, anchor=(0, 0, 0), top=lambda t: ((0, 0, 10), (0, 0, 0)),
@@ -191,8 +191,8 @@ def test_a_cable_run_too_large_is_refused_before_it_is_allocated():
     def top(t):
         return (0.0, 0.0, 10.0), (0.0, 0.0, 0.0)
 
-    with pytest.raises(ResourceLimitError, match=r"duration = 1e\+09 s at dt = 1e-06 s"):
-        drive_cable(PAPER, anchor=(0.0, 0.0, 0.0), top=top, duration=1e9, dt=1e-6)
+    with pytest.raises(ResourceLimitError, match=r"duration = 1000 s at dt = 1e-06 s"):
+        drive_cable(PAPER, anchor=(0.0, 0.0, 0.0), top=top, duration=1e3, dt=1e-6)
 
 
 def test_a_base_at_constant_velocity_gives_the_fixed_anchors_relative_motion():

@@ -25,10 +25,13 @@ from ._io import NONFINITE_JSON
 from .errors import ParameterError
 
 __all__ = [
+    "MAX_SAMPLES",
+    "RK4_SUBSTEPS",
     "Key",
     "check_bool",
     "check_integer",
     "check_number",
+    "check_samples",
     "check_vector",
     "describe",
     "is_integer",
@@ -161,7 +164,10 @@ def check_number(
     """``value`` as a float: a real number, finite (``finite=False``: +-inf allowed, NaN never),
     nonzero if asked, within [low, high] (``low_open``/``high_open``: exclusive); else
     ParameterError naming ``field`` with ``allowed`` (default: ``describe`` of the check)."""
-    x = float(value) if is_real(value) else math.nan
+    try:
+        x = float(value) if is_real(value) else math.nan
+    except OverflowError:  # an int beyond the floats, e.g. 10**400
+        x = math.nan
     ok = (
         not math.isnan(x)
         and (math.isfinite(x) or not finite)
@@ -391,3 +397,52 @@ class Key:
             finite=self.finite, nonzero=self.nonzero, unit=self._unit(), allowed=allowed,
             source=source,
         )  # fmt: skip
+
+
+#: The most control samples one run may have (about 12 days at dt = 1 ms, 115 days at 10 ms):
+#: a scenario's duration / control.dt and ``tether.drive_cable``'s duration / dt alike.
+MAX_SAMPLES = 1_000_000_000
+
+
+def check_samples(
+    duration: float, dt: float, *, dt_field: str = "dt", source: str | None = None
+) -> int:
+    """The number of sample intervals floor(duration / dt) of a run of checked ``duration``
+    and ``dt`` (both > 0), refused above ``MAX_SAMPLES`` before anything is sized from it
+    (a tiny dt makes it overflow an integer): ParameterError naming ``duration``.
+
+    Parameters
+    ----------
+    duration : float
+        The run's length [s], > 0.
+    dt : float
+        The sample time [s], > 0.
+    dt_field : str, optional
+        The sample time's name in the message (``"control.dt"`` in a scenario).
+    source : str, optional
+        Where the values came from (a file name), put in front of the message.
+
+    Returns
+    -------
+    int
+        floor(duration / dt) (to 1e-9 of a sample), at most ``MAX_SAMPLES``.
+
+    Raises
+    ------
+    ParameterError
+        More than ``MAX_SAMPLES`` samples.
+    """
+    ratio = duration / dt
+    if not ratio <= MAX_SAMPLES:
+        raise ParameterError(
+            "duration",
+            duration,
+            f"at most {MAX_SAMPLES:.0e} control samples (duration / {dt_field}; dt = {dt} s)",
+            source=source,
+        )
+    return math.floor(ratio + 1e-9)
+
+
+#: The engine's RK4 steps per control sample (``[control] substeps``, ``tether.drive_cable``'s
+#: ``substeps``): each step is a pass of the compiled loop, so their count is bounded.
+RK4_SUBSTEPS = Key("RK4 steps per control sample", kind="integer", low=1, high=1000)

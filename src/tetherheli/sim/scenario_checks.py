@@ -15,10 +15,12 @@ from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
 
 from .._io import NONFINITE_JSON, OWN_FILE_STEMS
+from .._validation import MAX_SAMPLES, check_samples
 from ..base.motion import MOTION_KEYS, FileBase, _base_motion_from
 from ..errors import ParameterError
 from ..params import Params, check_tether_length, check_tether_strain
 from ..sensing.config import SensorConfig
+from ..tether.chain import CABLE_KEYS
 from ..wind import Disturbance, check_wind_covers
 from .scenario_tables import (
     LANDING_MIN_LENGTH_M,
@@ -42,8 +44,6 @@ __all__ = ["MAX_SAMPLES", "check_distinct_names", "check_name", "validate_scenar
 
 #: A scenario name becomes a file stem and a folder name: letters, digits, '_', '.', '-'.
 _NAME_PATTERN = re.compile(r"[A-Za-z0-9_.-]{1,100}")
-#: The most control samples one run may have (about 12 days at dt = 1 ms, 115 days at 10 ms).
-MAX_SAMPLES = 1_000_000_000
 
 
 def check_name(key: str, value: object, *, source: str | None = None) -> str:
@@ -122,13 +122,7 @@ def validate_scenario(s: Scenario, source: str | None) -> None:
         raise ParameterError(
             "control.dt", c.dt, f"a sample time <= duration ({s.duration} s)", source=source
         )
-    if s.duration / dt > MAX_SAMPLES:
-        raise ParameterError(
-            "duration",
-            s.duration,
-            f"at most {MAX_SAMPLES:.0e} control samples (duration / control.dt; dt = {c.dt} s)",
-            source=source,
-        )
+    check_samples(s.duration, dt, dt_field="control.dt", source=source)
     if abs(s.duration / dt - round(s.duration / dt)) > 1e-9 * s.duration / dt:
         raise ParameterError(
             "duration",
@@ -171,6 +165,8 @@ def validate_scenario(s: Scenario, source: str | None) -> None:
     _set(s, "limits", lim)
     _set(s, "actuators", actuators)
     tether = _checked(TetherSettings, "tether", s.tether, source)
+    if tether.EA != 0.0:  # 0: the paper's stiffness; any other EA as the cable API's
+        CABLE_KEYS["EA"].check("tether.EA", tether.EA, source=source)
     if tether.lumped and s.configuration != "tethered":
         raise ParameterError(
             "tether.model", tether.model, "'elastic' in the free configuration (no tether)",

@@ -9,13 +9,14 @@ its TOML form and its loader are ``sim.scenario``.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from .._validation import Key
+from .._validation import RK4_SUBSTEPS, Key
 from ..base.motion import BASE_KEYS
 from ..control import lqi
 from ..layout import (
@@ -25,6 +26,7 @@ from ..layout import (
     GROUND_STIFFNESS_PA_M,
     WINCH_MIN_LENGTH_M,
 )
+from ..tether.chain import CABLE_KEYS
 
 __all__ = [
     "CONTROLLERS",
@@ -304,7 +306,7 @@ class ControlSettings:
             note="at most duration, which must be a whole number of samples",
         ),
     )  # fmt: skip
-    substeps: int = _key(2, Key("RK4 steps per control sample", kind="integer", low=1, high=1000))
+    substeps: int = _key(2, RK4_SUBSTEPS)
     feedforward: bool = _key(
         True, Key("tether-torque feed-forward C_f-fwd (eqs 54-55)", kind="bool")
     )
@@ -461,53 +463,29 @@ class TetherSettings:
             "chain with sag and drag (tether.lumped)", kind="text",
             choices=TETHER_MODELS),
     )  # fmt: skip
-    segments: int = _key(
-        10, Key("segments N of the lumped chain (N - 1 free nodes)", kind="integer", low=2,
-                high=1000),
-    )  # fmt: skip
-    mass_per_length: float = _key(
-        0.02, Key("mass per unstretched length", "kg/m", low=0.0, low_open=True)
-    )
+    segments: int = _key(10, CABLE_KEYS["segments"])
+    mass_per_length: float = _key(0.02, CABLE_KEYS["mass_per_length"])
     EA: float = _key(
         0.0,
-        Key("axial stiffness; 0: the paper's K_C times the massless trim's natural length "
-            "q9 - T_ref / K_C", "N", low=0.0),
-    )  # fmt: skip
-    damping_ratio: float = _key(
-        0.1, Key("damping ratio of the cable's fundamental axial mode (ends fixed), whatever "
-                 "N; 0 with internal_damping > 0", low=0.0),
-    )  # fmt: skip
-    internal_damping: float = _key(
-        0.0, Key("internal damping BA: axial damping force per unit strain rate (MoorDyn's "
-                 "BA); 0: damping_ratio gives the damping", "N s", low=0.0),
-    )  # fmt: skip
-    diameter: float = _key(0.005, Key("cable diameter", "m", low=0.0, low_open=True))
-    drag_coefficient: float = _key(
-        1.1, Key("normal (cross-flow) drag coefficient of the cable", low=0.0, low_open=True)
+        dataclasses.replace(
+            CABLE_KEYS["EA"],
+            doc="axial stiffness; 0: the paper's K_C times the massless trim's natural length "
+            "q9 - T_ref / K_C",
+            low=0.0,
+            note="0 or at least 1",
+        ),
     )
-    tangential_drag_coefficient: float = _key(
-        0.0, Key("tangential (skin-friction) drag coefficient on the wetted area", low=0.0)
-    )
-    ground_stiffness: float = _key(
-        GROUND_STIFFNESS_PA_M,
-        Key("the ground's normal stiffness kbot under the chain's free nodes, per contact "
-            "area d l0 (MoorDyn's seabed default; a cable at rest sinks in by "
-            "mass_per_length g / (kbot diameter)); 0: no ground", "Pa/m", low=0.0),
-    )  # fmt: skip
-    ground_damping: float = _key(
-        GROUND_DAMPING_PA_S_M,
-        Key("the ground's normal damping cbot per contact area (the default: the default "
-            "cable's critically damped contact)", "Pa s/m", low=0.0),
-    )  # fmt: skip
-    ground_friction: float = _key(
-        GROUND_FRICTION,
-        Key("Coulomb friction coefficient of the cable on the ground (0: none)", low=0.0),
-    )
+    damping_ratio: float = _key(0.1, CABLE_KEYS["damping_ratio"])
+    internal_damping: float = _key(0.0, CABLE_KEYS["internal_damping"])
+    diameter: float = _key(0.005, CABLE_KEYS["diameter"])
+    drag_coefficient: float = _key(1.1, CABLE_KEYS["drag_coefficient"])
+    tangential_drag_coefficient: float = _key(0.0, CABLE_KEYS["tangential_drag_coefficient"])
+    ground_stiffness: float = _key(GROUND_STIFFNESS_PA_M, CABLE_KEYS["ground_stiffness"])
+    ground_damping: float = _key(GROUND_DAMPING_PA_S_M, CABLE_KEYS["ground_damping"])
+    ground_friction: float = _key(GROUND_FRICTION, CABLE_KEYS["ground_friction"])
     ground_friction_speed: float = _key(
-        GROUND_FRICTION_SPEED_M_S,
-        Key("the friction's regularisation speed: viscous below it", "m/s", low=0.0,
-            low_open=True),
-    )  # fmt: skip
+        GROUND_FRICTION_SPEED_M_S, CABLE_KEYS["ground_friction_speed"]
+    )
     record_nodes: bool = _key(
         False, Key("record the chain's node positions at every sample (result extras)",
                    kind="bool"),

@@ -5,15 +5,14 @@ rule inside each of the engine's RK4 steps)."""
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
-from .._validation import check_integer, check_number, check_vector
+from .._validation import RK4_SUBSTEPS, check_number, check_samples, check_vector
 from ..base.motion import BaseMotion, FileBase
-from ..errors import ParameterError
+from ..errors import InfeasibleError, ParameterError
 from ..layout import (
     GROUND_DAMPING_PA_S_M,
     GROUND_FRICTION,
@@ -21,6 +20,7 @@ from ..layout import (
     GROUND_STIFFNESS_PA_M,
     LUMPED_BASE_ACC,
 )
+from ..params import MAX_TETHER_STRAIN, check_tether_length
 from ..resources import check_memory
 from .chain import LumpedTether, static_chain
 from .lumped import chain_forces, chain_interval, ros2_work
@@ -29,6 +29,12 @@ __all__ = ["Cable", "CableRun", "drive_cable"]
 
 #: ``start`` values ``drive_cable`` takes besides an array of node positions
 STARTS = ("static",)
+#: the densest fluid the cable is flown in [kg/m^3] (ten times water's)
+MAX_FLUID_DENSITY = 1e4
+#: the strongest gravity [m/s^2] (ten times Jupiter's)
+MAX_GRAVITY = 250.0
+#: the fastest wind on the cable, per axis [m/s] (a category 5 hurricane's is 70 m/s)
+MAX_WIND_SPEED = 100.0
 
 
 @dataclass(frozen=True)
@@ -39,11 +45,11 @@ class Cable:
     Parameters
     ----------
     unstretched_length : float
-        Unstretched length L0 [m], > 0.
+        Unstretched length L0 [m], a tether length in [0.5, 1000] (``params.TETHER_LENGTH_RANGE``).
     EA : float
         Axial stiffness [N], > 0.
     segments : int
-        Number of segments N >= 1.
+        Number of segments N in [2, 1000] (the ``[tether]`` table's range).
     mass_per_length : float
         Mass per unstretched length mu [kg/m], > 0.
     damping_ratio : float or None
@@ -84,12 +90,18 @@ class Cable:
     ground_friction_speed: float = GROUND_FRICTION_SPEED_M_S
 
     def __post_init__(self) -> None:
-        s = "cable"
-        check_number(f"{s}.unstretched_length", self.unstretched_length, low=0.0, low_open=True,
-                     unit="[m]")  # fmt: skip
-        # LumpedTether validates the others and refuses both dampings
-        object.__setattr__(self, "segments", check_integer(f"{s}.segments", self.segments, low=1))
-        self.lumped_tether()
+        # the length as a tether length (the scenario's q9 rule); LumpedTether checks the
+        # others with the [tether] table's keys (CABLE_KEYS) and refuses both dampings
+        L0 = check_tether_length(self.unstretched_length, "cable.unstretched_length")
+        object.__setattr__(self, "unstretched_length", L0)
+        chain = self.lumped_tether()
+        for name, value in (
+            ("segments", chain.segments),
+            ("mass_per_length", chain.mass_per_length_kg_m),
+            ("EA", chain.EA_N),
+            ("diameter", chain.diameter_m),
+        ):
+            object.__setattr__(self, name, value)
 
     def lumped_tether(self, rho: float = 1.225) -> LumpedTether:
         """The chain's parameters (``tether.chain.LumpedTether``).
@@ -159,8 +171,9 @@ class CableRun:
 
 def _drive_arguments(cable, anchor, top, duration, dt, wind, rho, g) -> tuple:
     """The arguments ``drive_cable`` and ``tether.drive_moordyn`` share, checked (one line
-    naming the argument): (anchor motion or None, anchor at t = 0 (3,), duration, dt, wind (3,),
-    rho, g)."""
+    naming the argument): (anchor motion or None, anchor at t = 0 (3,), duration, dt, the
+    number of sample intervals (``_validation.check_samples``: at most ``MAX_SAMPLES``, as a
+    scenario's), wind (3,), rho, g)."""
     if not isinstance(cable, Cable):
         raise ParameterError("cable", cable, "a tetherheli.tether.Cable")
     motion = anchor if isinstance(anchor, BaseMotion) else None
@@ -174,19 +187,21 @@ def _drive_arguments(cable, anchor, top, duration, dt, wind, rho, g) -> tuple:
             f"a base motion covering the run (duration = {duration:g} s)",
         )
     dt = check_number("dt", dt, low=0.0, low_open=True, unit="[s]")
-    w = np.array(check_vector("wind", wind, 3), dtype=float)
-    rho = check_number("rho", rho, low=0.0, low_open=True, unit="[kg/m^3]")
-    g = check_number("g", g, low=0.0, unit="[m/s^2]")
+    k_max = check_samples(duration, dt)
+    w = np.array(check_vector("wind", wind, 3, low=-MAX_WIND_SPEED, high=MAX_WIND_SPEED,
+                              unit="[m/s]"), dtype=float)  # fmt: skip
+    rho = check_number("rho", rho, low=0.0, low_open=True, high=MAX_FLUID_DENSITY,
+                       unit="[kg/m^3]")  # fmt: skip
+    g = check_number("g", g, low=0.0, high=MAX_GRAVITY, unit="[m/s^2]")
     if not callable(top):
         raise ParameterError("top", top, "a function top(t) -> (position[3], velocity[3])")
-    return motion, a, duration, dt, w, rho, g
+    return motion, a, duration, dt, k_max, w, rho, g
 
 
-def _run_record(cable: Cable, duration: float, dt: float) -> tuple:
-    """The sample times t = 0, dt, ..., (the last <= duration) and the empty arrays of a
-    ``CableRun`` over them: (t, nodes, velocities, top_force, anchor_force). Their size is
+def _run_record(cable: Cable, duration: float, dt: float, k_max: int) -> tuple:
+    """The sample times t = 0, dt, ..., k_max dt (the last <= duration) and the empty arrays
+    of a ``CableRun`` over them: (t, nodes, velocities, top_force, anchor_force). Their size is
     refused (``ResourceLimitError``) above the memory budget before it is allocated."""
-    k_max = math.floor(duration / dt + 1e-9)
     n = cable.segments
     check_memory(
         f"a cable run: duration = {duration:g} s at dt = {dt:g} s with {n} segments",
@@ -198,12 +213,70 @@ def _run_record(cable: Cable, duration: float, dt: float) -> tuple:
             np.empty((k_max + 1, 3)))  # fmt: skip
 
 
+def _static_start(a: np.ndarray, r0: np.ndarray, cable: Cable, tether: LumpedTether,
+                  g: float) -> np.ndarray:  # fmt: skip
+    """The chain's static shape between the anchor ``a`` and top(0) ``r0`` (``static_chain``),
+    for ``start="static"``; a shape that does not exist or cannot be solved is refused naming
+    what the caller wrote (``cable.unstretched_length``, ``start``), not the solver's own
+    arguments."""
+    if np.allclose(r0, a):
+        raise ParameterError(
+            "top", f"top(0) = {r0.tolist()}", "a start away from the anchor (start='static')"
+        )
+    if g == 0.0:
+        raise ParameterError("g", g, "a finite number > 0 [m/s^2] with start='static' (a "
+                             "weightless cable has no static shape of its own; or give start "
+                             "as node positions)")  # fmt: skip
+    try:
+        x = static_chain(a, r0, cable.unstretched_length, tether, g)
+    except ParameterError as exc:
+        if exc.field == "unstretched_length_m":  # a slack cable straight above the anchor
+            raise InfeasibleError(
+                "cable.unstretched_length",
+                cable.unstretched_length,
+                f"{exc.allowed} (top(0) straight above the anchor, start='static'; or give "
+                "start as node positions)",
+            ) from None
+        raise InfeasibleError(
+            "start",
+            "static",
+            f"node positions ({cable.segments + 1}, 3): the static shape between the anchor "
+            f"and top(0) = {r0.tolist()} has no solution here ({exc.allowed})",
+        ) from None
+    # the static shape ignores the ground: one that hangs through it (a long slack cable) would
+    # start inside the ground's spring, far from rest
+    if cable.ground_stiffness > 0.0 and x[1:-1, 2].min(initial=0.0) < min(a[2], 0.0) - 1e-9:
+        raise InfeasibleError(
+            "start",
+            "static",
+            f"node positions ({cable.segments + 1}, 3): the static shape between the anchor and "
+            f"top(0) = {r0.tolist()} hangs through the ground (z = 0) to z = "
+            f"{x[1:-1, 2].min():.3g} m (or cable.ground_stiffness = 0)",
+        )
+    return x
+
+
+def _top_start(top: Callable, a: np.ndarray, cable: Cable) -> tuple[np.ndarray, np.ndarray]:
+    """top(0) (position, velocity), refused (naming ``top``) farther from the anchor ``a`` than
+    the cable reaches at ``params.MAX_TETHER_STRAIN`` (the strain rule of every tether)."""
+    r0, v0 = _top_at(top, 0.0)
+    reach = (1.0 + MAX_TETHER_STRAIN) * cable.unstretched_length
+    if not np.linalg.norm(r0 - a) <= reach:
+        raise ParameterError(
+            "top",
+            f"top(0) = {r0.tolist()}",
+            f"a start within {reach:g} m of the anchor (cable.unstretched_length = "
+            f"{cable.unstretched_length:g} m at a strain of at most {MAX_TETHER_STRAIN:g})",
+        )
+    return r0, v0
+
+
 def _top_at(top, t):
     try:
         r, v = top(t)
         r = np.array(r, dtype=float).reshape(3)
         v = np.array(v, dtype=float).reshape(3)
-    except (TypeError, ValueError) as err:
+    except (TypeError, ValueError, OverflowError) as err:
         raise ParameterError(
             "top", top, "a function top(t) -> (position[3] [m], velocity[3] [m/s])"
         ) from err
@@ -269,39 +342,34 @@ def drive_cable(
     ParameterError
         Bad input (one line naming the argument).
     """
-    motion, a, duration, dt, w, rho, g = _drive_arguments(
+    motion, a, duration, dt, k_max, w, rho, g = _drive_arguments(
         cable, anchor, top, duration, dt, wind, rho, g
     )
-    n_sub = check_integer("substeps", substeps, low=1)
+    n_sub = RK4_SUBSTEPS.check("substeps", substeps)
+    n = cable.segments
+    if not (isinstance(start, str) or isinstance(start, (list, tuple, np.ndarray))):
+        raise ParameterError("start", start, f"'static' or finite node positions ({n + 1}, 3)")
+    t, nodes, vels, f_top, f_anchor = _run_record(cable, duration, dt, k_max)
     tether = cable.lumped_tether(rho)
     p = tether.packed(g)
-    n = cable.segments
     L0 = cable.unstretched_length
-    r0, v0 = _top_at(top, 0.0)
+    r0, v0 = _top_start(top, a, cable)
     if isinstance(start, str):
         if start not in STARTS:
             raise ParameterError("start", start, f"one of {STARTS} or node positions (N+1, 3)")
-        if np.allclose(r0, a):
-            raise ParameterError(
-                "top", f"top(0) = {r0.tolist()}", "a start away from the anchor (start='static')"
-            )
-        x = static_chain(a, r0, L0, tether, g)
+        x = _static_start(a, r0, cable, tether, g)
     else:
-        x = np.array(start, dtype=float)
-        if x.shape != (n + 1, 3) or not np.all(np.isfinite(x)):
-            raise ParameterError("start", start, f"'static' or finite node positions ({n + 1}, 3)")
+        x = _start_nodes(start, n)
     x[0], x[n] = a, r0
     v = np.zeros_like(x)
     v[n] = v0
     work = ros2_work(n)
-    t, nodes, vels, f_top, f_anchor = _run_record(cable, duration, dt)
     if motion is not None:
         _drive_on_base(motion, top, x, v, w, L0, p, dt, n_sub, work, t, nodes, vels, f_top,
                        f_anchor)  # fmt: skip
         return CableRun(t=t, top_force=f_top, anchor_force=f_anchor, nodes=nodes,
                         velocities=vels, cable=cable, dt=dt, substeps=n_sub)  # fmt: skip
     air = np.tile(w, (n + 1, 1))
-    k_max = t.size - 1
     h = dt / n_sub
     F = np.empty((n + 1, 3))
     T = np.empty(n)
@@ -318,6 +386,22 @@ def drive_cable(
                 raise FloatingPointError(f"drive_cable: the chain diverged at t = {t[k]:g} s")
     return CableRun(t=t, top_force=f_top, anchor_force=f_anchor, nodes=nodes,
                     velocities=vels, cable=cable, dt=dt, substeps=n_sub)  # fmt: skip
+
+
+def _start_nodes(start: object, n: int) -> np.ndarray:
+    """``drive_cable``'s ``start`` given as node positions: finite, of shape (n + 1, 3), checked
+    before it is converted (a huge or ragged list is refused, never copied)."""
+    allowed = f"'static' or finite node positions ({n + 1}, 3)"
+    shape = np.shape(start) if isinstance(start, np.ndarray) else None
+    if shape is None and (not isinstance(start, (list, tuple)) or len(start) != n + 1):
+        raise ParameterError("start", start, allowed)
+    try:
+        x = np.array(start, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise ParameterError("start", start, allowed) from None
+    if x.shape != (n + 1, 3) or not np.all(np.isfinite(x)):
+        raise ParameterError("start", start, allowed)
+    return x
 
 
 def _drive_on_base(motion, top, x, v, w, L0, p, dt, n_sub, work, t, nodes, vels, f_top, f_anchor):

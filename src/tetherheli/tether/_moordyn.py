@@ -34,9 +34,18 @@ from pathlib import Path
 
 import numpy as np
 
-from .._validation import check_integer, check_number
+from .._validation import Key, check_number
 from ..errors import ParameterError
-from ._cable import Cable, CableRun, _drive_arguments, _run_record, _top_at
+from ._cable import (
+    MAX_FLUID_DENSITY,
+    MAX_GRAVITY,
+    Cable,
+    CableRun,
+    _drive_arguments,
+    _run_record,
+    _top_at,
+    _top_start,
+)
 from .lumped import chain_omega_max
 
 __all__ = ["MOORDYN_DEPTH_M", "buoyant_gravity", "drive_moordyn", "import_moordyn",
@@ -46,6 +55,22 @@ __all__ = ["MOORDYN_DEPTH_M", "buoyant_gravity", "drive_moordyn", "import_moordy
 _EVAL_S = 1e-9
 #: the largest MoorDyn step of the stationary solver [s] (at most 1 / omega_max of the chain)
 _IC_DT_S = 1e-3
+#: the longest relaxation of MoorDyn's stationary solver (its TmaxIC) [s]
+_TMAX_IC_S = 2000.0
+#: the most node steps (MoorDyn steps x nodes) one call into MoorDyn-C may take: its start
+#: (Init: up to TmaxIC / its step) and each Step call run in C, where Ctrl-C cannot stop them
+#: (about 10 s at the 1e8 node steps per second measured)
+MOORDYN_MAX_NODE_STEPS = 1e9
+#: the most MoorDyn steps of dt_moordyn in one Step call of dt / coupling (as the chain's
+#: ``lumped.CHAIN_MAX_SUBSTEPS``): each call returns to Python, where Ctrl-C stops the run
+MOORDYN_MAX_STEPS_PER_CALL = 4096
+#: MoorDyn's RK4 is stable for dt_moordyn |lambda| up to 2.78 (a real eigenvalue) or 2.83
+#: (an imaginary one), lambda the cable's fastest eigenvalue: dt_moordyn is at most this over it
+MOORDYN_RK4_STABLE = 2.5
+#: the shortest Step call dt / coupling [s]: each ends with the _EVAL_S step at the sample
+_MIN_CALL_S = 1000 * _EVAL_S
+#: ``drive_moordyn``'s MoorDyn Step calls per sample (bounded as the engine's RK4 substeps)
+COUPLING = Key("MoorDyn Step calls per control sample", kind="integer", low=1, high=1000)
 #: how far below MoorDyn's still water surface the anchor sits [m] (the seabed is 3x lower)
 MOORDYN_DEPTH_M = 1000.0
 
@@ -91,8 +116,8 @@ def buoyant_gravity(cable: Cable, rho: float = 1.225, g: float = 9.81) -> float:
     float
         The buoyancy-corrected gravity [m/s^2].
     """
-    rho = check_number("rho", rho, low=0.0, unit="[kg/m^3]")
-    g = check_number("g", g, low=0.0, unit="[m/s^2]")
+    rho = check_number("rho", rho, low=0.0, high=MAX_FLUID_DENSITY, unit="[kg/m^3]")
+    g = check_number("g", g, low=0.0, high=MAX_GRAVITY, unit="[m/s^2]")
     area = math.pi * cable.diameter**2 / 4.0
     return g * (1.0 - rho * area / cable.mass_per_length)
 
@@ -172,7 +197,7 @@ RK4 tScheme
 {_f(3.0 * MOORDYN_DEPTH_M)} WtrDpth
 {1 if current else 0} Currents
 1e-7 threshIC
-2000 TmaxIC
+{_f(_TMAX_IC_S)} TmaxIC
 0 ICgenDynamic
 1 disableOutput
 1 disableOutTime
@@ -209,6 +234,44 @@ def _quiet_stdout() -> Iterator[None]:
         sys.stdout.flush()
         os.dup2(saved, fd)
         os.close(saved)
+
+
+def _check_moordyn_start(cable: Cable, omega: float, ic_dt: float) -> None:
+    """Refuse a cable whose MoorDyn start (Init, one call into C) could take more than
+    ``MOORDYN_MAX_NODE_STEPS``: (N + 1) nodes x TmaxIC / its step min(1 ms, 1 / omega_max)."""
+    work = (cable.segments + 1) * _TMAX_IC_S / ic_dt
+    if not work <= MOORDYN_MAX_NODE_STEPS:
+        raise ParameterError(
+            "cable",
+            f"Cable(unstretched_length={cable.unstretched_length:g}, EA={cable.EA:g}, "
+            f"segments={cable.segments}, mass_per_length={cable.mass_per_length:g})",
+            f"a cable whose MoorDyn start takes at most {MOORDYN_MAX_NODE_STEPS:.0e} node steps "
+            f"((N + 1) x TmaxIC / min(1 ms, 1 / omega_max), TmaxIC = {_TMAX_IC_S:g} s; here "
+            f"{work:.2g}: N = {cable.segments}, omega_max = (2 N / L0) sqrt(EA / mu) = "
+            f"{omega:.3g} rad/s): fewer segments or a softer or heavier cable",
+        )
+
+
+def _check_dt_moordyn(dt_moordyn: object, cable: Cable, rho: float, h: float,
+                      omega: float) -> float:  # fmt: skip
+    """``dt_moordyn`` checked: > 0, at least h / ``MOORDYN_MAX_STEPS_PER_CALL`` (h = dt /
+    coupling, a Step call's length) and at most the stable step of MoorDyn's RK4 for the
+    cable, ``MOORDYN_RK4_STABLE`` / |lambda|: lambda the fastest eigenvalue of the chain's
+    highest axial mode, omega_max (zeta + sqrt(1 + zeta^2)), zeta = c omega_max / (2 k) its
+    damping ratio (c the segment dashpot, k = EA / l0)."""
+    n, L0 = cable.segments, cable.unstretched_length
+    c = cable.lumped_tether(rho).segment_dashpot(L0)
+    zeta = c * omega / (2.0 * cable.EA * n / L0)
+    stable = MOORDYN_RK4_STABLE / (omega * (zeta + math.sqrt(1.0 + zeta * zeta)))
+    least = h / MOORDYN_MAX_STEPS_PER_CALL
+    allowed = (
+        f"a finite number in [{least:.3g}, {stable:.3g}] [s] (at least dt / coupling / "
+        f"{MOORDYN_MAX_STEPS_PER_CALL}: at most {MOORDYN_MAX_STEPS_PER_CALL} MoorDyn steps per "
+        f"Step call; at most {MOORDYN_RK4_STABLE:g} / |lambda|, the stable step of MoorDyn's RK4 "
+        f"for this cable, omega_max = {omega:.3g} rad/s with its damping ratio {zeta:.3g}"
+        + (": none here, raise coupling or soften the cable)" if least > stable else ")")
+    )
+    return check_number("dt_moordyn", dt_moordyn, low=least, high=stable, allowed=allowed)
 
 
 def drive_moordyn(
@@ -258,7 +321,7 @@ def drive_moordyn(
     coupling : int
         MoorDyn ``Step`` calls per sample, >= 1.
     drag_scale : float
-        Factor on MoorDyn's drag coefficients, > 0 (1: the cable's).
+        Factor on MoorDyn's drag coefficients, in (0, 10] (1: the cable's).
 
     Returns
     -------
@@ -275,20 +338,26 @@ def drive_moordyn(
     RuntimeError
         MoorDyn failed (its error code).
     """
-    motion, a, duration, dt, w, rho, g = _drive_arguments(
+    motion, a, duration, dt, k_max, w, rho, g = _drive_arguments(
         cable, anchor, top, duration, dt, wind, rho, g
     )
-    dtm = check_number("dt_moordyn", dt_moordyn, low=0.0, low_open=True, unit="[s]")
-    m = check_integer("coupling", coupling, low=1)
-    drag_scale = check_number("drag_scale", drag_scale, low=0.0, low_open=True)
-    md = import_moordyn()
+    m = COUPLING.check("coupling", coupling)
+    if dt / m < _MIN_CALL_S:
+        raise ParameterError("dt", dt, f"a finite number >= {m * _MIN_CALL_S:g} [s] (each MoorDyn "
+                             f"Step call of dt / coupling at least {_MIN_CALL_S:g} s)")  # fmt: skip
+    drag_scale = check_number("drag_scale", drag_scale, low=0.0, low_open=True, high=10.0)
     n = cable.segments
+    p = cable.lumped_tether(rho).packed(g)
+    omega = chain_omega_max(p, cable.unstretched_length, n)
+    ic_dt = min(_IC_DT_S, 1.0 / omega)
+    _check_moordyn_start(cable, omega, ic_dt)
+    dtm = _check_dt_moordyn(dt_moordyn, cable, rho, dt / m, omega)
+    md = import_moordyn()
     off = np.array([0.0, 0.0, -MOORDYN_DEPTH_M]) - a  # ours -> MoorDyn's frame
-    r0 = _top_at(top, 0.0)[0]
+    r0 = _top_start(top, a, cable)[0]
     if np.allclose(r0, a):
         raise ParameterError("top", f"top(0) = {r0.tolist()}", "a start away from the anchor")
-    t, nodes, vels, f_top, f_anchor = _run_record(cable, duration, dt)
-    k_max = t.size - 1
+    t, nodes, vels, f_top, f_anchor = _run_record(cable, duration, dt, k_max)
     h = dt / m
     with tempfile.TemporaryDirectory(prefix="tetherheli-moordyn-") as folder:
         path = Path(folder) / "cable.txt"
@@ -301,8 +370,6 @@ def drive_moordyn(
             )
         # the stationary solver relaxes with dtM: the file has min(_IC_DT_S, 1 / omega_max),
         # the run's dt_moordyn is set after it (SetDt)
-        p = cable.lumped_tether(rho).packed(g)
-        ic_dt = min(_IC_DT_S, 1.0 / chain_omega_max(p, cable.unstretched_length, n))
         path.write_text(moordyn_input(cable, a + off, r0 + off, rho=rho, g=g, dt_moordyn=ic_dt,
                                       current=current, drag_scale=drag_scale,
                                       anchor_coupled=motion is not None))  # fmt: skip

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import optimize
 
-from .._validation import check_integer, check_number
+from .._validation import Key, check_number
 from ..errors import InfeasibleError, ParameterError
 from ..layout import (
     GROUND_DAMPING_PA_S_M,
@@ -39,6 +39,7 @@ from .lumped import chain_forces
 
 __all__ = [
     "AIR_DENSITY_KG_M3",
+    "CABLE_KEYS",
     "LumpedTether",
     "chain_energy",
     "end_forces",
@@ -47,6 +48,58 @@ __all__ = [
 
 #: ISA sea-level air density [kg/m^3] (the default of ``wind.drag.DragModel`` too)
 AIR_DENSITY_KG_M3 = 1.225
+
+
+#: The cable's parameters described once (``Key``: meaning, unit, allowed values): the keys of a
+#: scenario's ``[tether]`` table (``sim.scenario_tables.TetherSettings``; the scenario reference
+#: prints them) and the fields of ``tether.Cable`` and ``LumpedTether``, checked by the same
+#: ``Key.check`` with the same bounds and messages (issue 43). The scenario's EA also takes 0
+#: (the paper's stiffness; any other value is checked by this key); the others are the same
+#: everywhere.
+CABLE_KEYS: dict[str, Key] = {
+    "segments": Key("segments N of the lumped chain (N - 1 free nodes)", kind="integer", low=2,
+                    high=1000),
+    "mass_per_length": Key("mass per unstretched length (from the massless limit to a 1 t/m "
+                           "chain)", "kg/m", low=1e-12, high=1000.0),
+    "EA": Key("axial stiffness (at least an elastic cord's)", "N", low=1.0),
+    "damping_ratio": Key("damping ratio of the cable's fundamental axial mode (ends fixed), "
+                         "whatever N; 0 with internal_damping > 0", low=0.0, high=10.0),
+    "internal_damping": Key("internal damping BA: axial damping force per unit strain rate "
+                            "(MoorDyn's BA); 0: damping_ratio gives the damping", "N s",
+                            low=0.0, high=1e9),
+    "diameter": Key("cable diameter", "m", low=1e-6, high=1.0),
+    "drag_coefficient": Key("normal (cross-flow) drag coefficient of the cable", low=0.0,
+                            low_open=True, high=10.0),
+    "tangential_drag_coefficient": Key("tangential (skin-friction) drag coefficient on the "
+                                       "wetted area", low=0.0, high=10.0),
+    "ground_stiffness": Key("the ground's normal stiffness kbot under the chain's free nodes, "
+                            "per contact area d l0 (MoorDyn's seabed default; a cable at rest "
+                            "sinks in by mass_per_length g / (kbot diameter)); 0: no ground",
+                            "Pa/m", low=0.0, high=1e12),
+    "ground_damping": Key("the ground's normal damping cbot per contact area (the default: the "
+                          "default cable's critically damped contact)", "Pa s/m", low=0.0,
+                          high=1e12),
+    "ground_friction": Key("Coulomb friction coefficient of the cable on the ground (0: none)",
+                           low=0.0, high=10.0),
+    "ground_friction_speed": Key("the friction's regularisation speed: viscous below it", "m/s",
+                                 low=1e-6, high=100.0),
+}  # fmt: skip
+
+#: ``LumpedTether``'s fields -> their ``CABLE_KEYS`` (the cable's names without the units)
+_KEY_OF: dict[str, str] = {
+    "segments": "segments",
+    "mass_per_length_kg_m": "mass_per_length",
+    "EA_N": "EA",
+    "damping_ratio": "damping_ratio",
+    "internal_damping_Ns": "internal_damping",
+    "diameter_m": "diameter",
+    "drag_coefficient": "drag_coefficient",
+    "tangential_drag_coefficient": "tangential_drag_coefficient",
+    "ground_stiffness_Pa_m": "ground_stiffness",
+    "ground_damping_Pa_s_m": "ground_damping",
+    "ground_friction": "ground_friction",
+    "ground_friction_speed_m_s": "ground_friction_speed",
+}
 
 
 @dataclass(frozen=True)
@@ -58,7 +111,7 @@ class LumpedTether:
     Parameters
     ----------
     segments : int
-        Number of segments N >= 1 (N - 1 free nodes).
+        Number of segments N in [2, 1000] (N - 1 free nodes).
     mass_per_length_kg_m : float
         Mass per unstretched length mu [kg/m], > 0.
     EA_N : float
@@ -89,7 +142,9 @@ class LumpedTether:
     ground_friction_speed_m_s : float
         The friction's regularisation speed v_f [m/s], > 0 (``GROUND_FRICTION_SPEED_M_S``).
     field_prefix : str
-        The table named in error messages ("tether"; ``tether.Cable``: "cable").
+        The object named in error messages: "tether", with these field names; ``tether.Cable``
+        "cable", with its own (``CABLE_KEYS``). Every field is checked by its ``CABLE_KEYS``
+        entry, the rule of the scenario's ``[tether]`` table.
     """
 
     segments: int = 10
@@ -109,16 +164,9 @@ class LumpedTether:
 
     def __post_init__(self) -> None:
         s = self.field_prefix
-        names = {
-            "damping_ratio": "damping_ratio",
-            "internal_damping_Ns": "internal_damping",
-            "ground_stiffness_Pa_m": "ground_stiffness",
-            "ground_damping_Pa_s_m": "ground_damping",
-            "ground_friction": "ground_friction",
-            "ground_friction_speed_m_s": "ground_friction_speed",
-        }
-        if s == "tether":
-            names = {k: k for k in names}
+        # the message names the field the caller wrote: LumpedTether's own ("tether.EA_N"),
+        # or the cable's for ``tether.Cable`` ("cable.EA")
+        names = {f: (f if s == "tether" else k) for f, k in _KEY_OF.items()}
         if self.damping_ratio is not None and self.internal_damping_Ns is not None:
             raise ParameterError(
                 f"{s}.{names['internal_damping_Ns']}",
@@ -126,31 +174,14 @@ class LumpedTether:
                 f"no value when {s}.{names['damping_ratio']} is given (one or the other)",
             )
         self._derive()
-        for name in ("damping_ratio", "internal_damping_Ns"):
-            if getattr(self, name) is not None:
-                value = check_number(f"{s}.{names[name]}", getattr(self, name), low=0.0)
-                object.__setattr__(self, name, value)
-        check_integer(f"{s}.segments", self.segments, low=1)
-        for name, low_open in (
-            ("mass_per_length_kg_m", True),
-            ("EA_N", True),
-            ("diameter_m", True),
-            ("drag_coefficient", True),
-            ("tangential_drag_coefficient", False),
-            ("air_density_kg_m3", True),
-        ):
-            value = check_number(f"{s}.{name}", getattr(self, name), low=0.0, low_open=low_open)
-            object.__setattr__(self, name, value)
-        object.__setattr__(self, "segments", int(self.segments))
-        for name, low_open in (
-            ("ground_stiffness_Pa_m", False),
-            ("ground_damping_Pa_s_m", False),
-            ("ground_friction", False),
-            ("ground_friction_speed_m_s", True),
-        ):
-            value = check_number(f"{s}.{names[name]}", getattr(self, name), low=0.0,
-                                 low_open=low_open)  # fmt: skip
-            object.__setattr__(self, name, value)
+        for name, key in _KEY_OF.items():
+            value = getattr(self, name)
+            if value is None and name in ("damping_ratio", "internal_damping_Ns"):
+                continue
+            object.__setattr__(self, name, CABLE_KEYS[key].check(f"{s}.{names[name]}", value))
+        value = check_number(f"{s}.air_density_kg_m3", self.air_density_kg_m3, low=0.0,
+                             low_open=True, unit="[kg/m^3]")  # fmt: skip
+        object.__setattr__(self, "air_density_kg_m3", value)
 
     def _derive(self) -> None:
         """The default damping (a ratio of 0.1 when neither damping is given); also run by
