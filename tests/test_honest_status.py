@@ -82,16 +82,16 @@ def test_mpc_whose_solver_fails_is_a_failed_run_through_the_cli(tmp_path, capsys
 
 
 def test_lumped_tether_obeys_the_strain_rule(tmp_path, capsys):
-    """EA = 1e-30 (inside the key's range) stretches the chain beyond 100 %: refused at
-    set-up, naming tether.EA, as the massless tether refuses a T_ref above its limit."""
+    """EA = 10 N (inside the key's range, >= 1 N) stretches the chain beyond 100 %: refused
+    at set-up, naming tether.EA, as the massless tether refuses a T_ref above its limit."""
     s = Scenario().replace(configuration="tethered")
-    with pytest.raises(ParameterError, match=r"tether\.EA = 1e-30.*EA >= 26\.9") as err:
-        s.replace(tether=TetherSettings(model="lumped", EA=1e-30))
+    with pytest.raises(ParameterError, match=r"tether\.EA = 10\.0.*EA >= 26\.9") as err:
+        s.replace(tether=TetherSettings(model="lumped", EA=10.0))
     assert len(str(err.value).splitlines()) == 1
     s.replace(tether=TetherSettings(model="lumped", EA=375.0))  # the paper's holds
     text = Scenario(name="lumped").to_toml().replace("[tether]\n", "[tether]\n", 1)
-    text = text.replace('model = "elastic"', 'model = "lumped"').replace("EA = 0.0", "EA = 1e-30")
-    assert "EA = 1e-30" in text
+    text = text.replace('model = "elastic"', 'model = "lumped"').replace("EA = 0.0", "EA = 10.0")
+    assert "EA = 10.0" in text
     path = _write(tmp_path, text)
     assert main(["simulate", str(path), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err

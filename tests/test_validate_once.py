@@ -221,7 +221,7 @@ REFUSED: list[tuple[str, Callable[[], object], type, str]] = [
     ("TetheredHelicopter.trim", lambda: TetheredHelicopter().trim(25.0, 2000.0),
      ParameterError, "q9 = 2000.0 is invalid; allowed: a tether length in [0.5, 1000] m"),
     ("lumped chain of 0 nodes", lambda: LumpedTether(segments=0),
-     ParameterError, "tether.segments = 0 is invalid; allowed: an integer >= 1"),
+     ParameterError, "tether.segments = 0 is invalid; allowed: an integer in [2, 1000]"),
     ("lumped chain's gravity", lambda: LumpedTether().packed(-9.81),
      ParameterError, "g = -9.81 is invalid; allowed: a finite number >= 0"),
     ("from_paper_stiffness", lambda: LumpedTether.from_paper_stiffness(40.0, 0.0),

@@ -301,16 +301,18 @@ def _png_bytes(fig: Figure, dpi: float) -> bytes:
 def _drawn_once(fig: Figure) -> bool:
     """Whether ``_agg_pixels`` gives what ``fig.savefig`` would: Matplotlib's savefig
     settings at their defaults (not cropped, the figure's own face and edge colours, not
-    transparent) and no GUI window that a change of dpi would resize."""
+    transparent) and no GUI window that a change of dpi would resize (a figure pyplot
+    manages on a non-interactive backend, Agg or Jupyter's inline, has none)."""
     import matplotlib as mpl
 
     rc = mpl.rcParams
+    manager = getattr(fig.canvas, "manager", None)
     return (
         rc["savefig.bbox"] is None
         and rc["savefig.facecolor"] == "auto"
         and rc["savefig.edgecolor"] == "auto"
         and not rc["savefig.transparent"]
-        and getattr(fig.canvas, "manager", None) is None
+        and getattr(manager, "window", None) is None
     )
 
 
