@@ -20,6 +20,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -410,7 +411,7 @@ def read_base_csv(path: str | Path) -> FileBase:
     return FileBase(data[:, 0], data[:, 1:], source=src, row_offset=2)
 
 
-def base_motion_from(settings: object) -> BaseMotion:
+def base_motion_from(settings: Any) -> BaseMotion:
     """The motion a ``[base]`` table describes (``sim.scenario_tables.BaseSettings``, or any
     object with its attributes): the keys of ``MOTION_KEYS[settings.motion]`` passed on
     (checked by the motion's class); a ``file`` read (``read_base_csv``).

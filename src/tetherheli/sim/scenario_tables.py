@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -25,6 +25,9 @@ from ..layout import (
     GROUND_STIFFNESS_PA_M,
     WINCH_MIN_LENGTH_M,
 )
+
+if TYPE_CHECKING:
+    from _typeshed import DataclassInstance
 
 __all__ = [
     "CONTROLLERS",
@@ -60,7 +63,7 @@ def _key(default: Any, key: Key) -> Any:
     return field(default=default, metadata={"key": key})
 
 
-def field_key(cls: type, name: str) -> Key:
+def field_key(cls: type[DataclassInstance], name: str) -> Key:
     """The ``Key`` of field ``name`` of a scenario dataclass (``Scenario``,
     ``ControlSettings``, ``Limits``, ``ActuatorSettings``).
 

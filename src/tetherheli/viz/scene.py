@@ -255,7 +255,7 @@ class _Scene:
                 autolim=False,
             )
             ax.plot([0.0], [0.0], [0.0], marker="s", markersize=8, color="black")
-            ax.text(0.0, 0.0, 0.0, "  winch NO", fontsize=8)
+            ax.text(0.0, 0.0, 0.0, "  winch NO", fontsize=8)  # type: ignore[arg-type]  # Axes3D
             cax = self.fig.add_axes((0.925, 0.25, 0.012, 0.5))
             self.fig.colorbar(
                 ScalarMappable(self.norm, self.cmap), cax=cax, label="tether tension TC [N]"
@@ -416,7 +416,7 @@ class _Scene:
         for artist in moving:
             artist.set_visible(False)
         self.fig.canvas.draw()
-        background = np.array(self.fig.canvas.buffer_rgba())
+        background = np.array(self.fig.canvas.buffer_rgba())  # type: ignore[attr-defined]  # Agg
         for artist in moving:
             artist.set_visible(True)
         keep = {id(a) for a in moving}
@@ -434,6 +434,7 @@ class _Scene:
 
     def _draw_tether(self, a: _RunArtists, view: _View, P: np.ndarray, tension: float) -> None:
         """Straight tether NO-P, coloured by tension (dashed grey when slack)."""
+        assert a.tether is not None and a.P is not None  # drawn for tethered runs only
         origin = np.zeros(3)
         if view.close_up:  # only the part inside the close-up box
             part = _clip_segment(origin, P, view.lo, view.hi)
