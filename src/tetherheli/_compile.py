@@ -365,12 +365,12 @@ def _prune(base: Path, keep: Path) -> None:
 @contextlib.contextmanager
 def _numba_cache_in(folder: Path) -> Iterator[None]:
     """Numba's cache folder while a function is decorated (its locator is chosen then)."""
-    previous = numba.config.CACHE_DIR
-    numba.config.CACHE_DIR = str(folder)
+    previous = numba.config.CACHE_DIR  # type: ignore[attr-defined]  # set at run time by numba
+    numba.config.CACHE_DIR = str(folder)  # type: ignore[attr-defined]  # (as above)
     try:
         yield
     finally:
-        numba.config.CACHE_DIR = previous
+        numba.config.CACHE_DIR = previous  # type: ignore[attr-defined]  # (as above)
 
 
 def compiled(**options: Any) -> Callable[[Callable], Any]:
@@ -414,7 +414,7 @@ def _borrow_value(context: Any, builder: Any, ty: Any, value: Any) -> Any:
     if isinstance(ty, types.BaseTuple):
         items = [
             _borrow_value(context, builder, member, builder.extract_value(value, i))
-            for i, member in enumerate(ty.types)
+            for i, member in enumerate(ty.types)  # type: ignore[attr-defined]  # on each subclass
         ]
         return context.make_tuple(builder, ty, items)
     return value

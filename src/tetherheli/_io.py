@@ -318,7 +318,7 @@ def atomic_open(path: str | Path, mode: str = "w") -> Iterator[IO]:
     path = Path(path)
     fd, tmp = _mkstemp(path, ".tmp")
     try:
-        kw = {"encoding": "utf-8", "newline": ""} if mode == "w" else {}
+        kw: dict[str, Any] = {"encoding": "utf-8", "newline": ""} if mode == "w" else {}
         with os.fdopen(fd, mode, **kw) as fh:
             yield fh
             _commit(fh, tmp, path)

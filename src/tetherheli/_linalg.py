@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 from scipy.linalg import expm
 
 from .errors import ParameterError, TetherheliError
@@ -22,7 +22,9 @@ def check_dt(dt: float) -> float:
     return value
 
 
-def real_matrix(name: str, value: ArrayLike, shape: tuple[int | None, int | None]) -> np.ndarray:
+def real_matrix(
+    name: str, value: ArrayLike, shape: tuple[int | None, int | None]
+) -> NDArray[np.float64]:
     """A finite float 2-D copy of ``value``; ``None`` in ``shape`` means any size."""
     try:
         arr = np.array(value, dtype=np.float64, ndmin=2)

@@ -17,7 +17,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
-from typing import Any, TypeVar
+from typing import Any, TypeGuard, TypeVar
 
 import numpy as np
 
@@ -49,7 +49,7 @@ def is_real(value: object) -> bool:
     )
 
 
-def is_integer(value: object) -> bool:
+def is_integer(value: object) -> TypeGuard[int | np.integer]:
     """True for an integer scalar (Python or NumPy), False for bools and floats."""
     return isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
 

@@ -218,6 +218,7 @@ def write_compare(
             "command": command,
         }
         if montecarlo:
+            assert fig_mc is not None  # drawn above when there is a Monte Carlo
             save_figure(fig_mc, tmp / f"compare_montecarlo.{figure_format}")
             atomic_write_text(tmp / "compare_montecarlo.md", markdown_reductions(montecarlo))
             info["montecarlo"] = [mc.as_dict() for mc in montecarlo]

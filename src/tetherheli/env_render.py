@@ -62,7 +62,7 @@ def episode_data(
     return RunData(
         stem="episode",
         name=scenario.name,
-        configuration=scenario.configuration,  # type: ignore[arg-type]
+        configuration=scenario.configuration,
         time=rows[:, 0],
         q=rows[:, 1:10],
         wind=rows[:, 10:13],

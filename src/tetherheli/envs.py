@@ -80,7 +80,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Any, ClassVar
+from typing import Any
 
 import gymnasium
 import numpy as np
@@ -227,7 +227,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         The current episode's wind (None before the first reset).
     """
 
-    metadata: ClassVar[dict[str, Any]] = {
+    metadata: dict[str, Any] = {  # noqa: RUF012 (gymnasium.Env's; an instance sets its own)
         "render_modes": list(RENDER_MODES),
         "render_fps": 1.0 / Scenario().control.dt,  # the default; an instance sets 1 / dt
     }

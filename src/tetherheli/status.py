@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import enum
 import math
+from typing import overload
 
 import numpy as np
 
@@ -120,6 +121,10 @@ class Status(enum.IntEnum):
 SUCCESS_STATUSES: tuple[int, ...] = (int(Status.OK), int(Status.LANDED))
 
 
+@overload
+def is_success(status: np.ndarray) -> np.ndarray: ...
+@overload
+def is_success(status: int) -> bool: ...
 def is_success(status: int | np.ndarray) -> bool | np.ndarray:
     """Whether a run (or each run) of ``status`` succeeded (``Status.is_success``).
 

@@ -46,7 +46,7 @@ episode that starts.
 from __future__ import annotations
 
 import math
-from typing import Any, ClassVar
+from typing import Any
 
 import numpy as np
 from gymnasium.utils import seeding
@@ -263,7 +263,7 @@ class TetheredHoverVectorEnv(VectorEnv):
         Each copy's current episode wind.
     """
 
-    metadata: ClassVar[dict[str, Any]] = {
+    metadata: dict[str, Any] = {  # noqa: RUF012 (an instance variable of gymnasium's VectorEnv)
         "render_modes": [],
         "autoreset_mode": AutoresetMode.NEXT_STEP,
     }

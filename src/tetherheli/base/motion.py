@@ -572,7 +572,7 @@ def _stream_track(fh: Any, src: str) -> tuple[str, array, array]:
     return digest.hexdigest(), data, rows
 
 
-def base_motion_from(settings: object) -> BaseMotion:
+def base_motion_from(settings: Any) -> BaseMotion:
     """The motion a ``[base]`` table describes (``sim.scenario_tables.BaseSettings``, or any
     object with its attributes): the keys of ``MOTION_KEYS[settings.motion]`` passed on
     (checked by the motion's class); a ``file`` read (``read_base_csv``).

@@ -206,6 +206,7 @@ class MPCController(Controller):
                     D[j, (j - 1) * m + 4] = -1.0
             blocks.append(sparse.hstack([sparse.csc_matrix(D), sparse.csc_matrix((N, ns))]))
         if self.soft:
+            assert d.c_aug is not None  # soft bounds only when tethered
             na = d.G_aug.shape[0]
             Ct = np.kron(np.eye(N), d.c_aug.reshape(1, na))  # (N, N na)
             self.tension_x = Ct @ d.Sx  # (N, na): the tensions' response to xi_0
@@ -343,6 +344,7 @@ class MPCController(Controller):
     def _filter(self, dx_measured: np.ndarray, tension: float) -> np.ndarray:
         """The Kalman filter's sample (``control.observer``): sets ``d_hat``; returns the
         estimated state deviation (n,)."""
+        assert self.kalman is not None  # called only with a Kalman filter
         measured = dx_measured
         if self.kalman.C.shape[0] > self.n:  # the load cell
             measured = np.append(dx_measured, tension - self.tension_ref)
@@ -375,6 +377,7 @@ class MPCController(Controller):
             self._u[row] += prev - u_s[4]
             row += N
         if self.soft:
+            assert d.c_aug is not None  # soft bounds only when tethered
             lo, hi = self.tension_bounds
             # the predicted tensions without input: T_ref + c_T' (x_s + dx_j)
             free = self.tension_ref + d.c_aug[: self.n] @ x_s + self.tension_x @ xi0
@@ -414,6 +417,7 @@ class MPCController(Controller):
         """After a release: the paper's free LQI about u0|F (as ``tether_lqi`` does), its
         integrators continuing those of the MPC."""
         K = self.free_gain
+        assert K is not None  # given whenever the tether can be released
         x_ref = self.x_ref[:12]
         inp = self.u0_free - K[:, :12] @ (x[:12] - x_ref) - K[:, 12:] @ self.z
         self.z += self.dt * (self.y_ref - y)

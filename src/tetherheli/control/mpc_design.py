@@ -445,7 +445,7 @@ def _design_mpc_kalman(
     params, configuration: str, T_ref: float, q9: float, dt: float, *, sensors,
     x_trim: np.ndarray, tension_ref: float, tether_arm: float, load_cell: bool,
     tension_std: float, force_std: float, force_rate: float, input_std: np.ndarray,
-    coordinate_std: float, force_accel: float, tether_angle_std: float,
+    coordinate_std: float, force_accel: float, tether_angle_std: float | None,
 ) -> DisturbanceKalman:  # fmt: skip
     """``design_mpc_kalman`` of a trim and sample time already checked (a run's set-up from
     its ``Scenario``)."""

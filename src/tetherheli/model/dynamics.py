@@ -45,6 +45,8 @@ class _Helicopter:
     _KIND: ClassVar[str]
     INPUT: ClassVar[tuple[str, ...]] = INPUT
     OUTPUT: ClassVar[tuple[str, ...]] = OUTPUT
+    #: the compiled outputs kernel (x, constants, out), set by each subclass
+    _outputs_kernel: ClassVar[staticmethod[[np.ndarray, np.ndarray, np.ndarray], None]]
 
     def __init__(self, params: Params | None = None) -> None:
         if params is not None and not isinstance(params, Params):

@@ -9,6 +9,7 @@ from __future__ import annotations
 import dataclasses
 import platform
 import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -435,7 +436,7 @@ def _write_run_files(
 
     ext = figure_format
     directory.mkdir(exist_ok=True)
-    metrics = run_metrics(result).as_dict() if metric_samples(result) else {}
+    metrics: dict[str, Any] = run_metrics(result).as_dict() if metric_samples(result) else {}
     info = {
         "name": result.name,
         "status": result.status,
@@ -527,7 +528,7 @@ def write_comparison(
         lines = [f"# {title if plotted else 'comparison'}", "", f"Produced by `{command}`.", ""]
         lines += ["| metric | " + " | ".join(infos) + " |"]
         lines += ["|---|" + "---:|" * len(infos)]
-        rows = [("status", lambda i: i["message"])]
+        rows: list[tuple[str, Callable[..., str]]] = [("status", lambda i: i["message"])]
         for group in ("peak_abs_dev", "rms_dev"):
             for k in POSITION:
                 rows.append(

@@ -75,6 +75,7 @@ def _noise_table(
     z = rng.standard_normal((int(n_samples) + 1, N_CHANNELS))
     if config.is_white:
         return np.ascontiguousarray(z * config.channel_std() + config.channel_bias())
+    assert dt is not None  # noise_table requires it unless the sensors are white
     table = z * config._white_std(dt) + config.channel_bias()
     w = rng.standard_normal(z.shape)
     gps = slice(CH_GPS, CH_GPS + 3)

@@ -632,11 +632,12 @@ def run_batch(
         for i in (i for i in order if not single(i)):
             last = blocks[-1] if blocks else None
             same = last and block_key(last[0]) == block_key(i)
-            if same and len(last) < LANES:
+            if same and last and len(last) < LANES:  # (last: narrowed for the type checker)
                 last.append(i)
             else:
                 blocks.append([i])
-        tasks = [*blocks, *alone]
+        tasks: list[Any] = [*blocks, *alone]  # run indices, and blocks of them
+        task: Callable[[Any], None]
 
         def task(t: int | list[int]) -> None:
             run_lane_block(t) if isinstance(t, list) else run_one(t)

@@ -725,7 +725,7 @@ def sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, base, work, cha
         rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, base, work, plain(True))
 
 
-def new_loop_state(x_init: np.ndarray, z_init: np.ndarray, work: np.ndarray) -> tuple:
+def new_loop_state(x_init: np.ndarray, z_init: np.ndarray, work: np.ndarray) -> LoopState:
     """The per-run arrays of ``paper_sample`` (from Python; the compiled loop builds its own):
     integrators (starting at z_init, ``law[LAW_Z0]``), winch, held actuator state, release event
     (NaN: none), scratch."""

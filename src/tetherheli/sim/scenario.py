@@ -515,7 +515,8 @@ def _scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> S
         elif f.default is not dataclasses.MISSING:
             value = f.default
         else:
-            value = f.default_factory()  # type: ignore[misc]
+            assert f.default_factory is not dataclasses.MISSING  # every field has a default
+            value = f.default_factory()
         object.__setattr__(scenario, name, value)
     validate_scenario(scenario, source)
     return scenario

@@ -133,6 +133,7 @@ def validate_scenario(s: Scenario, source: str | None) -> None:
     tether_lqi = _checked(TetherLQISettings, "control.tether_lqi", c.tether_lqi, source)
     mpc = _checked(MPCSettings, "control.mpc", c.mpc, source)
     if mpc.tension_bounds is not None and not mpc.tension_bounds[0] < mpc.tension_bounds[1]:
+        assert c.mpc.tension_bounds is not None  # as its checked copy
         raise ParameterError(
             "control.mpc.tension_bounds", list(c.mpc.tension_bounds), "[lower, upper] with "
             "lower < upper [N]", source=source,

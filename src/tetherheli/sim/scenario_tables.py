@@ -12,7 +12,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -27,6 +27,9 @@ from ..layout import (
     WINCH_MIN_LENGTH_M,
 )
 from ..tether.chain import CABLE_KEYS
+
+if TYPE_CHECKING:
+    from _typeshed import DataclassInstance
 
 __all__ = [
     "CONTROLLERS",
@@ -62,7 +65,7 @@ def _key(default: Any, key: Key) -> Any:
     return field(default=default, metadata={"key": key})
 
 
-def field_key(cls: type, name: str) -> Key:
+def field_key(cls: type[DataclassInstance], name: str) -> Key:
     """The ``Key`` of field ``name`` of a scenario dataclass (``Scenario``,
     ``ControlSettings``, ``Limits``, ``ActuatorSettings``).
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -170,6 +170,7 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
         trim = _hover_trim(params, T_ref, scenario.q9)  # both checked by the scenario
     c = scenario.control
     design = params if design_params is None else design_params
+    gain: LQIGain | TetherLQIGain  # the paper's, or the LQI on the tether
     try:
         gain = paper_gain(design, c.dt, tuple(c.Qy), tuple(c.Ru), scenario.q9)
     except DesignError as exc:
@@ -269,7 +270,9 @@ class EngineSetup:
     chain: tuple = field(default_factory=empty_chain)
     base: CompiledBase = field(default_factory=lambda: compile_base(None))
 
-    def engine_args(self, n_samples: int) -> tuple:
+    def engine_args(
+        self, n_samples: int
+    ) -> tuple[Any, Any, Any, Any, Any, Any, Any, Any, Any, Any]:
         """The leading arguments of ``engine.run_closed_loop`` (built-in winds only).
 
         Parameters
@@ -290,7 +293,7 @@ class EngineSetup:
             *self._engine_inputs(),
         )  # fmt: skip
 
-    def _engine_inputs(self) -> tuple:
+    def _engine_inputs(self) -> tuple[np.ndarray, tuple, tuple, np.ndarray, tuple, tuple]:
         # (model constants, law, wind, act, sensors, chain) as every engine entry takes them:
         # what it only reads as ``read_only`` views (one compiled signature), the chain a
         # fresh copy (the engine advances it); a custom disturbance (no compiled wind) an

@@ -289,7 +289,7 @@ MAX_KZ_CONDITION = 1e10
 def start_point(
     model: TetheredHelicopter,
     trim: TrimPoint,
-    gain: LQIGain,
+    gain: LQIGain | TetherLQIGain,
     ctrl: np.ndarray,
     wind: Disturbance,
     q9: float,

@@ -147,7 +147,7 @@ def controller_metrics(result, u_trim: np.ndarray, cyclic_limit: float | None) -
     from ..analysis import metric_samples, metric_window, run_metrics
 
     if metric_samples(result) == 0:  # failed before metrics_start: nothing to measure
-        out = dict.fromkeys(CONTROLLER_METRICS[:-2], math.nan)
+        out: dict[str, Any] = dict.fromkeys(CONTROLLER_METRICS[:-2], math.nan)
         out["cyclic_limit"] = math.nan if cyclic_limit is None else float(cyclic_limit)
         out["completed"] = bool(result.ok)
         return out
@@ -157,7 +157,7 @@ def controller_metrics(result, u_trim: np.ndarray, cyclic_limit: float | None) -
     m = run_metrics(result)
     window = metric_window(result)
     du = result.inputs[window] - np.asarray(u_trim)
-    out: dict[str, Any] = {}
+    out = {}
     for a in range(3):
         out[f"peak_q{a + 1}"] = m.peak_abs_dev[f"q{a + 1}"]
         out[f"rms_q{a + 1}"] = m.rms_dev[f"q{a + 1}"]

@@ -172,6 +172,7 @@ def kalman_consistency(
             'observer = "kalman", or "auto" with sensors)'
         )
     kalman = mpc_kalman(scenario, engine_setup(scenario))
+    assert kalman is not None  # the scenario flies the Kalman filter its run recorded
     n = kalman.n_states
     est = np.column_stack(
         [result.extra[c] for c in KALMAN_STATE_COLUMNS[:n] + KALMAN_FORCE_COLUMNS]

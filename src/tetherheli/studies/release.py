@@ -77,12 +77,14 @@ class ReleaseComparison(SummaryRepr):
             ),
             (
                 "fMR3 one sample after the release [N]",
-                *(f"{_after_release(r, 1)[0]:.1f}" for r in (k, s)),
+                f"{_after_release(k, 1)[0]:.1f}",
+                f"{_after_release(s, 1)[0]:.1f}",
             ),
         ]
 
 
 def _after_release(result: SimulationResult, samples: int) -> np.ndarray:
+    assert result.release_time is not None  # a released run
     k = int(np.searchsorted(result.time, result.release_time)) + samples
     return result.inputs[k]
 

@@ -182,7 +182,7 @@ class TetherStudyConfig:
 
     def __post_init__(self) -> None:
         lo, hi = TETHER_LENGTH_RANGE
-        checked = {
+        checked: dict[str, Any] = {
             "cables": tuple(self.cables),
             "lengths_m": check_grid("lengths", self.lengths_m, low=lo, high=hi, unit="[m]"),
             "winds_m_s": check_grid("winds", self.winds_m_s, low=0.0, high=30.0, unit="[m/s]"),

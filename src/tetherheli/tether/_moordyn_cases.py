@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 
@@ -159,7 +160,11 @@ class MoorDynCase:
         amplitude[self.anchor_axis] = self.anchor_amplitude
         frequency[self.anchor_axis] = self.anchor_frequency
         phase[self.anchor_axis] = 0.5 * math.pi
-        return HarmonicBase(amplitude=amplitude, frequency=frequency, phase=phase)
+        return HarmonicBase(
+            amplitude=(amplitude[0], amplitude[1], amplitude[2]),
+            frequency=(frequency[0], frequency[1], frequency[2]),
+            phase=(phase[0], phase[1], phase[2]),
+        )
 
     def top(self) -> Callable[[float], tuple[np.ndarray, np.ndarray]]:
         """The top's motion (``shaking_top``).
@@ -304,6 +309,7 @@ def compare_case(
         case = replace(case, cable=cable)
     top = case.top()
     g = buoyant_gravity(case.cable)
+    kw: dict[str, Any]  # keyword arguments of both drivers
     kw = {"anchor": case.anchor(), "top": top, "duration": case.duration, "wind": case.wind}
     ref = drive_moordyn(case.cable, dt=dt, dt_moordyn=dt_moordyn, coupling=coupling,
                         drag_scale=drag_scale, **kw)  # fmt: skip

@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 from scipy import optimize
@@ -398,7 +399,9 @@ def static_chain(
     EA = tether.EA_N
     vertical_guess = a == 0.0 and ground_tension_N is not None
     cat = (
-        ElasticCatenary(0.0, d[2], tether.mass_per_length_kg_m * g, EA, L0, 0.0, ground_tension_N)
+        ElasticCatenary(
+            0.0, d[2], tether.mass_per_length_kg_m * g, EA, L0, 0.0, cast(float, ground_tension_N)
+        )  # not None: vertical_guess
         if vertical_guess
         else elastic_catenary(a, d[2], tether.mass_per_length_kg_m * g, EA, unstretched_length_m=L0)
     )

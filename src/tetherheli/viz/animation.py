@@ -122,8 +122,8 @@ class _PalettePillowWriter(animation.PillowWriter):
 
 def _writer(suffix: str, fps: float) -> animation.AbstractMovieWriter:
     if suffix == ".gif":
-        return _PalettePillowWriter(fps=fps)
-    return animation.writers[FORMATS[suffix]](fps=fps)
+        return _PalettePillowWriter(fps=fps)  # type: ignore[arg-type]  # stubs: int; float works
+    return animation.writers[FORMATS[suffix]](fps=fps)  # type: ignore[arg-type]  # (as above)
 
 
 def animate(
@@ -336,4 +336,4 @@ def frame_rgb(
     )
     scene.update(0)
     scene.fig.canvas.draw()
-    return np.array(scene.fig.canvas.buffer_rgba())[:, :, :3]
+    return np.array(scene.fig.canvas.buffer_rgba())[:, :, :3]  # type: ignore[attr-defined]  # Agg

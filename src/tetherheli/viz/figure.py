@@ -37,7 +37,9 @@ __all__ = [
 #: The colour of each configuration in every figure and the animation.
 CONFIGURATION_COLOURS = {"free": "tab:red", "tethered": "tab:blue"}
 
-_STYLE = {cfg: dict(color=c, lw=1.1, label=cfg) for cfg, c in CONFIGURATION_COLOURS.items()}
+_STYLE: dict[str, dict[str, Any]] = {
+    cfg: dict(color=c, lw=1.1, label=cfg) for cfg, c in CONFIGURATION_COLOURS.items()
+}
 
 
 def metric_label(metric: str) -> str:
@@ -331,7 +333,8 @@ def _agg_pixels(fig: Figure, dpi: float) -> np.ndarray | None:
     canvas, figure_dpi_ = fig.canvas, fig.dpi
     agg = FigureCanvasAgg(fig)  # attaches itself to fig; its own, window-less canvas
     try:
-        agg._is_saving = True  # as during savefig: animated artists are drawn too
+        # as during savefig: animated artists are drawn too (a private flag, not in the stubs)
+        agg._is_saving = True  # type: ignore[attr-defined]
         fig.dpi = dpi
         agg.draw()
         pixels = np.array(agg.buffer_rgba(), dtype=np.uint8)

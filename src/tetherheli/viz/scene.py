@@ -525,7 +525,7 @@ class _Scene:
         for artist in moving:
             artist.set_visible(False)
         self.fig.canvas.draw()
-        background = np.array(self.fig.canvas.buffer_rgba())
+        background = np.array(self.fig.canvas.buffer_rgba())  # type: ignore[attr-defined]  # Agg
         for artist in moving:
             artist.set_visible(True)
         keep = {id(a) for a in moving}

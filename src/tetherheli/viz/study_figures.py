@@ -75,7 +75,8 @@ def figure_sweep(result: Any, *, fig: Figure | None = None) -> Figure:
         np.isfinite(result.peak_tether_moment)
     )
     fig = _new_figure(fig, (7.0, 6.5 if moments else 4.0))
-    axes = np.atleast_1d(fig.subplots(2 if moments else 1, 1, sharex=True))
+    # ignore: NumPy's stubs take no Axes (subplots gives one Axes or an array of them)
+    axes = np.atleast_1d(fig.subplots(2 if moments else 1, 1, sharex=True))  # type: ignore[arg-type]
     ax = axes[0]
     tethered = CONFIGURATION_COLOURS["tethered"]
     ax.plot(result.values, result.metric, "o-", color=tethered, label=result.metric_name)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import fields
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -20,7 +20,7 @@ def _unit(where: str, value: object) -> Vec3:
     vec = check_vector(where, value, 3, nonzero=True)
     norm = math.sqrt(sum(v * v for v in vec))
     if abs(norm - 1.0) <= 4.0 * np.finfo(float).eps:
-        return vec
+        return cast(Vec3, vec)  # check_vector(..., 3): three entries
     return tuple(v / norm for v in vec)  # type: ignore[return-value]
 
 

@@ -152,7 +152,7 @@ def gust_calibration(
         lam = 0.7 * min(z, 60.0)
         sigma = (s1, 0.8 * s1, 0.5 * s1)
         length = (8.1 * lam, 2.7 * lam, 0.66 * lam)
-        times = tuple(L / V for L in length)
+        times = (length[0] / V, length[1] / V, length[2] / V)
     if sigma[0] > TAYLOR_MAX_INTENSITY * V:
         raise ParameterError(
             f"{prefix}mean_wind_m_s",
@@ -160,7 +160,7 @@ def gust_calibration(
             f"a mean wind at which sigma_u / V <= {TAYLOR_MAX_INTENSITY:g} (here sigma_u = "
             f"{sigma[0]:.3g} m/s): the frozen-turbulence time L/V means nothing in near-calm air",
         )
-    return GustCalibration(sigma, length, times)  # type: ignore[arg-type]
+    return GustCalibration(sigma, length, times)
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -8,6 +8,7 @@ import functools
 import math
 import operator
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -149,7 +150,7 @@ def draw(
     )
     phase = phase_u if config.random_phase else math.nan
     a = math.radians(angle_deg)
-    parts = []
+    parts: list[Disturbance] = []
     for d in _wind_parts(base.wind):
         if isinstance(d, Pulse):
             parts.append(
@@ -173,7 +174,7 @@ def draw(
         elif isinstance(d, ConstantForce):
             parts.append(ConstantForce(_rot(d.vector, a, scale)))
         elif isinstance(d, Turbulence):  # a fresh gust series per draw, mean wind rotated
-            model = d.model  # its gust axis u turns with the mean wind
+            model: Any = d.model  # its gust axis u turns with the mean wind (a dataclass)
             if hasattr(model, "heading_rad"):
                 model = dataclasses.replace(model, heading_rad=model.heading_rad + a)
             parts.append(

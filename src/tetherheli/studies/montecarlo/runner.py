@@ -706,6 +706,7 @@ def _summarize(
     reduction: dict[str, Any] = {}
     failed_draws = None
     for k, m in enumerate(_REDUCTION_METRICS if pairs is not None else ()):
+        assert pairs is not None  # (the loop is empty without pairs)
         free_ok, teth_ok = pairs["ok"][:, 0], pairs["ok"][:, 1]
         r = paired_reduction(pairs[m][:, 0], pairs[m][:, 1], free_ok, teth_ok)
         done = np.isfinite(r) & free_ok & teth_ok
