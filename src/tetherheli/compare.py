@@ -86,7 +86,7 @@ def compare(
     from .studies.controllers import check_design, eq40_saturated, fly, with_controller
     from .studies.robust import run_threads, thread_count
 
-    runs = []  # (scenario, controller) in table order
+    runs: list[tuple[Any, str]] = []  # (scenario, controller) in table order
     for path in paths:
         base = load_scenario(path)
         if eq40:

@@ -371,7 +371,7 @@ def write_mcap(
                     channel_id=channel[key], log_time=ns, publish_time=ns, data=dumps(message)
                 )
 
-            row = {"timestamp": stamp}
+            row: dict[str, Any] = {"timestamp": stamp}
             row.update({name: _number(v) for name, v in zip(names, values[k], strict=True)})
             log("signals", row)
             for child, where, turn in (

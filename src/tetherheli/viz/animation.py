@@ -224,7 +224,7 @@ def _gif_palette(scene: _Scene) -> Image.Image:
     samples = [_rgb(scene.render(k)) for k in sorted({0, n // 2, n - 1})]
     strip = Image.fromarray(np.concatenate([np.asarray(im) for im in samples], axis=0))
     rest = strip.quantize(256 - len(fixed_rgb), method=Image.Quantize.MEDIANCUT)
-    colours = np.asarray(rest.getpalette()[: 3 * (256 - len(fixed_rgb))], dtype=np.uint8)
+    colours = np.asarray((rest.getpalette() or [])[: 3 * (256 - len(fixed_rgb))], dtype=np.uint8)
     palette = Image.new("P", (1, 1))
     palette.putpalette(np.concatenate([fixed_rgb.ravel(), colours]).tolist())
     return palette

@@ -73,7 +73,7 @@ class RunData:
     status: int
     message: str
     version: str
-    base: np.ndarray | None = None
+    base: np.ndarray = None  # type: ignore[assignment]  # None: zeros (__post_init__)
     nodes: np.ndarray | None = None
 
     def __post_init__(self) -> None:
@@ -170,16 +170,16 @@ def load_run(directory: str | Path, stem: str | None = None) -> RunData:
         status=result.status,
         message=result.message,
         version=result.version,
-        base=_base(result.extra),
+        base=_base(result.extra, len(result.time)),
         nodes=_nodes(result.extra),
     )
 
 
-def _base(extra: dict[str, np.ndarray]) -> np.ndarray | None:
-    """The recorded base position (``base_n1..3``), or None for a fixed base."""
+def _base(extra: dict[str, np.ndarray], n: int) -> np.ndarray:
+    """The recorded base position (``base_n1..3``), or zeros (n, 3) for a fixed base."""
     if all(name in extra for name in BASE_POSITION_COLUMNS):
         return np.column_stack([extra[name] for name in BASE_POSITION_COLUMNS])
-    return None
+    return np.zeros((n, 3))
 
 
 def _nodes(extra: dict[str, np.ndarray]) -> np.ndarray | None:

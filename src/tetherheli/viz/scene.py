@@ -285,9 +285,9 @@ class _Scene:
         self.views.append(_View(ax, close_lo, close_hi, close_up=True))
         self._decorate(ax, "close-up around the trim point", bins=5)
         # the trim points (relative to the base: they move with a moving deck)
-        self.trim_marker = ax.plot(*trims.T, marker="x", markersize=8, linestyle="", color="black")[
-            0
-        ]
+        self.trim_marker: Any = ax.plot(
+            *trims.T, marker="x", markersize=8, linestyle="", color="black"
+        )[0]
         # the deck (a square around the winch) and the winch, where the base is
         self.decks: list[tuple[Any, Any, int]] = []
         if self.whole:
@@ -487,8 +487,9 @@ class _Scene:
         moving = self._moving()
         for artist in moving:
             artist.set_visible(False)
-        self.fig.canvas.draw()
-        self._background = self.fig.canvas.copy_from_bbox(self.fig.bbox)
+        canvas: Any = self.fig.canvas  # Agg's: it blits (copy_from_bbox, restore_region)
+        canvas.draw()
+        self._background = canvas.copy_from_bbox(self.fig.bbox)
         for artist in moving:
             artist.set_visible(True)
 
@@ -506,7 +507,7 @@ class _Scene:
             The canvas's pixels (a view: copy or convert before the next frame).
         """
         self.update(k)
-        canvas = self.fig.canvas
+        canvas: Any = self.fig.canvas  # Agg's (``blit_background``)
         canvas.restore_region(self._background)
         for artist in self._moving():
             if hasattr(artist, "do_3d_projection"):
@@ -544,6 +545,7 @@ class _Scene:
     def _draw_tether(self, a: _RunArtists, view: _View, chain: np.ndarray, tension: float) -> None:
         """The tether from the winch to P (straight, or through a lumped chain's recorded
         nodes), coloured by tension (dashed grey when slack)."""
+        assert a.tether is not None and a.P is not None  # drawn for tethered runs only
         P = chain[-1]
         if view.close_up:  # only the part inside the close-up box
             parts = [
