@@ -242,3 +242,18 @@ def test_a_sweep_point_a_landing_cannot_fly_names_the_file_and_the_point(tmp_pat
     (line,) = capsys.readouterr().err.splitlines()
     assert f"{path}, sweep point q9 = 0.5: maneuver.gear_height = 0.35 is invalid" in line
     assert not (tmp_path / "out").exists()
+
+
+def test_a_name_too_long_for_its_draws_is_refused_by_the_users_field(tmp_path, capsys):
+    """Finding 13: a Monte Carlo of a 95-character name failed every draw with a message
+    naming the derived name ``NAME_mcI``; it is refused up front, naming ``name``."""
+    path = tmp_path / "mc.toml"
+    assert main(["scenarios", "montecarlo_paper_sim1", "--out", str(path)]) == 0
+    text = path.read_text(encoding="utf-8").replace(
+        'name = "montecarlo_paper_sim1"', 'name = "' + "m" * 95 + '"'
+    )
+    path.write_text(text, encoding="utf-8")
+    assert main(["montecarlo", str(path), "--runs", "2", "--out", str(tmp_path / "o")]) == 2
+    (line,) = capsys.readouterr().err.splitlines()
+    assert "name = '" + "m" * 95 + "' is invalid" in line and "_mc" in line
+    assert "m" * 95 + "_mc0" not in line

@@ -190,7 +190,32 @@ def load_montecarlo(path: str | Path) -> tuple[Scenario, MonteCarloConfig]:
         )  # fmt: skip
     scenario = scenario_from_dict(data, source=source)
     _wind_parts(scenario.wind, source)
+    check_draw_names(scenario, source)
     return scenario, config
+
+
+#: a draw's name is the scenario's with this suffix and its index (``draws.draw``)
+DRAW_SUFFIX = "_mc"
+
+
+def check_draw_names(scenario: Scenario, source: str | None = None) -> None:
+    """Refuse a scenario ``name`` too long for its draws' names (``NAME_mcI``, at most 100
+    characters up to ``MAX_RUNS`` draws), naming the field the user wrote, not a draw's.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The Monte Carlo's nominal scenario.
+    source : str, optional
+        Where it came from (a file name).
+    """
+    longest = 100 - len(DRAW_SUFFIX) - len(str(MAX_RUNS - 1))
+    if len(scenario.name) > longest:
+        raise ParameterError(
+            "name", scenario.name, f"a name of at most {longest} characters in a Monte Carlo "
+            f"(each draw is named NAME{DRAW_SUFFIX}I, a plain name of at most 100)",
+            source=source,
+        )  # fmt: skip
 
 
 def _wind_parts(wind: Disturbance, source: str | None = None) -> tuple[Disturbance, ...]:

@@ -24,7 +24,7 @@ from ...wind import (
     Step,
     Turbulence,
 )
-from .config import MonteCarloConfig, _wind_parts
+from .config import DRAW_SUFFIX, MonteCarloConfig, _wind_parts
 
 __all__ = ["Draw", "draw", "draw_seed", "free_reference"]
 
@@ -193,7 +193,10 @@ def draw(
     try:
         params = base.params.replace(values) if values else base.params
         scenario = base.replace(
-            name=f"{base.name}_mc{index}", configuration="tethered", wind=wind, params=params
+            name=f"{base.name}{DRAW_SUFFIX}{index}",
+            configuration="tethered",
+            wind=wind,
+            params=params,
         )
     except TetherheliError as exc:  # impossible dispersed values: a failed draw, with why
         reason = str(exc).splitlines()[0]

@@ -41,7 +41,7 @@ from ...sim.batch import METRIC_NAMES, run_batch
 from ...sim.scenario import Scenario
 from ...status import Status, is_success
 from ...wind import Turbulence
-from .config import CONFIGURATIONS, MAX_RUNS, MonteCarloConfig, _wind_parts
+from .config import CONFIGURATIONS, MAX_RUNS, MonteCarloConfig, _wind_parts, check_draw_names
 from .draws import draw, draw_seed, free_reference
 
 __all__ = [
@@ -402,6 +402,7 @@ def run_montecarlo_chunks(
     if not isinstance(config, MonteCarloConfig):
         raise TypeError("config must be a MonteCarloConfig")
     check_nominal_designs(base)
+    check_draw_names(base)
     check_integer("runs", config.runs, low=1, high=MAX_RUNS)
     chunk_size = check_integer("chunk_size", chunk_size, low=1, high=1_000_000)
     if max_chunks is not None:
