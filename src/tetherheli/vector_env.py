@@ -53,7 +53,7 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from ._compile import compiled, frozen
+from ._compile import compiled, frozen, plain
 from ._validation import check_integer, is_integer
 from .env_checks import RenderModeError, check_env_memory, check_reset_options
 from .env_kernels import finish_step, observe_into, start_episode, tether_tension
@@ -131,10 +131,12 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
             if not reset[i]:
                 for v in range(10):
                     rk4_work[6, v] = sc_true[i, v]
+                # the engine's own argument types (read-only wind, a plain flag): one
+                # compiled rk4_interval for both (tests/test_signatures.py)
                 engine.rk4_interval(
                     x[i], inp[i], rate[i], k[i] * cfg[i, CFG_DT], cfg[i], c,
-                    copy_programs[i, : program_rows[i]], gusts[i, : gust_rows[i]], copy_drag[i],
-                    base, rk4_work, True,
+                    frozen(copy_programs[i, : program_rows[i]]), frozen(gusts[i, : gust_rows[i]]),
+                    frozen(copy_drag[i]), base, rk4_work, plain(True),
                 )  # fmt: skip
     else:  # the lane engine, LANES copies at a time
         for b in range(x_l.shape[0]):
