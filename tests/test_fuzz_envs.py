@@ -209,6 +209,7 @@ def test_vector_env_arguments_and_reset_options(kwargs, options, n):
     )
 
 
+@pytest.mark.extra("rl")
 @_settings(20)
 @given(kwargs=env_arguments(), n=st.sampled_from([1, 2, 0]))
 def test_sb3_vec_env_arguments(kwargs, n):
