@@ -25,8 +25,14 @@ from .errors import (
 from .params import HelicopterParams, Params, TensionControlParams, TetherParams
 
 if TYPE_CHECKING:
+    from .control.base import Command, Controller, Measurement
     from .model import FreeHelicopter, LinearModel, TetheredHelicopter, TrimPoint, linearize
+    from .shipped import shipped_scenario, shipped_scenarios
     from .sim import Scenario, SimulationResult, load_result, load_scenario, simulate
+    from .sim.batch import BatchResult, run_batch
+    from .sim.scenario import paper_scenario
+    from .status import Status
+    from .tether import Cable, drive_cable
 
 _LAZY = {
     "FreeHelicopter": ".model",
@@ -39,27 +45,49 @@ _LAZY = {
     "load_result": ".sim",
     "load_scenario": ".sim",
     "simulate": ".sim",
+    "paper_scenario": ".sim.scenario",
+    "run_batch": ".sim.batch",
+    "BatchResult": ".sim.batch",
+    "Controller": ".control.base",
+    "Command": ".control.base",
+    "Measurement": ".control.base",
+    "Cable": ".tether",
+    "drive_cable": ".tether",
+    "shipped_scenario": ".shipped",
+    "shipped_scenarios": ".shipped",
+    "Status": ".status",
 }
 
 __all__ = [
+    "BatchResult",
+    "Cable",
+    "Command",
+    "Controller",
     "FreeHelicopter",
     "HelicopterParams",
     "InfeasibleError",
     "LinearModel",
+    "Measurement",
     "ParameterError",
     "Params",
     "Scenario",
     "SimulationResult",
     "SingularConfigurationError",
+    "Status",
     "TensionControlParams",
     "TetherParams",
     "TetheredHelicopter",
     "TetherheliError",
     "TrimPoint",
     "__version__",
+    "drive_cable",
     "linearize",
     "load_result",
     "load_scenario",
+    "paper_scenario",
+    "run_batch",
+    "shipped_scenario",
+    "shipped_scenarios",
     "simulate",
 ]
 
