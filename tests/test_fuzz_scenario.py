@@ -2,11 +2,11 @@
 
 It builds tables from every documented key (``sim.scenario``'s ``Key`` of each field of the
 top level, ``[control]``, ``[control.tether_lqi]``, ``[control.mpc]``, ``[limits]``,
-``[actuators]``, ``[tether]``, ``[winch]``): values inside, at and beyond each key's range,
-non-finite numbers, wrong types, deep nesting and unknown keys; it writes each as a TOML file
-and asserts that loading it either gives a valid ``Scenario`` or one ``ParameterError`` line
-naming a field (the file, ``key = value is invalid; allowed: ...``), and that the CLI then
-exits 2 with that one line and no traceback.
+``[actuators]``, ``[tether]``, ``[winch]``, ``[maneuver]``): values inside, at and beyond
+each key's range, non-finite numbers, wrong types, deep nesting and unknown keys; it writes
+each as a TOML file and asserts that loading it either gives a valid ``Scenario`` or one
+``ParameterError`` line naming a field (the file, ``key = value is invalid; allowed: ...``),
+and that the CLI then exits 2 with that one line and no traceback.
 
 The moving base (issue 43): every ``[base]`` key inside its range and one given NaN, inf, a
 wrong type, a value past its bound or a finite but absurd one (1e308), and generated CSV
@@ -42,6 +42,7 @@ from tetherheli.sim.scenario import (  # noqa: E402
     ActuatorSettings,
     ControlSettings,
     Limits,
+    ManeuverSettings,
     MPCSettings,
     Scenario,
     TetherLQISettings,
@@ -69,6 +70,7 @@ SECTIONS: dict[str, type] = {
     "actuators": ActuatorSettings,
     "tether": TetherSettings,
     "winch": WinchSettings,
+    "maneuver": ManeuverSettings,
 }
 
 #: A refusal: "[source: ]field = value is invalid; allowed: ..." on one line.
