@@ -387,7 +387,7 @@ def compiled(**options: Any) -> Callable[[Callable], Any]:
     return decorate
 
 
-# --- borrowed arrays: no reference counting in the hot loops (issue 24) ------------------------
+# --- borrowed arrays: no reference counting in the hot loops -----------------------------------
 # Numba counts references to every array it passes, unpacks from a tuple or slices, with an
 # atomic instruction each time (``lock xadd``). In the closed loop that is thousands per
 # control sample; on an Intel Xeon it made the engine 1.8x slower than before the one-step
@@ -474,8 +474,8 @@ def inline_here(typingctx: Any) -> Any:
 
     Numba links a callee's machine-independent code into each caller's module and optimises
     the whole, so LLVM then inlines the call as Numba's ``inline="always"`` would, but the
-    callee is typed and lowered once, not once per call site (issue 24: cold start). Numba's
-    own inlining stays where a caller's constant argument must prune a callee's branch."""
+    callee is typed and lowered once, not once per call site (less compilation in a first run).
+    Numba's own inlining stays where a caller's constant argument must prune a callee's branch."""
 
     def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
         builder.function.attributes.add("alwaysinline")

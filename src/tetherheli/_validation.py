@@ -9,7 +9,8 @@ allowed text is the same whichever check failed (type, finiteness or range).
 Input is checked once, where it enters (a ``Scenario``, the arguments of a public function or
 class); code that builds objects from numbers already checked trusts them: it calls a
 function's private twin that skips the checks (``hover_trim`` checks, then calls
-``_hover_trim``), and builds a checked dataclass with ``trusted`` (issue 24, item 3).
+``_hover_trim``), and builds a checked dataclass with ``trusted``: a run's set-up repeats no
+check.
 """
 
 from __future__ import annotations

@@ -55,7 +55,7 @@ REEL_RATE_UNITS = "m/s"
 #: The disturbance inputs: the wind force on HO, N components [N] (Sec. VI).
 WIND = ("Fw1", "Fw2", "Fw3")
 WIND_UNITS = ("N",) * 3
-#: a moving winch's acceleration b'' in N (the linearization's ``E_base`` columns, issue 26)
+#: a moving winch's acceleration b'' in N (the linearization's ``E_base`` columns)
 BASE_ACCELERATION = ("ab1", "ab2", "ab3")
 BASE_ACCELERATION_UNITS = ("m/s^2",) * 3
 #: Unit of every name above (name -> unit).

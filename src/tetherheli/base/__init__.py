@@ -1,5 +1,5 @@
 """The winch's base: a still winch (the paper's), a vehicle under way, a heaving deck, a
-recorded track (issue 26). ``motion`` defines the motions, ``compiled`` their packed form for
+recorded track. ``motion`` defines the motions, ``compiled`` their packed form for
 the engine, ``loader`` the ``[base]`` table."""
 
 from .compiled import CompiledBase, base_state, compile_base

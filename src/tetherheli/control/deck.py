@@ -1,4 +1,4 @@
-"""Feed-forward of a moving base's known acceleration (issue 26 item 3).
+"""Feed-forward of a moving base's known acceleration.
 
 Over a moving base the controllers fly on the state relative to it, where the base's
 acceleration b'' acts on the helicopter as the inertial force -m b'' (``model.derive``,

@@ -1,4 +1,4 @@
-"""Tethered landing (issue 26, after the paper's refs [7], [8]): the paper's controller
+"""Tethered landing (after the paper's refs [7], [8]): the paper's controller
 flying a descent toward the winch, relative to the base, while the winch reels in under a
 tension schedule.
 

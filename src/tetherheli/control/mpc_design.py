@@ -290,8 +290,8 @@ def _hover_design(params, configuration, T_ref, q9, dt, Qy, Ru, q_tension, horiz
 
 
 #: Seconds per control sample of the MPC: Python's loop and OSQP's set-up, and the QP's
-#: condensed Hessian of (horizon x inputs)^2 entries; 0.37 s at horizon = 400 (issue 22's
-#: measurement on the paper's tethered run).
+#: condensed Hessian of (horizon x inputs)^2 entries; 0.37 s at horizon = 400 (measured
+#: on the paper's tethered run).
 _SAMPLE_BASE_S = 5e-4
 _SAMPLE_AT_400_S = 0.37
 

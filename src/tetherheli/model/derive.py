@@ -16,7 +16,7 @@ components (-q9 c8 q7', q9 q8', q9'); this keeps M of eq 29 small.
 The free helicopter is the tethered derivation's dynamics with no tether: both models share
 every body, point and load here; only the position coordinates differ.
 
-A moving winch (issue 26): with ``moving_base=True`` the winch sits at B = NO + b(t), a
+A moving winch: with ``moving_base=True`` the winch sits at B = NO + b(t), a
 specified motion, and the coordinates and u1..u3 are taken relative to B (the base's
 translating frame): HO's velocity in N is b' + u. Kane's method then finds b'' in the
 forcing only as the inertial force -m b'' at HO (m = mF + mMR), which ``derive`` checks; the

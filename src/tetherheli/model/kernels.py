@@ -132,7 +132,7 @@ def sin_branchless(x):
     units in the last place for |x| <= SIN_BRANCHLESS_MAX_ARG (a test checks it). The
     quadrant is rounded as a float (``np.floor``; ``math.floor`` returns an integer, and
     without AVX-512 a vector of doubles has no conversion to 64-bit integers and back: each
-    lane was converted alone, issue 24); its values are the same."""
+    lane was converted alone); its values are the same."""
     k = np.floor(x * _TWO_OVER_PI + 0.5)
     r = ((x - k * _PIO2_1) - k * _PIO2_2) - k * _PIO2_3
     z = r * r

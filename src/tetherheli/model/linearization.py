@@ -15,7 +15,7 @@ import numpy as np
 from .._linalg import discretize_zoh
 from ..errors import ParameterError
 from ..names import BASE_ACCELERATION, INPUT, OUTPUT, REEL_RATE, WIND
-from ._generated import (  # the generated Python: 30 us a call, no compilation (issue 24)
+from ._generated import (  # the generated Python: 30 us a call, no compilation
     free_jacobian,
     free_output_jacobian,
     tethered_jacobian,

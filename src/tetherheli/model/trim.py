@@ -170,7 +170,7 @@ def _hover_trim(
 def _windless(params: Params, tension: float, q9: float, natural_length: float) -> TrimPoint:
     """``windless_trim``, solved once per parameter set, tension and length (``_kept_trim``;
     every trim in wind starts from it, e.g. at each turbulent episode of the Gymnasium
-    environments, issue 24): a copy of the kept point, whose arrays the caller may change."""
+    environments): a copy of the kept point, whose arrays the caller may change."""
     try:
         kept = _kept_trim(params, tension, q9, natural_length)
     except TypeError:  # a parameter set that cannot be hashed: solved anew

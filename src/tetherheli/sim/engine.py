@@ -217,8 +217,8 @@ def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, work,
         ta = t0 + j * h
         tb = t0 + (j + 1) * h
         tm = ta + 0.5 * h
-        # the four stages as one loop: one inlined copy of the wind and the plant (issue 24:
-        # four copies took most of a first run's compilation of this function)
+        # the four stages as one loop: one inlined copy of the wind and the plant (four
+        # copies took most of a first run's compilation of this function)
         for stage in range(4):
             if stage == 0:
                 xs, scs, ts, side = x, sc0, ta, 1
@@ -300,7 +300,7 @@ def state_status(
 def copy_into(dst, src):
     """dst[:] = src for 1-d arrays of src's length, as a plain loop: an array assignment's
     broadcasting, shape checks and their error messages are compiled anew at every one in a
-    first run (issue 24: cold start)."""
+    first run, lengthening its compilation."""
     for i in range(src.shape[0]):
         dst[i] = src[i]
 
@@ -471,7 +471,8 @@ def drum_winch(held, rate_cmd, act, dt, tension_ground, measured_tension):
     the exact piecewise solution (``model.winch.drum_step``) and ``held`` keeps the mean motor
     torque (hauling in). Returns the mean reel rate over the sample, r int w dt / dt [m/s], so
     that L_N advances exactly by the length paid out. The drum's step is a call
-    (``_drum_step``), not inlined: only a drum winch takes it (issue 24: cold start)."""
+    (``_drum_step``), not inlined: only a drum winch takes it, and one compiled copy shortens
+    a first run's compilation."""
     r = act[ACT_DRUM_RADIUS]
     ffwd = r * measured_tension if act[ACT_DRUM_TENSION_FFWD] > 0.5 else 0.0
     w0 = held[HELD_DRUM_SPEED]
@@ -514,7 +515,7 @@ def _paper_sample(
 ):  # fmt: skip
     # ``paper_sample`` on the members of its tuples, unpacked by the caller. The compiled loop
     # unpacks them once per run: every array taken out of a tuple is a reference count
-    # raised and dropped by an atomic instruction (issue 24; measured within noise, ~4 %)
+    # raised and dropped by an atomic instruction (unpacking once: a gain within noise, ~4 %)
     tension, measured = _sense(x, k, k * cfg[CFG_DT], cfg, ctrl, act, sensors, sensed, event,
                                x_meas)  # fmt: skip
     rate = paper_law(x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered,
@@ -532,7 +533,7 @@ def _drum_step(w0, w_cmd, tension_torque, ffwd, dt, inertia, gain, torque_limit,
                      coulomb)  # fmt: skip
 
 
-# --- the phases of one sample, shared by every loop (issue 24: one sample step) -------------
+# --- the phases of one sample, shared by every loop: one sample step ------------------------
 # A sample at t = k dt is: ``sample_sense`` (a lumped chain's ends, the release check, the
 # sensors); the controller (the compiled ``paper_law``, or a command from Python:
 # ``step_command``); ``sample_apply`` (actuators, true outputs, failure checks);
@@ -578,7 +579,7 @@ def _paper_law(
     winch, y_est, inp, ffwd, action, action_mode,
 ):  # fmt: skip
     # ``paper_law``'s body, typed once for every caller (its read-only arrays frozen, its
-    # constants plain: one signature) and inlined by LLVM (``inline_here``, issue 24)
+    # constants plain: one signature) and inlined by LLVM (``inline_here``)
     inline_here()
     u0 = u0_tethered if cfg[CFG_ATTACHED] > 0.5 else u0_free
     angle_trig(x_meas, sc_meas)
@@ -631,14 +632,14 @@ def sample_apply(
 def _specialised_apply(drum: bool):
     """``sample_apply``'s body for an ideal winch (``drum`` False) or a drum winch: a closure
     whose ``drum`` is a constant of the compiled code, so the ideal winch's body compiles no
-    drum (``_drum_step``: about 1.5 s of a first ``tetherheli paper``; issue 24)."""
+    drum (``_drum_step``: about 1.5 s of a first ``tetherheli paper``)."""
 
     def sample_apply_body(
         x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, y, y_est, sc_true,
         sc_meas, y_ref,
     ):  # fmt: skip
         # typed once for every caller (its read-only arrays frozen, its constants plain: one
-        # signature) and inlined by LLVM (``inline_here``, issue 24)
+        # signature) and inlined by LLVM (``inline_here``)
         inline_here()
         dt = cfg[CFG_DT]
         rate = actuate(
@@ -676,7 +677,7 @@ def _sample_record(
     out, program, gust, drag, base, scratch, nodes,
 ):  # fmt: skip
     # ``sample_record``'s body, typed once for every caller (its read-only arrays frozen, its
-    # constants plain: one signature) and inlined by LLVM (``inline_here``, issue 24)
+    # constants plain: one signature) and inlined by LLVM (``inline_here``)
     inline_here()
     if k >= cfg[CFG_METRICS_FROM]:  # the metrics' window (Scenario.metrics_start)
         accumulate(summary, x, x_ref, y, y_ref, tension)
@@ -690,7 +691,7 @@ def record_row(
     k, cfg, act, x, y, tension, rate, inp, ffwd, y_est, held, out, program, gust, drag, base,
     scratch, nodes,
 ):  # fmt: skip
-    """``sample_record``'s row of ``out``: a call, not inlined (once per sample; issue 24:
+    """``sample_record``'s row of ``out``: a call, not inlined (once per sample, and
     a first run compiles it apart)."""
     air_force_on_base(program, gust, cfg[CFG_GUST_DT], drag, base, k * cfg[CFG_DT], 1, x[6],
                       x[7], x[8], scratch)  # fmt: skip
@@ -804,7 +805,7 @@ def _specialised_loop(lumped: bool, sensed: bool, drum: bool):
     run never takes (Numba's cache keys a closure on its variables' values
     too). Not an inlined function called with a constant: Numba copies an
     inlined function's IR block by block, each block with every variable of the function, so
-    inlining the whole loop cost about a quarter of a first run's compilation (issue 24)."""
+    inlining the whole loop cost about a quarter of a first run's compilation."""
 
     def closed_loop(
         x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out,

@@ -1,4 +1,4 @@
-"""A scenario's tethered landing (``[maneuver] type = "tethered_landing"``, issue 26): the
+"""A scenario's tethered landing (``[maneuver] type = "tethered_landing"``): the
 schedule and controller of ``control.landing`` built from the scenario and its set-up, and
 the touchdown the Python loop detects (``Touchdown``) with the status it gives the run."""
 

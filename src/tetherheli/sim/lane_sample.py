@@ -1,4 +1,4 @@
-"""The lane engine's control sample (issue 24 item 4): every phase of a single run's sample
+"""The lane engine's control sample: every phase of a single run's sample
 (``sim.engine.paper_sample``: the tether's tension and the release check, the sensors, the
 paper's or the tethered LQI with feed-forward and winch law, the actuators, the true outputs,
 the failure checks and the on-line metrics) for a block of ``layout.LANES`` runs at once.

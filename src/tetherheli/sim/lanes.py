@@ -195,7 +195,7 @@ def rk4_lanes(x, sc0, inp, rate, t0, h, n_sub, attached, k_c, c, wind, work):
     in the same order, so it equals a single run bit for bit.
 
     Every array argument must be a separate array (``restrict_arguments``: LLVM vectorises
-    the lanes' loops without run-time overlap checks; issue 24 item 4).
+    the lanes' loops without run-time overlap checks).
     """
     _wide_vectors()
     restrict_arguments()

@@ -1,4 +1,4 @@
-"""The lumped-mass tether in the closed loop (issue 13; ``tether.lumped``): the chain's end
+"""The lumped-mass tether in the closed loop (``tether.lumped``): the chain's end
 tensions before a sample (``chain_ends``) and the coupled step of helicopter and chain over a
 sample (``lumped_interval``), which ``sim.engine``'s ``sample_sense`` and ``sample_advance``
 call while a lumped tether is attached."""
@@ -38,7 +38,7 @@ from ..wind.evaluate import base_frame_force, gust_velocity
 _jit = compiled(error_model="numpy")
 _jit_inline = compiled(error_model="numpy", inline="always")
 
-# --- the lumped-mass tether (issue 13; ``model.tether_lumped``) --------------------------------
+# --- the lumped-mass tether (``model.tether_lumped``) ------------------------------------------
 # A lumped run carries its chain (``layout.CHAIN_*``: node positions and velocities, the
 # packed tether, the ROS2 scratch) next to the helicopter's state x; x[12] is the chain's
 # unstretched length L0 (the winch pays out by re-discretising it uniformly, as ``ros2_step``
@@ -226,7 +226,7 @@ def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, wo
     rule ``tether_lumped.coupling_substeps``: h omega_max <= 2.5), ``chain_ends`` (the force
     on P at the step's start), one RK4 step of the helicopter under that force, then the
     chain's step
-    (``tether_lumped.chain_interval``: ROS2 sub-steps of the chain's step-size rule, issue 23)
+    (``tether_lumped.chain_interval``: ROS2 sub-steps of the chain's step-size rule)
     with its top driven to P's new position and velocity and L0 = x[12] held at the step's
     start value.
 
@@ -235,7 +235,7 @@ def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, wo
     damping seen from P (its Jacobian blocks at the step's start, the interior nodes held),
     F_P = F_P0 - K_top (r_P - r_P0 - v_(N-1) tau - a_(N-1) tau^2 / 2) - (C_top + D_top / 4)
     (v_P - v_P0), tau the time into the step and v_(N-1), a_(N-1) = F_(N-1) / m the top
-    interior node's velocity and acceleration at its start (issue 23: the acceleration term
+    interior node's velocity and acceleration at its start (the acceleration term
     halved the 20 kN cable's energy drift at 4 substeps, 0.84 % to 0.46 %): the force
     follows P's motion relative to the chain inside the step, and the helicopter's RK4 sees
     the top segment's stiffness (stable while h sqrt(EA / (l0 m)) stays within RK4's bound:

@@ -206,7 +206,8 @@ def read_only(a: np.ndarray) -> np.ndarray:
     """A read-only, C-ordered float64 view of an input the engine only reads (a copy only where
     the layout or dtype differs): whichever way a law, a wind or a model was built (a cached,
     frozen gain or a fresh one), ``engine_args`` hands the engine the same types, so that
-    ``run_closed_loop`` has one compiled signature (issue 24)."""
+    ``run_closed_loop`` has one compiled signature (a second one would compile the whole loop
+    again)."""
     view = np.ascontiguousarray(a, dtype=np.float64).view()
     view.setflags(write=False)
     return view

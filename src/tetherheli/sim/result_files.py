@@ -88,7 +88,7 @@ RESULT_UNITS[TENSION_GROUND_COLUMN] = "N"
 #: The drum winch's extra columns (``[winch] model = "drum"``): the drum's speed at each sample
 #: and the motor torque averaged over the sample that follows it, with their units.
 DRUM_COLUMNS: tuple[str, ...] = ("drum_speed", "motor_torque")
-#: A moving base's extra columns ([base], issue 26): the winch point's position and velocity
+#: A moving base's extra columns ([base]): the winch point's position and velocity
 #: in N at each sample; over a moving base the states and outputs are relative to it, so HO in
 #: N is (q1, q2, q3) + (base_n1, base_n2, base_n3).
 BASE_POSITION_COLUMNS: tuple[str, ...] = ("base_n1", "base_n2", "base_n3")

@@ -431,7 +431,7 @@ TETHER_MODELS: tuple[str, ...] = ("elastic", "lumped")
 
 @dataclass(frozen=True)
 class TetherSettings:
-    """The tether model (``[tether]``; issue 13). "elastic" is the paper's massless straight
+    """The tether model (``[tether]``). "elastic" is the paper's massless straight
     tether (eq 28, stiffness ``params.tether.K_C``); "lumped" the chain of
     ``tether.lumped`` (point masses, axial elasticity slack in compression, axial
     damping, gravity, normal and tangential drag in the gust table's air), whose bottom node
@@ -584,7 +584,7 @@ class WinchSettings:
 
 @dataclass(frozen=True)
 class BaseSettings:
-    """The winch's base (``[base]``, issue 26): still at the origin of N (the paper's winch,
+    """The winch's base (``[base]``): still at the origin of N (the paper's winch,
     the default), or moving (``tetherheli.base``). Over a moving base the engine flies the
     helicopter and the tether in the base's translating frame and the results record the
     base's motion (``base_n1..3``, ``base_v1..3``).
@@ -628,7 +628,7 @@ MANEUVERS: tuple[str, ...] = ("none", "tethered_landing")
 
 @dataclass(frozen=True)
 class ManeuverSettings:
-    """A maneuver flown in the run (``[maneuver]``, issue 26): by default none (the paper's
+    """A maneuver flown in the run (``[maneuver]``): by default none (the paper's
     station-keeping); ``type = "tethered_landing"``: from the hover over the winch's base,
     descend relative to it while the winch reels in under a tension schedule, and touch
     down (``control.landing``). The run ends at touchdown with status "landed", or a

@@ -1,6 +1,6 @@
 """Flying one scenario under several controllers and measuring what each achieves and costs.
 
-The measures (``controller_metrics``) are those of issue 14's comparison: peak and RMS of the
+The measures (``controller_metrics``) are: peak and RMS of the
 position deviations q1-q3 [m], the peak attitude deviation (q4, q5) [deg], RMS and peak of
 each rotor input minus its trim total input (the control effort), the peak cyclic torque
 against its limit (eq 40), the tension range [N], the run's status and the compute time per

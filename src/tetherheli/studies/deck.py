@@ -1,4 +1,4 @@
-"""The moving-deck study (issue 26 item 5): station-keeping relative to a heaving deck over
+"""The moving-deck study: station-keeping relative to a heaving deck over
 sea states, free against tethered, with perfect sensors, GNSS or the tether as the position
 sensor; and the tethered landing's success rate and touchdown figures over a Monte Carlo of
 sea-state seeds (the waves' phases).

@@ -1,4 +1,4 @@
-"""Robustness of the controllers (issue 14, item 3): each controller designed on the nominal
+"""Robustness of the controllers: each controller designed on the nominal
 plant and flown on the Monte Carlo's dispersed plants (``montecarlo_compare``), and the
 smallest cyclic limit each one needs (``controller_cyclic_limits``).
 

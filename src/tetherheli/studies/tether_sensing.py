@@ -1,4 +1,4 @@
-"""The tether as a position sensor with sag (issue 13, item 5): how far Sec. IV-F's
+"""The tether as a position sensor with sag: how far Sec. IV-F's
 straight-tether estimate of P is off when the cable has weight and wind drag, and what the
 catenary estimator (``tether.catenary.catenary_position_estimate``) leaves.
 

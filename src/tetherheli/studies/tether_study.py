@@ -1,4 +1,4 @@
-"""The tether study (issue 13, item 6): does the paper's stabilising effect survive at 10-100 m
+"""The tether study: does the paper's stabilising effect survive at 10-100 m
 of real cable, and what ground tension and cable does it need?
 
 Static half (``static_rows``, ``hover_limits``), for each cable hanging straight down from P
@@ -132,7 +132,7 @@ def json_ready(rows: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
 # the whole study (the command: tetherheli tether-study, report/tether_study.py)
 # ----------------------------------------------------------------------------------------------
 
-#: The study's default grids: lengths [m] (issue 13: 10-100 m), steady winds [m/s] and
+#: The study's default grids: lengths [m] (10-100 m), steady winds [m/s] and
 #: elevations of P [deg] of the sensing half.
 DEFAULT_LENGTHS_M: tuple[float, ...] = names.TETHER_STUDY_LENGTHS_M
 DEFAULT_WINDS_M_S: tuple[float, ...] = names.TETHER_STUDY_WINDS_M_S

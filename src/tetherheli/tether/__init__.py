@@ -3,7 +3,7 @@ coupling to the helicopter), its static shape (``catenary``: Irvine's elastic ca
 static cable in wind, the tether as a sensor with sag), the hover trim with a massive tether
 (``lumped_trim``) and the drum winch (``winch``).
 
-Exported here, the cable alone (issue 23): a lumped-mass cable (``Cable``) flown between a
+Exported here, the cable alone: a lumped-mass cable (``Cable``) flown between a
 fixed anchor and a prescribed top motion with the very chain step the engine uses
 (``drive_cable``), and the same cable in MoorDyn v2 (``drive_moordyn``; the optional
 ``validation`` extra)."""

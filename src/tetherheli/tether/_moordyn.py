@@ -1,4 +1,4 @@
-"""The same cable in MoorDyn v2 (issue 23 item 6): ``drive_moordyn`` flies a ``Cable`` with
+"""The same cable in MoorDyn v2, to validate the chain: ``drive_moordyn`` flies a ``Cable`` with
 MoorDyn-C's Python API (``pip install "tetherheli[validation]"``) between the same fixed
 anchor and prescribed top motion as ``drive_cable``, and returns a ``CableRun`` to compare.
 

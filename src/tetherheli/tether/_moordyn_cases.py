@@ -1,4 +1,4 @@
-"""The cases of the MoorDyn comparison (issue 23 item 6) and their figures, shared by
+"""The cases of the MoorDyn comparison and their figures, shared by
 ``tests/test_moordyn.py`` and ``benchmarks/moordyn_validation.py`` (the tables of
 ``docs/studies/moordyn.md``).
 
@@ -127,7 +127,7 @@ class MoorDynCase:
     wind : tuple of float
         Steady wind [m/s].
     anchor_axis, anchor_amplitude, anchor_frequency : int, float, float
-        The anchor on a moving base (issue 26): amplitude [m] cos(2 pi f t) along that axis,
+        The anchor on a moving base: amplitude [m] cos(2 pi f t) along that axis,
         starting at rest (0: the fixed anchor).
     """
 

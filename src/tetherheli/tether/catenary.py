@@ -1,6 +1,6 @@
 """The static tether: Irvine's elastic catenary between two points (``elastic_catenary``,
 Irvine, *Cable Structures*, MIT Press 1981, ch. 1 and 2), the chain's start shape on it
-(``initial_chain``), and the tether as a sensor with sag (issue 13, item 5): the static cable
+(``initial_chain``), and the tether as a sensor with sag: the static cable
 from the winch to P in a steady wind (``static_cable``), the encoders' catenary estimate of P
 (``catenary_position_estimate``) and Sec. IV-F's straight-tether estimates it corrects
 (``straight_tether_estimates``). Conventions (n3 up, the drag coefficients) are those of the
@@ -253,7 +253,7 @@ def initial_chain(
 
 
 # ----------------------------------------------------------------------------------------------
-# the tether as a sensor with sag (issue 13, item 5)
+# the tether as a sensor with sag
 # ----------------------------------------------------------------------------------------------
 
 

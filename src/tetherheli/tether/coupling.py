@@ -1,4 +1,4 @@
-"""Coupling (issue 13): a general force at P in the tethered helicopter's equations. The
+"""Coupling: a general force at P in the tethered helicopter's equations. The
 force the tether exerts on P enters the generated equations as a wind force at HO plus the
 rotor torques of its moment about HO (``force_at_P_as_loads``), with eq 28's tension set to
 zero; q7..q9 then only locate P (``tethered_derivative_force_at_P``)."""

@@ -17,13 +17,13 @@ step), node N is the attachment point P (driven: its position and velocity are g
   force (their weight), not as inertia of the chain.
 - Axial force of segment s (nodes s, s+1; d = x[s+1] - x[s], l = |d|, e = d / l):
   T = k (l - l0) + c dl/dt with k = EA / l0 when l > l0 and T >= 0, else 0 (slack: no
-  compression, no pushing damper). The dashpot c is a property of the cable (issue 23): from
+  compression, no pushing damper). The dashpot c is a property of the cable: from
   the internal damping BA [N s] (force per unit strain rate, MoorDyn's BA), c = BA / l0; from
   the damping ratio zeta of the cable's fundamental axial mode (both ends fixed),
   c = zeta sqrt(EA mu) / sin(pi / (2 N)). The chain's damping matrix is then (c / k) times
   its stiffness matrix, so mode j has the ratio c omega_j / (2 k), and the fundamental one,
   omega_1 = 2 sqrt(k / m) sin(pi / (2 N)), exactly zeta for every N and every length (the
-  continuous cable: BA = 2 zeta L0 sqrt(EA mu) / pi). (Before issue 23 zeta was the ratio of
+  continuous cable: BA = 2 zeta L0 sqrt(EA mu) / pi). (Earlier versions took zeta as the ratio of
   one segment, c = 2 zeta sqrt(EA mu), so the cable's damping fell as N grew.)
 - Drag on segment s from the air-relative velocity at its middle, u = (v[s] + v[s+1]) / 2 -
   (w[s] + w[s+1]) / 2 (w: the wind per node): normal part u_n = u - (u.e) e, tangential part
@@ -581,7 +581,7 @@ def ros2_step(x, v, wind, L0, p, h, xP1, vP1, work):
 #: omega_max = 2 sqrt(k / m) = (2 N / L0) sqrt(EA / mu) the highest axial frequency of the
 #: chain (a fixed-fixed spring-mass chain's limit). ROS2 is L-stable, so a larger step stays
 #: stable but damps the modes it cannot resolve; at 0.2 the paper's cable driven at 3 Hz is
-#: within 3 % of a converged run (0.37: 7 %, 0.73: 16 %, at N = 10) (issue 23;
+#: within 3 % of a converged run (0.37: 7 %, 0.73: 16 %, at N = 10;
 #: ``tests/test_tether_cable.py``, ``tests/test_engine_lumped.py``).
 CHAIN_OMEGA_H = 0.2
 #: at most this many chain sub-steps per helicopter step (a guard on absurd stiffness)
@@ -589,7 +589,7 @@ CHAIN_MAX_SUBSTEPS = 4096
 #: the coupled step's rule (``coupling_substeps``): the helicopter's RK4 steps of a lumped run
 #: are at most COUPLING_OMEGA_H / omega_max long, so that the condensed coupling's Taylor
 #: model of the top interior node (``lumped_step.lumped_interval``) spans at most about half of
-#: its axial period 2 pi / (omega_max / 2). Issue 23 item 2b: with drag, damping and the winch
+#: its axial period 2 pi / (omega_max / 2). Why: with drag, damping and the winch
 #: off, the closed-loop engine's energy over 20 s at the default 10 ms, 2 substeps drifted by
 #: 1.06 % of the push for a 20 kN cable (N = 10: h omega_max = 10.7 at h = 5 ms); this rule
 #: takes it to 9 RK4 steps per sample (0.53 %). The paper's cable keeps its 2 steps at N <= 10

@@ -1,4 +1,4 @@
-"""The hover trim of the tethered helicopter with a massive tether (issue 13, item 3): the
+"""The hover trim of the tethered helicopter with a massive tether: the
 tether hangs from P straight down to the winch in its static shape (the vertical elastic
 catenary, ``tether.catenary``), the helicopter trims against the tension at P (eq 28's trim,
 ``model.trim.windless_trim``) and the lumped chain starts at its own exact equilibrium
@@ -26,7 +26,7 @@ __all__ = [
 ]
 
 # ----------------------------------------------------------------------------------------------
-# hover trim with a massive tether (issue 13, item 3)
+# hover trim with a massive tether
 # ----------------------------------------------------------------------------------------------
 
 

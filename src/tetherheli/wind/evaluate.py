@@ -124,7 +124,7 @@ def air_force_on_base(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, o
 def _base_frame(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, out, inertial):
     # One inlined ``wind_force`` for a still and a moving base: the base's rates come from a
     # call (``base_rates``), so a still base's run compiles neither a second copy of the wind
-    # nor ``base_at`` inline (issue 24: cold start). A still base adds nothing to v or out.
+    # nor ``base_at`` inline (a shorter first compilation). A still base adds nothing to v or out.
     # Typed once for every caller, inlined by LLVM (``inline_here``).
     inline_here()
     a1 = a2 = a3 = 0.0
