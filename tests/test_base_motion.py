@@ -69,7 +69,7 @@ def test_sea_state_has_the_significant_wave_height_and_the_jonswap_peak():
     sample standard deviation of the heave is Hs / 4 (ergodic sum of sinusoids) and the
     seed alone decides the record."""
     sea = SeaStateBase(significant_wave_height=1.5, peak_period=6.0, seed=11)
-    amp = sea.parts()[2][:, 1]
+    amp = sea.parts().waves[:, 1]
     assert 4 * math.sqrt(0.5 * np.sum(amp**2)) == pytest.approx(1.5, rel=1e-12)
     w = np.linspace(0.3, 3.0, 2001)
     assert w[np.argmax(jonswap(w, 1.0, 6.0))] == pytest.approx(2 * math.pi / 6.0, rel=2e-3)

@@ -236,7 +236,7 @@ def test_compare_figure_leaves_failed_percentiles_out_without_warnings():
     """A Monte Carlo percentile among the failures is inf (``compare.markdown_table`` says
     "inf"); the bar chart draws no bar for it and Matplotlib is never handed inf (pytest turns
     its RuntimeWarning into an error)."""
-    from tetherheli.compare import _figure
+    from tetherheli.viz.plots import figure_compare
 
     rows = [
         {"scenario": "mc p50", "controller": "paper", "peak_q1": 1.2, "peak_q2": 0.4,
@@ -244,7 +244,7 @@ def test_compare_figure_leaves_failed_percentiles_out_without_warnings():
         {"scenario": "mc p95", "controller": "paper", "peak_q1": math.inf, "peak_q2": math.inf,
          "peak_q3": math.inf, "rms_q1": math.inf, "rms_q2": math.inf, "rms_q3": math.inf},
     ]  # fmt: skip
-    fig = _figure(rows)
+    fig = figure_compare(rows)
     fig.canvas.draw()
     heights = [p.get_height() for p in fig.axes[0].patches]
     assert heights[:1] == [1.2] and all(math.isnan(h) for h in heights[1::2])

@@ -30,7 +30,7 @@ CELLS = [
     "assert matplotlib.get_backend() == backend, (backend, matplotlib.get_backend())\n"
     "print(backend)",
     # ... so a figure made after it still shows
-    "from tetherheli.compare import _figure\n_figure([row])",
+    "from tetherheli.viz.plots import figure_compare\nfigure_compare([row])",
 ]
 
 

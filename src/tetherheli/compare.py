@@ -125,29 +125,6 @@ def compare(
     return rows
 
 
-def _figure(rows: list[dict[str, Any]]):
-    import numpy as np
-
-    from .viz.plots import new_figure
-
-    labels = [f"{r['scenario']}\n{r['controller']}" for r in rows]
-    fig = new_figure(figsize=(max(8.0, 1.1 * len(rows) + 4), 4.5))  # the backend left alone
-    axes = fig.subplots(1, 2)
-    x = np.arange(len(rows))
-    for ax, kind in zip(axes, ("peak", "rms"), strict=True):
-        for a, off in zip((1, 2, 3), (-0.27, 0.0, 0.27), strict=True):
-            # a percentile among a Monte Carlo's failures is inf: no bar (the table says so)
-            vals = np.array([r.get(f"{kind}_q{a}", np.nan) for r in rows], dtype=float)
-            vals[~np.isfinite(vals)] = np.nan
-            ax.bar(x + off, vals, width=0.27, label=f"q{a}")
-        ax.set_xticks(x, labels, rotation=60, ha="right", fontsize=7)
-        ax.set_ylabel(f"{kind} deviation [m]")
-        ax.legend()
-        ax.grid(axis="y", alpha=0.3)
-    fig.tight_layout()
-    return fig
-
-
 @figures_for_files()
 def write_compare(
     rows: list[dict[str, Any]],
@@ -164,7 +141,8 @@ def write_compare(
     in the Parquet fields' metadata), compare.md (the main columns), compare.png and
     summary.json, written whole or not at all (``_io.output_directory``); with Monte Carlo
     comparisons also compare_montecarlo.md (the paired reductions), compare_montecarlo.png
-    (``_figure_montecarlo``) and their per-draw values in summary.json.
+    (``viz.study_figures.figure_compare_spread``) and their per-draw values in summary.json.
+    The figures are drawn by ``viz.study_figures`` (compare.png: ``figure_compare``).
 
     Parameters
     ----------
@@ -195,7 +173,7 @@ def write_compare(
     from .sim.result_files import check_result_format, write_table
     from .studies.controllers import CONTROLLER_METRICS
     from .studies.robust import REDUCED
-    from .viz.plots import save_figure
+    from .viz.plots import figure_compare, figure_compare_spread, save_figure
 
     reductions = [f"reduction_{m}_{p}" for m in REDUCED for p in ("p50", "p5")]
     columns = [
@@ -206,8 +184,9 @@ def write_compare(
     table = [[r.get(c, "") for c in columns] for r in rows]
     units = {c: u for c in columns if (u := COLUMN_UNITS.get(c)) is not None}
     units.update({c: "%" for c in reductions if c in columns})
-    fig = _figure([r for r in rows if r.get("runs", 1) == 1] or rows)
-    fig_mc = _figure_montecarlo(montecarlo) if montecarlo else None
+    # drawn by viz (``viz.figure.new_figure``: the backend left alone)
+    fig = figure_compare([r for r in rows if r.get("runs", 1) == 1] or rows)
+    fig_mc = figure_compare_spread(_spreads(montecarlo)) if montecarlo else None
     with output_directory(out_dir, writer="compare", inputs=inputs, force=force) as tmp:
         save_figure(fig, tmp / f"compare.{figure_format}")
         write_table(tmp / f"compare.{data_format}", columns, table, units=units)
@@ -268,23 +247,25 @@ def markdown_reductions(montecarlo: tuple[Any, ...]) -> str:
     return head + "\n".join(lines) + "\n"
 
 
-def _figure_montecarlo(montecarlo: tuple[Any, ...]):
-    """Box plots of peak and RMS q1 per run kind (completed runs; failures in the labels)."""
-    from .viz.plots import new_figure
+def _spreads(montecarlo: tuple[Any, ...]) -> list[Any]:
+    """The Monte Carlo comparisons as ``compare_montecarlo.png`` draws them
+    (``viz.study_figures.ControllerSpread``): per run kind its failures and the completed
+    draws' peak and RMS q1."""
+    from .viz.plots import ControllerSpread
 
-    fig = new_figure(figsize=(9.0, 3.2 * len(montecarlo)))  # the backend left alone
-    axes = fig.subplots(len(montecarlo), 2, squeeze=False)
-    for row, mc in zip(axes, montecarlo, strict=True):
-        labels = [f"{lab}\n{mc.failures(lab)}/{mc.runs} failed" for lab in mc.labels]
-        for ax, metric in zip(row, ("peak_q1", "rms_q1"), strict=True):
-            data = [mc.values[lab][metric][mc.ok[lab]] for lab in mc.labels]
-            ax.boxplot(data, whis=(5, 95), showfliers=True)
-            ax.set_xticks(range(1, len(labels) + 1), labels, fontsize=8)
-            ax.set_ylabel(f"{metric} [m]")
-            ax.set_title(f"{mc.scenario_name}, N = {mc.runs} (whiskers p5-p95)", fontsize=9)
-            ax.grid(axis="y", alpha=0.3)
-    fig.tight_layout()
-    return fig
+    return [
+        ControllerSpread(
+            scenario_name=mc.scenario_name,
+            runs=mc.runs,
+            labels=tuple(mc.labels),
+            failures={lab: mc.failures(lab) for lab in mc.labels},
+            completed={
+                lab: {m: mc.values[lab][m][mc.ok[lab]] for m in ("peak_q1", "rms_q1")}
+                for lab in mc.labels
+            },
+        )
+        for mc in montecarlo
+    ]
 
 
 #: The columns of ``markdown_table``.

@@ -1,8 +1,8 @@
 """The drawing of a Gymnasium environment's episode (``render_mode``): each step's row of the
 recorded episode (``episode_row``), the episode as the animation reads a saved run
 (``episode_data``), its frame (``draw_frame``, ``tetherheli animate``'s scene) and the
-"human" mode's Matplotlib window (``show_frame``, ``close_window``). Matplotlib and the
-animation load on first use.
+"human" mode's Matplotlib window (``show_frame``, ``close_window``). The drawing is the viz
+layer's (``viz.animation.frame_rgb``, ``viz.window``); it and Matplotlib load on first use.
 """
 
 from __future__ import annotations
@@ -84,22 +84,15 @@ def draw_frame(run: Any) -> np.ndarray:
 
 def show_frame(window: Any, frame: np.ndarray, fps: float, title: str) -> tuple:
     """Show ``frame`` in the "human" mode's Matplotlib window ``window`` ((figure, image), or
-    None: opened here, named ``title``), then pause 1 / fps; returns the window."""
-    import matplotlib.pyplot as plt
+    None: opened here, named ``title``), then pause 1 / fps; returns the window
+    (``viz.window.show_image``)."""
+    from .viz.window import show_image
 
-    if window is None or not plt.fignum_exists(window[0].number):
-        fig = plt.figure(title, figsize=(10, 6))
-        ax = fig.add_axes((0.0, 0.0, 1.0, 1.0))
-        ax.set_axis_off()
-        window = (fig, ax.imshow(frame))
-    else:
-        window[1].set_data(frame)
-    plt.pause(1.0 / fps)
-    return window
+    return show_image(window, frame, fps, title)
 
 
 def close_window(window: tuple) -> None:
-    """Close the "human" mode's window (``show_frame``'s)."""
-    import matplotlib.pyplot as plt
+    """Close the "human" mode's window (``show_frame``'s; ``viz.window.close_window``)."""
+    from .viz import window as viz_window
 
-    plt.close(window[0])
+    viz_window.close_window(window)

@@ -5,6 +5,7 @@ the engine, ``loader`` the ``[base]`` table."""
 from .compiled import CompiledBase, base_state, compile_base
 from .motion import (
     BaseMotion,
+    BaseParts,
     FileBase,
     FixedBase,
     HarmonicBase,
@@ -16,6 +17,7 @@ from .motion import (
 
 __all__ = [
     "BaseMotion",
+    "BaseParts",
     "CompiledBase",
     "FileBase",
     "FixedBase",

@@ -56,22 +56,24 @@ def compile_base(motion: BaseMotion | None, mass: float = 0.0) -> CompiledBase:
     """The packed form of ``motion`` (None: the paper's still winch at the origin), with the
     mass [kg] the engine's inertial force -m b'' acts on (``layout.BASE_MASS``)."""
     motion = FixedBase() if motion is None else motion
-    offset, velocity, waves, knots, coef = motion.parts()
+    parts = motion.parts()
+    waves, knots = parts.waves, parts.knots
     n_knots = 0 if knots is None else knots.size
     packed = np.zeros((1 + waves.shape[0] + n_knots, BASE_COLUMNS))
     packed[0, BASE_WAVES] = waves.shape[0]
     packed[0, BASE_KNOTS] = n_knots
-    packed[0, BASE_OFFSET : BASE_OFFSET + 3] = offset
-    packed[0, BASE_VELOCITY : BASE_VELOCITY + 3] = velocity
+    packed[0, BASE_OFFSET : BASE_OFFSET + 3] = parts.offset
+    packed[0, BASE_VELOCITY : BASE_VELOCITY + 3] = parts.velocity
     rows = 1 + waves.shape[0]
     packed[1:rows, BASE_WAVE_AXIS] = waves[:, 0]
     packed[1:rows, BASE_WAVE_AMPLITUDE] = waves[:, 1]
     packed[1:rows, BASE_WAVE_OMEGA] = waves[:, 2]
     packed[1:rows, BASE_WAVE_PHASE] = waves[:, 3]
-    if n_knots:
+    if knots is not None and n_knots:
+        assert parts.coefficients is not None  # a spline has both
         packed[rows:, BASE_KNOT_TIME] = knots
-        packed[rows : rows + n_knots - 1, BASE_CUBIC:] = coef.reshape(n_knots - 1, 12)
-    moving = not (motion.fixed and not np.any(offset))
+        packed[rows : rows + n_knots - 1, BASE_CUBIC:] = parts.coefficients.reshape(n_knots - 1, 12)
+    moving = not (motion.fixed and not np.any(parts.offset))
     packed[0, BASE_MOVING] = 1.0 if moving else 0.0
     packed[0, BASE_MASS] = mass
     packed.setflags(write=False)

@@ -23,7 +23,7 @@ from array import array
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -38,6 +38,7 @@ __all__ = [
     "MOTION_KEYS",
     "TRACK_COLUMNS",
     "BaseMotion",
+    "BaseParts",
     "FileBase",
     "FixedBase",
     "HarmonicBase",
@@ -142,21 +143,55 @@ def _checked(motion: object, *names: str) -> None:
         object.__setattr__(motion, name, value)
 
 
+class BaseParts(NamedTuple):
+    """A motion's parts, summed: b(t) = offset + velocity t + the waves + the spline
+    (``BaseMotion.parts``; ``base.compiled.compile_base`` packs them).
+
+    Attributes
+    ----------
+    offset : numpy.ndarray, shape (3,)
+        The constant position [m], N components.
+    velocity : numpy.ndarray, shape (3,)
+        The constant velocity [m/s], N components.
+    waves : numpy.ndarray, shape (k, 4)
+        One sinusoid A sin(w t + p) per row: axis index (0, 1, 2 for n1, n2, n3), amplitude
+        A [m], angular frequency w [rad/s], phase p [rad]; k may be 0.
+    knots : numpy.ndarray of shape (n,), or None
+        A cubic spline's knot times [s], strictly increasing; None: no spline.
+    coefficients : numpy.ndarray of shape (n - 1, 4, 3), or None
+        The spline's cubic coefficients on the interval starting at each knot, highest power
+        first, per axis of N ([m/s^3], [m/s^2], [m/s], [m]); None with ``knots``.
+    """
+
+    offset: np.ndarray
+    velocity: np.ndarray
+    waves: np.ndarray
+    knots: np.ndarray | None = None
+    coefficients: np.ndarray | None = None
+
+
 class BaseMotion:
     """A prescribed motion b(t) of the winch point in N.
 
-    Subclasses give ``offset`` and ``velocity`` (constant parts), ``waves`` (rows axis,
-    amplitude [m], angular frequency [rad/s], phase [rad]: A sin(w t + p) on that axis) and
-    ``knots`` (a cubic spline's breakpoints and per-axis coefficients); ``state`` sums them
-    in the engine's packed form (``base.compiled``: one formula for every caller).
+    Subclasses give their ``parts`` (``BaseParts``): ``offset`` and ``velocity`` (constant
+    parts), ``waves`` (rows axis, amplitude [m], angular frequency [rad/s], phase [rad]:
+    A sin(w t + p) on that axis) and ``knots`` with ``coefficients`` (a cubic spline's
+    breakpoints and per-axis coefficients); ``state`` sums them in the engine's packed form
+    (``base.compiled``: one formula for every caller).
     """
 
     #: True when b is constant: the paper's still winch (the engine then skips the base).
     fixed: bool = False
 
-    def parts(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None, np.ndarray]:
-        """(offset (3,), velocity (3,), waves (k, 4), knot times (n,) or None, coefficients
-        (n - 1, 4, 3)) of the motion."""
+    def parts(self) -> BaseParts:
+        """The motion's parts (``BaseParts``: offset [m], velocity [m/s], waves, spline knots
+        [s] and coefficients).
+
+        Returns
+        -------
+        BaseParts
+            The parts whose sum is b(t).
+        """
         raise NotImplementedError
 
     def state(self, t: object) -> np.ndarray:
@@ -199,8 +234,8 @@ class FixedBase(BaseMotion):
     def __post_init__(self) -> None:
         _checked(self, "position")
 
-    def parts(self):
-        return np.array(self.position), _ZERO, _NO_WAVES, None, None
+    def parts(self) -> BaseParts:
+        return BaseParts(offset=np.array(self.position), velocity=_ZERO, waves=_NO_WAVES)
 
     def to_dict(self) -> dict:
         return {"motion": "fixed", "position": list(self.position)}
@@ -216,8 +251,10 @@ class VelocityBase(BaseMotion):
     def __post_init__(self) -> None:
         _checked(self, "velocity", "position")
 
-    def parts(self):
-        return np.array(self.position), np.array(self.velocity), _NO_WAVES, None, None
+    def parts(self) -> BaseParts:
+        return BaseParts(
+            offset=np.array(self.position), velocity=np.array(self.velocity), waves=_NO_WAVES
+        )
 
     def to_dict(self) -> dict:
         return {
@@ -245,7 +282,7 @@ class HarmonicBase(BaseMotion):
     def __post_init__(self) -> None:
         _checked(self, "amplitude", "frequency", "phase")
 
-    def parts(self):
+    def parts(self) -> BaseParts:
         waves = [
             (i, a, 2 * math.pi * f, p)
             for i, (a, f, p) in enumerate(
@@ -253,7 +290,9 @@ class HarmonicBase(BaseMotion):
             )
             if a > 0.0
         ]
-        return _ZERO, _ZERO, np.array(waves, dtype=np.float64).reshape(-1, 4), None, None
+        return BaseParts(
+            offset=_ZERO, velocity=_ZERO, waves=np.array(waves, dtype=np.float64).reshape(-1, 4)
+        )
 
     def to_dict(self) -> dict:
         return {
@@ -324,8 +363,8 @@ class SeaStateBase(BaseMotion):
         waves.setflags(write=False)
         object.__setattr__(self, "_waves", waves)
 
-    def parts(self):
-        return _ZERO, _ZERO, self._waves, None, None
+    def parts(self) -> BaseParts:
+        return BaseParts(offset=_ZERO, velocity=_ZERO, waves=self._waves)
 
     def to_dict(self) -> dict:
         return {
@@ -366,6 +405,7 @@ class FileBase(BaseMotion):
     source: str = ""
     row_offset: int = 0
     sha256: str = ""
+    _coef: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         t = np.asarray(self.times, dtype=np.float64)
@@ -394,8 +434,11 @@ class FileBase(BaseMotion):
         """The last time the file covers [s]."""
         return float(self.times[-1])
 
-    def parts(self):
-        return _ZERO, _ZERO, _NO_WAVES, self.times, self._coef
+    def parts(self) -> BaseParts:
+        return BaseParts(
+            offset=_ZERO, velocity=_ZERO, waves=_NO_WAVES, knots=self.times,
+            coefficients=self._coef,
+        )  # fmt: skip
 
     def to_dict(self) -> dict:
         return {"motion": "file", "file": self.source, "file_sha256": self.sha256}

@@ -1,5 +1,6 @@
 """Every figure of the package: the paper's Figs. 6-9 (free and tethered overlaid), the
-sweep, the Monte Carlo, the sensing and the controller trade-off figures.
+sweep, the Monte Carlo, the sensing, the controller trade-off and ``tetherheli compare``'s
+figures.
 
 These functions only read results and return Matplotlib figures (``InlineFigure``, which
 shows itself inline in Jupyter as a cell's last expression or through ``display(fig)``).
@@ -46,6 +47,9 @@ from .figure import (
 )
 from .formats import FIGURE_FORMATS, PRINT_DPI
 from .study_figures import (
+    ControllerSpread,
+    figure_compare,
+    figure_compare_spread,
     figure_limit_search,
     figure_montecarlo,
     figure_paired,
@@ -60,7 +64,10 @@ __all__ = [
     "FIGURE_FORMATS",
     "PLOT_LIMIT",
     "PRINT_DPI",
+    "ControllerSpread",
     "InlineFigure",
+    "figure_compare",
+    "figure_compare_spread",
     "figure_dpi",
     "figure_inputs",
     "figure_limit_search",

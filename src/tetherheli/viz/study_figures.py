@@ -1,13 +1,14 @@
 """The studies' figures: a sweep (``figure_sweep``), the cyclic-limit search, the tether
 release, the Monte Carlo's histograms, CDFs and paired scatter, the controllers' trade-off
-(``figure_pareto``) and the sensing comparison. Re-exported by ``viz.plots``, where callers
+(``figure_pareto``), the sensing comparison and ``tetherheli compare``'s bars and box plots
+(``figure_compare``, ``figure_compare_spread``). Re-exported by ``viz.plots``, where callers
 import them.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from typing import Any
+from collections.abc import Mapping, Sequence
+from typing import Any, NamedTuple
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -22,10 +23,14 @@ from .figure import (
     _single_axes,
     _stacked,
     metric_label,
+    new_figure,
     plottable,
 )
 
 __all__ = [
+    "ControllerSpread",
+    "figure_compare",
+    "figure_compare_spread",
     "figure_limit_search",
     "figure_montecarlo",
     "figure_paired",
@@ -570,4 +575,113 @@ def figure_sensing(
         ax.grid(alpha=0.3)
         ax.legend(loc="upper right", fontsize=8)
     fig.suptitle("Position from a GNSS against the tether as a sensor (Sec. IV-F)")
+    return fig
+
+
+def _empty(fig: Figure) -> Figure:
+    """A caller's figure, refused unless empty."""
+    if fig.axes:
+        raise ParameterError("fig", "a figure with axes", "an empty figure")
+    return fig
+
+
+def figure_compare(rows: Sequence[Mapping[str, Any]], *, fig: Figure | None = None) -> Figure:
+    """``tetherheli compare``'s bars: the peak and RMS deviations of q1, q2, q3 per row
+    (scenario and controller), into ``fig`` if given. A value that is not finite (a Monte
+    Carlo percentile among its failures) draws no bar.
+
+    Parameters
+    ----------
+    rows : sequence of mappings of str to object
+        One per bar group: ``scenario`` and ``controller`` (the tick label) and the
+        deviations ``peak_q1`` .. ``rms_q3`` [m]; a missing one draws no bar.
+    fig : Figure, optional
+        An empty figure to draw into (default: a new one).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn.
+    """
+    labels = [f"{r['scenario']}\n{r['controller']}" for r in rows]
+    if fig is None:
+        fig = new_figure(figsize=(max(8.0, 1.1 * len(rows) + 4), 4.5))
+    else:
+        fig = _empty(fig)
+    axes = fig.subplots(1, 2)
+    x = np.arange(len(rows))
+    for ax, kind in zip(axes, ("peak", "rms"), strict=True):
+        for a, off in zip((1, 2, 3), (-0.27, 0.0, 0.27), strict=True):
+            # a percentile among a Monte Carlo's failures is inf: no bar (the table says so)
+            vals = np.array([r.get(f"{kind}_q{a}", np.nan) for r in rows], dtype=float)
+            vals[~np.isfinite(vals)] = np.nan
+            ax.bar(x + off, vals, width=0.27, label=f"q{a}")
+        ax.set_xticks(x, labels, rotation=60, ha="right", fontsize=7)
+        ax.set_ylabel(f"{kind} deviation [m]")
+        ax.legend()
+        ax.grid(axis="y", alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+class ControllerSpread(NamedTuple):
+    """One Monte Carlo of ``figure_compare_spread``: the same draws flown free and under
+    each controller.
+
+    Attributes
+    ----------
+    scenario_name : str
+        The nominal scenario's name (the panel's title).
+    runs : int
+        Draws N.
+    labels : tuple of str
+        The run kinds in drawing order (free, then the controllers).
+    failures : mapping of str to int
+        Label -> draws that failed.
+    completed : mapping of str to mapping of str to ndarray
+        Label -> measure (at least ``peak_q1`` and ``rms_q1``) -> the completed draws'
+        values [m].
+    """
+
+    scenario_name: str
+    runs: int
+    labels: tuple[str, ...]
+    failures: Mapping[str, int]
+    completed: Mapping[str, Mapping[str, np.ndarray]]
+
+
+def figure_compare_spread(
+    spreads: Sequence[ControllerSpread], *, fig: Figure | None = None
+) -> Figure:
+    """``tetherheli compare --montecarlo``'s box plots: peak and RMS q1 per run kind over
+    the completed draws (whiskers at the 5th and 95th percentiles), one row of panels per
+    Monte Carlo, the failures counted in the tick labels; into ``fig`` if given.
+
+    Parameters
+    ----------
+    spreads : sequence of ControllerSpread
+        The Monte Carlos, at least one.
+    fig : Figure, optional
+        An empty figure to draw into (default: a new one).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn.
+    """
+    if fig is None:
+        fig = new_figure(figsize=(9.0, 3.2 * len(spreads)))
+    else:
+        fig = _empty(fig)
+    axes = fig.subplots(len(spreads), 2, squeeze=False)
+    for row, mc in zip(axes, spreads, strict=True):
+        labels = [f"{lab}\n{mc.failures[lab]}/{mc.runs} failed" for lab in mc.labels]
+        for ax, metric in zip(row, ("peak_q1", "rms_q1"), strict=True):
+            data = [mc.completed[lab][metric] for lab in mc.labels]
+            ax.boxplot(data, whis=(5, 95), showfliers=True)
+            ax.set_xticks(range(1, len(labels) + 1), labels, fontsize=8)
+            ax.set_ylabel(f"{metric} [m]")
+            ax.set_title(f"{mc.scenario_name}, N = {mc.runs} (whiskers p5-p95)", fontsize=9)
+            ax.grid(axis="y", alpha=0.3)
+    fig.tight_layout()
     return fig
