@@ -1,4 +1,4 @@
-"""The winch's base and its prescribed motion b(t) in frame N (issue 26).
+"""The winch's base and its prescribed motion b(t) in frame N.
 
 The paper's winch sits still at the origin of N. Here it may sit on a moving base: a vehicle
 or a ship under way, a heaving deck, or a recorded track. Every motion gives the position,
