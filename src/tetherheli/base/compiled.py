@@ -54,7 +54,24 @@ class CompiledBase(NamedTuple):
 
 def compile_base(motion: BaseMotion | None, mass: float = 0.0) -> CompiledBase:
     """The packed form of ``motion`` (None: the paper's still winch at the origin), with the
-    mass [kg] the engine's inertial force -m b'' acts on (``layout.BASE_MASS``)."""
+    mass [kg] the engine's inertial force -m b'' acts on (``layout.BASE_MASS``).
+
+    Parameters
+    ----------
+    motion : BaseMotion or None
+        The base's motion b(t); None: ``FixedBase()``, the still winch at the origin of N.
+    mass : float, optional
+        The mass m = mF + mMR [kg] the inertial force -m b'' acts on, stored at
+        ``layout.BASE_MASS`` (default 0).
+
+    Returns
+    -------
+    CompiledBase
+        The packed array, (rows, ``BASE_COLUMNS``) float64, read-only (row 0 the counts
+        ``BASE_WAVES``, ``BASE_KNOTS``, the ``BASE_OFFSET`` [m], ``BASE_VELOCITY`` [m/s],
+        ``BASE_MOVING`` and ``BASE_MASS``; then one row per sinusoid, then one per spline
+        knot), and whether the base moves.
+    """
     motion = FixedBase() if motion is None else motion
     parts = motion.parts()
     waves, knots = parts.waves, parts.knots
@@ -98,7 +115,20 @@ def _knot_interval(base, first, n_knots, t):
 @_jit_inline
 def base_at(base, t):
     """Position (3), velocity (3) and acceleration (3) of the base at time t [m, m/s, m/s^2],
-    N components, from its packed form: a tuple of nine floats."""
+    N components, from its packed form: a tuple of nine floats.
+
+    Parameters
+    ----------
+    base : numpy.ndarray, shape (rows, BASE_COLUMNS)
+        The packed base (``CompiledBase.packed``; layout ``layout.BASE_*``).
+    t : float
+        The time [s].
+
+    Returns
+    -------
+    tuple of 9 float
+        b1, b2, b3 [m], b1', b2', b3' [m/s], b1'', b2'', b3'' [m/s^2], N components.
+    """
     n_waves = int(base[0, BASE_WAVES])
     n_knots = int(base[0, BASE_KNOTS])
     v1 = base[0, BASE_VELOCITY]
@@ -148,7 +178,17 @@ def base_at(base, t):
 @_jit_inline
 def base_state_into(base, t, out):
     """``base_at`` into out (9,): position out[0:3] [m], velocity out[3:6] [m/s],
-    acceleration out[6:9] [m/s^2]."""
+    acceleration out[6:9] [m/s^2].
+
+    Parameters
+    ----------
+    base : numpy.ndarray, shape (rows, BASE_COLUMNS)
+        The packed base (``CompiledBase.packed``; layout ``layout.BASE_*``).
+    t : float
+        The time [s].
+    out : numpy.ndarray, shape (9,)
+        Written: position [m], velocity [m/s], acceleration [m/s^2], N components.
+    """
     state = base_at(base, t)
     for i in range(9):
         out[i] = state[i]
@@ -156,14 +196,39 @@ def base_state_into(base, t, out):
 
 @_jit
 def base_states(base, times, out):
-    """``base_state_into`` at each of ``times`` into out (n, 9)."""
+    """``base_state_into`` at each of ``times`` into out (n, 9).
+
+    Parameters
+    ----------
+    base : numpy.ndarray, shape (rows, BASE_COLUMNS)
+        The packed base (``CompiledBase.packed``; layout ``layout.BASE_*``).
+    times : numpy.ndarray, shape (n,)
+        The times [s].
+    out : numpy.ndarray, shape (n, 9)
+        Written: row j the position [m], velocity [m/s] and acceleration [m/s^2] at
+        ``times[j]``, N components.
+    """
     for j in range(times.size):
         base_state_into(base, times[j], out[j])
 
 
 def base_state(base: CompiledBase, times: np.ndarray) -> np.ndarray:
     """Position, velocity and acceleration of a packed base at ``times``: (n, 3, 3), rows
-    position, velocity, acceleration (``BaseMotion.state`` is this on its own packed form)."""
+    position, velocity, acceleration (``BaseMotion.state`` is this on its own packed form).
+
+    Parameters
+    ----------
+    base : CompiledBase
+        The packed base (``compile_base``).
+    times : float or numpy.ndarray, shape (n,)
+        The times [s].
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, 3, 3)
+        ``out[j, 0]`` position [m], ``out[j, 1]`` velocity [m/s], ``out[j, 2]``
+        acceleration [m/s^2] at ``times[j]``, N components.
+    """
     # a writable copy: one compiled signature of ``base_states`` (a result's times are
     # read-only)
     times = np.array(np.atleast_1d(times), dtype=np.float64, order="C")

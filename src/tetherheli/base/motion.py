@@ -216,7 +216,14 @@ class BaseMotion:
         return base_state(packed, np.asarray(t, dtype=np.float64))
 
     def to_dict(self) -> dict:
-        """The motion as the keys of a ``[base]`` table."""
+        """The motion as the keys of a ``[base]`` table.
+
+        Returns
+        -------
+        dict
+            ``"motion"`` (one of ``MOTIONS``) and the keys the motion reads
+            (``MOTION_KEYS``), in the units of ``BASE_KEYS``.
+        """
         raise NotImplementedError
 
 
@@ -226,7 +233,14 @@ _ZERO = np.zeros(3)
 
 @dataclass(frozen=True)
 class FixedBase(BaseMotion):
-    """The paper's winch: still, at ``position`` [m] in N (default the origin)."""
+    """The paper's winch: still, at ``position`` [m] in N (default the origin).
+
+    Parameters
+    ----------
+    position : tuple of 3 float, optional
+        The winch point's position [m], N components (default the origin), within
+        ``BASE_KEYS["position"]``'s range.
+    """
 
     position: tuple[float, float, float] = (0.0, 0.0, 0.0)
     fixed = True
@@ -235,15 +249,38 @@ class FixedBase(BaseMotion):
         _checked(self, "position")
 
     def parts(self) -> BaseParts:
+        """The still winch's parts.
+
+        Returns
+        -------
+        BaseParts
+            The offset ``position`` [m]; no velocity, waves or spline.
+        """
         return BaseParts(offset=np.array(self.position), velocity=_ZERO, waves=_NO_WAVES)
 
     def to_dict(self) -> dict:
+        """The motion as the keys of a ``[base]`` table.
+
+        Returns
+        -------
+        dict
+            ``{"motion": "fixed"}`` and ``"position"`` [m].
+        """
         return {"motion": "fixed", "position": list(self.position)}
 
 
 @dataclass(frozen=True)
 class VelocityBase(BaseMotion):
-    """A base under way at constant ``velocity`` [m/s] from ``position`` [m] at t = 0."""
+    """A base under way at constant ``velocity`` [m/s] from ``position`` [m] at t = 0.
+
+    Parameters
+    ----------
+    velocity : tuple of 3 float, optional
+        The constant velocity [m/s], N components (default zero), within
+        ``BASE_KEYS["velocity"]``'s range.
+    position : tuple of 3 float, optional
+        The position at t = 0 [m], N components (default the origin).
+    """
 
     velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
     position: tuple[float, float, float] = (0.0, 0.0, 0.0)
@@ -252,11 +289,25 @@ class VelocityBase(BaseMotion):
         _checked(self, "velocity", "position")
 
     def parts(self) -> BaseParts:
+        """The parts of the motion under way.
+
+        Returns
+        -------
+        BaseParts
+            The offset ``position`` [m] and the ``velocity`` [m/s]; no waves or spline.
+        """
         return BaseParts(
             offset=np.array(self.position), velocity=np.array(self.velocity), waves=_NO_WAVES
         )
 
     def to_dict(self) -> dict:
+        """The motion as the keys of a ``[base]`` table.
+
+        Returns
+        -------
+        dict
+            ``{"motion": "velocity"}`` and ``"velocity"`` [m/s], ``"position"`` [m].
+        """
         return {
             "motion": "velocity",
             "velocity": list(self.velocity),
@@ -283,6 +334,14 @@ class HarmonicBase(BaseMotion):
         _checked(self, "amplitude", "frequency", "phase")
 
     def parts(self) -> BaseParts:
+        """The sinusoids of the motion.
+
+        Returns
+        -------
+        BaseParts
+            One wave per axis of nonzero amplitude: (axis, amplitude [m], 2 pi frequency
+            [rad/s], phase [rad]); no offset, velocity or spline.
+        """
         waves = [
             (i, a, 2 * math.pi * f, p)
             for i, (a, f, p) in enumerate(
@@ -295,6 +354,14 @@ class HarmonicBase(BaseMotion):
         )
 
     def to_dict(self) -> dict:
+        """The motion as the keys of a ``[base]`` table.
+
+        Returns
+        -------
+        dict
+            ``{"motion": "harmonic"}`` and ``"amplitude"`` [m], ``"frequency"`` [Hz],
+            ``"phase"`` [rad].
+        """
         return {
             "motion": "harmonic",
             "amplitude": list(self.amplitude),
@@ -308,6 +375,22 @@ def jonswap(omega: np.ndarray, hs: float, tp: float, gamma: float = 3.3) -> np.n
 
     S(w) = A_g (5/16) Hs^2 wp^4 w^-5 exp(-5/4 (w/wp)^-4) gamma^exp(-(w - wp)^2 / (2 s^2 wp^2)),
     s = 0.07 (w <= wp) or 0.09, A_g = 1 - 0.287 ln(gamma), wp = 2 pi / Tp.
+
+    Parameters
+    ----------
+    omega : numpy.ndarray
+        The angular frequencies w [rad/s], > 0, any shape.
+    hs : float
+        The significant wave height Hs [m].
+    tp : float
+        The peak period Tp [s].
+    gamma : float, optional
+        The peak enhancement factor gamma [-] (default 3.3, the JONSWAP mean).
+
+    Returns
+    -------
+    numpy.ndarray
+        S(w) [m^2 s/rad], the shape of ``omega``.
     """
     wp = 2 * math.pi / tp
     sigma = np.where(omega <= wp, 0.07, 0.09)
@@ -330,6 +413,24 @@ class SeaStateBase(BaseMotion):
     (a small vessel at wave periods long against its natural periods); no roll, pitch or yaw
     of the deck, and the winch at the deck's origin. A ship's own RAO would filter the
     spectrum; supply its motion as ``FileBase`` for that.
+
+    Parameters
+    ----------
+    significant_wave_height : float, optional
+        Hs = 4 sqrt(m0) of the heave [m] (default 1), in (0, 20].
+    peak_period : float, optional
+        The JONSWAP peak period Tp [s] (default 8), in [1, 30].
+    peak_enhancement : float, optional
+        The JONSWAP peak enhancement gamma [-] (default 3.3), in [1, 7].
+    seed : int, optional
+        The seed of the phases (default 0), >= 0.
+    sway_scale : float, optional
+        Sway (n2) as this fraction of the heave spectrum [-] (default 0: none), in [0, 1].
+    surge_scale : float, optional
+        Surge (n1) as this fraction of the heave spectrum [-] (default 0: none), in [0, 1].
+    components : int, optional
+        The number of sinusoids per axis (default 128), at most
+        ``SEA_STATE_MAX_COMPONENTS``.
     """
 
     significant_wave_height: float = 1.0
@@ -364,9 +465,24 @@ class SeaStateBase(BaseMotion):
         object.__setattr__(self, "_waves", waves)
 
     def parts(self) -> BaseParts:
+        """The sinusoids of the sea state.
+
+        Returns
+        -------
+        BaseParts
+            The waves (axis, amplitude [m], angular frequency [rad/s], phase [rad]), heave
+            first, then sway and surge when scaled; no offset, velocity or spline.
+        """
         return BaseParts(offset=_ZERO, velocity=_ZERO, waves=self._waves)
 
     def to_dict(self) -> dict:
+        """The motion as the keys of a ``[base]`` table.
+
+        Returns
+        -------
+        dict
+            ``{"motion": "sea_state"}`` and the seven keys of ``MOTION_KEYS["sea_state"]``.
+        """
         return {
             "motion": "sea_state",
             "significant_wave_height": self.significant_wave_height,
@@ -435,12 +551,28 @@ class FileBase(BaseMotion):
         return float(self.times[-1])
 
     def parts(self) -> BaseParts:
+        """The spline of the track.
+
+        Returns
+        -------
+        BaseParts
+            The knots ``times`` [s] and the cubic coefficients, (n - 1, 4, 3); no offset,
+            velocity or waves.
+        """
         return BaseParts(
             offset=_ZERO, velocity=_ZERO, waves=_NO_WAVES, knots=self.times,
             coefficients=self._coef,
         )  # fmt: skip
 
     def to_dict(self) -> dict:
+        """The motion as the keys of a ``[base]`` table.
+
+        Returns
+        -------
+        dict
+            ``{"motion": "file"}`` and ``"file"`` (the track's ``source``),
+            ``"file_sha256"`` (the hash of its bytes).
+        """
         return {"motion": "file", "file": self.source, "file_sha256": self.sha256}
 
 

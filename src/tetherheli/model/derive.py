@@ -49,7 +49,13 @@ INPUT_NAMES = INPUT
 
 
 def parameter_symbols() -> dict[str, sp.Symbol]:
-    """SymPy symbols of the helicopter parameters, keyed by their ``HelicopterParams`` name."""
+    """SymPy symbols of the helicopter parameters, keyed by their ``HelicopterParams`` name.
+
+    Returns
+    -------
+    dict of str to sympy.Symbol
+        One real symbol per name of ``PARAM_ORDER``, in that order.
+    """
     return {name: sp.Symbol(name, real=True) for name in PARAM_ORDER}
 
 
@@ -57,22 +63,42 @@ def parameter_symbols() -> dict[str, sp.Symbol]:
 class Derivation:
     """The derived model: x' = f(x, inputs, wind, TC) and the outputs y = h(x).
 
-    Attributes
+    Parameters
     ----------
-    kind : "free" or "tethered"
-    q, u : coordinates and generalized speeds (SymPy functions of time)
-    qdot : kinematic differential equations, q' in terms of q and u (eqs 9-12, 29)
-    udot : dynamic equations, u' (eqs 13-18, 30-35)
-    mass_matrix, forcing : Kane's M(q) and f(q, u, ...) with M u' = f
-    outputs : [q1, q2, q3, q6] of HO in N (eqs 4, 43-45); relative to the base B when the base
-        moves
-    tether_torque : the tether's generalized forces on u4, u5 (the C1, C2 of eq 55)
-    inputs, wind : input symbols (fMR3, tMR1, tMR2, fTR2) and wind force (w1, w2, w3) [N]
-    tension : the tension magnitude TC (a symbol; eq 28's slack law is applied numerically)
-    params : parameter symbols in ``PARAM_ORDER``
-    dcm : N.dcm(F), the direction cosine matrix of Table I
-    base_acceleration : (a1, a2, a3), the symbols of b'' [m/s^2] in N standing in the forcing
-        for the base's acceleration, or () for the paper's fixed winch
+    kind : {"free", "tethered"}
+        Which model.
+    q : tuple of sympy.Expr
+        The coordinates (SymPy functions of time): q1..q6 (free; [m], [rad]) or q4..q9
+        (tethered; [rad], q9 [m]).
+    u : tuple of sympy.Expr
+        The generalized speeds u1..u6 (functions of time): HO's velocity [m/s] (eq 7) and
+        F's angular velocity in F [rad/s] (eq 8).
+    qdot : sympy.Matrix, shape (6, 1)
+        The kinematic differential equations, q' in terms of q and u (eqs 9-12, 29).
+    udot : sympy.Matrix, shape (6, 1)
+        The dynamic equations, u' (eqs 13-18, 30-35).
+    mass_matrix : sympy.Matrix, shape (6, 6)
+        Kane's M (diagonal, parameters only) with M u' = f.
+    forcing : sympy.Matrix, shape (6, 1)
+        Kane's f(q, u, inputs, wind, TC).
+    outputs : sympy.Matrix, shape (4, 1)
+        [q1, q2, q3, q6] of HO in N [m, m, m, rad] (eqs 4, 43-45); relative to the base B
+        when the base moves.
+    tether_torque : sympy.Matrix, shape (2, 1)
+        The tether's generalized forces on u4, u5 [N m] (the C1, C2 of eq 55).
+    inputs : tuple of sympy.Symbol
+        The input symbols (fMR3, tMR1, tMR2, fTR2) [N, N m, N m, N].
+    wind : tuple of sympy.Symbol
+        The wind force on HO (w1, w2, w3) [N], N components.
+    tension : sympy.Symbol
+        The tension magnitude TC [N] (a symbol; eq 28's slack law is applied numerically).
+    params : tuple of sympy.Symbol
+        The parameter symbols in ``PARAM_ORDER``.
+    dcm : sympy.Matrix, shape (3, 3)
+        N.dcm(F), the direction cosine matrix of Table I.
+    base_acceleration : tuple of sympy.Symbol, optional
+        (a1, a2, a3), the symbols of b'' [m/s^2] in N standing in the forcing for the base's
+        acceleration, or () (default) for the paper's fixed winch.
     """
 
     kind: ModelKind
@@ -92,11 +118,28 @@ class Derivation:
     base_acceleration: tuple[sp.Symbol, ...] = ()
 
     def state_symbols(self) -> tuple[sp.Symbol, ...]:
-        """Plain symbols standing for (q, u), in state order, for code generation."""
+        """Plain symbols standing for (q, u), in state order, for code generation.
+
+        Returns
+        -------
+        tuple of sympy.Symbol
+            One symbol per entry of q then u, named as the function (e.g. ``q4``, ``u1``).
+        """
         return tuple(sp.Symbol(str(s.func)) for s in (*self.q, *self.u))
 
     def to_plain(self, expr: sp.Expr | sp.Matrix) -> sp.Expr | sp.Matrix:
-        """Replace the time functions q(t), u(t) by plain symbols."""
+        """Replace the time functions q(t), u(t) by plain symbols.
+
+        Parameters
+        ----------
+        expr : sympy.Expr or sympy.Matrix
+            An expression of the derivation (e.g. ``udot``).
+
+        Returns
+        -------
+        sympy.Expr or sympy.Matrix
+            ``expr`` with q(t), u(t) replaced by ``state_symbols()``.
+        """
         return expr.subs(dict(zip((*self.q, *self.u), self.state_symbols(), strict=True)))
 
 
@@ -106,6 +149,27 @@ def derive(kind: ModelKind, moving_base: bool = False) -> Derivation:
     With ``moving_base`` the winch point moves as a specified b(t) in N and the coordinates,
     u1..u3 and the outputs are relative to it; the base's acceleration appears as the symbols
     ``Derivation.base_acceleration`` (raises if it enters other than as -m b'' at HO).
+
+    Parameters
+    ----------
+    kind : {"free", "tethered"}
+        Which model.
+    moving_base : bool, optional
+        Whether the winch moves as a specified b(t) (default False: the paper's still
+        winch at the origin of N).
+
+    Returns
+    -------
+    Derivation
+        The equations of motion, outputs and symbols.
+
+    Raises
+    ------
+    ValueError
+        A ``kind`` other than "free" or "tethered".
+    RuntimeError
+        Kane's mass matrix is not diagonal, or the base's motion enters the forcing other
+        than as -m b'' at HO.
     """
     if kind not in ("free", "tethered"):
         raise ValueError(f"kind = {kind!r} is invalid; allowed: 'free' or 'tethered'")
@@ -296,17 +360,26 @@ def _body_points(HO: Point, F: ReferenceFrame, p: dict[str, sp.Symbol]) -> tuple
 class Kinematics:
     """The derivation's geometry as functions of plain coordinate symbols (no time).
 
-    Attributes
+    Parameters
     ----------
-    q : (q1, ..., q9), plain real symbols
-    dcm : (3, 3) N.dcm(F) of (q4, q5, q6): column j holds f_j in N components (Table I)
-    points : (5, 3) HO, O, MRO, TRO, P from NO in N components, for HO at (q1, q2, q3)
-        (eqs 2-4), the helicopter parameters as symbols
-    tethered_HO : (3, 1) HO from the tethered coordinates q4, q5, q7, q8, q9 and the lever
-        ``arm`` (eqs 27, 43-45)
-    tether_length : q9 solved from eq 45, the altitude q3 of HO given (Sec. IV-F)
-    arm, altitude : the symbols dO-P,3 - dO-HO,3 [m] and q3 [m]
-    params : parameter symbols in ``PARAM_ORDER``
+    q : tuple of sympy.Symbol
+        (q1, ..., q9), plain real symbols ([m] q1..q3, q9; [rad] q4..q8).
+    dcm : sympy.Matrix, shape (3, 3)
+        N.dcm(F) of (q4, q5, q6): column j holds f_j in N components (Table I).
+    points : sympy.Matrix, shape (5, 3)
+        HO, O, MRO, TRO, P from NO [m] in N components, for HO at (q1, q2, q3) (eqs 2-4),
+        the helicopter parameters as symbols.
+    tethered_HO : sympy.Matrix, shape (3, 1)
+        HO from NO [m] by the tethered coordinates q4, q5, q7, q8, q9 and the lever ``arm``
+        (eqs 27, 43-45).
+    tether_length : sympy.Expr
+        q9 [m] solved from eq 45, the altitude q3 of HO given (Sec. IV-F).
+    arm : sympy.Symbol
+        The lever dO-P,3 - dO-HO,3 [m].
+    altitude : sympy.Symbol
+        HO's altitude q3 [m].
+    params : tuple of sympy.Symbol
+        The parameter symbols in ``PARAM_ORDER``.
     """
 
     q: tuple[sp.Symbol, ...]
@@ -321,7 +394,13 @@ class Kinematics:
 
 def kinematics() -> Kinematics:
     """Positions of the helicopter's points and the rotation N -> F (eqs 2-4, 27, 43-45,
-    Table I), built with the frames and points of ``derive``."""
+    Table I), built with the frames and points of ``derive``.
+
+    Returns
+    -------
+    Kinematics
+        The geometry as expressions of plain symbols.
+    """
     p = parameter_symbols()
     q = sp.symbols("q1:10", real=True)
     arm, altitude = sp.symbols("arm altitude", real=True)
@@ -346,7 +425,20 @@ def kinematics() -> Kinematics:
 
 
 def rotor_inertia_dyadic(frame: ReferenceFrame, I_MR11: sp.Expr):
-    """Central inertia dyadic of the thin-disc rotor (eq 1), written in ``frame``."""
+    """Central inertia dyadic of the thin-disc rotor (eq 1), written in ``frame``.
+
+    Parameters
+    ----------
+    frame : sympy.physics.mechanics.ReferenceFrame
+        The frame the dyadic is written in (F or MR: the disc is axisymmetric about f3).
+    I_MR11 : sympy.Expr
+        The rotor's diametral moment of inertia IMR11 [kg m^2] (Table II).
+
+    Returns
+    -------
+    sympy.physics.vector.Dyadic
+        IMR11 (e1 e1 + e2 e2) + 2 IMR11 e3 e3 in ``frame``'s unit vectors.
+    """
     return inertia(frame, I_MR11, I_MR11, 2 * I_MR11)
 
 

@@ -352,7 +352,25 @@ class FreeHelicopter(_Helicopter):
 
 
 def state_index(model: type[_Helicopter] | _Helicopter, name: str) -> int:
-    """Index of a named state entry, e.g. ``state_index(TetheredHelicopter, "q9")``."""
+    """Index of a named state entry, e.g. ``state_index(TetheredHelicopter, "q9")``.
+
+    Parameters
+    ----------
+    model : type or instance of FreeHelicopter or TetheredHelicopter
+        The model whose ``STATE`` names are searched.
+    name : str
+        A state entry's name, e.g. "q9" or "LN" (``docs/notation.md``).
+
+    Returns
+    -------
+    int
+        Its index in the model's state vector.
+
+    Raises
+    ------
+    ValueError
+        A name not in the model's ``STATE``.
+    """
     try:
         return model.STATE.index(name)
     except ValueError:

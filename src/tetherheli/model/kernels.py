@@ -68,7 +68,15 @@ _C2, _C4, _C6, _C8 = -0.5, 1.0 / 24.0, -1.0 / 720.0, 1.0 / 40320.0
 
 @_jit_inline
 def angle_trig(x, sc):
-    """sc (10,) = [sin x[0..4], cos x[0..4]] of the angles q4..q8 (libm)."""
+    """sc (10,) = [sin x[0..4], cos x[0..4]] of the angles q4..q8 (libm).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The tethered state; x[0:5] the angles q4..q8 [rad].
+    sc : numpy.ndarray, shape (10,)
+        Written: sin of q4..q8, then cos of q4..q8 [-].
+    """
     for i in range(5):
         a = x[i]  # one load: sin and cos of it fuse into one sincos call
         s = math.sin(a)
@@ -82,7 +90,16 @@ def angle_trig_lanes(x, sc):
     """``angle_trig`` for every lane of flat (variable, lane) arrays (``layout.LANES``): x
     (13 LANES,), sc (10 LANES,). libm's sine and cosine lane by lane, in a loop of their own
     (libm has no vector form equal to its scalar one; the lane engine's other loops
-    vectorise), so every lane equals ``angle_trig`` bit for bit."""
+    vectorise), so every lane equals ``angle_trig`` bit for bit.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13 LANES,)
+        The lanes' tethered states, entry i of lane j at ``i * LANES + j``; entries 0..4
+        the angles q4..q8 [rad].
+    sc : numpy.ndarray, shape (10 LANES,)
+        Written: sin of q4..q8, then cos of q4..q8 [-], in the same (variable, lane) layout.
+    """
     for i in range(5):
         for j in range(LANES):
             a = x[i * LANES + j]
@@ -96,7 +113,22 @@ def angle_trig_lanes(x, sc):
 def rotate_trig(s, c, d):
     """(sin(a + d), cos(a + d)) from s = sin a, c = cos a by the angle-addition formulas with
     the Taylor series of sin d, cos d (to d^9, d^10; exact to 1e-19 relative for
-    |d| <= TRIG_STEP_MAX). No branch, no call: it vectorises over lanes."""
+    |d| <= TRIG_STEP_MAX). No branch, no call: it vectorises over lanes.
+
+    Parameters
+    ----------
+    s : float
+        sin a [-].
+    c : float
+        cos a [-].
+    d : float
+        The angle step [rad], |d| <= ``TRIG_STEP_MAX``.
+
+    Returns
+    -------
+    tuple of 2 float
+        sin(a + d), cos(a + d) [-].
+    """
     d2 = d * d
     sin_d = d + d * d2 * (_S3 + d2 * (_S5 + d2 * (_S7 + d2 * _S9)))
     cos_d = 1.0 + d2 * (_C2 + d2 * (_C4 + d2 * (_C6 + d2 * _C8)))
@@ -132,7 +164,18 @@ def sin_branchless(x):
     units in the last place for |x| <= SIN_BRANCHLESS_MAX_ARG (a test checks it). The
     quadrant is rounded as a float (``np.floor``; ``math.floor`` returns an integer, and
     without AVX-512 a vector of doubles has no conversion to 64-bit integers and back: each
-    lane was converted alone); its values are the same."""
+    lane was converted alone); its values are the same.
+
+    Parameters
+    ----------
+    x : float
+        The angle [rad], |x| <= ``SIN_BRANCHLESS_MAX_ARG``.
+
+    Returns
+    -------
+    float
+        sin x [-].
+    """
     k = np.floor(x * _TWO_OVER_PI + 0.5)
     r = ((x - k * _PIO2_1) - k * _PIO2_2) - k * _PIO2_3
     z = r * r
@@ -152,7 +195,19 @@ def angle_trig_from(x, x_base, sc_base, sc):
     """``angle_trig(x, sc)`` from the values sc_base at a nearby x_base, without libm
     (``rotate_trig`` with d = x - x_base). Agrees with libm to a few units in the last place;
     steps larger than TRIG_STEP_MAX fall back to libm. The RK4 stages use it: sin and cos
-    are half of a derivative's cost."""
+    are half of a derivative's cost.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The tethered state; x[0:5] the angles q4..q8 [rad].
+    x_base : numpy.ndarray, shape (13,)
+        A nearby state whose sines and cosines are ``sc_base`` [rad].
+    sc_base : numpy.ndarray, shape (10,)
+        ``angle_trig`` of ``x_base`` [-].
+    sc : numpy.ndarray, shape (10,)
+        Written: sin of q4..q8, then cos of q4..q8 [-].
+    """
     for i in range(5):
         d = x[i] - x_base[i]
         if abs(d) > TRIG_STEP_MAX:
@@ -170,7 +225,20 @@ def angle_trig_from_lanes(x, x_base, sc_base, sc):
     """``angle_trig_from`` for every lane of flat (variable, lane) arrays (``layout.LANES``):
     x, x_base (13 LANES,), sc_base, sc (10 LANES,). One branch-free pass over the lanes
     (vectorised), then libm for the entries whose step exceeds TRIG_STEP_MAX, so every lane
-    equals ``angle_trig_from`` bit for bit."""
+    equals ``angle_trig_from`` bit for bit.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13 LANES,)
+        The lanes' tethered states, entry i of lane j at ``i * LANES + j``; entries 0..4
+        the angles q4..q8 [rad].
+    x_base : numpy.ndarray, shape (13 LANES,)
+        Nearby states whose sines and cosines are ``sc_base`` [rad], the same layout.
+    sc_base : numpy.ndarray, shape (10 LANES,)
+        ``angle_trig_lanes`` of ``x_base`` [-].
+    sc : numpy.ndarray, shape (10 LANES,)
+        Written: sin of q4..q8, then cos of q4..q8 [-], in the (variable, lane) layout.
+    """
     big = False
     n_lanes = x.shape[0] // 13  # LANES, at run time: the loop vectorises, not unrolls
     for i in range(5):
@@ -193,14 +261,47 @@ def angle_trig_from_lanes(x, x_base, sc_base, sc):
 
 @_jit_inline
 def tension_from_state(q9: float, L_N: float, K_C: float) -> float:
-    """Eq 28: TC = KC (q9 - LN) when taut, 0 when slack [N]."""
+    """Eq 28: TC = KC (q9 - LN) when taut, 0 when slack [N].
+
+    Parameters
+    ----------
+    q9 : float
+        The tether's length, winch to P [m].
+    L_N : float
+        Its natural length LN [m].
+    K_C : float
+        Its stiffness KC [N/m].
+
+    Returns
+    -------
+    float
+        The tension TC [N], >= 0.
+    """
     stretch = q9 - L_N
     return K_C * stretch if stretch > 0.0 else 0.0
 
 
 @_jit
 def tethered_derivative(x, inp, wind, reel_rate, c, K_C, out):
-    """out (13,) = dx/dt of the tethered model: eqs 10-12, 29-35 and dLN/dt = RC (eq 37)."""
+    """out (13,) = dx/dt of the tethered model: eqs 10-12, 29-35 and dLN/dt = RC (eq 37).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The tethered state q4..q9, u1..u6, LN ([rad], q9 [m], [m/s], [rad/s], LN [m]).
+    inp : numpy.ndarray, shape (4,)
+        The inputs fMR3, tMR1, tMR2, fTR2 [N, N m, N m, N] (``names.INPUT``).
+    wind : numpy.ndarray, shape (3,)
+        The force on HO [N], N components (wind, and -m b'' of a moving base).
+    reel_rate : float
+        The reel rate RC = dLN/dt [m/s].
+    c : numpy.ndarray, shape (N_TETHERED_CONSTANTS,)
+        The model's constants (``model_constants("tethered", ...)``).
+    K_C : float
+        The tether's stiffness KC [N/m].
+    out : numpy.ndarray, shape (13,)
+        Written: dx/dt ([rad/s], [m/s], [m/s^2], [rad/s^2], [m/s]).
+    """
     tension = tension_from_state(x[5], x[12], K_C)
     tethered_rhs(x, inp, wind, tension, c, out)
     out[12] = reel_rate
@@ -208,20 +309,66 @@ def tethered_derivative(x, inp, wind, reel_rate, c, K_C, out):
 
 @_jit
 def free_derivative(x, inp, wind, c, out):
-    """out (12,) = dx/dt of the free model: eqs 9-18."""
+    """out (12,) = dx/dt of the free model: eqs 9-18.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (12,)
+        The free state q1..q6, u1..u6 ([m], [rad], [m/s], [rad/s]).
+    inp : numpy.ndarray, shape (4,)
+        The inputs fMR3, tMR1, tMR2, fTR2 [N, N m, N m, N] (``names.INPUT``).
+    wind : numpy.ndarray, shape (3,)
+        The force on HO [N], N components (wind, and -m b'' of a moving base).
+    c : numpy.ndarray, shape (N_FREE_CONSTANTS,)
+        The model's constants (``model_constants("free", ...)``).
+    out : numpy.ndarray, shape (12,)
+        Written: dx/dt ([m/s], [rad/s], [m/s^2], [rad/s^2]).
+    """
     free_rhs(x, inp, wind, 0.0, c, out)
 
 
 @_jit
 def tethered_derivative_batch(x, inp, wind, reel_rate, c, K_C, out):
-    """Row-wise ``tethered_derivative`` over (n, 13) states."""
+    """Row-wise ``tethered_derivative`` over (n, 13) states.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (n, 13)
+        The tethered states, one per row (as ``tethered_derivative``'s x).
+    inp : numpy.ndarray, shape (n, 4)
+        The inputs fMR3, tMR1, tMR2, fTR2 [N, N m, N m, N], one row per state.
+    wind : numpy.ndarray, shape (n, 3)
+        The force on HO [N], N components, one row per state.
+    reel_rate : numpy.ndarray, shape (n,)
+        The reel rate RC [m/s] of each state.
+    c : numpy.ndarray, shape (N_TETHERED_CONSTANTS,)
+        The model's constants (``model_constants("tethered", ...)``).
+    K_C : float
+        The tether's stiffness KC [N/m].
+    out : numpy.ndarray, shape (n, 13)
+        Written: dx/dt of each row.
+    """
     for i in range(x.shape[0]):
         tethered_derivative(x[i], inp[i], wind[i], reel_rate[i], c, K_C, out[i])
 
 
 @_jit
 def free_derivative_batch(x, inp, wind, c, out):
-    """Row-wise ``free_derivative`` over (n, 12) states."""
+    """Row-wise ``free_derivative`` over (n, 12) states.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (n, 12)
+        The free states, one per row (as ``free_derivative``'s x).
+    inp : numpy.ndarray, shape (n, 4)
+        The inputs fMR3, tMR1, tMR2, fTR2 [N, N m, N m, N], one row per state.
+    wind : numpy.ndarray, shape (n, 3)
+        The force on HO [N], N components, one row per state.
+    c : numpy.ndarray, shape (N_FREE_CONSTANTS,)
+        The model's constants (``model_constants("free", ...)``).
+    out : numpy.ndarray, shape (n, 12)
+        Written: dx/dt of each row.
+    """
     for i in range(x.shape[0]):
         free_derivative(x[i], inp[i], wind[i], c, out[i])
 
