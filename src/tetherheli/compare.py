@@ -275,7 +275,21 @@ _MD_COLUMNS = 17
 def markdown_table(rows: list[dict[str, Any]]) -> str:
     """The comparison's main columns as a Markdown table (lengths [m], attitude [deg],
     efforts [N, N m, N m, N], tension [N], failed runs out of those flown, compute time [us]).
-    A Monte Carlo's rows are percentiles over its draws ("inf": among the failures)."""
+    A Monte Carlo's rows are percentiles over its draws ("inf": among the failures).
+
+    Parameters
+    ----------
+    rows : list of dict
+        The comparison's rows, one per scenario and controller (``compare``'s): "scenario",
+        "controller", "configuration", the metrics ("peak_q1", "rms_dfMR3", ...,
+        "compute_us_per_sample") and "completed" or "failures" and "runs"; a row without
+        metrics (no run completed) shows its name and failures only.
+
+    Returns
+    -------
+    str
+        The Markdown table, one line per row, ending in a newline.
+    """
     head = (
         "| scenario | controller | peak q1 | peak q2 | peak q3 | RMS q1 | RMS q2 | RMS q3 "
         "| peak att. | RMS dfMR3 | RMS dtMR1 | RMS dtMR2 | RMS dfTR2 | peak cyclic / limit "

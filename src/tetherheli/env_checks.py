@@ -80,7 +80,15 @@ class RenderModeError(ParameterError, gymnasium.error.UnsupportedMode):
 
 
 def display_backend() -> tuple[bool, str]:
-    """Whether Matplotlib's backend can open a window (interactive), and its name."""
+    """Whether Matplotlib's backend can open a window (interactive), and its name.
+
+    Returns
+    -------
+    can_open : bool
+        Whether the backend is interactive (a window can be shown).
+    backend : str
+        The backend's name (``matplotlib.get_backend()``).
+    """
     import matplotlib
     from matplotlib.backends import BackendFilter, backend_registry
 
@@ -210,6 +218,11 @@ def argument_names(names: Mapping[str, str]) -> Iterator[None]:
     ----------
     names : mapping of str to str
         Scenario key -> the environment's argument that set it.
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        The context (``contextlib.contextmanager``) in whose body the messages are renamed.
     """
     try:
         yield

@@ -102,6 +102,36 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
     moving base (``moving``) each copy is advanced by ``engine.rk4_interval``, the single
     environment's (and ``simulate``'s) integrator, with its own wind rows and the packed
     base (the lane engine flies a still base only).
+
+    Parameters
+    ----------
+    reset : numpy.ndarray, shape (N,), bool
+        The copies that start an episode (their action ignored).
+    a : numpy.ndarray, shape (N, 4)
+        The clipped actions (``TetheredHoverEnv.action_command``), for the reward.
+    command : numpy.ndarray, shape (N, 4)
+        The rotor commands [fMR3, tMR1, tMR2, fTR2] [N, N m, N m, N] the actions make.
+    mode : int
+        How ``command`` acts on the paper controller's: ``engine.ACTION_*``.
+    copies : tuple of numpy.ndarray
+        The per-copy arrays (rows: copies, padded to whole blocks): x, k, cfg, ctrl, the loop
+        state in ``layout.LOOP_*`` order, the sensor noise, its rows and history ring, the
+        episode start's x and z0 (``TetheredHoverVectorEnv``'s ``_copies``).
+    shared : tuple
+        What all copies share: the trim state, ``cfg`` (``layout.CFG_*``), ``ctrl``
+        (``layout.CTRL_*``), ``act``, the model constants, the law's arrays, the sensors' set-up,
+        T_ref [N], the reward's weights and scratch arrays (``_shared``).
+    lanes : tuple of numpy.ndarray
+        The lane engine's block arrays (``lane_engine.rk4_lanes``'s state, inputs, reel rates,
+        times, step, attachment, KC [N/m], constants, the parked trig and work).
+    wind : tuple
+        The copies' winds in lane form: the blocks' profile programs (``layout.WIND_*``) and
+        their row count, each copy's gust table [m/s], its rows and step [s], the blocks' drag
+        [kg/m], each copy's program, rows and drag, the packed base (``layout.BASE_*``), the
+        moving-base flag and the RK4 work array (``_lane_wind``).
+    out : tuple of numpy.ndarray
+        Receives the results per copy: (obs (N, n_obs) float32, reward (N,), status (N,) int,
+        tension (N,) [N], rate (N,) reel rate [m/s], y (N, 4) outputs [m, m, m, rad]).
     """
     (x, k, cfg, ctrl, z, winch, held, event, x_meas, sc_meas, sc_true, y_loop, y_est, inp,
      ffwd, noise, noise_rows, ring, _, _) = copies  # fmt: skip
@@ -188,7 +218,30 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
 def restart_copy(i, copies, shared, wind, out):
     """Copy i at its episode's start (``env_kernels.start_episode``, as
     ``TetheredHoverEnv.reset``): its start state x and integrators z0 (``start.start_point``),
-    a fresh loop state and sensor history ring, no reward yet."""
+    a fresh loop state and sensor history ring, no reward yet.
+
+    Parameters
+    ----------
+    i : int
+        The copy's index.
+    copies : tuple of numpy.ndarray
+        The per-copy arrays (rows: copies, padded to whole blocks): x, k, cfg, ctrl, the loop
+        state in ``layout.LOOP_*`` order, the sensor noise, its rows and history ring, the
+        episode start's x and z0 (``TetheredHoverVectorEnv``'s ``_copies``).
+    shared : tuple
+        What all copies share: the trim state, ``cfg`` (``layout.CFG_*``), ``ctrl``
+        (``layout.CTRL_*``), ``act``, the model constants, the law's arrays, the sensors' set-up,
+        T_ref [N], the reward's weights and scratch arrays (``_shared``).
+    wind : tuple
+        The copies' winds in lane form: the blocks' profile programs (``layout.WIND_*``) and
+        their row count, each copy's gust table [m/s], its rows and step [s], the blocks' drag
+        [kg/m], each copy's program, rows and drag, the packed base (``layout.BASE_*``), the
+        moving-base flag and the RK4 work array (``_lane_wind``).
+    out : tuple of numpy.ndarray
+        The results per copy (obs (N, n_obs) float32, reward (N,), status (N,) int, tension
+        (N,) [N], rate (N,) reel rate [m/s], y (N, 4) outputs [m, m, m, rad]); the copy's
+        reward, status and rate are reset.
+    """
     (x, k, cfg, ctrl, z, winch, held, event, x_meas, sc_meas, sc_true, y_loop, y_est, inp,
      ffwd, _, _, ring, x_start, z_start) = copies  # fmt: skip
     _, reward, status, _, rate, _ = out
@@ -208,7 +261,25 @@ def restart_copy(i, copies, shared, wind, out):
 
 @_jit
 def observe_start(i, copies, shared, out):
-    """Tension, outputs and first observation of copy i just restarted."""
+    """Tension, outputs and first observation of copy i just restarted.
+
+    Parameters
+    ----------
+    i : int
+        The copy's index.
+    copies : tuple of numpy.ndarray
+        The per-copy arrays (rows: copies, padded to whole blocks): x, k, cfg, ctrl, the loop
+        state in ``layout.LOOP_*`` order, the sensor noise, its rows and history ring, the
+        episode start's x and z0 (``TetheredHoverVectorEnv``'s ``_copies``).
+    shared : tuple
+        What all copies share: the trim state, ``cfg`` (``layout.CFG_*``), ``ctrl``
+        (``layout.CTRL_*``), ``act``, the model constants, the law's arrays, the sensors' set-up,
+        T_ref [N], the reward's weights and scratch arrays (``_shared``).
+    out : tuple of numpy.ndarray
+        The results per copy (obs (N, n_obs) float32, reward (N,), status (N,) int, tension
+        (N,) [N], rate (N,) reel rate [m/s], y (N, 4) outputs [m, m, m, rad]); receives the
+        copy's tension, outputs and observation.
+    """
     x, k, cfg, noise, noise_rows, ring = (
         copies[0],
         copies[1],
@@ -233,7 +304,29 @@ def observe_start(i, copies, shared, out):
 @_jit
 def vector_restart(mask, copies, shared, wind, out):
     """Restart the copies of ``mask`` (N,) bool, leaving the others as they are, and write
-    their first observation (the same-step autoreset of Stable-Baselines3's ``VecEnv``)."""
+    their first observation (the same-step autoreset of Stable-Baselines3's ``VecEnv``).
+
+    Parameters
+    ----------
+    mask : numpy.ndarray, shape (N,), bool
+        The copies to restart.
+    copies : tuple of numpy.ndarray
+        The per-copy arrays (rows: copies, padded to whole blocks): x, k, cfg, ctrl, the loop
+        state in ``layout.LOOP_*`` order, the sensor noise, its rows and history ring, the
+        episode start's x and z0 (``TetheredHoverVectorEnv``'s ``_copies``).
+    shared : tuple
+        What all copies share: the trim state, ``cfg`` (``layout.CFG_*``), ``ctrl``
+        (``layout.CTRL_*``), ``act``, the model constants, the law's arrays, the sensors' set-up,
+        T_ref [N], the reward's weights and scratch arrays (``_shared``).
+    wind : tuple
+        The copies' winds in lane form: the blocks' profile programs (``layout.WIND_*``) and
+        their row count, each copy's gust table [m/s], its rows and step [s], the blocks' drag
+        [kg/m], each copy's program, rows and drag, the packed base (``layout.BASE_*``), the
+        moving-base flag and the RK4 work array (``_lane_wind``).
+    out : tuple of numpy.ndarray
+        Receives the results per copy: (obs (N, n_obs) float32, reward (N,), status (N,) int,
+        tension (N,) [N], rate (N,) reel rate [m/s], y (N, 4) outputs [m, m, m, rad]).
+    """
     for i in range(mask.shape[0]):
         if mask[i]:
             restart_copy(i, copies, shared, wind, out)

@@ -49,7 +49,13 @@ class DeckFeedforward(Controller):
         self.controller.reset()
 
     def recorded(self) -> dict[str, np.ndarray]:
-        """The wrapped controller's recorded columns."""
+        """The wrapped controller's recorded columns.
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            The wrapped controller's ``recorded()``: its extra columns, one row per sample.
+        """
         return self.controller.recorded()
 
     def step(self, t: float, measurement: Measurement) -> Command:

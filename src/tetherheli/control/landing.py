@@ -74,7 +74,24 @@ class LandingSchedule:
         return self.start_time + (self.start_height - self.final_height) / self.descent_rate
 
     def at(self, t: float) -> tuple[float, float, float, float]:
-        """(height [m], its rate [m/s], tension [N], its rate [N/s]) of the reference at t."""
+        """(height [m], its rate [m/s], tension [N], its rate [N/s]) of the reference at t.
+
+        Parameters
+        ----------
+        t : float
+            Time [s] (relative to the run's start).
+
+        Returns
+        -------
+        height : float
+            HO's reference height above the winch [m].
+        rate : float
+            Its rate [m/s] (negative while descending).
+        tension : float
+            The tension reference [N].
+        tension_rate : float
+            Its rate [N/s].
+        """
         if t <= self.start_time:
             return self.start_height, 0.0, self.start_tension, 0.0
         if t >= self.end_time:
@@ -86,13 +103,39 @@ class LandingSchedule:
         return height, -self.descent_rate, tension, slope * self.descent_rate
 
     def natural_length_rate(self, t: float) -> float:
-        """dLN/dt of the reference, LN = q9 - T / KC (eq 28) [m/s]."""
+        """dLN/dt of the reference, LN = q9 - T / KC (eq 28) [m/s].
+
+        Parameters
+        ----------
+        t : float
+            Time [s] (relative to the run's start).
+
+        Returns
+        -------
+        float
+            dLN/dt of the reference [m/s].
+        """
         _, rate, _, tension_rate = self.at(t)
         return rate - tension_rate / self.K_C
 
 
 class References(NamedTuple):
-    """The paper law's references at one sample (``MovingReferenceController``)."""
+    """The paper law's references at one sample (``MovingReferenceController``).
+
+    Parameters
+    ----------
+    x_ref : numpy.ndarray, shape (12,) or (13,)
+        The law's state reference q4..u6 (and LN for the tethered LQI): q4..q8 [rad], q9 [m],
+        u1..u3 [m/s], u4..u6 [rad/s].
+    y_ref : numpy.ndarray, shape (4,)
+        The output reference [q1, q2, q3 in m, q6 in rad].
+    u0 : numpy.ndarray, shape (4,)
+        The trim input about which the law works [N, N m, N m, N].
+    tension : float
+        T_ref of eq 56 [N].
+    reel_rate : float
+        The reel rate fed forward, dLN/dt of the reference [m/s].
+    """
 
     x_ref: np.ndarray  #: the law's state reference (q4..u6)
     y_ref: np.ndarray  #: (4,) the output reference q1, q2, q3, q6
@@ -133,7 +176,18 @@ class MovingReferenceController(PaperController):
             self.gain[:] = self._gain0
 
     def references_at(self, t: float) -> References:
-        """The references at t (a subclass's)."""
+        """The references at t (a subclass's).
+
+        Parameters
+        ----------
+        t : float
+            Time [s] (relative to the run's start).
+
+        Returns
+        -------
+        References
+            The paper law's references at t.
+        """
         raise NotImplementedError
 
     def step(self, t: float, measurement: Measurement) -> Command:
@@ -202,7 +256,18 @@ class LandingController(MovingReferenceController):
 
     def references_at(self, t: float) -> References:
         """The schedule's references at t: the trim's attitude, u0 and T_ref at the scheduled
-        tension, q9 and q3 at the scheduled height, u3 its rate, and dLN/dt fed forward."""
+        tension, q9 and q3 at the scheduled height, u3 its rate, and dLN/dt fed forward.
+
+        Parameters
+        ----------
+        t : float
+            Time [s] (relative to the run's start).
+
+        Returns
+        -------
+        References
+            The paper law's references at t.
+        """
         height, rate, tension, _ = self.schedule.at(t)
         x_ref = self._x_ref0.copy()
         states = np.array([np.interp(tension, self._tensions, self._states[:, j])
@@ -246,7 +311,18 @@ class GroundHoldController(MovingReferenceController):
 
     def references_at(self, t: float) -> References:
         """The held point's references relative to the base at t (class docstring); u0 and
-        T_ref are the start's."""
+        T_ref are the start's.
+
+        Parameters
+        ----------
+        t : float
+            Time [s] (relative to the run's start).
+
+        Returns
+        -------
+        References
+            The paper law's references at t.
+        """
         b = np.asarray(self.base_state(t), dtype=float)
         y_ref = self._y_ref0.copy()
         y_ref[:3] -= b[0] - self._b0

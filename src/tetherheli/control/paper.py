@@ -52,7 +52,23 @@ def winch_step(winch, measured_tension, ctrl):
     (clamping anti-windup), then the winch's acceleration limit relative to the previous
     command, the integral held while that limit binds (conditional integration). ``winch``
     (WINCH_SIZE,) holds I_k and the previous command and is updated in place; returns the
-    reel rate R_C,k [m/s] (eq 37)."""
+    reel rate R_C,k [m/s] (eq 37).
+
+    Parameters
+    ----------
+    winch : numpy.ndarray, shape (WINCH_SIZE,)
+        The winch PI's state (``layout.WINCH_*``): I_k [N s] and the previous reel-rate
+        command [m/s]; updated in place.
+    measured_tension : float
+        The load cell's tension T [N].
+    ctrl : numpy.ndarray, shape (CTRL_SIZE,)
+        The controller's settings (``layout.CTRL_*``).
+
+    Returns
+    -------
+    float
+        The reel rate R_C,k [m/s].
+    """
     limited, integral = winch_pi(
         winch[WINCH_INTEGRAL], winch[WINCH_PREVIOUS_RATE], measured_tension, ctrl[CTRL_K_P],
         ctrl[CTRL_K_I], ctrl[CTRL_T_REF], ctrl[CTRL_DT], ctrl[CTRL_REEL_RATE_LIMIT],
@@ -68,7 +84,36 @@ def winch_pi(integral, previous, measured_tension, k_p, k_i, t_ref, dt, rate_lim
     """``winch_step`` on scalars: (R_C,k [m/s], I_{k+1} [N s]) from I_k, the previous
     command [m/s] and the measured tension [N] (eq 56's PI with its rate limit, then the
     acceleration limit, the integral held while that binds). The one formula of the winch
-    PI, for a single run and the lane engine's block."""
+    PI, for a single run and the lane engine's block.
+
+    Parameters
+    ----------
+    integral : float
+        The PI's integral I_k [N s].
+    previous : float
+        The reel rate commanded at the previous sample [m/s].
+    measured_tension : float
+        The load cell's tension T [N].
+    k_p : float
+        The proportional gain KP [m/(N s)].
+    k_i : float
+        The integral gain KI [m/(N s^2)].
+    t_ref : float
+        The tension reference Tref [N].
+    dt : float
+        The sample time [s].
+    rate_limit : float
+        The winch's reel-rate limit [m/s] (``math.inf``: none).
+    accel : float
+        The winch's acceleration limit [m/s^2] (``math.inf``: none).
+
+    Returns
+    -------
+    rate : float
+        The reel rate R_C,k [m/s].
+    integral : float
+        The integral I_{k+1} [N s] (I_k while the acceleration limit binds).
+    """
     rate, new_integral = _tension_pi_step(
         integral, measured_tension, k_p, k_i, t_ref, dt, rate_limit
     )
@@ -84,6 +129,42 @@ def paper_control(x, measured_tension, z, winch, ctrl, c, gain, x_ref, y_ref, u0
     the measured angles (eq 55); then z += dt (y_ref - y) (eq 50). The winch rate is
     RC = KP e + KI I with e = T - Tref, then I += dt e (eq 56, ``winch_step``). ``z`` (4,) and
     ``winch`` (WINCH_SIZE,) are updated in place; x is the (13,) tethered-coordinate state.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The measured state in tethered coordinates [q4..q9, u1..u6, LN]: q4..q8 [rad], q9 and
+        LN [m], u1..u3 [m/s], u4..u6 [rad/s].
+    measured_tension : float
+        The load cell's tension T [N].
+    z : numpy.ndarray, shape (4,)
+        The LQI's output-error integral (eq 50) [m s, rad s]; updated in place.
+    winch : numpy.ndarray, shape (WINCH_SIZE,)
+        The winch PI's state (``layout.WINCH_*``): I_k [N s] and the previous reel-rate
+        command [m/s]; updated in place.
+    ctrl : numpy.ndarray, shape (CTRL_SIZE,)
+        The controller's settings (``layout.CTRL_*``).
+    c : numpy.ndarray
+        The tethered model's constants (``kernels.model_constants("tethered", h)``).
+    gain : numpy.ndarray, shape (4, 16) or (9, 17)
+        The law's gain (``layout.LAW_GAIN``): K_LQI|F, or the tethered LQI's packed gain.
+    x_ref : numpy.ndarray, shape (12,) or (13,)
+        The state references (the trim's q4..u6, and LN for the tethered LQI), units as ``x``.
+    y_ref : numpy.ndarray, shape (4,)
+        The output references y0 [q1, q2, q3 in m, q6 in rad].
+    u0 : numpy.ndarray, shape (4,)
+        The trim inputs u0 [N, N m, N m, N].
+    y : numpy.ndarray, shape (4,)
+        Filled with the outputs [q1, q2, q3 in m, q6 in rad].
+    inp : numpy.ndarray, shape (4,)
+        Filled with the rotor inputs u [N, N m, N m, N] (feed-forward included).
+    ffwd : numpy.ndarray, shape (4,)
+        Filled with the feed-forward part C_f-fwd of the inputs (eq 55) [N, N m, N m, N].
+
+    Returns
+    -------
+    float
+        The reel rate R_C,k [m/s] (0 while the winch loop is off).
     """
     sc = np.empty(10)
     angle_trig(x, sc)
@@ -108,6 +189,44 @@ def paper_control_sc(
     [ctrl[CTRL_U_MIN + i], ctrl[CTRL_U_MAX + i]] (conditional integration). With
     ctrl[CTRL_TENSION_K_C] = KC > 0 the tethered law takes q9 = LN + TC / KC (eq 28, measured
     tension and drum encoder) while the measured tension is positive (``tension_q9``).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The measured state in tethered coordinates [q4..q9, u1..u6, LN]: q4..q8 [rad], q9 and
+        LN [m], u1..u3 [m/s], u4..u6 [rad/s].
+    sc : numpy.ndarray, shape (10,)
+        sin and cos of x[0..4] (``kernels.angle_trig``).
+    measured_tension : float
+        The load cell's tension T [N].
+    z : numpy.ndarray, shape (4,)
+        The LQI's output-error integral (eq 50) [m s, rad s]; updated in place.
+    winch : numpy.ndarray, shape (WINCH_SIZE,)
+        The winch PI's state (``layout.WINCH_*``): I_k [N s] and the previous reel-rate
+        command [m/s]; updated in place.
+    ctrl : numpy.ndarray, shape (CTRL_SIZE,)
+        The controller's settings (``layout.CTRL_*``).
+    c : numpy.ndarray
+        The tethered model's constants (``kernels.model_constants("tethered", h)``).
+    gain : numpy.ndarray, shape (4, 16) or (9, 17)
+        The law's gain (``layout.LAW_GAIN``): K_LQI|F, or the tethered LQI's packed gain.
+    x_ref : numpy.ndarray, shape (12,) or (13,)
+        The state references (the trim's q4..u6, and LN for the tethered LQI), units as ``x``.
+    y_ref : numpy.ndarray, shape (4,)
+        The output references y0 [q1, q2, q3 in m, q6 in rad].
+    u0 : numpy.ndarray, shape (4,)
+        The trim inputs u0 [N, N m, N m, N].
+    y : numpy.ndarray, shape (4,)
+        Filled with the outputs [q1, q2, q3 in m, q6 in rad].
+    inp : numpy.ndarray, shape (4,)
+        Filled with the rotor inputs u [N, N m, N m, N] (feed-forward included).
+    ffwd : numpy.ndarray, shape (4,)
+        Filled with the feed-forward part C_f-fwd of the inputs (eq 55) [N, N m, N m, N].
+
+    Returns
+    -------
+    float
+        The reel rate R_C,k [m/s] (0 while the winch loop is off).
     """
     tethered_outputs_sc(x, sc, c, y)
     n_x = gain.shape[1] - 4
@@ -154,14 +273,47 @@ def tension_q9(x, measured_tension, ctrl):
     """The tether length [m] the tethered LQI feeds back: LN + TC / KC (eq 28 inverted, from
     the load cell and the drum encoder LN = x[12]) when ctrl[CTRL_TENSION_K_C] = KC > 0 and the
     measured tension is positive (taut), else the position source's q9 = x[5]. A GNSS-derived
-    q9 errs by metres, KC (q9 - LN) then by tens of newtons; the load cell's by millimetres."""
+    q9 errs by metres, KC (q9 - LN) then by tens of newtons; the load cell's by millimetres.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The measured state in tethered coordinates [q4..q9, u1..u6, LN]: q4..q8 [rad], q9 and
+        LN [m], u1..u3 [m/s], u4..u6 [rad/s].
+    measured_tension : float
+        The load cell's tension T [N].
+    ctrl : numpy.ndarray, shape (CTRL_SIZE,)
+        The controller's settings (``layout.CTRL_*``).
+
+    Returns
+    -------
+    float
+        The tether length q9 [m] the law feeds back.
+    """
     return tension_q9_of(x[5], x[12], measured_tension, ctrl[CTRL_TENSION_K_C])
 
 
 @_jit_inline
 def tension_q9_of(q9, length, measured_tension, k_c):
     """``tension_q9`` on scalars: length + measured_tension / k_c when k_c > 0 and the
-    tension is positive, else the position source's q9 [m]."""
+    tension is positive, else the position source's q9 [m].
+
+    Parameters
+    ----------
+    q9 : float
+        The position source's tether length q9 [m].
+    length : float
+        The drum encoder's natural length LN [m].
+    measured_tension : float
+        The load cell's tension T [N].
+    k_c : float
+        The tether elasticity KC [N/m] (0: q9 from the position source).
+
+    Returns
+    -------
+    float
+        The tether length q9 [m] the law feeds back.
+    """
     if k_c > 0.0 and measured_tension > 0.0:
         return length + measured_tension / k_c
     return q9
@@ -172,7 +324,34 @@ def reel_law_step(x, q9, z, winch, ctrl, gain, x_ref, n_x):
     """The tethered LQI's reel-rate command (row 4 of the gain; the trim's rate is zero) on
     the state x with q9 in place of x[5] (``tension_q9``), clamped to the winch's rate limit,
     then its acceleration limit relative to the previous command, as ``winch_step`` does for
-    the PI; returns the reel rate [m/s]."""
+    the PI; returns the reel rate [m/s].
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The measured state in tethered coordinates [q4..q9, u1..u6, LN]: q4..q8 [rad], q9 and
+        LN [m], u1..u3 [m/s], u4..u6 [rad/s].
+    q9 : float
+        The tether length [m] used in place of x[5] (``tension_q9``).
+    z : numpy.ndarray, shape (4,)
+        The LQI's output-error integral (eq 50) [m s, rad s].
+    winch : numpy.ndarray, shape (WINCH_SIZE,)
+        The winch PI's state (``layout.WINCH_*``): its previous reel-rate command [m/s] is read and
+        updated in place.
+    ctrl : numpy.ndarray, shape (CTRL_SIZE,)
+        The controller's settings (``layout.CTRL_*``).
+    gain : numpy.ndarray, shape (9, 17)
+        The tethered LQI's packed gain (``layout.LAW_GAIN``); row 4 commands the reel rate.
+    x_ref : numpy.ndarray, shape (13,)
+        The state references (the trim's q4..u6 and LN), units as ``x``.
+    n_x : int
+        The number of state columns of ``gain`` (its width less the 4 integrators).
+
+    Returns
+    -------
+    float
+        The reel rate [m/s].
+    """
     acc = 0.0
     for j in range(n_x):
         acc -= gain[4, j] * ((q9 if j == 5 else x[j]) - x_ref[j])
@@ -189,7 +368,26 @@ def reel_law_step(x, q9, z, winch, ctrl, gain, x_ref, n_x):
 @_jit_inline
 def reel_command(command, previous, rate_limit, accel, dt):
     """The tethered LQI's reel-rate command [m/s] clamped to the winch's rate limit, then its
-    acceleration limit relative to the previous command (``reel_law_step``)."""
+    acceleration limit relative to the previous command (``reel_law_step``).
+
+    Parameters
+    ----------
+    command : float
+        The law's reel-rate command [m/s].
+    previous : float
+        The reel rate commanded at the previous sample [m/s].
+    rate_limit : float
+        The winch's reel-rate limit [m/s] (``math.inf``: none).
+    accel : float
+        The winch's acceleration limit [m/s^2] (``math.inf``: none).
+    dt : float
+        The sample time [s].
+
+    Returns
+    -------
+    float
+        The limited reel rate [m/s].
+    """
     command = min(max(command, -rate_limit), rate_limit)
     return limit_rate_change_jit(command, previous, accel, dt)
 

@@ -93,7 +93,22 @@ def _feedforwards(values: Any) -> tuple[bool, ...]:
 def sea_state(scenario: Scenario, height: float, seed: int) -> Scenario:
     """``scenario`` over a deck in the sea state of significant wave height ``height`` [m]
     and ``seed`` (its other ``[base]`` keys kept; a still base becomes a sea state); the seed
-    is also the run's (its sensor noise)."""
+    is also the run's (its sensor noise).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The scenario to fly over the deck.
+    height : float
+        The sea state's significant wave height [m].
+    seed : int
+        The sea state's seed, also the run's (its sensor noise).
+
+    Returns
+    -------
+    Scenario
+        The scenario over that sea state, named ``<name>_hs<height>_seed<seed>``.
+    """
     base = replace(scenario.base, motion="sea_state", significant_wave_height=height, seed=seed)
     name = f"{scenario.name}_hs{height:g}_seed{seed}"
     return scenario.replace(base=base, seed=seed, name=name)
@@ -104,6 +119,28 @@ class StationRow:
     """Station-keeping relative to the deck in one sea state, one configuration and sensing,
     over the seeds: the means of the runs' RMS and peak deviations of HO from its point of
     the deck [m] (``summary_metrics``), of the tension's range [N], and the runs that failed.
+
+    Parameters
+    ----------
+    height : float
+        The sea state's significant wave height [m].
+    configuration : str
+        "free" or "tethered".
+    sensing : str
+        The sensor suite (a ``SENSINGS`` name).
+    feedforward : bool
+        Whether the deck's heave was fed forward (``[control] base_feedforward``).
+    rms_horizontal, rms_vertical : float
+        The mean over the completed runs of HO's RMS horizontal and vertical deviation from its
+        point of the deck [m] (NaN: none completed).
+    peak_vertical : float
+        The mean peak vertical deviation [m].
+    tension_min, tension_max : float
+        The means of the runs' least and largest tension [N].
+    runs : int
+        The runs flown (one per seed).
+    failed : int
+        The runs that did not complete.
     """
 
     height: float
@@ -202,7 +239,28 @@ def station_rows(
 class LandingRow:
     """The tethered landing in one sea state over the seeds: the share that landed, the
     touchdown's vertical speed relative to the deck [m/s] (mean, largest), offset [m] and
-    tilt [rad] (largest), and the failures' statuses."""
+    tilt [rad] (largest), and the failures' statuses.
+
+    Parameters
+    ----------
+    height : float
+        The sea state's significant wave height [m].
+    feedforward : bool
+        Whether the deck's heave was fed forward (``[control] base_feedforward``).
+    runs : int
+        The runs flown (one per seed).
+    landed : int
+        The runs that landed (``Status.LANDED``).
+    speed_mean, speed_max : float
+        The mean and largest touchdown vertical speed relative to the deck [m/s] (NaN: no
+        touchdown).
+    offset_max : float
+        The largest horizontal offset of HO from the winch at touchdown [m].
+    attitude_max : float
+        The largest tilt at touchdown, acos(cos q4 cos q5) [rad].
+    failures : dict of str to int
+        The runs that did not land, by their status's name (lower case).
+    """
 
     height: float
     feedforward: bool

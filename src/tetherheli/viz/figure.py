@@ -128,7 +128,16 @@ class InlineFigure(Figure):
     pyplot (so ``plt.show()`` and ``%matplotlib inline`` show it), else without pyplot;
     never changing the process's backend. Shown inline, a figure whose manager has no
     window (the inline backend's, Agg's) leaves pyplot's figures (``plt.close``), so the
-    inline backend's end-of-cell flush does not show it a second time."""
+    inline backend's end-of-cell flush does not show it a second time.
+
+    Parameters
+    ----------
+    figsize, dpi, facecolor, edgecolor, linewidth, frameon : optional
+        As for ``matplotlib.figure.Figure``: the size [inch], resolution [dots per inch],
+        colours, frame line width [points] and whether the frame is drawn.
+    subplotpars, tight_layout, constrained_layout, layout, **kwargs : optional
+        As for ``matplotlib.figure.Figure``: the subplots' spacing and the layout engine.
+    """
 
     def _repr_png_(self) -> bytes:
         """The figure as PNG bytes (IPython's display protocol), at the resolution
@@ -227,7 +236,19 @@ def figure_dpi(default: float = PRINT_DPI) -> float:
     """The resolution of a saved PNG [dots per inch]: Matplotlib's ``savefig.dpi`` where it
     is a number (a user's matplotlibrc or ``matplotlib.rc_context``), else ``default``:
     ``PRINT_DPI`` for a saved figure (Matplotlib's default ``"figure"`` would be the
-    screen's 100 dpi), the figure's own dpi for one shown inline."""
+    screen's 100 dpi), the figure's own dpi for one shown inline.
+
+    Parameters
+    ----------
+    default : float, optional
+        The resolution [dots per inch] where ``savefig.dpi`` is ``"figure"`` (default
+        ``PRINT_DPI``).
+
+    Returns
+    -------
+    float
+        The resolution [dots per inch].
+    """
     import matplotlib as mpl
 
     value = mpl.rcParams["savefig.dpi"]

@@ -35,7 +35,35 @@ def profile_value(kind, start, duration, magnitude, frequency, phase, t, side, a
     zero while the profile is off; side = +1 right limit, -1 left limit. Branch-free (selects
     and ``sin_branchless``), so the lane engine evaluates it for a block of runs in one
     vectorised pass; every loop uses it, so lanes and single runs agree bit for bit.
-    ``any_sine`` False skips the sine where no profile evaluated together is one."""
+    ``any_sine`` False skips the sine where no profile evaluated together is one.
+
+    Parameters
+    ----------
+    kind : float
+        The profile's kind: ``layout.WIND_PULSE``, ``WIND_SINE``, ``WIND_STEP`` or
+        ``WIND_CONSTANT``.
+    start : float
+        When the profile starts [s].
+    duration : float
+        A pulse's length [s].
+    magnitude : float
+        The force's magnitude (a sine's amplitude) [N].
+    frequency : float
+        A sine's frequency [Hz].
+    phase : float
+        A sine's phase [rad].
+    t : float
+        Time [s].
+    side : float
+        +1: the right limit at t, -1: the left limit (a profile's switching instants).
+    any_sine : bool
+        False: no profile evaluated together is a sine (the sine is skipped).
+
+    Returns
+    -------
+    float
+        The force magnitude [N] along the profile's direction (0 while off).
+    """
     end = start + duration
     right = side > 0
     started = (start <= t) if right else (start < t)
@@ -64,7 +92,22 @@ def _wind_program_force(program, t, side, out):
 @_jit_inline
 def gust_velocity(gust, gust_dt, t):
     """The gust table's air velocity at t [m/s], linear between its rows and held after the
-    last one (``gust`` (m, 3) on a grid of step gust_dt [s]; zeros without a table)."""
+    last one (``gust`` (m, 3) on a grid of step gust_dt [s]; zeros without a table).
+
+    Parameters
+    ----------
+    gust : numpy.ndarray, shape (m, 3)
+        The gust table's air velocity in N [m/s], one row per step.
+    gust_dt : float
+        The table's step [s] (0: no table).
+    t : float
+        Time [s].
+
+    Returns
+    -------
+    g1, g2, g3 : float
+        The air velocity in N [m/s].
+    """
     if gust_dt <= 0.0 or gust.shape[0] == 0:
         return 0.0, 0.0, 0.0
     s = t / gust_dt
@@ -88,7 +131,27 @@ def gust_velocity(gust, gust_dt, t):
 def wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out):
     """Wind force on HO in N [N]: the profiles plus the bluff-body drag of the air velocity
     relative to HO, F_i = 0.5 rho CdA_i |v_rel| v_rel,i with |v_rel| the norm of the whole
-    relative velocity (drag[i] = 0.5 rho CdA_i; ``wind.drag.DragModel``)."""
+    relative velocity (drag[i] = 0.5 rho CdA_i; ``wind.drag.DragModel``).
+
+    Parameters
+    ----------
+    program : numpy.ndarray, shape (k, WIND_COLUMNS)
+        The force profiles' rows (``layout.WIND_*``).
+    gust : numpy.ndarray, shape (m, 3)
+        The gust table's air velocity in N [m/s] (zero rows: none).
+    gust_dt : float
+        The gust table's step [s] (0: no table).
+    drag : numpy.ndarray, shape (3,)
+        0.5 rho CdA per axis of N [kg/m] (``wind.compiled.CompiledWind.drag``).
+    t : float
+        Time [s].
+    side : float
+        +1: the right limit at t, -1: the left limit (a profile's switching instants).
+    v1, v2, v3 : float
+        HO's velocity in N [m/s] (the drag acts on the air's velocity relative to it).
+    out : numpy.ndarray, shape (3,)
+        Filled with the force on HO in N [N].
+    """
     out[0] = 0.0
     out[1] = 0.0
     out[2] = 0.0
@@ -107,7 +170,29 @@ def base_frame_force(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, ou
     """``wind_force`` on a helicopter flown in the frame of a moving base (``base``'s packed
     form, ``base.compiled``): (v1, v2, v3) is HO's velocity relative to the base, so the drag
     sees v + b'(t), and the frame's inertial force -m b''(t) is added (``derive(moving_base=
-    True)``). A still base (the paper's winch) is ``wind_force`` itself."""
+    True)``). A still base (the paper's winch) is ``wind_force`` itself.
+
+    Parameters
+    ----------
+    program : numpy.ndarray, shape (k, WIND_COLUMNS)
+        The force profiles' rows (``layout.WIND_*``).
+    gust : numpy.ndarray, shape (m, 3)
+        The gust table's air velocity in N [m/s] (zero rows: none).
+    gust_dt : float
+        The gust table's step [s] (0: no table).
+    drag : numpy.ndarray, shape (3,)
+        0.5 rho CdA per axis of N [kg/m] (``wind.compiled.CompiledWind.drag``).
+    base : numpy.ndarray, shape (rows, BASE_COLUMNS)
+        The base motion's packed form (``layout.BASE_*``, ``base.compiled``).
+    t : float
+        Time [s].
+    side : float
+        +1: the right limit at t, -1: the left limit (a profile's switching instants).
+    v1, v2, v3 : float
+        HO's velocity relative to the base in N [m/s].
+    out : numpy.ndarray, shape (3,)
+        Filled with the force on HO in N [N], the frame's inertial force included.
+    """
     _base_frame(frozen(program), frozen(gust), gust_dt, frozen(drag), frozen(base), t,
                 plain(side), v1, v2, v3, out, plain(True))  # fmt: skip
 
@@ -115,7 +200,29 @@ def base_frame_force(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, ou
 @_jit_inline
 def air_force_on_base(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, out):
     """The air's force alone (the recorded wind) on a helicopter moving at (v1, v2, v3)
-    relative to the base: ``wind_force`` at the velocity v + b'(t) in N."""
+    relative to the base: ``wind_force`` at the velocity v + b'(t) in N.
+
+    Parameters
+    ----------
+    program : numpy.ndarray, shape (k, WIND_COLUMNS)
+        The force profiles' rows (``layout.WIND_*``).
+    gust : numpy.ndarray, shape (m, 3)
+        The gust table's air velocity in N [m/s] (zero rows: none).
+    gust_dt : float
+        The gust table's step [s] (0: no table).
+    drag : numpy.ndarray, shape (3,)
+        0.5 rho CdA per axis of N [kg/m] (``wind.compiled.CompiledWind.drag``).
+    base : numpy.ndarray, shape (rows, BASE_COLUMNS)
+        The base motion's packed form (``layout.BASE_*``, ``base.compiled``).
+    t : float
+        Time [s].
+    side : float
+        +1: the right limit at t, -1: the left limit (a profile's switching instants).
+    v1, v2, v3 : float
+        HO's velocity relative to the base in N [m/s].
+    out : numpy.ndarray, shape (3,)
+        Filled with the air's force on HO in N [N].
+    """
     _base_frame(frozen(program), frozen(gust), gust_dt, frozen(drag), frozen(base), t,
                 plain(side), v1, v2, v3, out, plain(False))  # fmt: skip
 
@@ -145,6 +252,21 @@ def _base_frame(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, out, in
 @_jit
 def base_rates(base, t):
     """b'(t) and b''(t) of the base in N [m/s, m/s^2], six floats (``base_at``'s last six):
-    a call, compiled once for every loop."""
+    a call, compiled once for every loop.
+
+    Parameters
+    ----------
+    base : numpy.ndarray, shape (rows, BASE_COLUMNS)
+        The base motion's packed form (``layout.BASE_*``, ``base.compiled``).
+    t : float
+        Time [s].
+
+    Returns
+    -------
+    v1, v2, v3 : float
+        The base's velocity b'(t) in N [m/s].
+    a1, a2, a3 : float
+        Its acceleration b''(t) in N [m/s^2].
+    """
     _, _, _, v1, v2, v3, a1, a2, a3 = base_at(base, t)
     return v1, v2, v3, a1, a2, a3

@@ -115,7 +115,25 @@ _DRAW_BASE_BYTES = 16_384
 def check_chunk_memory(base: Scenario, draws: int) -> int:
     """Estimate the bytes a chunk of ``draws`` draws holds at once (each draw's scenarios and
     its own gust series) and refuse it above the memory budget (``tetherheli.resources``);
-    returns the estimate."""
+    returns the estimate.
+
+    Parameters
+    ----------
+    base : Scenario
+        The Monte Carlo's base scenario (its turbulence's gust grids set each draw's size).
+    draws : int
+        The draws in the chunk.
+
+    Returns
+    -------
+    int
+        The estimated memory [bytes].
+
+    Raises
+    ------
+    ResourceLimitError
+        The estimate exceeds the memory budget.
+    """
     gusts = sum(d.N_v_gust_grid.nbytes for d in _wind_parts(base.wind) if isinstance(d, Turbulence))
     needed = draws * (_DRAW_BASE_BYTES + gusts)
     check_memory(
