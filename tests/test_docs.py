@@ -3,12 +3,14 @@ and the public API carries numpydoc sections (issue 12, item 6)."""
 
 from __future__ import annotations
 
+import ast
 import dataclasses
 import enum
 import importlib
 import inspect
 import math
 import re
+import textwrap
 from pathlib import Path
 
 import pytest
@@ -319,11 +321,31 @@ def _missing_sections(obj) -> list[str]:
         star = {p.VAR_POSITIONAL: "*", p.VAR_KEYWORD: "**"}.get(p.kind, "")
         if p.name not in documented and star + p.name not in documented:
             problems.append(f"parameter {p.name} undocumented")
-    if not inspect.isclass(obj):
-        returns = signature.return_annotation
-        if returns not in (None, "None") and "returns" not in found:
-            problems.append("no Returns section")
+    if not inspect.isclass(obj) and _returns_a_value(obj) and "returns" not in found:
+        problems.append("no Returns section")
     return problems
+
+
+def _returns_a_value(function) -> bool:
+    """Whether ``function`` returns a value: by its annotation, or without one (compiled
+    kernels are not annotated) by a ``return <value>`` or ``yield`` in its own body."""
+    returns = inspect.signature(function).return_annotation
+    if returns is not inspect.Signature.empty:
+        return returns not in (None, "None")
+    try:
+        tree = ast.parse(textwrap.dedent(inspect.getsource(function)))
+    except (OSError, TypeError, SyntaxError):
+        return True
+    body = tree.body[0]
+    nested = {id(n) for node in ast.walk(body) if node is not body
+              and isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda))
+              for n in ast.walk(node)}  # fmt: skip
+    return any(
+        (isinstance(node, ast.Return) and node.value is not None)
+        or isinstance(node, (ast.Yield, ast.YieldFrom))
+        for node in ast.walk(body)
+        if id(node) not in nested
+    )
 
 
 _CALLABLES = list(_public_callables())
