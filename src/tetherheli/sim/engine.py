@@ -155,7 +155,39 @@ ACTION_REPLACE = 2
 def plant_derivative(x, sc, inp, reel_rate, t, side, cfg, c, program, gust, drag, base, wind, out):
     """dx/dt (13,) of the tethered-coordinate plant; tension 0 when the tether is removed.
     sc (10,): sin and cos of x[0..4] (``kernels.angle_trig``); wind (3,) receives the force
-    (over a moving ``base`` with the frame's inertial force: ``base_frame_force``)."""
+    (over a moving ``base`` with the frame's inertial force: ``base_frame_force``).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+    sc : numpy.ndarray, shape (10,)
+        sin and cos of the angles x[0..4] (``kernels.angle_trig``).
+    inp : numpy.ndarray, shape (4,)
+        The rotor inputs held over the sample [N, N m, N m, N].
+    reel_rate : float
+        The reel rate dLN/dt [m/s] (ignored when the tether is removed).
+    t : float
+        The time [s].
+    side : int
+        The side of a wind discontinuity at t: 1 the right limit, -1 the left limit.
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings (``layout.CFG_*``).
+    c : numpy.ndarray
+        The tethered model's constants (``kernels.model_constants("tethered", h)``).
+    program : numpy.ndarray, shape (rows, WIND_COLUMNS)
+        The wind program (``layout.WIND_*``), one row per profile.
+    gust : numpy.ndarray, shape (rows, 3)
+        The gust table: the air's velocity [m/s] every cfg[CFG_GUST_DT] [s] (no rows: none).
+    drag : numpy.ndarray, shape (3,)
+        The bluff-body drag 0.5 rho CdA_i per axis of N [kg/m].
+    base : numpy.ndarray, shape (rows, BASE_COLUMNS)
+        The base motion's packed form (``layout.BASE_*``, ``base.compiled``).
+    wind : numpy.ndarray, shape (3,)
+        Receives the wind force at t [N].
+    out : numpy.ndarray, shape (13,)
+        Receives dx/dt.
+    """
     base_frame_force(program, gust, cfg[CFG_GUST_DT], drag, base, t, side, x[6], x[7], x[8], wind)
     _plant_in_wind(x, sc, inp, reel_rate, cfg, c, wind, out)
 
@@ -179,7 +211,21 @@ TRIG_CHAIN_STEPS = 4
 def next_step_trig(x, start, sc0, sc, steps_done):
     """sc0 (10,) becomes sin, cos of the angles of x, the start of the next RK4 step: afresh
     (``angle_trig``) every TRIG_CHAIN_STEPS steps, otherwise by angle addition from the
-    previous step's start ``start`` whose values sc0 holds (``sc`` is scratch)."""
+    previous step's start ``start`` whose values sc0 holds (``sc`` is scratch).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The state at the start of the next RK4 step [rad, m, rad/s, m/s, m].
+    start : numpy.ndarray, shape (13,)
+        The state at the start of the previous step.
+    sc0 : numpy.ndarray, shape (10,)
+        sin, cos of ``start``'s angles on entry; receives those of x's.
+    sc : numpy.ndarray, shape (10,)
+        Scratch.
+    steps_done : int
+        The RK4 steps of the sample taken so far.
+    """
     if steps_done % TRIG_CHAIN_STEPS == 0:
         angle_trig(x, sc0)
     else:
@@ -200,6 +246,30 @@ def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, work,
     Without a gust table the wind depends on t only, so the two mid-step stages share it.
     Over a moving ``base`` (``base.compiled``) x is relative to it and the force is
     ``base_frame_force``'s.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m] at t0; advanced in place to
+        t0 + dt.
+    inp : numpy.ndarray, shape (4,)
+        The rotor inputs held over the sample [N, N m, N m, N].
+    reel_rate : float
+        The reel rate held over the sample [m/s].
+    t0 : float
+        The sample's start time [s].
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings (``layout.CFG_*``): dt, n_sub, the tether's.
+    c : numpy.ndarray
+        The tethered model's constants (``kernels.model_constants("tethered", h)``).
+    program, gust, drag, base : numpy.ndarray
+        The wind program (``layout.WIND_*``), the gust table (air velocity [m/s], no rows:
+        none), the drag 0.5 rho CdA_i (3,) [kg/m] and the base motion (``layout.BASE_*``), as
+        for ``plant_derivative``.
+    work : numpy.ndarray, shape (RK4_WORK_ROWS, 13)
+        Scratch; work[6, :10] holds sin, cos of x's angles when ``trig_given``.
+    trig_given : bool
+        Whether work[6, :10] already holds sin, cos of x's angles.
     """
     n_sub = int(cfg[CFG_N_SUB])
     h = cfg[CFG_DT] / n_sub
@@ -245,7 +315,24 @@ def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, work,
 
 @_jit
 def check_state(x, y, y_ref, tension, cfg):
-    """Status of a sampled state (``Status``)."""
+    """Status of a sampled state (``Status``).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The sampled state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+    y, y_ref : numpy.ndarray, shape (4,)
+        The outputs q1, q2, q3, q6 and their references [m, m, m, rad].
+    tension : float
+        The tether's tension [N].
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings (``layout.CFG_*``): attached, the limits ``CFG_MAX_*``.
+
+    Returns
+    -------
+    int
+        The status code (``Status``; ``Status.OK``: none of the checks failed).
+    """
     sc = np.empty(10)
     angle_trig(x, sc)
     return check_state_sc(x, sc, y, y_ref, tension, cfg)
@@ -253,7 +340,26 @@ def check_state(x, y, y_ref, tension, cfg):
 
 @_jit_inline
 def check_state_sc(x, sc, y, y_ref, tension, cfg):
-    """``check_state`` with sc = sin, cos of x[0..4] given (``kernels.angle_trig``)."""
+    """``check_state`` with sc = sin, cos of x[0..4] given (``kernels.angle_trig``).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The sampled state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+    sc : numpy.ndarray, shape (10,)
+        sin and cos of x[0..4].
+    y, y_ref : numpy.ndarray, shape (4,)
+        The outputs q1, q2, q3, q6 and their references [m, m, m, rad].
+    tension : float
+        The tether's tension [N].
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings (``layout.CFG_*``): attached, the limits ``CFG_MAX_*``.
+
+    Returns
+    -------
+    int
+        The status code (``Status``).
+    """
     finite = True
     for i in range(x.shape[0]):
         finite &= math.isfinite(x[i])
@@ -273,7 +379,40 @@ def state_status(
     whether every state is finite, the tether attached, the angles q4, q5, q7, q8 [rad], q9
     and the natural length LN [m], cos q5, cos q7, cos q8, the outputs' deviations from
     their references and HO's height y3 [m], the tension [N] and the limits (``cfg``'s
-    ``CFG_MAX_*``). The one rule of ``check_state_sc`` and the lane engine's checks."""
+    ``CFG_MAX_*``). The one rule of ``check_state_sc`` and the lane engine's checks.
+
+    Parameters
+    ----------
+    finite : bool
+        Whether every state is finite.
+    attached : bool
+        Whether the tether is attached.
+    q4, q5, q7, q8 : float
+        Roll, pitch and the tether's angles [rad].
+    q9 : float
+        The tether's length (HO's distance from the winch) [m].
+    length : float
+        The tether's natural length LN [m].
+    cos_q5, cos_q7, cos_q8 : float
+        cos q5, cos q7, cos q8.
+    dev1, dev2, dev3 : float
+        The deviations of the outputs y1, y2, y3 from their references [m].
+    height : float
+        HO's height y3 [m].
+    tension : float
+        The tether's tension [N].
+    max_tension : float
+        The largest tension allowed [N] (cfg[CFG_MAX_TENSION]).
+    max_angle : float
+        The largest |q4|, |q5|, |q7|, |q8| allowed [rad] (cfg[CFG_MAX_ANGLE]).
+    max_deviation : float
+        The largest output deviation allowed [m] (cfg[CFG_MAX_DEVIATION]).
+
+    Returns
+    -------
+    int
+        The status code (``Status``), the first check failed in order of precedence.
+    """
     if not finite:
         return STATUS_NONFINITE
     # an attached tether's natural (unstretched) length LN <= 0 is no physical tether
@@ -300,7 +439,15 @@ def state_status(
 def copy_into(dst, src):
     """dst[:] = src for 1-d arrays of src's length, as a plain loop: an array assignment's
     broadcasting, shape checks and their error messages are compiled anew at every one in a
-    first run, lengthening its compilation."""
+    first run, lengthening its compilation.
+
+    Parameters
+    ----------
+    dst : numpy.ndarray, shape (n,) or longer
+        Receives src's values.
+    src : numpy.ndarray, shape (n,)
+        The values to copy.
+    """
     for i in range(src.shape[0]):
         dst[i] = src[i]
 
@@ -312,7 +459,21 @@ def copy_into(dst, src):
 def apply_actuators(inp, held, act, dt, first):
     """Saturate the command, then pass it through the first-order lag (step-invariant at the
     sample rate: u_k = u_{k-1} + (1 - e^{-dt/tau}) (sat(cmd_k) - u_{k-1})); inp becomes the
-    applied input and ``held[HELD_INPUTS:]`` keeps it for the next sample."""
+    applied input and ``held[HELD_INPUTS:]`` keeps it for the next sample.
+
+    Parameters
+    ----------
+    inp : numpy.ndarray, shape (4,)
+        The rotor command [N, N m, N m, N]; receives the applied inputs.
+    held : numpy.ndarray, shape (HELD_SIZE,)
+        What the actuators hold between samples (``layout.HELD_*``); the inputs are updated.
+    act : numpy.ndarray, shape (ACT_SIZE,)
+        The actuators (``layout.ACT_*``): the input limits and the lag's time constant.
+    dt : float
+        The sample time [s].
+    first : bool
+        Whether this is the run's first sample (no lag: the saturated command is applied).
+    """
     gain = actuator_lag_gain(act[ACT_TAU], dt)
     for i in range(4):
         v = actuator_value(
@@ -324,7 +485,20 @@ def apply_actuators(inp, held, act, dt, first):
 
 @_jit_inline
 def actuator_lag_gain(tau, dt):
-    """The actuators' lag over one sample, 1 - e^{-dt/tau} (1: no lag, tau <= 0)."""
+    """The actuators' lag over one sample, 1 - e^{-dt/tau} (1: no lag, tau <= 0).
+
+    Parameters
+    ----------
+    tau : float
+        The actuators' time constant [s] (<= 0: no lag).
+    dt : float
+        The sample time [s].
+
+    Returns
+    -------
+    float
+        The lag's gain over one sample, in (0, 1].
+    """
     return 1.0 if tau <= 0.0 else 1.0 - math.exp(-dt / tau)
 
 
@@ -332,7 +506,26 @@ def actuator_lag_gain(tau, dt):
 def actuator_value(command, previous, u_min, u_max, gain, first):
     """One rotor input applied over the sample: the command saturated to [u_min, u_max],
     then lagged from the previous sample's input by ``gain`` (``actuator_lag_gain``; the
-    first sample applies the saturated command)."""
+    first sample applies the saturated command).
+
+    Parameters
+    ----------
+    command : float
+        The commanded input [N or N m].
+    previous : float
+        The input applied over the previous sample [N or N m].
+    u_min, u_max : float
+        The input's limits [N or N m].
+    gain : float
+        The lag's gain over the sample (``actuator_lag_gain``).
+    first : bool
+        Whether this is the run's first sample.
+
+    Returns
+    -------
+    float
+        The input applied over the sample [N or N m].
+    """
     v = min(max(command, u_min), u_max)
     return v if first else previous + gain * (v - previous)
 
@@ -342,7 +535,29 @@ def release_if_broken(tension, t, cfg, ctrl, act, event):
     """The safety device (Sec. IV-C): above act[ACT_BREAK] the tether is released, cfg and the
     paper controller's ctrl switch to the free configuration (no winch, no feed-forward) and
     the event is recorded, event[0] = t [s], event[1] = tension [N] (``event`` (2,) is left
-    alone otherwise); returns the tension acting from now on [N]."""
+    alone otherwise); returns the tension acting from now on [N].
+
+    Parameters
+    ----------
+    tension : float
+        The tether's tension at P [N].
+    t : float
+        The sample's time [s].
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings (``layout.CFG_*``); CFG_ATTACHED cleared on a release.
+    ctrl : numpy.ndarray, shape (CTRL_SIZE,)
+        The paper controller's settings (``layout.CTRL_*``); winch and feed-forward switched
+        off on a release.
+    act : numpy.ndarray, shape (ACT_SIZE,)
+        The actuators (``layout.ACT_*``): the breaking tension act[ACT_BREAK] [N].
+    event : numpy.ndarray, shape (2,)
+        Receives the release's time [s] and tension [N].
+
+    Returns
+    -------
+    float
+        The tension acting from now on [N]: ``tension``, or 0 once released.
+    """
     if tension > act[ACT_BREAK]:
         cfg[CFG_ATTACHED] = 0.0
         ctrl[CTRL_WINCH] = 0.0
@@ -356,7 +571,20 @@ def release_if_broken(tension, t, cfg, ctrl, act, event):
 @_jit_inline
 def winch_tension(cfg, tension):
     """The tension at the winch [N]: a lumped chain's ground end (set by ``chain_ends``) while
-    attached, else ``tension``, the massless tether's one tension (eq 28) or 0 once released."""
+    attached, else ``tension``, the massless tether's one tension (eq 28) or 0 once released.
+
+    Parameters
+    ----------
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings (``layout.CFG_*``): attached, lumped, the chain's ground tension.
+    tension : float
+        The tension at P [N] (0 once released).
+
+    Returns
+    -------
+    float
+        The tension at the winch [N].
+    """
     if cfg[CFG_LUMPED] > 0.5 and cfg[CFG_ATTACHED] > 0.5:
         return cfg[CFG_TENSION_GROUND]
     return tension
@@ -371,7 +599,35 @@ def sense(x, k, t, cfg, ctrl, act, sensors, event, x_meas):
     the measured state (``sensors.measure_sampled``: each sensor at its rate and latency,
     with the noise table's rows, or the true state when the table is empty); ``sensors`` is
     ``sim.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history ring).
-    Returns (true tension at P, measured tension) [N]."""
+    Returns (true tension at P, measured tension) [N].
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The true state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+    k : int
+        The control sample's index.
+    t : float
+        The sample's time k dt [s].
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings (``layout.CFG_*``), changed by a release.
+    ctrl : numpy.ndarray, shape (CTRL_SIZE,)
+        The paper controller's settings (``layout.CTRL_*``), changed by a release.
+    act : numpy.ndarray, shape (ACT_SIZE,)
+        The actuators (``layout.ACT_*``): the breaking tension.
+    sensors : tuple
+        ``sim.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history
+        ring).
+    event : numpy.ndarray, shape (2,)
+        Receives a release's time [s] and tension [N].
+    x_meas : numpy.ndarray, shape (13,)
+        Receives the measured state.
+
+    Returns
+    -------
+    tuple of float
+        (the true tension at P, the load cell's measured tension) [N].
+    """
     return _sense(x, k, t, cfg, ctrl, act, sensors, sensors[0].shape[0] > 0, event, x_meas)
 
 
@@ -407,7 +663,38 @@ def actuate(inp, held, rate, act, dt, first, tension_ground, measured_tension, l
     (``drum_winch``) under the tension at the winch, tension_ground [N] (the load cell reads
     measured_tension [N]). Then the payout limits (``winch_limits``) on the natural length
     ``length`` = x[12] [m] at the sample's time t [s]. Returns the reel rate applied over
-    the sample [m/s]."""
+    the sample [m/s].
+
+    Parameters
+    ----------
+    inp : numpy.ndarray, shape (4,)
+        The rotor command [N, N m, N m, N]; receives the applied inputs.
+    held : numpy.ndarray, shape (HELD_SIZE,)
+        What the actuators hold between samples (``layout.HELD_*``), updated.
+    rate : float
+        The reel-rate command [m/s].
+    act : numpy.ndarray, shape (ACT_SIZE,)
+        The actuators (``layout.ACT_*``).
+    dt : float
+        The sample time [s].
+    first : bool
+        Whether this is the run's first sample.
+    tension_ground : float
+        The tension at the winch [N].
+    measured_tension : float
+        The load cell's reading [N].
+    length : float
+        The natural length LN = x[12] [m].
+    t : float
+        The sample's time [s].
+    drum : bool
+        Whether the run has a drum winch (act[ACT_DRUM]).
+
+    Returns
+    -------
+    float
+        The reel rate applied over the sample [m/s].
+    """
     apply_actuators(inp, held, act, dt, first)
     if drum:
         speed_reference = clamp_reel_rate(rate, act)
@@ -423,7 +710,20 @@ def actuate(inp, held, rate, act, dt, first, tension_ground, measured_tension, l
 def clamp_reel_rate(rate, act):
     """A reel-rate command [m/s] clamped to ``[actuators] reel_rate_limit``
     (act[ACT_REEL_RATE]): the actuator stage's rate limit, for both winch models (the drum's
-    speed reference)."""
+    speed reference).
+
+    Parameters
+    ----------
+    rate : float
+        The reel-rate command [m/s].
+    act : numpy.ndarray, shape (ACT_SIZE,)
+        The actuators (``layout.ACT_*``): the rate limit act[ACT_REEL_RATE] [m/s].
+
+    Returns
+    -------
+    float
+        The clamped reel rate [m/s].
+    """
     limit = act[ACT_REEL_RATE]
     return min(max(rate, -limit), limit)
 
@@ -438,7 +738,29 @@ def winch_limits(held, rate, act, dt, length, t):
     zero, the brake taking the tether's pull; a command back inside releases it). The first
     stop is recorded in ``held`` (``HELD_LIMIT_WHICH`` -1 min_length, +1 max_length, and
     ``HELD_LIMIT_TIME`` = t + dt [s], when the length reaches the limit); a run that reaches
-    a limit is not failed by it. Returns the rate applied [m/s]."""
+    a limit is not failed by it. Returns the rate applied [m/s].
+
+    Parameters
+    ----------
+    held : numpy.ndarray, shape (HELD_SIZE,)
+        What the actuators hold between samples (``layout.HELD_*``): the limit's slots, and the
+        drum's speed, updated.
+    rate : float
+        The reel rate [m/s].
+    act : numpy.ndarray, shape (ACT_SIZE,)
+        The actuators (``layout.ACT_*``): the payout limits [m], the winch model.
+    dt : float
+        The sample time [s].
+    length : float
+        The natural length LN at t [m].
+    t : float
+        The sample's time [s].
+
+    Returns
+    -------
+    float
+        The reel rate applied [m/s].
+    """
     rate, which = payout_limited_rate(rate, length, dt, act[ACT_MIN_LENGTH], act[ACT_MAX_LENGTH])
     if which != 0.0:
         if act[ACT_DRUM] > 0.5:
@@ -454,7 +776,26 @@ def winch_limits(held, rate, act, dt, length, t):
 def payout_limited_rate(rate, length, dt, min_length, max_length):
     """(rate, which): a reel rate [m/s] held over dt [s] from the natural length ``length``
     [m] cut to the one that reaches ``max_length`` or ``min_length`` at the sample's end
-    exactly (``winch_limits``); which = +1 at max_length, -1 at min_length, else 0."""
+    exactly (``winch_limits``); which = +1 at max_length, -1 at min_length, else 0.
+
+    Parameters
+    ----------
+    rate : float
+        The reel rate [m/s].
+    length : float
+        The natural length at the sample's start [m].
+    dt : float
+        The sample time [s].
+    min_length, max_length : float
+        The payout limits [m].
+
+    Returns
+    -------
+    rate : float
+        The reel rate applied [m/s].
+    which : float
+        +1 at max_length, -1 at min_length, 0 within the limits.
+    """
     end = length + rate * dt
     if end > max_length:
         return (max_length - length) / dt, 1.0
@@ -472,7 +813,29 @@ def drum_winch(held, rate_cmd, act, dt, tension_ground, measured_tension):
     torque (hauling in). Returns the mean reel rate over the sample, r int w dt / dt [m/s], so
     that L_N advances exactly by the length paid out. The drum's step is a call
     (``_drum_step``), not inlined: only a drum winch takes it, and one compiled copy shortens
-    a first run's compilation."""
+    a first run's compilation.
+
+    Parameters
+    ----------
+    held : numpy.ndarray, shape (HELD_SIZE,)
+        What the actuators hold between samples (``layout.HELD_*``): the drum's speed [rad/s]
+        and mean motor torque [N m], updated.
+    rate_cmd : float
+        The reel-rate command, the drive's speed reference times r [m/s].
+    act : numpy.ndarray, shape (ACT_SIZE,)
+        The actuators (``layout.ACT_*``): the drum's ``ACT_DRUM_*``.
+    dt : float
+        The sample time [s].
+    tension_ground : float
+        The tension at the winch [N], held over the sample.
+    measured_tension : float
+        The load cell's reading [N] (the drive's feed-forward).
+
+    Returns
+    -------
+    float
+        The mean reel rate over the sample [m/s].
+    """
     r = act[ACT_DRUM_RADIUS]
     ffwd = r * measured_tension if act[ACT_DRUM_TENSION_FFWD] > 0.5 else 0.0
     w0 = held[HELD_DRUM_SPEED]
@@ -498,7 +861,43 @@ def paper_sample(x, k, cfg, ctrl, act, sensors, c, law, loop, action, action_mod
     order of ``layout.LOOP_*`` (z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est,
     inp, ffwd), updated in place: inp then holds the applied inputs, y the true outputs,
     sc_true sin and cos of the true angles. Returns (status, true tension [N], applied reel
-    rate [m/s])."""
+    rate [m/s]).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The true state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+    k : int
+        The control sample's index.
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings (``layout.CFG_*``).
+    ctrl : numpy.ndarray, shape (CTRL_SIZE,)
+        The paper controller's settings (``layout.CTRL_*``).
+    act : numpy.ndarray, shape (ACT_SIZE,)
+        The actuators (``layout.ACT_*``).
+    sensors : tuple
+        ``sim.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history
+        ring).
+    c : numpy.ndarray
+        The tethered model's constants (``kernels.model_constants("tethered", h)``).
+    law : tuple of numpy.ndarray
+        The controller's arrays (``layout.LAW_*``).
+    loop : LoopState
+        The per-run arrays (``layout.LOOP_*``, ``new_loop_state``), updated.
+    action : numpy.ndarray, shape (4,)
+        An action on the rotor inputs [N, N m, N m, N] (read unless ``ACTION_NONE``).
+    action_mode : int
+        ``ACTION_NONE``, ``ACTION_ADD`` or ``ACTION_REPLACE``.
+
+    Returns
+    -------
+    status : int
+        The sample's status code (``Status``).
+    tension : float
+        The true tension at P [N].
+    rate : float
+        The applied reel rate [m/s].
+    """
     gain, x_ref, y_ref, u0_tethered, u0_free, _z0 = law
     z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd = loop
     return _paper_sample(
@@ -548,7 +947,43 @@ def sample_sense(
     x, k, cfg, ctrl, act, sensors, sensed, event, x_meas, lumped, gust, base, chain, cw
 ):  # fmt: skip
     """Phase 1 at t = k dt: a lumped chain's end tensions (``chain_ends``, while attached),
-    then ``sense``. Returns (true tension at P, measured tension) [N]."""
+    then ``sense``. Returns (true tension at P, measured tension) [N].
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The true state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+    k : int
+        The control sample's index.
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings (``layout.CFG_*``); the chain's tensions are set in it.
+    ctrl : numpy.ndarray, shape (CTRL_SIZE,)
+        The paper controller's settings (``layout.CTRL_*``).
+    act : numpy.ndarray, shape (ACT_SIZE,)
+        The actuators (``layout.ACT_*``).
+    sensors : tuple
+        ``sim.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history
+        ring).
+    sensed : bool
+        Whether the noise table has rows (else the sensors are perfect).
+    event : numpy.ndarray, shape (2,)
+        Receives a release's time [s] and tension [N].
+    x_meas : numpy.ndarray, shape (13,)
+        Receives the measured state.
+    lumped : bool
+        Whether the tether is a lumped chain.
+    gust, base : numpy.ndarray
+        The gust table (air velocity [m/s]) and the base motion (``layout.BASE_*``).
+    chain : tuple of numpy.ndarray
+        The lumped chain (``layout.CHAIN_*``).
+    cw : tuple
+        The chain's scratch (``lumped_step.lumped_work``; unread for a massless tether).
+
+    Returns
+    -------
+    tuple of float
+        (the true tension at P, the measured tension) [N].
+    """
     t = k * cfg[CFG_DT]
     if lumped and cfg[CFG_ATTACHED] > 0.5:
         chain_ends(x, t, cfg, gust, base, chain, cw)
@@ -565,7 +1000,47 @@ def paper_law(
     u0_tethered while the tether is attached and u0_free after (sc_meas receives sin, cos of
     x_meas's angles, y_est its outputs, inp the rotor command, ffwd the feed-forward), then an
     optional ``action`` added to or replacing the rotor command (``ACTION_*``). Returns the
-    reel-rate command [m/s]."""
+    reel-rate command [m/s].
+
+    Parameters
+    ----------
+    x_meas : numpy.ndarray, shape (13,)
+        The measured state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+    sc_meas : numpy.ndarray, shape (10,)
+        Receives sin, cos of x_meas's angles.
+    measured : float
+        The load cell's tension [N].
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings (``layout.CFG_*``).
+    ctrl : numpy.ndarray, shape (CTRL_SIZE,)
+        The paper controller's settings (``layout.CTRL_*``).
+    c : numpy.ndarray
+        The tethered model's constants (``kernels.model_constants("tethered", h)``).
+    gain, x_ref, y_ref : numpy.ndarray
+        The LQI's gain, the trim state and the trim outputs (``layout.LAW_GAIN``,
+        ``LAW_X_REF``, ``LAW_Y_REF``).
+    u0_tethered, u0_free : numpy.ndarray, shape (4,)
+        The tethered and the free trim inputs [N, N m, N m, N].
+    z : numpy.ndarray, shape (4,)
+        The LQI's output-error integral (eq 50), updated.
+    winch : numpy.ndarray, shape (WINCH_SIZE,)
+        The winch PI's state (``layout.WINCH_*``), updated.
+    y_est : numpy.ndarray, shape (4,)
+        Receives the controller's output estimate [m, m, m, rad].
+    inp : numpy.ndarray, shape (4,)
+        Receives the rotor command [N, N m, N m, N].
+    ffwd : numpy.ndarray, shape (4,)
+        Receives the feed-forward part of the command (eq 55).
+    action : numpy.ndarray, shape (4,)
+        An action on the rotor command [N, N m, N m, N].
+    action_mode : int
+        ``ACTION_NONE``, ``ACTION_ADD`` or ``ACTION_REPLACE``.
+
+    Returns
+    -------
+    float
+        The reel-rate command [m/s].
+    """
     return _paper_law(
         x_meas, sc_meas, measured, cfg, ctrl, frozen(c), frozen(gain), frozen(x_ref),
         frozen(y_ref), frozen(u0_tethered), frozen(u0_free), z, winch, y_est, inp, ffwd, action,
@@ -599,7 +1074,36 @@ def _paper_law(
 def sample_outputs(x, c, sensed, y, y_est, sc_true, sc_meas, y_ref, tension, cfg):
     """The true outputs y and sin, cos of the true angles sc_true (copies of the estimate's
     when the sensors are perfect, x_meas = x), then the failure checks (``check_state_sc``);
-    returns the status."""
+    returns the status.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The true state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+    c : numpy.ndarray
+        The tethered model's constants (``kernels.model_constants("tethered", h)``).
+    sensed : bool
+        Whether the sensors are not perfect (x_meas differs from x).
+    y : numpy.ndarray, shape (4,)
+        Receives the true outputs q1, q2, q3, q6 [m, m, m, rad].
+    y_est : numpy.ndarray, shape (4,)
+        The controller's output estimate [m, m, m, rad].
+    sc_true : numpy.ndarray, shape (10,)
+        Receives sin, cos of the true angles.
+    sc_meas : numpy.ndarray, shape (10,)
+        sin, cos of the measured angles.
+    y_ref : numpy.ndarray, shape (4,)
+        The trim outputs [m, m, m, rad].
+    tension : float
+        The true tension at P [N].
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings (``layout.CFG_*``).
+
+    Returns
+    -------
+    int
+        The status code (``Status``).
+    """
     if sensed:
         angle_trig(x, sc_true)
         tethered_outputs_sc(x, sc_true, frozen(c), y)
@@ -617,7 +1121,52 @@ def sample_apply(
     """Phase 3: ``actuate`` on the controller's command (inp, the reel rate ``rate``), then
     ``sample_outputs``. ``drum``: the run has a drum winch (act[ACT_DRUM]); where it is a
     constant of the caller (the specialised loops) the other winch is not compiled.
-    Returns (status, applied reel rate [m/s])."""
+    Returns (status, applied reel rate [m/s]).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The true state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+    k : int
+        The control sample's index.
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings (``layout.CFG_*``).
+    act : numpy.ndarray, shape (ACT_SIZE,)
+        The actuators (``layout.ACT_*``).
+    c : numpy.ndarray
+        The tethered model's constants (``kernels.model_constants("tethered", h)``).
+    held : numpy.ndarray, shape (HELD_SIZE,)
+        What the actuators hold between samples (``layout.HELD_*``), updated.
+    inp : numpy.ndarray, shape (4,)
+        The rotor command [N, N m, N m, N]; receives the applied inputs.
+    rate : float
+        The reel-rate command [m/s].
+    tension : float
+        The true tension at P [N].
+    measured : float
+        The load cell's tension [N].
+    sensed : bool
+        Whether the sensors are not perfect.
+    drum : bool
+        Whether the run has a drum winch.
+    y : numpy.ndarray, shape (4,)
+        Receives the true outputs [m, m, m, rad].
+    y_est : numpy.ndarray, shape (4,)
+        The controller's output estimate [m, m, m, rad].
+    sc_true : numpy.ndarray, shape (10,)
+        Receives sin, cos of the true angles.
+    sc_meas : numpy.ndarray, shape (10,)
+        sin, cos of the measured angles.
+    y_ref : numpy.ndarray, shape (4,)
+        The trim outputs [m, m, m, rad].
+
+    Returns
+    -------
+    status : int
+        The status code (``Status``).
+    rate : float
+        The applied reel rate [m/s].
+    """
     if drum:
         return _sample_apply_drum(
             x, k, cfg, frozen(act), frozen(c), held, inp, rate, tension, measured, plain(sensed),
@@ -663,7 +1212,51 @@ def sample_record(
 ):  # fmt: skip
     """Phase 4: the on-line metrics of the samples k >= cfg[CFG_METRICS_FROM] into
     ``summary`` (``accumulate``), and with ``record`` the sample's row of ``out``
-    (``layout.Signals``); ``scratch`` (>= 3,) receives the wind force."""
+    (``layout.Signals``); ``scratch`` (>= 3,) receives the wind force.
+
+    Parameters
+    ----------
+    k : int
+        The control sample's index.
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings (``layout.CFG_*``).
+    act : numpy.ndarray, shape (ACT_SIZE,)
+        The actuators (``layout.ACT_*``).
+    summary : numpy.ndarray, shape (len(SUMMARY_FIELDS),)
+        The on-line metrics (``layout.SUMMARY_*``), updated.
+    x : numpy.ndarray, shape (13,)
+        The true state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+    x_ref : numpy.ndarray
+        The trim state (``layout.LAW_X_REF``).
+    y, y_ref : numpy.ndarray, shape (4,)
+        The true outputs and the trim outputs [m, m, m, rad].
+    tension : float
+        The true tension at P [N].
+    rate : float
+        The applied reel rate [m/s].
+    inp, ffwd : numpy.ndarray, shape (4,)
+        The applied rotor inputs and their feed-forward part [N, N m, N m, N].
+    y_est : numpy.ndarray, shape (4,)
+        The controller's output estimate [m, m, m, rad].
+    held : numpy.ndarray, shape (HELD_SIZE,)
+        What the actuators hold between samples (``layout.HELD_*``).
+    record : bool
+        Whether to record the sample's row of ``out``.
+    out : Signals
+        The recorded signals (``layout.Signals``).
+    program, gust, drag, base : numpy.ndarray
+        The wind program, the gust table, the drag (3,) [kg/m] and the base motion, as for
+        ``plant_derivative``.
+    scratch : numpy.ndarray, shape (>= 3,)
+        Receives the wind force [N].
+    nodes : numpy.ndarray, shape (N + 1, 3)
+        A lumped chain's node positions [m] (no rows: none).
+
+    Returns
+    -------
+    None
+        Nothing: ``summary`` and ``out`` are written in place.
+    """
     return _sample_record(
         k, cfg, act, summary, x, frozen(x_ref), y, frozen(y_ref), tension, rate, inp, ffwd, y_est,
         held, plain(record), out, frozen(program), frozen(gust), frozen(drag), frozen(base),
@@ -692,7 +1285,40 @@ def record_row(
     scratch, nodes,
 ):  # fmt: skip
     """``sample_record``'s row of ``out``: a call, not inlined (once per sample, and
-    a first run compiles it apart)."""
+    a first run compiles it apart).
+
+    Parameters
+    ----------
+    k : int
+        The control sample's index, the row of ``out``.
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings (``layout.CFG_*``).
+    act : numpy.ndarray, shape (ACT_SIZE,)
+        The actuators (``layout.ACT_*``).
+    x : numpy.ndarray, shape (13,)
+        The true state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+    y : numpy.ndarray, shape (4,)
+        The true outputs [m, m, m, rad].
+    tension : float
+        The true tension at P [N].
+    rate : float
+        The applied reel rate [m/s].
+    inp, ffwd : numpy.ndarray, shape (4,)
+        The applied rotor inputs and their feed-forward part [N, N m, N m, N].
+    y_est : numpy.ndarray, shape (4,)
+        The controller's output estimate [m, m, m, rad].
+    held : numpy.ndarray, shape (HELD_SIZE,)
+        What the actuators hold between samples (``layout.HELD_*``).
+    out : Signals
+        The recorded signals (``layout.Signals``); row k is written.
+    program, gust, drag, base : numpy.ndarray
+        The wind program, the gust table, the drag (3,) [kg/m] and the base motion, as for
+        ``plant_derivative``.
+    scratch : numpy.ndarray, shape (>= 3,)
+        Receives the wind force [N].
+    nodes : numpy.ndarray, shape (N + 1, 3)
+        A lumped chain's node positions [m] (no rows: none).
+    """
     air_force_on_base(program, gust, cfg[CFG_GUST_DT], drag, base, k * cfg[CFG_DT], 1, x[6],
                       x[7], x[8], scratch)  # fmt: skip
     copy_into(out.x[k], x)
@@ -717,7 +1343,34 @@ def record_row(
 def sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, base, work, chain, cw, lumped):
     """Phase 5, the fixed-step integrator over [k dt, (k + 1) dt]: a lumped chain's coupled
     step while attached (``lumped_interval``), else ``rk4_interval`` (sin, cos of x's angles
-    already in work[6], ``sample_outputs``'s sc_true)."""
+    already in work[6], ``sample_outputs``'s sc_true).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The true state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m], advanced in place.
+    inp : numpy.ndarray, shape (4,)
+        The applied rotor inputs [N, N m, N m, N].
+    rate : float
+        The applied reel rate [m/s].
+    k : int
+        The control sample's index.
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings (``layout.CFG_*``).
+    c : numpy.ndarray
+        The tethered model's constants (``kernels.model_constants("tethered", h)``).
+    program, gust, drag, base : numpy.ndarray
+        The wind program, the gust table, the drag (3,) [kg/m] and the base motion, as for
+        ``plant_derivative``.
+    work : numpy.ndarray, shape (RK4_WORK_ROWS, 13)
+        The integrator's scratch.
+    chain : tuple of numpy.ndarray
+        The lumped chain (``layout.CHAIN_*``), advanced in place.
+    cw : tuple
+        The chain's scratch (``lumped_step.lumped_work``; unread for a massless tether).
+    lumped : bool
+        Whether the tether is a lumped chain.
+    """
     t = k * cfg[CFG_DT]
     if lumped and cfg[CFG_ATTACHED] > 0.5:
         lumped_interval(x, inp, rate, t, cfg, c, program, gust, drag, base, work, chain, cw,
@@ -729,7 +1382,22 @@ def sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, base, work, cha
 def new_loop_state(x_init: np.ndarray, z_init: np.ndarray, work: np.ndarray) -> LoopState:
     """The per-run arrays of ``paper_sample`` (from Python; the compiled loop builds its own):
     integrators (starting at z_init, ``law[LAW_Z0]``), winch, held actuator state, release event
-    (NaN: none), scratch."""
+    (NaN: none), scratch.
+
+    Parameters
+    ----------
+    x_init : numpy.ndarray, shape (13,)
+        The initial state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+    z_init : numpy.ndarray, shape (4,)
+        The LQI integrators' start (``law[LAW_Z0]``).
+    work : numpy.ndarray, shape (RK4_WORK_ROWS, 13)
+        The integrator's scratch (sc_true shares work[6, :10]).
+
+    Returns
+    -------
+    LoopState
+        The per-run arrays (``layout.LOOP_*``).
+    """
     return _loop_state(x_init, z_init, work)
 
 
@@ -752,7 +1420,18 @@ def _loop_state(x_init, z_init, work):
 
 def is_lumped(chain: tuple) -> bool:
     """Whether ``chain`` (``layout.CHAIN_*``) is a lumped tether's: it has nodes (the massless
-    tether's, ``layout.empty_chain()``, has none); chooses the loop (``closed_loop_for``)."""
+    tether's, ``layout.empty_chain()``, has none); chooses the loop (``closed_loop_for``).
+
+    Parameters
+    ----------
+    chain : tuple of numpy.ndarray
+        The run's chain (``layout.CHAIN_*``).
+
+    Returns
+    -------
+    bool
+        Whether the chain has nodes.
+    """
     return chain[CHAIN_NODES].shape[0] > 0
 
 
@@ -783,6 +1462,42 @@ def run_closed_loop(
     (``CLOSED_LOOPS``, chosen by ``closed_loop_for``): a massless run does not compile the
     lumped chain's step (about 20 s of a first run's compilation), a run with perfect
     sensors not the sensors, an ideal winch not the drum.
+
+    Parameters
+    ----------
+    x_init : numpy.ndarray, shape (13,)
+        The initial state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+    n_samples : int
+        The control samples to run (n_samples + 1 sampled instants).
+    cfg_in : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings (``layout.CFG_*``; copied).
+    ctrl_in : numpy.ndarray, shape (CTRL_SIZE,)
+        The paper controller's settings (``layout.CTRL_*``; copied).
+    c : numpy.ndarray
+        The tethered model's constants (``kernels.model_constants("tethered", h)``).
+    law : tuple of numpy.ndarray
+        The controller's arrays (``layout.LAW_*``).
+    wind : tuple of numpy.ndarray
+        (program, gust table, drag, base), as for ``plant_derivative``.
+    act : numpy.ndarray, shape (ACT_SIZE,)
+        The actuators (``layout.ACT_*``).
+    sensors : tuple
+        ``sim.packing.sensor_tuple``'s.
+    chain : tuple of numpy.ndarray
+        The lumped chain (``layout.CHAIN_*``; ``layout.empty_chain()``: massless), advanced.
+    record : bool
+        Whether to record the signals into ``out``.
+    out : Signals
+        The recorded signals (``layout.Signals``).
+    summary : numpy.ndarray, shape (len(SUMMARY_FIELDS),)
+        Receives the on-line metrics (``layout.SUMMARY_*``).
+
+    Returns
+    -------
+    status : int
+        The run's status code (``Status``).
+    done : int
+        The samples done (n_samples + 1 for a complete run, else the failed sample's index).
     """
     loop = closed_loop_for(chain, sensors, act)
     return loop(
@@ -793,7 +1508,22 @@ def run_closed_loop(
 def closed_loop_for(chain: tuple, sensors: tuple, act: np.ndarray) -> Any:
     """The compiled loop of ``run_closed_loop`` for a run's tether (``chain``: lumped or
     massless), ``sensors`` (a noise table with rows: sensed, else perfect) and winch (``act``,
-    ``layout.ACT_*``: drum or ideal), one of ``CLOSED_LOOPS``; it releases the GIL."""
+    ``layout.ACT_*``: drum or ideal), one of ``CLOSED_LOOPS``; it releases the GIL.
+
+    Parameters
+    ----------
+    chain : tuple of numpy.ndarray
+        The run's chain (``layout.CHAIN_*``).
+    sensors : tuple
+        ``sim.packing.sensor_tuple``'s.
+    act : numpy.ndarray, shape (ACT_SIZE,)
+        The actuators (``layout.ACT_*``).
+
+    Returns
+    -------
+    callable
+        The compiled loop, called as ``run_closed_loop``.
+    """
     return CLOSED_LOOPS[is_lumped(chain), sensors[0].shape[0] > 0, bool(act[ACT_DRUM] > 0.5)]
 
 

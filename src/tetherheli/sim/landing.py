@@ -110,7 +110,24 @@ class Touchdown:
     def observe(self, k: int, x: np.ndarray, y: np.ndarray) -> dict[str, Any] | None:
         """The touchdown record (``SimulationResult.touchdown``) if sample k (its true state
         x and outputs y, relative to the base) is the first at or below the gear's height,
-        interpolated linearly from the sample before; else None."""
+        interpolated linearly from the sample before; else None.
+
+        Parameters
+        ----------
+        k : int
+            The control sample's index.
+        x : numpy.ndarray, shape (13,)
+            The true state relative to the base [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+        y : numpy.ndarray, shape (4,)
+            The true outputs q1, q2, q3, q6 relative to the base [m, m, m, rad].
+
+        Returns
+        -------
+        dict or None
+            The touchdown record: ``"time"`` [s], ``"vertical_speed"`` [m/s, downward positive],
+            ``"offset"`` [m], ``"attitude"`` [rad] and ``"reasons"`` (empty); None before the
+            touchdown.
+        """
         height = self.maneuver.gear_height
         t = k * self.dt
         now = (t, x.copy(), y.copy())
@@ -134,7 +151,18 @@ class Touchdown:
 
     def judge(self, record: dict[str, Any]) -> int:
         """The run's status for a touchdown: LANDED within the limits, else HARD_TOUCHDOWN
-        with the limits broken added to ``record["reasons"]``."""
+        with the limits broken added to ``record["reasons"]``.
+
+        Parameters
+        ----------
+        record : dict
+            A touchdown record (``observe``'s); the limits broken are added to its ``"reasons"``.
+
+        Returns
+        -------
+        int
+            ``Status.LANDED`` or ``Status.HARD_TOUCHDOWN``.
+        """
         m = self.maneuver
         checks = (
             ("vertical_speed", abs(record["vertical_speed"]), m.max_touchdown_speed, "m/s",

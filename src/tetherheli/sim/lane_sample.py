@@ -205,7 +205,26 @@ def _gain_rows(gain, first, out):
 def lane_law(gain, x_ref, y_ref, u0, u0_free, tether_law):
     """``LaneLaw`` of a block's stacked law (``layout.LAW_*`` with the lane axis in front:
     gain (LANES, rows, n_cols), x_ref (LANES, 13), ...); ``tether_law``: the block flies the
-    tethered LQI (gain rows 0-3, 4, 5-8), else the paper's (rows 0-3)."""
+    tethered LQI (gain rows 0-3, 4, 5-8), else the paper's (rows 0-3).
+
+    Parameters
+    ----------
+    gain : numpy.ndarray, shape (LANES, rows, n_cols)
+        The lanes' gains (``layout.LAW_GAIN``).
+    x_ref : numpy.ndarray, shape (LANES, 13)
+        The lanes' trim states (``layout.LAW_X_REF``) [rad, m, rad/s, m/s, m].
+    y_ref : numpy.ndarray, shape (LANES, 4)
+        The lanes' trim outputs [m, m, m, rad].
+    u0, u0_free : numpy.ndarray, shape (LANES, 4)
+        The lanes' tethered and free trim inputs [N, N m, N m, N].
+    tether_law : bool
+        Whether the block flies the tethered LQI.
+
+    Returns
+    -------
+    LaneLaw
+        The block's law, flat (variable, lane).
+    """
     n_cols = gain.shape[2]
     gain_on = _gain_rows(gain, 0, np.empty(4 * n_cols * LANES))
     if tether_law:
@@ -225,7 +244,30 @@ def lane_law(gain, x_ref, y_ref, u0, u0_free, tether_law):
 def lane_state(cfg, ctrl, act, z0, x, sensed, n_summary):
     """``LaneState`` at a block's start from its stacked cfg, ctrl, act (LANES, size), the
     integrators' start z0 (LANES, 4) and, flat, the lanes' state x (13 LANES,); ``sensed``:
-    some lane has a noise table (else x_meas is x, sc_true sc_meas, y y_est)."""
+    some lane has a noise table (else x_meas is x, sc_true sc_meas, y y_est).
+
+    Parameters
+    ----------
+    cfg : numpy.ndarray, shape (LANES, CFG_SIZE)
+        The lanes' settings (``layout.CFG_*``).
+    ctrl : numpy.ndarray, shape (LANES, CTRL_SIZE)
+        The lanes' controller settings (``layout.CTRL_*``).
+    act : numpy.ndarray, shape (LANES, ACT_SIZE)
+        The lanes' actuators (``layout.ACT_*``).
+    z0 : numpy.ndarray, shape (LANES, 4)
+        The lanes' integrators at the start (``layout.LAW_Z0``).
+    x : numpy.ndarray, shape (13 LANES,)
+        The lanes' true states, flat (variable, lane) [rad, m, rad/s, m/s, m].
+    sensed : bool
+        Whether some lane has a noise table.
+    n_summary : int
+        The summary's fields (len(SUMMARY_FIELDS)).
+
+    Returns
+    -------
+    LaneState
+        The block's per-lane state at its start.
+    """
     act_flat = _flat(act, np.empty(ACT_SIZE * LANES))
     lag = np.empty(LANES)
     for j in range(LANES):
@@ -553,7 +595,33 @@ def lane_sample(k, x, s, law, c, active, lanes_sensed, sensors, lanes_drum, rows
     ``lanes_sensed``, ``lanes_drum`` (LANES,) which lanes have a noise table, a drum winch;
     ``sensors`` as ``lanes.run_lanes``'s; rows = (x row, measured row, held row, act row),
     scratch for the per-lane parts. s.status, s.rate, s.inp, s.sc_true then hold each lane's
-    status, reel rate, applied inputs and sin, cos of its true angles."""
+    status, reel rate, applied inputs and sin, cos of its true angles.
+
+    Parameters
+    ----------
+    k : int
+        The control sample's index.
+    x : numpy.ndarray, shape (13 LANES,)
+        The lanes' true states, flat (variable, lane) [rad, m, rad/s, m/s, m].
+    s : LaneState
+        The block's per-lane state, updated.
+    law : LaneLaw
+        The block's law.
+    c : numpy.ndarray, shape (n_c LANES,)
+        The lanes' model constants, flat.
+    active : numpy.ndarray of bool, shape (LANES,)
+        The lanes still running (their metrics accumulate).
+    lanes_sensed : numpy.ndarray of bool, shape (LANES,)
+        The lanes with a noise table.
+    sensors : tuple
+        The lanes' sensors, as ``lanes.run_lanes``'s.
+    lanes_drum : numpy.ndarray of bool, shape (LANES,)
+        The lanes with a drum winch.
+    rows : tuple of numpy.ndarray
+        (x row, measured row, held row, act row): scratch for the per-lane parts.
+    tether_law : bool
+        Whether the block flies the tethered LQI.
+    """
     _sense(k, x, s)
     sensed = lanes_sensed.any()
     if sensed:

@@ -159,7 +159,13 @@ def _lanes_axpy(out, x, a, h, k):
 @_jit_inline
 def lane_work():
     """The scratch arrays of ``rk4_lanes`` (k1..k4, stage state, its sin/cos, wind force and
-    tension, profile forces, gust air, stage times), for the lane engine and the vector env."""
+    tension, profile forces, gust air, stage times), for the lane engine and the vector env.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        The ten scratch arrays, flat (variable, lane).
+    """
     return (
         np.empty(13 * LANES),  # k1
         np.empty(13 * LANES),  # k2
@@ -196,6 +202,34 @@ def rk4_lanes(x, sc0, inp, rate, t0, h, n_sub, attached, k_c, c, wind, work):
 
     Every array argument must be a separate array (``restrict_arguments``: LLVM vectorises
     the lanes' loops without run-time overlap checks).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13 LANES,)
+        The lanes' states [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m], advanced in place.
+    sc0 : numpy.ndarray, shape (10 LANES,)
+        sin, cos of x's angles on entry (overwritten).
+    inp : numpy.ndarray, shape (4 LANES,)
+        The held rotor inputs [N, N m, N m, N].
+    rate : numpy.ndarray, shape (LANES,)
+        The held reel rates [m/s].
+    t0 : numpy.ndarray, shape (LANES,)
+        The samples' start times [s].
+    h : numpy.ndarray, shape (LANES,)
+        The RK4 step of each lane [s].
+    n_sub : int
+        The RK4 steps per sample.
+    attached : numpy.ndarray, shape (LANES,)
+        1: the lane's tether is attached, 0: removed or released.
+    k_c : numpy.ndarray, shape (LANES,)
+        The tether's elasticity [N/m].
+    c : numpy.ndarray, shape (n_c LANES,)
+        The lanes' model constants, flat.
+    wind : tuple
+        (programs (R WIND_COLUMNS LANES,), R, gusts (LANES, G, 3) [m/s], gust rows in use
+        (LANES,), gust_dt (LANES,) [s], drag (3 LANES,) [kg/m]).
+    work : tuple of numpy.ndarray
+        ``lane_work()``'s scratch.
     """
     _wide_vectors()
     restrict_arguments()
@@ -252,7 +286,27 @@ def rk4_lanes(x, sc0, inp, rate, t0, h, n_sub, attached, k_c, c, wind, work):
 def set_lane(lane_in, j, x_j, sc_j, inp_j, rate_j, t0_j, attached_j):
     """Lane j of ``rk4_lanes``'s inputs lane_in = (x, sc0, inp, rate, t0, attached) from one
     run's state x_j (13,), sin/cos of its angles sc_j (10,), held inputs inp_j (4,), reel
-    rate, sample start [s] and tether state."""
+    rate, sample start [s] and tether state.
+
+    Parameters
+    ----------
+    lane_in : tuple of numpy.ndarray
+        ``rk4_lanes``'s (x, sc0, inp, rate, t0, attached), flat (variable, lane).
+    j : int
+        The lane.
+    x_j : numpy.ndarray, shape (13,)
+        The run's state [rad, m, rad/s, m/s, m].
+    sc_j : numpy.ndarray, shape (10,)
+        sin, cos of its angles.
+    inp_j : numpy.ndarray, shape (4,)
+        The held rotor inputs [N, N m, N m, N].
+    rate_j : float
+        The held reel rate [m/s].
+    t0_j : float
+        The sample's start [s].
+    attached_j : float
+        1: the tether is attached, 0: not.
+    """
     x, sc0, inp, rate, t0, attached = lane_in
     for i in range(13):
         x[i * LANES + j] = x_j[i]
@@ -269,7 +323,21 @@ def set_lane(lane_in, j, x_j, sc_j, inp_j, rate_j, t0_j, attached_j):
 def park_lane(lane_in, j, x_park, sc_park, u_park):
     """Lane j of ``rk4_lanes``'s inputs set to a hover (x_park, its sin/cos sc_park, trim
     inputs u_park) with no tether: a lane that runs nothing keeps finite, cheap arithmetic and
-    its result is not used."""
+    its result is not used.
+
+    Parameters
+    ----------
+    lane_in : tuple of numpy.ndarray
+        ``rk4_lanes``'s (x, sc0, inp, rate, t0, attached), flat (variable, lane).
+    j : int
+        The lane.
+    x_park : numpy.ndarray, shape (13,)
+        The hover state [rad, m, rad/s, m/s, m].
+    sc_park : numpy.ndarray, shape (10,)
+        sin, cos of its angles.
+    u_park : numpy.ndarray, shape (4,)
+        The trim inputs [N, N m, N m, N].
+    """
     set_lane(lane_in, j, x_park, sc_park, u_park, 0.0, 0.0, 0.0)
 
 
@@ -299,6 +367,34 @@ def run_lanes(
     tether go through ``run_closed_loop`` (``run_batch``). A lane that fails or completes
     keeps its result and flies on parked at its initial state (finite, cheap arithmetic)
     while the others go on.
+
+    Parameters
+    ----------
+    x_init : numpy.ndarray, shape (LANES, 13)
+        The lanes' initial states [rad, m, rad/s, m/s, m].
+    n_samples : numpy.ndarray of int, shape (LANES,)
+        Each lane's control samples (< 0: a padding lane).
+    cfg_in : numpy.ndarray, shape (LANES, CFG_SIZE)
+        The lanes' settings (``layout.CFG_*``).
+    ctrl_in : numpy.ndarray, shape (LANES, CTRL_SIZE)
+        The lanes' controller settings (``layout.CTRL_*``).
+    c : numpy.ndarray, shape (LANES, n_c)
+        The lanes' model constants.
+    law : tuple of numpy.ndarray
+        ``layout.LAW_*``, each with the lane axis in front.
+    wind : tuple
+        (programs flat (R WIND_COLUMNS LANES,), R, gusts (LANES, G, 3) [m/s], gust rows in
+        use, drag (LANES, 3) [kg/m]).
+    act : numpy.ndarray, shape (LANES, ACT_SIZE)
+        The lanes' actuators (``layout.ACT_*``).
+    sensors : tuple
+        The lanes' sensors, ``sim.packing.sensor_tuple`` per lane with a lane axis.
+    summary : numpy.ndarray, shape (LANES, len(SUMMARY_FIELDS))
+        Receives each lane's on-line metrics (``layout.SUMMARY_*``).
+    status : numpy.ndarray, shape (LANES,)
+        Receives each lane's status code (``Status``).
+    done : numpy.ndarray, shape (LANES,)
+        Receives each lane's samples done.
     """
     _wide_vectors()
     gain, x_ref, y_ref, u0, u0_free, z0 = law

@@ -98,7 +98,19 @@ def p_motion(x, sc, arm, out):
     """out (6,) = the position of P from the winch NO [m] and its velocity [m/s] in N:
     P = q9 c3 (eqs 43-45; c3 = [s8, -s7 c8, c7 c8]) and v_P = v_HO + w x (arm f3) with
     v_HO = (u1, u2, u3) in N and w = (u4, u5, u6) in F: w x arm f3 = arm (u5 f1 - u4 f2).
-    sc (10,) the sin, cos of x[0..4] (f1, f2 from Table I's columns)."""
+    sc (10,) the sin, cos of x[0..4] (f1, f2 from Table I's columns).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+    sc : numpy.ndarray, shape (10,)
+        sin, cos of x[0..4].
+    arm : float
+        The arm dO-P,3 - dO-HO,3 of P along f3 [m] (cfg[CFG_ARM]).
+    out : numpy.ndarray, shape (6,)
+        Receives P's position [m] and velocity [m/s] in N.
+    """
     s4, s5, s6, s7, s8 = sc[0], sc[1], sc[2], sc[3], sc[4]
     c4, c5, c6, c7, c8 = sc[5], sc[6], sc[7], sc[8], sc[9]
     q9 = x[5]
@@ -116,7 +128,25 @@ def p_motion(x, sc, arm, out):
 def lumped_loads(sc, inp, wind, force_P, arm, inp_out, wind_out):
     """``tether_lumped.force_at_P_as_loads`` with the sin, cos sc (10,) of the stage given:
     a force F [N, in N] at P = HO + arm f3 enters the generated equations as wind + F and the
-    rotor torques tMR1 - arm F.f2, tMR2 + arm F.f1 (f1, f2 from Table I's columns)."""
+    rotor torques tMR1 - arm F.f2, tMR2 + arm F.f1 (f1, f2 from Table I's columns).
+
+    Parameters
+    ----------
+    sc : numpy.ndarray, shape (10,)
+        sin, cos of the stage's angles x[0..4].
+    inp : numpy.ndarray, shape (4,)
+        The rotor inputs [N, N m, N m, N].
+    wind : numpy.ndarray, shape (3,)
+        The wind force on HO in N [N].
+    force_P : numpy.ndarray, shape (3,)
+        The chain's force on P in N [N].
+    arm : float
+        The arm of P along f3 [m] (cfg[CFG_ARM]).
+    inp_out : numpy.ndarray, shape (4,)
+        Receives the inputs with the force's torques [N, N m, N m, N].
+    wind_out : numpy.ndarray, shape (3,)
+        Receives wind + F [N].
+    """
     s4, s5, s6 = sc[0], sc[1], sc[2]
     c4, c5, c6 = sc[5], sc[6], sc[7]
     f1 = (
@@ -151,7 +181,20 @@ def _node_air(gust, gust_dt, t, air):
 def chain_in_base_frame(base, t, air, p):
     """Over a moving base, the chain's air at time t relative to the base (air - b'(t)) and
     the base's acceleration b''(t) into p[LUMPED_BASE_ACC] (``tether.lumped``: the chain in
-    the base's translating frame); a still base leaves both alone."""
+    the base's translating frame); a still base leaves both alone.
+
+    Parameters
+    ----------
+    base : numpy.ndarray, shape (rows, BASE_COLUMNS)
+        The base motion's packed form (``layout.BASE_*``).
+    t : float
+        The time [s].
+    air : numpy.ndarray, shape (N + 1, 3)
+        The air's velocity at the nodes [m/s], made relative to the base in place.
+    p : numpy.ndarray, shape (LUMPED_SIZE,)
+        The chain's parameters (``layout.LUMPED_*``); receives the base's acceleration
+        [m/s^2].
+    """
     if base[0, BASE_MOVING] > 0.5:
         _, _, _, v1, v2, v3, a1, a2, a3 = base_at(base, t)
         for i in range(air.shape[0]):
@@ -170,7 +213,25 @@ def chain_ends(x, t, cfg, gust, base, chain, cw):
     cfg: CFG_TENSION_TOP = |force on P|, CFG_TENSION_GROUND = |force on the winch| (each end
     force includes half an end segment's weight and drag, so the two differ by the cable's
     weight in a still hang). cw = ``lumped_work(N)``; cw[6] receives the force on P [N].
-    Over a moving ``base`` the chain is in the base's frame at t (``chain_in_base_frame``)."""
+    Over a moving ``base`` the chain is in the base's frame at t (``chain_in_base_frame``).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The helicopter's state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+    t : float
+        The sample's time [s].
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings (``layout.CFG_*``); receives the ends' tensions [N].
+    gust : numpy.ndarray, shape (rows, 3)
+        The gust table: the air's velocity [m/s] every cfg[CFG_GUST_DT] [s] (no rows: none).
+    base : numpy.ndarray, shape (rows, BASE_COLUMNS)
+        The base motion's packed form (``layout.BASE_*``).
+    chain : tuple of numpy.ndarray
+        The lumped chain (``layout.CHAIN_*``); its top node is set on P.
+    cw : tuple of numpy.ndarray
+        The chain's scratch (``lumped_work(N)``); cw[6] receives the force on P [N].
+    """
     nodes, vel, p = chain[CHAIN_NODES], chain[CHAIN_VELOCITIES], chain[CHAIN_PARAMS]
     F, T, K, C, D, air, force_P = cw[0], cw[1], cw[2], cw[3], cw[4], cw[5], cw[6]
     pm = cw[9]

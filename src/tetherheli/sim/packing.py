@@ -207,7 +207,18 @@ def read_only(a: np.ndarray) -> np.ndarray:
     the layout or dtype differs): whichever way a law, a wind or a model was built (a cached,
     frozen gain or a fresh one), ``engine_args`` hands the engine the same types, so that
     ``run_closed_loop`` has one compiled signature (a second one would compile the whole loop
-    again)."""
+    again).
+
+    Parameters
+    ----------
+    a : numpy.ndarray
+        The input array.
+
+    Returns
+    -------
+    numpy.ndarray
+        A read-only, C-ordered float64 view of ``a`` (or of its copy).
+    """
     view = np.ascontiguousarray(a, dtype=np.float64).view()
     view.setflags(write=False)
     return view

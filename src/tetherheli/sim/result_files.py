@@ -282,7 +282,7 @@ def table_csv(header: Sequence[str], rows: Iterable[Sequence[Any]]) -> str:
     Returns
     -------
     str
-        The CSV text, "\n" line ends.
+        The CSV text, "\\n" line ends.
     """
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")

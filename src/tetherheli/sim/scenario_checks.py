@@ -52,7 +52,27 @@ def check_name(key: str, value: object, *, source: str | None = None) -> str:
     not one of the stems of tetherheli's own files (``_io.OWN_FILE_STEMS``, alone or before a
     '.', in any letter case), so that no run's file or folder is ever one of them, nor one of
     the JSON files' words for non-finite numbers (``_io.NONFINITE_JSON``); else
-    ParameterError naming ``key``."""
+    ParameterError naming ``key``.
+
+    Parameters
+    ----------
+    key : str
+        The setting's key, named by the error.
+    value : object
+        The name to check.
+    source : str, optional
+        Where the value came from (a file), for the error; None (default): not named.
+
+    Returns
+    -------
+    str
+        ``value``, checked.
+
+    Raises
+    ------
+    ParameterError
+        When ``value`` is not such a name.
+    """
     if (
         not isinstance(value, str)
         or not _NAME_PATTERN.fullmatch(value)
@@ -103,7 +123,20 @@ def check_distinct_names(names: Iterable[str], *, key: str = "name") -> None:
 
 def validate_scenario(s: Scenario, source: str | None) -> None:
     """Check every field of ``s`` and store the checked values (Python floats and ints, so a
-    NumPy scalar is accepted and recorded as plain data)."""
+    NumPy scalar is accepted and recorded as plain data).
+
+    Parameters
+    ----------
+    s : Scenario
+        The scenario; its checked values are stored back into it.
+    source : str or None
+        Where the scenario came from (a file), for the errors.
+
+    Raises
+    ------
+    ParameterError
+        When a field is invalid.
+    """
     check_name("name", s.name, source=source)
     field_key(type(s), "description").check("description", s.description, source=source)
     field_key(type(s), "configuration").check("configuration", s.configuration, source=source)

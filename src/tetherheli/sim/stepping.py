@@ -38,7 +38,40 @@ class StepRun(NamedTuple):
     """One run's arrays for the sample step driven from Python (``step_sense``,
     ``step_command``, ``step_finish``), built by
     ``sim.setup.EngineSetup.step_run``; a named record, so each step function has one
-    compiled signature and reads its fields by name."""
+    compiled signature and reads its fields by name.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The true state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m], advanced in place.
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings (``layout.CFG_*``), a run's own copy (the release switches it).
+    ctrl : numpy.ndarray, shape (CTRL_SIZE,)
+        The paper controller's settings (``layout.CTRL_*``), a run's own copy.
+    c : numpy.ndarray
+        The tethered model's constants (``kernels.model_constants("tethered", h)``).
+    law : tuple of numpy.ndarray
+        The controller's arrays (``layout.LAW_*``; x_ref and y_ref are the metrics' references).
+    wind : tuple of numpy.ndarray
+        (program, gust table, drag, base) (``engine.plant_derivative``); an empty program for
+        a Python disturbance.
+    act : numpy.ndarray, shape (ACT_SIZE,)
+        The actuators (``layout.ACT_*``).
+    sensors : tuple
+        ``sim.packing.sensor_tuple``'s.
+    chain : tuple of numpy.ndarray
+        The lumped chain (``layout.CHAIN_*``; ``layout.empty_chain()``: massless).
+    cw : tuple
+        The chain's scratch (``lumped_work``).
+    work : numpy.ndarray, shape (RK4_WORK_ROWS, 13)
+        The integrator's scratch.
+    loop : LoopState
+        The control phases' state (``engine.new_loop_state``).
+    summary : numpy.ndarray, shape (len(SUMMARY_FIELDS),)
+        The on-line metrics (``layout.SUMMARY_*``, ``start_summary``).
+    out : Signals
+        The recorded signals (``layout.Signals``).
+    """
 
     x: np.ndarray  #: (13,) the true state, advanced in place
     cfg: np.ndarray  #: ``layout.CFG_*``, a run's own copy (the release switches it)
@@ -59,7 +92,20 @@ class StepRun(NamedTuple):
 @_jit
 def step_sense(run, k):
     """``sample_sense`` of sample k of a ``StepRun``: the measured state lands in
-    ``run.loop.x_meas``; returns (true tension at P, measured tension) [N]."""
+    ``run.loop.x_meas``; returns (true tension at P, measured tension) [N].
+
+    Parameters
+    ----------
+    run : StepRun
+        The run's arrays.
+    k : int
+        The control sample's index.
+
+    Returns
+    -------
+    tuple of float
+        (the true tension at P, the measured tension) [N].
+    """
     return sample_sense(
         run.x, k, run.cfg, run.ctrl, run.act, run.sensors, run.sensors[0].shape[0] > 0,
         run.loop.event, run.loop.x_meas, run.chain[CHAIN_NODES].shape[0] > 0, run.wind[1],
@@ -76,7 +122,34 @@ def step_command(run, k, command, reel_rate, feedforward, tension, measured, adv
     command [m/s] (0 once the tether is released), ``feedforward`` (4,) the part of
     ``command`` that is feed-forward (recorded); ``tension``, ``measured`` are
     ``step_sense``'s. A non-finite command is not actuated and fails the sample
-    (``Status.NONFINITE``). Returns (status, applied reel rate [m/s])."""
+    (``Status.NONFINITE``). Returns (status, applied reel rate [m/s]).
+
+    Parameters
+    ----------
+    run : StepRun
+        The run's arrays, updated.
+    k : int
+        The control sample's index.
+    command : numpy.ndarray, shape (4,)
+        The rotor inputs [N, N m, N m, N].
+    reel_rate : float
+        The reel-rate command [m/s].
+    feedforward : numpy.ndarray, shape (4,)
+        The feed-forward part of ``command`` [N, N m, N m, N].
+    tension : float
+        The true tension at P [N] (``step_sense``'s).
+    measured : float
+        The measured tension [N] (``step_sense``'s).
+    advance : bool
+        Whether to integrate the plant to sample k + 1.
+
+    Returns
+    -------
+    status : int
+        The sample's status code (``Status``).
+    rate : float
+        The applied reel rate [m/s].
+    """
     loop = run.loop
     held, x_meas, sc_meas, sc_true, y, y_est = (
         loop.held,
@@ -124,5 +197,11 @@ def step_command(run, k, command, reel_rate, feedforward, tension, measured, adv
 
 @_jit
 def step_finish(run):
-    """``finish_summary`` of a ``StepRun``: the release event and the first payout limit."""
+    """``finish_summary`` of a ``StepRun``: the release event and the first payout limit.
+
+    Parameters
+    ----------
+    run : StepRun
+        The run's arrays; its summary is completed.
+    """
     finish_summary(run.summary, run.loop.event, run.loop.held)

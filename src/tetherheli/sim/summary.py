@@ -34,7 +34,13 @@ _jit_inline = compiled(error_model="numpy", inline="always")
 
 @_jit
 def start_summary(summary):
-    """Empty on-line metrics (``layout.SUMMARY_FIELDS``): no sample, no release."""
+    """Empty on-line metrics (``layout.SUMMARY_FIELDS``): no sample, no release.
+
+    Parameters
+    ----------
+    summary : numpy.ndarray, shape (len(SUMMARY_FIELDS),)
+        Receives the empty metrics (``layout.SUMMARY_*``).
+    """
     summary[:] = 0.0
     summary[SUMMARY_TENSION_MIN] = np.inf
     summary[SUMMARY_TENSION_MAX] = -np.inf
@@ -48,7 +54,15 @@ def start_summary(summary):
 def winch_limit_into(held, summary):
     """The first stop of the reel at a payout limit (``held``'s ``HELD_LIMIT_*``, set by
     ``actuate``) into the summary's ``winch_limit_time`` [s] and ``winch_limit`` (-1
-    min_length, +1 max_length); both NaN when no limit was reached."""
+    min_length, +1 max_length); both NaN when no limit was reached.
+
+    Parameters
+    ----------
+    held : numpy.ndarray, shape (HELD_SIZE,)
+        What the actuators hold between samples (``layout.HELD_*``).
+    summary : numpy.ndarray, shape (len(SUMMARY_FIELDS),)
+        The on-line metrics (``layout.SUMMARY_*``), updated.
+    """
     if held[HELD_LIMIT_WHICH] != 0.0:
         summary[SUMMARY_WINCH_LIMIT_TIME] = held[HELD_LIMIT_TIME]
         summary[SUMMARY_WINCH_LIMIT] = held[HELD_LIMIT_WHICH]
@@ -61,7 +75,21 @@ def winch_limit_into(held, summary):
 def accumulate(summary, x, x_ref, y, y_ref, tension):
     """One sample into the on-line metrics (``layout.SUMMARY_FIELDS``; their definitions:
     ``analysis``): peaks of |y - y_ref| (q1..q3) and |x - x_ref| (q4, q5), sums of squares of
-    the position deviations, the tension range, the sample count."""
+    the position deviations, the tension range, the sample count.
+
+    Parameters
+    ----------
+    summary : numpy.ndarray, shape (len(SUMMARY_FIELDS),)
+        The on-line metrics (``layout.SUMMARY_*``), updated.
+    x : numpy.ndarray, shape (13,)
+        The true state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+    x_ref : numpy.ndarray, shape (12,) or (13,)
+        The trim state (``layout.LAW_X_REF``), q4 and q5 first [rad].
+    y, y_ref : numpy.ndarray, shape (4,)
+        The true outputs q1, q2, q3, q6 and their trim [m, m, m, rad].
+    tension : float
+        The true tension at P [N].
+    """
     for a in range(3):
         dev = y[a] - y_ref[a]
         summary[SUMMARY_PEAK_Q1 + a] = larger(summary[SUMMARY_PEAK_Q1 + a], abs(dev))
@@ -75,13 +103,39 @@ def accumulate(summary, x, x_ref, y, y_ref, tension):
 
 @_jit_inline
 def larger(held, value):
-    """A running maximum's update: ``value`` when it exceeds ``held`` (NaN never does)."""
+    """A running maximum's update: ``value`` when it exceeds ``held`` (NaN never does).
+
+    Parameters
+    ----------
+    held : float
+        The running maximum.
+    value : float
+        The new value.
+
+    Returns
+    -------
+    float
+        The updated maximum.
+    """
     return value if value > held else held
 
 
 @_jit_inline
 def smaller(held, value):
-    """A running minimum's update: ``value`` when it is below ``held`` (NaN never is)."""
+    """A running minimum's update: ``value`` when it is below ``held`` (NaN never is).
+
+    Parameters
+    ----------
+    held : float
+        The running minimum.
+    value : float
+        The new value.
+
+    Returns
+    -------
+    float
+        The updated minimum.
+    """
     return value if value < held else held
 
 
@@ -89,7 +143,25 @@ def smaller(held, value):
 def summarize(x, x_ref, y, y_ref, tension, first, summary):
     """The on-line metrics (``accumulate``) of recorded samples first, first + 1, ... of x
     (n, 13), y (n, 4) and tension (n,) into ``summary`` (``start_summary`` first): a recorded
-    or loaded run measured as the engine measures it while it flies."""
+    or loaded run measured as the engine measures it while it flies.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (n, 13)
+        The recorded true states [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+    x_ref : numpy.ndarray, shape (12,) or (13,)
+        The trim state (``layout.LAW_X_REF``) [rad, m, rad/s, m/s].
+    y : numpy.ndarray, shape (n, 4)
+        The recorded true outputs q1, q2, q3, q6 [m, m, m, rad].
+    y_ref : numpy.ndarray, shape (4,)
+        The trim outputs [m, m, m, rad].
+    tension : numpy.ndarray, shape (n,)
+        The recorded true tension at P [N].
+    first : int
+        The first sample the metrics cover.
+    summary : numpy.ndarray, shape (len(SUMMARY_FIELDS),)
+        Receives the metrics (``layout.SUMMARY_*``).
+    """
     start_summary(summary)
     for k in range(first, x.shape[0]):
         accumulate(summary, x[k], x_ref, y[k], y_ref, tension[k])
@@ -97,7 +169,17 @@ def summarize(x, x_ref, y, y_ref, tension, first, summary):
 
 @_jit_inline
 def finish_summary(summary, event, held):
-    """The run's release event and first payout limit into its summary."""
+    """The run's release event and first payout limit into its summary.
+
+    Parameters
+    ----------
+    summary : numpy.ndarray, shape (len(SUMMARY_FIELDS),)
+        The on-line metrics (``layout.SUMMARY_*``), updated.
+    event : numpy.ndarray, shape (2,)
+        The tether release: time [s], tension [N]; NaN without one.
+    held : numpy.ndarray, shape (HELD_SIZE,)
+        What the actuators hold between samples (``layout.HELD_*``).
+    """
     summary[SUMMARY_RELEASE_TIME] = event[0]
     summary[SUMMARY_RELEASE_TENSION] = event[1]
     winch_limit_into(held, summary)
