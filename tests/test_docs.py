@@ -321,7 +321,8 @@ def _missing_sections(obj) -> list[str]:
         star = {p.VAR_POSITIONAL: "*", p.VAR_KEYWORD: "**"}.get(p.kind, "")
         if p.name not in documented and star + p.name not in documented:
             problems.append(f"parameter {p.name} undocumented")
-    if not inspect.isclass(obj) and _returns_a_value(obj) and "returns" not in found:
+    gives = "returns" in found or "yields" in found  # a generator or context manager: Yields
+    if not inspect.isclass(obj) and _returns_a_value(obj) and not gives:
         problems.append("no Returns section")
     return problems
 
@@ -354,6 +355,55 @@ _CALLABLES = list(_public_callables())
 @pytest.mark.parametrize("name, obj", _CALLABLES, ids=[name for name, _ in _CALLABLES])
 def test_public_api_has_numpydoc_sections(name, obj):
     assert _missing_sections(obj) == [], name
+
+
+def _package_callables():
+    """Every public function, compiled kernel (its Python function), class and public method
+    defined in a public module of the package (a module or name starting with "_" is
+    private; modules of an optional extra that is not installed are left out)."""
+    import pkgutil
+
+    import tetherheli
+
+    for info in pkgutil.walk_packages(tetherheli.__path__, "tetherheli."):
+        name = info.name
+        if name == "tetherheli.__main__" or any(p.startswith("_") for p in name.split(".")[1:]):
+            continue
+        try:
+            module = importlib.import_module(name)
+        except ModuleNotFoundError:  # an optional extra's module (tetherheli.sb3)
+            continue
+        for attr, value in list(vars(module).items()):
+            obj = getattr(value, "py_func", value)  # a Numba dispatcher's Python function
+            if attr.startswith("_") or getattr(obj, "__module__", None) != name:
+                continue
+            if not (inspect.isfunction(obj) or inspect.isclass(obj)):
+                continue
+            yield f"{name}.{attr}", obj
+            if inspect.isclass(obj):
+                for method, member in vars(obj).items():
+                    if isinstance(member, (staticmethod, classmethod)):
+                        member = member.__func__
+                    if (
+                        not method.startswith("_")
+                        and inspect.isfunction(member)
+                        and member.__module__ == name  # not one a base class generates
+                    ):
+                        yield f"{name}.{attr}.{method}", member
+
+
+def test_every_public_callable_has_numpydoc_sections():
+    """Issue 44 item 5: every public function, kernel, class and method of the package has a
+    Parameters entry for each argument and a Returns section when it returns a value."""
+    missing = {}
+    for name, obj in _package_callables():
+        try:
+            problems = _missing_sections(obj)
+        except (TypeError, ValueError):  # no signature to read (a builtin's)
+            continue
+        if problems:
+            missing[name] = problems
+    assert not missing, f"{len(missing)} callables lack numpydoc sections: {missing}"
 
 
 def test_numpydoc_check_fails_on_a_bare_docstring():
