@@ -52,8 +52,8 @@ from scipy.optimize import minimize
 from tune_tether_lqi import MAX_OFF_AXIS, MAX_Q3, goal, references
 
 from tetherheli import simulate
-from tetherheli.cli._common import count_arg
-from tetherheli.cli._script import claim, number_arg, run_script, script_parser
+from tetherheli.cli._common import count_arg, number_arg
+from tetherheli.cli._script import claim, run_script, script_parser
 from tetherheli.errors import TetherheliError
 from tetherheli.names import INPUT
 from tetherheli.sim import Scenario

@@ -12,6 +12,7 @@ import argparse
 import math
 import sys
 from collections.abc import Callable, Iterable, Sequence
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -27,10 +28,13 @@ __all__ = [
     "figure_format",
     "force",
     "metric",
+    "number_arg",
     "out_directory",
     "plain",
     "positive_float",
     "report_failures",
+    "result_runs",
+    "run_selection",
     "runs",
     "scenario_inputs",
     "seconds_arg",
@@ -139,6 +143,36 @@ def positive_float(name: str) -> Callable[[str], float]:
             raise argparse.ArgumentTypeError(f"{name} = {text!r}: allowed: a number") from None
         if not math.isfinite(value) or value < 0:
             raise argparse.ArgumentTypeError(f"{name} = {text!r}: allowed: a finite number >= 0")
+        return value
+
+    return parse
+
+
+def number_arg(name: str, low: float, high: float) -> Callable[[str], float]:
+    """An argparse type: a finite number in [low, high].
+
+    Parameters
+    ----------
+    name : str
+        The flag, for the message.
+    low, high : float
+        The allowed range, both ends included.
+
+    Returns
+    -------
+    callable
+        Text -> float, raising ``argparse.ArgumentTypeError``.
+    """
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            value = math.nan
+        if not (math.isfinite(value) and low <= value <= high):
+            raise argparse.ArgumentTypeError(
+                f"{name} = {text!r}: allowed: a number in [{low:g}, {high:g}]"
+            )
         return value
 
     return parse
@@ -301,6 +335,49 @@ def seed() -> argparse.ArgumentParser:
     p = _parent()
     p.add_argument("--seed", type=count_arg("--seed", 0, 2**63 - 1), help=HELP["--seed"])
     return p
+
+
+def result_runs() -> argparse.ArgumentParser:
+    """``RESULT_DIR`` and ``--runs A,B``: the saved runs a picture draws (``animate``,
+    ``view``; ``run_selection`` reads them).
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        A parent parser.
+    """
+    p = _parent()
+    p.add_argument(
+        "result_dir",
+        help="folder written by 'tetherheli paper' or 'simulate' (one or several scenarios)",
+    )
+    p.add_argument("--runs", help="comma-separated run names (default: all in the folder)")
+    return p
+
+
+def run_selection(args: argparse.Namespace, default_name: str) -> tuple[list[str] | None, Path]:
+    """The runs ``result_runs`` selects and the output file: the folder checked first (a
+    missing one is reported as such, before the output), ``--runs`` split (None: all), and
+    ``--out`` or ``RESULT_DIR/default_name``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line (``result_dir``, ``runs``, ``out``).
+    default_name : str
+        The output's file name in the result folder without ``--out``.
+
+    Returns
+    -------
+    (list of str or None, pathlib.Path)
+        The run names (None: every run of the folder) and the output file.
+    """
+    from ..viz.run_data import list_runs
+
+    list_runs(args.result_dir)
+    stems = args.runs.split(",") if args.runs else None
+    output = Path(args.out) if args.out else Path(args.result_dir) / default_name
+    return stems, output
 
 
 def runs() -> argparse.ArgumentParser:

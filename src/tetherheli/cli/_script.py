@@ -3,7 +3,8 @@ the commands: a script that writes is a command too (docs/cli.md, "Output direct
 
 - The command line: ``script_parser`` is the commands' ``Parser`` (a wrong argument is one
   line and exit 2) with ``--debug``; the arguments take the commands' types
-  (``_common.count_arg``, ``number_arg``), so every value is checked before anything runs.
+  (``_common.count_arg``, ``_common.number_arg``), so every value is checked before anything
+  runs.
 - Errors: ``run_script`` runs the script's work as a command (``cli.guarded``): a refusal is
   one line ``SCRIPT: error: ...``, exit 2, never a traceback.
 - Results go where the user says by the commands' rules: an output directory
@@ -19,8 +20,6 @@ the commands: a script that writes is a command too (docs/cli.md, "Output direct
 
 from __future__ import annotations
 
-import argparse
-import math
 import os
 import stat
 import sys
@@ -49,7 +48,6 @@ __all__ = [
     "claim_file",
     "docs_file",
     "figure_example",
-    "number_arg",
     "out_argument",
     "run_script",
     "script_parser",
@@ -108,36 +106,6 @@ def run_script(
 
     args = list(sys.argv[1:] if argv is None else argv)
     return guarded(lambda: work(args), debug="--debug" in args, prog=Path(script).name)
-
-
-def number_arg(name: str, low: float, high: float) -> Callable[[str], float]:
-    """An argparse type: a finite number in [low, high].
-
-    Parameters
-    ----------
-    name : str
-        The flag, for the message.
-    low, high : float
-        The allowed range, both ends included.
-
-    Returns
-    -------
-    callable
-        Text -> float, raising ``argparse.ArgumentTypeError``.
-    """
-
-    def parse(text: str) -> float:
-        try:
-            value = float(text)
-        except ValueError:
-            value = math.nan
-        if not (math.isfinite(value) and low <= value <= high):
-            raise argparse.ArgumentTypeError(
-                f"{name} = {text!r}: allowed: a number in [{low:g}, {high:g}]"
-            )
-        return value
-
-    return parse
 
 
 # --- results: the commands' output rules ------------------------------------------------------

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from . import _common as c
 
@@ -23,11 +22,9 @@ def run(args: argparse.Namespace) -> int:
     int
         The exit code, 0.
     """
-    from ..viz.animation import animate, list_runs
+    from ..viz.animation import animate
 
-    list_runs(args.result_dir)  # a missing folder is reported as such, before the output
-    stems = args.runs.split(",") if args.runs else None
-    output = Path(args.out) if args.out else Path(args.result_dir) / "animation.gif"
+    stems, output = c.run_selection(args, "animation.gif")
     path = animate(
         args.result_dir,
         output,
@@ -53,15 +50,14 @@ def register(sub: argparse._SubParsersAction) -> None:
     -------
     None
     """
-    p = sub.add_parser("animate", help="3-D animation (GIF/MP4) of the runs in a result folder")
-    p.add_argument(
-        "result_dir",
-        help="folder written by 'tetherheli paper' or 'simulate' (one or several scenarios)",
+    p = sub.add_parser(
+        "animate",
+        help="3-D animation (GIF/MP4) of the runs in a result folder",
+        parents=[c.result_runs()],
     )
     p.add_argument(
         "--out", metavar="FILE", help="output .gif or .mp4 (default RESULT_DIR/animation.gif)"
     )
-    p.add_argument("--runs", help="comma-separated run names (default: all in the folder)")
     p.add_argument(
         "--fps", type=c.positive_float("--fps"), default=20.0, help="frames/s, at most 100"
     )

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from . import _common as c
 
@@ -24,11 +23,8 @@ def run(args: argparse.Namespace) -> int:
         The exit code, 0.
     """
     from ..viz.replay import write_replay
-    from ..viz.run_data import list_runs
 
-    list_runs(args.result_dir)  # a missing folder is reported as such, before the output
-    stems = args.runs.split(",") if args.runs else None
-    output = Path(args.out) if args.out else Path(args.result_dir) / "replay.html"
+    stems, output = c.run_selection(args, "replay.html")
     path = write_replay(
         args.result_dir,
         output,
@@ -58,15 +54,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "view",
         help="3-D replay of the runs in a result folder: one HTML file that opens offline",
-    )
-    p.add_argument(
-        "result_dir",
-        help="folder written by 'tetherheli paper' or 'simulate' (one or several scenarios)",
+        parents=[c.result_runs()],
     )
     p.add_argument(
         "--out", metavar="FILE", help="output .html file (default RESULT_DIR/replay.html)"
     )
-    p.add_argument("--runs", help="comma-separated run names (default: all in the folder)")
     p.add_argument(
         "--fps",
         type=c.positive_float("--fps"),
