@@ -24,9 +24,14 @@ from pathlib import Path
 PROBE = r"""
 import json, time
 import numpy as np
-from tetherheli.sim import engine
-from tetherheli.sim.batch import run_batch
-from tetherheli.sim.scenario import paper_scenario
+try:
+    from tetherheli.engine import loop as engine
+    from tetherheli.runs.batch import run_batch
+    from tetherheli.scenario.core import paper_scenario
+except ImportError:  # a baseline from before the rooms (sim/ split)
+    from tetherheli.sim import engine
+    from tetherheli.sim.batch import run_batch
+    from tetherheli.sim.scenario import paper_scenario
 try:
     from tetherheli.wind import Pulse, Sine
 except ImportError:  # a baseline from before the wind package
@@ -34,8 +39,12 @@ except ImportError:  # a baseline from before the wind package
 
 s = paper_scenario(1, "tethered")
 try:
-    from tetherheli.sim.batch import run_unrecorded
-    from tetherheli.sim.setup import engine_setup
+    try:
+        from tetherheli.runs.batch import run_unrecorded
+        from tetherheli.runs.setup import engine_setup
+    except ImportError:  # a baseline from before the rooms (sim/ split)
+        from tetherheli.sim.batch import run_unrecorded
+        from tetherheli.sim.setup import engine_setup
 
     def prepare(scenario):
         return engine_setup(scenario).engine_args(scenario.n_samples)

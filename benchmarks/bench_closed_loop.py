@@ -26,10 +26,10 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from tetherheli import simulate
-from tetherheli.sim import engine
-from tetherheli.sim.batch import run_unrecorded
-from tetherheli.sim.scenario import paper_scenario
-from tetherheli.sim.setup import engine_setup, run_setup
+from tetherheli.engine import loop as engine
+from tetherheli.runs.batch import run_unrecorded
+from tetherheli.runs.setup import engine_setup, run_setup
+from tetherheli.scenario.core import paper_scenario
 
 
 def scipy_baseline(scenario):
@@ -75,7 +75,7 @@ def monte_carlo(n_draws: int) -> tuple[float, float]:
     process for the same draws)."""
     from pathlib import Path
 
-    from tetherheli.sim.batch import run_batch
+    from tetherheli.runs.batch import run_batch
     from tetherheli.studies.montecarlo import CONFIGURATIONS, draw, load_montecarlo
 
     path = Path(__file__).resolve().parents[1] / "scenarios" / "montecarlo_paper_sim1.toml"

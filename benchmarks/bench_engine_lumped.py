@@ -2,7 +2,7 @@
 
 Run: python benchmarks/bench_engine_lumped.py [--repeat R] [--EA N] [--coupling]
 Prints, measured in this run: the milliseconds of one 60 s run of the paper's simulation 1
-(tethered, dt = 10 ms, 2 substeps; ``sim.batch.run_unrecorded``, the compiled loop without
+(tethered, dt = 10 ms, 2 substeps; ``runs.batch.run_unrecorded``, the compiled loop without
 recording) with eq 28's massless tether and with the lumped chain of N = 5, 10, 20, 40
 segments (20 g/m, 5 mm, the paper's stiffness), side by side, and each one's ratio to the
 massless run, the helicopter's RK4 steps per sample (the coupled step's rule,
@@ -26,11 +26,11 @@ import numpy as np
 # the timer of bench_derivative.py (this folder is on sys.path when a script here runs)
 from bench_derivative import best_of
 
+from tetherheli.engine import loop as engine
 from tetherheli.layout import CHAIN_PARAMS
-from tetherheli.sim import engine
-from tetherheli.sim.batch import run_unrecorded
-from tetherheli.sim.scenario import TetherSettings, paper_scenario
-from tetherheli.sim.setup import engine_setup
+from tetherheli.runs.batch import run_unrecorded
+from tetherheli.runs.setup import engine_setup
+from tetherheli.scenario.core import TetherSettings, paper_scenario
 from tetherheli.tether.lumped import chain_substeps, coupling_substeps
 
 SEGMENTS = (5, 10, 20, 40)

@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from tetherheli.layout import LANES
-from tetherheli.sim.batch import run_batch
+from tetherheli.runs.batch import run_batch
 from tetherheli.studies.montecarlo import CONFIGURATIONS, draw, load_montecarlo
 
 SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "montecarlo_paper_sim1.toml"

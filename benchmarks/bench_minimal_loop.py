@@ -28,6 +28,7 @@ import time
 import numpy as np
 from numba import njit, prange
 
+from tetherheli.engine import loop as engine
 from tetherheli.layout import (
     CFG_DT,
     CFG_K_C,
@@ -46,10 +47,9 @@ from tetherheli.model.kernels import (
     tethered_rhs_sc,
     tethered_tether_torque_sc,
 )
-from tetherheli.sim import engine
-from tetherheli.sim.batch import run_batch, run_unrecorded
-from tetherheli.sim.scenario import paper_scenario
-from tetherheli.sim.setup import engine_setup
+from tetherheli.runs.batch import run_batch, run_unrecorded
+from tetherheli.runs.setup import engine_setup
+from tetherheli.scenario.core import paper_scenario
 from tetherheli.wind import Pulse, Sine, evaluate
 
 

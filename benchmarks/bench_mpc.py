@@ -56,10 +56,10 @@ from tetherheli.cli._common import count_arg, number_arg
 from tetherheli.cli._script import claim, run_script, script_parser
 from tetherheli.errors import TetherheliError
 from tetherheli.names import INPUT
-from tetherheli.sim import Scenario
-from tetherheli.sim.mpc_setup import mpc_controller
-from tetherheli.sim.scenario import MPCSettings, TetherLQISettings
-from tetherheli.sim.setup import engine_setup
+from tetherheli.runs.mpc_setup import mpc_controller
+from tetherheli.runs.setup import engine_setup
+from tetherheli.scenario import Scenario
+from tetherheli.scenario.core import MPCSettings, TetherLQISettings
 from tetherheli.studies.controllers import fly, with_controller
 from tetherheli.studies.sweep import scenario_cyclic_limit
 

@@ -33,8 +33,8 @@ from pathlib import Path
 import numpy as np
 from gymnasium.vector import SyncVectorEnv
 
-from tetherheli.envs import TetheredHoverEnv
-from tetherheli.vector_env import TetheredHoverVectorEnv
+from tetherheli.envs.env import TetheredHoverEnv
+from tetherheli.envs.vector import TetheredHoverVectorEnv
 
 
 def _rate(env, actions: np.ndarray) -> float:

@@ -23,7 +23,7 @@ from pathlib import Path
 _PROBE = """
 import dataclasses, time
 from tetherheli.shipped import shipped_scenario
-from tetherheli.sim import simulate
+from tetherheli import simulate
 s = shipped_scenario("paper_sim1_tethered")
 simulate(s)
 best = min((lambda t: (simulate(s), time.process_time() - t)[1])(time.process_time())
@@ -33,7 +33,10 @@ simulate(m)
 best_m = min((lambda t: (simulate(m), time.process_time() - t)[1])(time.process_time())
              for _ in range(5))
 from tetherheli.control.paper import PaperController
-from tetherheli.sim.setup import engine_setup
+try:
+    from tetherheli.runs.setup import engine_setup
+except ImportError:  # a baseline from before the rooms (sim/ split)
+    from tetherheli.sim.setup import engine_setup
 p = s.replace(duration=10.0)
 su = engine_setup(p)
 K, _, y_ref, u0, u0_free, z0 = su.law

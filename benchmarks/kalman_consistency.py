@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from tetherheli import simulate
-from tetherheli.sim.scenario import load_scenario
+from tetherheli.scenario.core import load_scenario
 from tetherheli.studies.estimation import kalman_consistency
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"

@@ -25,6 +25,8 @@ import numpy as np
 from bench_minimal_loop import best_warm, dispersed_runs
 from numba import njit
 
+from tetherheli.engine import lane_sample, lanes
+from tetherheli.runs.batch import lane_block
 from tetherheli.layout import (
     ACT_DRUM,
     ACT_SIZE,
@@ -39,10 +41,8 @@ from tetherheli.layout import (
     SUMMARY_FIELDS,
 )
 from tetherheli.model.kernels import angle_trig
-from tetherheli.sim import lane_sample, lanes
-from tetherheli.sim.lanes import lane_block
-from tetherheli.sim.scenario import paper_scenario
-from tetherheli.sim.setup import engine_setup
+from tetherheli.runs.setup import engine_setup
+from tetherheli.scenario.core import paper_scenario
 
 
 @njit(error_model="numpy", cache=True)

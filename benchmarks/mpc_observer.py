@@ -18,7 +18,7 @@ import argparse
 import dataclasses
 from pathlib import Path
 
-from tetherheli.sim.scenario import Scenario, load_scenario
+from tetherheli.scenario.core import Scenario, load_scenario
 from tetherheli.studies.controllers import eq40_saturated, fly, with_controller
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"

@@ -34,7 +34,7 @@ _PROBE = """
 import dataclasses, sys, numpy as np
 from tetherheli.errors import ParameterError
 from tetherheli.shipped import shipped_scenario
-from tetherheli.sim import simulate
+from tetherheli import simulate
 out = {}
 for name in sys.argv[3:]:
     base = shipped_scenario(name).replace(duration=float(sys.argv[2]))

@@ -34,8 +34,8 @@ from scipy.optimize import minimize
 
 from tetherheli.errors import TetherheliError
 from tetherheli.names import INPUT
-from tetherheli.sim import Scenario, load_scenario
-from tetherheli.sim.scenario import TetherLQISettings
+from tetherheli.scenario import Scenario, load_scenario
+from tetherheli.scenario.core import TetherLQISettings
 from tetherheli.studies.controllers import eq40_saturated, fly, with_controller
 
 SCENARIOS = "scenarios/paper_sim{}_{}.toml"

@@ -33,6 +33,7 @@ from scipy.integrate import solve_ivp
 from tetherheli.analysis import reduction_percent
 from tetherheli.base.compiled import STILL_BASE
 from tetherheli.control.base import Measurement
+from tetherheli.engine import loop as engine
 from tetherheli.layout import (
     CFG_K_C,
     HELD_SIZE,
@@ -43,11 +44,10 @@ from tetherheli.layout import (
     SUMMARY_TENSION_MIN,
 )
 from tetherheli.model.kernels import angle_trig, tension_from_state, tethered_outputs
-from tetherheli.sim import engine
-from tetherheli.sim.batch import run_batch
-from tetherheli.sim.closed_loop import simulate
-from tetherheli.sim.scenario import WinchSettings, paper_scenario
-from tetherheli.sim.setup import engine_setup
+from tetherheli.runs.batch import run_batch
+from tetherheli.runs.closed_loop import simulate
+from tetherheli.runs.setup import engine_setup
+from tetherheli.scenario.core import WinchSettings, paper_scenario
 
 DRUM = WinchSettings(model="drum")
 INERTIAS = (0.005, 0.05, 0.5, 1.0, 2.0, 5.0)  # [kg m^2]

@@ -1,4 +1,4 @@
-"""Write docs/scenario_reference.md from the code's key metadata (tetherheli.sim.reference).
+"""Write docs/scenario_reference.md from the code's key metadata (tetherheli.scenario.reference).
 
 Run ``PYTHONPATH=src python docs/gen_scenario_reference.py``; ``tests/test_docs.py`` checks
 that the committed page is up to date. The page is the project's own file, replaced whole
@@ -10,7 +10,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from tetherheli.cli._script import run_script, script_parser, write_docs_file
-from tetherheli.sim.reference import scenario_reference
+from tetherheli.scenario.reference import scenario_reference
 
 ROOT = Path(__file__).resolve().parents[1]
 #: The page written (relative to ``ROOT``).

@@ -4,8 +4,8 @@ import numpy as np
 from tetherheli import linearize, simulate
 from tetherheli.control.lqi import augment_lqi
 from tetherheli.control.paper import PaperController
-from tetherheli.sim.scenario import paper_scenario
-from tetherheli.sim.setup import LQI_STATES, engine_setup
+from tetherheli.runs.setup import LQI_STATES, engine_setup
+from tetherheli.scenario.core import paper_scenario
 
 scenario = paper_scenario(1, "tethered")  # 20 N wind pulse along n1 at t = 10 s
 setup = engine_setup(scenario)

@@ -3,8 +3,8 @@ import numpy as np
 
 from tetherheli import Params, TetheredHelicopter, linearize
 from tetherheli.control.lqi import augment_lqi
-from tetherheli.sim.scenario import ControlSettings
-from tetherheli.sim.setup import LQI_STATES, paper_gain
+from tetherheli.runs.setup import LQI_STATES, paper_gain
+from tetherheli.scenario.core import ControlSettings
 
 params = Params.paper()
 model = TetheredHelicopter(params)

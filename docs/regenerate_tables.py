@@ -205,7 +205,7 @@ def table_eq40(work: Path, figures: Path | None) -> None:
 
 
 def table_release(work: Path, figures: Path | None) -> None:
-    from tetherheli.sim.scenario import ActuatorSettings, paper_scenario
+    from tetherheli.scenario.core import ActuatorSettings, paper_scenario
     from tetherheli.studies.release import release_comparison
 
     print("$ python: release_comparison(paper simulation 1 tethered, breaking_tension = 25.05 N)")
@@ -231,7 +231,7 @@ def table_statuses(work: Path, figures: Path | None) -> None:
 def table_montecarlo(work: Path, figures: Path | None) -> None:
     import numpy as np
 
-    from tetherheli.sim import simulate
+    from tetherheli.runs import simulate
     from tetherheli.studies.montecarlo import draw, draw_seed, load_montecarlo
     from tetherheli.studies.montecarlo.draws import free_reference
 

@@ -12,7 +12,7 @@ from matplotlib.figure import Figure
 from tetherheli import simulate
 from tetherheli.analysis import reduction_percent, run_metrics
 from tetherheli.cli._script import figure_example
-from tetherheli.sim.scenario import paper_scenario
+from tetherheli.scenario.core import paper_scenario
 
 #: The figure written into OUT_DIR.
 FIGURE = "paper_sim1_q1.png"

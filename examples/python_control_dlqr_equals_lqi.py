@@ -14,8 +14,8 @@ from matplotlib.figure import Figure
 from tetherheli import Params, TetheredHelicopter, linearize
 from tetherheli.cli._script import figure_example
 from tetherheli.control.lqi import augment_lqi
-from tetherheli.sim.scenario import ControlSettings
-from tetherheli.sim.setup import LQI_STATES, paper_gain
+from tetherheli.runs.setup import LQI_STATES, paper_gain
+from tetherheli.scenario.core import ControlSettings
 
 #: The figure written into OUT_DIR.
 FIGURE = "dlqr_lqi_poles.png"

@@ -11,7 +11,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from tetherheli.cli._script import figure_example
-from tetherheli.sim.scenario import paper_scenario
+from tetherheli.scenario.core import paper_scenario
 from tetherheli.studies.sweep import sweep
 
 #: The figure written into OUT_DIR.

@@ -138,7 +138,7 @@ def evaluate(policy: Policy, seeds: Sequence[int], task: dict[str, Any] | None =
         ``rms_force`` the RMS residual on the main-rotor force [N], ``failed`` (bool) and
         ``steps``.
     """
-    from tetherheli.vector_env import TetheredHoverVectorEnv
+    from tetherheli.envs.vector import TetheredHoverVectorEnv
 
     task = TASK if task is None else task
     n = len(seeds)
@@ -238,9 +238,9 @@ def lqi_feedback_gains(alpha: float = 1.0, task: dict[str, Any] | None = None) -
     ndarray, shape (4, 13)
         W for :func:`linear_policy` (unit action per unit of scaled observation).
     """
-    from tetherheli.envs import TetheredHoverEnv
+    from tetherheli.envs.env import TetheredHoverEnv
     from tetherheli.model.kernels import tethered_outputs
-    from tetherheli.sim.setup import run_setup
+    from tetherheli.runs.setup import run_setup
 
     env = TetheredHoverEnv(**(TASK if task is None else task))
     model, trim, gain, _, _ = run_setup(env.scenario)
@@ -415,7 +415,7 @@ def train_ppo(
     from stable_baselines3.common.callbacks import BaseCallback
     from stable_baselines3.common.vec_env import VecMonitor, VecNormalize
 
-    from tetherheli.sb3 import TetheredHoverSB3VecEnv
+    from tetherheli.envs.sb3 import TetheredHoverSB3VecEnv
 
     task = TASK if task is None else task
     torch.manual_seed(seed)
@@ -855,8 +855,8 @@ def check_arguments(args: argparse.Namespace) -> None:
     TetherheliError
         One line naming the argument.
     """
-    from tetherheli.env_checks import check_env_memory
-    from tetherheli.envs import TetheredHoverEnv
+    from tetherheli.envs.checks import check_env_memory
+    from tetherheli.envs.env import TetheredHoverEnv
     from tetherheli.resources import ResourceLimitError
 
     if args.algo == "ppo" and importlib.util.find_spec("stable_baselines3") is None:

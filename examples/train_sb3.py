@@ -26,9 +26,9 @@ from stable_baselines3 import PPO
 from stable_baselines3.common.env_util import make_vec_env
 from stable_baselines3.common.evaluation import evaluate_policy
 
-import tetherheli.envs  # registers tetherheli/TetheredHover-v0
+import tetherheli.envs.env  # registers tetherheli/TetheredHover-v0
 
-ENV_ID = tetherheli.envs.ENV_ID
+ENV_ID = tetherheli.envs.env.ENV_ID
 
 
 def zero_action_return(env_kwargs: dict, seeds: list[int]) -> float:

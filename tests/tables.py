@@ -1,4 +1,4 @@
-"""A command's Parquet table against its CSV table (``sim.result_files.write_table``)."""
+"""A command's Parquet table against its CSV table (``results.files.write_table``)."""
 
 from __future__ import annotations
 

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from tetherheli import simulate
-from tetherheli.sim.scenario import scenario_from_dict
+from tetherheli.scenario.core import scenario_from_dict
 from tetherheli.wind.turbulence import initial_wind_force
 
 

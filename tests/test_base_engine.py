@@ -15,9 +15,9 @@ from tetherheli import simulate
 from tetherheli._linalg import discretize_zoh
 from tetherheli.base import HarmonicBase
 from tetherheli.model.linearization import linearize
-from tetherheli.sim.scenario import paper_scenario
-from tetherheli.sim.scenario_tables import BaseSettings, TetherSettings
-from tetherheli.sim.setup import engine_setup
+from tetherheli.runs.setup import engine_setup
+from tetherheli.scenario.core import paper_scenario
+from tetherheli.scenario.tables import BaseSettings, TetherSettings
 from tetherheli.wind import NoWind
 
 UNDER_WAY = BaseSettings(motion="velocity", velocity=(3.0, -1.5, 0.4), position=(2.0, 1.0, 0.0))

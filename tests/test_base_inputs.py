@@ -20,7 +20,7 @@ from tetherheli.base.motion import FileBase, HarmonicBase, VelocityBase, read_ba
 from tetherheli.cli import main
 from tetherheli.errors import ParameterError
 from tetherheli.resources import ResourceLimitError
-from tetherheli.sim.scenario import BaseSettings, Scenario, load_scenario, scenario_toml
+from tetherheli.scenario.core import BaseSettings, Scenario, load_scenario, scenario_toml
 from tetherheli.studies.montecarlo import load_montecarlo
 from tetherheli.studies.montecarlo.runner import run_montecarlo_chunks
 

@@ -8,10 +8,11 @@ import numpy as np
 import pytest
 
 from tetherheli.analysis import run_metrics
+from tetherheli.engine import loop as engine
 from tetherheli.errors import ParameterError
-from tetherheli.sim import engine, simulate
-from tetherheli.sim.batch import METRIC_NAMES, run_batch, summary_metrics
-from tetherheli.sim.scenario import Limits, paper_scenario
+from tetherheli.runs import simulate
+from tetherheli.runs.batch import METRIC_NAMES, run_batch, summary_metrics
+from tetherheli.scenario.core import Limits, paper_scenario
 from tetherheli.wind import Pulse, Sine
 
 
@@ -99,7 +100,7 @@ def test_summary_metrics_of_no_sample():
 @pytest.mark.parametrize("configuration", ["free", "tethered"])
 def test_design_params_setup_changes_only_the_gain(configuration):
     """``run_setup(s, nominal)``: plant, trim and packing of s; the gain of the nominal design."""
-    from tetherheli.sim.setup import run_setup
+    from tetherheli.runs.setup import run_setup
 
     s = _short(configuration, 20.0, 0.0, 12.3)
     nominal = paper_scenario(1, configuration).params
@@ -115,8 +116,8 @@ def test_design_params_setup_changes_only_the_gain(configuration):
 
 
 def test_batch_with_actuators_and_sensor_noise_equals_single():
+    from tetherheli.scenario.core import ActuatorSettings
     from tetherheli.sensing.config import SensorConfig
-    from tetherheli.sim.scenario import ActuatorSettings
 
     s = _short("tethered", 20.0, 0.2, 12.0).replace(
         actuators=ActuatorSettings(time_constant=0.02, reel_rate_limit=0.5),
@@ -133,7 +134,7 @@ def test_batch_with_actuators_and_sensor_noise_equals_single():
 def test_dask_cluster_equals_in_process(scenarios, tmp_path, local_cluster):
     """Issue 5: the same batch on a local dask.distributed cluster (2 worker processes, so
     the scenarios really are pickled) equals the in-process result exactly."""
-    from tetherheli.sim.batch import connect
+    from tetherheli.runs.batch import connect
 
     with local_cluster(
         n_workers=2, threads_per_worker=1, processes=True, local_directory=str(tmp_path)
@@ -155,7 +156,7 @@ def test_dask_cluster_equals_in_process(scenarios, tmp_path, local_cluster):
 )
 def test_bad_scheduler_is_one_line(address, match):
     pytest.importorskip("distributed")
-    from tetherheli.sim.batch import connect
+    from tetherheli.runs.batch import connect
 
     with pytest.raises(ParameterError, match=match) as info:
         connect(address, timeout_s=1.0)

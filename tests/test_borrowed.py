@@ -41,7 +41,7 @@ def test_borrowed_views_write_their_owners_memory():
 _BALANCE = """
 from numba.core.runtime import rtsys
 from tetherheli.shipped import shipped_scenario
-from tetherheli.sim import simulate
+from tetherheli.runs import simulate
 runs = [shipped_scenario(n).replace(duration=0.5)
         for n in ("paper_sim1_tethered", "paper_sim1_lumped", "sensing_tether")]
 for s in runs:

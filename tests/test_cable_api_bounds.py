@@ -12,7 +12,7 @@ import time
 import pytest
 
 from tetherheli.errors import ParameterError
-from tetherheli.sim.scenario import Scenario, TetherSettings
+from tetherheli.scenario.core import Scenario, TetherSettings
 from tetherheli.tether import Cable, drive_cable, drive_moordyn
 
 PAPER = Cable(unstretched_length=10.0, EA=375.0, segments=10)

@@ -6,7 +6,8 @@ import pytest
 from PIL import Image
 
 from tetherheli.cli import main
-from tetherheli.sim import Scenario, simulate
+from tetherheli.runs import simulate
+from tetherheli.scenario import Scenario
 from tetherheli.wind import Pulse
 
 

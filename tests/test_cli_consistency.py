@@ -10,7 +10,7 @@ import re
 import pytest
 
 from tetherheli import cli
-from tetherheli.sim.result import RESULT_FORMATS, TABLE_FORMATS
+from tetherheli.results.result import RESULT_FORMATS, TABLE_FORMATS
 from tetherheli.viz.plots import FIGURE_FORMATS
 
 #: reStructuredText markup that must not reach --help: ``literal``, `interpreted`, roles

@@ -198,8 +198,8 @@ _PROBE = textwrap.dedent(
     from tetherheli.cli import main
     with contextlib.suppress(SystemExit), contextlib.redirect_stdout(io.StringIO()):
         code = main(sys.argv[1:])
-    heavy = ("numba", "llvmlite", "matplotlib", "tetherheli.sim.engine",
-             "tetherheli.sim.closed_loop", "tetherheli.model.kernels", "tetherheli.tether.lumped",
+    heavy = ("numba", "llvmlite", "matplotlib", "tetherheli.engine.loop",
+             "tetherheli.runs.closed_loop", "tetherheli.model.kernels", "tetherheli.tether.lumped",
              "tetherheli.studies.tether_study")
     print(code, " ".join(m for m in heavy if m in sys.modules) or "-")
     """

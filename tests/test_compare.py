@@ -5,7 +5,7 @@ from __future__ import annotations
 import csv
 
 from tetherheli.cli import main
-from tetherheli.sim.scenario import Scenario
+from tetherheli.scenario.core import Scenario
 from tetherheli.studies.sweep import paper_cyclic_limit
 from tetherheli.wind.profiles import Pulse
 

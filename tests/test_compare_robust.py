@@ -18,9 +18,10 @@ from tetherheli.control.paper import tension_q9
 from tetherheli.errors import TetherheliError
 from tetherheli.layout import CTRL_SIZE, CTRL_TENSION_K_C
 from tetherheli.model.kernels import tension_from_state
+from tetherheli.runs import simulate
+from tetherheli.runs.batch import run_batch
+from tetherheli.scenario import load_scenario
 from tetherheli.sensing.sensors import hover_error_std
-from tetherheli.sim import load_scenario, simulate
-from tetherheli.sim.batch import run_batch
 from tetherheli.studies.controllers import eq40_saturated, with_controller
 from tetherheli.studies.cyclic_limit import minimum_cyclic_limit
 from tetherheli.studies.montecarlo import draw, draw_seed, load_montecarlo

@@ -14,11 +14,11 @@ from tetherheli import _compile
 
 PACKAGE = Path(_compile.__file__).resolve().parent
 
-# engine.check_state (sim/engine.py) inlines kernels.angle_trig (model/kernels.py): the pair
+# engine.check_state (engine/loop.py) inlines kernels.angle_trig (model/kernels.py): the pair
 # whose cache went stale before, since editing kernels.py left engine.py's cache key alone.
 PROBE = """
 import numpy as np
-from tetherheli.sim import engine
+from tetherheli.engine import loop as engine
 x = np.zeros(13); x[5] = 10.0; x[12] = 9.0
 cfg = np.zeros(engine.CFG_SIZE)
 cfg[engine.CFG_MAX_TENSION] = 1e9; cfg[engine.CFG_MAX_ANGLE] = 1.0
@@ -108,8 +108,9 @@ def test_every_compiled_function_and_what_it_calls_is_in_the_key():
 
     keyed = {p.resolve() for p in _compile.compiled_sources()}
     assert len(keyed) < len(list(PACKAGE.rglob("*.py")))  # the CLI and studies are not
-    for mod in ("sim.engine", "sim.batch", "vector_env", "envs", "model.kernels", "sensing.sensors",
-                "tether.lumped", "tether.coupling", "tether.winch", "control.paper"):  # fmt: skip
+    for mod in ("engine.loop", "runs.batch", "envs.vector", "envs.env", "model.kernels",
+                "sensing.sensors", "tether.lumped", "tether.coupling", "tether.winch",
+                "control.paper"):  # fmt: skip
         importlib.import_module(f"tetherheli.{mod}")
     dispatchers = {
         id(v): v
@@ -167,7 +168,7 @@ def test_help_builds_no_compiled_engine():
         "for argv in (['--help'], ['trim', '--help']):\n"
         "    with contextlib.suppress(SystemExit), contextlib.redirect_stdout(io.StringIO()):\n"
         "        cli.main(argv)\n"
-        "heavy = ('tetherheli.sim.engine', 'tetherheli.sim.closed_loop', 'matplotlib')\n"
+        "heavy = ('tetherheli.engine.loop', 'tetherheli.runs.closed_loop', 'matplotlib')\n"
         "print(sorted(m for m in heavy if m in sys.modules))\n"
     )
     env = {**os.environ, "PYTHONPATH": str(PACKAGE.parent)}

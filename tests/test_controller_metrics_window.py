@@ -8,8 +8,8 @@ import numpy as np
 
 from tetherheli import simulate
 from tetherheli.analysis import run_metrics
-from tetherheli.sim.scenario import paper_scenario
-from tetherheli.sim.setup import engine_setup
+from tetherheli.runs.setup import engine_setup
+from tetherheli.scenario.core import paper_scenario
 from tetherheli.studies.controllers import controller_metrics
 
 

@@ -18,11 +18,11 @@ from griffe import Docstring
 
 from tetherheli.errors import ParameterError
 from tetherheli.params import Params
+from tetherheli.scenario import core as scenario_module
+from tetherheli.scenario.core import scenario_from_dict
+from tetherheli.scenario.reference import scenario_reference
 from tetherheli.sensing.config import SensorConfig
 from tetherheli.sensing.presets import SENSOR_PRESETS
-from tetherheli.sim import scenario as scenario_module
-from tetherheli.sim.reference import scenario_reference
-from tetherheli.sim.scenario import scenario_from_dict
 from tetherheli.wind import loader as wind_loader
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -147,7 +147,7 @@ def test_documented_range_is_the_checked_one(key, default, allowed):
 
 #: The modules the API reference (docs/api.md) documents, with the names it lists; the
 #: docstrings of these are converted to numpydoc. Not yet converted (other work in progress):
-#: sim/engine.py,
+#: engine/loop.py,
 #: model/derive.py, model/codegen.py, model/kernels.py and the
 #: private helpers (_io, _validation, _compile, _linalg).
 API = {
@@ -159,14 +159,14 @@ API = {
                                     "tethered_HO_position", "tether_length_from_altitude"],
     "tetherheli.model.linearization": ["LinearModel", "linearize"],
     "tetherheli.tether.winch": ["drum_step"],
-    "tetherheli.sim.scenario": ["Scenario", "ControlSettings", "TetherLQISettings",
+    "tetherheli.scenario.core": ["Scenario", "ControlSettings", "TetherLQISettings",
                                 "MPCSettings", "Limits", "ActuatorSettings", "WinchSettings",
                                 "load_scenario", "paper_scenario",
                                 "scenario_toml", "metrics_first_sample"],
-    "tetherheli.sim.closed_loop": ["simulate", "check_run_memory"],
-    "tetherheli.sim.result": ["SimulationResult", "load_result", "list_results",
+    "tetherheli.runs.closed_loop": ["simulate", "check_run_memory"],
+    "tetherheli.results.result": ["SimulationResult", "load_result", "list_results",
                               "check_result_format"],
-    "tetherheli.sim.reference": ["scenario_reference"],
+    "tetherheli.scenario.reference": ["scenario_reference"],
     "tetherheli._validation": ["Key"],
     "tetherheli.errors": ["ParameterError", "InfeasibleError"],
     "tetherheli.control.tether_lqi": ["design_tether_lqi", "tethered_design", "tether_lqi_gain",
@@ -180,9 +180,9 @@ API = {
     "tetherheli.control.base": ["Controller", "Command", "Measurement"],
     "tetherheli.control.paper": ["PaperController"],
     "tetherheli.control.tension": ["TensionPI", "limit_rate_change"],
-    "tetherheli.envs": ["TetheredHoverEnv", "register_envs", "RenderModeError"],
-    "tetherheli.env_kernels": ["finish_step", "observe_into", "start_episode", "tether_tension"],
-    "tetherheli.vector_env": ["TetheredHoverVectorEnv"],
+    "tetherheli.envs.env": ["TetheredHoverEnv", "register_envs", "RenderModeError"],
+    "tetherheli.envs.kernels": ["finish_step", "observe_into", "start_episode", "tether_tension"],
+    "tetherheli.envs.vector": ["TetheredHoverVectorEnv"],
     "tetherheli.viz.plots": ["figure_outputs", "figure_inputs", "figure_sweep",
                              "figure_limit_search", "figure_release", "figure_montecarlo",
                              "figure_paired", "figure_pareto", "figure_sensing", "save_figure",
@@ -192,7 +192,7 @@ API = {
                                       "run_filter", "EstimateResult", "normalized_squares",
                                       "chi2_mean_band", "ConsistencyTest", "KalmanConsistency"],
     "tetherheli.studies.estimation": ["estimate_run", "kalman_consistency"],
-    "tetherheli.sim.mpc_setup": ["mpc_controller", "mpc_kalman", "uses_kalman"],
+    "tetherheli.runs.mpc_setup": ["mpc_controller", "mpc_kalman", "uses_kalman"],
     "tetherheli.shipped": ["shipped_scenarios", "shipped_scenario_text", "shipped_scenario",
                            "copy_scenario"],
     "tetherheli.compare": ["compare", "write_compare"],
@@ -221,7 +221,7 @@ API = {
     "tetherheli.viz.animation": ["RunData", "animate", "frame_rgb", "load_run", "render_frame",
                                  "run_colours"],
     "tetherheli.viz.replay": ["replay_data", "replay_html", "write_replay"],
-    "tetherheli.sim.result_mcap": ["write_mcap", "read_mcap_table", "tension_colour"],
+    "tetherheli.results.mcap": ["write_mcap", "read_mcap_table", "tension_colour"],
     "tetherheli.studies.release": ["ReleaseComparison", "altitude_excursion",
                                    "release_comparison"],
     "tetherheli.analysis": ["RunMetrics", "TetherMoment", "metric_samples", "reduction_percent",
@@ -266,11 +266,11 @@ API = {
                                        "sensing_table"],
     "tetherheli.report.paper": ["run_paper", "paper_summary", "run_status", "write_run",
                                 "write_comparison", "run_sensing", "sensing_scenario"],
-    "tetherheli.sim.setup": ["engine_setup", "EngineSetup", "run_setup", "RunSetup", "paper_gain",
+    "tetherheli.runs.setup": ["engine_setup", "EngineSetup", "run_setup", "RunSetup", "paper_gain",
                              "free_trim_input", "paper_law", "start_point", "StartPoint",
                              "actuator_array", "sensor_noise", "sensor_schedule",
-                             "sensor_tuple", "lane_block", "lane_program_into", "winch_into"],
-    "tetherheli.sim.batch": ["run_batch", "BatchResult", "summary_metrics", "connect",
+                             "sensor_tuple", "lane_program_into", "winch_into"],
+    "tetherheli.runs.batch": ["run_batch", "BatchResult", "summary_metrics", "connect",
                              "disconnect", "run_block", "run_unrecorded"],
 }  # fmt: skip
 
@@ -371,7 +371,7 @@ def _package_callables():
             continue
         try:
             module = importlib.import_module(name)
-        except ModuleNotFoundError:  # an optional extra's module (tetherheli.sb3)
+        except ModuleNotFoundError:  # an optional extra's module (tetherheli.envs.sb3)
             continue
         for attr, value in list(vars(module).items()):
             obj = getattr(value, "py_func", value)  # a Numba dispatcher's Python function
@@ -438,7 +438,8 @@ def test_no_submodule_shadows_a_lazy_name():
     import importlib
     import pkgutil
 
-    packages = ("tetherheli", "tetherheli.model", "tetherheli.sim", "tetherheli.studies",
+    packages = ("tetherheli", "tetherheli.model", "tetherheli.scenario", "tetherheli.runs",
+                "tetherheli.results", "tetherheli.envs", "tetherheli.studies",
                 "tetherheli.report")  # fmt: skip
     for package in packages:
         pkg = importlib.import_module(package)

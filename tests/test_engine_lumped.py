@@ -9,11 +9,12 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+from tetherheli.engine import loop as engine
+from tetherheli.engine import lumped_step
 from tetherheli.errors import ParameterError
 from tetherheli.layout import CHAIN_NODES, CHAIN_PARAMS, LUMPED_MU
-from tetherheli.sim import engine, lumped_step
-from tetherheli.sim.scenario import Scenario, TetherSettings, paper_scenario
-from tetherheli.sim.setup import engine_setup
+from tetherheli.runs.setup import engine_setup
+from tetherheli.scenario.core import Scenario, TetherSettings, paper_scenario
 from tetherheli.tether.coupling import tethered_derivative_force_at_P
 from tetherheli.tether.lumped import chain_forces
 from tetherheli.wind import ConstantForce
@@ -167,7 +168,7 @@ def test_a_cable_too_heavy_to_hover_refused():
     """hover_trim_lumped's refusal: the hover's main-rotor thrust (weight + T_g + mu g L0)
     above the actuators' limit."""
     from tetherheli.errors import InfeasibleError
-    from tetherheli.sim.scenario import ActuatorSettings
+    from tetherheli.scenario.core import ActuatorSettings
 
     inf = float("inf")
     s = Scenario(
@@ -180,7 +181,7 @@ def test_a_cable_too_heavy_to_hover_refused():
 
 
 def test_tether_table_from_toml(tmp_path):
-    from tetherheli.sim.scenario import load_scenario
+    from tetherheli.scenario.core import load_scenario
 
     path = tmp_path / "s.toml"
     path.write_text('[tether]\nmodel = "lumped"\nsegments = 5\nmass_per_length = 0.03\n')
@@ -231,7 +232,7 @@ def test_hover_balance_at_the_start():
 def test_no_wind_run_stays_put():
     """Started at hover_trim_lumped's equilibrium (the static chain, the controller about the
     lumped trim, integrators at zero) a windless run stays put: < 1e-6 m over 30 s."""
-    from tetherheli.sim.closed_loop import simulate
+    from tetherheli.runs.closed_loop import simulate
 
     r = simulate(Scenario(duration=30.0, tether=_lumped(10)))
     assert r.ok
@@ -248,7 +249,7 @@ def test_massless_limit_reproduces_the_paper_run():
     the sub-steps: 1 mg/m took 50 s) and drag (a 1 um cable) the chain is eq 28's spring
     (EA = K_C LN): paper simulation 1's peak |q1 - trim| within 1 % of the massless model's,
     and the tensions at the two ends agree."""
-    from tetherheli.sim.closed_loop import simulate
+    from tetherheli.runs.closed_loop import simulate
 
     s = paper_scenario(1, "tethered")
     massless = simulate(s)
@@ -269,7 +270,7 @@ def test_stiff_cable_runs_stably_at_the_control_rate():
     the stiffness ratio K_C / (EA / L0): its loop pole K_P EA / L0 (2000 /s with the paper's
     K_P = 1 m/(s N)) would be unstable at a 10 ms sample (the tension then swings by hundreds
     of newtons between samples), a limit of the discrete PI, not of the integrator."""
-    from tetherheli.sim.closed_loop import simulate
+    from tetherheli.runs.closed_loop import simulate
 
     s = paper_scenario(1, "tethered")
     massless = simulate(s)
@@ -288,8 +289,8 @@ def test_stiff_cable_runs_stably_at_the_control_rate():
 def test_batch_runs_lumped_scenarios_alone_and_equal_to_simulate():
     """run_batch sends lumped runs through the per-run compiled loop (no lanes), with the
     same numbers as simulate's recorded run; massless runs in the same batch keep the lanes."""
-    from tetherheli.sim.batch import run_batch
-    from tetherheli.sim.closed_loop import simulate
+    from tetherheli.runs.batch import run_batch
+    from tetherheli.runs.closed_loop import simulate
 
     s = paper_scenario(1, "tethered").replace(duration=15.0)
     lumped = s.replace(tether=_lumped(5))
@@ -304,8 +305,8 @@ def test_batch_runs_lumped_scenarios_alone_and_equal_to_simulate():
 def test_records_ground_tension_and_nodes(tmp_path):
     """TC_ground (the winch's tension) and, with record_nodes, every node's position are
     result columns written to and read back from the CSV; the top node is P."""
-    from tetherheli.sim.closed_loop import simulate
-    from tetherheli.sim.result import load_result
+    from tetherheli.results.result import load_result
+    from tetherheli.runs.closed_loop import simulate
 
     s = paper_scenario(1, "tethered").replace(duration=12.0, tether=_lumped(4, record_nodes=True))
     r = simulate(s)

@@ -13,15 +13,15 @@ gymnasium = pytest.importorskip("gymnasium")
 from gymnasium.utils.env_checker import check_env  # noqa: E402
 
 from tetherheli import simulate  # noqa: E402
-from tetherheli.envs import (  # noqa: E402
+from tetherheli.engine import loop as engine  # noqa: E402
+from tetherheli.envs.env import (  # noqa: E402
     ENV_ID,
     OBSERVATION_NAMES,
     TetheredHoverEnv,
     register_envs,
 )
 from tetherheli.errors import ParameterError  # noqa: E402
-from tetherheli.sim import engine  # noqa: E402
-from tetherheli.sim.scenario import Scenario  # noqa: E402
+from tetherheli.scenario.core import Scenario  # noqa: E402
 from tetherheli.wind import Pulse  # noqa: E402
 
 
@@ -213,7 +213,7 @@ def test_moving_base_zero_residual_equals_simulate():
     engine's sample step and integrator as ``simulate`` does: a heaving deck's episode with
     a zero residual equals ``simulate`` of the same scenario (it was flown as the still
     winch, status 0)."""
-    from tetherheli.sim.scenario import BaseSettings
+    from tetherheli.scenario.core import BaseSettings
 
     deck = BaseSettings(motion="harmonic", amplitude=(0.0, 0.0, 0.5), frequency=(0.0, 0.0, 0.2))
     scenario = Scenario(duration=2.0, base=deck)
@@ -239,9 +239,9 @@ def test_moving_base_zero_residual_equals_simulate():
 def _refused_scenarios() -> dict:
     """A scenario per key an environment refuses (``env_checks.SCENARIO_USE``'s "refused"
     fields), each otherwise valid for ``simulate``."""
+    from tetherheli.scenario.core import BaseSettings, ControlSettings, TetherSettings
     from tetherheli.sensing.config import SensorConfig
     from tetherheli.shipped import shipped_scenario
-    from tetherheli.sim.scenario import BaseSettings, ControlSettings, TetherSettings
 
     deck = BaseSettings(motion="harmonic", amplitude=(0.0, 0.0, 0.5), frequency=(0.0, 0.0, 0.2))
     return {
@@ -264,7 +264,7 @@ def test_every_scenario_key_is_flown_or_refused():
     the two an argument replaces (``duration``, ``wind``) are flown when it is left out."""
     import dataclasses
 
-    from tetherheli.envs import DEFAULT_EPISODE_TIME, SCENARIO_USE
+    from tetherheli.envs.env import DEFAULT_EPISODE_TIME, SCENARIO_USE
 
     fields = {f.name for f in dataclasses.fields(Scenario)}
     assert set(SCENARIO_USE) == fields
@@ -316,8 +316,8 @@ def test_sensors_feed_controller_and_observation():
     """With the scenario's sensors the paper's controller and the observation see
     measurements: a zero residual with the episode's noise table equals ``simulate`` with the
     same table; equal seeds give equal noisy episodes; the reward uses the true position."""
+    from tetherheli.runs.packing import sensor_noise
     from tetherheli.sensing.config import SensorConfig
-    from tetherheli.sim.packing import sensor_noise
 
     pulse = Pulse(start=0.5, duration=1.0, magnitude=20.0, direction=(0.6, 0.8, 0.0))
     sensors = SensorConfig(position_source="tether", encoder_std=0.002, altimeter_std=0.05)
@@ -347,7 +347,7 @@ def test_sensors_feed_controller_and_observation():
 
 def test_actuators_zero_residual_equals_simulate():
     """Saturation, lag and winch limits act in the environment exactly as in simulate."""
-    from tetherheli.sim.scenario import ActuatorSettings
+    from tetherheli.scenario.core import ActuatorSettings
 
     inf = math.inf
     pulse = Pulse(start=0.5, duration=1.0, magnitude=20.0, direction=(0.6, 0.8, 0.0))
@@ -381,8 +381,8 @@ def test_reset_leaves_nothing_of_the_previous_episode():
     vector environment's too): after episodes with a tether release, winch and actuator lag
     and timed noisy sensors, an episode equals a fresh environment's of the same seed bit
     for bit (observations, rewards, flags, infos)."""
+    from tetherheli.scenario.core import ActuatorSettings
     from tetherheli.sensing.config import SensorConfig
-    from tetherheli.sim.scenario import ActuatorSettings
 
     scenario = Scenario().replace(
         sensors=SensorConfig.flown("tether"),

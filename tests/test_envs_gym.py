@@ -20,16 +20,16 @@ from gymnasium.utils.env_checker import check_env  # noqa: E402
 from gymnasium.vector import AsyncVectorEnv, AutoresetMode, SyncVectorEnv  # noqa: E402
 
 from tetherheli import simulate  # noqa: E402
-from tetherheli.envs import (  # noqa: E402
+from tetherheli.envs.env import (  # noqa: E402
     DEFAULT_EPISODE_TIME,
     ENV_ID,
     MAX_EPISODE_STEPS,
     RenderModeError,
     TetheredHoverEnv,
 )
+from tetherheli.envs.vector import TetheredHoverVectorEnv  # noqa: E402
 from tetherheli.errors import ParameterError  # noqa: E402
-from tetherheli.sim.scenario import Scenario  # noqa: E402
-from tetherheli.vector_env import TetheredHoverVectorEnv  # noqa: E402
+from tetherheli.scenario.core import Scenario  # noqa: E402
 from tetherheli.viz.animation import RunData, frame_rgb  # noqa: E402
 from tetherheli.wind import Pulse  # noqa: E402
 
@@ -151,12 +151,12 @@ def _fresh(code: str) -> subprocess.CompletedProcess:
 
 
 def test_make_by_module_path_in_a_fresh_process():
-    """``gymnasium.make("tetherheli.envs:tetherheli/TetheredHover-v0")`` imports the module
+    """``gymnasium.make("tetherheli.envs.env:tetherheli/TetheredHover-v0")`` imports the module
     (which registers the id) in a process that never imported tetherheli."""
     out = _fresh(
         "import sys, gymnasium\n"
         "assert 'tetherheli' not in sys.modules\n"
-        f"env = gymnasium.make('tetherheli.envs:{ENV_ID}', max_episode_time=0.1)\n"
+        f"env = gymnasium.make('tetherheli.envs.env:{ENV_ID}', max_episode_time=0.1)\n"
         "obs, _ = env.reset(seed=0)\n"
         "print(type(env.unwrapped).__name__, obs.shape, env.spec.max_episode_steps)\n"
     )
@@ -238,7 +238,7 @@ def test_import_tetherheli_registers_the_ids_without_the_compiled_stack():
         "import sys, gymnasium\n"
         f"assert {ENV_ID!r} not in gymnasium.registry\n"
         "import tetherheli\n"
-        "print('numba' in sys.modules, 'tetherheli.envs' in sys.modules,"
+        "print('numba' in sys.modules, 'tetherheli.envs.env' in sys.modules,"
         f" {ENV_ID!r} in gymnasium.registry)\n"
         f"env = gymnasium.make({ENV_ID!r}, max_episode_time=0.1)\n"
         "print(type(env.unwrapped).__name__)\n"
@@ -263,4 +263,4 @@ def test_the_gymnasium_entry_point_registers_the_ids(monkeypatch):
     monkeypatch.delitem(gymnasium.registry, ENV_ID)
     register()
     assert gymnasium.spec(ENV_ID).max_episode_steps == MAX_EPISODE_STEPS
-    assert gymnasium.spec(ENV_ID).entry_point == "tetherheli.envs:TetheredHoverEnv"
+    assert gymnasium.spec(ENV_ID).entry_point == "tetherheli.envs.env:TetheredHoverEnv"

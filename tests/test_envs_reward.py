@@ -15,11 +15,11 @@ import pytest
 
 pytest.importorskip("gymnasium")
 
-from tetherheli.envs import TetheredHoverEnv
+from tetherheli.engine import loop as engine
+from tetherheli.envs.env import TetheredHoverEnv
 from tetherheli.params import Params
+from tetherheli.scenario.core import Limits, Scenario
 from tetherheli.sensing.config import SensorConfig
-from tetherheli.sim import engine
-from tetherheli.sim.scenario import Limits, Scenario
 from tetherheli.wind import Pulse
 
 PULSE = Pulse(start=0.2, duration=1.0, magnitude=20.0, direction=(0.6, 0.8, 0.0))

@@ -15,7 +15,7 @@ from tetherheli._io import read_json
 from tetherheli.analysis import run_metrics, tether_moment
 from tetherheli.cli import main
 from tetherheli.errors import ParameterError
-from tetherheli.sim.scenario import (
+from tetherheli.scenario.core import (
     ActuatorSettings,
     load_scenario,
     paper_scenario,
@@ -42,7 +42,7 @@ def test_tether_moment_is_r_cross_f_by_hand(paper, rng):
     """Eqs 33-34 / 55 (C1, C2): the moment about HO of the tether force -TC c3 at P, with
     r_HO->P = (dO-P,3 - dO-HO,3) f3, c3 = [s8, -s7 c8, c7 c8] (eqs 43-45) and f_j from Table
     I typed by hand, expressed in F; against ``analysis.tether_moment`` on random states."""
-    from tetherheli.sim.result import SimulationResult
+    from tetherheli.results.result import SimulationResult
 
     n = 20
     x = np.zeros((n, 13))

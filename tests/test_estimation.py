@@ -15,10 +15,10 @@ from scipy.linalg import solve_discrete_are
 
 from tetherheli.errors import ParameterError
 from tetherheli.report.paper import sensing_scenario
+from tetherheli.runs import simulate
 from tetherheli.sensing.config import SensorConfig
 from tetherheli.sensing.estimation import Fixes, position_filter, run_filter
 from tetherheli.sensing.noise import random_walk
-from tetherheli.sim import simulate
 from tetherheli.studies.estimation import estimate_run
 
 DT = 0.01

@@ -30,9 +30,9 @@ pytest.importorskip("gymnasium")
 from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
-from tetherheli.envs import WIND_KINDS, TetheredHoverEnv  # noqa: E402
+from tetherheli.envs.env import WIND_KINDS, TetheredHoverEnv  # noqa: E402
+from tetherheli.envs.vector import TetheredHoverVectorEnv  # noqa: E402
 from tetherheli.errors import ParameterError, TetherheliError  # noqa: E402
-from tetherheli.vector_env import TetheredHoverVectorEnv  # noqa: E402
 from tetherheli.wind import DragModel, GaussMarkovTurbulence, NoWind, Pulse, Sine  # noqa: E402
 
 _ON_DEMAND = int(os.environ.get("TETHERHELI_FUZZ_EXAMPLES", "0") or 0)
@@ -216,7 +216,7 @@ def test_sb3_vec_env_arguments(kwargs, n):
     """Stable-Baselines3's ``VecEnv`` adapter: one line or valid starts (skipped without
     Stable-Baselines3)."""
     pytest.importorskip("stable_baselines3")
-    from tetherheli.sb3 import TetheredHoverSB3VecEnv
+    from tetherheli.envs.sb3 import TetheredHoverSB3VecEnv
 
     kwargs.pop("render_mode", None)
     try:

@@ -26,8 +26,8 @@ from hypothesis import strategies as st  # noqa: E402
 
 from tetherheli import simulate  # noqa: E402
 from tetherheli.errors import ParameterError  # noqa: E402
-from tetherheli.sim.batch import run_batch  # noqa: E402
-from tetherheli.sim.scenario import scenario_from_dict  # noqa: E402
+from tetherheli.runs.batch import run_batch  # noqa: E402
+from tetherheli.scenario.core import scenario_from_dict  # noqa: E402
 from tetherheli.status import Status  # noqa: E402
 
 _ON_DEMAND = int(os.environ.get("TETHERHELI_FUZZ_EXAMPLES", "0") or 0)

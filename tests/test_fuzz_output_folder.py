@@ -80,7 +80,7 @@ from tetherheli._io import (  # noqa: E402
     is_own_temporary,
 )
 from tetherheli.cli import main  # noqa: E402
-from tetherheli.sim.result import load_result  # noqa: E402
+from tetherheli.results.result import load_result  # noqa: E402
 
 from .blank_figures import blank_figures  # noqa: E402
 

@@ -1,6 +1,6 @@
 """Issue 22, class 7: a property-based fuzzer of scenario tables (Hypothesis).
 
-It builds tables from every documented key (``sim.scenario``'s ``Key`` of each field of the
+It builds tables from every documented key (``scenario.core``'s ``Key`` of each field of the
 top level, ``[control]``, ``[control.tether_lqi]``, ``[control.mpc]``, ``[limits]``,
 ``[actuators]``, ``[tether]``, ``[winch]``, ``[maneuver]``): values inside, at and beyond
 each key's range, non-finite numbers, wrong types, deep nesting and unknown keys; it writes
@@ -38,7 +38,7 @@ from hypothesis import strategies as st  # noqa: E402
 
 from tetherheli.cli import main  # noqa: E402
 from tetherheli.errors import ParameterError  # noqa: E402
-from tetherheli.sim.scenario import (  # noqa: E402
+from tetherheli.scenario.core import (  # noqa: E402
     ActuatorSettings,
     ControlSettings,
     Limits,
@@ -267,7 +267,7 @@ def _check_finite_base(scenario: Scenario, *, fly: bool = False) -> None:
     assert np.all(np.isfinite(state)), scenario.base
     if not fly:
         return
-    from tetherheli.sim import simulate
+    from tetherheli.runs import simulate
     from tetherheli.status import Status
 
     r = simulate(scenario)

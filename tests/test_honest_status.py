@@ -12,7 +12,7 @@ import pytest
 
 from tetherheli.cli import main
 from tetherheli.errors import ParameterError
-from tetherheli.sim.scenario import Scenario, TetherSettings, load_scenario, scenario_from_dict
+from tetherheli.scenario.core import Scenario, TetherSettings, load_scenario, scenario_from_dict
 from tetherheli.status import (
     DEGRADED_FALLBACK_FRACTION,
     FAILED_FALLBACK_FRACTION,
@@ -100,8 +100,8 @@ def test_lumped_tether_obeys_the_strain_rule(tmp_path, capsys):
 
 def test_a_natural_length_at_zero_ends_the_run():
     """LN <= 0 of an attached tether is ``Status.TETHER_LENGTH`` (engine.check_state)."""
-    from tetherheli.sim import engine
-    from tetherheli.sim.setup import engine_setup
+    from tetherheli.engine import loop as engine
+    from tetherheli.runs.setup import engine_setup
 
     setup = engine_setup(Scenario())
     x = setup.start.x.copy()
@@ -127,7 +127,7 @@ def test_tether_lqi_on_a_free_configuration_is_refused(tmp_path, capsys):
 
 
 def test_the_environment_refuses_a_controller_it_does_not_fly():
-    from tetherheli.envs import TetheredHoverEnv
+    from tetherheli.envs.env import TetheredHoverEnv
 
     c = dataclasses.replace(Scenario().control, controller="mpc")
     with pytest.raises(ParameterError, match=r"scenario\.control\.controller = 'mpc'"):
@@ -138,8 +138,8 @@ def test_mpc_tension_bounds_follow_T_ref_unless_given():
     """Unset, the bounds are [T_ref/2, 1.5 T_ref] of the scenario's own T_ref (their doc): the
     paper's [12.5, 37.5] N at 25 N, [22.5, 67.5] N at 45 N (which with the old fixed default
     crashed into the ground at t = 12.6 s); given, they are used as written."""
-    from tetherheli.sim.mpc_setup import mpc_controller
-    from tetherheli.sim.setup import engine_setup
+    from tetherheli.runs.mpc_setup import mpc_controller
+    from tetherheli.runs.setup import engine_setup
 
     s = Scenario(name="t45")
     assert s.control.mpc.tension_bounds is None
@@ -204,7 +204,7 @@ def test_the_free_reference_of_a_lumped_study_is_the_free_helicopter():
 def test_monte_carlo_compare_of_a_lumped_study_flies_its_free_reference():
     """compare --montecarlo's free draws of a lumped study are set up and fly (they were all
     refused, and every controller showed a 100 % reduction)."""
-    from tetherheli.sim import simulate
+    from tetherheli.runs import simulate
     from tetherheli.studies.robust import FREE, _flown
 
     lumped = Scenario(

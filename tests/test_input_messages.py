@@ -13,8 +13,10 @@ import pytest
 from tetherheli.cli import main
 from tetherheli.errors import InfeasibleError, ParameterError
 from tetherheli.params import Params
-from tetherheli.sim import load_scenario, simulate
-from tetherheli.sim.scenario import (
+from tetherheli.runs import simulate
+from tetherheli.runs.setup import engine_setup, run_setup
+from tetherheli.scenario import load_scenario
+from tetherheli.scenario.core import (
     ActuatorSettings,
     ControlSettings,
     MPCSettings,
@@ -22,7 +24,6 @@ from tetherheli.sim.scenario import (
     TetherSettings,
     scenario_from_dict,
 )
-from tetherheli.sim.setup import engine_setup, run_setup
 
 #: weights far apart enough that eq 49's Riccati equation has no stabilising solution
 EXTREME_QY = (1e200, 1.0, 1.0, 1.0, 10.0, 10.0, 10.0, 10.0)
@@ -188,7 +189,7 @@ def test_deeply_nested_data_through_the_api_is_one_line():
 
 def test_env_action_of_the_wrong_shape_or_not_finite_is_refused():
     pytest.importorskip("gymnasium")
-    from tetherheli.envs import TetheredHoverEnv
+    from tetherheli.envs.env import TetheredHoverEnv
 
     env = TetheredHoverEnv(wind="pulse", max_episode_time=1.0)
     env.reset(seed=0)
@@ -204,7 +205,7 @@ def test_env_action_of_the_wrong_shape_or_not_finite_is_refused():
 
 def test_vector_env_action_of_the_wrong_shape_is_refused():
     pytest.importorskip("gymnasium")
-    from tetherheli.vector_env import TetheredHoverVectorEnv
+    from tetherheli.envs.vector import TetheredHoverVectorEnv
 
     env = TetheredHoverVectorEnv(3, wind="pulse", max_episode_time=1.0)
     env.reset(seed=0)

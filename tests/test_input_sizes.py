@@ -14,9 +14,9 @@ import pytest
 from tetherheli.cli import main
 from tetherheli.errors import ParameterError
 from tetherheli.resources import ResourceLimitError
+from tetherheli.scenario import load_scenario
+from tetherheli.scenario.core import Scenario
 from tetherheli.sensing.config import SensorConfig
-from tetherheli.sim import load_scenario
-from tetherheli.sim.scenario import Scenario
 
 MONTECARLO = str(Path(__file__).resolve().parents[1] / "scenarios" / "montecarlo_paper_sim1.toml")
 
@@ -74,8 +74,8 @@ def test_compare_runs_within_the_limit_estimated_before_any_draw(tmp_path, capsy
 
 def test_vector_env_copies_refused_before_allocating(monkeypatch):
     pytest.importorskip("gymnasium")
-    from tetherheli.envs import check_env_memory
-    from tetherheli.vector_env import TetheredHoverVectorEnv
+    from tetherheli.envs.env import check_env_memory
+    from tetherheli.envs.vector import TetheredHoverVectorEnv
 
     monkeypatch.setenv("TETHERHELI_MEMORY_LIMIT", "1G")
     with pytest.raises(ResourceLimitError, match=r"^10000000 environment copies: .*num_envs"):
@@ -90,7 +90,7 @@ def test_vector_env_copies_refused_before_allocating(monkeypatch):
 
 def test_long_noisy_episode_refused_before_allocating(monkeypatch):
     pytest.importorskip("gymnasium")
-    from tetherheli.envs import TetheredHoverEnv
+    from tetherheli.envs.env import TetheredHoverEnv
 
     monkeypatch.setenv("TETHERHELI_MEMORY_LIMIT", "1G")
     noisy = Scenario(sensors=SensorConfig.typical_gps())
@@ -131,8 +131,8 @@ def test_long_mpc_horizon_announces_its_run_time_before_starting():
     about 37 minutes before its design (warnings are errors here: nothing runs)."""
     from tetherheli.control.mpc import mpc_sample_seconds
     from tetherheli.resources import SlowJobWarning
-    from tetherheli.sim import simulate
-    from tetherheli.sim.scenario import ControlSettings, MPCSettings
+    from tetherheli.runs import simulate
+    from tetherheli.scenario.core import ControlSettings, MPCSettings
 
     assert mpc_sample_seconds(400) == pytest.approx(0.37, rel=0.01)
     assert mpc_sample_seconds(10) < 1e-3
@@ -148,7 +148,7 @@ def test_long_mpc_horizon_announces_its_run_time_before_starting():
 @pytest.mark.filterwarnings("default::tetherheli.resources.SlowJobWarning")
 def test_slow_job_warning_is_one_line_from_the_cli(tmp_path, capsys, monkeypatch):
     import tetherheli.resources as resources
-    from tetherheli.sim.scenario import ControlSettings
+    from tetherheli.scenario.core import ControlSettings
 
     monkeypatch.setattr(resources, "SLOW_JOB_SECONDS", 0.0)  # any run is "slow" here
     s = Scenario(name="short", duration=0.05, control=ControlSettings(controller="mpc"))

@@ -12,7 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from tetherheli.sim import Scenario, simulate
+from tetherheli.runs import simulate
+from tetherheli.scenario import Scenario
 from tetherheli.studies.cyclic_limit import LimitSearch
 from tetherheli.studies.robust import MonteCarloComparison
 from tetherheli.studies.sweep import SweepResult

@@ -15,8 +15,8 @@ from tetherheli import simulate
 from tetherheli.control.mpc import KALMAN_NIS_COLUMN
 from tetherheli.control.observer import DisturbanceKalman
 from tetherheli.errors import ParameterError, TetherheliError
+from tetherheli.scenario.core import load_scenario
 from tetherheli.sensing.estimation import ConsistencyTest, chi2_mean_band, normalized_squares
-from tetherheli.sim.scenario import load_scenario
 from tetherheli.studies.estimation import kalman_consistency
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"

@@ -15,11 +15,11 @@ import pytest
 from tetherheli import simulate
 from tetherheli.cli import main
 from tetherheli.errors import ParameterError
+from tetherheli.results.result import load_result
+from tetherheli.runs.batch import run_batch
+from tetherheli.scenario.core import scenario_from_dict
+from tetherheli.scenario.tables import BaseSettings, ManeuverSettings
 from tetherheli.shipped import shipped_scenario
-from tetherheli.sim.batch import run_batch
-from tetherheli.sim.result import load_result
-from tetherheli.sim.scenario import scenario_from_dict
-from tetherheli.sim.scenario_tables import BaseSettings, ManeuverSettings
 from tetherheli.status import Status
 
 
@@ -78,7 +78,7 @@ def test_the_landing_gain_scaled_to_a_length_is_the_design_at_that_length(calm):
     """``LandingController``'s gain schedule: the paper's LQI (designed on the free
     helicopter in tethered coordinates) designed at q9 = 1 m equals the 10 m design with its
     q7, q8 columns scaled by 1/10 (q1 ~ q9 q8, q2 ~ -q9 q7), to 1e-9 relative."""
-    from tetherheli.sim.start import paper_gain
+    from tetherheli.runs.start import paper_gain
 
     c = calm.control
     at_10 = paper_gain(calm.params, c.dt, c.Qy, c.Ru, 10.0).K

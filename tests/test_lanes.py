@@ -11,6 +11,9 @@ import numpy as np
 import pytest
 
 from tetherheli.analysis import run_metrics
+from tetherheli.engine import lanes
+from tetherheli.engine import loop as engine
+from tetherheli.runs.batch import lane_block
 from tetherheli.layout import CTRL_LAW, LANES, SUMMARY_FIELDS, WIND_SINE, Signals
 from tetherheli.model.kernels import (
     SIN_BRANCHLESS_MAX_ARG,
@@ -18,12 +21,11 @@ from tetherheli.model.kernels import (
     angle_trig_lanes,
     sin_branchless,
 )
+from tetherheli.runs import simulate
+from tetherheli.runs.batch import run_batch
+from tetherheli.runs.setup import engine_setup
+from tetherheli.scenario.core import ActuatorSettings, load_scenario, paper_scenario
 from tetherheli.sensing.config import SensorConfig
-from tetherheli.sim import engine, lanes, simulate
-from tetherheli.sim.batch import run_batch
-from tetherheli.sim.lanes import lane_block
-from tetherheli.sim.scenario import ActuatorSettings, load_scenario, paper_scenario
-from tetherheli.sim.setup import engine_setup
 from tetherheli.status import Status
 from tetherheli.wind import DragModel, GaussMarkovTurbulence, Pulse, Sine, Step, Turbulence
 

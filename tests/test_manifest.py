@@ -16,7 +16,7 @@ import scipy
 
 from tetherheli import _version
 from tetherheli.report.paper import _manifest
-from tetherheli.sim.scenario import Scenario
+from tetherheli.scenario.core import Scenario
 
 
 def test_manifest_records_dependency_versions():

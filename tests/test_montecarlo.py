@@ -14,8 +14,8 @@ from tetherheli._io import read_json
 from tetherheli.cli import main
 from tetherheli.errors import ParameterError
 from tetherheli.report import run_montecarlo
-from tetherheli.sim import simulate
-from tetherheli.sim.batch import run_batch
+from tetherheli.runs import simulate
+from tetherheli.runs.batch import run_batch
 from tetherheli.status import Status
 from tetherheli.studies.montecarlo import load_montecarlo, montecarlo_config_from_dict
 
@@ -400,7 +400,7 @@ def failing_file(tmp_path: Path) -> Path:
 
 
 def test_a_draw_that_cannot_hover_is_a_failed_row(failing_file, tmp_path):
-    from tetherheli.sim import engine
+    from tetherheli.engine import loop as engine
 
     summary = _run(failing_file, tmp_path / "f")
     rows = _rows(tmp_path / "f")

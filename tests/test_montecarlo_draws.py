@@ -17,8 +17,8 @@ import math
 import numpy as np
 import pytest
 
-from tetherheli.sim.batch import METRIC_NAMES
-from tetherheli.sim.scenario import Scenario
+from tetherheli.runs.batch import METRIC_NAMES
+from tetherheli.scenario.core import Scenario
 from tetherheli.studies.montecarlo import MonteCarloConfig, draw, draw_seed
 from tetherheli.wind import (
     ConstantForce,
@@ -260,7 +260,7 @@ def test_failed_runs_are_in_the_tail_of_the_percentiles():
     interpolation at rank p (n - 1) / 100 of 1, 2, 3, 4, 5, inf, inf): p1 1.06, p5 1.3,
     p25 2.5, p50 4, p75 and above null; for tension_min (-inf, -inf, 1, ..., 5): p50 2,
     p75 3.5, p95 4.7, p99 4.94, below null."""
-    from tetherheli.sim import engine
+    from tetherheli.engine import loop as engine
     from tetherheli.studies.montecarlo.runner import _summarize
 
     nan = math.nan

@@ -19,10 +19,10 @@ from tetherheli.model import TetheredHelicopter
 from tetherheli.model.linearization import linearize
 from tetherheli.names import WIND
 from tetherheli.params import Params
-from tetherheli.sim.batch import run_batch
-from tetherheli.sim.mpc_setup import mpc_controller
-from tetherheli.sim.scenario import MPCSettings, Scenario, load_scenario
-from tetherheli.sim.setup import engine_setup
+from tetherheli.runs.batch import run_batch
+from tetherheli.runs.mpc_setup import mpc_controller
+from tetherheli.runs.setup import engine_setup
+from tetherheli.scenario.core import MPCSettings, Scenario, load_scenario
 from tetherheli.status import Status
 from tetherheli.studies.controllers import eq40_saturated
 from tetherheli.studies.sweep import paper_cyclic_limit

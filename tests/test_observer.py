@@ -17,11 +17,11 @@ from tetherheli.control.observer import (
     steady_state_kalman,
 )
 from tetherheli.params import Params
+from tetherheli.runs.mpc_setup import mpc_controller
+from tetherheli.runs.setup import engine_setup
+from tetherheli.scenario.core import MPCSettings, Scenario, load_scenario
 from tetherheli.sensing.config import CH_GPS, N_CHANNELS, SensorConfig
 from tetherheli.sensing.sensors import measure
-from tetherheli.sim.mpc_setup import mpc_controller
-from tetherheli.sim.scenario import MPCSettings, Scenario, load_scenario
-from tetherheli.sim.setup import engine_setup
 from tetherheli.studies.controllers import with_controller
 
 DT = 0.01

@@ -10,9 +10,10 @@ import numpy as np
 import pytest
 
 from tetherheli.control.paper import PaperController
-from tetherheli.sim import Scenario, simulate
-from tetherheli.sim.scenario import ActuatorSettings
-from tetherheli.sim.setup import engine_setup
+from tetherheli.runs import simulate
+from tetherheli.runs.setup import engine_setup
+from tetherheli.scenario import Scenario
+from tetherheli.scenario.core import ActuatorSettings
 from tetherheli.status import Status, status_message
 from tetherheli.wind import Pulse, Step
 

@@ -25,9 +25,10 @@ from tetherheli.resources import (
     ResourceLimitError,
     memory_limit,
 )
-from tetherheli.sim import Scenario, simulate
-from tetherheli.sim.batch import run_batch
-from tetherheli.sim.scenario import MAX_SAMPLES
+from tetherheli.runs import simulate
+from tetherheli.runs.batch import run_batch
+from tetherheli.scenario import Scenario
+from tetherheli.scenario.core import MAX_SAMPLES
 
 SHORT = """
 name = "{name}"
@@ -248,7 +249,7 @@ def test_budget_counts_sensor_noise_and_concurrent_batch_runs(monkeypatch):
 
 def test_streamed_csv_holds_every_sample_exactly(tmp_path: Path):
     """The CSV is written in blocks; read back it equals the result's columns bit for bit."""
-    from tetherheli.sim import result_files as result_module
+    from tetherheli.results import files as result_module
 
     r = simulate(Scenario(name="csv", duration=0.5, configuration="tethered"))
     original = result_module._CSV_BLOCK_ROWS
@@ -272,12 +273,12 @@ def test_streamed_csv_holds_every_sample_exactly(tmp_path: Path):
 def test_internal_error_is_not_a_usage_error(workdir: Path, capsys, monkeypatch):
     """A bug (a plain exception) exits 70 with one line pointing to --debug; --debug prints
     the traceback. A ValueError that is not ours is a bug too, not 'bad input'."""
-    import tetherheli.sim
+    import tetherheli.runs
 
     def broken(*args, **kwargs):
         raise ValueError("index arithmetic went wrong")
 
-    monkeypatch.setattr(tetherheli.sim, "simulate", broken)
+    monkeypatch.setattr(tetherheli.runs, "simulate", broken)
     assert main(["simulate", "scenarios/short.toml", "--out", "r"]) == EXIT_INTERNAL == 70
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "internal error" in err and "--debug" in err

@@ -29,7 +29,8 @@ from tetherheli._io import (
     output_directory,
 )
 from tetherheli.cli import main
-from tetherheli.sim import Scenario, simulate
+from tetherheli.runs import simulate
+from tetherheli.scenario import Scenario
 
 from . import test_output_safety as safety
 from .test_montecarlo import SHORT as MC_SHORT
@@ -126,12 +127,12 @@ def test_own_files_beside_runs_have_reserved_stems(workdir: Path):
 )
 def test_cli_refuses_a_reserved_name_before_any_run(workdir: Path, capsys, monkeypatch, names):
     """The issue's cases: exit 2, one line naming the field, no run flown, nothing written."""
-    import tetherheli.sim
+    import tetherheli.runs
 
     def no_run(*args, **kwargs):
         raise AssertionError("a run was flown")
 
-    monkeypatch.setattr(tetherheli.sim, "simulate", no_run)
+    monkeypatch.setattr(tetherheli.runs, "simulate", no_run)
     files = [str(scenario_file(workdir / f"s{k}", "x")) for k in range(len(names))]
     for path, name in zip(files, names, strict=True):
         Path(path).write_text(Path(path).read_text().replace('name = "x"', f'name = "{name}"'))

@@ -229,7 +229,8 @@ def test_plot_functions_draw_into_a_given_axes_or_figure():
 
 
 def _result():
-    from tetherheli.sim import Scenario, simulate
+    from tetherheli.runs import simulate
+    from tetherheli.scenario import Scenario
     from tetherheli.wind import Pulse
 
     return simulate(
@@ -299,7 +300,8 @@ def test_sweep_figure_names_units_and_shades_the_infeasible_region():
 
 
 def test_tension_panel_is_scaled_to_the_taut_tether():
-    from tetherheli.sim import Scenario, simulate
+    from tetherheli.runs import simulate
+    from tetherheli.scenario import Scenario
     from tetherheli.wind import Pulse
 
     wind = Pulse(0.1, 0.2, 20.0, (1, 0, 0))

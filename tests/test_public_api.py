@@ -18,7 +18,7 @@ def test_every_public_name_resolves():
 
 def test_the_entry_points_are_top_level():
     from tetherheli.control.base import Controller
-    from tetherheli.sim.batch import run_batch
+    from tetherheli.runs.batch import run_batch
     from tetherheli.tether import Cable
 
     assert tetherheli.run_batch is run_batch

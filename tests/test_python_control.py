@@ -25,8 +25,8 @@ from tetherheli.names import (
     UNITS,
     WIND,
 )
-from tetherheli.sim.scenario import ControlSettings
-from tetherheli.sim.start import LQI_STATES, paper_gain
+from tetherheli.runs.start import LQI_STATES, paper_gain
+from tetherheli.scenario.core import ControlSettings
 
 ROTOR_AND_REEL = (*INPUT, REEL_RATE)
 
@@ -100,7 +100,7 @@ def test_exported_matrices_equal_our_linearization(taut) -> None:
 
 def test_dlqr_on_the_export_is_the_paper_lqi_gain(paper, tethered) -> None:
     """eqs 47-53: control.dlqr on the labelled export with integral_action = -dt C and
-    Q = C_LQI' Qy C_LQI reproduces the gain the simulator flies (sim.start.paper_gain)."""
+    Q = C_LQI' Qy C_LQI reproduces the gain the simulator flies (runs.start.paper_gain)."""
     c = ControlSettings()
     gain = paper_gain(paper, c.dt, c.Qy, c.Ru)
     lin = linearize(tethered, tethered.trim(0.0, 10.0)).select(LQI_STATES)

@@ -9,9 +9,9 @@ import pytest
 
 from tetherheli import ParameterError, load_scenario, simulate
 from tetherheli.report.paper import sensing_scenario
+from tetherheli.scenario.core import ActuatorSettings, paper_scenario
 from tetherheli.sensing.config import SensorConfig
 from tetherheli.sensing.sensors import hover_error_std
-from tetherheli.sim.scenario import ActuatorSettings, paper_scenario
 
 INF = np.inf
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"

@@ -8,8 +8,8 @@ import pytest
 
 from tetherheli import FreeHelicopter, TetheredHelicopter, simulate
 from tetherheli.control.paper import PaperController
-from tetherheli.sim.scenario import ActuatorSettings, Scenario, paper_scenario
-from tetherheli.sim.setup import engine_setup
+from tetherheli.runs.setup import engine_setup
+from tetherheli.scenario.core import ActuatorSettings, Scenario, paper_scenario
 from tetherheli.studies.release import altitude_excursion, release_comparison
 from tetherheli.wind import Pulse
 
@@ -86,7 +86,7 @@ def test_release_is_one_law_in_compiled_python_and_gym_loops():
     np.testing.assert_allclose(python.states, compiled.states, rtol=0, atol=1e-9)
     gymnasium = pytest.importorskip("gymnasium")
     assert gymnasium is not None
-    from tetherheli.envs import TetheredHoverEnv
+    from tetherheli.envs.env import TetheredHoverEnv
 
     env = TetheredHoverEnv(s, wind=s.wind, max_episode_time=3.0)
     env.reset(seed=0)

@@ -19,8 +19,8 @@ import pytest
 pytest.importorskip("gymnasium")
 
 from tetherheli import simulate
-from tetherheli.envs import TetheredHoverEnv
-from tetherheli.sim.scenario import Scenario
+from tetherheli.envs.env import TetheredHoverEnv
+from tetherheli.scenario.core import Scenario
 from tetherheli.wind import Pulse, Sine
 
 # the example imports Stable-Baselines3 (and PyTorch, about 2.5 s) when it runs, not while
@@ -136,7 +136,7 @@ def test_linear_policy_shared_and_per_copy_gains_agree(example):
 def test_hand_made_residual_is_the_lqi_state_feedback_scaled(example):
     """lqi_feedback_gains(alpha) acting on the observation gives -alpha Kx (x - x0) /
     action_scale of the true state, to the output map's linearisation error."""
-    from tetherheli.sim.setup import run_setup
+    from tetherheli.runs.setup import run_setup
 
     env = TetheredHoverEnv(wind=Pulse(0.0, 1.0, 15.0, (0.6, 0.8, 0.0)), **example.TASK)
     _, trim, gain, _, _ = run_setup(env.scenario)

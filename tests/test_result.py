@@ -11,9 +11,11 @@ import pytest
 
 import tetherheli
 from tetherheli import ParameterError, load_result
+from tetherheli.results import SimulationResult, list_results
+from tetherheli.runs import simulate
+from tetherheli.scenario import Scenario
+from tetherheli.scenario.core import ActuatorSettings
 from tetherheli.sensing.config import SensorConfig
-from tetherheli.sim import Scenario, SimulationResult, list_results, simulate
-from tetherheli.sim.scenario import ActuatorSettings
 from tetherheli.wind import Step
 
 _ARRAYS = [f.name for f in dataclasses.fields(SimulationResult) if f.type == "np.ndarray"]

@@ -10,8 +10,8 @@ import pytest
 
 from tetherheli import load_result, simulate
 from tetherheli.names import INPUT_UNITS, TETHERED_STATE, TETHERED_STATE_UNITS
-from tetherheli.sim.result import RESULT_COLUMNS
-from tetherheli.sim.scenario import Scenario
+from tetherheli.results.result import RESULT_COLUMNS
+from tetherheli.scenario.core import Scenario
 from tetherheli.wind import Pulse
 
 PULSE = Pulse(start=0.1, duration=0.2, magnitude=20.0, direction=(0.6, 0.8, 0.0))

@@ -12,9 +12,9 @@ import pytest
 
 from tetherheli import ParameterError, cli, load_result, simulate
 from tetherheli.report import run_montecarlo
-from tetherheli.sim import list_results
-from tetherheli.sim.result import RESULT_COLUMNS, RESULT_FORMATS, TABLE_FORMATS
-from tetherheli.sim.scenario import Scenario
+from tetherheli.results import list_results
+from tetherheli.results.result import RESULT_COLUMNS, RESULT_FORMATS, TABLE_FORMATS
+from tetherheli.scenario.core import Scenario
 from tetherheli.studies.montecarlo import load_montecarlo
 from tetherheli.wind import Pulse
 
@@ -54,7 +54,7 @@ def test_parquet_fields_carry_units_and_descriptions_for_pyarrow_alone(run, tmp_
     description (before: units only in pandas' attrs blob); pandas still gets df.attrs."""
     import pyarrow.parquet as pq
 
-    from tetherheli.sim.result import RESULT_DESCRIPTIONS
+    from tetherheli.results.result import RESULT_DESCRIPTIONS
 
     path = run.save(tmp_path, format="parquet")["parquet"]
     schema = pq.read_schema(path)

@@ -1,4 +1,4 @@
-"""Runs as MCAP (``--format mcap``, ``sim.result_mcap``): written with the ``mcap`` package's
+"""Runs as MCAP (``--format mcap``, ``results.mcap``): written with the ``mcap`` package's
 writer, read back by its reader and by plain JSON decoding, and by ``load_result`` exactly as
 the CSV."""
 
@@ -13,9 +13,9 @@ import pytest
 from mcap.reader import make_reader
 
 from tetherheli import ParameterError, cli, load_result, simulate
-from tetherheli.sim.result_mcap import MCAP_TOPICS, read_mcap_table, write_mcap
-from tetherheli.sim.scenario import Scenario
-from tetherheli.sim.scenario_tables import BaseSettings
+from tetherheli.results.mcap import MCAP_TOPICS, read_mcap_table, write_mcap
+from tetherheli.scenario.core import Scenario
+from tetherheli.scenario.tables import BaseSettings
 from tetherheli.wind import Pulse
 
 from .test_result import _assert_same

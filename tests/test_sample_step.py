@@ -5,7 +5,7 @@ The Python path (the MPC, a user's ``Controller``, the adaptive reference) calls
 compiled phases (``stepping.step_sense``, ``step_command``) instead of
 re-composing them, so a Python copy of the paper's law flies the compiled loop's run bit for
 bit, and its on-line metrics are the compiled loop's; ``analysis.run_metrics`` reads a
-recorded run through the same accumulation (``sim.summary.summarize``) as ``run_batch``.
+recorded run through the same accumulation (``engine.summary.summarize``) as ``run_batch``.
 """
 
 from __future__ import annotations
@@ -38,10 +38,10 @@ from tetherheli.layout import (
     LoopState,
     Signals,
 )
+from tetherheli.runs import simulate
+from tetherheli.runs.batch import run_batch, summary_metrics
+from tetherheli.runs.setup import engine_setup
 from tetherheli.shipped import shipped_scenario
-from tetherheli.sim import simulate
-from tetherheli.sim.batch import run_batch, summary_metrics
-from tetherheli.sim.setup import engine_setup
 from tetherheli.status import Status
 
 SHORT = 6.0  # [s]: past the paper's 1-2 s pulse
@@ -60,7 +60,7 @@ def _paper_as_python(scenario):
 def test_python_controller_flies_the_compiled_step_bit_for_bit(name):
     """The paper's law as a Python ``Controller`` goes through ``step_command``: every
     recorded array equals the compiled loop's exactly (massless, sensed and lumped runs),
-    with ``metrics_start`` honoured by both (one accumulation, ``sim.summary.accumulate``)."""
+    with ``metrics_start`` honoured by both (one accumulation, ``engine.summary.accumulate``)."""
     s = shipped_scenario(name).replace(duration=SHORT, metrics_start=2.0)
     compiled = simulate(s)
     python = simulate(s, controller=_paper_as_python(s))

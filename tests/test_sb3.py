@@ -1,4 +1,4 @@
-"""``tetherheli.sb3.TetheredHoverSB3VecEnv``: Stable-Baselines3's ``VecEnv`` contract on the
+"""``tetherheli.envs.sb3.TetheredHoverSB3VecEnv``: Stable-Baselines3's ``VecEnv`` contract on the
 compiled vector environment (issue 25, item 3).
 
 SB3's autoreset: the step that ends an episode returns the next episode's first observation,
@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tetherheli.vector_env import TetheredHoverVectorEnv
+from tetherheli.envs.vector import TetheredHoverVectorEnv
 
 # Stable-Baselines3 (and PyTorch under it, about 2.5 s) is imported by the tests that use it,
 # not while every worker collects the suite
@@ -28,7 +28,7 @@ def _actions(n: int, k: int) -> np.ndarray:
 def test_same_step_autoreset_equals_gymnasium_next_step():
     from stable_baselines3.common.vec_env import VecEnv
 
-    from tetherheli.sb3 import TetheredHoverSB3VecEnv
+    from tetherheli.envs.sb3 import TetheredHoverSB3VecEnv
 
     n = 3
     sb3 = TetheredHoverSB3VecEnv(n, max_episode_steps=STEPS)
@@ -84,7 +84,7 @@ def test_sb3_wrappers_and_ppo_run():
     from stable_baselines3 import PPO
     from stable_baselines3.common.vec_env import VecCheckNan, VecMonitor
 
-    from tetherheli.sb3 import TetheredHoverSB3VecEnv
+    from tetherheli.envs.sb3 import TetheredHoverSB3VecEnv
 
     env = VecMonitor(
         VecCheckNan(TetheredHoverSB3VecEnv(4, max_episode_steps=32), raise_exception=True)

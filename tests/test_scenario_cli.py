@@ -10,7 +10,7 @@ import pytest
 
 from tetherheli import ParameterError, load_scenario
 from tetherheli.cli import main
-from tetherheli.sim.scenario import paper_scenario
+from tetherheli.scenario.core import paper_scenario
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 

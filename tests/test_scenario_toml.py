@@ -17,7 +17,7 @@ from tetherheli import simulate
 from tetherheli._io import OUTPUT_RECORD, read_toml
 from tetherheli.errors import ParameterError
 from tetherheli.report.paper import SCENARIO_FILE, write_comparison, write_run
-from tetherheli.sim.scenario import Scenario, load_scenario, scenario_from_dict, scenario_toml
+from tetherheli.scenario.core import Scenario, load_scenario, scenario_from_dict, scenario_toml
 from tetherheli.wind import Disturbance, Pulse
 
 SCENARIOS = sorted((Path(__file__).parent.parent / "scenarios").glob("*.toml"))

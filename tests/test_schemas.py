@@ -14,8 +14,8 @@ from pathlib import Path
 import numpy as np
 
 from tetherheli import simulate
+from tetherheli.scenario.core import Scenario
 from tetherheli.sensing.config import SensorConfig
-from tetherheli.sim.scenario import Scenario
 from tetherheli.wind import Pulse
 
 #: ``SimulationResult.to_csv`` / ``save``: time, the tethered state (names.TETHERED_STATE),

@@ -443,7 +443,7 @@ def test_the_docs_rule_replaces_a_page_whole_and_never_through_a_link(tmp_path):
 
 def test_gen_scenario_reference_and_moordyn_use_the_docs_rule(tmp_path, monkeypatch, capsys):
     pytest.importorskip("scipy")
-    from tetherheli.sim.reference import scenario_reference
+    from tetherheli.scenario.reference import scenario_reference
 
     gen = _load("docs/gen_scenario_reference.py")
     root = _docs_root(tmp_path, gen.PAGE)

@@ -15,6 +15,9 @@ import pytest
 from tetherheli.errors import ParameterError
 from tetherheli.model.kernels import tethered_outputs
 from tetherheli.report.paper import SENSING_RUNS, sensing_scenario
+from tetherheli.runs import simulate
+from tetherheli.runs.packing import sensor_noise, sensor_schedule
+from tetherheli.scenario import load_scenario
 from tetherheli.sensing.config import (
     CH_GPS,
     CH_GYRO,
@@ -27,8 +30,6 @@ from tetherheli.sensing.noise import gauss_markov, noise_table, random_walk
 from tetherheli.sensing.presets import SENSOR_PRESETS
 from tetherheli.sensing.schedules import group_samples, sample_schedule
 from tetherheli.sensing.sensors import measured_channels, tether_position_estimate
-from tetherheli.sim import load_scenario, simulate
-from tetherheli.sim.packing import sensor_noise, sensor_schedule
 
 DT = 0.01
 
@@ -136,7 +137,7 @@ def test_timing_off_the_control_grid_is_refused(kwargs, field):
     with pytest.raises(ParameterError) as err:
         import tomllib
 
-        from tetherheli.sim.scenario import scenario_from_dict
+        from tetherheli.scenario.core import scenario_from_dict
 
         scenario_from_dict(tomllib.loads(text))
     assert err.value.field == field
@@ -230,10 +231,10 @@ def test_engine_hold_and_latency_equal_replay(flown_runs):
 def test_python_loop_and_environment_share_the_sensors(flown_runs):
     """The Python loop (``simulate`` with a ``PaperController``) and a zero-residual
     Gymnasium episode with the run's noise table fly the same states as the compiled loop
-    (one ``sense`` phase, one sensor tuple from ``sim.setup``)."""
+    (one ``sense`` phase, one sensor tuple from ``runs.setup``)."""
     from tetherheli.control.paper import PaperController
-    from tetherheli.envs import TetheredHoverEnv
-    from tetherheli.sim.setup import engine_setup
+    from tetherheli.envs.env import TetheredHoverEnv
+    from tetherheli.runs.setup import engine_setup
 
     s, r = flown_runs["tether"]
     s = s.replace(duration=3.0)
@@ -291,7 +292,7 @@ def test_sensing_command_takes_files_as_arguments_and_parquet(tmp_path, capsys):
     time series is ``<name>.parquet``, read back equal to the CSV of the same run. The old
     ``--scenario FILE`` still flies the file, with one deprecation line on stderr."""
     from tetherheli.cli import main
-    from tetherheli.sim import load_result
+    from tetherheli.results import load_result
 
     files = []
     for key in ("gps", "tether"):

@@ -12,8 +12,8 @@ import pytest
 from tetherheli import cli
 from tetherheli._io import OutputPathError
 from tetherheli.errors import ParameterError
+from tetherheli.scenario.core import load_scenario
 from tetherheli.shipped import copy_scenario, shipped_scenario, shipped_scenarios
-from tetherheli.sim.scenario import load_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGE_SCENARIOS = ROOT / "src" / "tetherheli" / "scenarios"

@@ -14,10 +14,11 @@ import tetherheli
 from tetherheli import FreeHelicopter, Scenario, TetheredHelicopter, linearize, simulate
 from tetherheli.control.base import Command, Controller, Measurement
 from tetherheli.control.paper import PaperController
-from tetherheli.sim import ControlSettings, Limits, paper_gain
-from tetherheli.sim.scenario import paper_scenario
-from tetherheli.sim.setup import run_setup
-from tetherheli.sim.start import LQI_STATES
+from tetherheli.runs import paper_gain
+from tetherheli.runs.setup import run_setup
+from tetherheli.runs.start import LQI_STATES
+from tetherheli.scenario import ControlSettings, Limits
+from tetherheli.scenario.core import paper_scenario
 from tetherheli.wind import ConstantForce, Pulse, Step
 
 DT = 0.01

@@ -1,5 +1,5 @@
 """A run in turbulence starts at rest in the equilibrium of its air at t = 0 (``hover_trim``
-with ``N_F_wind``, ``sim.start.start_point``), in the compiled loop, the Python loop and the
+with ``N_F_wind``, ``runs.start.start_point``), in the compiled loop, the Python loop and the
 Gymnasium environment alike; ``Scenario.metrics_start`` windows the metrics."""
 
 from __future__ import annotations
@@ -11,12 +11,12 @@ import numpy as np
 import pytest
 
 import tetherheli as th
-from tetherheli.envs import TetheredHoverEnv
+from tetherheli.envs.env import TetheredHoverEnv
 from tetherheli.errors import InfeasibleError
 from tetherheli.params import Params
-from tetherheli.sim.scenario import Scenario
-from tetherheli.sim.setup import engine_setup, run_setup
-from tetherheli.sim.start import start_point
+from tetherheli.runs.setup import engine_setup, run_setup
+from tetherheli.runs.start import start_point
+from tetherheli.scenario.core import Scenario
 from tetherheli.wind import ConstantForce, DragModel, GaussMarkovTurbulence, NoWind, Turbulence
 from tetherheli.wind.evaluate import wind_force
 
@@ -154,7 +154,7 @@ def test_metrics_start_windows_the_online_and_the_recorded_metrics():
     of the recording and a slice of the recorded outputs at t >= 20 s written here agree to
     1e-12; the windowed peak is far below the whole run's, which includes the pulse."""
     from tetherheli.analysis import run_metrics
-    from tetherheli.sim.batch import run_batch
+    from tetherheli.runs.batch import run_batch
 
     base = th.load_scenario("scenarios/paper_sim1_tethered.toml").replace(duration=29.0)
     s = base.replace(metrics_start=20.0)

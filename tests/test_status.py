@@ -14,9 +14,9 @@ import pytest
 
 from tetherheli import load_scenario, simulate
 from tetherheli.cli import main
-from tetherheli.sim import engine
-from tetherheli.sim.batch import run_batch
-from tetherheli.sim.scenario import ActuatorSettings, Scenario
+from tetherheli.engine import loop as engine
+from tetherheli.runs.batch import run_batch
+from tetherheli.scenario.core import ActuatorSettings, Scenario
 from tetherheli.wind import Step
 
 BREAK = 25.5  # [N]: the upward step below pulls the tension to 25.71 N, the tether gives way
@@ -82,7 +82,7 @@ def test_release_in_python_rk4_loop_equals_engine():
     """A custom controller runs the Python loop; wrapping the paper's controller there must
     record the release exactly as the compiled engine does."""
     from tetherheli.control.paper import PaperController
-    from tetherheli.sim.setup import engine_setup
+    from tetherheli.runs.setup import engine_setup
 
     s = _releasing()
     setup = engine_setup(s)
@@ -178,7 +178,7 @@ def test_montecarlo_rows_record_release(tmp_path):
 def test_env_info_reports_release():
     """The Gymnasium environment puts the release into ``info``."""
     pytest.importorskip("gymnasium")
-    from tetherheli.envs import TetheredHoverEnv
+    from tetherheli.envs.env import TetheredHoverEnv
 
     env = TetheredHoverEnv(scenario=_releasing(), wind=_releasing().wind, max_episode_time=3.0)
     _, info = env.reset(seed=0)
@@ -233,7 +233,7 @@ def test_paper_with_coarse_dt_reports_failures(tmp_path, capsys):
 def test_paper_summary_of_successful_runs_records_completed_statuses():
     """The four paper runs complete; summary's statuses say so (numbers as before)."""
     from tetherheli.report.paper import paper_summary
-    from tetherheli.sim.scenario import paper_scenario
+    from tetherheli.scenario.core import paper_scenario
 
     results = {
         f"sim{s}_{c}": simulate(paper_scenario(s, c).replace(duration=20.0))
@@ -310,7 +310,7 @@ def test_sweep_records_impossible_and_failed_points():
     """A T_ref sweep beyond what the tether gives records those points as invalid (with the
     reason, metric NaN) and still runs the others; a cyclic limit below the hover need is
     invalid, one that loses the helicopter failed; neither is reported as completed."""
-    from tetherheli.sim.scenario import paper_scenario
+    from tetherheli.scenario.core import paper_scenario
     from tetherheli.studies.sweep import sweep
 
     s = paper_scenario(1, "tethered").replace(duration=12.0)
@@ -449,7 +449,7 @@ def test_short_gust_grid_refused_in_every_path(tmp_path, capsys):
     assert len(err) == 1 and "wind.duration = 120.0" in err[0] and "130 s" in err[0]
     # the environment: an episode longer than the gust series is refused (when built)
     pytest.importorskip("gymnasium")
-    from tetherheli.envs import TetheredHoverEnv
+    from tetherheli.envs.env import TetheredHoverEnv
 
     with pytest.raises(ParameterError, match=r"wind\.duration"):
         TetheredHoverEnv(wind=turb, max_episode_time=3.0).reset(seed=0)

@@ -22,8 +22,9 @@ from tetherheli._io import (
     write_json,
 )
 from tetherheli.cli import main
-from tetherheli.sim import Scenario, simulate
-from tetherheli.sim.scenario import scenario_from_dict, scenario_toml
+from tetherheli.runs import simulate
+from tetherheli.scenario import Scenario
+from tetherheli.scenario.core import scenario_from_dict, scenario_toml
 
 from .test_output_safety import SHORT
 

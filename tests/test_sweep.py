@@ -10,7 +10,7 @@ import pytest
 from tetherheli import ParameterError, Params
 from tetherheli._io import read_json
 from tetherheli.cli import main
-from tetherheli.sim.scenario import load_scenario, paper_scenario, scenario_from_dict
+from tetherheli.scenario.core import load_scenario, paper_scenario, scenario_from_dict
 from tetherheli.studies.sweep import paper_cyclic_limit, sweep, tension_bound
 
 SIM1_TETHERED = str(Path(__file__).resolve().parents[1] / "scenarios" / "paper_sim1_tethered.toml")
@@ -41,7 +41,7 @@ def test_sweep_other_parameters():
     results (the value reaches the run), and halving dt changes the peak by < 5 cm."""
     from tetherheli import simulate
     from tetherheli.analysis import run_metrics
-    from tetherheli.sim.scenario import ControlSettings
+    from tetherheli.scenario.core import ControlSettings
 
     s = paper_scenario(1, "tethered").replace(duration=15.0)
     r = sweep(s, "tether.K_C", np.array([20.0, 80.0]), "peak_q1")
@@ -109,7 +109,7 @@ def test_sweep_actuator_settings_and_batch_equals_simulate():
     3 and 4 N m separates lost from held in simulation 1 (the paper gives none)."""
     from tetherheli import simulate
     from tetherheli.analysis import run_metrics
-    from tetherheli.sim.scenario import ActuatorSettings
+    from tetherheli.scenario.core import ActuatorSettings
 
     s = paper_scenario(1, "tethered")
     r = sweep(s, "actuators.cyclic_limit", np.array([3.0, 3.5, 5.0]), "peak_q1")

@@ -177,7 +177,7 @@ def test_both_dampings_are_refused_and_bad_input_names_the_field():
 
 
 def test_scenario_refuses_both_dampings():
-    from tetherheli.sim.scenario import Scenario, TetherSettings
+    from tetherheli.scenario.core import Scenario, TetherSettings
 
     with pytest.raises(ParameterError, match=r"tether.internal_damping"):
         Scenario(tether=TetherSettings(model="lumped", internal_damping=1.0))

@@ -121,9 +121,9 @@ def test_a_sinking_helicopter_lays_its_chain_on_the_ground_and_stays_finite():
     node is finite and never deeper than the static sink plus the fastest possible impact
     (free fall from q9 over the contact's frequency), and the nodes lying on the ground at
     the end rest at the static penetration."""
-    from tetherheli.sim.closed_loop import simulate
-    from tetherheli.sim.scenario import ActuatorSettings, TetherSettings, paper_scenario
-    from tetherheli.sim.setup import engine_setup
+    from tetherheli.runs.closed_loop import simulate
+    from tetherheli.runs.setup import engine_setup
+    from tetherheli.scenario.core import ActuatorSettings, TetherSettings, paper_scenario
     from tetherheli.status import Status
     from tetherheli.wind import ConstantForce
 
@@ -147,7 +147,7 @@ def test_a_sinking_helicopter_lays_its_chain_on_the_ground_and_stays_finite():
 
 def test_ground_keys_are_validated_with_their_names():
     """Bad ground constants: one ParameterError naming the key (``[tether]`` and ``Cable``)."""
-    from tetherheli.sim.scenario import Scenario, TetherSettings
+    from tetherheli.scenario.core import Scenario, TetherSettings
 
     with pytest.raises(ParameterError, match=r"tether\.ground_stiffness"):
         Scenario(tether=TetherSettings(model="lumped", ground_stiffness=-1.0))

@@ -16,8 +16,8 @@ from tetherheli.control.tether_lqi import design_tether_lqi, tethered_design
 from tetherheli.errors import ParameterError
 from tetherheli.layout import CTRL_ANTI_WINDUP, CTRL_U_MAX, CTRL_U_MIN, CTRL_WINCH
 from tetherheli.params import Params
-from tetherheli.sim.scenario import Scenario, TetherLQISettings, load_scenario
-from tetherheli.sim.setup import engine_setup
+from tetherheli.runs.setup import engine_setup
+from tetherheli.scenario.core import Scenario, TetherLQISettings, load_scenario
 from tetherheli.wind.profiles import Step
 
 DT = 0.01

@@ -18,8 +18,8 @@ import pytest
 from tetherheli.analysis import run_metrics
 from tetherheli.cli import main
 from tetherheli.errors import ParameterError
-from tetherheli.sim import simulate
-from tetherheli.sim.scenario import paper_scenario
+from tetherheli.runs import simulate
+from tetherheli.scenario.core import paper_scenario
 from tetherheli.studies import tether_sensing as sn
 from tetherheli.studies import tether_study as ts
 from tetherheli.tether.catenary import elastic_catenary, static_cable

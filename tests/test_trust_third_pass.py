@@ -16,10 +16,10 @@ from tetherheli._validation import trusted
 from tetherheli.base.motion import VelocityBase
 from tetherheli.cli import main
 from tetherheli.errors import ParameterError
+from tetherheli.runs.batch import _finished, run_batch
+from tetherheli.scenario.core import scenario_from_dict
+from tetherheli.scenario.tables import ActuatorSettings, BaseSettings
 from tetherheli.shipped import shipped_scenario
-from tetherheli.sim.batch import _finished, run_batch
-from tetherheli.sim.scenario import scenario_from_dict
-from tetherheli.sim.scenario_tables import ActuatorSettings, BaseSettings
 from tetherheli.status import (
     SUCCESS_STATUSES,
     Status,

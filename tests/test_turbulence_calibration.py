@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from tetherheli.errors import ParameterError
-from tetherheli.sim.scenario import load_scenario
+from tetherheli.scenario.core import load_scenario
 from tetherheli.wind import (
     CalibratedGaussMarkovTurbulence,
     DragModel,

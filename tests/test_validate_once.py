@@ -42,13 +42,13 @@ from tetherheli.params import (
     TensionControlParams,
     TetherParams,
 )
+from tetherheli.runs import simulate
+from tetherheli.runs.start import lumped_tether
+from tetherheli.scenario.core import BaseSettings, Scenario, scenario_from_dict
 from tetherheli.sensing.config import SensorConfig
 from tetherheli.sensing.noise import noise_table
 from tetherheli.sensing.schedules import sample_schedule
 from tetherheli.shipped import shipped_scenario_text, shipped_scenarios
-from tetherheli.sim import simulate
-from tetherheli.sim.scenario import BaseSettings, Scenario, scenario_from_dict
-from tetherheli.sim.start import lumped_tether
 from tetherheli.tether.chain import LumpedTether
 from tetherheli.tether.lumped_trim import hover_trim_lumped
 
@@ -154,8 +154,8 @@ def test_a_built_scenario_is_set_up_and_flown_without_checks(name, controller):
     _empty_caches()
     with _traced() as calls:
         simulate(scenario)
-    assert "tetherheli.sim.setup:engine_setup" in calls.entered  # the set-up was traced
-    assert "tetherheli.sim.start:paper_gain" in calls.entered  # and designed anew
+    assert "tetherheli.runs.setup:engine_setup" in calls.entered  # the set-up was traced
+    assert "tetherheli.runs.start:paper_gain" in calls.entered  # and designed anew
     assert not calls.checks, f"{name}: checks during the set-up: {dict(calls.checks)}"
 
 

@@ -16,12 +16,12 @@ import pytest
 
 from tetherheli import ParameterError, Params, TetherParams
 from tetherheli._validation import check_number, check_vector, describe
-from tetherheli.envs import TetheredHoverEnv
+from tetherheli.envs.env import TetheredHoverEnv
+from tetherheli.scenario import ControlSettings, Limits, Scenario
+from tetherheli.scenario.core import ActuatorSettings
 from tetherheli.sensing.config import SensorConfig
 from tetherheli.sensing.noise import noise_table
 from tetherheli.sensing.sensors import hover_error_std
-from tetherheli.sim import ControlSettings, Limits, Scenario
-from tetherheli.sim.scenario import ActuatorSettings
 from tetherheli.studies.montecarlo import montecarlo_config_from_dict
 from tetherheli.viz.animation import animate, render_frame
 from tetherheli.wind import DragModel, GaussMarkovTurbulence, Pulse, Turbulence

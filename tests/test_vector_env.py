@@ -16,13 +16,13 @@ gymnasium = pytest.importorskip("gymnasium")
 from gymnasium.vector import AutoresetMode, SyncVectorEnv  # noqa: E402
 from gymnasium.vector.utils import batch_space  # noqa: E402
 
-from tetherheli.envs import ENV_ID, TetheredHoverEnv, register_envs  # noqa: E402
+from tetherheli.envs.env import ENV_ID, TetheredHoverEnv, register_envs  # noqa: E402
+from tetherheli.envs.vector import TetheredHoverVectorEnv  # noqa: E402
 from tetherheli.errors import ParameterError  # noqa: E402
 from tetherheli.layout import LANES  # noqa: E402
+from tetherheli.scenario.core import ActuatorSettings, Scenario  # noqa: E402
 from tetherheli.sensing.config import SensorConfig  # noqa: E402
-from tetherheli.sim.scenario import ActuatorSettings, Scenario  # noqa: E402
 from tetherheli.status import Status  # noqa: E402
-from tetherheli.vector_env import TetheredHoverVectorEnv  # noqa: E402
 
 # info keys whose arrays must agree exactly (NaN where the single environment has NaN)
 NUMERIC_INFO = ("time", "status", "outputs", "inputs", "reel_rate", "tension")
@@ -264,7 +264,7 @@ def test_moving_base_copies_equal_single_envs():
     environment's integrator (``engine.rk4_interval`` with the packed base; the lane engine
     flies a still base only): copy i equals ``TetheredHoverEnv`` bit for bit, with random
     actions, pulse and turbulence winds and an autoreset."""
-    from tetherheli.sim.scenario import BaseSettings
+    from tetherheli.scenario.core import BaseSettings
 
     deck = BaseSettings(motion="harmonic", amplitude=(0.0, 0.0, 0.5), frequency=(0.0, 0.0, 0.2))
     rng = np.random.default_rng(3)

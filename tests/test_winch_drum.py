@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from tetherheli import cli
+from tetherheli.engine import loop as engine
 from tetherheli.errors import ParameterError
 from tetherheli.layout import (
     ACT_DRUM,
@@ -21,19 +22,18 @@ from tetherheli.layout import (
     HELD_SIZE,
     default_actuators,
 )
-from tetherheli.sim import engine
-from tetherheli.sim.batch import run_batch
-from tetherheli.sim.closed_loop import simulate
-from tetherheli.sim.packing import winch_into
-from tetherheli.sim.result import load_result
-from tetherheli.sim.scenario import (
+from tetherheli.results.result import load_result
+from tetherheli.runs.batch import run_batch
+from tetherheli.runs.closed_loop import simulate
+from tetherheli.runs.packing import winch_into
+from tetherheli.runs.setup import engine_setup
+from tetherheli.scenario.core import (
     ActuatorSettings,
     WinchSettings,
     load_scenario,
     paper_scenario,
     scenario_from_dict,
 )
-from tetherheli.sim.setup import engine_setup
 from tetherheli.tether.winch import drum_step
 from tetherheli.wind import NoWind
 

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from tetherheli import cli
+from tetherheli.engine import loop as engine
 from tetherheli.errors import ParameterError
 from tetherheli.layout import (
     ACT_MAX_LENGTH,
@@ -22,13 +23,12 @@ from tetherheli.layout import (
     WINCH_MIN_LENGTH_M,
     default_actuators,
 )
-from tetherheli.sim import engine
-from tetherheli.sim.batch import run_batch
-from tetherheli.sim.closed_loop import simulate
-from tetherheli.sim.packing import winch_into
-from tetherheli.sim.result import load_result
-from tetherheli.sim.scenario import TetherSettings, WinchSettings, paper_scenario
-from tetherheli.sim.setup import engine_setup
+from tetherheli.results.result import load_result
+from tetherheli.runs.batch import run_batch
+from tetherheli.runs.closed_loop import simulate
+from tetherheli.runs.packing import winch_into
+from tetherheli.runs.setup import engine_setup
+from tetherheli.scenario.core import TetherSettings, WinchSettings, paper_scenario
 from tetherheli.status import Status
 
 DT = 0.01

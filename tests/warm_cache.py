@@ -35,15 +35,15 @@ def _lumped() -> None:
 
 
 def _unlaned() -> None:
+    from tetherheli.runs.batch import run_batch
     from tetherheli.shipped import shipped_scenario
-    from tetherheli.sim.batch import run_batch
 
     run_batch([shipped_scenario("paper_sim1_tethered").replace(duration=0.2)] * 2, lanes=False)
 
 
 def _lanes() -> None:
+    from tetherheli.runs.batch import run_batch
     from tetherheli.shipped import shipped_scenario
-    from tetherheli.sim.batch import run_batch
 
     run_batch([shipped_scenario("paper_sim1_tethered").replace(duration=0.2)] * 2)
 
@@ -62,7 +62,7 @@ def _python_loop() -> None:
 def _env() -> None:
     import gymnasium as gym
 
-    import tetherheli.envs  # noqa: F401 (registers the ids)
+    import tetherheli.envs.env  # noqa: F401 (registers the ids)
 
     env = gym.make("tetherheli/TetheredHover-v0")
     env.reset(seed=0)
@@ -70,7 +70,7 @@ def _env() -> None:
 
 
 def _vector_env() -> None:
-    from tetherheli.vector_env import TetheredHoverVectorEnv
+    from tetherheli.envs.vector import TetheredHoverVectorEnv
 
     vector = TetheredHoverVectorEnv(4)
     vector.reset(seed=0)

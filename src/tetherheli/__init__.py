@@ -27,10 +27,12 @@ from .params import HelicopterParams, Params, TensionControlParams, TetherParams
 if TYPE_CHECKING:
     from .control.base import Command, Controller, Measurement
     from .model import FreeHelicopter, LinearModel, TetheredHelicopter, TrimPoint, linearize
+    from .results import SimulationResult, load_result
+    from .runs import simulate
+    from .runs.batch import BatchResult, run_batch
+    from .scenario import Scenario, load_scenario
+    from .scenario.core import paper_scenario
     from .shipped import shipped_scenario, shipped_scenarios
-    from .sim import Scenario, SimulationResult, load_result, load_scenario, simulate
-    from .sim.batch import BatchResult, run_batch
-    from .sim.scenario import paper_scenario
     from .status import Status
     from .tether import Cable, drive_cable
 
@@ -40,14 +42,14 @@ _LAZY = {
     "TetheredHelicopter": ".model",
     "TrimPoint": ".model",
     "linearize": ".model",
-    "Scenario": ".sim",
-    "SimulationResult": ".sim",
-    "load_result": ".sim",
-    "load_scenario": ".sim",
-    "simulate": ".sim",
-    "paper_scenario": ".sim.scenario",
-    "run_batch": ".sim.batch",
-    "BatchResult": ".sim.batch",
+    "Scenario": ".scenario",
+    "SimulationResult": ".results",
+    "load_result": ".results",
+    "load_scenario": ".scenario",
+    "simulate": ".runs",
+    "paper_scenario": ".scenario",
+    "run_batch": ".runs",
+    "BatchResult": ".runs",
     "Controller": ".control.base",
     "Command": ".control.base",
     "Measurement": ".control.base",

@@ -10,7 +10,7 @@ makes ``gymnasium.make(ENV_ID)`` work there.)
 
 from __future__ import annotations
 
-#: Gymnasium id of :class:`tetherheli.envs.TetheredHoverEnv`.
+#: Gymnasium id of :class:`tetherheli.envs.env.TetheredHoverEnv`.
 ENV_ID = "tetherheli/TetheredHover-v0"
 
 #: ``max_episode_steps`` of the registration: the default episode (30 s,
@@ -21,15 +21,15 @@ MAX_EPISODE_STEPS = 3000
 
 def register_envs() -> None:
     """Register ``ENV_ID`` ("tetherheli/TetheredHover-v0") with Gymnasium (idempotent; done
-    on ``import tetherheli`` and ``import tetherheli.envs``, and by Gymnasium's entry point).
+    on ``import tetherheli`` and ``import tetherheli.envs.env``, and by Gymnasium's entry point).
 
-    Keyword arguments of ``gymnasium.make`` go to :class:`tetherheli.envs.TetheredHoverEnv`.
+    Keyword arguments of ``gymnasium.make`` go to :class:`tetherheli.envs.env.TetheredHoverEnv`.
     The registration has ``max_episode_steps = MAX_EPISODE_STEPS`` (3000: 30 s at 10 ms), so
     ``make`` adds Gymnasium's ``TimeLimit`` wrapper, which agrees with the environment's own
     truncation at the defaults; an episode ends at whichever comes first, so a longer
     ``max_episode_time`` needs ``max_episode_steps`` too (``gymnasium.make(ENV_ID,
     max_episode_time=60, max_episode_steps=6000)``). The vector entry point is
-    :class:`tetherheli.vector_env.TetheredHoverVectorEnv`
+    :class:`tetherheli.envs.vector.TetheredHoverVectorEnv`
     (``gymnasium.make_vec(ENV_ID, num_envs=N, vectorization_mode="vector_entry_point")``),
     which truncates at the same step.
     """
@@ -38,7 +38,7 @@ def register_envs() -> None:
     if ENV_ID not in gymnasium.registry:
         gymnasium.register(
             id=ENV_ID,
-            entry_point="tetherheli.envs:TetheredHoverEnv",
-            vector_entry_point="tetherheli.vector_env:TetheredHoverVectorEnv",
+            entry_point="tetherheli.envs.env:TetheredHoverEnv",
+            vector_entry_point="tetherheli.envs.vector:TetheredHoverVectorEnv",
             max_episode_steps=MAX_EPISODE_STEPS,
         )

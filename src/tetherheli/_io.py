@@ -429,7 +429,7 @@ OUTPUT_RECORD = ".tetherheli-output.json"
 #: ``<name>.csv``/``<name>.json`` or ``<name>/`` folders, ``animate``'s animation.gif and
 #: ``view``'s replay.html. No
 #: scenario may be named so (alone or followed by a suffix, in any letter case), and no name
-#: starts with '.' as the record and the temporary files do (``sim.scenario.check_name``): a
+#: starts with '.' as the record and the temporary files do (``scenario.core.check_name``): a
 #: run's file or folder can never be one of tetherheli's own. (scenario.toml needs no guard:
 #: no run writes a .toml file, and it lies inside each run's folder.)
 OWN_FILE_STEMS = ("animation", "inputs", "outputs", "replay", "report", "summary")

@@ -1,5 +1,5 @@
 """Names of a package loaded on first use (PEP 562), shared by the packages that defer their
-imports (``tetherheli``, ``tetherheli.sim``, ``tetherheli.studies``)."""
+imports (``tetherheli``, its rooms, ``tetherheli.studies``)."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """Where the shipped scenarios lie: ``tetherheli/scenarios/*.toml`` inside the package, read
 through :mod:`importlib.resources` (so a wheel keeps them). The one lookup of their files,
-used by ``shipped`` (listing, copying) and by ``sim.scenario.load_scenario`` (a scenario by
+used by ``shipped`` (listing, copying) and by ``scenario.core.load_scenario`` (a scenario by
 name wherever a scenario file is taken)."""
 
 from __future__ import annotations

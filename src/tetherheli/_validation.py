@@ -259,7 +259,7 @@ class Key:
     """One configuration key described once: its documentation, unit and allowed values.
 
     The validation checks a value with ``check`` and the scenario reference
-    (``docs/scenario_reference.md``, written by ``tetherheli.sim.reference``) prints ``doc``,
+    (``docs/scenario_reference.md``, written by ``tetherheli.scenario.reference``) prints ``doc``,
     ``unit`` and ``allowed()``, so the documented range is the checked one.
 
     Parameters

@@ -20,13 +20,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .engine.summary import summarize
 from .layout import SUMMARY_FIELDS
 from .names import POSITION
 from .params import Params
-from .sim.batch import summary_metrics
-from .sim.result import SimulationResult
-from .sim.scenario import metrics_first_sample
-from .sim.summary import summarize
+from .results.result import SimulationResult
+from .runs.batch import summary_metrics
+from .scenario.core import metrics_first_sample
 
 __all__ = [
     "RunMetrics",
@@ -133,7 +133,7 @@ def run_metrics(result: SimulationResult) -> RunMetrics:
             f"result has {result.time.size} samples; allowed: a run with a sample at or after "
             f"metrics_start (sample {k0})"
         )
-    # one definition of every metric: the engine's on-line summary (``sim.summary.accumulate``),
+    # one definition of every metric: the engine's on-line summary (``engine.summary.accumulate``),
     # here over the recorded samples, and its reading (``summary_metrics``), as ``run_batch``,
     # the Monte Carlo and ``simulate``'s summaries have them
     summary = np.empty(len(SUMMARY_FIELDS))

@@ -82,7 +82,7 @@ def compare(
         first line as ``status`` and ``completed`` False.
     """
     from .errors import TetherheliError, WeightsError, named_source
-    from .sim import load_scenario
+    from .scenario import load_scenario
     from .studies.controllers import check_design, eq40_saturated, fly, with_controller
     from .studies.robust import run_threads, thread_count
 
@@ -170,7 +170,7 @@ def write_compare(
     """
     from . import __version__
     from ._io import atomic_write_text, output_directory, write_json
-    from .sim.result_files import check_result_format, write_table
+    from .results.files import check_result_format, write_table
     from .studies.controllers import CONTROLLER_METRICS
     from .studies.robust import REDUCED
     from .viz.plots import figure_compare, figure_compare_spread, save_figure

@@ -128,7 +128,7 @@ class DesignError(TetherheliError):
     """A controller design with no stabilising solution (a Riccati equation that has none,
     or a closed loop that is not stable). The design functions raise it about their matrix
     arguments; a scenario's set-up turns it into an ``InfeasibleError`` naming the weights
-    the user wrote (``sim.setup.design_error``)."""
+    the user wrote (``runs.setup.design_error``)."""
 
 
 class SingularConfigurationError(TetherheliError):

@@ -27,7 +27,7 @@ __all__ = [
     "empty_chain",
 ]
 
-# --- the lane engine (``sim.lanes.run_lanes``) ---------------------------------------------
+# --- the lane engine (``engine.lanes.run_lanes``) ---------------------------------------------
 #: runs advanced together in one block; the lane arrays are flat, element (variable i, lane j)
 #: at i * LANES + j. A constant of the compiled code, chosen by ``benchmarks/bench_lanes.py``
 #: (large enough to fill the vector units, small enough that a block's arrays stay in the
@@ -62,7 +62,7 @@ BASE_OFFSET = 2  # (3,) b at t = 0 of the linear part [m]
 BASE_VELOCITY = 5  # (3,) the constant velocity [m/s]
 BASE_MOVING = 8  # 1: the base moves (the engine flies in its frame), 0: the paper's still winch
 #: the helicopter's mass m [kg] on which the base frame's inertial force -m b'' acts (set by the
-#: run's set-up: ``sim.setup``)
+#: run's set-up: ``runs.setup``)
 BASE_MASS = 9
 #: a sinusoid row: amplitude sin(omega t + phase) on one axis of N
 BASE_WAVE_AXIS = 0  # 0, 1, 2: n1, n2, n3
@@ -74,7 +74,7 @@ BASE_KNOT_TIME = 0  # [s]
 BASE_CUBIC = 1  # (4, 3) c0..c3 for n1, n2, n3, row-major
 BASE_COLUMNS = 13
 
-# --- a run's lumped-mass chain (``chain``, ``sim.engine``): a tuple of arrays; a massless run
+# --- a run's lumped-mass chain (``chain``, ``engine.loop``): a tuple of arrays; a massless run
 # passes ``empty_chain()``'s (zero rows), so the compiled types agree -------------------------
 CHAIN_NODES = 0  # (N+1, 3) node positions [m], row 0 the winch (origin), row N the point P
 CHAIN_VELOCITIES = 1  # (N+1, 3) node velocities [m/s]
@@ -146,14 +146,14 @@ WINCH_INTEGRAL = 0  # I_k of eq 56 [N s]
 WINCH_PREVIOUS_RATE = 1  # the reel rate commanded at the previous sample [m/s]
 WINCH_SIZE = 2
 
-# --- what the actuators hold between samples (``held``, ``sim.engine.actuate``) ---------------
+# --- what the actuators hold between samples (``held``, ``engine.loop.actuate``) ---------------
 HELD_INPUTS = 0  # (4,) the rotor inputs applied over the last sample (the lag's state)
 HELD_REEL_RATE = 4  # the reel rate applied over the last sample [m/s] (the winch starts at rest)
 #: the drum winch (``[winch] model = "drum"``, ``tether.winch``; zero for the ideal winch):
 HELD_DRUM_SPEED = 5  # the drum's speed w [rad/s], advanced by ``actuate`` to the next sample
 HELD_DRUM_SPEED_SAMPLED = 6  # w at the sample's instant, before that update [rad/s]
 HELD_MOTOR_TORQUE = 7  # the motor torque averaged over the last sample [N m]
-#: the payout limits (``[winch] min_length``, ``max_length``; ``sim.engine.actuate``): the limit
+#: the payout limits (``[winch] min_length``, ``max_length``; ``engine.loop.actuate``): the limit
 #: the reel is stopped at now (-1 min_length, +1 max_length, 0 none), the first stop's limit
 #: (0: none yet) and time [s] (the sample at whose end the length reaches the limit)
 HELD_AT_LIMIT = 8
@@ -162,7 +162,7 @@ HELD_LIMIT_TIME = 10
 HELD_SIZE = 11
 
 
-# --- the signals a run records (``sim.engine.run_closed_loop``'s ``out``) -------------------
+# --- the signals a run records (``engine.loop.run_closed_loop``'s ``out``) -------------------
 class Signals(NamedTuple):
     """The arrays a run records into, one row per control sample (a named record: the
     compiled code reads them by name).
@@ -243,7 +243,7 @@ class Signals(NamedTuple):
         return sum(a.size for a in two) - sum(a.size for a in one)
 
 
-# --- one run's loop state (``sim.engine.new_loop_state``): a tuple of arrays -------------------
+# --- one run's loop state (``engine.loop.new_loop_state``): a tuple of arrays -------------------
 LOOP_Z = 0  # (4,) the LQI's output-error integral (eq 50)
 LOOP_WINCH = 1  # (WINCH_SIZE,) the winch PI's state
 LOOP_HELD = 2  # (HELD_SIZE,) what the actuators hold between samples
@@ -259,7 +259,7 @@ LOOP_SIZE = 11
 
 
 class LoopState(NamedTuple):
-    """One run's per-sample state of the control phases (``sim.engine.new_loop_state``), in
+    """One run's per-sample state of the control phases (``engine.loop.new_loop_state``), in
     the order of ``LOOP_*``: a named record (fields by name in compiled code, by the
     ``LOOP_*`` index where a tuple is expected).
 
@@ -296,7 +296,7 @@ class LoopState(NamedTuple):
     ffwd: np.ndarray
 
 
-# --- the paper controller's law (``law``, ``sim.engine.paper_sample``): a tuple of arrays ------
+# --- the paper controller's law (``law``, ``engine.loop.paper_sample``): a tuple of arrays ------
 #: (4, 16) K_LQI|F (eqs 47-53), columns [q4..u6 (12); z (4)]; or, for the tethered LQI
 #: (``control.tether_lqi``), (9, 17) on columns [q4..u6, LN (13); z (4)]: rows 0-4 the
 #: tethered law (four rotor inputs, then the reel rate, which replaces the winch PI), rows 5-8
@@ -308,7 +308,7 @@ LAW_X_REF = 1
 LAW_Y_REF = 2  # (4,) the trim outputs q1, q2, q3, q6
 LAW_U0 = 3  # (4,) the configuration's trim input u0 (u0|T tethered, u0|F free; eq 54)
 LAW_U0_FREE = 4  # (4,) u0|F: used once the tether is released or removed
-LAW_Z0 = 5  # (4,) the LQI integrators' state at the start (``sim.start.start_point``)
+LAW_Z0 = 5  # (4,) the LQI integrators' state at the start (``runs.start.start_point``)
 LAW_SIZE = 6
 
 # --- actuators (``act``) ------------------------------------------------------------------------
@@ -317,7 +317,7 @@ ACT_U_MAX = 4  # (4,) upper input limits
 ACT_TAU = 8  # first-order actuator time constant [s] (0: none)
 ACT_BREAK = 9  # tether breaking / release tension [N] (inf: never)
 ACT_REEL_ACCEL = 10  # |d(reel rate)/dt| bound of the winch [m/s^2] (inf: none)
-#: the drum winch (``sim.scenario.WinchSettings``, ``tether.winch.drum_step``)
+#: the drum winch (``scenario.core.WinchSettings``, ``tether.winch.drum_step``)
 ACT_DRUM = 11  # 1: the drum winch, 0: the ideal winch (the reel rate applied as commanded)
 ACT_DRUM_RADIUS = 12  # r [m]
 ACT_DRUM_INERTIA = 13  # J, drum and motor reflected [kg m^2]
@@ -327,7 +327,7 @@ ACT_DRUM_COULOMB = 16  # tau_c [N m]
 ACT_DRUM_SPEED_GAIN = 17  # K_w = J omega_w, the speed loop's gain [N m s/rad]
 ACT_DRUM_TENSION_FFWD = 18  # 1: the drive adds the load cell's torque r T_meas
 #: the payout limits of both winch models [m]: the natural length L_N = x[12] stays within
-#: [min, max]; reaching one stops the reel (``sim.engine.actuate``)
+#: [min, max]; reaching one stops the reel (``engine.loop.actuate``)
 ACT_MIN_LENGTH = 19
 ACT_MAX_LENGTH = 20
 #: |reel rate| bound of the winch [m/s] (``[actuators] reel_rate_limit``; inf: none): the

@@ -68,7 +68,7 @@ UNITS: dict[str, str] = {
     **dict(zip(BASE_ACCELERATION, BASE_ACCELERATION_UNITS, strict=True)),
 }
 
-#: Names of the metrics derived from a summary (``sim.batch.summary_metrics``), in table order.
+#: Names of the metrics derived from a summary (``runs.batch.summary_metrics``), in table order.
 METRIC_NAMES = (
     "peak_q1",
     "peak_q2",

@@ -15,7 +15,7 @@ from pathlib import Path
 from ._io import atomic_write_text, check_output_file, record_output_file
 from ._shipped_files import shipped_files
 from .errors import ParameterError
-from .sim.scenario import Scenario, scenario_from_dict
+from .scenario.core import Scenario, scenario_from_dict
 
 __all__ = [
     "copy_scenario",

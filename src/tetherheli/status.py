@@ -101,7 +101,7 @@ class Status(enum.IntEnum):
     TETHER_LENGTH = 7
     DEGRADED = 8  # never returned by the engine: solver_status of a controller's fallbacks
     SOLVER_FAILED = 9  # never returned by the engine: solver_status
-    LANDED = 10  # a landing's statuses: set by the Python loop at touchdown (sim.landing)
+    LANDED = 10  # a landing's statuses: set by the Python loop at touchdown (runs.landing)
     HARD_TOUCHDOWN = 11
     NOT_LANDED = 12
 

@@ -78,7 +78,7 @@ TRACK_MIN_STEP_S = 1e-4
 #: the motions a ``[base]`` table's ``motion`` names
 MOTIONS: tuple[str, ...] = ("fixed", "velocity", "harmonic", "sea_state", "file")
 #: the keys of a ``[base]`` table, each described once: the motions check their values with
-#: them and the scenario reference prints them (``sim.scenario_tables.BaseSettings``)
+#: them and the scenario reference prints them (``scenario.tables.BaseSettings``)
 BASE_KEYS: dict[str, Key] = {
     "motion": Key("the winch's base: still (the paper's), under way at a constant velocity, "
                   "harmonic per axis, a JONSWAP sea state, or a recorded track (CSV)",
@@ -748,7 +748,7 @@ def _stream_track(fh: Any, src: str) -> tuple[str, array, array]:
 
 
 def base_motion_from(settings: Any) -> BaseMotion:
-    """The motion a ``[base]`` table describes (``sim.scenario_tables.BaseSettings``, or any
+    """The motion a ``[base]`` table describes (``scenario.tables.BaseSettings``, or any
     object with its attributes): the keys of ``MOTION_KEYS[settings.motion]`` passed on
     (checked by the motion's class); a ``file`` read (``read_base_csv``).
 
@@ -767,7 +767,7 @@ def base_motion_from(settings: Any) -> BaseMotion:
 
 def _base_motion_from(settings: object) -> BaseMotion:
     """``base_motion_from`` of a table whose every key is checked already (a ``Scenario``'s
-    ``[base]``, ``sim.scenario_checks``): the motion built ``trusted``; a file still read and
+    ``[base]``, ``scenario.checks``): the motion built ``trusted``; a file still read and
     its track checked."""
     kind = settings.motion  # type: ignore[attr-defined]
     cls = _MOTION_CLASSES.get(kind)

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from ..sim.scenario import Scenario
+    from ..scenario.core import Scenario
 
 __all__ = [
     "Formatter",
@@ -417,7 +417,7 @@ def metric(choices: Sequence[str] | None = None) -> argparse.ArgumentParser:
 
 def data_format(*, runs: bool = True) -> argparse.ArgumentParser:
     """``--format csv|parquet|mcap``, the time series' file format
-    (``sim.result.RESULT_FORMATS``), or ``--format csv|parquet`` for a table of many runs
+    (``results.result.RESULT_FORMATS``), or ``--format csv|parquet`` for a table of many runs
     (``runs=False``: ``TABLE_FORMATS``).
 
     Parameters
@@ -430,7 +430,7 @@ def data_format(*, runs: bool = True) -> argparse.ArgumentParser:
     argparse.ArgumentParser
         A parent parser.
     """
-    from ..sim.result import RESULT_FORMATS, TABLE_FORMATS  # light: numpy only
+    from ..results.result import RESULT_FORMATS, TABLE_FORMATS  # light: numpy only
 
     formats = RESULT_FORMATS if runs else TABLE_FORMATS
     p = _parent()

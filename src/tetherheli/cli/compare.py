@@ -29,7 +29,7 @@ def run(args: argparse.Namespace) -> int:
     from .._validation import check_integer
     from ..compare import compare, markdown_reductions, markdown_table, write_compare
     from ..errors import ParameterError
-    from ..sim.scenario import CONTROLLERS, load_scenario
+    from ..scenario.core import CONTROLLERS, load_scenario
 
     names = tuple(n.strip() for n in args.controllers.split(",") if n.strip())
     if not names or any(n not in CONTROLLERS for n in names):
@@ -38,7 +38,7 @@ def run(args: argparse.Namespace) -> int:
     if not args.scenarios and not mc_files:
         raise ParameterError("scenarios", "none", "scenario files or --montecarlo FILE")
     from ..errors import named_source
-    from ..sim.result import check_result_format
+    from ..results.result import check_result_format
     from ..studies.controllers import check_design, with_controller
     from ..studies.montecarlo import load_montecarlo
     from ..studies.montecarlo.config import MAX_RUNS

@@ -33,7 +33,7 @@ def run(args: argparse.Namespace) -> int:
     from .._validation import check_integer
     from ..errors import ClusterError, named_source
     from ..report.montecarlo import result_files, run_montecarlo
-    from ..sim.batch import connect, disconnect
+    from ..runs.batch import connect, disconnect
     from ..studies.montecarlo import CONFIGURATIONS, load_montecarlo
     from ..studies.montecarlo.config import MAX_RUNS
     from ..studies.montecarlo.runner import check_nominal_designs

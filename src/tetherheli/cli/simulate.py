@@ -26,10 +26,11 @@ def run(args: argparse.Namespace) -> int:
     from .._io import claim_output_directory
     from ..errors import named_source
     from ..report.paper import write_comparison, write_run
-    from ..sim import load_scenario, simulate
-    from ..sim.closed_loop import check_run_memory
-    from ..sim.result import check_result_format
-    from ..sim.scenario import check_distinct_names
+    from ..results.result import check_result_format
+    from ..runs import simulate
+    from ..runs.closed_loop import check_run_memory
+    from ..scenario import load_scenario
+    from ..scenario.core import check_distinct_names
     from ..status import stopped
 
     check_result_format(args.data_format)  # before the runs

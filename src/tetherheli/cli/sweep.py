@@ -45,8 +45,8 @@ def run(args: argparse.Namespace) -> int:
     """
     from .._io import claim_output_directory
     from ..errors import named_source
-    from ..sim import load_scenario
-    from ..sim.result import check_result_format
+    from ..results.result import check_result_format
+    from ..scenario import load_scenario
 
     check_result_format(args.data_format)  # before the runs
     scenario = load_scenario(args.scenario)

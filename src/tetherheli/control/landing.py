@@ -17,7 +17,7 @@ angles (q1 ~ q9 q8, q2 ~ -q9 q7), so its columns on q7 and q8 scale with q9 / q9
 the position feedback stays the one designed (exactly: the design at another length gives
 the same gain so scaled; a test checks it). Without it the feedback on the angles grows as
 1 / q9 and the last metre of the descent goes unstable. Touchdown (the landing gear at
-``gear_height`` below HO reaching the deck) is the loop's to detect (``sim.closed_loop``).
+``gear_height`` below HO reaching the deck) is the loop's to detect (``runs.closed_loop``).
 """
 
 from __future__ import annotations

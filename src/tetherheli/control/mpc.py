@@ -73,7 +73,7 @@ __all__ = [
 
 #: The recorded columns of the Kalman filter's state estimate (``MPCController.recorded``):
 #: ``<state>_est`` for q4..q9, u1..u6, LN (the free configuration's 12 stop at u6) and the
-#: wind force on HO, with the units and descriptions of their signals (``sim.result``)
+#: wind force on HO, with the units and descriptions of their signals (``results.result``)
 KALMAN_STATE_COLUMNS: tuple[str, ...] = tuple(f"{name}_est" for name in TETHERED_STATE)
 KALMAN_FORCE_COLUMNS: tuple[str, ...] = ("Fw1_est", "Fw2_est", "Fw3_est")
 #: The recorded column of the Kalman filter's normalized innovation squared per sample
@@ -86,7 +86,7 @@ ADAPTIVE_RHO_INTERVAL = 25
 
 class MPCController(Controller):
     """The MPC of the module docstring as a ``Controller`` (flown by ``simulate``'s Python
-    loop); a scenario's is built by ``sim.mpc_setup.mpc_controller``.
+    loop); a scenario's is built by ``runs.mpc_setup.mpc_controller``.
 
     Parameters
     ----------
@@ -119,7 +119,7 @@ class MPCController(Controller):
     tolerance : float
         OSQP's absolute and relative tolerance.
     free_gain : ndarray, shape (4, 16)
-        The paper's free law flown after a release (``sim.start.paper_gain``).
+        The paper's free law flown after a release (``runs.start.paper_gain``).
     free_trim_input : ndarray, shape (4,)
         u0|F [N, N m, N m, N].
     d_init : ndarray, shape (3,), optional

@@ -450,11 +450,11 @@ class PaperController(Controller):
     constants : array_like
         The tethered model's constants, ``kernels.model_constants("tethered", h)``.
     free_trim_input : array_like, shape (4,), optional
-        u0|F, used once the tether is released (``sim.start.free_trim_input``); default
+        u0|F, used once the tether is released (``runs.start.free_trim_input``); default
         ``trim_input``.
     z_init : array_like, shape (4,), optional
         The integrators' state at the start and after ``reset`` [m s, rad s] (default zero;
-        ``sim.start.start_point`` gives the one that holds the trim in a steady wind).
+        ``runs.start.start_point`` gives the one that holds the trim in a steady wind).
     """
 
     def __init__(

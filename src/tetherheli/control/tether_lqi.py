@@ -220,7 +220,7 @@ def tether_lqi_gain(
 ) -> TetherLQIGain:
     """``design_tether_lqi`` on ``tethered_design(params, T_ref, q9, dt)`` with diagonal
     weights Qy (8,) and Ru (5,) (tuples), paired with the free law ``free``; cached, as
-    ``sim.start.paper_gain`` is (a batch's runs share it).
+    ``runs.start.paper_gain`` is (a batch's runs share it).
 
     Parameters
     ----------

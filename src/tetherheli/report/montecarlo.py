@@ -22,8 +22,8 @@ from .._io import (
     output_directory,
 )
 from ..errors import ParameterError
-from ..sim.result import TABLE_FORMATS, check_result_format
-from ..sim.scenario import Scenario
+from ..results.result import TABLE_FORMATS, check_result_format
+from ..scenario.core import Scenario
 from ..studies.montecarlo.config import CONFIGURATIONS, MonteCarloConfig
 from ..studies.montecarlo.runner import (
     INT_COLUMNS,

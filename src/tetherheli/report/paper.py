@@ -20,9 +20,10 @@ from .._version import __version__, dependency_versions, git_commit
 from ..analysis import metric_samples, reduction_percent, run_metrics
 from ..errors import ParameterError
 from ..names import POSITION
-from ..sim import SimulationResult, simulate
-from ..sim.result import check_result_format
-from ..sim.scenario import (
+from ..results import SimulationResult
+from ..results.result import check_result_format
+from ..runs import simulate
+from ..scenario.core import (
     MPC_QY_GNSS,
     Scenario,
     check_distinct_names,
@@ -302,7 +303,7 @@ def run_paper(
     (``_io.output_directory``: refused before any run if it holds files tetherheli did not
     write, unless ``force``; those are kept). The time series are ``<run>.csv``, or
     ``<run>.parquet`` or ``<run>.mcap`` with ``data_format`` "parquet" or "mcap"
-    (``sim.result.RESULT_FORMATS``); the
+    (``results.result.RESULT_FORMATS``); the
     figures are ``figure_format`` files (png, pdf or svg); ``progress`` shows the runs done on
     stderr (``tetherheli.progress``).
 
@@ -628,7 +629,7 @@ def run_sensing(
     figure_format : {"png", "pdf", "svg"}
         Format of the figures.
     data_format : {"csv", "parquet"}
-        Format of the time series (``sim.result.RESULT_FORMATS``, default "csv").
+        Format of the time series (``results.result.RESULT_FORMATS``, default "csv").
 
     Returns
     -------
@@ -637,8 +638,8 @@ def run_sensing(
         and true deviation RMS along n1, n2, n3 [m], and the Kalman filters' error RMS and
         final 1-sigma [m].
     """
+    from ..scenario import load_scenario
     from ..sensing.estimation import FUSIONS
-    from ..sim import load_scenario
     from ..studies.estimation import estimate_run
     from ..viz.formats import check_figure_format
     from ..viz.plots import figure_sensing, save_figure

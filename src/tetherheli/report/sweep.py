@@ -14,7 +14,7 @@ import numpy as np
 from .._io import output_directory, write_json
 from .._version import __version__
 from ..names import METRIC_UNITS
-from ..sim.result_files import check_result_format, write_table
+from ..results.files import check_result_format, write_table
 from ..studies.sweep import SweepResult, parameter_label
 from ..viz.formats import check_figure_format, figures_for_files
 from ..viz.plots import figure_sweep, save_figure
@@ -51,7 +51,7 @@ def write_sweep(
     figure_format : str, optional
         "png" (default), "pdf" or "svg".
     data_format : str, optional
-        "csv" (default) or "parquet" (``sim.result_files.write_table``, units in the Arrow
+        "csv" (default) or "parquet" (``results.files.write_table``, units in the Arrow
         fields' metadata).
 
     Returns

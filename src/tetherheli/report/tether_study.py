@@ -12,7 +12,7 @@ from typing import Any
 from .._io import atomic_write_text, claim_output_directory, output_directory, write_json
 from .._version import __version__
 from ..names import METRIC_UNITS
-from ..sim.result_files import check_result_format, write_table
+from ..results.files import check_result_format, write_table
 from ..studies.tether_cables import STUDY_CABLES, StudyCable
 from ..studies.tether_study import (
     DEFAULT_ELEVATIONS_DEG,
@@ -102,7 +102,7 @@ def write_tether_study(
 ) -> dict[str, Any]:
     """Write the study to ``out``, whole or not at all (``_io.output_directory``): study.md
     (the main table and the hover limits), static, dynamic and sensing tables as
-    ``<table>.<data_format>`` (csv or parquet, ``sim.result_files.write_table``), sensing.md,
+    ``<table>.<data_format>`` (csv or parquet, ``results.files.write_table``), sensing.md,
     reduction.png, static.png, sensing.png and summary.json (every row, the cables, the grids
     and every run's configuration).
 

@@ -192,7 +192,7 @@ def true_channels_into(x_true, tension_true, arm, HO, out):
 @_jit
 def measure_sampled(x_true, tension_true, k, sensors, x_est):
     """The controller's state and tension estimate at control sample k with every sensor at
-    its own rate and latency (compiled); ``sensors`` is ``sim.packing.sensor_tuple``'s
+    its own rate and latency (compiled); ``sensors`` is ``runs.packing.sensor_tuple``'s
     (noise table, source code, arm, scratch (4, 3), schedule, ring).
 
     With an empty schedule this is ``measure_into`` with noise row k (white sensors, no
@@ -209,7 +209,7 @@ def measure_sampled(x_true, tension_true, k, sensors, x_est):
         Control sample index.
     sensors : tuple
         ``(noise (n + 1, N_CHANNELS), source_code, arm, scratch (4, 3), schedule, ring)``
-        from ``sim.setup.sensor_tuple``.
+        from ``runs.setup.sensor_tuple``.
     x_est : ndarray, shape (13,)
         Filled with the state estimate (as ``measure_into``).
 

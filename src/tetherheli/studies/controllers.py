@@ -19,7 +19,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..names import INPUT
-from ..sim.scenario import CONTROLLERS, Scenario
+from ..scenario.core import CONTROLLERS, Scenario
 from .sweep import paper_cyclic_limit, scenario_cyclic_limit
 
 __all__ = [
@@ -58,8 +58,8 @@ def check_design(scenario: Scenario) -> None:
         The controller's weights have no stabilising design.
     """
     from ..errors import WeightsError
-    from ..sim.mpc_setup import mpc_controller
-    from ..sim.setup import engine_setup
+    from ..runs.mpc_setup import mpc_controller
+    from ..runs.setup import engine_setup
 
     try:
         setup = engine_setup(scenario)
@@ -193,8 +193,8 @@ def fly(scenario: Scenario, design_params: Any = None) -> tuple[Any, dict[str, A
     metrics : dict of str to object
         ``controller_metrics`` with ``compute_us_per_sample`` [us].
     """
-    from ..sim import simulate
-    from ..sim.setup import engine_setup
+    from ..runs import simulate
+    from ..runs.setup import engine_setup
 
     setup = engine_setup(scenario, design_params)
     t0 = time.perf_counter()

@@ -30,8 +30,8 @@ import numpy as np
 
 from ..errors import InfeasibleError, ParameterError
 from ..progress import Progress
-from ..sim import Scenario
-from ..sim.result import SummaryRepr
+from ..results.result import SummaryRepr
+from ..scenario import Scenario
 from .sweep import METRICS, _evaluate, _prepare_points, _with
 
 __all__ = [

@@ -25,10 +25,10 @@ import numpy as np
 
 from ..base.motion import BASE_KEYS
 from ..errors import ParameterError
+from ..runs.batch import run_batch
+from ..runs.closed_loop import simulate
+from ..scenario.core import Scenario
 from ..shipped import shipped_scenario
-from ..sim.batch import run_batch
-from ..sim.closed_loop import simulate
-from ..sim.scenario import Scenario
 from ..status import Status
 
 __all__ = [

@@ -1,8 +1,8 @@
 """State estimation over a recorded run: the position filter of ``sensing.estimation`` flown
 on what a run's sensors read (``estimate_run``), and the consistency of the MPC's Kalman
 filter (``kalman_consistency``: NEES and NIS with their chi-square tests). They rebuild the
-run's noise table, schedule and filter from its scenario (``sim.setup``,
-``sim.mpc_setup``), hence live above the simulation."""
+run's noise table, schedule and filter from its scenario (``runs.setup``,
+``runs.mpc_setup``), hence live above the simulation."""
 
 from __future__ import annotations
 
@@ -13,6 +13,9 @@ import numpy as np
 
 from ..control.mpc import KALMAN_FORCE_COLUMNS, KALMAN_NIS_COLUMN, KALMAN_STATE_COLUMNS
 from ..errors import ParameterError, TetherheliError
+from ..runs.mpc_setup import mpc_kalman
+from ..runs.packing import sensor_noise, sensor_schedule
+from ..runs.setup import engine_setup
 from ..sensing.config import (
     CH_ALTIMETER,
     CH_ATTITUDE,
@@ -34,9 +37,6 @@ from ..sensing.estimation import (
 from ..sensing.noise import accelerometer_errors
 from ..sensing.schedules import group_samples
 from ..sensing.sensors import hover_error_std, measured_channels, tether_position_estimate
-from ..sim.mpc_setup import mpc_kalman
-from ..sim.packing import sensor_noise, sensor_schedule
-from ..sim.setup import engine_setup
 
 __all__ = ["estimate_run", "kalman_consistency"]
 
@@ -135,7 +135,7 @@ def kalman_consistency(
     The estimate is the one the MPC recorded (``control.mpc.KALMAN_STATE_COLUMNS``,
     ``KALMAN_FORCE_COLUMNS``); the truth is the run's state and its wind force on HO
     (``result.wind``: the force the design model's disturbance stands for); the covariances
-    are the steady-state filter's, rebuilt from ``scenario`` (``sim.mpc_setup.mpc_kalman``):
+    are the steady-state filter's, rebuilt from ``scenario`` (``runs.mpc_setup.mpc_kalman``):
     NEES e' P+^-1 e with the posterior P+ (its [x; d] block), NIS with
     ``DisturbanceKalman.innovation_covariance`` (recorded by the MPC, ``kalman_nis``).
 

@@ -15,9 +15,10 @@ import numpy as np
 
 from ..control.paper import PaperController
 from ..errors import ParameterError
-from ..sim import Scenario, simulate
-from ..sim.result import SimulationResult, SummaryRepr
-from ..sim.setup import engine_setup
+from ..results.result import SimulationResult, SummaryRepr
+from ..runs import simulate
+from ..runs.setup import engine_setup
+from ..scenario import Scenario
 
 __all__ = ["ReleaseComparison", "altitude_excursion", "release_comparison"]
 

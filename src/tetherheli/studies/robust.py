@@ -34,8 +34,8 @@ import numpy as np
 from .._validation import check_integer
 from ..errors import TetherheliError
 from ..resources import check_memory
-from ..sim.result import SummaryRepr
-from ..sim.scenario import Scenario
+from ..results.result import SummaryRepr
+from ..scenario.core import Scenario
 from .controllers import CONTROLLER_METRICS, eq40_saturated, fly, with_controller
 from .montecarlo import MonteCarloConfig, draw, draw_seed
 from .montecarlo.config import MAX_RUNS
@@ -83,8 +83,8 @@ def thread_count(workers: int | None, n: int, scenario: Scenario | None = None) 
     int
         Threads, >= 1.
     """
-    from ..sim.batch import _default_workers
-    from ..sim.closed_loop import check_run_memory
+    from ..runs.batch import _default_workers
+    from ..runs.closed_loop import check_run_memory
 
     workers = _default_workers() if workers is None else check_integer("workers", workers, low=1)
     threads = max(1, min(workers, n))
@@ -376,7 +376,7 @@ def montecarlo_compare(
     config : MonteCarloConfig
         The dispersions and the root seed.
     controllers : tuple of str
-        Controller names (``sim.scenario.CONTROLLERS``).
+        Controller names (``scenario.core.CONTROLLERS``).
     runs : int, optional
         Draws N (default ``config.runs``).
     eq40 : bool, optional

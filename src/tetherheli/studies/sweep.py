@@ -31,9 +31,10 @@ from ..errors import InfeasibleError, ParameterError
 from ..names import POSITION
 from ..params import Params
 from ..progress import Progress
-from ..sim import Scenario, simulate
-from ..sim.batch import run_batch
-from ..sim.result import SummaryRepr
+from ..results.result import SummaryRepr
+from ..runs import simulate
+from ..runs.batch import run_batch
+from ..scenario import Scenario
 from ..wind import compile_wind
 
 __all__ = [
@@ -335,7 +336,7 @@ def _run_batch_feasible(
 ):
     """``run_batch`` over the valid points; a point whose set-up the physics cannot meet
     (no trim, a hover outside the actuator limits) becomes invalid, the others still run."""
-    from ..sim.setup import engine_setup
+    from ..runs.setup import engine_setup
 
     idx = [i for i, s in enumerate(scenarios) if s is not None]
     try:
@@ -412,7 +413,7 @@ def sweep(
     "actuators.cyclic_limit" (symmetric limit on tMR1, tMR2: eq 40's tmax_MR1,2 [N m]),
     "actuators.time_constant", "actuators.reel_rate_limit",
     "actuators.reel_acceleration_limit", "actuators.breaking_tension". Built-in winds run as
-    one compiled batch on all cores (``sim.batch.run_batch``, the numbers of ``simulate``).
+    one compiled batch on all cores (``runs.batch.run_batch``, the numbers of ``simulate``).
 
     ``cyclic_limit`` [N m], when given, saturates tMR1 and tMR2 of every run at +-cyclic_limit
     (not with ``parameter`` "actuators.cyclic_limit"); without it the scenario's own limits act

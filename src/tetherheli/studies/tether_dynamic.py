@@ -31,8 +31,8 @@ __all__ = ["dynamic_rows", "mark_thrust_infeasible", "study_scenarios"]
 
 def _turbulence(configuration: str, q9: float):
     """The shipped turbulence scenario at hover height q9 (its IEC calibration at q9)."""
+    from ..scenario.core import scenario_from_dict
     from ..shipped import shipped_scenario_text
-    from ..sim.scenario import scenario_from_dict
 
     name = f"turbulence_hover_{configuration}"
     data = tomllib.loads(shipped_scenario_text(name))
@@ -87,13 +87,13 @@ def study_scenarios(
     -------
     dict of str to Scenario
     """
-    from ..sim.scenario import paper_scenario
+    from ..scenario.core import paper_scenario
 
     if model not in TETHER_MODELS:
         raise ParameterError("tether model", model, f"one of {list(TETHER_MODELS)}")
     lo, hi = TETHER_LENGTH_RANGE
     q9 = check_number("length_m", length_m, low=lo, high=hi, unit="[m]")
-    from ..sim.scenario import TetherSettings
+    from ..scenario.core import TetherSettings
 
     if winch_gain not in WINCH_GAINS:
         raise ParameterError("winch gain", winch_gain, f"one of {list(WINCH_GAINS)}")
@@ -185,7 +185,7 @@ def dynamic_rows(
     scenarios : dict of str to dict
         Every run's configuration (``Scenario.to_dict``) by run id "cable/length/run".
     """
-    from ..sim.batch import run_batch
+    from ..runs.batch import run_batch
 
     runs: list[tuple[str, float, str, Any]] = []
     for cable in cables:

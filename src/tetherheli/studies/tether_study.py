@@ -58,7 +58,7 @@ import numpy as np
 from .. import names
 from ..errors import ParameterError
 from ..params import TETHER_LENGTH_RANGE, Params
-from ..sim.result import SummaryRepr
+from ..results.result import SummaryRepr
 from .tether_cables import (
     DEFAULT_THRUST_TO_WEIGHT,
     DYNAMIC_CASES,
@@ -195,7 +195,7 @@ class TetherStudyConfig:
         if self.winch_gain not in WINCH_GAINS:
             raise ParameterError("winch_gain", self.winch_gain, f"one of {list(WINCH_GAINS)}")
         if self.duration_s is not None:  # the paper's runs (60 s) are the shortest
-            from ..sim.scenario import paper_scenario
+            from ..scenario.core import paper_scenario
 
             checked["duration_s"] = _checked_duration(self.duration_s, paper_scenario(1, "free"))
         for name, value in checked.items():

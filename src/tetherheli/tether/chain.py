@@ -52,7 +52,7 @@ AIR_DENSITY_KG_M3 = 1.225
 
 
 #: The cable's parameters described once (``Key``: meaning, unit, allowed values): the keys of a
-#: scenario's ``[tether]`` table (``sim.scenario_tables.TetherSettings``; the scenario reference
+#: scenario's ``[tether]`` table (``scenario.tables.TetherSettings``; the scenario reference
 #: prints them) and the fields of ``tether.Cable`` and ``LumpedTether``, checked by the same
 #: ``Key.check`` with the same bounds and messages. The scenario's EA also takes 0
 #: (the paper's stiffness; any other value is checked by this key); the others are the same

@@ -1,7 +1,7 @@
 """The drum winch: a motor drive with a speed loop turning a drum of finite inertia.
 
 The ideal winch of the paper applies the reel rate R_C of eq 56 at once (dL_N/dt = R_C,
-eq 37). The drum winch (``[winch] model = "drum"``, ``sim.scenario.WinchSettings``) puts a
+eq 37). The drum winch (``[winch] model = "drum"``, ``scenario.core.WinchSettings``) puts a
 drive between the command and the tether. Signs: the drum speed w is positive paying out
 (dL_N/dt = r w, the sign of R_C), the tether's pull r T_g turns the drum that way, and the
 motor torque tau_m counts positive hauling in (the sense that holds the tether). The drum

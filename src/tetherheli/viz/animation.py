@@ -2,7 +2,7 @@
 
 The animation only reads results written by ``SimulationResult.save(directory, stem)``: one
 ``<stem>.csv`` (time series, SI units, angles in rad) and one ``<stem>.json`` (configuration,
-trim, version, status) per run, read through ``tetherheli.sim.load_result``. Several runs of
+trim, version, status) per run, read through ``tetherheli.results.load_result``. Several runs of
 one directory are overlaid in one scene, each helicopter in its own colour, so that the free
 and the tethered responses to the same wind can be compared as in the paper's Sec. VI.
 

@@ -18,7 +18,7 @@ from matplotlib.figure import Figure
 
 from .._io import atomic_write_bytes
 from ..errors import ParameterError
-from ..sim.result import SimulationResult
+from ..results.result import SimulationResult
 from ..status import stopped
 from .formats import FOR_FILES, PRINT_DPI, check_figure_format, figures_for_files
 
@@ -43,7 +43,7 @@ _STYLE: dict[str, dict[str, Any]] = {
 
 
 def metric_label(metric: str) -> str:
-    """An axis label with the unit for a run metric (``sim.batch.METRIC_NAMES``, e.g.
+    """An axis label with the unit for a run metric (``runs.batch.METRIC_NAMES``, e.g.
     "peak_q1" -> "peak |q1 - q1 trim| [m]").
 
     Parameters

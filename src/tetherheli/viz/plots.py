@@ -29,7 +29,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ..names import INPUT, INPUT_UNITS
-from ..sim.result import SimulationResult
+from ..results.result import SimulationResult
 from .figure import (
     CONFIGURATION_COLOURS,
     PLOT_LIMIT,

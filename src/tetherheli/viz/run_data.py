@@ -1,5 +1,5 @@
 """The runs an animation draws: ``RunData`` (a saved run's positions, attitudes, tether and
-wind, with the helicopter's drawn points), read through ``sim.result.load_result``
+wind, with the helicopter's drawn points), read through ``results.result.load_result``
 (``load_run``, ``list_runs``). ``viz.animation`` re-exports these names.
 """
 
@@ -15,8 +15,8 @@ import numpy as np
 from ..errors import ParameterError
 from ..model.kinematics import HelicopterPoints, helicopter_points
 from ..params import HelicopterParams, Params
-from ..sim.result import list_results, load_result
-from ..sim.result_files import BASE_POSITION_COLUMNS, _series_path
+from ..results.files import BASE_POSITION_COLUMNS, _series_path
+from ..results.result import list_results, load_result
 
 __all__ = ["RunData", "list_runs", "load_run"]
 
@@ -119,13 +119,13 @@ class RunData:
         return helicopter_points(self.position, self.angles, self.helicopter)
 
 
-#: The stems of the runs saved in a directory (``tetherheli.sim.list_results``).
+#: The stems of the runs saved in a directory (``tetherheli.results.list_results``).
 list_runs = list_results
 
 
 def load_run(directory: str | Path, stem: str | None = None) -> RunData:
     """Read one run saved by ``SimulationResult.save(directory, stem)``, through
-    ``tetherheli.sim.load_result``, as much of it as the animation draws.
+    ``tetherheli.results.load_result``, as much of it as the animation draws.
 
     Parameters
     ----------

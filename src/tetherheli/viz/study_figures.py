@@ -14,7 +14,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ..errors import ParameterError
-from ..sim.result import SimulationResult
+from ..results.result import SimulationResult
 from .figure import (
     CONFIGURATION_COLOURS,
     _finish,
@@ -270,7 +270,7 @@ def figure_montecarlo(
     kind : str
         "hist" or "cdf".
     metric : str
-        The metric's name (``sim.batch.METRIC_NAMES``), for the labels.
+        The metric's name (``runs.batch.METRIC_NAMES``), for the labels.
     ax : matplotlib Axes, optional
         Where to draw.
 

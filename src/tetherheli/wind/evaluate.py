@@ -1,7 +1,7 @@
 """The built-in winds evaluated in compiled code (``wind.compiled.CompiledWind``'s arrays): the
 force profiles' rows (``layout.WIND_*``), the gust table's air velocity and the quadratic drag
 |v_rel| v_rel of the helicopter in it. Every loop evaluates its wind here (the single run's
-``sim.engine``, the lumped chain's nodes, the lanes and the environments)."""
+``engine.loop``, the lumped chain's nodes, the lanes and the environments)."""
 
 from __future__ import annotations
 

@@ -262,7 +262,7 @@ def initial_wind_force(
     drag of the mean wind plus the gust at t = 0 of every ``Turbulence`` in ``wind``
     (``Turbulence.initial_force_on``) relative to HO; zero for the force profiles (pulse,
     step, sine, constant), which a run meets as they come. A run starts in the trim that
-    balances it (``sim.start.start_point``); over a moving base HO starts at rest relative
+    balances it (``runs.start.start_point``); over a moving base HO starts at rest relative
     to the base, so ``N_v_HO`` is the base's velocity b'(0).
 
     Parameters

@@ -1,7 +1,7 @@
 """Monte Carlo of a wind scenario, free against tethered, memory-bounded and resumable.
 
 The dispersions are a ``[montecarlo]`` table in a scenario TOML file (the rest of the file is
-an ordinary scenario, see ``tetherheli.sim.scenario``; its ``configuration`` is ignored,
+an ordinary scenario, see ``tetherheli.scenario.core``; its ``configuration`` is ignored,
 because every draw is run both "free" and "tethered")::
 
     [montecarlo]

@@ -11,7 +11,7 @@ from typing import Any
 from ..._validation import check_bool, check_integer, check_number
 from ...errors import ParameterError
 from ...params import Params
-from ...sim.scenario import Scenario, read_scenario_table, scenario_from_dict
+from ...scenario.core import Scenario, read_scenario_table, scenario_from_dict
 from ...wind import (
     ConstantForce,
     Disturbance,

@@ -14,7 +14,7 @@ import numpy as np
 
 from ...errors import TetherheliError
 from ...params import Params
-from ...sim.scenario import Scenario, TetherSettings
+from ...scenario.core import Scenario, TetherSettings
 from ...wind import (
     ConstantForce,
     Disturbance,

@@ -37,8 +37,8 @@ from ...errors import ParameterError, TetherheliError
 from ...names import METRIC_UNITS, MONTECARLO_METRICS
 from ...progress import Progress
 from ...resources import check_memory
-from ...sim.batch import METRIC_NAMES, run_batch
-from ...sim.scenario import Scenario
+from ...runs.batch import METRIC_NAMES, run_batch
+from ...scenario.core import Scenario
 from ...status import Status, is_success
 from ...wind import Turbulence
 from .config import CONFIGURATIONS, MAX_RUNS, MonteCarloConfig, _wind_parts, check_draw_names
@@ -382,7 +382,7 @@ def run_montecarlo_chunks(
         Progress on stderr (``tetherheli.progress``: a bar on a terminal, else one line at
         the end).
     client : distributed.Client, optional
-        Run the chunks on this Dask cluster (``sim.batch.connect``); same table as in-process.
+        Run the chunks on this Dask cluster (``runs.batch.connect``); same table as in-process.
     worker_timeout_s : float
         With ``client``: how long the cluster may have no worker before ``ClusterError``.
     inputs : tuple of str or Path, optional

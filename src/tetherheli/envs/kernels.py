@@ -11,8 +11,9 @@ import math
 
 import numpy as np
 
-from ._compile import compiled, frozen
-from .layout import (
+from .._compile import compiled, frozen
+from ..engine import loop as engine
+from ..layout import (
     CFG_ATTACHED,
     CFG_GUST_DT,
     CFG_K_C,
@@ -23,9 +24,8 @@ from .layout import (
     LOOP_X_MEAS,
     LOOP_Z,
 )
-from .model.kernels import tension_from_state, tethered_outputs
-from .sensing.sensors import measure_sampled
-from .sim import engine
+from ..model.kernels import tension_from_state, tethered_outputs
+from ..sensing.sensors import measure_sampled
 
 __all__ = ["OBS_LIMIT", "finish_step", "observe_into", "start_episode", "tether_tension"]
 
@@ -106,7 +106,7 @@ def observe_into(x, tension, k, sensors, c, x0, y_ref, t_ref, x_meas, y_meas, ob
     """The observation (float32 (13,) ``obs``, order ``OBSERVATION_NAMES``) at sample k: what
     the sensors read (``sensors.measure_sampled``: each sensor at its rate and latency, the
     true state and tension when the noise table is empty; ``sensors`` is
-    ``sim.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history ring),
+    ``runs.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history ring),
     as for ``engine.sense``) as deviations from the trim x0, y_ref, t_ref; NaN reads 0, values
     are clipped to +-OBS_LIMIT. x_meas (13,), y_meas (4,) are scratch.
 
@@ -119,7 +119,7 @@ def observe_into(x, tension, k, sensors, c, x0, y_ref, t_ref, x_meas, y_meas, ob
     k : int
         The sample index (t = k dt).
     sensors : tuple
-        ``sim.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history
+        ``runs.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history
         ring).
     c : ndarray
         The tethered model's constants (``kernels.model_constants("tethered", h)``).
@@ -165,7 +165,7 @@ def observe_into(x, tension, k, sensors, c, x0, y_ref, t_ref, x_meas, y_meas, ob
 def start_episode(x, cfg, ctrl, loop, ring, x_start, z_start, cfg0, ctrl0, gust_dt):
     """Put one environment's arrays at its episode's start, in place (the reset of
     ``TetheredHoverEnv`` and of each copy of the vector environment): at rest in the trim of
-    the episode's air at t = 0 (``sim.start.start_point``'s x and z0), the scenario's
+    the episode's air at t = 0 (``runs.start.start_point``'s x and z0), the scenario's
     configuration with the wind's gust step, the winch and actuators at rest, no tether
     release, no input applied yet and an empty sensor history.
 
@@ -183,7 +183,7 @@ def start_episode(x, cfg, ctrl, loop, ring, x_start, z_start, cfg0, ctrl0, gust_
         the release event and the applied inputs NaN (the rest is scratch, written before
         it is read).
     ring : ndarray, shape (rows, N_CHANNELS)
-        The sensor history ring (``sim.packing.sensor_tuple``'s), set to 0.
+        The sensor history ring (``runs.packing.sensor_tuple``'s), set to 0.
     x_start : ndarray, shape (13,)
         The start state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
     z_start : ndarray, shape (4,)

@@ -46,6 +46,10 @@ from typing import Any
 import numpy as np
 
 from .._validation import check_integer
+from ..engine import lanes
+from ..engine import loop as engine
+from ..engine.lanes import lane_program_into
+from ..engine.summary import summarize
 from ..errors import ClusterError, ParameterError, TetherheliError
 from ..layout import (
     LANES,
@@ -53,19 +57,17 @@ from ..layout import (
     SUMMARY_RELEASE_TIME,
     SUMMARY_WINCH_LIMIT,
     SUMMARY_WINCH_LIMIT_TIME,
+    WIND_COLUMNS,
     Signals,
 )
 from ..names import METRIC_NAMES
 from ..params import Params
+from ..results.result import WINCH_LIMITS
+from ..scenario.core import Scenario
 from ..status import Status, finite_status, is_success, status_message
 from ..wind import compile_wind
-from . import engine, lanes
 from .closed_loop import check_run_memory
-from .lanes import lane_block
-from .result import WINCH_LIMITS
-from .scenario import Scenario
 from .setup import EngineSetup, engine_setup, python_controlled
-from .summary import summarize
 
 __all__ = [
     "METRIC_NAMES",
@@ -109,13 +111,13 @@ _NO_SIGNALS = Signals.zeros(1)
 
 def run_block(block_args: tuple, summary: np.ndarray, status: np.ndarray, done: np.ndarray) -> None:
     """``lanes.run_lanes(*block_args, summary, status, done)``, which releases the GIL;
-    ``block_args`` is ``lanes.lane_block``'s. (A compiled wrapper would re-optimise the whole
+    ``block_args`` is ``batch.lane_block``'s. (A compiled wrapper would re-optimise the whole
     lane engine inside it: 10 s of the first compile.)
 
     Parameters
     ----------
     block_args : tuple
-        ``lanes.lane_block``'s arguments for a block of ``layout.LANES`` runs.
+        ``batch.lane_block``'s arguments for a block of ``layout.LANES`` runs.
     summary : numpy.ndarray, shape (LANES, len(engine.SUMMARY_FIELDS))
         Filled with each lane's on-line metrics.
     status : numpy.ndarray of int, shape (LANES,)
@@ -322,7 +324,7 @@ def _python_run(
     from .mpc_setup import mpc_controller
 
     # the MPC designed on ``design_params``; the other Python controllers are simulate's own
-    # (``sim.landing``, ``control.deck``)
+    # (``runs.landing``, ``control.deck``)
     mpc = scenario.control.controller == "mpc"
     controller = mpc_controller(scenario, setup, design_params) if mpc else None
     result = simulate(scenario, controller=controller, design_params=design_params)
@@ -676,3 +678,73 @@ def _finished(
     for i in range(status.shape[0]):
         status[i] = finite_status(int(status[i]), summaries[i, :_METRIC_FIELDS])
     return BatchResult(summaries, status, done, tuple(reasons))
+
+
+# --- a block of runs packed for the lanes (``lanes.run_lanes``'s leading arguments) -------
+
+
+def _stack(arrays: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """Arrays (rows, ...) of different row counts stacked along a new lane axis, zero-padded
+    to the longest (their dtype kept); returns (stacked (B, rows_max, ...), rows in use (B,))."""
+    rows = np.array([a.shape[0] for a in arrays], dtype=np.int64)
+    shape = (len(arrays), max(1, int(rows.max())), *arrays[0].shape[1:])
+    stacked = np.zeros(shape, dtype=arrays[0].dtype)
+    for j, a in enumerate(arrays):
+        stacked[j, : a.shape[0]] = a
+    return stacked, rows
+
+
+def lane_block(setups: Sequence[EngineSetup], n_samples: Sequence[int]) -> tuple:
+    """The leading arguments of ``lanes.run_lanes`` for a block of up to ``LANES`` runs:
+    lane j holds ``setups[j].engine_args(n_samples[j])``, the single run's own packing, with
+    a lane axis in front (built-in winds only; every run must take the same RK4 steps per
+    sample). Lanes beyond the runs are padding: copies of the first run with n_samples = -1
+    (never run). Wind programs are padded with rows of zero force and laid out flat (row,
+    column, lane); tables of other lengths are zero-padded with their rows in use.
+
+    Parameters
+    ----------
+    setups : sequence of EngineSetup
+        1 to ``LANES`` runs with built-in winds.
+    n_samples : sequence of int
+        Control samples of each run.
+
+    Returns
+    -------
+    tuple
+        The arguments of ``lanes.run_lanes`` before its outputs, each with a leading lane
+        axis of length ``LANES``.
+    """
+    if not 0 < len(setups) <= LANES or len(n_samples) != len(setups):
+        raise ValueError(f"lane_block: 1 to {LANES} runs, each with its n_samples")
+    pad = LANES - len(setups)
+    runs = [s.engine_args(n) for s, n in zip(setups, n_samples, strict=True)]
+    runs += [runs[0]] * pad
+    counts = np.array([*n_samples, *([-1] * pad)], dtype=np.int64)
+    if any(s.chain[0].shape[0] > 0 for s in setups):
+        raise ValueError("lane_block: lumped tethers run alone (engine.run_closed_loop)")
+    x_init, _, cfg, ctrl, c, law, wind, act, sensors, _ = zip(*runs, strict=True)
+    program, gust, drag, _base = zip(*wind, strict=True)  # the lanes fly a still base
+    n_rows = max(p.shape[0] for p in program)
+    programs = np.empty((n_rows, WIND_COLUMNS, LANES))
+    for j, p in enumerate(program):
+        lane_program_into(programs, j, p)
+    noise, source, arm, scratch, schedule, ring = zip(*sensors, strict=True)
+    return (
+        np.stack(x_init),
+        counts,
+        np.stack(cfg),
+        np.stack(ctrl),
+        np.stack(c),
+        tuple(np.ascontiguousarray(np.stack(part)) for part in zip(*law, strict=True)),
+        (programs.ravel(), n_rows, *_stack(list(gust)), np.stack(drag)),
+        np.stack(act),
+        (
+            *_stack(list(noise)),
+            np.array(source, dtype=np.int64),
+            np.array(arm, dtype=float),
+            np.stack(scratch),
+            *_stack(list(schedule)),
+            *_stack(list(ring)),
+        ),
+    )

@@ -1,6 +1,6 @@
 """The result of a closed-loop run: a frozen object that plotting and export only read.
 
-Its files (columns, formats, reading and checking) are ``sim.result_files``; the names
+Its files (columns, formats, reading and checking) are ``results.files``; the names
 listed there are re-exported here, where users import them.
 """
 
@@ -22,7 +22,7 @@ from ..status import (
     status_message,
     stopped,
 )
-from .result_files import (
+from .files import (
     _ESTIMATE_SUFFIX,
     _FEEDFORWARD,
     _WIND,
@@ -350,7 +350,7 @@ class SimulationResult(SummaryRepr):
             ``q1``, ``q2``, ``q3`` [m], ``q4_deg``, ``q5_deg`` [deg]; empty without a
             sample in the window.
         """
-        from .scenario import metrics_first_sample
+        from ..scenario.core import metrics_first_sample
 
         dt = self.configuration.get("control", {}).get("dt")
         start = self.configuration.get("metrics_start", 0.0)
@@ -540,7 +540,7 @@ class SimulationResult(SummaryRepr):
         )
 
     def to_mcap(self, path: str | Path) -> Path:
-        """Write the run as MCAP, atomically (``sim.result_mcap``): every column of ``to_csv``
+        """Write the run as MCAP, atomically (``results.mcap``): every column of ``to_csv``
         as JSON ``/signals`` messages, the vehicle's and the base's frames as
         ``foxglove.FrameTransform`` on ``/tf`` and the deck, body, tether and wind as
         ``foxglove.SceneUpdate`` on ``/scene``, for Foxglove (or any MCAP reader). Needs the
@@ -556,7 +556,7 @@ class SimulationResult(SummaryRepr):
         pathlib.Path
             The file written.
         """
-        from .result_mcap import write_mcap
+        from .mcap import write_mcap
 
         return write_mcap(
             path,

@@ -28,11 +28,11 @@ from ..model import TetheredHelicopter, TrimPoint, kernels, linearize
 from ..model.trim import _hover_trim
 from ..names import TETHERED_STATE
 from ..params import Params
+from ..scenario.core import Scenario
 from ..tether.chain import LumpedTether, static_chain
 from ..tether.lumped import CHAIN_MAX_SUBSTEPS, COUPLING_OMEGA_H, chain_omega_max, ros2_work
 from ..wind import initial_wind_force
 from ..wind.profiles import Disturbance
-from .scenario import Scenario
 
 __all__ = [
     "LQI_STATES",

@@ -3,9 +3,9 @@ compiled engine takes (``layout``: run configuration, controller settings, actua
 compiled wind and the sensor-noise table. ``simulate``, ``run_batch``, sweeps and the
 Gymnasium environment all start a run here.
 
-The pieces live beside it, by job: the gain, trims and start in the wind in ``sim.start``,
-the actuator and sensor packing in ``sim.packing``, a block of runs for the lane engine in
-``sim.lanes`` (``lane_block``); their names the API reference lists under this module are
+The pieces live beside it, by job: the gain, trims and start in the wind in ``runs.start``,
+the actuator and sensor packing in ``runs.packing`` (a block of runs for the lane engine is
+``runs.batch.lane_block``); their names the API reference lists under this module are
 re-exported here.
 """
 
@@ -21,6 +21,10 @@ from ..base.compiled import CompiledBase, compile_base
 from ..control.lqi import LQIGain
 from ..control.paper import PaperController, check_law
 from ..control.tether_lqi import TetherLQIGain, _tether_lqi_gain
+from ..engine import loop as engine
+from ..engine import lumped_step, stepping
+from ..engine.lanes import lane_program_into
+from ..engine.summary import start_summary
 from ..errors import DesignError, design_failure
 from ..layout import (
     CFG_ARM,
@@ -58,10 +62,9 @@ from ..layout import (
 from ..model import TetheredHelicopter, TrimPoint
 from ..model.trim import _hover_trim
 from ..params import Params
+from ..scenario.core import Scenario
 from ..tether.lumped_trim import _hover_trim_lumped
 from ..wind import CompiledWind, compile_wind
-from . import engine, lumped_step, stepping
-from .lanes import lane_block, lane_program_into
 from .packing import (
     actuator_array,
     read_only,
@@ -70,7 +73,6 @@ from .packing import (
     sensor_tuple,
     winch_into,
 )
-from .scenario import Scenario
 from .start import (
     LQI_STATES,
     StartPoint,
@@ -82,7 +84,6 @@ from .start import (
     paper_law,
     start_point,
 )
-from .summary import start_summary
 
 __all__ = [
     "LQI_STATES",
@@ -93,7 +94,6 @@ __all__ = [
     "chain_start",
     "engine_setup",
     "free_trim_input",
-    "lane_block",
     "lane_program_into",
     "load_cell_trim",
     "lumped_tether",
@@ -380,7 +380,7 @@ class EngineSetup:
 def python_controlled(scenario: Scenario) -> bool:
     """Whether ``scenario``'s controller is a Python ``Controller`` that ``simulate``'s loop
     flies around the engine's sample step, not a compiled law: the MPC, a tethered landing
-    (``sim.landing``), a point of N held over a moving base, the deck's heave fed forward
+    (``runs.landing``), a point of N held over a moving base, the deck's heave fed forward
     (``control.deck``). The one rule ``simulate`` and ``run_batch`` route runs by.
 
     Parameters

@@ -11,11 +11,11 @@ import numpy as np
 
 from ..control.landing import GroundHoldController, LandingController, LandingSchedule
 from ..model.trim import _hover_trim
+from ..scenario.tables import LANDING_PRESS_M
 from ..status import Status
-from .scenario_tables import LANDING_PRESS_M
 
 if TYPE_CHECKING:
-    from .scenario import Scenario
+    from ..scenario.core import Scenario
     from .setup import EngineSetup
 
 __all__ = [

@@ -3,7 +3,7 @@
 the names that become file stems (``check_name``, ``check_distinct_names``).
 
 ``Scenario`` runs ``validate_scenario`` on construction, and ``scenario_from_dict`` on the
-scenario it reads (``sim.scenario``); each failure is one ``ParameterError`` naming the key.
+scenario it reads (``scenario.core``); each failure is one ``ParameterError`` naming the key.
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ from ..params import Params, check_tether_length, check_tether_strain
 from ..sensing.config import SensorConfig
 from ..tether.chain import CABLE_KEYS
 from ..wind import Disturbance, check_wind_covers
-from .scenario_tables import (
+from .tables import (
     LANDING_MIN_LENGTH_M,
     LANDING_PRESS_M,
     ActuatorSettings,
@@ -38,7 +38,7 @@ from .scenario_tables import (
 )
 
 if TYPE_CHECKING:
-    from .scenario import Scenario
+    from .core import Scenario
 
 __all__ = ["MAX_SAMPLES", "check_distinct_names", "check_name", "validate_scenario"]
 

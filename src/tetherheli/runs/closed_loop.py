@@ -21,6 +21,8 @@ from .._version import __version__
 from ..base.compiled import CompiledBase, base_state
 from ..control.base import Controller, Measurement
 from ..control.deck import DeckFeedforward
+from ..engine import loop as engine
+from ..engine import stepping
 from ..errors import ParameterError
 from ..layout import (
     CFG_ATTACHED,
@@ -37,14 +39,13 @@ from ..model import TrimPoint
 from ..model.kernels import angle_trig, angle_trig_from
 from ..params import Params
 from ..resources import check_memory
+from ..results.files import BASE_POSITION_COLUMNS, BASE_VELOCITY_COLUMNS
+from ..results.result import DRUM_COLUMNS, TENSION_GROUND_COLUMN, SimulationResult, winch_limit_info
+from ..scenario.core import Scenario
 from ..sensing.config import N_CHANNELS, N_GROUPS
 from ..status import FALLBACK_COLUMN, Status, finite_status, solver_status
-from . import engine, stepping
 from .landing import Touchdown, ground_hold_controller, landing_controller
 from .mpc_setup import mpc_controller
-from .result import DRUM_COLUMNS, TENSION_GROUND_COLUMN, SimulationResult, winch_limit_info
-from .result_files import BASE_POSITION_COLUMNS, BASE_VELOCITY_COLUMNS
-from .scenario import Scenario
 from .setup import engine_setup, python_controlled
 
 __all__ = ["check_run_memory", "simulate"]
@@ -335,7 +336,7 @@ def _python_loop(scenario, setup, run, controller, method, touchdown=None, *, rt
     """The closed loop driven from Python: any Controller, RK4 or the adaptive reference;
     returns (status, samples done, the touchdown record or None).
 
-    With ``touchdown`` (a landing's ``sim.landing.Touchdown``) each recorded sample is
+    With ``touchdown`` (a landing's ``runs.landing.Touchdown``) each recorded sample is
     watched for the touchdown, which ends the run with its status (LANDED or
     HARD_TOUCHDOWN); a landing that reaches the run's end without one is NOT_LANDED.
 

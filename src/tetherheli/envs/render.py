@@ -12,10 +12,10 @@ from typing import Any
 
 import numpy as np
 
-from .sim.scenario import Scenario
-from .status import status_message
-from .wind import CompiledWind
-from .wind.evaluate import air_force_on_base
+from ..scenario.core import Scenario
+from ..status import status_message
+from ..wind import CompiledWind
+from ..wind.evaluate import air_force_on_base
 
 __all__ = ["close_window", "draw_frame", "episode_data", "episode_row", "show_frame"]
 
@@ -98,8 +98,8 @@ def episode_data(
     tetherheli.viz.animation.RunData
         The episode as the animation's run.
     """
-    from ._version import __version__
-    from .viz.animation import RunData
+    from .._version import __version__
+    from ..viz.animation import RunData
 
     rows = np.array(frames)
     return RunData(
@@ -131,7 +131,7 @@ def draw_frame(run: Any) -> np.ndarray:
     numpy.ndarray, shape (H, W, 3), uint8
         The RGB frame (``viz.animation.frame_rgb``).
     """
-    from .viz.animation import frame_rgb
+    from ..viz.animation import frame_rgb
 
     return frame_rgb([run], float(run.time[-1]))
 
@@ -157,7 +157,7 @@ def show_frame(window: Any, frame: np.ndarray, fps: float, title: str) -> tuple:
     tuple of (Figure, AxesImage)
         The window, for the next call.
     """
-    from .viz.window import show_image
+    from ..viz.window import show_image
 
     return show_image(window, frame, fps, title)
 
@@ -170,6 +170,6 @@ def close_window(window: tuple) -> None:
     window : tuple of (Figure, AxesImage)
         The window ``show_frame`` returned.
     """
-    from .viz import window as viz_window
+    from ..viz import window as viz_window
 
     viz_window.close_window(window)

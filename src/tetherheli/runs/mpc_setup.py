@@ -1,5 +1,5 @@
 """The MPC of a scenario: ``[control.mpc]``, ``[actuators]``, ``[sensors]`` and the run's
-set-up (``sim.setup.engine_setup``: trim, model constants, the paper's free law) unpacked
+set-up (``runs.setup.engine_setup``: trim, model constants, the paper's free law) unpacked
 into the explicit arguments of ``control.mpc_design`` (``hover_design``,
 ``design_mpc_kalman``) and ``control.mpc`` (``MPCController``), which read no scenario."""
 
@@ -17,7 +17,7 @@ from ..resources import warn_slow
 
 if TYPE_CHECKING:
     from ..params import Params
-    from .scenario import Scenario
+    from ..scenario.core import Scenario
     from .setup import EngineSetup
 
 __all__ = ["mpc_controller", "mpc_kalman", "uses_kalman"]
@@ -39,7 +39,7 @@ def mpc_controller(
     scenario : Scenario
         The run (``control.controller`` = "mpc").
     setup : EngineSetup
-        Its set-up (``sim.setup.engine_setup``): trim, model constants, the paper's free
+        Its set-up (``runs.setup.engine_setup``): trim, model constants, the paper's free
         gain (flown after a release) and u0|F.
     design_params : Params, optional
         The parameters of the design model (a Monte Carlo's nominal ones).
@@ -110,7 +110,7 @@ def mpc_kalman(
     scenario : Scenario
         The run.
     setup : EngineSetup
-        Its set-up (``sim.setup.engine_setup``; the trim).
+        Its set-up (``runs.setup.engine_setup``; the trim).
     design_params : Params, optional
         The parameters of the design model (default the run's own).
 

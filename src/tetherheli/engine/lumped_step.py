@@ -1,6 +1,6 @@
 """The lumped-mass tether in the closed loop (``tether.lumped``): the chain's end
 tensions before a sample (``chain_ends``) and the coupled step of helicopter and chain over a
-sample (``lumped_interval``), which ``sim.engine``'s ``sample_sense`` and ``sample_advance``
+sample (``lumped_interval``), which ``engine.loop``'s ``sample_sense`` and ``sample_advance``
 call while a lumped tether is attached."""
 
 from __future__ import annotations

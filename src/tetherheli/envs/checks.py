@@ -4,7 +4,7 @@ otherwise), the scenario's keys it cannot fly (``check_env_scenario``, by the ta
 ``SCENARIO_USE``), the names of its own arguments in the scenario's messages
 (``argument_names``), ``reset``'s options (``check_reset_options``) and the memory its copies
 would hold (``check_env_memory``, refused above the memory budget of
-``tetherheli.resources``). ``tetherheli.envs`` re-exports the public names.
+``tetherheli.resources``). ``tetherheli.envs.env`` re-exports the public names.
 """
 
 from __future__ import annotations
@@ -16,9 +16,9 @@ from typing import Any
 
 import gymnasium
 
-from .errors import ParameterError
-from .sim.scenario import Scenario
-from .wind import Disturbance, compile_wind
+from ..errors import ParameterError
+from ..scenario.core import Scenario
+from ..wind import Disturbance, compile_wind
 
 __all__ = [
     "RENDER_MODES",
@@ -119,7 +119,7 @@ _COPY_BYTES = 8_192
 def check_env_memory(scenario: Scenario, copies: int, gust_dt: float) -> int:
     """Estimate the bytes ``copies`` environment copies of ``scenario`` (an episode's
     duration and sensors) hold at once: each copy's sensor-noise table and schedule
-    (``sim.closed_loop.check_run_memory``, the rule ``simulate`` applies), its gust series
+    (``runs.closed_loop.check_run_memory``, the rule ``simulate`` applies), its gust series
     (3 floats per ``gust_dt``) and its state; refuse them (``ResourceLimitError``) above
     the memory budget (``tetherheli.resources``), before anything is allocated.
 
@@ -142,7 +142,7 @@ def check_env_memory(scenario: Scenario, copies: int, gust_dt: float) -> int:
     ResourceLimitError
         The estimate exceeds the budget.
     """
-    from .sim.closed_loop import check_run_memory
+    from ..runs.closed_loop import check_run_memory
 
     gusts = 3 * 8 * (scenario.duration / gust_dt + 2)
     noisy = "" if scenario.sensors.is_perfect else " with noisy sensors"
@@ -158,7 +158,7 @@ def check_env_scenario(scenario: Scenario) -> None:
     """Refuse (``ParameterError`` naming the key) a scenario an environment cannot fly as
     ``simulate`` would (the "refused" fields of ``SCENARIO_USE``): a controller other than
     the paper's compiled law, one that ``simulate`` flies in Python (a landing, the deck's
-    feed-forward, a point of N held over a moving base: ``sim.setup.python_controlled``),
+    feed-forward, a point of N held over a moving base: ``runs.setup.python_controlled``),
     the lumped tether, a seed of noisy sensors and a metrics window.
 
     Parameters
@@ -166,7 +166,7 @@ def check_env_scenario(scenario: Scenario) -> None:
     scenario : Scenario
         The scenario given to the environment.
     """
-    from .sim.setup import python_controlled
+    from ..runs.setup import python_controlled
 
     c = scenario.control
     if c.controller != "paper":  # never substitute the paper's law

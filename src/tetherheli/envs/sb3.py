@@ -2,7 +2,7 @@
 
 Stable-Baselines3 does not take a :class:`gymnasium.vector.VectorEnv`; it takes its own
 :class:`stable_baselines3.common.vec_env.VecEnv`, with another autoreset rule. This adapter
-wraps :class:`tetherheli.vector_env.TetheredHoverVectorEnv` (all copies in one compiled call
+wraps :class:`tetherheli.envs.vector.TetheredHoverVectorEnv` (all copies in one compiled call
 per step) and gives SB3's semantics:
 
 - ``step_wait`` returns ``(obs, rewards, dones, infos)``; ``dones = terminated | truncated``;
@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 from stable_baselines3.common.vec_env import VecEnv
 
-from .vector_env import TetheredHoverVectorEnv
+from .vector import TetheredHoverVectorEnv
 
 __all__ = ["TetheredHoverSB3VecEnv"]
 
@@ -42,8 +42,8 @@ class TetheredHoverSB3VecEnv(VecEnv):
     num_envs : int
         Number of copies, >= 1.
     scenario, **kwargs
-        As for :class:`~tetherheli.envs.TetheredHoverEnv` (``max_episode_steps`` too, as for
-        :class:`~tetherheli.vector_env.TetheredHoverVectorEnv`).
+        As for :class:`~tetherheli.envs.env.TetheredHoverEnv` (``max_episode_steps`` too, as for
+        :class:`~tetherheli.envs.vector.TetheredHoverVectorEnv`).
 
     Attributes
     ----------

@@ -57,8 +57,8 @@ from ..errors import ParameterError
 from ..params import TETHER_LENGTH_RANGE, Params
 from ..sensing.config import SensorConfig, sensor_config_from_dict
 from ..wind import Disturbance, NoWind, disturbance_from_dict, paper_wind
-from .scenario_checks import MAX_SAMPLES, check_distinct_names, check_name, validate_scenario
-from .scenario_tables import (
+from .checks import MAX_SAMPLES, check_distinct_names, check_name, validate_scenario
+from .tables import (
     CONTROLLERS,
     MPC_OBSERVERS,
     MPC_QY_GNSS,

@@ -1,7 +1,7 @@
 """The files of a saved run: its columns (names, units, descriptions, the CSV's order), the
 formats (CSV, Parquet), their writing, and the reading and checking of a saved run.
 
-``sim.result`` holds the ``SimulationResult`` these files store and re-exports the public
+``results.result`` holds the ``SimulationResult`` these files store and re-exports the public
 names below; ``load_result`` builds one from ``read_result_fields``.
 """
 
@@ -140,7 +140,7 @@ RESULT_DESCRIPTIONS: dict[str, str] = {
 #: File formats of a saved run's time series (``SimulationResult.save``): ``<stem>.csv`` (the
 #: default, text), ``<stem>.parquet`` (Apache Parquet through pandas + pyarrow, the ``data``
 #: extra) or ``<stem>.mcap`` (MCAP: the signals and a 3-D scene for Foxglove, through the
-#: ``mcap`` package, the ``replay`` extra; ``sim.result_mcap``); ``load_result`` reads each.
+#: ``mcap`` package, the ``replay`` extra; ``results.mcap``); ``load_result`` reads each.
 RESULT_FORMATS = ("csv", "parquet", "mcap")
 #: The formats of a table of many runs' results (``montecarlo --format``): no MCAP.
 TABLE_FORMATS = ("csv", "parquet")
@@ -457,7 +457,7 @@ def _read_table(path: Path) -> tuple[list[str], np.ndarray]:
     """The header and the values (rows x columns) of a run's time-series file."""
     if path.suffix == ".mcap":
         _optional("mcap")
-        from .result_mcap import read_mcap_table
+        from .mcap import read_mcap_table
 
         return read_mcap_table(path)
     if path.suffix == ".parquet":

@@ -1,7 +1,7 @@
 """Gymnasium environment: a tethered helicopter hovering in wind, for reinforcement learning.
 
 ``TetheredHoverEnv`` wraps the compiled tethered-coordinate plant of the closed-loop engine
-(:func:`tetherheli.sim.engine.rk4_interval`, the same RK4 integration ``simulate`` uses) as a
+(:func:`tetherheli.engine.loop.rk4_interval`, the same RK4 integration ``simulate`` uses) as a
 :class:`gymnasium.Env`. One environment step is one control sample ``dt`` (10 ms by default):
 the inputs are held constant over the sample (zero-order hold) and the plant is integrated
 with the scenario's RK4 sub-steps. The winch always runs the paper's PI tension loop (eq 56).
@@ -38,7 +38,7 @@ Reward
     the step and the clipped action ``a``; on a terminating step ``-termination_penalty``.
 
 Episode end
-    ``terminated`` when :func:`tetherheli.sim.engine.check_state` reports a failure (ground
+    ``terminated`` when :func:`tetherheli.engine.loop.check_state` reports a failure (ground
     contact, non-finite state, coordinate singularity, tension above ``limits.max_tension``,
     deviation or attitude beyond the scenario's limits); ``truncated`` after
     ``max_episode_time`` seconds.
@@ -69,10 +69,10 @@ imports the module named before the colon; it no longer loads plugins from entry
 which older Gymnasium does through the ``gymnasium.envs`` entry point of ``pyproject.toml``).
 ``gymnasium.make_vec(..., num_envs=N, vectorization_mode="vector_entry_point")``
 gives N copies stepped in one compiled call
-(:class:`tetherheli.vector_env.TetheredHoverVectorEnv`). The observation (``observe_into``),
+(:class:`tetherheli.envs.vector.TetheredHoverVectorEnv`). The observation (``observe_into``),
 the step's reward and failure check (``finish_step``) and the episode's start
 (``start_episode``) are compiled functions that both environments run
-(``tetherheli.env_kernels``, re-exported here). Requires the ``gymnasium`` package
+(``tetherheli.envs.kernels``, re-exported here). Requires the ``gymnasium`` package
 (``pip install "tetherheli[rl]"``).
 """
 
@@ -86,34 +86,21 @@ import gymnasium
 import numpy as np
 from gymnasium import spaces
 
-from ._gym_registration import ENV_ID, MAX_EPISODE_STEPS, register_envs
-from ._validation import check_bool, check_number, check_vector
-from .env_checks import (
-    RENDER_MODES,
-    SCENARIO_USE,
-    RenderModeError,
-    argument_names,
-    check_display,
-    check_env_memory,
-    check_env_scenario,
-    check_reset_options,
-    display_backend,
-)
-from .env_kernels import OBS_LIMIT, finish_step, observe_into, start_episode, tether_tension
-from .env_render import close_window, draw_frame, episode_data, episode_row, show_frame
-from .errors import InfeasibleError, ParameterError
-from .layout import CFG_GUST_DT, CTRL_T_REF, LAW_Z0, LOOP_EVENT, LOOP_INPUTS
-from .model.kernels import tethered_outputs
-from .names import FREE_STATE
-from .sensing.config import N_CHANNELS
-from .sensing.noise import noise_table
-from .sim import engine
-from .sim.packing import actuator_array, read_only, sensor_schedule, sensor_tuple
-from .sim.scenario import Scenario
-from .sim.setup import base_velocity, run_base, run_setup
-from .sim.start import StartPoint, free_trim_input, paper_law, start_point
-from .status import Status, status_message
-from .wind import (
+from .._gym_registration import ENV_ID, MAX_EPISODE_STEPS, register_envs
+from .._validation import check_bool, check_number, check_vector
+from ..engine import loop as engine
+from ..errors import InfeasibleError, ParameterError
+from ..layout import CFG_GUST_DT, CTRL_T_REF, LAW_Z0, LOOP_EVENT, LOOP_INPUTS
+from ..model.kernels import tethered_outputs
+from ..names import FREE_STATE
+from ..runs.packing import actuator_array, read_only, sensor_schedule, sensor_tuple
+from ..runs.setup import base_velocity, run_base, run_setup
+from ..runs.start import StartPoint, free_trim_input, paper_law, start_point
+from ..scenario.core import Scenario
+from ..sensing.config import N_CHANNELS
+from ..sensing.noise import noise_table
+from ..status import Status, status_message
+from ..wind import (
     CalibratedGaussMarkovTurbulence,
     CompiledWind,
     Disturbance,
@@ -126,6 +113,19 @@ from .wind import (
     check_wind_covers,
     compile_wind,
 )
+from .checks import (
+    RENDER_MODES,
+    SCENARIO_USE,
+    RenderModeError,
+    argument_names,
+    check_display,
+    check_env_memory,
+    check_env_scenario,
+    check_reset_options,
+    display_backend,
+)
+from .kernels import OBS_LIMIT, finish_step, observe_into, start_episode, tether_tension
+from .render import close_window, draw_frame, episode_data, episode_row, show_frame
 
 __all__ = [
     "DEFAULT_EPISODE_TIME",
@@ -448,7 +448,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
     ) -> tuple[Disturbance, CompiledWind, StartPoint, np.ndarray]:
         """What ``reset`` draws for an episode, in its order: the wind (``wind`` if given,
         else the fixed wind, else a kind drawn uniformly and ``draw_wind``), the start at
-        rest in the trim of its air at t = 0 (``sim.start.start_point``, no draw), then the
+        rest in the trim of its air at t = 0 (``runs.start.start_point``, no draw), then the
         sensor noise table (``sensors.noise_table``; empty with perfect sensors).
 
         Parameters
@@ -465,7 +465,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         compiled : CompiledWind
             Its compiled form for the engine.
         start : StartPoint
-            The start state x and integrators z (``sim.start.start_point``).
+            The start state x and integrators z (``runs.start.start_point``).
         noise : ndarray, shape (n_samples + 1, N_CHANNELS) or (0, N_CHANNELS)
             The episode's sensor noise table (empty with perfect sensors).
         """
@@ -546,7 +546,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
         """Start an episode with a new wind, at rest in the hover trim of its air at t = 0
-        (``sim.start.start_point``: a turbulence's mean wind plus its first gust; the
+        (``runs.start.start_point``: a turbulence's mean wind plus its first gust; the
         windless trim for the force profiles).
 
         Parameters
@@ -577,7 +577,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         )
         self._law = (*self._law[:LAW_Z0], read_only(start.z))
         self._noise = noise
-        # at rest in the equilibrium of the episode's air at t = 0 (sim.start.start_point),
+        # at rest in the equilibrium of the episode's air at t = 0 (runs.start.start_point),
         # the loop arrays of engine.paper_sample and the sensor history ring fresh
         start_episode(
             self._x, self._cfg, self._ctrl, self._loop, self._episode_sensors[-1], start.x,
@@ -740,7 +740,7 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
 
     @property
     def _sensor_args(self) -> tuple:
-        """The episode's ``sim.packing.sensor_tuple`` (for ``engine.sense`` and ``observe_into``)
+        """The episode's ``runs.packing.sensor_tuple`` (for ``engine.sense`` and ``observe_into``)
         with its current noise table ``_noise``; the schedule and history ring are the
         episode's own."""
         return (self._noise, *self._episode_sensors[1:])

@@ -3,8 +3,8 @@
 and ``[winch]``.
 
 Each field carries its ``Key`` (meaning, unit, default, allowed range): the one description
-that ``sim.scenario_checks`` checks against and ``sim.reference`` prints. The scenario itself,
-its TOML form and its loader are ``sim.scenario``.
+that ``scenario.checks`` checks against and ``scenario.reference`` prints. The scenario itself,
+its TOML form and its loader are ``scenario.core``.
 """
 
 from __future__ import annotations
@@ -61,7 +61,7 @@ PAPER_RU: tuple[float, ...] = tuple(np.diag(lqi.PAPER_RU).tolist())
 
 def _key(default: Any, key: Key) -> Any:
     """A dataclass field with its ``Key`` (documentation, unit, allowed values): the one
-    description ``scenario_checks`` checks against and ``tetherheli.sim.reference`` prints."""
+    description ``scenario_checks`` checks against and ``tetherheli.scenario.reference`` prints."""
     return field(default=default, metadata={"key": key})
 
 

@@ -1,10 +1,10 @@
 """The lane engine's control sample: every phase of a single run's sample
-(``sim.engine.paper_sample``: the tether's tension and the release check, the sensors, the
+(``engine.loop.paper_sample``: the tether's tension and the release check, the sensors, the
 paper's or the tethered LQI with feed-forward and winch law, the actuators, the true outputs,
 the failure checks and the on-line metrics) for a block of ``layout.LANES`` runs at once.
 
 Every array is flat (variable, lane), element (i, j) at i * LANES + j, as in
-``sim.lanes.rk4_lanes``; each phase is a sequence of loops over the lanes with no call and no
+``engine.lanes.rk4_lanes``; each phase is a sequence of loops over the lanes with no call and no
 branch on a lane's data (a lane's choices are selects), so the compiler vectorises them. The
 formulas are the single run's own: the scalar kernels (``engine.state_status``,
 ``engine.actuator_value``, ``engine.payout_limited_rate``, ``control.paper.winch_pi``,
@@ -89,7 +89,7 @@ from ..model.kernels import (
     tethered_tether_torque_lanes,
 )
 from ..sensing.sensors import measure_sampled
-from .engine import (
+from .loop import (
     STATUS_OK,
     actuator_lag_gain,
     actuator_value,

@@ -1,10 +1,10 @@
 """The engine's control sample driven from Python, around any ``Controller``.
 
 ``simulate``'s Python path (the MPC, a user's ``Controller``, the adaptive reference)
-holds a ``StepRun`` (``sim.setup.EngineSetup.step_run``) and calls, per sample,
+holds a ``StepRun`` (``runs.setup.EngineSetup.step_run``) and calls, per sample,
 ``step_sense``, then the controller, then ``step_command`` (which advances the plant, or
 leaves that to the caller's own integrator), then at the end ``step_finish``: the compiled
-phases of ``sim.engine`` (``sample_sense``, ``sample_apply``, ``sample_record``,
+phases of ``engine.loop`` (``sample_sense``, ``sample_apply``, ``sample_record``,
 ``sample_advance``), compiled once, with the controller's slot in Python.
 """
 
@@ -18,7 +18,7 @@ import numpy as np
 from .._compile import compiled
 from ..layout import ACT_DRUM, CFG_ATTACHED, CHAIN_NODES, LAW_X_REF, LAW_Y_REF, LoopState, Signals
 from ..model.kernels import angle_trig, tethered_outputs_sc
-from .engine import (
+from .loop import (
     STATUS_NONFINITE,
     STATUS_OK,
     finish_summary,
@@ -37,7 +37,7 @@ _jit = compiled(error_model="numpy")
 class StepRun(NamedTuple):
     """One run's arrays for the sample step driven from Python (``step_sense``,
     ``step_command``, ``step_finish``), built by
-    ``sim.setup.EngineSetup.step_run``; a named record, so each step function has one
+    ``runs.setup.EngineSetup.step_run``; a named record, so each step function has one
     compiled signature and reads its fields by name.
 
     Parameters
@@ -58,7 +58,7 @@ class StepRun(NamedTuple):
     act : numpy.ndarray, shape (ACT_SIZE,)
         The actuators (``layout.ACT_*``).
     sensors : tuple
-        ``sim.packing.sensor_tuple``'s.
+        ``runs.packing.sensor_tuple``'s.
     chain : tuple of numpy.ndarray
         The lumped chain (``layout.CHAIN_*``; ``layout.empty_chain()``: massless).
     cw : tuple
@@ -80,7 +80,7 @@ class StepRun(NamedTuple):
     law: tuple  #: ``layout.LAW_*`` (x_ref and y_ref are the metrics' references)
     wind: tuple  #: (program, gust table, drag, base); an empty program for a Python disturbance
     act: np.ndarray  #: ``layout.ACT_*``
-    sensors: tuple  #: ``sim.packing.sensor_tuple``
+    sensors: tuple  #: ``runs.packing.sensor_tuple``
     chain: tuple  #: ``layout.CHAIN_*`` (``layout.empty_chain()``: massless)
     cw: tuple  #: the chain's scratch (``lumped_work``)
     work: np.ndarray  #: (RK4_WORK_ROWS, 13) the integrator's scratch

@@ -1,7 +1,7 @@
 """Vectorised Gymnasium environment: N copies of ``TetheredHoverEnv`` stepped in one compiled call.
 
 ``TetheredHoverVectorEnv`` is a :class:`gymnasium.vector.VectorEnv` whose copy i behaves as a
-:class:`tetherheli.envs.TetheredHoverEnv` of the same arguments: same spaces, observation,
+:class:`tetherheli.envs.env.TetheredHoverEnv` of the same arguments: same spaces, observation,
 reward, termination, truncation and info, the same draws (the wind, then the sensor noise)
 from the copy's own generator at each reset. One ``step`` is one compiled call
 (``vector_step``): per copy, the environment's control sample (``engine.paper_sample`` with
@@ -53,13 +53,13 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from ._compile import compiled, frozen, plain
-from ._validation import check_integer, is_integer
-from .env_checks import RenderModeError, check_env_memory, check_reset_options
-from .env_kernels import finish_step, observe_into, start_episode, tether_tension
-from .envs import OBSERVATION_NAMES, TetheredHoverEnv
-from .errors import ParameterError
-from .layout import (
+from .._compile import compiled, frozen, plain
+from .._validation import check_integer, is_integer
+from ..engine import lanes as lane_engine
+from ..engine import loop as engine
+from ..engine.lanes import lane_program_into
+from ..errors import ParameterError
+from ..layout import (
     BASE_MOVING,
     CFG_ATTACHED,
     CFG_DT,
@@ -73,13 +73,13 @@ from .layout import (
     WIND_COLUMNS,
     LoopState,
 )
-from .model.kernels import angle_trig, tethered_outputs
-from .sensing.config import N_CHANNELS
-from .sim import engine
-from .sim import lanes as lane_engine
-from .sim.lanes import lane_program_into
-from .sim.packing import sensor_tuple
-from .status import Status, status_message
+from ..model.kernels import angle_trig, tethered_outputs
+from ..runs.packing import sensor_tuple
+from ..sensing.config import N_CHANNELS
+from ..status import Status, status_message
+from .checks import RenderModeError, check_env_memory, check_reset_options
+from .env import OBSERVATION_NAMES, TetheredHoverEnv
+from .kernels import finish_step, observe_into, start_episode, tether_tension
 
 __all__ = ["TetheredHoverVectorEnv", "vector_restart", "vector_step"]
 
@@ -334,7 +334,7 @@ def vector_restart(mask, copies, shared, wind, out):
 
 
 class TetheredHoverVectorEnv(VectorEnv):
-    """``num_envs`` copies of :class:`~tetherheli.envs.TetheredHoverEnv` stepped together
+    """``num_envs`` copies of :class:`~tetherheli.envs.env.TetheredHoverEnv` stepped together
     (see the module docstring).
 
     Parameters
@@ -342,7 +342,7 @@ class TetheredHoverVectorEnv(VectorEnv):
     num_envs : int
         Number of copies, >= 1.
     scenario, **kwargs
-        As for :class:`~tetherheli.envs.TetheredHoverEnv` (validated by it): every copy has
+        As for :class:`~tetherheli.envs.env.TetheredHoverEnv` (validated by it): every copy has
         the same configuration and draws its own episodes. ``render_mode`` must be None (the
         copies are not drawn; ``RenderModeError`` otherwise).
     max_episode_steps : int, optional
@@ -539,7 +539,7 @@ class TetheredHoverVectorEnv(VectorEnv):
         each one's generator), leaving the other copies untouched.
 
         This is the same-step autoreset that Stable-Baselines3's ``VecEnv`` expects
-        (``tetherheli.sb3``); Gymnasium's own next-step autoreset needs no call.
+        (``tetherheli.envs.sb3``); Gymnasium's own next-step autoreset needs no call.
 
         Parameters
         ----------

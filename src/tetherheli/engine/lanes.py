@@ -1,14 +1,12 @@
 """The lane engine: a block of ``layout.LANES`` runs advanced together (``run_lanes``, behind
 ``run_batch``, sweeps and the Monte Carlo; ``rk4_lanes`` also behind the vector environment).
-Each lane runs the single run's control sample (``sim.engine.paper_sample``), then the block
+Each lane runs the single run's control sample (``engine.loop.paper_sample``), then the block
 is integrated at once over flat (variable, lane) arrays, the lanes' loops vectorised; a lane
 equals the single run bit for bit."""
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numba import types
@@ -52,12 +50,9 @@ from ..model.kernels import (
     tethered_rhs_lanes,
 )
 from ..wind.evaluate import gust_velocity, profile_value
-from .engine import STATUS_OK, TRIG_CHAIN_STEPS
 from .lane_sample import lane_law, lane_sample, lane_state
+from .loop import STATUS_OK, TRIG_CHAIN_STEPS
 from .summary import start_summary, winch_limit_into
-
-if TYPE_CHECKING:
-    from .setup import EngineSetup
 
 _jit = compiled(error_model="numpy")
 _jit_inline = compiled(error_model="numpy", inline="always")
@@ -93,7 +88,7 @@ def _wide_vectors(typingctx):  # pragma: no cover - compiled
 def _lanes_program_force(programs, n_rows, t, side, out):
     """out (3 LANES,) = the profiles' force of every lane at its time t (LANES,): the lanes'
     programs are flat (row, column, lane), element at (r WIND_COLUMNS + column) LANES + j,
-    padded with zero rows (``lanes.lane_block``); the sum runs over rows in the order of
+    padded with zero rows (``batch.lane_block``); the sum runs over rows in the order of
     ``_wind_program_force``."""
     for i in range(out.shape[0]):
         out[i] = 0.0
@@ -349,11 +344,11 @@ def run_lanes(
     samples, none where n_samples[j] < 0 (padding).
 
     The arguments of ``run_closed_loop`` with a leading lane axis of length LANES, packed by
-    ``lanes.lane_block``: x_init (LANES, 13), cfg_in, ctrl_in, c (LANES, n_c), law (each part
+    ``batch.lane_block``: x_init (LANES, 13), cfg_in, ctrl_in, c (LANES, n_c), law (each part
     of ``layout.LAW_*`` with the lane axis in front), act, sensors = (noise (LANES, N,
     N_CHANNELS), noise rows in use (LANES,), source codes, arms, scratch (LANES, 4, 3),
     schedules (LANES, S, N_GROUPS) int, their rows in use, history rings (LANES, H,
-    N_CHANNELS), their rows in use) (``sim.packing.sensor_tuple`` per lane);
+    N_CHANNELS), their rows in use) (``runs.packing.sensor_tuple`` per lane);
     wind = (programs flat (R WIND_COLUMNS LANES,), R, gusts (LANES, G, 3), gust rows in use,
     drag (LANES, 3)).
     summary (LANES, len(SUMMARY_FIELDS)), status and done (LANES,) receive each lane's on-line
@@ -388,7 +383,7 @@ def run_lanes(
     act : numpy.ndarray, shape (LANES, ACT_SIZE)
         The lanes' actuators (``layout.ACT_*``).
     sensors : tuple
-        The lanes' sensors, ``sim.packing.sensor_tuple`` per lane with a lane axis.
+        The lanes' sensors, ``runs.packing.sensor_tuple`` per lane with a lane axis.
     summary : numpy.ndarray, shape (LANES, len(SUMMARY_FIELDS))
         Receives each lane's on-line metrics (``layout.SUMMARY_*``).
     status : numpy.ndarray, shape (LANES,)
@@ -522,17 +517,6 @@ def _finish_lane(j, state, summary):
 # --- a block of runs packed for the lanes (``run_lanes``'s leading arguments) --------------
 
 
-def _stack(arrays: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """Arrays (rows, ...) of different row counts stacked along a new lane axis, zero-padded
-    to the longest (their dtype kept); returns (stacked (B, rows_max, ...), rows in use (B,))."""
-    rows = np.array([a.shape[0] for a in arrays], dtype=np.int64)
-    shape = (len(arrays), max(1, int(rows.max())), *arrays[0].shape[1:])
-    stacked = np.zeros(shape, dtype=arrays[0].dtype)
-    for j, a in enumerate(arrays):
-        stacked[j, : a.shape[0]] = a
-    return stacked, rows
-
-
 def lane_program_into(programs: np.ndarray, j: int, program: np.ndarray) -> None:
     """Lane j of a block's wind programs ``programs`` (rows, WIND_COLUMNS, LANES): the run's
     profile rows ``program`` (k, WIND_COLUMNS), k <= rows, then padding rows of zero force (a
@@ -550,59 +534,3 @@ def lane_program_into(programs: np.ndarray, j: int, program: np.ndarray) -> None
     programs[:, :, j] = 0.0
     programs[:, WIND_KIND, j] = WIND_CONSTANT
     programs[: program.shape[0], :, j] = program
-
-
-def lane_block(setups: Sequence[EngineSetup], n_samples: Sequence[int]) -> tuple:
-    """The leading arguments of ``lanes.run_lanes`` for a block of up to ``LANES`` runs:
-    lane j holds ``setups[j].engine_args(n_samples[j])``, the single run's own packing, with
-    a lane axis in front (built-in winds only; every run must take the same RK4 steps per
-    sample). Lanes beyond the runs are padding: copies of the first run with n_samples = -1
-    (never run). Wind programs are padded with rows of zero force and laid out flat (row,
-    column, lane); tables of other lengths are zero-padded with their rows in use.
-
-    Parameters
-    ----------
-    setups : sequence of EngineSetup
-        1 to ``LANES`` runs with built-in winds.
-    n_samples : sequence of int
-        Control samples of each run.
-
-    Returns
-    -------
-    tuple
-        The arguments of ``lanes.run_lanes`` before its outputs, each with a leading lane
-        axis of length ``LANES``.
-    """
-    if not 0 < len(setups) <= LANES or len(n_samples) != len(setups):
-        raise ValueError(f"lane_block: 1 to {LANES} runs, each with its n_samples")
-    pad = LANES - len(setups)
-    runs = [s.engine_args(n) for s, n in zip(setups, n_samples, strict=True)]
-    runs += [runs[0]] * pad
-    counts = np.array([*n_samples, *([-1] * pad)], dtype=np.int64)
-    if any(s.chain[0].shape[0] > 0 for s in setups):
-        raise ValueError("lane_block: lumped tethers run alone (engine.run_closed_loop)")
-    x_init, _, cfg, ctrl, c, law, wind, act, sensors, _ = zip(*runs, strict=True)
-    program, gust, drag, _base = zip(*wind, strict=True)  # the lanes fly a still base
-    n_rows = max(p.shape[0] for p in program)
-    programs = np.empty((n_rows, WIND_COLUMNS, LANES))
-    for j, p in enumerate(program):
-        lane_program_into(programs, j, p)
-    noise, source, arm, scratch, schedule, ring = zip(*sensors, strict=True)
-    return (
-        np.stack(x_init),
-        counts,
-        np.stack(cfg),
-        np.stack(ctrl),
-        np.stack(c),
-        tuple(np.ascontiguousarray(np.stack(part)) for part in zip(*law, strict=True)),
-        (programs.ravel(), n_rows, *_stack(list(gust)), np.stack(drag)),
-        np.stack(act),
-        (
-            *_stack(list(noise)),
-            np.array(source, dtype=np.int64),
-            np.array(arm, dtype=float),
-            np.stack(scratch),
-            *_stack(list(schedule)),
-            *_stack(list(ring)),
-        ),
-    )

@@ -35,10 +35,10 @@ from ..layout import (
 )
 from ..model import TrimPoint
 from ..names import INPUT
+from ..scenario.core import Scenario, WinchSettings
 from ..sensing.config import N_CHANNELS, N_GROUPS, SensorConfig
 from ..sensing.noise import _noise_table
 from ..sensing.schedules import _sample_schedule, ring_rows
-from .scenario import Scenario, WinchSettings
 
 __all__ = [
     "actuator_array",

@@ -6,9 +6,9 @@ lumped chain's ends, the safety device's release check, the sensors), the contro
 the winch's acceleration limit or drum, the true outputs and the failure checks),
 ``sample_record`` (the on-line metrics and the recorded row), then ``sample_advance`` (the
 integrator to the next sample). ``run_closed_loop`` runs them around the paper's law;
-``sim.stepping``'s ``step_sense`` and ``step_command`` run them from Python around any
+``engine.stepping``'s ``step_sense`` and ``step_command`` run them from Python around any
 ``Controller`` (``simulate``'s MPC, a user's controller, the adaptive reference, which swaps
-only the integrator); the Gymnasium environments and the lanes (``sim.lanes``) run
+only the integrator); the Gymnasium environments and the lanes (``engine.lanes``) run
 ``paper_sample``.
 
 Inputs are held over a sample (zero-order hold); between samples the plant is integrated by
@@ -18,7 +18,7 @@ integration-step boundaries are handled exactly: an RK4 step over [ta, tb] evalu
 force on the open interval (ta, tb).
 
 A lumped-mass tether (``[tether] model = "lumped"``) rides the same loop
-(``sim.lumped_step``): ``chain_ends`` sets its end tensions before the sample and
+(``engine.lumped_step``): ``chain_ends`` sets its end tensions before the sample and
 ``lumped_interval`` replaces ``rk4_interval``.
 
 The packed arrays (``cfg``, ``ctrl``, ``act``, ``held``, the wind program, the summary, the
@@ -598,7 +598,7 @@ def sense(x, k, t, cfg, ctrl, act, sensors, event, x_meas):
     (the lumped chain's ground end; eq 28's one tension otherwise): x_meas (13,) receives
     the measured state (``sensors.measure_sampled``: each sensor at its rate and latency,
     with the noise table's rows, or the true state when the table is empty); ``sensors`` is
-    ``sim.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history ring).
+    ``runs.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history ring).
     Returns (true tension at P, measured tension) [N].
 
     Parameters
@@ -616,7 +616,7 @@ def sense(x, k, t, cfg, ctrl, act, sensors, event, x_meas):
     act : numpy.ndarray, shape (ACT_SIZE,)
         The actuators (``layout.ACT_*``): the breaking tension.
     sensors : tuple
-        ``sim.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history
+        ``runs.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history
         ring).
     event : numpy.ndarray, shape (2,)
         Receives a release's time [s] and tension [N].
@@ -876,7 +876,7 @@ def paper_sample(x, k, cfg, ctrl, act, sensors, c, law, loop, action, action_mod
     act : numpy.ndarray, shape (ACT_SIZE,)
         The actuators (``layout.ACT_*``).
     sensors : tuple
-        ``sim.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history
+        ``runs.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history
         ring).
     c : numpy.ndarray
         The tethered model's constants (``kernels.model_constants("tethered", h)``).
@@ -962,7 +962,7 @@ def sample_sense(
     act : numpy.ndarray, shape (ACT_SIZE,)
         The actuators (``layout.ACT_*``).
     sensors : tuple
-        ``sim.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history
+        ``runs.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history
         ring).
     sensed : bool
         Whether the noise table has rows (else the sensors are perfect).
@@ -1404,7 +1404,7 @@ def new_loop_state(x_init: np.ndarray, z_init: np.ndarray, work: np.ndarray) -> 
 @_jit_inline
 def _loop_state(x_init, z_init, work):
     return LoopState(
-        z_init.copy(),  # z: the LQI's output-error integral (eq 50), from sim.start.start_point
+        z_init.copy(),  # z: the LQI's output-error integral (eq 50), from runs.start.start_point
         np.zeros(WINCH_SIZE),  # winch: layout.WINCH_* (the PI's integral, its last command)
         np.zeros(HELD_SIZE),  # held: layout.HELD_* (the winch starts at rest)
         np.full(2, np.nan),  # event: release time [s], tension [N]
@@ -1445,7 +1445,7 @@ def run_closed_loop(
     ``layout.CHAIN_*``, nodes present) the chain's ends are set before the sample and
     ``lumped_interval`` advances helicopter and chain (``layout.empty_chain()``: the massless
     tether of eq 28). ``law`` is (gain, x_ref, y_ref, u0, u0_free, z0) (``layout.LAW_*``),
-    ``wind`` (program, gust table, drag, base), ``sensors`` (``sim.packing.sensor_tuple``). With
+    ``wind`` (program, gust table, drag, base), ``sensors`` (``runs.packing.sensor_tuple``). With
     ``record`` the arrays of ``out`` (``layout.Signals``: x, u, ffwd, rate, tension, wind, y,
     y_est, tension_ground, nodes, winch), n_samples + 1 rows each, receive the sampled
     signals: true state, applied inputs (with feed-forward), feed-forward, reel rate, true
@@ -1482,7 +1482,7 @@ def run_closed_loop(
     act : numpy.ndarray, shape (ACT_SIZE,)
         The actuators (``layout.ACT_*``).
     sensors : tuple
-        ``sim.packing.sensor_tuple``'s.
+        ``runs.packing.sensor_tuple``'s.
     chain : tuple of numpy.ndarray
         The lumped chain (``layout.CHAIN_*``; ``layout.empty_chain()``: massless), advanced.
     record : bool
@@ -1515,7 +1515,7 @@ def closed_loop_for(chain: tuple, sensors: tuple, act: np.ndarray) -> Any:
     chain : tuple of numpy.ndarray
         The run's chain (``layout.CHAIN_*``).
     sensors : tuple
-        ``sim.packing.sensor_tuple``'s.
+        ``runs.packing.sensor_tuple``'s.
     act : numpy.ndarray, shape (ACT_SIZE,)
         The actuators (``layout.ACT_*``).
 
@@ -1598,7 +1598,7 @@ def _specialised_loop(lumped: bool, sensed: bool, drum: bool):
 #: ``_specialised_loop`` by (lumped, sensed, drum): the loop of a massless (or no) tether or
 #: a lumped one (``chain``'s nodes present), with perfect sensors or a noise table, with the
 #: ideal or the drum winch; each compiles at its first run and releases the GIL
-#: (``sim.batch`` runs them on threads)
+#: (``runs.batch`` runs them on threads)
 CLOSED_LOOPS = {
     (lumped, sensed, drum): compiled(error_model="numpy", nogil=True)(
         _specialised_loop(lumped, sensed, drum)

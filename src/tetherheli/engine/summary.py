@@ -1,5 +1,5 @@
 """The on-line metrics of a run (``layout.SUMMARY_FIELDS``), accumulated by the engine's
-sample step (``sim.engine.sample_record``) while it flies, and over a recorded run
+sample step (``engine.loop.sample_record``) while it flies, and over a recorded run
 (``summarize``, behind ``analysis.run_metrics``): one definition of every metric."""
 
 from __future__ import annotations
