@@ -409,3 +409,27 @@ assert SUMMARY_RELEASE_TENSION == SUMMARY_RELEASE_TIME + 1  # one (2,) event sli
 #: reached it and which (-1 ``[winch] min_length``, +1 ``max_length``); both NaN without one
 SUMMARY_WINCH_LIMIT_TIME = SUMMARY_FIELDS.index("winch_limit_time")
 SUMMARY_WINCH_LIMIT = SUMMARY_FIELDS.index("winch_limit")
+
+# --- landing-gear contact (``model.contact.gear_contact``) -------------------------------------
+#: the contact law, per gear point
+GEAR_LAW_STIFFNESS = 0  # normal stiffness [N/m]
+GEAR_LAW_DAMPING = 1  # normal damping [N s/m]
+GEAR_LAW_FRICTION = 2  # Coulomb coefficient [-]
+GEAR_LAW_SLIP_SPEED = 3  # slip speed below which friction is viscous [m/s]
+GEAR_LAW_SIZE = 4
+#: a rigid body's pose and motion
+BODY_POSITION = 0  # (3,) HO from NO in N [m]
+BODY_VELOCITY = 3  # (3,) HO's velocity in N [m/s]
+BODY_R_NF = 6  # (9,) N_R_F row-major: element (i, j) at 6 + 3 i + j, column j = f_j in N
+BODY_OMEGA_F = 15  # (3,) F's angular velocity in N, F components [rad/s]
+BODY_SIZE = 18
+#: a deck plane
+DECK_POINT = 0  # (3,) a point of the plane in N [m]
+DECK_NORMAL = 3  # (3,) its unit normal, out of the deck
+DECK_VELOCITY = 6  # (3,) that point's velocity in N [m/s]
+DECK_OMEGA = 9  # (3,) the deck's angular velocity in N [rad/s]
+DECK_SIZE = 12
+#: the loads the gear puts on the helicopter
+LOADS_FORCE_N = 0  # (3,) the total force in N [N]
+LOADS_MOMENT_F = 3  # (3,) its moment about HO, F components [N m]
+LOADS_SIZE = 6
