@@ -66,3 +66,29 @@ def test_the_start_balances_the_air_relative_to_the_helicopter():
     assert at_rest[0] > 0
     assert np.allclose(initial_wind_force(wind, (5.0, 0.0, 0.0)), 0.0)
     assert initial_wind_force(wind, (-5.0, 0.0, 0.0))[0] == pytest.approx(4 * at_rest[0])
+
+
+def _steady(velocity, wind, duration=2.0):
+    data = {
+        "configuration": "tethered",
+        "duration": duration,
+        "wind": {"type": "steady", "N_v_wind": list(wind), "drag": {"cd_area_m2": [0.4, 0.4, 0.8]}},
+    }
+    if any(velocity):
+        data["base"] = {"motion": "velocity", "velocity": list(velocity)}
+        data["control"] = {"reference": "base"}
+    return scenario_from_dict(data)
+
+
+def test_a_ship_under_way_in_still_air_feels_its_head_wind():
+    """``[wind] type = "steady"``: a ship at 5 m/s along n1 through still air flies as a
+    still deck in a 5 m/s wind from ahead, and the recorded force at the start is the drag
+    0.5 rho CdA U^2 against the ship's motion (CdA 0.4 m^2: 6.125 N)."""
+    ship = simulate(_steady((5.0, 0.0, 0.0), (0.0, 0.0, 0.0)))
+    still = simulate(_steady((0.0, 0.0, 0.0), (-5.0, 0.0, 0.0)))
+    assert ship.ok and still.ok
+    assert np.abs(ship.states - still.states).max() < 1e-12
+    assert ship.wind[0] == pytest.approx([-0.5 * 1.225 * 0.4 * 25.0, 0.0, 0.0], abs=1e-12)
+    calm = simulate(_steady((5.0, 0.0, 0.0), (5.0, 0.0, 0.0)))  # the air moves with the ship
+    assert np.abs(calm.wind).max() < 1e-9
+    assert np.abs(calm.states - ship.states).max() > 1e-3

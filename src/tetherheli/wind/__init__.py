@@ -9,7 +9,8 @@
     ``gust_calibration`` and ``CalibratedGaussMarkovTurbulence``: gusts from MIL-HDBK-1797 or
     IEC 61400-1;
 ``turbulence``
-    ``Turbulence``, a gust series turned into a drag force, and the checks of a run's wind;
+    ``Turbulence``, a gust series turned into a drag force, ``SteadyWind``, a steady wind's
+    drag (the apparent wind over a moving base), and the checks of a run's wind;
 ``drag``
     ``DragModel``, the air-relative velocity turned into a force;
 ``compiled``
@@ -29,6 +30,7 @@ from .turbulence import (
     GaussMarkovTurbulence,
     GustCalibration,
     GustModel,
+    SteadyWind,
     Turbulence,
     check_wind_covers,
     gust_calibration,
@@ -49,6 +51,7 @@ __all__ = [
     "NoWind",
     "Pulse",
     "Sine",
+    "SteadyWind",
     "Step",
     "Turbulence",
     "WindSum",

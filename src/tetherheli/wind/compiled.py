@@ -9,7 +9,7 @@ import numpy as np
 
 from ..layout import WIND_COLUMNS, WIND_CONSTANT, WIND_PULSE, WIND_SINE, WIND_STEP
 from .profiles import ConstantForce, Disturbance, NoWind, Pulse, Sine, Step, WindSum
-from .turbulence import Turbulence
+from .turbulence import SteadyWind, Turbulence
 
 __all__ = ["CompiledWind", "compile_wind"]
 
@@ -75,7 +75,7 @@ def compile_wind(wind: Disturbance) -> CompiledWind | None:
         compiled engine cannot fly it).
     """
     rows: list[list[float]] = []
-    gusts: list[Turbulence] = []
+    gusts: list[Turbulence | SteadyWind] = []
     parts = wind.components if isinstance(wind, WindSum) else (wind,)
     for d in parts:
         if isinstance(d, NoWind):
@@ -88,7 +88,7 @@ def compile_wind(wind: Disturbance) -> CompiledWind | None:
             rows.append([WIND_SINE, d.start, 0, d.amplitude, d.frequency, d.phase, *d.direction])
         elif isinstance(d, ConstantForce):
             rows.append([WIND_CONSTANT, 0, 0, 1.0, 0, 0, *d.vector])
-        elif isinstance(d, Turbulence):
+        elif isinstance(d, (Turbulence, SteadyWind)):
             gusts.append(d)
         else:
             return None
@@ -97,7 +97,9 @@ def compile_wind(wind: Disturbance) -> CompiledWind | None:
     program = np.array(rows, dtype=float).reshape(-1, WIND_COLUMNS)
     if gusts:
         g = gusts[0]
-        table = np.ascontiguousarray(g.N_v_gust_grid + np.asarray(g.N_v_mean_wind))
         drag = 0.5 * g.drag.rho * np.asarray(g.drag.cd_area_m2, dtype=float)
+        if isinstance(g, SteadyWind):  # one row, held for every t >= 0 (``gust_velocity``)
+            return CompiledWind(program, np.array([g.N_v_wind], dtype=float), 1.0, drag)
+        table = np.ascontiguousarray(g.N_v_gust_grid + np.asarray(g.N_v_mean_wind))
         return CompiledWind(program, table, float(g.dt), drag)
     return CompiledWind(program, np.zeros((0, 3)), 0.0, np.zeros(3))

@@ -13,7 +13,7 @@ from .calibration import CalibratedGaussMarkovTurbulence
 from .drag import DragModel
 from .gusts import DrydenGust, GaussMarkovTurbulence
 from .profiles import ConstantForce, Disturbance, NoWind, Pulse, Sine, Step, WindSum
-from .turbulence import Turbulence
+from .turbulence import SteadyWind, Turbulence
 
 __all__ = ["disturbance_from_dict"]
 
@@ -26,7 +26,8 @@ class _Missing:
 _MISSING_VALUE = _Missing()
 
 _DISTURBANCES: dict[str, type] = {
-    cls.type_name: cls for cls in (Pulse, Step, Sine, ConstantForce, NoWind, WindSum, Turbulence)
+    cls.type_name: cls
+    for cls in (Pulse, Step, Sine, ConstantForce, NoWind, WindSum, Turbulence, SteadyWind)
 }
 _GUST_MODELS: dict[str, type] = {cls.type_name: cls for cls in (DrydenGust, GaussMarkovTurbulence)}
 

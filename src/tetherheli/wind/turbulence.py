@@ -38,6 +38,7 @@ __all__ = [
     "GaussMarkovTurbulence",
     "GustCalibration",
     "GustModel",
+    "SteadyWind",
     "Turbulence",
     "check_wind_covers",
     "gust_calibration",
@@ -234,6 +235,67 @@ class Turbulence(Disturbance):
         return out
 
 
+@dataclass(frozen=True)
+class SteadyWind(Disturbance):
+    """A steady wind as a disturbance: air moving at ``N_v_wind`` in N, turned into a drag
+    force on HO by the air-relative velocity (``DragModel``). Over a moving base the
+    helicopter feels the apparent wind, the true wind less its own velocity in N: a ship
+    under way at U through still air gives a head wind U (the engine's drag takes HO's
+    velocity in N, the base's included). ``force(t)`` is the drag with HO at rest.
+
+    Parameters
+    ----------
+    drag : DragModel
+        Turns the air-relative velocity into a force.
+    N_v_wind : sequence of 3 floats, optional
+        The true wind's air velocity in N [m/s] (default: still air).
+    """
+
+    type_name: ClassVar[str] = "steady"
+
+    drag: DragModel
+    N_v_wind: Vec3 = (0.0, 0.0, 0.0)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.drag, DragModel):
+            raise ParameterError("SteadyWind.drag", self.drag, "a DragModel")
+        _set(self, "N_v_wind", check_vector("SteadyWind.N_v_wind", self.N_v_wind, 3))
+
+    def _force(self, t: np.ndarray) -> np.ndarray:
+        return self.drag.force(np.broadcast_to(np.asarray(self.N_v_wind), (t.shape[0], 3)))
+
+    def _force_at(self, t: np.ndarray, N_v_HO: np.ndarray) -> np.ndarray:
+        air = np.broadcast_to(np.asarray(self.N_v_wind), (t.shape[0], 3))
+        return self.drag.force(air, N_v_HO)
+
+    def initial_force_on(self, N_v_HO: Sequence[float] | np.ndarray) -> np.ndarray:
+        """Drag at t = 0 on HO moving at ``N_v_HO`` in N, shape (3,) [N].
+
+        Parameters
+        ----------
+        N_v_HO : array_like, shape (3,)
+            HO's velocity in N at t = 0 [m/s].
+
+        Returns
+        -------
+        ndarray, shape (3,)
+            The force along n1, n2, n3 [N].
+        """
+        return self.drag.force(np.asarray(self.N_v_wind, dtype=float), np.asarray(N_v_HO, float))
+
+    def to_dict(self) -> dict[str, Any]:
+        """See ``Disturbance.to_dict``.
+
+        Returns
+        -------
+        dict of str to object
+            ``type``, ``N_v_wind`` and the ``drag`` table.
+        """
+        out = _plain_dict(self)
+        out["drag"] = self.drag.to_dict()
+        return out
+
+
 def _check_calibrated_mean_wind(model: CalibratedGaussMarkovTurbulence, N_v_mean: Vec3) -> None:
     """The calibration's convection speed and gust axis u must be the mean wind's."""
     v = np.asarray(N_v_mean, dtype=float)
@@ -280,7 +342,7 @@ def initial_wind_force(
     if isinstance(wind, WindSum):
         parts = [initial_wind_force(part, N_v_HO) for part in wind.components]
         return np.sum(parts, axis=0) + np.zeros(3)
-    if isinstance(wind, Turbulence):
+    if isinstance(wind, (Turbulence, SteadyWind)):
         return wind.initial_force_on(N_v_HO)
     return np.zeros(3)
 

@@ -18,6 +18,7 @@ from ...wind import (
     NoWind,
     Pulse,
     Sine,
+    SteadyWind,
     Step,
     Turbulence,
     WindSum,
@@ -221,11 +222,11 @@ def check_draw_names(scenario: Scenario, source: str | None = None) -> None:
 def _wind_parts(wind: Disturbance, source: str | None = None) -> tuple[Disturbance, ...]:
     parts = wind.components if isinstance(wind, WindSum) else (wind,)
     for d in parts:
-        if not isinstance(d, (Pulse, Step, Sine, ConstantForce, NoWind, Turbulence)):
+        if not isinstance(d, (Pulse, Step, Sine, ConstantForce, NoWind, Turbulence, SteadyWind)):
             raise ParameterError(
                 "wind",
                 getattr(d, "type_name", type(d).__name__),
-                "pulse, step, sine, constant or turbulence profiles in a Monte Carlo",
+                "pulse, step, sine, constant, steady or turbulence profiles in a Monte Carlo",
                 source=source,
             )
     return tuple(parts)

@@ -21,6 +21,7 @@ from ...wind import (
     NoWind,
     Pulse,
     Sine,
+    SteadyWind,
     Step,
     Turbulence,
 )
@@ -173,6 +174,8 @@ def draw(
             )
         elif isinstance(d, ConstantForce):
             parts.append(ConstantForce(_rot(d.vector, a, scale)))
+        elif isinstance(d, SteadyWind):  # the true wind turned with the draw's direction
+            parts.append(dataclasses.replace(d, N_v_wind=_rot(d.N_v_wind, a)))
         elif isinstance(d, Turbulence):  # a fresh gust series per draw, mean wind rotated
             model: Any = d.model  # its gust axis u turns with the mean wind (a dataclass)
             if hasattr(model, "heading_rad"):
