@@ -26,7 +26,6 @@ from bench_minimal_loop import best_warm, dispersed_runs
 from numba import njit
 
 from tetherheli.engine import lane_sample, lanes
-from tetherheli.runs.batch import lane_block
 from tetherheli.layout import (
     ACT_DRUM,
     ACT_SIZE,
@@ -41,6 +40,7 @@ from tetherheli.layout import (
     SUMMARY_FIELDS,
 )
 from tetherheli.model.kernels import angle_trig
+from tetherheli.runs.batch import lane_block
 from tetherheli.runs.setup import engine_setup
 from tetherheli.scenario.core import paper_scenario
 

@@ -13,7 +13,6 @@ import pytest
 from tetherheli.analysis import run_metrics
 from tetherheli.engine import lanes
 from tetherheli.engine import loop as engine
-from tetherheli.runs.batch import lane_block
 from tetherheli.layout import CTRL_LAW, LANES, SUMMARY_FIELDS, WIND_SINE, Signals
 from tetherheli.model.kernels import (
     SIN_BRANCHLESS_MAX_ARG,
@@ -22,7 +21,7 @@ from tetherheli.model.kernels import (
     sin_branchless,
 )
 from tetherheli.runs import simulate
-from tetherheli.runs.batch import run_batch
+from tetherheli.runs.batch import lane_block, run_batch
 from tetherheli.runs.setup import engine_setup
 from tetherheli.scenario.core import ActuatorSettings, load_scenario, paper_scenario
 from tetherheli.sensing.config import SensorConfig
