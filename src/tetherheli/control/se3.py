@@ -24,10 +24,10 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from .._validation import check_number, check_vector
 from ..errors import ParameterError
+from ..model._multirotor_generated import mr_dcm
 from ..model.multirotor import MULTIROTOR_PRESETS, Multirotor
 
 __all__ = ["SE3Controller"]
@@ -47,6 +47,36 @@ def _vee(S: np.ndarray) -> np.ndarray:
 def _normalize(x: np.ndarray) -> np.ndarray:
     """x / |x|."""
     return x / np.linalg.norm(x)
+
+
+def _rotation_matrix(q: Any) -> np.ndarray:
+    """N.dcm(B) of the quaternion q = (x, y, z, w), normalised (the derivation's DCM)."""
+    qn = np.asarray(q, dtype=np.float64)
+    R = np.empty((3, 3))
+    mr_dcm(qn / np.linalg.norm(qn), R)
+    return R
+
+
+def _quaternion(R: np.ndarray) -> np.ndarray:
+    """The unit quaternion (x, y, z, w) of a rotation matrix (Shepperd, J. Guid. Control 1978:
+    from the largest of the diagonal and the trace, SciPy's ``from_matrix`` branch and sign)."""
+    trace = R[0, 0] + R[1, 1] + R[2, 2]
+    choice = int(np.argmax([R[0, 0], R[1, 1], R[2, 2], trace]))
+    q = np.empty(4)
+    if choice == 3:
+        q[0] = R[2, 1] - R[1, 2]
+        q[1] = R[0, 2] - R[2, 0]
+        q[2] = R[1, 0] - R[0, 1]
+        q[3] = 1 + trace
+    else:
+        i = choice
+        j = (i + 1) % 3
+        k = (j + 1) % 3
+        q[i] = 1 - trace + 2 * R[i, i]
+        q[j] = R[j, i] + R[i, j]
+        q[k] = R[k, i] + R[i, k]
+        q[3] = R[k, j] - R[j, k]
+    return q / np.linalg.norm(q)
 
 
 class SE3Controller:
@@ -159,7 +189,7 @@ class SE3Controller:
             + flat_output["x_ddot"]
             + np.array([0, 0, veh.g])
         )
-        R = Rotation.from_quat(state["q"]).as_matrix()
+        R = _rotation_matrix(state["q"])
         if tether_force is not None:
             f_p = np.array(check_vector("tether_force", tether_force, 3, unit="N"))
             F_des = F_des - f_p
@@ -187,7 +217,7 @@ class SE3Controller:
             "cmd_motor_thrusts": cmd_rotor_thrusts,
             "cmd_thrust": u1,
             "cmd_moment": u2,
-            "cmd_q": Rotation.from_matrix(R_des).as_quat(),
+            "cmd_q": _quaternion(R_des),
             "cmd_w": cmd_w,
             "cmd_v": -self.kp_vel * pos_err + flat_output["x_dot"],
             "cmd_acc": F_des / veh.mass,
