@@ -29,7 +29,7 @@ def random_state(rng, vehicle: Multirotor, *, wind: bool = True) -> dict:
     """A random RotorPy state above RotorPy's ground (z > 0) with rotor speeds in range."""
     q = rng.normal(size=4)
     return {
-        "x": rng.normal(size=3) + [0.0, 0.0, 5.0],
+        "x": rng.normal(size=3) + np.array([0.0, 0.0, 5.0]),
         "v": rng.normal(size=3) * 3.0,
         "q": q / np.linalg.norm(q),
         "w": rng.normal(size=3) * 2.0,
@@ -67,7 +67,9 @@ def rotorpy_params(name: str) -> dict:
         return importlib.import_module(f"rotorpy.vehicles.{ROTORPY_MODULES[name]}").quad_params
     params = dict(importlib.import_module("rotorpy.vehicles.hummingbird_params").quad_params)
     params.update(k_flap=2e-6, Ixy=1e-4, Ixz=-2e-4, Iyz=5e-5)
-    params["rotor_pos"] = {k: r + [0.0, 0.0, 0.02] for k, r in params["rotor_pos"].items()}
+    params["rotor_pos"] = {
+        k: r + np.array([0.0, 0.0, 0.02]) for k, r in params["rotor_pos"].items()
+    }
     return params
 
 
@@ -108,7 +110,7 @@ def newton_euler(vehicle: Multirotor, state: dict, f_p: np.ndarray) -> dict:
     for r, t, d, w_i in zip(
         vehicle.rotor_positions, thrust, vehicle.rotor_directions, speeds, strict=True
     ):
-        moment_b += np.cross(r, [0.0, 0.0, t]) + [0.0, 0.0, d * vehicle.k_m * w_i**2]
+        moment_b += np.cross(r, [0.0, 0.0, t]) + np.array([0.0, 0.0, d * vehicle.k_m * w_i**2])
     moment_b += np.cross(vehicle.tether_point, R.T @ f_p)
     w = state["w"]
     J = vehicle.inertia

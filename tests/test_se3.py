@@ -9,11 +9,11 @@ import math
 import numpy as np
 import pytest
 
+from tests.test_multirotor import ROTORPY_MODULES
 from tetherheli import layout as L
 from tetherheli.control.se3 import SE3Controller
 from tetherheli.errors import ParameterError
 from tetherheli.model.multirotor import MULTIROTOR_PRESETS, Multirotor
-from tests.test_multirotor import ROTORPY_MODULES
 
 rotorpy_only = pytest.mark.extra("validation", "rotorpy")
 
@@ -146,11 +146,11 @@ def test_tether_feedforward_removes_the_offset():
 
 def test_bad_gains_name_their_field():
     vehicle = Multirotor.crazyflie()
-    with pytest.raises(ParameterError, match="^kp_att = "):
+    with pytest.raises(ParameterError, match=r"^kp_att = "):
         SE3Controller(vehicle, kp_att=-1.0)
-    with pytest.raises(ParameterError, match="^kd_pos = "):
+    with pytest.raises(ParameterError, match=r"^kd_pos = "):
         SE3Controller(vehicle, kd_pos=(1.0, 2.0))
-    with pytest.raises(ParameterError, match="^preset = "):
+    with pytest.raises(ParameterError, match=r"^preset = "):
         SE3Controller.preset("bumblebee")
-    with pytest.raises(ParameterError, match="^tether_force = "):
+    with pytest.raises(ParameterError, match=r"^tether_force = "):
         SE3Controller(vehicle).update(0.0, vehicle.hover_trim().state, flat(), (1.0, 2.0))

@@ -152,10 +152,9 @@ class Multirotor:
         if not np.all(np.abs(directions) == 1.0):
             raise ParameterError("rotor_directions", self.rotor_directions, allowed)
         put("rotor_directions", directions)
-        positive = {"low": 0.0, "low_open": True}
-        put("k_eta", check_number("k_eta", self.k_eta, unit="N/(rad/s)^2", **positive))
+        put("k_eta", check_number("k_eta", self.k_eta, low=0.0, low_open=True, unit="N/(rad/s)^2"))
         put("k_m", check_number("k_m", self.k_m, low=0.0, unit="N m/(rad/s)^2"))
-        put("tau_m", check_number("tau_m", self.tau_m, unit="s", **positive))
+        put("tau_m", check_number("tau_m", self.tau_m, low=0.0, low_open=True, unit="s"))
         put(
             "rotor_speed_min",
             check_number("rotor_speed_min", self.rotor_speed_min, low=0.0, unit="rad/s"),
