@@ -488,14 +488,15 @@ class Multirotor:
         """
         from .multirotor_kernels import multirotor_derivative
 
-        zero = np.zeros(3)
-        out = np.empty_like(s, dtype=np.float64)
+        # one compiled signature: p read-only, every other array a writable C-order copy
+        state = np.array(s, dtype=np.float64)
+        out = np.empty_like(state)
         multirotor_derivative(
             self.packed,
-            np.ascontiguousarray(s, dtype=np.float64),
-            np.ascontiguousarray(command, dtype=np.float64),
-            zero if wind is None else np.ascontiguousarray(wind, dtype=np.float64),
-            zero if tether_force is None else np.ascontiguousarray(tether_force, np.float64),
+            state,
+            np.array(command, dtype=np.float64),
+            np.zeros(3) if wind is None else np.array(wind, dtype=np.float64),
+            np.zeros(3) if tether_force is None else np.array(tether_force, dtype=np.float64),
             out,
         )
         return out
