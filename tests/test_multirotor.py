@@ -129,7 +129,7 @@ def test_kane_equals_newton_euler_with_a_tether(rng):
     inertia matrix, P off the centre of mass), to 1e-9; with no pull, the tethered vehicle is
     the free one."""
     J = np.array([[3.65e-3, 2e-4, -1e-4], [2e-4, 3.68e-3, 3e-4], [-1e-4, 3e-4, 7.03e-3]])
-    free = Multirotor.hummingbird(aero=False).replace(inertia=J)
+    free = Multirotor.preset("hummingbird", aero=False).replace(inertia=J)
     tethered = free.replace(tether_point=(0.02, -0.03, -0.06))
     for _ in range(10):
         state = random_state(rng, tethered, wind=False)
@@ -149,7 +149,7 @@ def test_kane_equals_newton_euler_with_a_tether(rng):
 def test_tilted_equilibrium_on_a_taut_tether(aero):
     """On a taut tether the vehicle hovers in place tilted (Tognon and Franchi, T-RO 2017,
     Sec. III; Nicotra et al. 2017): thrust balances weight plus pull; ds/dt = 0 to 1e-9."""
-    vehicle = Multirotor.hummingbird(aero=aero, tether_point=(0.01, -0.02, -0.05))
+    vehicle = Multirotor.preset("hummingbird", aero=aero, tether_point=(0.01, -0.02, -0.05))
     trim = vehicle.hover_trim(tension=2.0, elevation=math.radians(40), azimuth=0.5, yaw=0.3)
     d = vehicle.state_derivative(trim.state, trim.rotor_speeds, tether_force=trim.tether_force)
     for key, scale in (("x", 1.0), ("v", vehicle.g), ("q", 1.0), ("w", 1.0)):
@@ -168,7 +168,7 @@ def test_tilted_equilibrium_on_a_taut_tether(aero):
 def test_free_hover_and_its_linearization():
     """Free hover: every rotor gives m g / n; the linearization's eigenvalues are 0 (the rigid
     body at hover, without drag) and -1/tau_m (the motors), and dv3/dw_i = 2 k_eta w_i / m."""
-    vehicle = Multirotor.crazyflie(aero=False)
+    vehicle = Multirotor.preset("crazyflie", aero=False)
     trim = vehicle.hover_trim()
     np.testing.assert_allclose(
         vehicle.k_eta * trim.rotor_speeds**2, vehicle.mass * vehicle.g / 4, rtol=1e-12
@@ -188,7 +188,7 @@ def test_free_hover_and_its_linearization():
 
 def test_a_hover_the_rotors_cannot_hold_is_infeasible():
     with pytest.raises(InfeasibleError, match="tension"):
-        Multirotor.crazyflie().hover_trim(tension=5.0, elevation=1.0)
+        Multirotor.preset("crazyflie").hover_trim(tension=5.0, elevation=1.0)
 
 
 @pytest.mark.parametrize(
@@ -207,7 +207,7 @@ def test_a_hover_the_rotors_cannot_hold_is_infeasible():
 )
 def test_bad_parameters_name_their_field(field, change):
     with pytest.raises(ParameterError, match=rf"^{field} = "):
-        Multirotor.hummingbird().replace(**change)
+        Multirotor.preset("hummingbird").replace(**change)
 
 
 def test_bad_rotorpy_dictionaries_and_states_name_their_field():
@@ -219,7 +219,7 @@ def test_bad_rotorpy_dictionaries_and_states_name_their_field():
     del params["k_eta"]
     with pytest.raises(ParameterError, match=r"quad_params\['k_eta'\]"):
         Multirotor.from_rotorpy(params)
-    vehicle = Multirotor.hummingbird()
+    vehicle = Multirotor.preset("hummingbird")
     state = vehicle.hover_trim().state
     with pytest.raises(ParameterError, match=r"state\['rotor_speeds'\]"):
         vehicle.state_derivative({**state, "rotor_speeds": np.ones(3)}, np.ones(4))
@@ -235,7 +235,7 @@ def test_generated_code_matches_fresh_derivation(rng):
         assert multirotor_derive.MR_GENERATED_PATH.read_text() == source
     fresh: dict = {}
     exec(compile(source, "fresh", "exec"), fresh)
-    p = np.array(Multirotor.hummingbird(tether_point=(0.1, 0.2, -0.3)).packed)
+    p = np.array(Multirotor.preset("hummingbird", tether_point=(0.1, 0.2, -0.3)).packed)
     q = rng.normal(size=4)
     args = (q / np.linalg.norm(q), *rng.normal(size=(4, 3)))
     wrench = rng.normal(size=6)

@@ -114,7 +114,7 @@ def test_update_equals_rotorpy(name, rng):
 def test_closed_loop_equals_rotorpy(target):
     """A hover and a 1 m step flown 10 s by our derivative and controller and by RotorPy's
     (drag on), with the same RK4 at 200 Hz: positions agree to 1e-6 m; the step arrives."""
-    vehicle = Multirotor.hummingbird()
+    vehicle = Multirotor.preset("hummingbird")
     controller = SE3Controller.preset("hummingbird")
     s0 = vehicle.pack_state(vehicle.hover_trim().state)
     reference = flat(target)
@@ -131,12 +131,12 @@ def test_tether_feedforward_removes_the_offset():
     force and moment about P, removes it."""
     pull = 1.5 * np.array([math.cos(0.6), 0.0, -math.sin(0.6)])  # [N] towards a winch
     for tether_point in ((0.0, 0.0, 0.0), (0.01, 0.0, -0.05)):
-        vehicle = Multirotor.hummingbird(tether_point=tether_point)
+        vehicle = Multirotor.preset("hummingbird", tether_point=tether_point)
         controller = SE3Controller(vehicle, kp_att=544, kd_att=46.64)
         s0 = vehicle.pack_state(vehicle.hover_trim().state)
         kept = fly_ours(vehicle, controller, s0, flat(), 6.0, pull, feedforward=True)
         np.testing.assert_allclose(kept[:3], 0.0, atol=1e-5)
-    vehicle = Multirotor.hummingbird(aero=False)
+    vehicle = Multirotor.preset("hummingbird", aero=False)
     controller = SE3Controller(vehicle, kp_att=544, kd_att=46.64)
     s0 = vehicle.pack_state(vehicle.hover_trim().state)
     offset = fly_ours(vehicle, controller, s0, flat(), 6.0, pull)
@@ -145,7 +145,7 @@ def test_tether_feedforward_removes_the_offset():
 
 
 def test_bad_gains_name_their_field():
-    vehicle = Multirotor.crazyflie()
+    vehicle = Multirotor.preset("crazyflie")
     with pytest.raises(ParameterError, match=r"^kp_att = "):
         SE3Controller(vehicle, kp_att=-1.0)
     with pytest.raises(ParameterError, match=r"^kd_pos = "):

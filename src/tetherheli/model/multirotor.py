@@ -268,54 +268,6 @@ class Multirotor:
             raise ParameterError("preset", name, "one of " + ", ".join(MULTIROTOR_PRESETS))
         return cls.from_rotorpy(MULTIROTOR_PRESETS[name], **options)
 
-    @classmethod
-    def crazyflie(cls, **options: Any) -> Multirotor:
-        """The Bitcraze Crazyflie 2.0 (``preset("crazyflie")``).
-
-        Parameters
-        ----------
-        **options
-            As for ``from_rotorpy``.
-
-        Returns
-        -------
-        Multirotor
-            The vehicle (0.03 kg).
-        """
-        return cls.preset("crazyflie", **options)
-
-    @classmethod
-    def hummingbird(cls, **options: Any) -> Multirotor:
-        """The AscTec Hummingbird (``preset("hummingbird")``, RotorPy's default vehicle).
-
-        Parameters
-        ----------
-        **options
-            As for ``from_rotorpy``.
-
-        Returns
-        -------
-        Multirotor
-            The vehicle (0.5 kg).
-        """
-        return cls.preset("hummingbird", **options)
-
-    @classmethod
-    def px4_quadx(cls, **options: Any) -> Multirotor:
-        """PX4's SIH quad-x (``preset("px4_quadx")``).
-
-        Parameters
-        ----------
-        **options
-            As for ``from_rotorpy``.
-
-        Returns
-        -------
-        Multirotor
-            The vehicle (1 kg).
-        """
-        return cls.preset("px4_quadx", **options)
-
     def replace(self, **changes: Any) -> Multirotor:
         """A copy with some fields changed (checked again).
 
