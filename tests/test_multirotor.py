@@ -158,7 +158,7 @@ def test_tilted_equilibrium_on_a_taut_tether(aero):
     b3 = Rotation.from_quat(trim.state["q"]).as_matrix()[:, 2]
     tilt = math.degrees(math.acos(b3[2]))
     assert tilt > 10.0  # tilted: 2 N of pull at 40 deg against 4.9 N of weight
-    # the thrust's magnitude: |m g n3 - f_p| by the law of cosines (T-RO 2017, eq 8)
+    # the thrust's magnitude |m g n3 - f_p|, by the law of cosines
     T, mg, e = 2.0, vehicle.mass * vehicle.g, math.radians(40)
     assert trim.thrust == pytest.approx(math.sqrt(mg**2 + T**2 + 2 * mg * T * math.sin(e)))
     # the rotors differ: P off the centre of mass, the pull has a moment
