@@ -150,6 +150,8 @@ def test_bad_gains_name_their_field():
         SE3Controller(vehicle, kp_att=-1.0)
     with pytest.raises(ParameterError, match=r"^kd_pos = "):
         SE3Controller(vehicle, kd_pos=(1.0, 2.0))
+    with pytest.raises(ParameterError, match=r"^vehicle = "):
+        SE3Controller(MULTIROTOR_PRESETS["crazyflie"])
     with pytest.raises(ParameterError, match=r"^preset = "):
         SE3Controller.preset("bumblebee")
     with pytest.raises(ParameterError, match=r"^tether_force = "):

@@ -102,7 +102,7 @@ class SE3Controller:
         kd_att: float = _KD_ATT,
     ) -> None:
         if not isinstance(vehicle, Multirotor):
-            raise TypeError("vehicle must be a Multirotor")
+            raise ParameterError("vehicle", vehicle, "a Multirotor")
         self.vehicle = vehicle
         self.kp_pos = np.array(check_vector("kp_pos", kp_pos, 3, low=0.0))
         self.kd_pos = np.array(check_vector("kd_pos", kd_pos, 3, low=0.0))
