@@ -152,21 +152,24 @@ def pytest_sessionfinish(session: pytest.Session) -> None:
         log.writelines(lines)
 
 
-#: The optional extras the suite has tests for, each with the module that tells it is
-#: installed: a test marked ``@pytest.mark.extra(NAME)`` skips, with the reason, without it.
+#: The optional extras the suite has tests for, each with the modules that tell it is
+#: installed: a test marked ``@pytest.mark.extra(NAME)`` skips, with the reason, without any
+#: of them; ``@pytest.mark.extra(NAME, MODULE)`` needs only that one of the extra's modules.
 #: The README's install (``.[test]``) has none of them; ``.ci/run`` runs the README's test
 #: command, then installs the extras and runs the marked tests (``--extras-only``).
-EXTRAS = {"rl": "stable_baselines3", "validation": "moordyn"}
+EXTRAS = {"rl": ("stable_baselines3",), "validation": ("moordyn", "rotorpy")}
 
 
-def extra_missing(extra: str) -> str | None:
-    """Why a test of the optional ``extra`` cannot run here (its module is not installed),
-    or None when it can."""
+def extra_missing(extra: str, module: str | None = None) -> str | None:
+    """Why a test of the optional ``extra`` (of its ``module`` only, if given) cannot run
+    here (a module is not installed), or None when it can."""
     import importlib.util
 
-    module = EXTRAS[extra]
-    if importlib.util.find_spec(module) is None:
-        return f'{module} is not installed: the optional extra, pip install -e ".[{extra}]"'
+    if module is not None and module not in EXTRAS[extra]:
+        raise pytest.UsageError(f"{module!r} is not a module of the extra {extra!r}")
+    for name in EXTRAS[extra] if module is None else (module,):
+        if importlib.util.find_spec(name) is None:
+            return f'{name} is not installed: the optional extra, pip install -e ".[{extra}]"'
     return None
 
 
@@ -195,7 +198,7 @@ def pytest_runtest_setup(item: pytest.Item) -> None:
     if _COMPILE_LOG is not None:
         _COMPILE_LOG.test = item.nodeid
     for mark in item.iter_markers("extra"):
-        why = extra_missing(mark.args[0])
+        why = extra_missing(*mark.args)
         if why is not None:
             pytest.skip(why)
 

@@ -98,8 +98,9 @@ def _page_param(page: Path):
     it skips, with the reason, where one is not installed."""
     code = _python_blocks(page)
     marks = [
-        pytest.mark.extra(extra)
-        for extra, module in EXTRAS.items()
+        pytest.mark.extra(extra, module)
+        for extra, modules in EXTRAS.items()
+        for module in modules
         if re.search(rf"^\s*(from|import) {module}\b", code, re.M)
     ]
     return pytest.param(page, marks=marks, id=str(page.relative_to(ROOT)))

@@ -1,7 +1,7 @@
 """The curated top-level API (issue 44 item 5): the run's entry points, the batch, the
-paper's scenarios, the controller protocol, the cable and the shipped scenarios are reachable
-from ``tetherheli``; every public name resolves, lazily (``import tetherheli`` loads no
-Numba)."""
+paper's scenarios, the controller protocol, the cable, the shipped scenarios, the multirotor
+and its SE(3) controller (issue 45) are reachable from ``tetherheli``; every public name
+resolves, lazily (``import tetherheli`` loads no Numba)."""
 
 from __future__ import annotations
 
@@ -18,12 +18,16 @@ def test_every_public_name_resolves():
 
 def test_the_entry_points_are_top_level():
     from tetherheli.control.base import Controller
+    from tetherheli.control.se3 import SE3Controller
+    from tetherheli.model.multirotor import Multirotor
     from tetherheli.runs.batch import run_batch
     from tetherheli.tether import Cable
 
     assert tetherheli.run_batch is run_batch
     assert tetherheli.Controller is Controller
     assert tetherheli.Cable is Cable
+    assert tetherheli.Multirotor is Multirotor
+    assert tetherheli.SE3Controller is SE3Controller
     assert tetherheli.paper_scenario(1, "tethered").name == "paper_sim1_tethered"
 
 

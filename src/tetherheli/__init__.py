@@ -26,7 +26,9 @@ from .params import HelicopterParams, Params, TensionControlParams, TetherParams
 
 if TYPE_CHECKING:
     from .control.base import Command, Controller, Measurement
+    from .control.se3 import SE3Controller
     from .model import FreeHelicopter, LinearModel, TetheredHelicopter, TrimPoint, linearize
+    from .model.multirotor import Multirotor
     from .results import SimulationResult, load_result
     from .runs import simulate
     from .runs.batch import BatchResult, run_batch
@@ -42,6 +44,8 @@ _LAZY = {
     "TetheredHelicopter": ".model",
     "TrimPoint": ".model",
     "linearize": ".model",
+    "Multirotor": ".model.multirotor",
+    "SE3Controller": ".control.se3",
     "Scenario": ".scenario",
     "SimulationResult": ".results",
     "load_result": ".results",
@@ -70,8 +74,10 @@ __all__ = [
     "InfeasibleError",
     "LinearModel",
     "Measurement",
+    "Multirotor",
     "ParameterError",
     "Params",
+    "SE3Controller",
     "Scenario",
     "SimulationResult",
     "SingularConfigurationError",

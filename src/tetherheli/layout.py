@@ -433,3 +433,36 @@ DECK_SIZE = 12
 LOADS_FORCE_N = 0  # (3,) the total force in N [N]
 LOADS_MOMENT_F = 3  # (3,) its moment about HO, F components [N m]
 LOADS_SIZE = 6
+
+# --- the multirotor's parameters (``mr``, ``model.multirotor.Multirotor.packed``) -------------
+#: a header of named slots, then one row of MR_ROTOR_COLUMNS per rotor from MR_HEADER on
+MR_MASS = 0  # m [kg]
+MR_G = 1  # gravity [m/s^2], along -n3
+MR_INERTIA = 2  # (3, 3) J about the centre of mass in body axes, row-major [kg m^2]
+MR_INERTIA_INV = 11  # (3, 3) its inverse, row-major [1/(kg m^2)]
+MR_TETHER_POINT = 20  # (3,) the tether's attachment P from the centre of mass, body axes [m]
+MR_DRAG = 23  # (3,) parasitic drag c_Dx, c_Dy, c_Dz [N/(m/s)^2]
+MR_K_ETA = 26  # thrust coefficient: a rotor's thrust k_eta w^2 [N/(rad/s)^2]
+MR_K_M = 27  # yaw-moment coefficient: a rotor's moment k_m w^2 [N m/(rad/s)^2]
+MR_K_D = 28  # rotor drag (H force) in the rotor plane [N/(rad m/s^2)]
+MR_K_Z = 29  # induced inflow, along the rotor axis [N/(rad m/s^2)]
+MR_K_H = 30  # translational lift [N/(m/s)^2]
+MR_K_FLAP = 31  # flapping moment [N m/(rad m/s^2)]
+MR_TAU_M = 32  # the motors' first-order time constant [s]
+MR_SPEED_MIN = 33  # rotor speed limits: a command is clipped to [min, max] [rad/s]
+MR_SPEED_MAX = 34
+MR_AERO = 35  # 1: the drag terms (MR_DRAG .. MR_K_FLAP) act, 0: thrust and yaw moment only
+MR_ROTORS = 36  # the number of rotors n
+MR_HEADER = 37
+MR_ROTOR_POSITION = 0  # (3,) in a rotor's row: its hub from the centre of mass, body axes [m]
+MR_ROTOR_DIRECTION = 3  # in a rotor's row: +1 or -1, the sign of its yaw moment
+MR_ROTOR_COLUMNS = 4
+
+# --- the multirotor's state (``model.multirotor_kernels.multirotor_derivative``) ---------------
+#: RotorPy's state vector without its wind slot: position and velocity in N, the attitude
+#: quaternion (x, y, z, w) of body axes B in N, body rates in B, then the n rotor speeds
+MRS_X = 0  # (3,) [m]
+MRS_V = 3  # (3,) [m/s]
+MRS_Q = 6  # (4,) [-]
+MRS_W = 10  # (3,) [rad/s]
+MRS_ROTORS = 13  # (n,) [rad/s]
