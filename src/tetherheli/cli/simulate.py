@@ -27,8 +27,7 @@ def run(args: argparse.Namespace) -> int:
     from ..errors import named_source
     from ..report.paper import write_comparison, write_run
     from ..results.result import check_result_format
-    from ..runs import simulate
-    from ..runs.closed_loop import check_run_memory
+    from ..runs.closed_loop import _simulate, check_run_memory
     from ..scenario import load_scenario
     from ..scenario.core import check_distinct_names
     from ..status import stopped
@@ -42,7 +41,7 @@ def run(args: argparse.Namespace) -> int:
     claim_output_directory(args.out, inputs=inputs, force=args.force)
     command = "tetherheli simulate " + " ".join(args.scenario)
     results = [
-        named_source(path, simulate, s, method=args.method)
+        named_source(path, _simulate, s, method=args.method)  # each checked above
         for path, s in zip(args.scenario, scenarios, strict=True)
     ]
     write = write_run if len(results) == 1 else write_comparison
