@@ -469,30 +469,12 @@ class PaperController(Controller):
         free_trim_input=None,
         z_init=None,
     ) -> None:
-        gain = np.array(gain, dtype=float, order="C")
-        check_law(np.asarray(ctrl, dtype=float), gain)
-        self._build(gain, trim_state, trim_output, trim_input, ctrl, constants,
-                    free_trim_input, z_init)  # fmt: skip
-
-    @classmethod
-    def _trusted(
-        cls, gain, trim_state, trim_output, trim_input, ctrl, constants, *,
-        free_trim_input=None, z_init=None,
-    ) -> PaperController:  # fmt: skip
-        # the controller of a law the set-up paired with its gain (``runs.setup``: both from
-        # the checked scenario), built without ``check_law``
-        obj = cls.__new__(cls)
-        obj._build(np.array(gain, dtype=float, order="C"), trim_state, trim_output,
-                   trim_input, ctrl, constants, free_trim_input, z_init)  # fmt: skip
-        return obj
-
-    def _build(
-        self, gain, trim_state, trim_output, trim_input, ctrl, constants, free_trim_input,
-        z_init,
-    ) -> None:  # fmt: skip
         # own writable C copies: ``paper_control`` then has one compiled signature whatever
         # the caller hands in (a read-only gain of a frozen scenario would compile a second)
-        self.gain = gain
+        self.gain = np.array(gain, dtype=float, order="C")
+        # the law's one check: where its arrays enter (the set-up pairs them, unchecked, for
+        # the compiled loop, which builds no controller)
+        check_law(np.asarray(ctrl, dtype=float), self.gain)
         # q4..u6, and LN for the tethered LQI's (9, 17) gain (``layout.LAW_GAIN``)
         self.x_ref = np.array(trim_state[: self.gain.shape[1] - 4], dtype=float, order="C")
         self.y_ref = np.array(trim_output, dtype=float, order="C")

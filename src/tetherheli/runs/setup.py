@@ -367,7 +367,7 @@ class EngineSetup:
             A controller the Python loop (``simulate``) can fly.
         """
         K, x_ref, y_ref, u0, u0_free, z0 = self.law
-        return PaperController._trusted(  # the law paired with its gain by ``run_setup``
+        return PaperController(  # its law checked there (``control.paper.check_law``)
             K, x_ref, y_ref, u0, self.ctrl, self.model.constants,
             free_trim_input=u0_free, z_init=z0,
         )  # fmt: skip
