@@ -273,12 +273,13 @@ def test_streamed_csv_holds_every_sample_exactly(tmp_path: Path):
 def test_internal_error_is_not_a_usage_error(workdir: Path, capsys, monkeypatch):
     """A bug (a plain exception) exits 70 with one line pointing to --debug; --debug prints
     the traceback. A ValueError that is not ours is a bug too, not 'bad input'."""
-    import tetherheli.runs
+    import tetherheli.runs.closed_loop
 
     def broken(*args, **kwargs):
         raise ValueError("index arithmetic went wrong")
 
-    monkeypatch.setattr(tetherheli.runs, "simulate", broken)
+    # the command flies its checked runs through simulate's private twin
+    monkeypatch.setattr(tetherheli.runs.closed_loop, "_simulate", broken)
     assert main(["simulate", "scenarios/short.toml", "--out", "r"]) == EXIT_INTERNAL == 70
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "internal error" in err and "--debug" in err

@@ -127,12 +127,13 @@ def test_own_files_beside_runs_have_reserved_stems(workdir: Path):
 )
 def test_cli_refuses_a_reserved_name_before_any_run(workdir: Path, capsys, monkeypatch, names):
     """The issue's cases: exit 2, one line naming the field, no run flown, nothing written."""
-    import tetherheli.runs
+    import tetherheli.runs.closed_loop
 
     def no_run(*args, **kwargs):
         raise AssertionError("a run was flown")
 
-    monkeypatch.setattr(tetherheli.runs, "simulate", no_run)
+    # the command flies its checked runs through simulate's private twin
+    monkeypatch.setattr(tetherheli.runs.closed_loop, "_simulate", no_run)
     files = [str(scenario_file(workdir / f"s{k}", "x")) for k in range(len(names))]
     for path, name in zip(files, names, strict=True):
         Path(path).write_text(Path(path).read_text().replace('name = "x"', f'name = "{name}"'))
@@ -536,9 +537,9 @@ def test_montecarlo_results_are_swapped_in_whole(mc_file, tmp_path, monkeypatch)
     out = tmp_path / "w"
     _run(mc_file, out)
     before = tree(out)
-    import tetherheli.viz.plots as plots
+    import tetherheli.viz.figure as figure
 
-    save = plots.save_figure
+    save = figure._save_figure  # the writer's, its format checked at its entry
 
     def full_disk(fig, path, *args, **kwargs):
         if "paired" in Path(path).name:
@@ -546,7 +547,7 @@ def test_montecarlo_results_are_swapped_in_whole(mc_file, tmp_path, monkeypatch)
         return save(fig, path, *args, **kwargs)
 
     with monkeypatch.context() as m:
-        m.setattr(plots, "save_figure", full_disk)
+        m.setattr(figure, "_save_figure", full_disk)
         with pytest.raises(OutputPathError, match=r"peak_q1_paired\.png could not be written"):
             _run(mc_file, out, metric="peak_q1")
     assert tree(out) == before and leftovers(out) == []

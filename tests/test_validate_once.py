@@ -3,12 +3,17 @@ public function's or class's arguments); the set-up of a run trusts the scenario
 handed, and loading a scenario checks each field once.
 
 Traced with ``sys.setprofile``: (a) setting up and flying every shipped scenario (and the
-MPC and the tethered LQI on a few) calls no check of ``tetherheli._validation`` and neither
-``params.check_tether_length`` nor ``TetherParams.check_tension``, with the design caches
-emptied first, so nothing is skipped for having been done before; (b) loading a shipped
-scenario checks each field (the checks' ``field`` argument) at most once; (c) bad input
-through the public routes the set-up now bypasses is still refused with the same one-line
-message.
+MPC and the tethered LQI on a few) calls no check but ``simulate``'s own at its entry (its
+memory): no check of ``tetherheli._validation``, no ``params.check_tether_length`` nor
+``TetherParams.check_tension``, and no function of the package named ``check*``,
+``_check*``, ``validate*`` or ``_validate*`` (nor ``_linalg.real_matrix``), with the design
+caches emptied first, so nothing is skipped for having been done before (issue 44, item 2:
+the designs' dt, the law's gain, the linearization's state, the formats); (b) loading a
+shipped scenario checks each field (the checks' ``field`` argument) at most once, and a run
+from a file's tables checks each rule once: the scenario's validation, then ``simulate``'s
+memory; (c) ``run_batch`` checks each run once at its entry and ``tetherheli simulate`` and
+the writers check each format once; (d) bad input through the public routes the set-up now
+bypasses is still refused with the same one-line message.
 """
 
 from __future__ import annotations
@@ -42,7 +47,8 @@ from tetherheli.params import (
     TensionControlParams,
     TetherParams,
 )
-from tetherheli.runs import simulate
+from tetherheli.runs import run_batch, simulate
+from tetherheli.runs.setup import python_controlled
 from tetherheli.runs.start import lumped_tether
 from tetherheli.scenario.core import BaseSettings, Scenario, scenario_from_dict
 from tetherheli.sensing.config import SensorConfig
@@ -59,12 +65,33 @@ CHECKS = {
 } | {("tetherheli.params", "check_tether_length"), ("tetherheli.params", "check_tension")}
 
 
+#: every check by its name: a function of the package named so (``Key.check`` too) ...
+CHECK_PREFIXES = ("check", "_check", "validate", "_validate")
+#: ... and the array checks of the designs' public functions
+NAMED_CHECKS = {("tetherheli._linalg", "real_matrix")}
+#: ``simulate``'s own checks at its entry: the run's memory (``check_run_memory``)
+SIMULATE_ENTRY = {
+    "tetherheli.runs.closed_loop.check_run_memory <- tetherheli.runs.closed_loop:simulate",
+    "tetherheli.resources.check_memory <- tetherheli.runs.closed_loop:check_run_memory",
+}
+
+#: a paper law flown by Python: its one check, where its arrays enter its controller
+PYTHON_LAW = "tetherheli.control.paper.check_law <- tetherheli.control.paper:__init__"
+
+
+def _is_check(module: str, name: str) -> bool:
+    return name.startswith(CHECK_PREFIXES) or (module, name) in NAMED_CHECKS
+
+
 class _Calls:
-    """What ``sys.setprofile`` saw: the checks called (with their callers), the ``field`` of
-    every outermost check of ``_validation``, and every tetherheli function entered."""
+    """What ``sys.setprofile`` saw: the checks called (with their callers: ``checks`` those
+    of ``CHECKS``, ``every`` every check by ``_is_check``, the outermost only: a check
+    called by a check of its own module is a part of it), the ``field`` of every outermost
+    check of ``_validation``, and every tetherheli function entered."""
 
     def __init__(self) -> None:
         self.checks: collections.Counter[str] = collections.Counter()
+        self.every: collections.Counter[str] = collections.Counter()
         self.fields: collections.Counter[str] = collections.Counter()
         self.entered: set[str] = set()
 
@@ -76,10 +103,15 @@ class _Calls:
             return
         name = frame.f_code.co_name
         self.entered.add(f"{module}:{name}")
+        caller = frame.f_back
+        outer = caller.f_globals.get("__name__")
+        where = f"{outer}:{caller.f_code.co_name}"
+        if _is_check(module, name) and not (
+            outer == module and _is_check(outer, caller.f_code.co_name)
+        ):
+            self.every[f"{module}.{name} <- {where}"] += 1
         if (module, name) not in CHECKS:
             return
-        caller = frame.f_back
-        where = f"{caller.f_globals.get('__name__')}:{caller.f_code.co_name}"
         self.checks[f"{module}.{name} <- {where}"] += 1
         if module == "tetherheli._validation" and not where.startswith(module):
             self.fields[str(frame.f_locals.get("field"))] += 1
@@ -157,6 +189,85 @@ def test_a_built_scenario_is_set_up_and_flown_without_checks(name, controller):
     assert "tetherheli.runs.setup:engine_setup" in calls.entered  # the set-up was traced
     assert "tetherheli.runs.start:paper_gain" in calls.entered  # and designed anew
     assert not calls.checks, f"{name}: checks during the set-up: {dict(calls.checks)}"
+    # every check at all, by name: simulate's own at its entry, once, and none in the set-up;
+    # a paper law flown by Python (a landing, a point held over a moving base) is checked
+    # once, where its arrays enter its controller; the compiled law builds none
+    expected = dict.fromkeys(SIMULATE_ENTRY, 1)
+    if python_controlled(scenario) and scenario.control.controller != "mpc":
+        expected[PYTHON_LAW] = 1
+    assert calls.every == expected, f"{name}: {dict(calls.every)}"
+
+
+def test_a_run_from_its_tables_checks_each_rule_once():
+    """A run from a file's tables checks each field once, in the scenario's validation
+    (``scenario_from_dict``), and then, in ``simulate``, only the run's memory (issue 44,
+    item 2: no dt, law, trim or format check repeated on the way)."""
+    data = _data("paper_sim1_tethered")
+    data["duration"] = 1.0
+    simulate(scenario_from_dict(data))  # compiled outside the trace
+    _empty_caches()
+    with _traced() as loading:
+        scenario = scenario_from_dict(data)
+    with _traced() as flying:
+        simulate(scenario)
+    assert len(loading.fields) > 100
+    assert set(loading.fields.values()) == {1}, loading.fields
+    assert "tetherheli.runs.start:paper_gain" in flying.entered  # designed anew
+    assert not flying.fields
+    assert flying.every == dict.fromkeys(SIMULATE_ENTRY, 1), dict(flying.every)
+
+
+def test_run_batch_checks_each_run_once_at_its_entry():
+    """``run_batch`` checks its workers once and each run once (a Scenario of a built-in
+    wind, its memory as flown: recorded for the MPC's Python loop), before any work; the
+    set-up and ``simulate``'s loop for the MPC run check nothing again."""
+    s = _short("paper_sim1_tethered")
+    mass = s.params.helicopter.m_F
+    runs = [s.replace(params=s.params.replace(helicopter={"m_F": mass * f})) for f in (0.99, 1.01)]
+    runs.append(_short("paper_sim1_tethered", "mpc"))
+    run_batch(runs, workers=1)  # compiled outside the trace
+    _empty_caches()
+    with _traced() as calls:
+        batch = run_batch(runs, workers=1)
+    assert batch.ok.all()
+    n = len(runs)
+    assert calls.every == {
+        "tetherheli._validation.check_integer <- tetherheli.runs.batch:run_batch": 1,
+        "tetherheli.runs.batch._check <- tetherheli.runs.batch:run_batch": n,
+        "tetherheli.runs.closed_loop.check_run_memory <- tetherheli.runs.batch:run_batch": n,
+        "tetherheli.resources.check_memory <- tetherheli.runs.closed_loop:check_run_memory": n,
+    }
+
+
+def test_the_formats_are_checked_once(tmp_path):
+    """A writer checks its data and figure formats once, at its entry, and writes the files
+    without checking again (``SimulationResult.save``'s and ``save_figure``'s checks are
+    theirs, for their callers); ``tetherheli simulate`` checks ``--format`` once (its
+    packages, before the runs; both formats are argparse's choices) and each run's memory
+    once."""
+    from tetherheli.cli import main
+    from tetherheli.report.paper import write_run
+
+    s = _short("paper_sim1_free")
+    result = simulate(s)
+    with _traced() as calls:
+        write_run(result, tmp_path / "api", data_format="csv", figure_format="svg")
+    formats = {k: n for k, n in calls.every.items() if "_format" in k}
+    assert formats == {
+        "tetherheli.results.files.check_result_format <- tetherheli.report.paper:write_run": 1,
+        "tetherheli.viz.formats.check_figure_format <- tetherheli.report.paper:write_run": 1,
+    }
+    (tmp_path / "run.toml").write_text(f"name = 'short'\nduration = {s.duration}\n")
+    with _traced() as calls:
+        code = main(["simulate", str(tmp_path / "run.toml"), "--out", str(tmp_path / "cli"),
+                     "--figure-format", "svg"])  # fmt: skip
+    assert code == 0
+    formats = {k: n for k, n in calls.every.items() if "_format" in k or "run_memory" in k}
+    assert formats == {
+        "tetherheli.results.files.check_result_format <- tetherheli.cli.simulate:run": 1,
+        "tetherheli.runs.closed_loop.check_run_memory <- tetherheli.cli.simulate:run": 1,
+        "tetherheli.resources.check_memory <- tetherheli.runs.closed_loop:check_run_memory": 1,
+    }
 
 
 @pytest.mark.parametrize("name", SHIPPED)

@@ -2,24 +2,31 @@
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.linalg import expm
 
-from .errors import ParameterError, TetherheliError
+from ._validation import check_number
+from .errors import TetherheliError
 
 __all__ = ["check_dt", "discretize_zoh", "real_matrix", "solve_dare"]
 
 
 def check_dt(dt: float) -> float:
-    if isinstance(dt, bool) or not isinstance(dt, (int, float, np.floating, np.integer)):
-        raise ParameterError("dt", dt, "a finite number > 0 [s]")
-    value = float(dt)
-    if not (math.isfinite(value) and value > 0.0):
-        raise ParameterError("dt", dt, "a finite number > 0 [s]")
-    return value
+    """A sample time argument ``dt`` as a float: a finite number > 0 [s], else a one-line
+    ``ParameterError`` naming ``dt`` (``_validation.check_number``'s rule).
+
+    Parameters
+    ----------
+    dt : float
+        The sample time [s].
+
+    Returns
+    -------
+    float
+        ``dt``.
+    """
+    return check_number("dt", dt, low=0.0, low_open=True, unit="[s]")
 
 
 def real_matrix(
@@ -73,8 +80,13 @@ def discretize_zoh(A: ArrayLike, B: ArrayLike, dt: float) -> tuple[np.ndarray, n
     n = A.shape[0]
     if A.shape[1] != n:
         raise TetherheliError(f"A has shape {A.shape}; allowed: square (n, n)")
-    B = real_matrix("B", B, (n, None))
-    m = B.shape[1]
+    return _discretize_zoh(A, real_matrix("B", B, (n, None)), dt)
+
+
+def _discretize_zoh(A: np.ndarray, B: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
+    """``discretize_zoh`` of arrays and a sample time already checked (finite float arrays of
+    matching shapes, dt > 0): a run's set-up, whose model and scenario were checked."""
+    n, m = B.shape
     block = np.zeros((n + m, n + m))
     block[:n, :n] = A * dt
     block[:n, n:] = B * dt

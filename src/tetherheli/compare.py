@@ -170,10 +170,12 @@ def write_compare(
     """
     from . import __version__
     from ._io import atomic_write_text, output_directory, write_json
-    from .results.files import check_result_format, write_table
+    from .results.files import _write_table, check_result_format
     from .studies.controllers import CONTROLLER_METRICS
     from .studies.robust import REDUCED
-    from .viz.plots import figure_compare, figure_compare_spread, save_figure
+    from .viz.figure import _save_figure
+    from .viz.formats import check_figure_format
+    from .viz.plots import figure_compare, figure_compare_spread
 
     reductions = [f"reduction_{m}_{p}" for m in REDUCED for p in ("p50", "p5")]
     columns = [
@@ -181,6 +183,7 @@ def write_compare(
         *CONTROLLER_METRICS, *(reductions if montecarlo else ()),
     ]  # fmt: skip
     data_format = check_result_format(data_format)
+    figure_format = check_figure_format(figure_format)
     table = [[r.get(c, "") for c in columns] for r in rows]
     units = {c: u for c in columns if (u := COLUMN_UNITS.get(c)) is not None}
     units.update({c: "%" for c in reductions if c in columns})
@@ -188,8 +191,8 @@ def write_compare(
     fig = figure_compare([r for r in rows if r.get("runs", 1) == 1] or rows)
     fig_mc = figure_compare_spread(_spreads(montecarlo)) if montecarlo else None
     with output_directory(out_dir, writer="compare", inputs=inputs, force=force) as tmp:
-        save_figure(fig, tmp / f"compare.{figure_format}")
-        write_table(tmp / f"compare.{data_format}", columns, table, units=units)
+        _save_figure(fig, tmp / f"compare.{figure_format}")
+        _write_table(tmp / f"compare.{data_format}", columns, table, units=units)
         atomic_write_text(tmp / "compare.md", markdown_table(rows))
         info = {
             "rows": [{k: _json_number(v) for k, v in r.items()} for r in rows],
@@ -198,7 +201,7 @@ def write_compare(
         }
         if montecarlo:
             assert fig_mc is not None  # drawn above when there is a Monte Carlo
-            save_figure(fig_mc, tmp / f"compare_montecarlo.{figure_format}")
+            _save_figure(fig_mc, tmp / f"compare_montecarlo.{figure_format}")
             atomic_write_text(tmp / "compare_montecarlo.md", markdown_reductions(montecarlo))
             info["montecarlo"] = [mc.as_dict() for mc in montecarlo]
         write_json(tmp / "summary.json", info)

@@ -25,10 +25,9 @@ def run(args: argparse.Namespace) -> int:
     """
     from .._io import claim_output_directory
     from ..errors import named_source
-    from ..report.paper import write_comparison, write_run
+    from ..report.paper import _write_comparison, _write_run
     from ..results.result import check_result_format
-    from ..runs import simulate
-    from ..runs.closed_loop import check_run_memory
+    from ..runs.closed_loop import _simulate, check_run_memory
     from ..scenario import load_scenario
     from ..scenario.core import check_distinct_names
     from ..status import stopped
@@ -42,19 +41,15 @@ def run(args: argparse.Namespace) -> int:
     claim_output_directory(args.out, inputs=inputs, force=args.force)
     command = "tetherheli simulate " + " ".join(args.scenario)
     results = [
-        named_source(path, simulate, s, method=args.method)
+        named_source(path, _simulate, s, method=args.method)  # each checked above
         for path, s in zip(args.scenario, scenarios, strict=True)
     ]
-    write = write_run if len(results) == 1 else write_comparison
-    write(
-        results[0] if len(results) == 1 else results,
-        args.out,
-        command=command,
-        inputs=inputs,
-        force=args.force,
-        data_format=args.data_format,
-        figure_format=args.figure_format,
-    )
+    # the formats: --format checked above (its packages), --figure-format by its choices
+    where = (args.out, command, inputs, args.force, args.data_format, args.figure_format)
+    if len(results) == 1:
+        _write_run(results[0], *where)
+    else:  # distinct names, checked above
+        _write_comparison(results, *where)
     for r in results:
         if r.released:
             print(f"tetherheli: run {r.name}: {r.release_note()}", file=sys.stderr)

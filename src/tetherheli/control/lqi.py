@@ -33,6 +33,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._linalg import check_dt, discretize_zoh, real_matrix, solve_dare
+from .._validation import trusted
 from ..errors import DesignError, TetherheliError
 
 __all__ = [
@@ -116,14 +117,29 @@ def augment_lqi(
     C_lqi : ndarray, shape (2 p, n + p)
         [[C, 0], [0, I_p]] (eq 53).
     """
+    return _augment_lqi(*_plant_arguments(G, H, C, dt))
+
+
+def _plant_arguments(
+    G: ArrayLike, H: ArrayLike, C: ArrayLike, dt: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """The discrete plant (G, H, C) and sample time of a design's arguments checked: finite
+    float copies of matching shapes, dt a finite number > 0 [s] (one-line errors naming the
+    argument)."""
     dt = check_dt(dt)
     G = real_matrix("G", G, (None, None))
     n = G.shape[0]
     if G.shape[1] != n:
         raise TetherheliError(f"G has shape {G.shape}; allowed: square (n, n)")
-    H = real_matrix("H", H, (n, None))
-    C = real_matrix("C", C, (None, n))
-    m = H.shape[1]
+    return G, real_matrix("H", H, (n, None)), real_matrix("C", C, (None, n)), dt
+
+
+def _augment_lqi(
+    G: np.ndarray, H: np.ndarray, C: np.ndarray, dt: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``augment_lqi`` of finite float arrays of matching shapes and a checked dt (a run's
+    set-up: its plant from the checked model, its dt from the checked scenario)."""
+    n, m = H.shape
     p = C.shape[0]
     G_lqi = np.zeros((n + p, n + p))
     G_lqi[:n, :n] = G
@@ -182,8 +198,7 @@ class LQIGain:
     H_lqi: np.ndarray
 
     def __post_init__(self) -> None:
-        for name in ("K", "Qy", "Ru", "P", "G_lqi", "H_lqi"):
-            object.__setattr__(self, name, _frozen(getattr(self, name)))
+        self._derive()
         object.__setattr__(self, "dt", check_dt(self.dt))
         if self.K.ndim != 2:
             raise TetherheliError(f"LQIGain: K has shape {self.K.shape}; allowed: (m, n + p)")
@@ -206,6 +221,11 @@ class LQIGain:
             raise TetherheliError(
                 f"LQIGain: Qy has shape {self.Qy.shape}; allowed: (2 p, 2 p) with 0 < p < {nz}"
             )
+
+    def _derive(self) -> None:
+        # read-only copies of the arrays (also of a ``trusted`` build: a design's own gain)
+        for name in ("K", "Qy", "Ru", "P", "G_lqi", "H_lqi"):
+            object.__setattr__(self, name, _frozen(getattr(self, name)))
 
     # sizes ------------------------------------------------------------------------------------
     @property
@@ -348,8 +368,8 @@ def design_lqi(
         stabilising DARE solution exists (e.g. (G_LQI, H_LQI) not stabilisable, or a mode on
         the unit circle unobservable from Qx).
     """
-    dt = check_dt(dt)
-    G_lqi, H_lqi, C_lqi = augment_lqi(G, H, C, dt)
+    G, H, C, dt = _plant_arguments(G, H, C, dt)
+    G_lqi, H_lqi, C_lqi = _augment_lqi(G, H, C, dt)
     m = H_lqi.shape[1]
     p = C_lqi.shape[0] // 2
     if Qy is None:
@@ -364,8 +384,21 @@ def design_lqi(
     Ru = real_matrix("Ru", Ru, (m, m))
     _check_psd("Qy", Qy)
     _check_pd("Ru", Ru)
-    Qy = 0.5 * (Qy + Qy.T)
-    Ru = 0.5 * (Ru + Ru.T)
+    return _design_lqi(G_lqi, H_lqi, C_lqi, dt, 0.5 * (Qy + Qy.T), 0.5 * (Ru + Ru.T))
+
+
+def _design_lqi(
+    G_lqi: np.ndarray,
+    H_lqi: np.ndarray,
+    C_lqi: np.ndarray,
+    dt: float,
+    Qy: np.ndarray,
+    Ru: np.ndarray,
+) -> LQIGain:
+    """``design_lqi`` on the augmented system (``_augment_lqi``) with symmetric weights
+    already checked (Qy positive semidefinite, Ru positive definite: a run's set-up, whose
+    weights are the checked scenario's positive diagonals); raises ``DesignError`` as it
+    does."""
     Qx = C_lqi.T @ Qy @ C_lqi  # eq 49's Qx = C' Qy C on the augmented system
 
     try:
@@ -380,7 +413,7 @@ def design_lqi(
         raise DesignError("the LQI Riccati solution (eq 49) is not finite")
     P = 0.5 * (P + P.T)
     K = np.linalg.solve(Ru + H_lqi.T @ P @ H_lqi, H_lqi.T @ P @ G_lqi)  # eq 48
-    gain = LQIGain(K=K, dt=dt, Qy=Qy, Ru=Ru, P=P, G_lqi=G_lqi, H_lqi=H_lqi)
+    gain = trusted(LQIGain, K=K, dt=dt, Qy=Qy, Ru=Ru, P=P, G_lqi=G_lqi, H_lqi=H_lqi)
     rho = gain.spectral_radius
     if not rho < 1.0:
         raise DesignError(

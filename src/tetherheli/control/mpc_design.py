@@ -43,10 +43,10 @@ from functools import lru_cache
 import numpy as np
 from scipy import sparse
 
-from .._linalg import check_dt, discretize_zoh, solve_dare
+from .._linalg import _discretize_zoh, solve_dare
 from ..errors import DesignError, TetherheliError
 from ..sensing.config import _checked_dt
-from .lqi import _check_pd, _check_psd, augment_lqi
+from .lqi import _augment_lqi, _check_pd, _check_psd, _plant_arguments
 from .observer import DisturbanceKalman, _measurement_covariance
 
 __all__ = [
@@ -154,12 +154,25 @@ def design_mpc(
     -------
     MPCDesign
     """
-    dt = check_dt(dt)
-    G_a, H_a, C_a = augment_lqi(G, H, C, dt)
+    G_a, H_a, C_a = _augment_lqi(*_plant_arguments(G, H, C, dt))
     _check_psd("Qy", Qy)
     _check_pd("Ru", Ru)
     if not (isinstance(horizon, int) and horizon >= 1):
         raise TetherheliError(f"horizon = {horizon!r}; allowed: an integer >= 1 [samples]")
+    if terminal is not None:
+        terminal = np.asarray(terminal, dtype=float)
+        _check_psd("terminal", terminal)
+    return _design_mpc(
+        G, H, C, Hd, G_a, H_a, C_a, Qy=Qy, Ru=Ru, horizon=horizon, c_tension=c_tension,
+        q_tension=q_tension, terminal=terminal,
+    )  # fmt: skip
+
+
+def _design_mpc(
+    G, H, C, Hd, G_a, H_a, C_a, *, Qy, Ru, horizon, c_tension, q_tension, terminal
+) -> MPCDesign:  # fmt: skip
+    """``design_mpc`` on the augmented system (``lqi._augment_lqi``) with weights and a
+    horizon already checked (a run's set-up: the scenario's positive diagonals)."""
     n, m = H.shape
     na = n + 4
     c_aug = None
@@ -177,8 +190,7 @@ def design_mpc(
             ) from None
         P = 0.5 * (P + P.T)
     else:
-        P = np.asarray(terminal, dtype=float)
-        _check_psd("terminal", P)
+        P = terminal
     N = horizon
     Sx = np.zeros((N * na, na))
     Su = np.zeros((N * na, N * m))
@@ -260,7 +272,7 @@ def _trim_arguments(params, configuration: str, T_ref: object, q9: object) -> tu
 def _mpc_plant(params, configuration: str, T_ref: float, q9: float, dt: float) -> tuple:
     """``mpc_plant`` of a trim tension and length already checked (a run's set-up), cached."""
     from ..model import TetheredHelicopter
-    from ..model.linearization import linearize
+    from ..model.linearization import _linearize
     from ..model.trim import _hover_trim
     from ..names import TETHERED_STATE, WIND
     from .tether_lqi import _tethered_design
@@ -268,12 +280,12 @@ def _mpc_plant(params, configuration: str, T_ref: float, q9: float, dt: float) -
     model = TetheredHelicopter(params)
     if configuration == "tethered":
         G, H, C, c_t = _tethered_design(params, T_ref, q9, dt)
-        lin = linearize(model, _hover_trim(params, T_ref, q9))
+        lin = _linearize(model, _hover_trim(params, T_ref, q9))
     else:
-        lin = linearize(model, _hover_trim(params, 0.0, q9)).select(TETHERED_STATE[:12])
-        G, H = lin.discretize(dt)
+        lin = _linearize(model, _hover_trim(params, 0.0, q9)).select(TETHERED_STATE[:12])
+        G, H = _discretize_zoh(lin.A, lin.B, dt)
         C, c_t = lin.C, None
-    Hd = discretize_zoh(lin.A, lin.input_matrix(WIND), dt)[1]
+    Hd = _discretize_zoh(lin.A, lin.input_matrix(WIND), dt)[1]
     return G, H, C, Hd, c_t
 
 
@@ -283,9 +295,10 @@ def _hover_design(params, configuration, T_ref, q9, dt, Qy, Ru, q_tension, horiz
     ``Scenario``), cached; ``Qy``, ``Ru``: tuples."""
     G, H, C, Hd, c_t = _mpc_plant(params, configuration, float(T_ref), float(q9), float(dt))
     m = H.shape[1]
-    return design_mpc(
-        G, H, C, Hd, dt, Qy=np.diag(Qy), Ru=np.diag(Ru[:m]), horizon=horizon,
-        c_tension=c_t, q_tension=q_tension,
+    G_a, H_a, C_a = _augment_lqi(G, H, C, dt)  # the scenario's dt, weights and horizon
+    return _design_mpc(
+        G, H, C, Hd, G_a, H_a, C_a, Qy=np.diag(Qy), Ru=np.diag(Ru[:m]), horizon=horizon,
+        c_tension=c_t, q_tension=q_tension, terminal=None,
     )  # fmt: skip
 
 

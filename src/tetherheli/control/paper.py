@@ -472,6 +472,8 @@ class PaperController(Controller):
         # own writable C copies: ``paper_control`` then has one compiled signature whatever
         # the caller hands in (a read-only gain of a frozen scenario would compile a second)
         self.gain = np.array(gain, dtype=float, order="C")
+        # the law's one check: where its arrays enter (the set-up pairs them, unchecked, for
+        # the compiled loop, which builds no controller)
         check_law(np.asarray(ctrl, dtype=float), self.gain)
         # q4..u6, and LN for the tethered LQI's (9, 17) gain (``layout.LAW_GAIN``)
         self.x_ref = np.array(trim_state[: self.gain.shape[1] - 4], dtype=float, order="C")

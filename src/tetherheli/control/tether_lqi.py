@@ -21,9 +21,10 @@ from functools import lru_cache
 
 import numpy as np
 
-from .._linalg import check_dt, discretize_zoh, solve_dare
+from .._linalg import _discretize_zoh, solve_dare
+from .._validation import trusted
 from ..errors import DesignError, TetherheliError
-from .lqi import LQIGain, _check_pd, _check_psd, augment_lqi
+from .lqi import LQIGain, _augment_lqi, _check_pd, _check_psd, _plant_arguments
 
 __all__ = [
     "TetherLQIGain",
@@ -122,14 +123,29 @@ def design_tether_lqi(
     LQIGain
         K (m, n + p) = (Ru + H' P H)^{-1} H' P G on the augmented system (eqs 48-53).
     """
-    dt = check_dt(dt)
-    G_lqi, H_lqi, C_lqi = augment_lqi(G, H, C, dt)
+    G, H, C, dt = _plant_arguments(G, H, C, dt)
+    G_lqi, H_lqi, C_lqi = _augment_lqi(G, H, C, dt)
     _check_psd("Qy", Qy)
     _check_pd("Ru", Ru)
     if not (np.isfinite(q_tension) and q_tension >= 0):
         raise TetherheliError(f"q_tension = {q_tension}; allowed: a weight >= 0 [1/N^2]")
+    return _design_tether_lqi(G_lqi, H_lqi, C_lqi, c_tension, dt, Qy, q_tension, Ru)
+
+
+def _design_tether_lqi(
+    G_lqi: np.ndarray,
+    H_lqi: np.ndarray,
+    C_lqi: np.ndarray,
+    c_tension: np.ndarray,
+    dt: float,
+    Qy: np.ndarray,
+    q_tension: float,
+    Ru: np.ndarray,
+) -> LQIGain:
+    """``design_tether_lqi`` on the augmented system (``lqi._augment_lqi``) with weights
+    already checked (a run's set-up: the scenario's positive diagonals and q_tension >= 0)."""
     c_aug = np.zeros(G_lqi.shape[0])
-    c_aug[: G.shape[0]] = c_tension
+    c_aug[: H_lqi.shape[0] - C_lqi.shape[0] // 2] = c_tension  # the plant's n states
     Qx = C_lqi.T @ Qy @ C_lqi + q_tension * np.outer(c_aug, c_aug)
     try:
         P = solve_dare(G_lqi, H_lqi, Qx, Ru)
@@ -139,7 +155,7 @@ def design_tether_lqi(
         ) from None
     P = 0.5 * (P + P.T)
     K = np.linalg.solve(Ru + H_lqi.T @ P @ H_lqi, H_lqi.T @ P @ G_lqi)
-    gain = LQIGain(K=K, dt=dt, Qy=Qy, Ru=Ru, P=P, G_lqi=G_lqi, H_lqi=H_lqi)
+    gain = trusted(LQIGain, K=K, dt=dt, Qy=Qy, Ru=Ru, P=P, G_lqi=G_lqi, H_lqi=H_lqi)
     if not gain.spectral_radius < 1.0:
         raise DesignError(
             f"the tethered LQI's closed loop has spectral radius {gain.spectral_radius:.6g} >= 1"
@@ -186,7 +202,7 @@ def tethered_design(params, T_ref: float, q9: float, dt: float):
 def _tethered_design(params, T_ref: float, q9: float, dt: float):
     """``tethered_design`` of a trim tension and length already checked (a run's set-up)."""
     from ..model import TetheredHelicopter
-    from ..model.linearization import linearize
+    from ..model.linearization import _linearize
     from ..model.trim import _hover_trim
     from ..names import INPUT, REEL_RATE
 
@@ -196,9 +212,9 @@ def _tethered_design(params, T_ref: float, q9: float, dt: float):
         raise TetherheliError(
             f"the tethered LQI needs a taut tether at trim; tension {trim.tension:g} N"
         )
-    lin = linearize(model, trim)
+    lin = _linearize(model, trim)
     B = lin.input_matrix((*INPUT, REEL_RATE))
-    G, H = discretize_zoh(lin.A, B, dt)
+    G, H = _discretize_zoh(lin.A, B, dt)
     K_C = params.tether.K_C
     c_t = np.zeros(lin.A.shape[0])
     c_t[lin.state_names.index("q9")] = K_C  # eq 28: TC = KC (q9 - LN)
@@ -266,7 +282,8 @@ def _tether_lqi_gain(
     """``tether_lqi_gain`` of a trim tension and length already checked (a run's set-up
     from its ``Scenario``), cached."""
     G, H, C, c_t = _tethered_design(params, T_ref, q9, float(dt))
-    gain = design_tether_lqi(
-        G, H, C, c_t, dt, Qy=np.diag(Qy), q_tension=float(q_tension), Ru=np.diag(Ru)
+    G_lqi, H_lqi, C_lqi = _augment_lqi(G, H, C, dt)  # the scenario's dt and weights
+    gain = _design_tether_lqi(
+        G_lqi, H_lqi, C_lqi, c_t, dt, np.diag(Qy), float(q_tension), np.diag(Ru)
     )
     return TetherLQIGain(gain, free, float(q_tension))

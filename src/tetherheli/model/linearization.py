@@ -288,6 +288,14 @@ def linearize(model: TetheredHelicopter | FreeHelicopter, trim: TrimPoint) -> Li
     -------
     LinearModel
     """
+    if isinstance(model, TetheredHelicopter):  # its tension's check of the state
+        model._check_state(trim.x)
+    return _linearize(model, trim)
+
+
+def _linearize(model: TetheredHelicopter | FreeHelicopter, trim: TrimPoint) -> LinearModel:
+    """``linearize`` about a trim the set-up solved (``model.trim._hover_trim`` on checked
+    parameters): its state is not checked again."""
     p = model.constants
     x0 = np.asarray(trim.x, dtype=float)
     u0 = trim.u_total
@@ -298,7 +306,7 @@ def linearize(model: TetheredHelicopter | FreeHelicopter, trim: TrimPoint) -> Li
     E_T = np.zeros(12)
     C12 = np.zeros((4, 12))
     if isinstance(model, TetheredHelicopter):
-        tension = model.tension(x0)
+        tension = model.params.tether.K_C * max(x0[5] - x0[12], 0.0)  # eq 28, as model.tension
         tethered_jacobian(x0, u0, wind, tension, p, A12, B, E, E_T)
         tethered_output_jacobian(x0, p, C12)
         n = 13

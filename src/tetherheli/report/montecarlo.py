@@ -250,11 +250,12 @@ def _figures(
 ) -> None:
     """Histogram, CDF and paired scatter of ``metric`` (``FIGURE_KINDS``, in that order)."""
     # imported here, as the paper's report does: importing this module loads no Matplotlib
-    from ..viz.plots import figure_montecarlo, figure_paired, save_figure
+    from ..viz.figure import _save_figure  # the format: checked by run_montecarlo
+    from ..viz.plots import figure_montecarlo, figure_paired
 
     hist, cdf, paired = paths
-    save_figure(figure_montecarlo(values, ok, "hist", metric=metric), hist)
-    save_figure(figure_montecarlo(values, ok, "cdf", metric=metric), cdf)
+    _save_figure(figure_montecarlo(values, ok, "hist", metric=metric), hist)
+    _save_figure(figure_montecarlo(values, ok, "cdf", metric=metric), cdf)
     free, tethered = CONFIGURATIONS
     fig = figure_paired(values[free], values[tethered], ok[free], ok[tethered], metric)
-    save_figure(fig, paired)
+    _save_figure(fig, paired)

@@ -336,8 +336,9 @@ def run_paper(
         summary.json's content (``paper_summary``).
     """
     from ..progress import Progress
+    from ..viz.figure import _save_figure  # the formats: checked at the entry
     from ..viz.formats import check_figure_format
-    from ..viz.plots import figure_inputs, figure_outputs, save_figure
+    from ..viz.plots import figure_inputs, figure_outputs
 
     check_result_format(data_format)
     figure_format = check_figure_format(figure_format)
@@ -355,17 +356,17 @@ def run_paper(
     summary = paper_summary(results, dt=dt, pulse_duration=pulse_duration)
     with output_directory(out_dir, writer="paper", force=force) as tmp:
         for k, r in results.items():
-            r.save(tmp, k, format=data_format)
+            r._save(tmp, k, format=data_format)
         for sim, (fo, fi) in ((1, ("fig6", "fig7")), (2, ("fig8", "fig9"))):
             pair = [results[f"sim{sim}_free"], results[f"sim{sim}_tethered"]]
             axis = "n1" if sim == 1 else "n2"
-            save_figure(
+            _save_figure(
                 figure_outputs(
                     pair, f"Simulation {sim}: wind along {axis} (paper Fig. {6 if sim == 1 else 8})"
                 ),
                 tmp / f"{fo}_sim{sim}_outputs.{figure_format}",
             )
-            save_figure(
+            _save_figure(
                 figure_inputs(
                     pair,
                     f"Simulation {sim}: tension and inputs (paper Fig. {7 if sim == 1 else 9})",
@@ -421,6 +422,19 @@ def write_run(
 
     check_result_format(data_format)
     figure_format = check_figure_format(figure_format)
+    return _write_run(result, out_dir, command, inputs, force, data_format, figure_format)
+
+
+def _write_run(
+    result: SimulationResult,
+    out_dir: str | Path,
+    command: str,
+    inputs: tuple[str | Path, ...],
+    force: bool,
+    data_format: str,
+    figure_format: str,
+) -> dict[str, Any]:
+    """``write_run`` of formats the caller checked (``tetherheli simulate``, before its runs)."""
     with output_directory(out_dir, writer="simulate", inputs=inputs, force=force) as tmp:
         return _write_run_files(result, tmp, command, data_format, figure_format)
 
@@ -433,7 +447,8 @@ def _write_run_files(
     data_format: str = "csv",
     figure_format: str = "png",
 ) -> dict[str, Any]:
-    from ..viz.plots import figure_inputs, figure_outputs, save_figure
+    from ..viz.figure import _save_figure  # the formats: checked at the entry
+    from ..viz.plots import figure_inputs, figure_outputs
 
     ext = figure_format
     directory.mkdir(exist_ok=True)
@@ -447,12 +462,12 @@ def _write_run_files(
         "tetherheli_version": __version__,
         "command": command,
     }
-    result.save(directory, result.name, format=data_format)
+    result._save(directory, result.name, format=data_format)
     if result.configuration.get("wind", {}).get("type") != "custom":  # else not re-runnable
         atomic_write_text(directory / SCENARIO_FILE, scenario_toml(result.configuration))
     if result.time.size > 1:
-        save_figure(figure_outputs([result], result.name), directory / f"outputs.{ext}")
-        save_figure(figure_inputs([result], result.name), directory / f"inputs.{ext}")
+        _save_figure(figure_outputs([result], result.name), directory / f"outputs.{ext}")
+        _save_figure(figure_inputs([result], result.name), directory / f"inputs.{ext}")
     write_json(directory / "summary.json", info)
     lines = [
         f"# {result.name}",
@@ -482,7 +497,6 @@ def _write_run_files(
     return info
 
 
-@figures_for_files()
 def write_comparison(
     results: list[SimulationResult],
     out_dir: str | Path,
@@ -510,11 +524,28 @@ def write_comparison(
         summary.json's content: version, command and every run's ``write_run`` summary.
     """
     from ..viz.formats import check_figure_format
-    from ..viz.plots import figure_inputs, figure_outputs, save_figure
 
     check_result_format(data_format)
-    ext = check_figure_format(figure_format)
+    figure_format = check_figure_format(figure_format)
     check_distinct_names(r.name for r in results)  # each run its own folder
+    return _write_comparison(results, out_dir, command, inputs, force, data_format, figure_format)
+
+
+@figures_for_files()
+def _write_comparison(
+    results: list[SimulationResult],
+    out_dir: str | Path,
+    command: str,
+    inputs: tuple[str | Path, ...],
+    force: bool,
+    data_format: str,
+    ext: str,
+) -> dict[str, Any]:
+    """``write_comparison`` of formats the caller checked (``tetherheli simulate``, before its
+    runs) and of runs with distinct names."""
+    from ..viz.figure import _save_figure
+    from ..viz.plots import figure_inputs, figure_outputs
+
     with output_directory(out_dir, writer="simulate", inputs=inputs, force=force) as tmp:
         infos = {
             r.name: _write_run_files(r, tmp / r.name, command, data_format, ext) for r in results
@@ -522,8 +553,8 @@ def write_comparison(
         plotted = [r for r in results if r.time.size > 1]
         if plotted:
             title = " vs ".join(r.name for r in plotted)
-            save_figure(figure_outputs(plotted, title), tmp / f"outputs.{ext}")
-            save_figure(figure_inputs(plotted, title), tmp / f"inputs.{ext}")
+            _save_figure(figure_outputs(plotted, title), tmp / f"outputs.{ext}")
+            _save_figure(figure_inputs(plotted, title), tmp / f"inputs.{ext}")
         summary = {"tetherheli_version": __version__, "command": command, "runs": infos}
         write_json(tmp / "summary.json", summary)
         lines = [f"# {title if plotted else 'comparison'}", "", f"Produced by `{command}`.", ""]
@@ -641,8 +672,9 @@ def run_sensing(
     from ..scenario import load_scenario
     from ..sensing.estimation import FUSIONS
     from ..studies.estimation import estimate_run
+    from ..viz.figure import _save_figure  # the formats: checked at the entry
     from ..viz.formats import check_figure_format
-    from ..viz.plots import figure_sensing, save_figure
+    from ..viz.plots import figure_sensing
 
     figure_format = check_figure_format(figure_format)
     check_result_format(data_format)
@@ -689,8 +721,8 @@ def run_sensing(
     fig = figure_sensing(results, estimates)
     with output_directory(out_dir, writer="sensing", inputs=scenarios or (), force=force) as tmp:
         for name, r in results.items():
-            r.save(tmp, name, format=data_format)
-        save_figure(fig, tmp / f"sensing.{figure_format}")
+            r._save(tmp, name, format=data_format)
+        _save_figure(fig, tmp / f"sensing.{figure_format}")
         info = {
             "tetherheli_version": __version__,
             "command": command,

@@ -14,10 +14,11 @@ import numpy as np
 from .._io import output_directory, write_json
 from .._version import __version__
 from ..names import METRIC_UNITS
-from ..results.files import check_result_format, write_table
+from ..results.files import _write_table, check_result_format
 from ..studies.sweep import SweepResult, parameter_label
+from ..viz.figure import _save_figure
 from ..viz.formats import check_figure_format, figures_for_files
-from ..viz.plots import figure_sweep, save_figure
+from ..viz.plots import figure_sweep
 
 __all__ = ["write_sweep", "write_sweep_folder"]
 
@@ -156,8 +157,8 @@ def write_sweep_folder(
     fig = draw()
     units = {k: v for k, v in (units or {}).items() if v}
     with output_directory(out_dir, writer="sweep", inputs=inputs, force=force) as tmp:
-        save_figure(fig, tmp / f"sweep.{figure_format}")
+        _save_figure(fig, tmp / f"sweep.{figure_format}")
         # the CSV quotes a status holding a comma
-        write_table(tmp / f"sweep.{data_format}", header, rows, units=units)
+        _write_table(tmp / f"sweep.{data_format}", header, rows, units=units)
         info = {**summary, "tetherheli_version": __version__, "command": command}
         write_json(tmp / "summary.json", info)

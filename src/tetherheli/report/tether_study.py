@@ -12,7 +12,7 @@ from typing import Any
 from .._io import atomic_write_text, claim_output_directory, output_directory, write_json
 from .._version import __version__
 from ..names import METRIC_UNITS
-from ..results.files import check_result_format, write_table
+from ..results.files import _write_table, check_result_format
 from ..studies.tether_cables import STUDY_CABLES, StudyCable
 from ..studies.tether_study import (
     DEFAULT_ELEVATIONS_DEG,
@@ -148,7 +148,7 @@ def _write(
     data_format: str = "csv",
 ) -> dict[str, Any]:
     """``write_tether_study`` with ``figure_format`` and ``data_format`` checked."""
-    from ..viz.plots import save_figure
+    from ..viz.figure import _save_figure
     from ..viz.tether_study import (
         figure_study_reduction,
         figure_study_sensing,
@@ -164,7 +164,7 @@ def _write(
     }
     with output_directory(out, writer="tether-study", force=force) as tmp:
         for name, fig in figures.items():
-            save_figure(fig, tmp / name)
+            _save_figure(fig, tmp / name)
         atomic_write_text(tmp / "study.md", _study_page(result))
         for name in ("static", "dynamic", "sensing"):
             _table(tmp / f"{name}.{data_format}", getattr(result, name))
@@ -215,10 +215,11 @@ def _unit(column: str) -> str | None:
 
 
 def _table(path: Path, rows: Sequence[dict[str, Any]]) -> None:
-    """One of the study's tables (``write_table``): a column per key of the first row."""
+    """One of the study's tables (``write_table``, its format checked by the writer's
+    entry): a column per key of the first row."""
     columns = list(rows[0]) if rows else []
     units = {c: u for c in columns if (u := _unit(c)) is not None}
-    write_table(path, columns, [[r.get(c, "") for c in columns] for r in rows], units=units)
+    _write_table(path, columns, [[r.get(c, "") for c in columns] for r in rows], units=units)
 
 
 def _f(x: Any, spec: str) -> str:

@@ -352,7 +352,20 @@ def write_table(
         Parquet without pyarrow (``check_result_format`` says so before a run).
     """
     path = Path(path)
-    fmt = check_result_format(path.suffix[1:])
+    check_result_format(path.suffix[1:])
+    return _write_table(path, header, rows, units=units)
+
+
+def _write_table(
+    path: Path,
+    header: Sequence[str],
+    rows: Iterable[Sequence[Any]],
+    *,
+    units: dict[str, str] | None = None,
+) -> Path:
+    """``write_table`` of a path whose suffix the caller checked (``check_result_format``
+    at a writer's entry)."""
+    fmt = path.suffix[1:]
     if fmt == "csv":
         atomic_write_text(path, table_csv(header, rows))
         return path

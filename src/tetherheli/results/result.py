@@ -629,6 +629,12 @@ class SimulationResult(SummaryRepr):
             naming it.
         """
         check_result_format(format)
+        return self._save(directory, stem, format=format)
+
+    def _save(
+        self, directory: str | Path, stem: str | None = None, *, format: str = "csv"
+    ) -> dict[str, Path]:
+        # ``save`` of a format the caller checked (a writer, at its entry)
         directory = Path(directory)
         try:
             directory.mkdir(parents=True, exist_ok=True)

@@ -320,14 +320,15 @@ def _python_run(
     loop; ``summary`` receives the
     engine's on-line metrics of it (``engine.SUMMARY_FIELDS``, from the recorded samples at
     or after ``metrics_start``). Returns (status, samples done)."""
-    from .closed_loop import simulate
+    from .closed_loop import _simulate
     from .mpc_setup import mpc_controller
 
     # the MPC designed on ``design_params``; the other Python controllers are simulate's own
     # (``runs.landing``, ``control.deck``)
     mpc = scenario.control.controller == "mpc"
     controller = mpc_controller(scenario, setup, design_params) if mpc else None
-    result = simulate(scenario, controller=controller, design_params=design_params)
+    # its memory checked by run_batch, as a recorded run (``check_run_memory``)
+    result = _simulate(scenario, controller=controller, design_params=design_params)
     # the engine's own accumulation over the recorded samples (one definition of the metrics)
     summarize(
         np.ascontiguousarray(result.states), np.ascontiguousarray(result.trim_state),
@@ -551,8 +552,8 @@ def run_batch(
     if n == 0:
         return BatchResult(summaries, status, done)
     for s in scenarios:  # fail fast, before any work is sent anywhere
-        _check(s)
-        check_run_memory(s, record=False, concurrent=min(workers, n))
+        _check(s)  # a run of a Python controller is recorded (``simulate``'s loop)
+        check_run_memory(s, record=python_controlled(s), concurrent=min(workers, n))
     if client is not None:
         for idx, (sm, st, dn, why) in _run_on_cluster(
             client, scenarios, design_params, record_setup_failures, worker_timeout_s, lanes

@@ -154,21 +154,41 @@ def simulate(
     if method not in ("rk4", "adaptive"):
         raise ParameterError("method", method, "'rk4' or 'adaptive'")
     check_run_memory(scenario)
+    return _simulate(
+        scenario, method=method, controller=controller, rtol=rtol, atol=atol,
+        design_params=design_params,
+    )  # fmt: skip
+
+
+def _simulate(
+    scenario: Scenario,
+    *,
+    method: Method = "rk4",
+    controller: Controller | None = None,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    design_params: Params | None = None,
+) -> SimulationResult:
+    """``simulate`` of arguments already checked, its memory included (``check_run_memory``,
+    recorded): a command that checked every run before the first (``tetherheli simulate``),
+    a batch's run of a Python controller (``run_batch``)."""
     setup = engine_setup(scenario, design_params)
     trim, wind, noise = setup.trim, setup.wind, setup.noise
     n = scenario.n_samples
     landing = scenario.maneuver.landing
     paper = controller is None and not python_controlled(scenario)  # the compiled law
-    if controller is None:  # the Python controllers of a scenario (``python_controlled``)
+    compiled = paper and method == "rk4" and wind is not None  # the loop without Python
+    if controller is None and not compiled:  # a scenario's controller in Python
         if landing:
             controller = landing_controller(scenario, setup)
         elif scenario.reference == "ground" and not scenario.base_motion.fixed:
             controller = ground_hold_controller(scenario, setup)
-        elif scenario.control.controller != "mpc":
+        elif scenario.control.controller != "mpc":  # the paper's law, flown by Python
             controller = setup.paper_controller()
         else:
             controller = mpc_controller(scenario, setup, design_params)
     if scenario.control.base_feedforward:  # (over a moving base: validated)
+        assert controller is not None  # (python_controlled: never the compiled loop)
         motion = scenario.base_motion
         controller = DeckFeedforward(
             controller, lambda t: motion.state(t)[0, 2], scenario.params.helicopter.m
@@ -188,14 +208,15 @@ def simulate(
     rec = _Recorder(
         n, drum=scenario.winch.model == "drum", lumped=lumped, nodes=_recorded_nodes(scenario)
     )
-    if paper and method == "rk4" and wind is not None:
+    if controller is None:  # the compiled law
         status, done = engine.run_closed_loop(*setup.engine_args(n), True, rec.signals, rec.summary)
+        columns: dict[str, np.ndarray] = {}
     else:  # the same sample step, the controller's slot in Python
         run = setup.step_run(rec.signals, rec.summary)
         status, done, record = _python_loop(
             scenario, setup, run, controller, method, touchdown, rtol=rtol, atol=atol
         )
-    columns = controller.recorded()  # e.g. the MPC's fallbacks
+        columns = controller.recorded()  # e.g. the MPC's fallbacks
     # a run whose solver failed too often is degraded or failed (status.solver_status)
     status = solver_status(status, columns.get(FALLBACK_COLUMN, ())[:done])
     result = rec.result(

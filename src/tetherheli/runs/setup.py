@@ -19,7 +19,7 @@ import numpy as np
 
 from ..base.compiled import CompiledBase, compile_base
 from ..control.lqi import LQIGain
-from ..control.paper import PaperController, check_law
+from ..control.paper import PaperController
 from ..control.tether_lqi import TetherLQIGain, _tether_lqi_gain
 from ..engine import loop as engine
 from ..engine import lumped_step, stepping
@@ -218,7 +218,8 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
     cfg[CFG_METRICS_FROM] = scenario.metrics_first_sample
     cfg[CFG_LUMPED] = float(lumped)
     cfg[CFG_ARM] = params.helicopter.tether_arm
-    check_law(ctrl, gain.K)  # the engine's law by name, with its gain (validated once, here)
+    # the law by name with its gain (``control.paper.check_law``'s pair), both from
+    # ``lqi_on_tether``: the engine trusts them
     return RunSetup(model, trim, gain, ctrl, cfg)
 
 
@@ -366,7 +367,7 @@ class EngineSetup:
             A controller the Python loop (``simulate``) can fly.
         """
         K, x_ref, y_ref, u0, u0_free, z0 = self.law
-        return PaperController(
+        return PaperController(  # its law checked there (``control.paper.check_law``)
             K, x_ref, y_ref, u0, self.ctrl, self.model.constants,
             free_trim_input=u0_free, z_init=z0,
         )  # fmt: skip

@@ -19,12 +19,14 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .._linalg import _discretize_zoh
 from .._validation import trusted
-from ..control.lqi import LQIGain, design_lqi
+from ..control.lqi import LQIGain, _augment_lqi, _design_lqi
 from ..control.tether_lqi import TetherLQIGain
 from ..errors import InfeasibleError
 from ..layout import CTRL_FFWD, CTRL_WINCH, empty_chain
-from ..model import TetheredHelicopter, TrimPoint, kernels, linearize
+from ..model import TetheredHelicopter, TrimPoint, kernels
+from ..model.linearization import _linearize
 from ..model.trim import _hover_trim
 from ..names import TETHERED_STATE
 from ..params import Params
@@ -77,9 +79,10 @@ def paper_gain(
         The discrete LQI gain K = [K_x, K_z], shape (4, 16).
     """
     model = TetheredHelicopter(params)
-    lin = linearize(model, _hover_trim(params, 0.0, q9)).select(LQI_STATES)
-    G, H = lin.discretize(dt)
-    return design_lqi(G, H, lin.C, dt, Qy=np.diag(Qy), Ru=np.diag(Ru))
+    lin = _linearize(model, _hover_trim(params, 0.0, q9)).select(LQI_STATES)
+    G, H = _discretize_zoh(lin.A, lin.B, dt)  # dt, Qy and Ru: checked by the scenario
+    G_lqi, H_lqi, C_lqi = _augment_lqi(G, H, lin.C, dt)
+    return _design_lqi(G_lqi, H_lqi, C_lqi, dt, np.diag(Qy), np.diag(Ru))
 
 
 def load_cell_trim(trim: TrimPoint, ground_tension: float, model: TetheredHelicopter) -> TrimPoint:

@@ -276,10 +276,18 @@ def save_figure(fig: Figure, path: str | Path, dpi: float | None = None) -> Path
     Path
         The file written.
     """
+    path = Path(path)
+    check_figure_format(path.suffix.lower().lstrip("."))
+    return _save_figure(fig, path, dpi)
+
+
+def _save_figure(fig: Figure, path: str | Path, dpi: float | None = None) -> Path:
+    """``save_figure`` of a path whose suffix the caller checked (a writer that checked its
+    ``figure_format`` argument once, at its entry)."""
     import io
 
     path = Path(path)
-    fmt = check_figure_format(path.suffix.lower().lstrip("."))
+    fmt = path.suffix.lower().lstrip(".")
     dpi = figure_dpi() if dpi is None else dpi
     if fmt == "png":
         atomic_write_bytes(path, _png_bytes(fig, dpi))
