@@ -35,7 +35,7 @@ from ..model.kernels import (
 )
 from ..tether.coupling import force_at_P_loads_sc
 from ..tether.lumped import chain_forces, chain_interval, coupling_substeps
-from ..wind.evaluate import base_frame_force, gust_velocity
+from ..wind.evaluate import air_relative_to_base, base_frame_force, gust_velocity
 
 _jit = compiled(error_model="numpy")
 _jit_inline = compiled(error_model="numpy", inline="always")
@@ -107,9 +107,10 @@ def _node_air(gust, gust_dt, t, air):
 
 @_jit_inline
 def chain_in_base_frame(base, t, air, p):
-    """Over a moving base, the chain's air at time t relative to the base (air - b'(t)) and
-    the base's acceleration b''(t) into p[LUMPED_BASE_ACC] (``tether.lumped``: the chain in
-    the base's translating frame); a still base leaves both alone.
+    """Over a moving base, the chain's air at time t relative to the base (air - b'(t),
+    ``wind.evaluate.air_relative_to_base``: the still air's, -b'(t), added to every node's)
+    and the base's acceleration b''(t) into p[LUMPED_BASE_ACC] (``tether.lumped``: the chain
+    in the base's translating frame); a still base leaves both alone.
 
     Parameters
     ----------
@@ -124,11 +125,12 @@ def chain_in_base_frame(base, t, air, p):
         [m/s^2].
     """
     if base[0, BASE_MOVING] > 0.5:
-        _, _, _, v1, v2, v3, a1, a2, a3 = base_at(base, t)
+        w1, w2, w3 = air_relative_to_base(base, t, 0.0, 0.0, 0.0)
         for i in range(air.shape[0]):
-            air[i, 0] -= v1
-            air[i, 1] -= v2
-            air[i, 2] -= v3
+            air[i, 0] += w1
+            air[i, 1] += w2
+            air[i, 2] += w3
+        _, _, _, _, _, _, a1, a2, a3 = base_at(base, t)
         p[LUMPED_BASE_ACC] = a1
         p[LUMPED_BASE_ACC + 1] = a2
         p[LUMPED_BASE_ACC + 2] = a3

@@ -65,6 +65,7 @@ from ..params import Params
 from ..scenario.core import Scenario
 from ..tether.lumped_trim import _hover_trim_lumped
 from ..wind import CompiledWind, compile_wind
+from ..wind.evaluate import air_relative_to_base
 from .packing import (
     actuator_array,
     read_only,
@@ -468,7 +469,9 @@ def run_base(scenario: Scenario, model: TetheredHelicopter) -> CompiledBase:
 def base_velocity(scenario: Scenario) -> np.ndarray:
     """The base's velocity b'(0) in N at the run's start [m/s] (zero for the paper's still
     winch): HO starts at rest relative to the base, so at this velocity in N, and the start's
-    trim balances the air relative to it (``start.start_point``).
+    trim balances the air relative to it (``start.start_point``): the still air's velocity
+    relative to the base negated, from the one rule the engine flies
+    (``wind.evaluate.air_relative_to_base`` on the packed base).
 
     Parameters
     ----------
@@ -482,4 +485,4 @@ def base_velocity(scenario: Scenario) -> np.ndarray:
     motion = scenario.base_motion
     if motion.fixed:
         return np.zeros(3)
-    return np.asarray(motion.state(0.0), dtype=float)[0, 1].copy()  # (t, [b, b', b"], axis)
+    return -np.array(air_relative_to_base(compile_base(motion).packed, 0.0, 0.0, 0.0, 0.0))
