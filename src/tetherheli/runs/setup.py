@@ -20,6 +20,7 @@ import numpy as np
 from ..base.compiled import CompiledBase, compile_base
 from ..control.lqi import LQIGain
 from ..control.paper import PaperController, check_law
+from ..control.registry import controller_entry
 from ..control.tether_lqi import TetherLQIGain, _tether_lqi_gain
 from ..engine import loop as engine
 from ..engine import lumped_step, stepping
@@ -178,7 +179,7 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
         raise design_failure(
             "control.Qy/Ru", f"Qy = {list(c.Qy)}, Ru = {list(c.Ru)}", exc
         ) from None
-    lqi_on_tether = c.controller == "tether_lqi"
+    lqi_on_tether = controller_entry(c.controller).law == "tether_lqi"
     if lqi_on_tether:  # its plant contains the tether: no feed-forward (eq 55), no PI (eq 56)
         w = c.tether_lqi
         try:
@@ -394,7 +395,7 @@ def python_controlled(scenario: Scenario) -> bool:
     bool
     """
     return (
-        scenario.control.controller == "mpc"
+        not controller_entry(scenario.control.controller).compiled
         or scenario.maneuver.landing
         or scenario.control.base_feedforward
         or (scenario.reference == "ground" and not scenario.base_motion.fixed)
