@@ -440,7 +440,9 @@ def kinematics() -> Kinematics:
     F_u.set_ang_vel(N, u[3] * F_u.x + u[4] * F_u.y + u[5] * F_u.z)
     P_u = HO_u.locatenew("P_u", arm * F_u.z)
     v_P = P_u.v2pt_theory(HO_u, N, F_u).to_matrix(N)
-    # the inverse of P = q9 c3: q9 = |P|, then c3 = P / q9 = [s8, -s7 c8, c7 c8] (eq 27)
+    # the inverse of P = q9 c3: q9 = |P|, then c3 = P / q9 = [s8, -s7 c8, c7 c8] (eq 27); in
+    # floating point |P1| / |P| never exceeds 1 (sqrt(fl(x^2)) = |x| and rounding is
+    # monotonic), so asin needs no clamp
     P = sp.symbols("P1:4", real=True)
     norm = sp.sqrt(P[0] ** 2 + P[1] ** 2 + P[2] ** 2)
     angles = sp.Matrix([sp.atan2(-P[1], P[2]), sp.asin(P[0] / norm), norm])
