@@ -158,16 +158,11 @@ def wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out):
     _wind_program_force(program, t, side, out)
     if gust_dt > 0.0 and gust.shape[0] > 0:
         g1, g2, g3 = gust_velocity(gust, gust_dt, t)
-        _add_drag(drag, g1 - v1, g2 - v2, g3 - v3, out)
-
-
-@_jit_inline
-def _add_drag(drag, r1, r2, r3, out):
-    """out += 0.5 rho CdA_i |r| r_i: the bluff-body drag of the air r relative to HO [N]."""
-    speed = math.sqrt(r1 * r1 + r2 * r2 + r3 * r3)
-    out[0] += drag[0] * speed * r1
-    out[1] += drag[1] * speed * r2
-    out[2] += drag[2] * speed * r3
+        r1, r2, r3 = g1 - v1, g2 - v2, g3 - v3
+        speed = math.sqrt(r1 * r1 + r2 * r2 + r3 * r3)
+        out[0] += drag[0] * speed * r1
+        out[1] += drag[1] * speed * r2
+        out[2] += drag[2] * speed * r3
 
 
 @_jit_inline
@@ -176,7 +171,9 @@ def air_relative_to_base(base, t, a1, a2, a3):
     a - b'(t) [m/s]; a still base leaves it alone. The one rule of the air over a moving
     base (``derive(moving_base=True)``: the coordinates and u1..u3 are relative to the base,
     so HO meets a - b'(t) - u): the helicopter's drag (``base_frame_force``,
-    ``air_force_on_base``) and the lumped chain's nodes (``engine.lumped_step``) take it.
+    ``air_force_on_base``), the lumped chain's nodes (``engine.lumped_step``) and the start
+    (``runs.setup.base_velocity``) take it, as the still air's a = 0 seen from the base,
+    -b'(t), added to the air.
 
     Parameters
     ----------
@@ -264,19 +261,15 @@ def air_force_on_base(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, o
 
 @_jit
 def _base_frame(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, out, inertial):
-    # ``wind_force`` for a still and a moving base: the base's rates come from a call
-    # (``base_rates``), so a still base's run compiles no ``base_at`` inline (a shorter first
-    # compilation). A still base adds nothing to the air or out. Typed once for every caller,
+    # One inlined ``wind_force`` for a still and a moving base: the base's rates come from a
+    # call (``base_rates``), so a still base's run compiles neither a second copy of the wind
+    # nor ``base_at`` inline (a shorter first compilation). The still air seen from the base,
+    # w = -b'(t) (``air_relative_to_base``; 0 for a still base), joins the air: the drag of
+    # g + w - v is ``wind_force``'s at HO's velocity v - w. Typed once for every caller,
     # inlined by LLVM (``inline_here``).
     inline_here()
-    out[0] = 0.0
-    out[1] = 0.0
-    out[2] = 0.0
-    _wind_program_force(program, t, side, out)
-    if gust_dt > 0.0 and gust.shape[0] > 0:
-        g1, g2, g3 = gust_velocity(gust, gust_dt, t)
-        g1, g2, g3 = air_relative_to_base(base, t, g1, g2, g3)
-        _add_drag(drag, g1 - v1, g2 - v2, g3 - v3, out)
+    w1, w2, w3 = air_relative_to_base(base, t, 0.0, 0.0, 0.0)
+    wind_force(program, gust, gust_dt, drag, t, side, v1 - w1, v2 - w2, v3 - w3, out)
     if inertial and base[0, BASE_MOVING] > 0.5:
         _, _, _, a1, a2, a3 = base_rates(frozen(base), t)
         m = base[0, BASE_MASS]
