@@ -92,3 +92,34 @@ def test_a_ship_under_way_in_still_air_feels_its_head_wind():
     calm = simulate(_steady((5.0, 0.0, 0.0), (5.0, 0.0, 0.0)))  # the air moves with the ship
     assert np.abs(calm.wind).max() < 1e-9
     assert np.abs(calm.states - ship.states).max() > 1e-3
+
+
+@pytest.mark.parametrize(
+    "base",
+    [
+        {"motion": "velocity", "velocity": [3.0, -2.0, 0.0]},
+        {"motion": "harmonic", "amplitude": [0.5, 0.3, 0.4], "frequency": [0.3, 0.2, 0.25],
+         "phase": [0.0, 1.0, 0.5]},
+    ],
+    ids=["velocity", "harmonic"],
+)  # fmt: skip
+def test_recorded_wind_is_the_drag_of_the_air_relative_to_the_helicopter(base):
+    """Over a moving base the coordinates and u1..u3 are relative to the base
+    (``derive(moving_base=True)``): HO moves at b'(t) + u in N, so the recorded wind force
+    is the drag 0.5 rho CdA |r| r of r = v_air - b'(t) - u (the mean wind plus the gust,
+    ``Turbulence.gust_velocity``; b'(t) from ``BaseMotion.state``; the drag typed here).
+    A flipped sign of b', b' taken in a z-down frame, or b' dropped each fail it."""
+    wind = _scenario((0.0, 0.0, 0.0), (4.0, 1.0, 0.0), duration=1.0).wind
+    s = scenario_from_dict({
+        "configuration": "tethered", "duration": 1.0, "wind": wind.to_dict(), "base": base,
+        "control": {"reference": "base"},
+    })  # fmt: skip
+    r = simulate(s)
+    assert r.ok
+    air = np.asarray(wind.N_v_mean_wind) + wind.gust_velocity(r.time)
+    b_dot = s.base_motion.state(r.time)[:, 1, :]
+    rel = air - b_dot - r.states[:, 6:9]
+    speed = np.linalg.norm(rel, axis=1, keepdims=True)
+    expected = 0.5 * 1.225 * np.array([0.4, 0.4, 0.8]) * speed * rel
+    assert np.abs(b_dot).max() > 0.5  # the base does move
+    np.testing.assert_allclose(r.wind, expected, rtol=1e-9, atol=1e-12)

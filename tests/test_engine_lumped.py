@@ -13,6 +13,7 @@ from tetherheli.engine import loop as engine
 from tetherheli.engine import lumped_step
 from tetherheli.errors import ParameterError
 from tetherheli.layout import CHAIN_NODES, CHAIN_PARAMS, LUMPED_MU
+from tetherheli.model.kernels import kinematics_P_motion_sc
 from tetherheli.runs.setup import engine_setup
 from tetherheli.scenario.core import Scenario, TetherSettings, paper_scenario
 from tetherheli.tether.coupling import tethered_derivative_force_at_P
@@ -54,7 +55,7 @@ def _open_loop(EA: float, segments: int, coupling: int, duration: float, dt: flo
 def _radau(setup, t_eval, nodes0, rtol=1e-9):
     """The monolithic reference: the joint ODE of the helicopter (the generated equations with
     the chain's force at P, ``tethered_derivative_force_at_P``, an independent route from the
-    engine's ``lumped_loads``) and the chain's free nodes, integrated by Radau."""
+    engine's ``force_at_P_loads_sc``) and the chain's free nodes, integrated by Radau."""
     x0 = setup.start.x.copy()
     p = setup.chain[CHAIN_PARAMS]
     n = nodes0.shape[0] - 1
@@ -75,7 +76,7 @@ def _radau(setup, t_eval, nodes0, rtol=1e-9):
         r = y[13 : 13 + 3 * (n - 1)].reshape(n - 1, 3)
         v = y[13 + 3 * (n - 1) :].reshape(n - 1, 3)
         engine.angle_trig(x, sc)
-        lumped_step.p_motion(x, sc, arm, pm)
+        kinematics_P_motion_sc(x, sc, arm, pm)
         xn = np.vstack([np.zeros(3), r, pm[:3]])
         vn = np.vstack([np.zeros(3), v, pm[3:]])
         chain_forces(xn, vn, air, x[12], p, F, T, K, C, D, False)
@@ -375,7 +376,7 @@ def test_helicopter_and_chain_conserve_energy_without_drag_damping_and_winch():
 
     def ends(x):
         engine.angle_trig(x, sc)
-        lumped_step.p_motion(x, sc, arm, pm)
+        kinematics_P_motion_sc(x, sc, arm, pm)
         return pm[:3].copy(), pm[3:].copy()
 
     def rhs(_t, y):
@@ -452,7 +453,7 @@ def _engine_energy_drift(EA: float, substeps: int = 2, segments: int = 10, durat
 
     def energy():
         engine.angle_trig(x, sc)
-        lumped_step.p_motion(x, sc, arm, pm)
+        kinematics_P_motion_sc(x, sc, arm, pm)
         xn, vn = chain[CHAIN_NODES].copy(), chain[CHAIN_VELOCITIES].copy()
         xn[n], vn[n] = pm[:3], pm[3:]
         z = tethered_HO_position(x[0], x[1], x[3], x[4], x[5], arm)[2]

@@ -14,6 +14,8 @@ from tetherheli.model import kernels
 from tetherheli.model.kinematics import (
     direction_cosines,
     helicopter_points,
+    tether_angles,
+    tether_direction,
     tether_length_from_altitude,
     tethered_HO_position,
 )
@@ -197,3 +199,44 @@ def test_compiled_kernels_equal_the_numpy_form(angles):
         np.testing.assert_allclose(HO, tethered_HO_position(*q[[0, 1, 3, 4, 5]], ARM), atol=1e-15)
         length = kernels.kinematics_tether_length(q, HO[2], ARM)
         assert length == pytest.approx(q[5], rel=1e-13)
+
+
+def _c3_by_rotations(q7, q8):
+    """c3 = R1(q7) R2(q8) e3: C turned by q7 about n1, then by q8 about the new 2-axis
+    (eq 27), by explicit rotation matrices."""
+    s7, c7, s8, c8 = np.sin(q7), np.cos(q7), np.sin(q8), np.cos(q8)
+    R1 = np.array([[1.0, 0.0, 0.0], [0.0, c7, -s7], [0.0, s7, c7]])
+    R2 = np.array([[c8, 0.0, s8], [0.0, 1.0, 0.0], [-s8, 0.0, c8]])
+    return R1 @ R2 @ np.array([0.0, 0.0, 1.0])
+
+
+def test_tether_direction_is_eq_27_and_the_angles_invert_it(angles):
+    """c3(q7, q8) equals the rotations of eq 27; (q7, q8, q9) of q9 c3 gives them back
+    (the inverse the GNSS position source, the landing's references and the encoders use);
+    the compiled kernels equal the NumPy form."""
+    q7, q8, q9 = angles[:, 3], angles[:, 4], angles[:, 5]
+    c3 = tether_direction(q7, q8)
+    ref = np.array([_c3_by_rotations(a, b) for a, b in zip(q7, q8, strict=True)])
+    np.testing.assert_allclose(c3, ref, rtol=0.0, atol=1e-15)
+    back = tether_angles(q9[:, None] * c3)
+    np.testing.assert_allclose(back, [q7, q8, q9], rtol=1e-13, atol=1e-13)
+    e, a = np.empty(3), np.empty(3)
+    for q in angles[:5]:
+        kernels.kinematics_tether_direction(q, e)
+        np.testing.assert_array_equal(e, tether_direction(q[3], q[4]))
+        kernels.kinematics_tether_angles(q[5] * e, a)
+        np.testing.assert_allclose(a, q[3:6], rtol=1e-13, atol=1e-14)
+
+
+def test_P_motion_is_q9_c3_and_v_HO_plus_omega_cross_arm_f3(angles, rng):
+    """P = q9 c3 and v_P = v_HO + N_R_F (w x arm e3) (eqs 7-8, 27, 43-45), with N_R_F of
+    Table I (``newton_euler.dcm_table_i``) and the cross product by NumPy."""
+    out, sc = np.empty(6), np.empty(10)
+    for q in angles[:10]:
+        x = np.concatenate([q, rng.normal(size=6), [q[5]]])
+        kernels.angle_trig(x, sc)
+        kernels.kinematics_P_motion_sc(x, sc, ARM, out)
+        np.testing.assert_allclose(out[:3], q[5] * _c3_by_rotations(q[3], q[4]), atol=1e-13)
+        R = dcm_table_i(*q[:3])
+        v_P = x[6:9] + R @ np.cross(x[9:12], [0.0, 0.0, ARM])
+        np.testing.assert_allclose(out[3:], v_P, rtol=0.0, atol=1e-14)

@@ -342,11 +342,16 @@ def test_to_dict_round_trip(preset):
 
 
 def test_presets_numbers():
-    """The documented preset numbers: consumer GPS 1.5 / 3 m, encoders 0.1 deg, altimeter
-    5 cm, attitude 0.5 deg."""
+    """The documented preset numbers: consumer GPS about 1.5 / 3 m (the ``consumer_gnss``
+    receiver of SENSOR_PRESETS, its white 0.2 / 0.4 m and Gauss-Markov 1.5 / 3 m in
+    quadrature), RTK about 1 / 2 cm, velocity 0.05 m/s for the GPS and the tether, encoders
+    0.1 deg, altimeter 5 cm, attitude 0.5 deg."""
     gps, tether = SensorConfig.typical_gps(), SensorConfig.typical_tether()
-    assert gps.position_source == "gps" and gps.gps_std == (1.5, 1.5, 3.0)
-    assert gps.velocity_std == 0.1
+    rtk = SensorConfig.typical_rtk_gps()
+    assert gps.position_source == "gps"
+    np.testing.assert_allclose(gps.gps_std, [1.5133, 1.5133, 3.0266], rtol=1e-4)
+    np.testing.assert_allclose(rtk.gps_std, [0.01118, 0.01118, 0.02236], rtol=1e-3)
+    assert gps.velocity_std == tether.velocity_std == 0.05 and rtk.velocity_std == 0.02
     assert tether.position_source == "tether"
     assert tether.encoder_std == pytest.approx(1.745e-3, rel=1e-3)
     assert tether.altimeter_std == 0.05

@@ -21,6 +21,7 @@ import math
 from pathlib import Path
 from typing import Any
 
+from .control.registry import controller_entry
 from .viz.formats import figures_for_files
 
 __all__ = ["COLUMN_UNITS", "compare", "markdown_reductions", "write_compare"]
@@ -58,10 +59,11 @@ def compare(
     """One row per (scenario, controller): ``scenario``, ``configuration``, ``controller``,
     ``status`` and ``controllers.CONTROLLER_METRICS``.
 
-    Each run is flown twice and the second timed (the first compiles what it needs). A
-    free scenario is flown under the paper's controller only. With ``workers`` > 1 the runs
-    fly side by side (``studies.robust.run_threads``): the same measures, but each compute
-    time is taken with the other runs in flight.
+    Each run is flown twice and the second timed (the first compiles what it needs). A scenario
+    is flown by those of ``controllers`` that fly its configuration (``control.registry``; a
+    free one by the paper's alone when none of them does). With ``workers`` > 1 the runs fly
+    side by side (``studies.robust.run_threads``): the same measures, but each compute time is
+    taken with the other runs in flight.
 
     Parameters
     ----------
@@ -91,7 +93,9 @@ def compare(
         base = load_scenario(path)
         if eq40:
             base = eq40_saturated(base)
-        names = controllers if base.configuration == "tethered" else ("paper",)
+        names = tuple(  # the controllers that fly this configuration (control.registry)
+            n for n in controllers if base.configuration in controller_entry(n).configurations
+        ) or ("paper",)
         for name in names:  # weights without a design are the file's error: refused, named
             named_source(path, check_design, with_controller(base, name))
         runs.extend((base, name) for name in names)

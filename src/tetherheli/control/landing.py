@@ -22,7 +22,6 @@ the same gain so scaled; a test checks it). Without it the feedback on the angle
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import NamedTuple
@@ -30,6 +29,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..layout import CTRL_T_REF
+from ..model.kinematics import tether_angles
 from .base import Command, Measurement
 from .paper import PaperController
 
@@ -327,11 +327,8 @@ class GroundHoldController(MovingReferenceController):
         y_ref = self._y_ref0.copy()
         y_ref[:3] -= b[0] - self._b0
         P = y_ref[:3] - self._d
-        q9 = float(np.linalg.norm(P))
-        c3 = P / q9
         x_ref = self._x_ref0.copy()
-        x_ref[3] = math.atan2(-c3[1], c3[2])  # q7
-        x_ref[4] = math.asin(max(-1.0, min(1.0, c3[0])))  # q8
-        x_ref[5] = q9
+        x_ref[3:6] = tether_angles(P)  # q7, q8, q9: P = q9 c3 inverted (eq 27)
+        c3 = P / x_ref[5]
         x_ref[6:9] = -b[1]  # HO's velocity relative to the base
         return References(x_ref, y_ref, self._u00, self._T_ref, float(c3 @ -b[1]))

@@ -489,13 +489,13 @@ def run_lanes(
             for i in range(10):
                 for j in range(LANES):
                     e = i * LANES + j
-                    state.sc_true[e] = state.sc_true[e] if active[j] else sc_init[e]
+                    state.loop.sc_true[e] = state.loop.sc_true[e] if active[j] else sc_init[e]
             for i in range(4):
                 for j in range(LANES):
                     e = i * LANES + j
-                    state.inp[e] = state.inp[e] if active[j] else u0[j, i]
-        rk4_lanes(x, state.sc_true, state.inp, rate, t0, h, n_sub, attached, k_c, c_lanes,
-                  lane_wind, work)  # fmt: skip
+                    state.loop.inputs[e] = state.loop.inputs[e] if active[j] else u0[j, i]
+        rk4_lanes(x, state.loop.sc_true, state.loop.inputs, rate, t0, h, n_sub, attached, k_c,
+                  c_lanes, lane_wind, work)  # fmt: skip
         k += 1
     keep_alive(own)
 
@@ -506,11 +506,11 @@ def _finish_lane(j, state, summary):
     metrics, release event and first payout limit (``summary.finish_summary``'s)."""
     for f in range(summary.shape[1]):
         summary[j, f] = state.summary[f * LANES + j]
-    summary[j, SUMMARY_RELEASE_TIME] = state.event[j]
-    summary[j, SUMMARY_RELEASE_TENSION] = state.event[LANES + j]
+    summary[j, SUMMARY_RELEASE_TIME] = state.loop.event[j]
+    summary[j, SUMMARY_RELEASE_TENSION] = state.loop.event[LANES + j]
     held = state.scratch[:HELD_SIZE]  # the lane's held row (``winch_limit_into`` reads it)
     for i in range(HELD_SIZE):
-        held[i] = state.held[i * LANES + j]
+        held[i] = state.loop.held[i * LANES + j]
     winch_limit_into(held, summary[j])
 
 

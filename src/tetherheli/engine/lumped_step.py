@@ -30,10 +30,12 @@ from ..layout import (
 from ..model.kernels import (
     angle_trig,
     angle_trig_from,
+    kinematics_P_motion_sc,
     tethered_rhs_sc,
 )
+from ..tether.coupling import force_at_P_loads_sc
 from ..tether.lumped import chain_forces, chain_interval, coupling_substeps
-from ..wind.evaluate import base_frame_force, gust_velocity
+from ..wind.evaluate import air_relative_to_base, base_frame_force, gust_velocity
 
 _jit = compiled(error_model="numpy")
 _jit_inline = compiled(error_model="numpy", inline="always")
@@ -94,80 +96,6 @@ def _lumped_work(n):
 
 
 @_jit_inline
-def p_motion(x, sc, arm, out):
-    """out (6,) = the position of P from the winch NO [m] and its velocity [m/s] in N:
-    P = q9 c3 (eqs 43-45; c3 = [s8, -s7 c8, c7 c8]) and v_P = v_HO + w x (arm f3) with
-    v_HO = (u1, u2, u3) in N and w = (u4, u5, u6) in F: w x arm f3 = arm (u5 f1 - u4 f2).
-    sc (10,) the sin, cos of x[0..4] (f1, f2 from Table I's columns).
-
-    Parameters
-    ----------
-    x : numpy.ndarray, shape (13,)
-        The state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
-    sc : numpy.ndarray, shape (10,)
-        sin, cos of x[0..4].
-    arm : float
-        The arm dO-P,3 - dO-HO,3 of P along f3 [m] (cfg[CFG_ARM]).
-    out : numpy.ndarray, shape (6,)
-        Receives P's position [m] and velocity [m/s] in N.
-    """
-    s4, s5, s6, s7, s8 = sc[0], sc[1], sc[2], sc[3], sc[4]
-    c4, c5, c6, c7, c8 = sc[5], sc[6], sc[7], sc[8], sc[9]
-    q9 = x[5]
-    out[0] = q9 * s8
-    out[1] = -q9 * s7 * c8
-    out[2] = q9 * c7 * c8
-    a4 = -arm * x[9]
-    a5 = arm * x[10]
-    out[3] = x[6] + a5 * (c5 * c6) + a4 * (-c5 * s6)
-    out[4] = x[7] + a5 * (s5 * c6 * s4 + s6 * c4) + a4 * (c6 * c4 - s5 * s6 * s4)
-    out[5] = x[8] + a5 * (s6 * s4 - c6 * s5 * c4) + a4 * (s5 * s6 * c4 + c6 * s4)
-
-
-@_jit_inline
-def lumped_loads(sc, inp, wind, force_P, arm, inp_out, wind_out):
-    """``tether_lumped.force_at_P_as_loads`` with the sin, cos sc (10,) of the stage given:
-    a force F [N, in N] at P = HO + arm f3 enters the generated equations as wind + F and the
-    rotor torques tMR1 - arm F.f2, tMR2 + arm F.f1 (f1, f2 from Table I's columns).
-
-    Parameters
-    ----------
-    sc : numpy.ndarray, shape (10,)
-        sin, cos of the stage's angles x[0..4].
-    inp : numpy.ndarray, shape (4,)
-        The rotor inputs [N, N m, N m, N].
-    wind : numpy.ndarray, shape (3,)
-        The wind force on HO in N [N].
-    force_P : numpy.ndarray, shape (3,)
-        The chain's force on P in N [N].
-    arm : float
-        The arm of P along f3 [m] (cfg[CFG_ARM]).
-    inp_out : numpy.ndarray, shape (4,)
-        Receives the inputs with the force's torques [N, N m, N m, N].
-    wind_out : numpy.ndarray, shape (3,)
-        Receives wind + F [N].
-    """
-    s4, s5, s6 = sc[0], sc[1], sc[2]
-    c4, c5, c6 = sc[5], sc[6], sc[7]
-    f1 = (
-        force_P[0] * (c5 * c6)
-        + force_P[1] * (s5 * c6 * s4 + s6 * c4)
-        + force_P[2] * (s6 * s4 - c6 * s5 * c4)
-    )
-    f2 = (
-        force_P[0] * (-c5 * s6)
-        + force_P[1] * (c6 * c4 - s5 * s6 * s4)
-        + force_P[2] * (s5 * s6 * c4 + c6 * s4)
-    )
-    for j in range(3):
-        wind_out[j] = wind[j] + force_P[j]
-    inp_out[0] = inp[0]
-    inp_out[1] = inp[1] - arm * f2
-    inp_out[2] = inp[2] + arm * f1
-    inp_out[3] = inp[3]
-
-
-@_jit_inline
 def _node_air(gust, gust_dt, t, air):
     """The gust table's air velocity at t [m/s] on every node (uniform field)."""
     g1, g2, g3 = gust_velocity(gust, gust_dt, t)
@@ -179,9 +107,10 @@ def _node_air(gust, gust_dt, t, air):
 
 @_jit_inline
 def chain_in_base_frame(base, t, air, p):
-    """Over a moving base, the chain's air at time t relative to the base (air - b'(t)) and
-    the base's acceleration b''(t) into p[LUMPED_BASE_ACC] (``tether.lumped``: the chain in
-    the base's translating frame); a still base leaves both alone.
+    """Over a moving base, the chain's air at time t relative to the base (air - b'(t),
+    ``wind.evaluate.air_relative_to_base``: the still air's, -b'(t), added to every node's)
+    and the base's acceleration b''(t) into p[LUMPED_BASE_ACC] (``tether.lumped``: the chain
+    in the base's translating frame); a still base leaves both alone.
 
     Parameters
     ----------
@@ -196,11 +125,12 @@ def chain_in_base_frame(base, t, air, p):
         [m/s^2].
     """
     if base[0, BASE_MOVING] > 0.5:
-        _, _, _, v1, v2, v3, a1, a2, a3 = base_at(base, t)
+        w1, w2, w3 = air_relative_to_base(base, t, 0.0, 0.0, 0.0)
         for i in range(air.shape[0]):
-            air[i, 0] -= v1
-            air[i, 1] -= v2
-            air[i, 2] -= v3
+            air[i, 0] += w1
+            air[i, 1] += w2
+            air[i, 2] += w3
+        _, _, _, _, _, _, a1, a2, a3 = base_at(base, t)
         p[LUMPED_BASE_ACC] = a1
         p[LUMPED_BASE_ACC + 1] = a2
         p[LUMPED_BASE_ACC + 2] = a3
@@ -208,11 +138,11 @@ def chain_in_base_frame(base, t, air, p):
 
 @_jit
 def chain_ends(x, t, cfg, gust, base, chain, cw):
-    """The chain's top node put on P (``p_motion``), its forces at t in the gust table's air
-    (``tether_lumped.chain_forces``, with the Jacobian blocks), and the ends' tensions into
-    cfg: CFG_TENSION_TOP = |force on P|, CFG_TENSION_GROUND = |force on the winch| (each end
-    force includes half an end segment's weight and drag, so the two differ by the cable's
-    weight in a still hang). cw = ``lumped_work(N)``; cw[6] receives the force on P [N].
+    """The chain's top node put on P (``kinematics_P_motion_sc``), its forces at t in the gust
+    table's air (``tether_lumped.chain_forces``, with the Jacobian blocks), and the ends'
+    tensions into cfg: CFG_TENSION_TOP = |force on P|, CFG_TENSION_GROUND = |force on the winch|
+    (each end force includes half an end segment's weight and drag, so the two differ by the
+    cable's weight in a still hang). cw = ``lumped_work(N)``; cw[6] receives the force on P [N].
     Over a moving ``base`` the chain is in the base's frame at t (``chain_in_base_frame``).
 
     Parameters
@@ -237,7 +167,7 @@ def chain_ends(x, t, cfg, gust, base, chain, cw):
     pm = cw[9]
     sc = np.empty(10)
     angle_trig(x, sc)
-    p_motion(x, sc, cfg[CFG_ARM], pm)
+    kinematics_P_motion_sc(x, sc, cfg[CFG_ARM], pm)
     n = nodes.shape[0] - 1
     for j in range(3):
         nodes[n, j] = pm[j]
@@ -268,13 +198,13 @@ def _lumped_stage(
     pm0, kc, cc, v_top, a_top = cw[12], cw[13], cw[14], cw[15], cw[16]
     base_frame_force(program, gust, cfg[CFG_GUST_DT], drag, base, t, side, xs[6], xs[7], xs[8],
                      wind)  # fmt: skip
-    p_motion(xs, sc, cfg[CFG_ARM], pm)
+    kinematics_P_motion_sc(xs, sc, cfg[CFG_ARM], pm)
     for a in range(3):
         fp[a] = force_P[a]
         for b in range(3):
             stretch = pm[b] - pm0[b] - (v_top[b] + 0.5 * a_top[b] * tau) * tau
             fp[a] -= kc[3 * a + b] * stretch + cc[3 * a + b] * (pm[3 + b] - pm0[3 + b])
-    lumped_loads(sc, inp, wind, fp, cfg[CFG_ARM], inp2, wind2)
+    force_at_P_loads_sc(sc, inp, wind, fp, cfg[CFG_ARM], inp2, wind2)
     tethered_rhs_sc(xs, sc, inp2, wind2, 0.0, c, out)
     out[12] = reel_rate
 
@@ -381,7 +311,7 @@ def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, wo
         for i in range(13):
             x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         angle_trig(x, sc0)
-        p_motion(x, sc0, cfg[CFG_ARM], pm)
+        kinematics_P_motion_sc(x, sc0, cfg[CFG_ARM], pm)
         if base[0, BASE_MOVING] > 0.5:  # the chain's step in the base's frame at mid-step
             _node_air(gust, cfg[CFG_GUST_DT], ta, air)
             chain_in_base_frame(base, tm, air, p)

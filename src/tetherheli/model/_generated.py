@@ -1149,3 +1149,36 @@ def kinematics_tethered_HO(q, arm, out):
 def kinematics_tether_length(q, altitude, arm):
     """q9 [m] from eq 45 given the altitude q3 of HO [m], q = [q4, ..., q9] (q9 unused); arm = dO-P,3 - dO-HO,3 [m] (Sec. IV-F)."""
     return (altitude + arm*numpy.cos(q[0])*numpy.cos(q[1]))/(numpy.cos(q[3])*numpy.cos(q[4]))
+
+
+def kinematics_tether_direction(q, out):
+    """out (3,) = c3, the unit tether direction in N, at q = [q4, ..., q9] (only q7, q8 used; eq 27)."""
+    t0 = numpy.cos(q[4])
+    out[0] = numpy.sin(q[4])
+    out[1] = -t0*numpy.sin(q[3])
+    out[2] = t0*numpy.cos(q[3])
+
+
+def kinematics_tether_angles(P, out):
+    """out (3,) = (q7 [rad], q8 [rad], q9 [m]) of P (3,) from the winch in N [m]: the inverse of P = q9 c3 (eqs 27, 43-45), |q7|, |q8| < pi/2."""
+    t0 = numpy.sqrt((P[0])*(P[0]) + (P[1])*(P[1]) + (P[2])*(P[2]))
+    out[0] = numpy.arctan2(-P[1], P[2])
+    out[1] = numpy.arcsin(P[0]/t0)
+    out[2] = t0
+
+
+def kinematics_P_motion_sc(x, sc, arm, out):
+    """out (6,) = P = q9 c3 from the winch [m] and its velocity v_HO + w x (arm f3) in N [m/s] (eqs 7-8, 27, 43-45) at the tethered state x = [q4..q9, u1..u6, ...] with sc (10,) = [sin x[0..4], cos x[0..4]] given; arm = dO-P,3 - dO-HO,3 [m]."""
+    t0 = sc[9]*x[5]
+    t1 = arm*x[9]
+    t2 = arm*x[10]
+    t3 = sc[2]*sc[5]
+    t4 = sc[0]*sc[7]
+    t5 = sc[5]*sc[7]
+    t6 = sc[0]*sc[2]
+    out[0] = sc[4]*x[5]
+    out[1] = -sc[3]*t0
+    out[2] = sc[8]*t0
+    out[3] = sc[2]*sc[6]*t1 + sc[6]*sc[7]*t2 + x[6]
+    out[4] = t1*(sc[1]*t6 - t5) + t2*(sc[1]*t4 + t3) + x[7]
+    out[5] = -t1*(sc[1]*t3 + t4) + t2*(-sc[1]*t5 + t6) + x[8]

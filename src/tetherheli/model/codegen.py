@@ -321,6 +321,40 @@ def _kinematics_functions(kin: Kinematics, printer: _ArrayPrinter) -> list[str]:
             [("return", sp.Matrix([kin.tether_length.xreplace(tethered)]))],
         ),
     ]
+    # the tethered state x = [q4..q9, u1..u6, ...] with sin, cos of x[0..4] given in sc (10,),
+    # as the engine's stages have them (``kernels.angle_trig``)
+    state = {**tethered, **{u: sp.Symbol(f"x[{6 + i}]") for i, u in enumerate(kin.u)}}
+    state = {s: sp.Symbol(str(v).replace("q[", "x[")) for s, v in state.items()}
+    trig = {}
+    for i in range(5):
+        xi = sp.Symbol(f"x[{i}]")
+        trig[sp.sin(xi)] = sp.Symbol(f"sc[{i}]")
+        trig[sp.cos(xi)] = sp.Symbol(f"sc[{i + 5}]")
+    point = {s: sp.Symbol(f"P[{i}]") for i, s in enumerate(kin.tether_point)}
+    specs += [
+        (
+            "kinematics_tether_direction",
+            "q, out",
+            "out (3,) = c3, the unit tether direction in N, at q = [q4, ..., q9] (only q7, q8 "
+            "used; eq 27).",
+            [("out", kin.tether_direction.xreplace(tethered))],
+        ),
+        (
+            "kinematics_tether_angles",
+            "P, out",
+            "out (3,) = (q7 [rad], q8 [rad], q9 [m]) of P (3,) from the winch in N [m]: the "
+            "inverse of P = q9 c3 (eqs 27, 43-45), |q7|, |q8| < pi/2.",
+            [("out", kin.tether_angles.xreplace(point))],
+        ),
+        (
+            "kinematics_P_motion_sc",
+            "x, sc, arm, out",
+            "out (6,) = P = q9 c3 from the winch [m] and its velocity v_HO + w x (arm f3) in N "
+            "[m/s] (eqs 7-8, 27, 43-45) at the tethered state x = [q4..q9, u1..u6, ...] with "
+            "sc (10,) = [sin x[0..4], cos x[0..4]] given; arm = dO-P,3 - dO-HO,3 [m].",
+            [("out", kin.P_motion.xreplace(state).xreplace(trig))],
+        ),
+    ]
     subs_symbols = {kin.arm: sp.Symbol("arm"), kin.altitude: sp.Symbol("altitude")}
     return [
         _emit(name, args, doc, [(o, m.xreplace(subs_symbols)) for o, m in outs], printer)

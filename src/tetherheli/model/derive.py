@@ -374,6 +374,18 @@ class Kinematics:
         (eqs 27, 43-45).
     tether_length : sympy.Expr
         q9 [m] solved from eq 45, the altitude q3 of HO given (Sec. IV-F).
+    tether_direction : sympy.Matrix, shape (3, 1)
+        c3 of (q7, q8) in N components, the unit tether direction (eq 27).
+    tether_angles : sympy.Matrix, shape (3, 1)
+        Its inverse: (q7, q8, q9) of P = ``tether_point`` from the winch, P = q9 c3 (eqs 27,
+        43-45), on the branch |q7|, |q8| < pi/2 of the tethered hover.
+    tether_point : tuple of sympy.Symbol
+        (P1, P2, P3): P from the winch NO in N components [m], the inverse's argument.
+    P_motion : sympy.Matrix, shape (6, 1)
+        P = q9 c3 from the winch [m] and its velocity in N [m/s], v_P = v_HO + w x (arm f3),
+        of the tethered coordinates and the generalized speeds ``u`` (eqs 7-8, 27, 43-45).
+    u : tuple of sympy.Symbol
+        (u1, ..., u6): HO's velocity in N [m/s] and F's angular velocity in F [rad/s].
     arm : sympy.Symbol
         The lever dO-P,3 - dO-HO,3 [m].
     altitude : sympy.Symbol
@@ -387,6 +399,11 @@ class Kinematics:
     points: sp.Matrix
     tethered_HO: sp.Matrix
     tether_length: sp.Expr
+    tether_direction: sp.Matrix
+    tether_angles: sp.Matrix
+    tether_point: tuple[sp.Symbol, ...]
+    P_motion: sp.Matrix
+    u: tuple[sp.Symbol, ...]
     arm: sp.Symbol
     altitude: sp.Symbol
     params: tuple[sp.Symbol, ...]
@@ -394,7 +411,8 @@ class Kinematics:
 
 def kinematics() -> Kinematics:
     """Positions of the helicopter's points and the rotation N -> F (eqs 2-4, 27, 43-45,
-    Table I), built with the frames and points of ``derive``.
+    Table I), the tether direction c3, its inverse and P's motion, built with the frames and
+    points of ``derive``.
 
     Returns
     -------
@@ -409,15 +427,36 @@ def kinematics() -> Kinematics:
     NO = Point("NO")
     HO = NO.locatenew("HO", q[0] * N.x + q[1] * N.y + q[2] * N.z)  # eq 4
     points = [HO, *(_body_points(HO, F, p)[i] for i in (0, 2, 3, 4))]  # HO, O, MRO, TRO, P
-    _, HO_tethered = _tethered_points(NO, _tether_frame(N, q[6:8]), F, q[8], arm)
+    C = _tether_frame(N, q[6:8])
+    P_tethered, HO_tethered = _tethered_points(NO, C, F, q[8], arm)
     r_HO = HO_tethered.pos_from(NO).to_matrix(N)
     (length,) = sp.solve(sp.Eq(r_HO[2], altitude), q[8])
+    # P's velocity from the generalized speeds (eqs 7-8): HO moves at u1..u3 in N and F turns
+    # at u4..u6 in F, so P = HO + arm f3 moves at v_HO + w x (arm f3)
+    u = sp.symbols("u1:7", real=True)
+    HO_u = Point("HO_u")
+    HO_u.set_vel(N, u[0] * N.x + u[1] * N.y + u[2] * N.z)
+    F_u = _fuselage_frame(N, q[3:6])
+    F_u.set_ang_vel(N, u[3] * F_u.x + u[4] * F_u.y + u[5] * F_u.z)
+    P_u = HO_u.locatenew("P_u", arm * F_u.z)
+    v_P = P_u.v2pt_theory(HO_u, N, F_u).to_matrix(N)
+    # the inverse of P = q9 c3: q9 = |P|, then c3 = P / q9 = [s8, -s7 c8, c7 c8] (eq 27); in
+    # floating point |P1| / |P| never exceeds 1 (sqrt(fl(x^2)) = |x| and rounding is
+    # monotonic), so asin needs no clamp
+    P = sp.symbols("P1:4", real=True)
+    norm = sp.sqrt(P[0] ** 2 + P[1] ** 2 + P[2] ** 2)
+    angles = sp.Matrix([sp.atan2(-P[1], P[2]), sp.asin(P[0] / norm), norm])
     return Kinematics(
         q=q,
         dcm=N.dcm(F),
         points=sp.Matrix([list(pt.pos_from(NO).to_matrix(N)) for pt in points]),
         tethered_HO=r_HO,
         tether_length=length,
+        tether_direction=C.z.to_matrix(N),
+        tether_angles=angles,
+        tether_point=P,
+        P_motion=sp.Matrix([*P_tethered.pos_from(NO).to_matrix(N), *v_P]),
+        u=u,
         arm=arm,
         altitude=altitude,
         params=tuple(p[name] for name in PARAM_ORDER),

@@ -26,8 +26,11 @@ from .constants import model_constants
 __all__ = [
     "free_derivative",
     "free_derivative_batch",
+    "kinematics_P_motion_sc",
     "kinematics_dcm",
     "kinematics_points",
+    "kinematics_tether_angles",
+    "kinematics_tether_direction",
     "kinematics_tether_length",
     "kinematics_tethered_HO",
     "model_constants",
@@ -57,6 +60,9 @@ kinematics_dcm = _jit(gen.kinematics_dcm)
 kinematics_points = _jit(gen.kinematics_points)
 kinematics_tethered_HO = _jit(gen.kinematics_tethered_HO)
 kinematics_tether_length = _jit(gen.kinematics_tether_length)
+kinematics_tether_direction = _jit(gen.kinematics_tether_direction)
+kinematics_tether_angles = _jit(gen.kinematics_tether_angles)
+kinematics_P_motion_sc = _jit_inline(gen.kinematics_P_motion_sc)  # the lumped chain's stages
 
 #: Angle steps up to this size [rad] are applied by the angle-addition formulas with the
 #: Taylor series of sin and cos (truncation below 1e-19 relative); larger ones call libm.

@@ -1,5 +1,6 @@
 """The helicopter's geometry, generated from the derivation: the rotation N -> F (Table I),
-the points of eq 2 and HO from the tethered coordinates (eqs 27, 43-45).
+the points of eq 2, HO from the tethered coordinates (eqs 27, 43-45), the tether direction
+c3 and its inverse (eq 27).
 
 ``derive.kinematics`` builds them with the frames and points of the Kane derivation;
 ``codegen`` writes them into ``_generated.py`` as functions that run on floats in Numba
@@ -23,6 +24,8 @@ __all__ = [
     "HelicopterPoints",
     "direction_cosines",
     "helicopter_points",
+    "tether_angles",
+    "tether_direction",
     "tether_length_from_altitude",
     "tethered_HO_position",
 ]
@@ -169,3 +172,43 @@ def tether_length_from_altitude(
     """
     q, _ = _samples_last(q4, q5, 0.0, q7, q8, altitude)  # q9's row holds the altitude
     return gen.kinematics_tether_length(q, q[5], float(arm))
+
+
+def tether_direction(q7: ArrayLike, q8: ArrayLike) -> np.ndarray:
+    """c3, the unit tether direction in N: [s8, -s7 c8, c7 c8] (eq 27).
+
+    Parameters
+    ----------
+    q7, q8 : float or array of shape (...,)
+        Tether angles [rad], broadcast together.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        c3 along n1, n2, n3.
+    """
+    q, shape = _samples_last(0.0, 0.0, 0.0, q7, q8, 0.0)
+    out = np.empty((3, *shape))
+    gen.kinematics_tether_direction(q, out)
+    return np.moveaxis(out, 0, -1)
+
+
+def tether_angles(P: ArrayLike) -> tuple[Any, Any, Any]:
+    """(q7, q8, q9) of a point P = q9 c3 from the winch: the inverse of eq 27,
+    q9 = |P|, q7 = atan2(-P2, P3), q8 = asin(P1 / q9), on the tethered hover's branch
+    |q7|, |q8| < pi/2.
+
+    Parameters
+    ----------
+    P : array_like, shape (..., 3)
+        P (or any point along the tether's direction) from the winch in N [m].
+
+    Returns
+    -------
+    q7, q8, q9 : float or numpy.ndarray of shape (...,)
+        The tether angles [rad] and |P| [m].
+    """
+    rows = np.moveaxis(np.asarray(P, dtype=float), -1, 0)
+    out = np.empty((3, *rows.shape[1:]))
+    gen.kinematics_tether_angles(rows, out)
+    return out[0][()], out[1][()], out[2][()]

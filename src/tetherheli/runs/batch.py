@@ -46,6 +46,7 @@ from typing import Any
 import numpy as np
 
 from .._validation import check_integer
+from ..control.registry import controller_entry
 from ..engine import lanes
 from ..engine import loop as engine
 from ..engine.lanes import lane_program_into
@@ -325,7 +326,7 @@ def _python_run(
 
     # the MPC designed on ``design_params``; the other Python controllers are simulate's own
     # (``runs.landing``, ``control.deck``)
-    mpc = scenario.control.controller == "mpc"
+    mpc = not controller_entry(scenario.control.controller).compiled
     controller = mpc_controller(scenario, setup, design_params) if mpc else None
     # its memory checked by run_batch, as a recorded run (``check_run_memory``)
     result = _simulate(scenario, controller=controller, design_params=design_params)
@@ -597,7 +598,7 @@ def run_batch(
             status[i], done[i] = _python_run(scenarios[i], setup, design_params, summaries[i])
 
     def run_lane_block(block: list[int]) -> None:
-        if scenarios[block[0]].control.controller == "mpc":
+        if not controller_entry(scenarios[block[0]].control.controller).compiled:
             for i in block:
                 run_python(i)
             return

@@ -21,6 +21,7 @@ from .._version import __version__
 from ..base.compiled import CompiledBase, base_state
 from ..control.base import Controller, Measurement
 from ..control.deck import DeckFeedforward
+from ..control.registry import controller_entry
 from ..engine import loop as engine
 from ..engine import stepping
 from ..errors import ParameterError
@@ -183,7 +184,7 @@ def _simulate(
             controller = landing_controller(scenario, setup)
         elif scenario.reference == "ground" and not scenario.base_motion.fixed:
             controller = ground_hold_controller(scenario, setup)
-        elif scenario.control.controller != "mpc":  # the paper's law, flown by Python
+        elif controller_entry(scenario.control.controller).compiled:  # its Python copy
             controller = setup.paper_controller()
         else:
             controller = mpc_controller(scenario, setup, design_params)

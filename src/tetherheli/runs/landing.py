@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..control.landing import GroundHoldController, LandingController, LandingSchedule
+from ..model.kinematics import tether_direction
 from ..model.trim import _hover_trim
 from ..scenario.tables import LANDING_PRESS_M
 from ..status import Status
@@ -196,9 +197,7 @@ def ground_hold_controller(scenario: Scenario, setup: EngineSetup) -> GroundHold
     K, _, y_ref, u0, u0_free, z0 = setup.law
     trim = setup.trim
     q7, q8, q9 = trim.x[3:6]
-    trim_P = q9 * np.array(
-        [math.sin(q8), -math.sin(q7) * math.cos(q8), math.cos(q7) * math.cos(q8)]
-    )
+    trim_P = q9 * tether_direction(q7, q8)  # P = q9 c3 (eq 27)
     motion = scenario.base_motion
     return GroundHoldController(
         lambda t: motion.state(t)[0], trim_P, K, trim.x, y_ref, u0, setup.ctrl,

@@ -20,6 +20,7 @@ import numpy as np
 from ..base.compiled import CompiledBase, compile_base
 from ..control.lqi import LQIGain
 from ..control.paper import PaperController
+from ..control.registry import controller_entry
 from ..control.tether_lqi import TetherLQIGain, _tether_lqi_gain
 from ..engine import loop as engine
 from ..engine import lumped_step, stepping
@@ -65,6 +66,7 @@ from ..params import Params
 from ..scenario.core import Scenario
 from ..tether.lumped_trim import _hover_trim_lumped
 from ..wind import CompiledWind, compile_wind
+from ..wind.evaluate import air_relative_to_base
 from .packing import (
     actuator_array,
     read_only,
@@ -177,7 +179,7 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
         raise design_failure(
             "control.Qy/Ru", f"Qy = {list(c.Qy)}, Ru = {list(c.Ru)}", exc
         ) from None
-    lqi_on_tether = c.controller == "tether_lqi"
+    lqi_on_tether = controller_entry(c.controller).law == "tether_lqi"
     if lqi_on_tether:  # its plant contains the tether: no feed-forward (eq 55), no PI (eq 56)
         w = c.tether_lqi
         try:
@@ -394,7 +396,7 @@ def python_controlled(scenario: Scenario) -> bool:
     bool
     """
     return (
-        scenario.control.controller == "mpc"
+        not controller_entry(scenario.control.controller).compiled
         or scenario.maneuver.landing
         or scenario.control.base_feedforward
         or (scenario.reference == "ground" and not scenario.base_motion.fixed)
@@ -469,7 +471,9 @@ def run_base(scenario: Scenario, model: TetheredHelicopter) -> CompiledBase:
 def base_velocity(scenario: Scenario) -> np.ndarray:
     """The base's velocity b'(0) in N at the run's start [m/s] (zero for the paper's still
     winch): HO starts at rest relative to the base, so at this velocity in N, and the start's
-    trim balances the air relative to it (``start.start_point``).
+    trim balances the air relative to it (``start.start_point``): the still air's velocity
+    relative to the base negated, from the one rule the engine flies
+    (``wind.evaluate.air_relative_to_base`` on the packed base).
 
     Parameters
     ----------
@@ -483,4 +487,4 @@ def base_velocity(scenario: Scenario) -> np.ndarray:
     motion = scenario.base_motion
     if motion.fixed:
         return np.zeros(3)
-    return np.asarray(motion.state(0.0), dtype=float)[0, 1].copy()  # (t, [b, b', b"], axis)
+    return -np.array(air_relative_to_base(compile_base(motion).packed, 0.0, 0.0, 0.0, 0.0))

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 from .._io import NONFINITE_JSON, OWN_FILE_STEMS
 from .._validation import MAX_SAMPLES, check_samples
 from ..base.motion import MOTION_KEYS, FileBase, _base_motion_from
+from ..control.registry import CONTROLLER_REGISTRY, controller_entry
 from ..errors import ParameterError
 from ..params import Params, check_tether_length, check_tether_strain
 from ..sensing.config import SensorConfig
@@ -243,10 +244,11 @@ def validate_scenario(s: Scenario, source: str | None) -> None:
         s.params.tether.check_tension(
             s.params.tension_control.T_ref, s.q9, "params.tension_control.T_ref", source=source
         )
-    if s.configuration == "free" and s.control.controller == "tether_lqi":
+    if s.configuration not in controller_entry(s.control.controller).configurations:
+        able = [n for n, e in CONTROLLER_REGISTRY.items() if s.configuration in e.configurations]
         raise ParameterError(
-            "control.controller", "tether_lqi", "'paper' or 'mpc' in the free configuration "
-            "(the tethered LQI needs a tether: configuration = 'tethered')", source=source,
+            "control.controller", s.control.controller, f"one of {able} in the "
+            f"{s.configuration} configuration (control.registry)", source=source,
         )  # fmt: skip
     bounds = s.control.mpc.tension_bounds
     T_ref = s.params.tension_control.T_ref
@@ -318,7 +320,7 @@ def _check_base(s: Scenario, source: str | None) -> None:
             "'fixed': no acceleration to feed forward)", source=source,
         )  # fmt: skip
     if reference == "ground" and not motion.fixed:
-        if s.control.controller != "paper":
+        if not controller_entry(s.control.controller).ground_hold:
             raise ParameterError(
                 "control.reference", reference, "'base' or unset over a moving base with "
                 f"control.controller = {s.control.controller!r} (only the paper's holds a "
@@ -367,9 +369,10 @@ def _check_maneuver(s: Scenario, source: str | None) -> None:
     if s.configuration != "tethered":
         refuse("maneuver.type", m.type, "'none' in the free configuration (a tethered "
                "landing needs the tether)")  # fmt: skip
-    if s.control.controller != "paper":
-        refuse("control.controller", s.control.controller, "'paper' with a tethered landing "
-               "(the other controllers do not fly its moving references yet)")  # fmt: skip
+    if not controller_entry(s.control.controller).landing:
+        able = [n for n, e in CONTROLLER_REGISTRY.items() if e.landing]
+        refuse("control.controller", s.control.controller, f"one of {able} with a tethered "
+               "landing (the other controllers do not fly its moving references yet)")  # fmt: skip
     if s.tether.lumped:
         refuse("tether.model", s.tether.model, "'elastic' with a tethered landing (the "
                "lumped chain's landing on the deck is not modelled yet)")  # fmt: skip

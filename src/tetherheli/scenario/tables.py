@@ -19,6 +19,7 @@ import numpy as np
 from .._validation import RK4_SUBSTEPS, Key
 from ..base.motion import BASE_KEYS
 from ..control import lqi
+from ..control.registry import CONTROLLERS
 from ..layout import (
     GROUND_DAMPING_PA_S_M,
     GROUND_FRICTION,
@@ -83,10 +84,9 @@ def field_key(cls: type[DataclassInstance], name: str) -> Key:
     return cls.__dataclass_fields__[name].metadata["key"]
 
 
-#: The controllers ``[control] controller`` selects: the paper's scheme (Sec. V), the LQI
-#: on the tethered linearization with the reel rate as a fifth input (``control.tether_lqi``)
-#: and the constrained MPC on the same model (``control.mpc``).
-CONTROLLERS: tuple[str, ...] = ("paper", "tether_lqi", "mpc")
+# The controllers ``[control] controller`` selects, ``CONTROLLERS``: the names of
+# ``control.registry.CONTROLLER_REGISTRY`` (the paper's scheme, Sec. V; the LQI on the
+# tethered linearization with the reel rate as a fifth input; the constrained MPC).
 #: The MPC's estimators of state and wind force (``[control.mpc] observer``): the one-step
 #: residual of the measured state (``disturbance_time_constant``), the steady-state Kalman
 #: filter on the scenario's sensors (``control.observer``), or "auto": the Kalman filter when

@@ -120,6 +120,7 @@ __all__ = [
     "SOURCE_TRUE",
     "SensorConfig",
     "sensor_config_from_dict",
+    "white_gnss",
 ]
 
 # --- noise channels: columns of a noise row ---------------------------------------------------
@@ -219,6 +220,29 @@ for _g in SENSOR_GROUPS:
 _FLOWN_FIELDS = tuple(name for name in _NUMERIC_FIELDS if not name.endswith(("_std", "_bias")))
 #: timing rounding tolerance: a period or latency within this many samples of an integer
 _GRID_TOL = 1e-6
+
+
+def white_gnss(name: str) -> dict[str, Any]:
+    """A GNSS receiver of ``SENSOR_PRESETS`` as white noise at every control sample (the
+    ``typical_*`` presets): its whole position error, the white and the Gauss-Markov parts
+    summed in quadrature (their stationary variances add), and its velocity std.
+
+    Parameters
+    ----------
+    name : str
+        A GNSS preset of ``SENSOR_PRESETS`` ("consumer_gnss", "rtk_gnss").
+
+    Returns
+    -------
+    dict of str to object
+        ``gps_std`` (3,) [m] and ``velocity_std`` [m/s], ``SensorConfig`` fields.
+    """
+    g = SENSOR_PRESETS[name]
+    white, markov = g["gps_std"], g["gps_markov_sigma"]
+    return {
+        "gps_std": tuple(math.hypot(w, m) for w, m in zip(white, markov, strict=True)),
+        "velocity_std": g["velocity_std"],
+    }
 
 
 @dataclass(frozen=True)
@@ -386,14 +410,15 @@ class SensorConfig:
 
     @classmethod
     def typical_gps(cls) -> SensorConfig:
-        """A consumer-grade GPS receiver with a MEMS IMU, position from the GPS.
+        """A consumer-grade GPS receiver with a MEMS IMU, position from the GPS: white noise
+        at every control sample (no rate, latency or correlation).
 
         Numbers (1-sigma, per control sample):
 
-        - GPS position (1.5, 1.5, 3.0) m: single-frequency consumer GNSS (u-blox M8/M9
-          class) reaches about 1.5-2.5 m CEP horizontally in open sky; the vertical error is
-          about twice the horizontal one because all satellites lie above the horizon.
-        - velocity 0.1 m/s: Doppler velocity of the same receivers (0.05-0.1 m/s specified).
+        - GPS position and velocity: the receiver of ``SENSOR_PRESETS["consumer_gnss"]``
+          (the one GNSS table, with its sources), its whole position error as white noise
+          (``white_gnss``: the white and the Gauss-Markov parts in quadrature, about
+          (1.51, 1.51, 3.03) m) and its velocity std (0.05 m/s).
         - attitude 0.5 deg (8.7e-3 rad): a MEMS AHRS's roll/pitch accuracy (0.2-0.5 deg;
           heading is usually worse, about 1 deg, kept at 0.5 deg for one number per axis).
         - gyro 2e-3 rad/s (0.11 deg/s): MEMS rate noise density of about 0.01 deg/s/sqrt(Hz)
@@ -415,17 +440,17 @@ class SensorConfig:
             load_cell_std=0.1,
             attitude_std=0.5 * _DEG,
             gyro_std=2e-3,
-            velocity_std=0.1,
-            gps_std=(1.5, 1.5, 3.0),
             winch_encoder_std=1e-3,
+            **white_gnss("consumer_gnss"),
         )
 
     @classmethod
     def typical_rtk_gps(cls) -> SensorConfig:
         """As ``typical_gps`` with an RTK-corrected receiver (fixed solution).
 
-        RTK GNSS gives about 0.01 m + 1 ppm horizontally and twice that vertically; we take
-        (0.02, 0.02, 0.04) m and 0.02 m/s velocity. It needs a base station and a radio link,
+        The receiver of ``SENSOR_PRESETS["rtk_gnss"]`` as white noise (``white_gnss``: about
+        (0.011, 0.011, 0.022) m and 0.02 m/s): RTK GNSS gives about 0.01 m + 1 ppm
+        horizontally and twice that vertically. It needs a base station and a radio link,
         and it loses the fixed solution under multipath or occlusion, the "typical
         degradation factors of GPS systems" of Sec. IV-F.
 
@@ -434,7 +459,7 @@ class SensorConfig:
         SensorConfig
             The preset, position from the GPS.
         """
-        return replace(cls.typical_gps(), velocity_std=0.02, gps_std=(0.02, 0.02, 0.04))
+        return replace(cls.typical_gps(), **white_gnss("rtk_gnss"))
 
     @classmethod
     def typical_tether(cls) -> SensorConfig:
@@ -451,8 +476,9 @@ class SensorConfig:
         - attitude 0.5 deg (8.7e-3 rad): the same MEMS AHRS as ``typical_gps``; it enters the
           position through the lever arm of HO about P (0.2 m), about 2 mm.
         - load cell, gyro, winch encoder: as ``typical_gps``.
-        - velocity 0.1 m/s: Sec. IV-F gives no velocity sensor; we assume a filtered estimate
-          as good as the GPS's Doppler velocity, so the two presets differ in position only.
+        - velocity 0.05 m/s: Sec. IV-F gives no velocity sensor; we assume a filtered
+          estimate as good as the GNSS receiver's velocity (``consumer_gnss``'s, as
+          ``typical_gps``), so the two presets differ in position only.
 
         ``hover_error_std`` gives the resulting position error (about 1.7 cm horizontal and
         5 cm vertical at the paper's hover, against 1.5 m and 3 m for ``typical_gps``).
@@ -469,7 +495,7 @@ class SensorConfig:
             altimeter_std=0.05,
             attitude_std=0.5 * _DEG,
             gyro_std=2e-3,
-            velocity_std=0.1,
+            velocity_std=white_gnss("consumer_gnss")["velocity_std"],
             winch_encoder_std=1e-3,
         )
 

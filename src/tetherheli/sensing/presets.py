@@ -1,6 +1,8 @@
 """Datasheet-class sensors (``SENSOR_PRESETS``): the ``SensorConfig`` fields each sets, with
 the kind of source each number comes from; ``SensorConfig.from_presets`` and ``flown``, and a
-scenario's ``[sensors] presets = [...]``, apply them."""
+scenario's ``[sensors] presets = [...]``, apply them. It is the one table of the GNSS
+receivers: the white-noise ``SensorConfig.typical_gps`` and ``typical_rtk_gps`` are derived
+from its ``consumer_gnss`` and ``rtk_gnss`` (``sensing.config.white_gnss``)."""
 
 from __future__ import annotations
 
@@ -20,7 +22,8 @@ _G0 = 9.80665  # standard gravity [m/s^2], for datasheet figures in g
 #: source each comes from is given beside it.
 SENSOR_PRESETS: Mapping[str, Mapping[str, Any]] = MappingProxyType(
     {
-        # single-frequency consumer GNSS, u-blox M8 datasheet class: 2.5 m CEP horizontal
+        # single-frequency consumer GNSS, u-blox M8 datasheet class (NEO-M8 data sheet,
+        # UBX-15031086: 2.5 m CEP, velocity 0.05 m/s, up to 10 Hz): 2.5 m CEP horizontal
         # (CEP = 1.18 sigma per axis: ~2.1 m), vertical about twice, Doppler velocity
         # 0.05 m/s, navigation rate up to 10 Hz, ~0.1-0.2 s from measurement to output. The
         # position error is mostly slow (satellite geometry, ionosphere, multipath):
@@ -36,7 +39,8 @@ SENSOR_PRESETS: Mapping[str, Mapping[str, Any]] = MappingProxyType(
             "gps_latency": 0.15,
             "velocity_std": 0.05,
         },
-        # RTK GNSS (fixed solution), u-blox F9 datasheet class: 0.01 m + 1 ppm CEP
+        # RTK GNSS (fixed solution), u-blox F9 datasheet class (ZED-F9P data sheet,
+        # UBX-17051259: RTK 0.01 m + 1 ppm CEP, up to 20 Hz): 0.01 m + 1 ppm CEP
         # horizontal, about twice vertical, up to 20 Hz: Gauss-Markov 1 cm (2 cm) over 60 s
         # plus 5 mm (1 cm) white; velocity 0.02 m/s; 10 Hz, 50 ms latency.
         "rtk_gnss": {

@@ -15,7 +15,12 @@ import numpy as np
 from .._compile import compiled
 from .._validation import check_number
 from ..errors import ParameterError
-from ..model.kernels import kinematics_dcm, kinematics_tether_length, kinematics_tethered_HO
+from ..model.kernels import (
+    kinematics_dcm,
+    kinematics_tether_angles,
+    kinematics_tether_length,
+    kinematics_tethered_HO,
+)
 from ..model.kinematics import tether_length_from_altitude, tethered_HO_position
 from ..params import check_tether_length
 from .config import (
@@ -122,7 +127,7 @@ def measure_into(x_true, tension_true, noise_row, source_code, arm, x_est, scrat
             HO[2] + noise_row[CH_GPS + 2],
             arm,
             x_est,
-            scratch[1:],
+            scratch,
         )
     elif source_code == SOURCE_TETHER:
         # the altimeter sees the true altitude of HO (eq 45); q9 from eq 45 with the encoders'
@@ -138,23 +143,17 @@ def measure_into(x_true, tension_true, noise_row, source_code, arm, x_est, scrat
 
 
 @_jit_inline
-def _tether_from_gps(h1, h2, h3, arm, x_est, R):
+def _tether_from_gps(h1, h2, h3, arm, x_est, scratch):
     """q7, q8, q9 of x_est from a measured HO (h1, h2, h3) and the measured attitude in
-    x_est: P = HO + arm f3, f3 the third column of N_R_F (Table I, into R (3, 3)), then the
-    inverse of c3 = [s8, -s7 c8, c7 c8] (eqs 43-45)."""
+    x_est: P = HO + arm f3 (into scratch[0]), f3 the third column of N_R_F (Table I, into
+    scratch[1:], (3, 3)), then the inverse of P = q9 c3 (eqs 27, 43-45,
+    ``kinematics_tether_angles``)."""
+    P, R = scratch[0], scratch[1:]
     kinematics_dcm(x_est, R)
-    p1 = h1 + arm * R[0, 2]
-    p2 = h2 + arm * R[1, 2]
-    p3 = h3 + arm * R[2, 2]
-    q9m = math.sqrt(p1 * p1 + p2 * p2 + p3 * p3)
-    ratio = p1 / q9m
-    if ratio > 1.0:
-        ratio = 1.0
-    elif ratio < -1.0:
-        ratio = -1.0
-    x_est[3] = math.atan2(-p2, p3)
-    x_est[4] = math.asin(ratio)
-    x_est[5] = q9m
+    P[0] = h1 + arm * R[0, 2]
+    P[1] = h2 + arm * R[1, 2]
+    P[2] = h3 + arm * R[2, 2]
+    kinematics_tether_angles(P, x_est[3:6])
 
 
 @_jit
@@ -237,7 +236,7 @@ def measure_sampled(x_true, tension_true, k, sensors, x_est):
         x_est[4] = x_true[4]
         x_est[5] = x_true[5]
     elif source_code == SOURCE_GPS:
-        _tether_from_gps(m[CH_GPS], m[CH_GPS + 1], m[CH_GPS + 2], arm, x_est, scratch[1:])
+        _tether_from_gps(m[CH_GPS], m[CH_GPS + 1], m[CH_GPS + 2], arm, x_est, scratch)
     elif source_code == SOURCE_TETHER:
         x_est[3] = m[CH_ENCODER_Q7]
         x_est[4] = m[CH_ENCODER_Q8]

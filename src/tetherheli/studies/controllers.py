@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from ..control.registry import controller_entry
 from ..errors import ParameterError
 from ..names import INPUT
 from ..scenario.core import CONTROLLERS, Scenario
@@ -63,7 +64,7 @@ def check_design(scenario: Scenario) -> None:
 
     try:
         setup = engine_setup(scenario)
-        if scenario.control.controller == "mpc":
+        if not controller_entry(scenario.control.controller).compiled:
             mpc_controller(scenario, setup)
     except WeightsError:
         raise

@@ -21,7 +21,12 @@ from ..layout import (
     LUMPED_CDN,
     LUMPED_CDT,
 )
-from ..model.kinematics import tether_length_from_altitude, tethered_HO_position
+from ..model.kinematics import (
+    tether_angles,
+    tether_direction,
+    tether_length_from_altitude,
+    tethered_HO_position,
+)
 
 if TYPE_CHECKING:
     from .chain import LumpedTether
@@ -317,8 +322,8 @@ class StaticCable:
     def encoder_angles(self) -> tuple[float, float]:
         """(q7, q8) [rad] the ground joint's encoders read: the winch tangent
         e = c3 = [s8, -s7 c8, c7 c8] (eq 27)."""
-        e = self.ground_tension / np.linalg.norm(self.ground_tension)
-        return math.atan2(-e[1], e[2]), math.asin(max(-1.0, min(1.0, e[0])))
+        q7, q8, _ = tether_angles(self.ground_tension)  # model.kinematics, eq 27
+        return float(q7), float(q8)
 
 
 def static_cable(
@@ -433,7 +438,7 @@ def catenary_position_estimate(
     q8 = check_number("q8", q8)
     T_g = check_number("ground_tension_N", ground_tension_N, low=0.0, low_open=True, unit="[N]")
     L0 = check_number("unstretched_length_m", unstretched_length_m, low=0.0, low_open=True)
-    e = np.array([math.sin(q8), -math.sin(q7) * math.cos(q8), math.cos(q7) * math.cos(q8)])
+    e = tether_direction(q7, q8)  # c3 (eq 27)
     if wind is not None:
         r, _ = _cable_end(T_g * e, L0, tether, g, wind)
         return r

@@ -1,7 +1,8 @@
 """Coupling: a general force at P in the tethered helicopter's equations. The
 force the tether exerts on P enters the generated equations as a wind force at HO plus the
-rotor torques of its moment about HO (``force_at_P_as_loads``), with eq 28's tension set to
-zero; q7..q9 then only locate P (``tethered_derivative_force_at_P``)."""
+rotor torques of its moment about HO (``force_at_P_as_loads``; ``force_at_P_loads_sc``, the
+one mapping, with the angles' sin and cos given, as the engine's lumped step calls it), with
+eq 28's tension set to zero; q7..q9 then only locate P (``tethered_derivative_force_at_P``)."""
 
 from __future__ import annotations
 
@@ -10,9 +11,10 @@ import numpy as np
 from .._compile import compiled
 from ..model import kernels
 
-__all__ = ["force_at_P_as_loads", "tethered_derivative_force_at_P"]
+__all__ = ["force_at_P_as_loads", "force_at_P_loads_sc", "tethered_derivative_force_at_P"]
 
 _jit = compiled(fastmath={"nnan", "ninf"}, error_model="numpy")
+_jit_inline = compiled(error_model="numpy", inline="always")
 
 
 @_jit
@@ -51,10 +53,51 @@ def force_at_P_as_loads(x, inp, wind, force_P, arm, inp_out, wind_out):
     -------
     None
     """
-    R = np.empty((3, 3))
-    kernels.kinematics_dcm(x[0:3], R)  # column j: f_j in N
-    f1 = force_P[0] * R[0, 0] + force_P[1] * R[1, 0] + force_P[2] * R[2, 0]
-    f2 = force_P[0] * R[0, 1] + force_P[1] * R[1, 1] + force_P[2] * R[2, 1]
+    sc = np.empty(10)
+    kernels.angle_trig(x, sc)
+    force_at_P_loads_sc(sc, inp, wind, force_P, arm, inp_out, wind_out)
+
+
+@_jit_inline
+def force_at_P_loads_sc(sc, inp, wind, force_P, arm, inp_out, wind_out):
+    """``force_at_P_as_loads`` with the sin, cos sc (10,) of the angles given (the engine's
+    lumped stages have them): a force F [N, in N] at P = HO + arm f3 enters the generated
+    equations as wind + F and the rotor torques tMR1 - arm F.f2, tMR2 + arm F.f1 (f1, f2 the
+    columns of Table I's N_R_F).
+
+    Parameters
+    ----------
+    sc : numpy.ndarray, shape (10,)
+        sin, cos of the angles x[0..4] (q4..q8; ``kernels.angle_trig``).
+    inp : numpy.ndarray, shape (4,)
+        The rotor inputs [N, N m, N m, N].
+    wind : numpy.ndarray, shape (3,)
+        The wind force on HO in N [N].
+    force_P : numpy.ndarray, shape (3,)
+        The force on P in N [N].
+    arm : float
+        ``HelicopterParams.tether_arm`` [m].
+    inp_out : numpy.ndarray, shape (4,)
+        Receives the inputs with the force's torques [N, N m, N m, N].
+    wind_out : numpy.ndarray, shape (3,)
+        Receives wind + F [N].
+
+    Returns
+    -------
+    None
+    """
+    s4, s5, s6 = sc[0], sc[1], sc[2]
+    c4, c5, c6 = sc[5], sc[6], sc[7]
+    f1 = (
+        force_P[0] * (c5 * c6)
+        + force_P[1] * (s5 * c6 * s4 + s6 * c4)
+        + force_P[2] * (s6 * s4 - c6 * s5 * c4)
+    )
+    f2 = (
+        force_P[0] * (-c5 * s6)
+        + force_P[1] * (c6 * c4 - s5 * s6 * s4)
+        + force_P[2] * (s5 * s6 * c4 + c6 * s4)
+    )
     for j in range(3):
         wind_out[j] = wind[j] + force_P[j]
     inp_out[0] = inp[0]

@@ -166,11 +166,42 @@ def wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out):
 
 
 @_jit_inline
+def air_relative_to_base(base, t, a1, a2, a3):
+    """The air's velocity (a1, a2, a3) in N seen from the base's translating frame at t:
+    a - b'(t) [m/s]; a still base leaves it alone. The one rule of the air over a moving
+    base (``derive(moving_base=True)``: the coordinates and u1..u3 are relative to the base,
+    so HO meets a - b'(t) - u): the helicopter's drag (``base_frame_force``,
+    ``air_force_on_base``), the lumped chain's nodes (``engine.lumped_step``) and the start
+    (``runs.setup.base_velocity``) take it, as the still air's a = 0 seen from the base,
+    -b'(t), added to the air.
+
+    Parameters
+    ----------
+    base : numpy.ndarray, shape (rows, BASE_COLUMNS)
+        The base motion's packed form (``layout.BASE_*``, ``base.compiled``).
+    t : float
+        Time [s].
+    a1, a2, a3 : float
+        The air's velocity in N [m/s].
+
+    Returns
+    -------
+    r1, r2, r3 : float
+        The air's velocity relative to the base, along n1, n2, n3 [m/s].
+    """
+    if base[0, BASE_MOVING] > 0.5:
+        bv1, bv2, bv3, _, _, _ = base_rates(frozen(base), t)
+        return a1 - bv1, a2 - bv2, a3 - bv3
+    return a1, a2, a3
+
+
+@_jit_inline
 def base_frame_force(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, out):
     """``wind_force`` on a helicopter flown in the frame of a moving base (``base``'s packed
     form, ``base.compiled``): (v1, v2, v3) is HO's velocity relative to the base, so the drag
-    sees v + b'(t), and the frame's inertial force -m b''(t) is added (``derive(moving_base=
-    True)``). A still base (the paper's winch) is ``wind_force`` itself.
+    sees the air relative to the base less v (``air_relative_to_base``), and the frame's
+    inertial force -m b''(t) is added (``derive(moving_base=True)``). A still base (the
+    paper's winch) is ``wind_force`` itself.
 
     Parameters
     ----------
@@ -200,7 +231,8 @@ def base_frame_force(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, ou
 @_jit_inline
 def air_force_on_base(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, out):
     """The air's force alone (the recorded wind) on a helicopter moving at (v1, v2, v3)
-    relative to the base: ``wind_force`` at the velocity v + b'(t) in N.
+    relative to the base: the profiles and the drag of the air relative to the base less v
+    (``air_relative_to_base``).
 
     Parameters
     ----------
@@ -231,18 +263,15 @@ def air_force_on_base(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, o
 def _base_frame(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, out, inertial):
     # One inlined ``wind_force`` for a still and a moving base: the base's rates come from a
     # call (``base_rates``), so a still base's run compiles neither a second copy of the wind
-    # nor ``base_at`` inline (a shorter first compilation). A still base adds nothing to v or out.
-    # Typed once for every caller, inlined by LLVM (``inline_here``).
+    # nor ``base_at`` inline (a shorter first compilation). The still air seen from the base,
+    # w = -b'(t) (``air_relative_to_base``; 0 for a still base), joins the air: the drag of
+    # g + w - v is ``wind_force``'s at HO's velocity v - w. Typed once for every caller,
+    # inlined by LLVM (``inline_here``).
     inline_here()
-    a1 = a2 = a3 = 0.0
-    moving = base[0, BASE_MOVING] > 0.5
-    if moving:
-        bv1, bv2, bv3, a1, a2, a3 = base_rates(frozen(base), t)
-        v1 += bv1
-        v2 += bv2
-        v3 += bv3
-    wind_force(program, gust, gust_dt, drag, t, side, v1, v2, v3, out)
-    if moving and inertial:
+    w1, w2, w3 = air_relative_to_base(base, t, 0.0, 0.0, 0.0)
+    wind_force(program, gust, gust_dt, drag, t, side, v1 - w1, v2 - w2, v3 - w3, out)
+    if inertial and base[0, BASE_MOVING] > 0.5:
+        _, _, _, a1, a2, a3 = base_rates(frozen(base), t)
         m = base[0, BASE_MASS]
         out[0] -= m * a1
         out[1] -= m * a2

@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from ...control.registry import controller_entry
 from ...errors import TetherheliError
 from ...params import Params
 from ...scenario.core import Scenario, TetherSettings
@@ -50,7 +51,8 @@ def free_reference(scenario: Scenario) -> Scenario:
     changes: dict = {"configuration": "free", "tether": TetherSettings()}
     if scenario.sensors.position_source == "tether":
         changes["sensors"] = dataclasses.replace(scenario.sensors, position_source="gps")
-    if scenario.control.controller == "tether_lqi":
+    if "free" not in controller_entry(scenario.control.controller).configurations:
+        # a controller that needs the tether (control.registry): the paper's flies the free
         changes["control"] = dataclasses.replace(scenario.control, controller="paper")
     return scenario.replace(**changes)
 
