@@ -17,14 +17,13 @@ import numpy as np
 import pytest
 
 from tetherheli.layout import LOADS_FORCE_N, LOADS_MOMENT_F
-from tetherheli.model import TetheredHelicopter
+from tetherheli.model import TetheredHelicopter, kernels
 from tetherheli.model.contact import (
     body_array,
     deck_array,
     gear_contact,
     gear_law_array,
     tail_lever,
-    wrench_as_loads,
 )
 
 from .newton_euler import NewtonEuler
@@ -199,8 +198,9 @@ def test_a_moving_deck_acts_through_relative_velocities():
 
 def test_a_wrench_as_loads_matches_newton_euler():
     """A force at HO and a moment about HO (all three axes) carried by equivalent rotor inputs
-    and wind force: the generated tethered model's accelerations equal the Newton-Euler route
-    (tests/newton_euler.py) with the wrench added (its torque enters J w' linearly)."""
+    and wind force (``kernels.wrench_loads_sc``, the one mapping): the generated tethered
+    model's accelerations equal the Newton-Euler route (tests/newton_euler.py) with the
+    wrench added (its torque enters J w' linearly)."""
     model = TetheredHelicopter()
     trim = model.trim(25.0)
     ne = NewtonEuler(model.params)
@@ -212,8 +212,9 @@ def test_a_wrench_as_loads_matches_newton_euler():
         x[6:12] += rng.normal(0.0, 0.5, 6)
         force, moment = rng.normal(0.0, 30.0, 3), rng.normal(0.0, 10.0, 3)
         wind = rng.normal(0.0, 5.0, 3)
-        inp, wind_eq = np.empty(4), np.empty(3)
-        wrench_as_loads(x, trim.u_total, wind, force, moment, tail, inp, wind_eq)
+        inp, wind_eq, sc = np.empty(4), np.empty(3), np.empty(10)
+        kernels.angle_trig(x, sc)
+        kernels.wrench_loads_sc(sc, trim.u_total, wind, force, moment, tail, inp, wind_eq)
         out = model.derivative(x, inp, wind=wind_eq)
         ref = ne.tethered(x, trim.u_total, wind + force)  # the tether's pull in both
         w_dot = ref[9:12] + np.linalg.solve(ne.J, moment)

@@ -48,7 +48,6 @@ from ..layout import (
     LOADS_SIZE,
 )
 from ..params import HelicopterParams
-from . import kernels
 
 __all__ = [
     "BODY_SIZE",
@@ -60,7 +59,6 @@ __all__ = [
     "gear_contact",
     "gear_law_array",
     "tail_lever",
-    "wrench_as_loads",
 ]
 
 _jit = compiled(fastmath={"nnan", "ninf"}, error_model="numpy")
@@ -156,58 +154,9 @@ def gear_contact(gear, law, body, deck, loads, penetration):
     return in_contact
 
 
-@_jit
-def wrench_as_loads(x, inp, wind, force_N, moment_F, tail, inp_out, wind_out):
-    """The rotor inputs and wind force under which the generated equations (free or tethered)
-    feel an added force ``force_N`` at HO and moment ``moment_F`` about HO (Sec. II-D's loads
-    are linear in the inputs, so a wrench has exact equivalent loads).
-
-    The generalised speeds are HO's velocity and F's body rates (eqs 7-8): a force at HO
-    enters where the wind force does; a moment about f1, f2 where the rotor torques tMR1, tMR2
-    do (the rotor's partial angular velocities are F's). The model has no free torque about
-    f3, so a moment M3 is carried by an increment d = M3 / a of the tail-rotor force fTR2 at
-    TRO = HO + (a, 0, h) in F, whose own force d f2 is taken back out of the wind force and
-    whose moment -h d about f1 out of tMR1. A test checks the result against the
-    Newton-Euler route of tests/newton_euler.py.
-
-    Parameters
-    ----------
-    x : numpy.ndarray, shape (>= 3,)
-        The state; its first three entries are the Euler angles q4..q6 [rad] of the
-        tethered state (``kernels.kinematics_dcm``).
-    inp : numpy.ndarray, shape (4,)
-        The rotor inputs fMR3 [N], tMR1, tMR2 [N m], fTR2 [N].
-    wind : numpy.ndarray, shape (3,)
-        The wind force on HO [N], N components.
-    force_N : numpy.ndarray, shape (3,)
-        The added force at HO [N], N components.
-    moment_F : numpy.ndarray, shape (3,)
-        The added moment about HO [N m], F components.
-    tail : numpy.ndarray, shape (2,)
-        TRO from HO in F: its f1 and f3 offsets (a, h) [m] (``tail_lever``).
-    inp_out : numpy.ndarray, shape (4,)
-        Receives the equivalent inputs.
-    wind_out : numpy.ndarray, shape (3,)
-        Receives the equivalent wind force [N].
-
-    Returns
-    -------
-    None
-    """
-    R = np.empty((3, 3))
-    kernels.kinematics_dcm(x[0:3], R)  # column j: f_j in N
-    d = moment_F[2] / tail[0]
-    inp_out[0] = inp[0]
-    inp_out[1] = inp[1] + moment_F[0] + tail[1] * d
-    inp_out[2] = inp[2] + moment_F[1]
-    inp_out[3] = inp[3] + d
-    for j in range(3):
-        wind_out[j] = wind[j] + force_N[j] - d * R[j, 1]
-
-
 def tail_lever(helicopter: HelicopterParams) -> np.ndarray:
     """TRO from HO in F, its f1 and f3 offsets [m] (eq 2: TRO = O + dO-TRO,1 f1; eq 3: HO =
-    O + dO-HO,3 f3), as ``wrench_as_loads`` takes them.
+    O + dO-HO,3 f3), as ``kernels.wrench_loads_sc`` takes them.
 
     Parameters
     ----------

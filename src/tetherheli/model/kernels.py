@@ -37,6 +37,7 @@ __all__ = [
     "tension_from_state",
     "tethered_derivative",
     "tethered_derivative_batch",
+    "wrench_loads_sc",
 ]
 
 _jit = compiled(fastmath={"nnan", "ninf"}, error_model="numpy")
@@ -89,6 +90,57 @@ def angle_trig(x, sc):
         c = math.cos(a)
         sc[i] = s
         sc[5 + i] = c
+
+
+@_jit_inline
+def wrench_loads_sc(sc, inp, wind, force_N, moment_F, tail, inp_out, wind_out):
+    """The rotor inputs and wind force under which the generated equations (free or tethered)
+    feel an added force ``force_N`` at HO and moment ``moment_F`` about HO: the one mapping of
+    a load into the model's inputs (the tether's force at P, the landing gear's contact).
+
+    Sec. II-D's loads are linear in the inputs and the generalised speeds are HO's velocity
+    and F's body rates (eqs 7-8), so a wrench has exact equivalent loads: a force at HO enters
+    where the wind force does; a moment about f1, f2 where the rotor torques tMR1, tMR2 do
+    (the rotor's partial angular velocities are F's). The model has no free torque about f3:
+    a moment M3 is carried by an increment d = M3 / a of the tail-rotor force fTR2 at TRO =
+    HO + (a, 0, h) in F, whose own force d f2 is taken back out of the wind force and whose
+    moment -h d about f1 out of tMR1. Tests check it against the Newton-Euler route.
+
+    Parameters
+    ----------
+    sc : numpy.ndarray, shape (10,)
+        sin, cos of the angles q4..q8 (``angle_trig``).
+    inp : numpy.ndarray, shape (4,)
+        The rotor inputs fMR3 [N], tMR1, tMR2 [N m], fTR2 [N].
+    wind : numpy.ndarray, shape (3,)
+        The wind force on HO [N], N components.
+    force_N : numpy.ndarray, shape (3,)
+        The added force at HO [N], N components.
+    moment_F : numpy.ndarray, shape (3,)
+        The added moment about HO [N m], F components.
+    tail : numpy.ndarray, shape (2,)
+        TRO from HO in F, its f1 and f3 offsets (a, h) [m] (``model.contact.tail_lever``);
+        read only when ``moment_F[2]`` is not zero.
+    inp_out : numpy.ndarray, shape (4,)
+        Receives the equivalent inputs.
+    wind_out : numpy.ndarray, shape (3,)
+        Receives the equivalent wind force [N].
+    """
+    inp_out[0] = inp[0]
+    inp_out[1] = inp[1] + moment_F[0]
+    inp_out[2] = inp[2] + moment_F[1]
+    inp_out[3] = inp[3]
+    for j in range(3):
+        wind_out[j] = wind[j] + force_N[j]
+    if moment_F[2] != 0.0:
+        s4, s5, s6 = sc[0], sc[1], sc[2]
+        c4, c5, c6 = sc[5], sc[6], sc[7]
+        d = moment_F[2] / tail[0]
+        inp_out[1] += tail[1] * d
+        inp_out[3] += d
+        wind_out[0] -= d * (-c5 * s6)  # f2 in N (Table I's second column)
+        wind_out[1] -= d * (c6 * c4 - s5 * s6 * s4)
+        wind_out[2] -= d * (s5 * s6 * c4 + c6 * s4)
 
 
 @_jit_inline

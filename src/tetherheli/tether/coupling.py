@@ -98,12 +98,16 @@ def force_at_P_loads_sc(sc, inp, wind, force_P, arm, inp_out, wind_out):
         + force_P[1] * (c6 * c4 - s5 * s6 * s4)
         + force_P[2] * (s5 * s6 * c4 + c6 * s4)
     )
-    for j in range(3):
-        wind_out[j] = wind[j] + force_P[j]
-    inp_out[0] = inp[0]
-    inp_out[1] = inp[1] - arm * f2
-    inp_out[2] = inp[2] + arm * f1
-    inp_out[3] = inp[3]
+    # the moment arm f3 x F about HO, F components (no f3 part: no tail lever is read)
+    moment = np.empty(3)
+    moment[0] = -arm * f2
+    moment[1] = arm * f1
+    moment[2] = 0.0
+    kernels.wrench_loads_sc(sc, inp, wind, force_P, moment, _NO_TAIL, inp_out, wind_out)
+
+
+#: ``wrench_loads_sc``'s tail lever, never read for a moment without an f3 part
+_NO_TAIL = np.ones(2)
 
 
 @_jit
