@@ -156,7 +156,7 @@ def pytest_sessionfinish(session: pytest.Session) -> None:
 #: installed: a test marked ``@pytest.mark.extra(NAME)`` skips, with the reason, without it.
 #: The README's install (``.[test]``) has none of them; ``.ci/run`` runs the README's test
 #: command, then installs the extras and runs the marked tests (``--extras-only``).
-EXTRAS = {"rl": "stable_baselines3", "validation": "moordyn"}
+EXTRAS = {"rl": "stable_baselines3", "validation": "moordyn", "ship": "capytaine"}
 
 
 def extra_missing(extra: str) -> str | None:

@@ -426,7 +426,9 @@ def jonswap(omega: np.ndarray, hs: float, tp: float, gamma: float = 3.3) -> np.n
     return (1 - 0.287 * math.log(gamma)) * pm * gamma**shape
 
 
-def sea_components(hs: float, tp: float, gamma: float, components: int) -> tuple[np.ndarray, np.ndarray]:
+def sea_components(
+    hs: float, tp: float, gamma: float, components: int
+) -> tuple[np.ndarray, np.ndarray]:
     """A JONSWAP sea as sinusoids: ``components`` frequencies evenly over [0.5, 4] w_p
     (w_p = 2 pi / Tp) with amplitudes a_k = sqrt(2 S(w_k) dw) (``jonswap``), scaled so that
     4 sqrt(m0) = Hs exactly, m0 = sum a_k^2 / 2 (the random-phase model, DNV-RP-C205 3.5.11).

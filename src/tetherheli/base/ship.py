@@ -114,6 +114,7 @@ RAO_MAX_ROWS = 10_000
 DEFAULT_RAO_FILE = "base/data/default_ship_raos.csv"
 _RAO_ROW = re.compile(rb"[ \t]*" + _CELL + rb"[ \t]*")
 _RAO_TEXT = "the header " + ",".join(RAO_HEADER)
+_HEADER = ",".join(RAO_HEADER).encode()
 
 
 class RaoTable(NamedTuple):
@@ -461,13 +462,12 @@ def _parse_raos(data: bytes, src: str) -> RaoTable:
         lines.pop()
     if not lines:
         refuse(1, "an empty file", _RAO_TEXT)
-    if lines[0].removeprefix(b"\xef\xbb\xbf").strip().replace(b" ", b"") != ",".join(
-        RAO_HEADER
-    ).encode():
+    if lines[0].removeprefix(b"\xef\xbb\xbf").strip().replace(b" ", b"") != _HEADER:
         refuse(1, "not the header", _RAO_TEXT)
     if len(lines) - 1 > RAO_MAX_ROWS:
         raise ParameterError("base.rao_file", f"more than {RAO_MAX_ROWS} rows",
-                             f"at most {RAO_MAX_ROWS} rows after the header", source=src)  # fmt: skip
+                             f"at most {RAO_MAX_ROWS} rows after the header",
+                             source=src)  # fmt: skip
     names = tuple(RAO_COLUMNS)
     values = np.empty((len(lines) - 1, len(names)))
     for i, line in enumerate(lines[1:]):

@@ -221,10 +221,10 @@ class Scenario:
 
     @property
     def input_files(self) -> dict[str, str]:
-        """Every file the scenario names (the base's track or a ship's RAOs), as read when the scenario was
-        built: resolved path -> SHA-256 of its bytes. Part of a run's identity (a Monte Carlo
-        resumes only over the same bytes) and protected like the scenario file by the output
-        rules (``cli._common.scenario_inputs``).
+        """Every file the scenario names (the base's track or a ship's RAOs), as read when
+        the scenario was built: resolved path -> SHA-256 of its bytes. Part of a run's
+        identity (a Monte Carlo resumes only over the same bytes) and protected like the
+        scenario file by the output rules (``cli._common.scenario_inputs``).
 
         Returns
         -------
