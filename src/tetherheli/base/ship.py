@@ -199,7 +199,7 @@ def encounter_frequency(omega: np.ndarray, speed: float, heading: float) -> np.n
     return omega + omega**2 * speed * math.cos(math.radians(heading)) / G
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class ShipBase(BaseMotion):
     """The winch on a ship's pad: six degrees of freedom from RAOs x a JONSWAP sea.
 
