@@ -4,6 +4,7 @@ encounter frequency, the RAO file's reader, a scenario flown and the STANAG 4154
 
 from __future__ import annotations
 
+import json
 import math
 import subprocess
 import sys
@@ -215,7 +216,7 @@ def test_ship_keys_are_checked_in_one_line():
     assert set(ShipBase().to_dict()) == {"motion", *MOTION_KEYS["ship"]}
 
 
-def test_ship_scenario_flies_and_records_the_deck(tmp_path):
+def test_ship_scenario_flies_and_records_the_deck(tmp_path, blank_figures):
     """``[base] motion = "ship"`` loads, flies in ``simulate`` and records the deck's attitude
     (the same components as ``ShipBase.attitude``), and the summary's STANAG 4154 figures
     equal a direct computation from the recorded series."""
@@ -250,13 +251,19 @@ def test_ship_scenario_flies_and_records_the_deck(tmp_path):
         math.sqrt(sum(v * v for v in x["base_v3"]) / x["base_v3"].size))  # fmt: skip
     assert "deck motion (RMS)" in repr(result)
     assert result.column_units()["deck_roll"] == "rad"
+    # the command's summary.json carries them too
+    from tetherheli import cli
+
+    assert cli.main(["simulate", str(toml), "--out", str(tmp_path / "out")]) == 0
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text(encoding="utf-8"))
+    assert summary["deck_motion"] == pytest.approx(figures)
 
 
 @pytest.mark.slow
 @pytest.mark.extra("ship")
 def test_shipped_raos_are_what_the_script_writes():
     """The shipped CSV is benchmarks/ship_raos.py's output: Capytaine recomputes one of its
-    rows (one frequency near the roll resonance, waves 30 deg off the bow; about 15 s)."""
+    rows (one frequency near the roll resonance, waves 30 deg off the bow; two BEM solves, 10-30 s)."""
     sys.path.insert(0, str(ROOT / "benchmarks"))
     try:
         import ship_raos
