@@ -263,7 +263,8 @@ def test_ship_scenario_flies_and_records_the_deck(tmp_path, blank_figures):
 @pytest.mark.extra("ship")
 def test_shipped_raos_are_what_the_script_writes():
     """The shipped CSV is benchmarks/ship_raos.py's output: Capytaine recomputes one of its
-    rows (one frequency near the roll resonance, waves 30 deg off the bow; two BEM solves, 10-30 s)."""
+    rows (one frequency near the roll resonance, waves 30 deg off the bow; two BEM solves,
+    10-30 s)."""
     sys.path.insert(0, str(ROOT / "benchmarks"))
     try:
         import ship_raos
