@@ -195,6 +195,16 @@ def test_rao_reader_refuses_bad_files_in_one_line(tmp_path, edit, where):
     assert where in message and "\n" not in message and "secret" not in message
 
 
+def test_a_ship_refuses_a_heading_outside_its_file(tmp_path):
+    rows = _good_rows()
+    path = _csv(tmp_path, write_rao_csv(rows[rows[:, 1] <= 90.0]))
+    assert ShipBase(rao_file=str(path), wave_heading=90.0).rao_file == str(path.resolve())
+    with pytest.raises(ParameterError, match=r"base\.wave_heading = 120.0 .*\[0, 90\] deg"):
+        ShipBase(rao_file=str(path), wave_heading=120.0)
+    with pytest.raises(ParameterError, match=r"base\.rao_file_sha256"):
+        ShipBase(rao_file_sha256="0" * 64)
+
+
 def test_rao_reader_refuses_a_missing_or_huge_file(tmp_path):
     with pytest.raises(ParameterError, match=r"base\.rao_file"):
         read_rao_csv(tmp_path / "none.csv")

@@ -260,6 +260,9 @@ class ShipBase(BaseMotion):
             table = read_rao_csv(self.rao_file, sha256=self.rao_file_sha256)
             object.__setattr__(self, "rao_file", table.source)
             object.__setattr__(self, "rao_file_sha256", table.sha256)
+        elif self.rao_file_sha256:
+            raise ParameterError("base.rao_file_sha256", self.rao_file_sha256,
+                                 "empty with the default ship (rao_file unset)")  # fmt: skip
         else:
             table = default_raos()
         h = table.headings
