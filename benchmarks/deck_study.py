@@ -86,6 +86,82 @@ STATION_READING = [
 ]
 
 
+#: The ship's section (``[base] motion = "ship"``): its model, conventions, sources and
+#: checks; no runs of the study (``ship_hover_tethered`` is flown by ``tetherheli simulate``)
+SHIP_SECTION = [
+    "## A ship in six degrees of freedom",
+    "",
+    '`[base] motion = "ship"` (`tetherheli.base.ShipBase`, the shipped '
+    "`ship_hover_tethered`) puts the winch on the pad of a ship under way in a long-crested "
+    "JONSWAP sea: surge, sway, heave, roll, pitch and yaw of the ship's centre of motion "
+    "from response amplitude operators (RAOs) times the sea, at the encounter frequencies.",
+    "",
+    "Model (linear seakeeping, small angles). The sea is `SeaStateBase`'s, one source: "
+    "the JONSWAP spectrum of DNV-RP-C205 eq 3.5.5 as `components` sinusoids evenly over "
+    "[0.5, 4] w_p with 4 sqrt(m0) = Hs, and the first set of random phases of `seed` "
+    "(`base.motion.sea_components`, `sea_phases`). A wave component of amplitude a, "
+    "frequency w and phase e moves each degree of freedom by |H(w)| a sin(w_e t + e + "
+    "phase(w)), H the RAO at the wave heading (interpolated linearly in its complex value "
+    "between the file's headings and frequencies; below the lowest frequency the lowest's, "
+    "above the highest zero). The pad at r (`pad`, in the ship's axes) moves by translation "
+    "+ rotation x r, so its position, velocity and acceleration are sums of sinusoids in "
+    "the engine's packed form (`base.compiled`: no engine change). The ship's `speed` U is "
+    "the base's constant velocity (U, 0, 0), as `[base] velocity` is for `motion = "
+    '"velocity"`: HO starts at rest relative to the pad, so at the pad\'s velocity at t = 0 '
+    "(`runs.setup.base_velocity`), and the controller holds a point of the pad. The pad's "
+    "mean position is the origin of N at t = 0.",
+    "",
+    "Conventions. The ship's axes: x forward, y to port, z up, from its centre of motion; "
+    "the ship heads along n1, so x = n1, y = n2, z = n3 on average. Roll, pitch and yaw are "
+    "right-handed small rotations about x, y, z (positive pitch puts the bow down). "
+    "`wave_heading` chi is where the waves come from, from the bow toward port: 0 head "
+    "seas, 90 beam seas from port, 180 following. A phase is that of the motion against the "
+    "wave elevation a cos(w t + e) at the centre of motion: |H| a cos(w t + e + phase). "
+    "The encounter frequency (deep water; Lewis 1989, Principles of Naval Architecture vol "
+    "III, eq 8.62, with mu = 180 deg - chi the angle between course and wave travel): w_e = "
+    "w + w^2 U cos(chi) / g. In following seas w_e reaches zero at w = g / (U |cos chi|) and "
+    "is negative beyond, where the waves overtake the ship; such a component is folded as "
+    "the literature does, sin(-|w_e| t + p) = sin(|w_e| t + pi - p): the same motion, each "
+    "component's variance kept. The RAOs are taken at the wave frequency for the stated "
+    "speed; the default ship's are for zero speed, an approximation under way (Froude "
+    "number 0.23 at 5 m/s).",
+    "",
+    "The default ship (`benchmarks/ship_raos.py`, which writes "
+    "`src/tetherheli/base/data/default_ship_raos.csv`): a box hull 50 m long, 8 m wide, "
+    "2.5 m draught (a patrol-vessel-like size), 1.025e6 kg, its centre of gravity on the "
+    "waterline amidships (the centre of motion; GM 0.86 m from Capytaine's hydrostatics, "
+    "0.88 m in closed form), radii of gyration 0.40 B in roll and 0.25 L in pitch and yaw. "
+    "Capytaine 2.3 (linear potential flow, boundary elements, zero speed, deep water, a lid "
+    "against irregular frequencies) gives added mass, radiation damping and excitation at "
+    "40 frequencies from 0.2 to 2.6 rad/s and 7 headings 0-180 deg; a potential flow has "
+    "no viscous roll damping, so 10% of critical is added at the roll natural frequency "
+    "(0.797 rad/s, a period of 7.9 s, added inertia 0.30 I44). Another ship: `rao_file` "
+    '(the scenario reference\'s "RAO files"), read and recorded as a track file is.',
+    "",
+    "What a run records: `base_n1..3`, `base_v1..3` (the pad) and `deck_roll`, "
+    "`deck_pitch`, `deck_yaw` [rad] and their rates `..._rate` [rad/s], from the same "
+    "components (`ShipBase.attitude`) at the samples. The summary (`SimulationResult."
+    "deck_motion`, printed with the result) gives the NATO STANAG 4154 deck-motion "
+    "figures for V/STOL operations: RMS roll, RMS pitch and the pad's RMS vertical velocity "
+    "over the recorded samples, against the limits 2.5 deg, 1.5 deg and 1.0 m/s. "
+    "`ship_hover_tethered` (Hs 2 m, Tp 7 s, seed 1, waves 30 deg off the bow, 5 m/s, the pad "
+    "18 m aft and 3 m up) records 0.93 deg, 1.38 deg and 0.66 m/s: within the limits "
+    "(`tetherheli simulate scenarios/ship_hover_tethered.toml --out ship`).",
+    "",
+    "How it is checked (`tests/test_ship_motion.py`): over a long record each degree of "
+    "freedom's standard deviation equals sqrt(int |H(w)|^2 S(w) dw) computed by an outside "
+    "code, waveresponse 1.4 (its own JONSWAP, its interpolation of the RAO), within 3% "
+    "(0.75% measured, the roll's resonance the largest); the pad's motion less the centre's "
+    "equals the recorded rotation x r at random times; the encounter frequency is w at zero "
+    "speed and the formula under way, and folded following seas give the unfolded signal; "
+    "the RAO file's reader refuses bad files in one line naming the row and column; a "
+    "scenario over a ship flies in `simulate` and records the deck's attitude, and its "
+    "STANAG figures equal a direct computation from the series; Capytaine recomputes rows "
+    "of the shipped RAOs (skipped without it).",
+    "",
+]
+
+
 def page(station, landing, seeds: int, seconds: float) -> str:
     """The page's Markdown: the station-keeping and landing tables and how they were made.
 
@@ -146,6 +222,7 @@ def page(station, landing, seeds: int, seconds: float) -> str:
         "",
         *landing_table(landing),
         "",
+        *SHIP_SECTION,
         f"Measured with tetherheli {__version__}, Python {platform.python_version()}, in "
         f"{seconds:.0f} s on {platform.machine()}.",
         "",

@@ -157,7 +157,11 @@ def pytest_sessionfinish(session: pytest.Session) -> None:
 #: of them; ``@pytest.mark.extra(NAME, MODULE)`` needs only that one of the extra's modules.
 #: The README's install (``.[test]``) has none of them; ``.ci/run`` runs the README's test
 #: command, then installs the extras and runs the marked tests (``--extras-only``).
-EXTRAS = {"rl": ("stable_baselines3",), "validation": ("moordyn", "rotorpy")}
+EXTRAS = {
+    "rl": ("stable_baselines3",),
+    "validation": ("moordyn", "rotorpy"),
+    "ship": ("capytaine",),
+}
 
 
 def extra_missing(extra: str, module: str | None = None) -> str | None:

@@ -363,7 +363,7 @@ REFUSED: list[tuple[str, Callable[[], object], type, str]] = [
      ParameterError, "q9 = 0.2 is invalid; allowed: a tether length in [0.5, 1000] m"),
     ("base_motion_from motion", lambda: base_motion_from(BaseSettings(motion="boat")),
      ParameterError, "base.motion = 'boat' is invalid; allowed: one of 'fixed', 'velocity', "
-     "'harmonic', 'sea_state', 'file'"),
+     "'harmonic', 'sea_state', 'file', 'ship'"),
     ("FixedBase position", lambda: FixedBase(position=(1.0, 2.0)),
      ParameterError, "base.position = (1.0, 2.0) is invalid; allowed: 3 finite numbers in "
      "[-1e+06, 1e+06] [m]"),
@@ -387,9 +387,9 @@ REFUSED: list[tuple[str, Callable[[], object], type, str]] = [
     ("TOML limits", _toml("[limits]\nmax_tension = -1.0"),
      ParameterError, "bad.toml: limits.max_tension = -1.0 is invalid; allowed: a finite "
      "number > 0 [N]"),
-    ("TOML base.motion", _toml("[base]\nmotion = 'ship'"),
-     ParameterError, "bad.toml: base.motion = 'ship' is invalid; allowed: one of 'fixed', "
-     "'velocity', 'harmonic', 'sea_state', 'file'"),
+    ("TOML base.motion", _toml("[base]\nmotion = 'raft'"),
+     ParameterError, "bad.toml: base.motion = 'raft' is invalid; allowed: one of 'fixed', "
+     "'velocity', 'harmonic', 'sea_state', 'file', 'ship'"),
     ("TOML base.position", _toml("[base]\nposition = [1.0, 2.0]"),
      ParameterError, "bad.toml: base.position = (1.0, 2.0) is invalid; allowed: 3 finite "
      "numbers in [-1e+06, 1e+06] [m]"),

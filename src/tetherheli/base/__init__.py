@@ -1,5 +1,6 @@
 """The winch's base: a still winch (the paper's), a vehicle under way, a heaving deck, a
-recorded track. ``motion`` defines the motions, ``compiled`` their packed form for
+recorded track, a ship in six degrees of freedom. ``motion`` defines the motions, ``ship``
+the ship's, ``compiled`` their packed form for
 the engine, ``loader`` the ``[base]`` table."""
 
 from .compiled import CompiledBase, base_state, compile_base
@@ -14,6 +15,7 @@ from .motion import (
     jonswap,
     read_base_csv,
 )
+from .ship import ShipBase, read_rao_csv
 
 __all__ = [
     "BaseMotion",
@@ -23,9 +25,11 @@ __all__ = [
     "FixedBase",
     "HarmonicBase",
     "SeaStateBase",
+    "ShipBase",
     "VelocityBase",
     "base_state",
     "compile_base",
     "jonswap",
     "read_base_csv",
+    "read_rao_csv",
 ]

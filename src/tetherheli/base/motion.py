@@ -47,6 +47,8 @@ __all__ = [
     "base_motion_from",
     "jonswap",
     "read_base_csv",
+    "sea_components",
+    "sea_phases",
 ]
 
 #: The most rows a track file may hold after its header, blank lines included (counted while
@@ -69,6 +71,11 @@ BASE_POSITION_MAX_M = 1e6
 BASE_SPEED_MAX_M_S = 100.0
 #: [m] the largest harmonic amplitude per axis (the highest ocean waves are ~30 m)
 BASE_AMPLITUDE_MAX_M = 100.0
+#: [m/s] the fastest ship (a fast patrol craft; the encounter frequency of following seas is
+#: folded at any speed, ``base.ship``)
+SHIP_SPEED_MAX_M_S = 25.0
+#: [m] the farthest a pad may lie from the ship's centre of motion on each axis
+SHIP_PAD_MAX_M = 200.0
 #: [s] the track's times lie within +-this (3 years; a run has at most 1e9 samples)
 TRACK_TIME_MAX_S = 1e8
 #: [s] the shortest step between two rows of a track (10 kHz); with the bounds above every
@@ -76,12 +83,13 @@ TRACK_TIME_MAX_S = 1e8
 TRACK_MIN_STEP_S = 1e-4
 
 #: the motions a ``[base]`` table's ``motion`` names
-MOTIONS: tuple[str, ...] = ("fixed", "velocity", "harmonic", "sea_state", "file")
+MOTIONS: tuple[str, ...] = ("fixed", "velocity", "harmonic", "sea_state", "file", "ship")
 #: the keys of a ``[base]`` table, each described once: the motions check their values with
 #: them and the scenario reference prints them (``scenario.tables.BaseSettings``)
 BASE_KEYS: dict[str, Key] = {
     "motion": Key("the winch's base: still (the paper's), under way at a constant velocity, "
-                  "harmonic per axis, a JONSWAP sea state, or a recorded track (CSV)",
+                  "harmonic per axis, a JONSWAP sea state, a recorded track (CSV), or a ship "
+                  "in six degrees of freedom (RAOs x a JONSWAP sea; tetherheli.base.ship)",
                   kind="text", choices=MOTIONS),
     "position": Key("the base's position at t = 0 (motion fixed or velocity)", "m",
                     kind="vector", length=3, low=-BASE_POSITION_MAX_M,
@@ -95,18 +103,21 @@ BASE_KEYS: dict[str, Key] = {
                      low=0.0, high=100.0),
     "phase": Key("phase p_i per axis (motion harmonic)", "rad", kind="vector", length=3,
                  low=-2 * math.pi, high=2 * math.pi),
-    "significant_wave_height": Key("Hs = 4 sqrt(m0) of the deck's heave (motion sea_state)",
+    "significant_wave_height": Key("Hs = 4 sqrt(m0) of the deck's heave (motion sea_state), "
+                                   "of the waves (motion ship)",
                                    "m", low=0.0, low_open=True, high=20.0),
-    "peak_period": Key("the JONSWAP spectrum's peak period Tp (motion sea_state)", "s",
-                       low=1.0, high=30.0),
-    "peak_enhancement": Key("the JONSWAP peak enhancement gamma (motion sea_state)", low=1.0,
-                            high=7.0),
-    "seed": Key("seed of the sea state's phases (motion sea_state)", kind="integer", low=0),
+    "peak_period": Key("the JONSWAP spectrum's peak period Tp (motion sea_state, ship)",
+                       "s", low=1.0, high=30.0),
+    "peak_enhancement": Key("the JONSWAP peak enhancement gamma (motion sea_state, ship)",
+                            low=1.0, high=7.0),
+    "seed": Key("seed of the sea state's phases (motion sea_state, ship)", kind="integer",
+                low=0),
     "sway_scale": Key("sway (n2) as this fraction of the heave spectrum, own phases (motion "
                       "sea_state)", low=0.0, high=1.0),
     "surge_scale": Key("surge (n1) as this fraction of the heave spectrum, own phases (motion "
                        "sea_state)", low=0.0, high=1.0),
-    "components": Key("sinusoids of the sea state, evenly over [0.5, 4] wp (motion sea_state)",
+    "components": Key("sinusoids of the sea state, evenly over [0.5, 4] wp (motion sea_state, "
+                      "ship)",
                       kind="integer", low=1, high=SEA_STATE_MAX_COMPONENTS),
     "file": Key("CSV t,n1,n2,n3 [s, m, m, m] of the base's track, relative to the scenario "
                 "file (motion file; see 'Track files' below)", kind="text"),
@@ -114,6 +125,20 @@ BASE_KEYS: dict[str, Key] = {
                        "when the file is read; a result's saved scenario records it, and a "
                        "track whose bytes differ is refused", kind="text",
                        note="64 hexadecimal digits or empty"),
+    "wave_heading": Key("where the waves come from, from the ship's bow toward port: 0 head "
+                        "seas, 90 beam seas from port, 180 following (motion ship)", "deg",
+                        low=0.0, high=180.0),
+    "speed": Key("the ship's speed through the water along n1 (its heading; motion ship): the "
+                 "base's constant velocity (speed, 0, 0), and the encounter frequency",
+                 "m/s", low=0.0, high=SHIP_SPEED_MAX_M_S),
+    "pad": Key("the winch's point (the pad) in the ship's axes (x forward = n1, y to port = "
+               "n2, z up = n3) from its centre of motion (motion ship)", "m", kind="vector",
+               length=3, low=-SHIP_PAD_MAX_M, high=SHIP_PAD_MAX_M),
+    "rao_file": Key("CSV of the ship's response amplitude operators, relative to the scenario "
+                    "file; empty: the default ship (motion ship; see 'RAO files' below)",
+                    kind="text"),
+    "rao_file_sha256": Key("the SHA-256 of the RAO file's bytes (motion ship), as file_sha256 "
+                           "for a track", kind="text", note="64 hexadecimal digits or empty"),
 }  # fmt: skip
 #: the columns of a track file, each with its physical range (the same as the [base] keys')
 TRACK_COLUMNS: dict[str, Key] = {
@@ -133,6 +158,8 @@ MOTION_KEYS: dict[str, tuple[str, ...]] = {
     "sea_state": ("significant_wave_height", "peak_period", "peak_enhancement", "seed",
                   "sway_scale", "surge_scale", "components"),
     "file": ("file", "file_sha256"),
+    "ship": ("significant_wave_height", "peak_period", "peak_enhancement", "seed", "components",
+             "wave_heading", "speed", "pad", "rao_file", "rao_file_sha256"),
 }  # fmt: skip
 
 
@@ -399,6 +426,62 @@ def jonswap(omega: np.ndarray, hs: float, tp: float, gamma: float = 3.3) -> np.n
     return (1 - 0.287 * math.log(gamma)) * pm * gamma**shape
 
 
+def sea_components(
+    hs: float, tp: float, gamma: float, components: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """A JONSWAP sea as sinusoids: ``components`` frequencies evenly over [0.5, 4] w_p
+    (w_p = 2 pi / Tp) with amplitudes a_k = sqrt(2 S(w_k) dw) (``jonswap``), scaled so that
+    4 sqrt(m0) = Hs exactly, m0 = sum a_k^2 / 2 (the random-phase model, DNV-RP-C205 3.5.11).
+
+    Parameters
+    ----------
+    hs : float
+        The significant wave height Hs [m].
+    tp : float
+        The peak period Tp [s].
+    gamma : float
+        The peak enhancement gamma [-].
+    components : int
+        The number of sinusoids, >= 1.
+
+    Returns
+    -------
+    omega : numpy.ndarray, shape (components,)
+        The angular frequencies [rad/s].
+    amplitude : numpy.ndarray, shape (components,)
+        The amplitudes a_k [m].
+    """
+    wp = 2 * math.pi / tp
+    omega = np.linspace(0.5 * wp, 4.0 * wp, components)
+    dw = omega[1] - omega[0] if components > 1 else 3.5 * wp
+    amp = np.sqrt(2 * jonswap(omega, 1.0, tp, gamma) * dw)
+    amp *= hs / (4 * math.sqrt(0.5 * np.sum(amp**2)))
+    return omega, amp
+
+
+def sea_phases(seed: int, count: int, components: int) -> np.ndarray:
+    """The random phases of a seeded sea, uniform on [0, 2 pi): ``count`` sets of
+    ``components``, drawn one set after the other from ``numpy.random.default_rng(seed)``
+    (the random-phase model, DNV-RP-C205 3.5.11).
+
+    Parameters
+    ----------
+    seed : int
+        The seed, >= 0.
+    count : int
+        The number of sets.
+    components : int
+        The phases per set.
+
+    Returns
+    -------
+    numpy.ndarray, shape (count, components)
+        The phases [rad].
+    """
+    rng = np.random.default_rng(seed)
+    return np.array([rng.uniform(0.0, 2 * math.pi, components) for _ in range(count)])
+
+
 @dataclass(frozen=True)
 class SeaStateBase(BaseMotion):
     """A deck in a seaway: heave as a seeded sum of sinusoids from a JONSWAP spectrum.
@@ -449,15 +532,13 @@ class SeaStateBase(BaseMotion):
     def _derive(self) -> None:
         """The sinusoids of the checked fields (``_waves``); also run by
         ``_validation.trusted``."""
-        wp = 2 * math.pi / self.peak_period
-        omega = np.linspace(0.5 * wp, 4.0 * wp, self.components)
-        dw = omega[1] - omega[0] if self.components > 1 else 3.5 * wp
-        amp = np.sqrt(2 * jonswap(omega, 1.0, self.peak_period, self.peak_enhancement) * dw)
-        amp *= self.significant_wave_height / (4 * math.sqrt(0.5 * np.sum(amp**2)))
-        rng = np.random.default_rng(self.seed)
+        omega, amp = sea_components(self.significant_wave_height, self.peak_period,
+                                    self.peak_enhancement, self.components)  # fmt: skip
+        phases = sea_phases(self.seed, 3, self.components)  # drawn for every axis
         rows = []
-        for axis, scale in ((2, 1.0), (1, self.sway_scale), (0, self.surge_scale)):
-            phase = rng.uniform(0.0, 2 * math.pi, self.components)  # drawn for every axis
+        for (axis, scale), phase in zip(
+            ((2, 1.0), (1, self.sway_scale), (0, self.surge_scale)), phases, strict=True
+        ):
             if scale > 0.0:
                 rows.append(np.column_stack([np.full_like(omega, axis), scale * amp, omega, phase]))
         waves = np.concatenate(rows)
@@ -762,7 +843,7 @@ def base_motion_from(settings: Any) -> BaseMotion:
     BaseMotion
     """
     kind = BASE_KEYS["motion"].check("base.motion", settings.motion)
-    return _motion(kind, settings, _MOTION_CLASSES.get(kind))
+    return _motion(kind, settings, _motion_class(kind))
 
 
 def _base_motion_from(settings: object) -> BaseMotion:
@@ -770,7 +851,7 @@ def _base_motion_from(settings: object) -> BaseMotion:
     ``[base]``, ``scenario.checks``): the motion built ``trusted``; a file still read and
     its track checked."""
     kind = settings.motion  # type: ignore[attr-defined]
-    cls = _MOTION_CLASSES.get(kind)
+    cls = _motion_class(kind)
     return _motion(kind, settings, None if cls is None else functools.partial(trusted, cls))
 
 
@@ -784,10 +865,20 @@ def _motion(kind: str, settings: object, build: Callable[..., BaseMotion] | None
     return build(**kw)
 
 
-#: the class of every motion but ``file`` (read from its CSV)
+#: the class of every motion but ``file`` (read from its CSV) and ``ship`` (``_motion_class``)
 _MOTION_CLASSES: dict[str, type[BaseMotion]] = {
     "fixed": FixedBase,
     "velocity": VelocityBase,
     "harmonic": HarmonicBase,
     "sea_state": SeaStateBase,
 }
+
+
+def _motion_class(kind: str) -> type[BaseMotion] | None:
+    """The class of the motion ``kind`` (None for ``file``, read from its CSV); the ship's
+    imported here (``base.ship`` imports this module)."""
+    if kind == "ship":
+        from .ship import ShipBase
+
+        return ShipBase
+    return _MOTION_CLASSES.get(kind)

@@ -462,6 +462,9 @@ def _write_run_files(
         "tetherheli_version": __version__,
         "command": command,
     }
+    deck = result.deck_motion()  # over a ship: the STANAG 4154 deck-motion figures
+    if deck:
+        info["deck_motion"] = deck
     result._save(directory, result.name, format=data_format)
     if result.configuration.get("wind", {}).get("type") != "custom":  # else not re-runnable
         atomic_write_text(directory / SCENARIO_FILE, scenario_toml(result.configuration))

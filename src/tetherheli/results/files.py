@@ -33,6 +33,8 @@ from ..status import Status
 __all__ = [
     "BASE_POSITION_COLUMNS",
     "BASE_VELOCITY_COLUMNS",
+    "DECK_ATTITUDE_COLUMNS",
+    "DECK_RATE_COLUMNS",
     "DRUM_COLUMNS",
     "EXTRA_UNITS",
     "RESULT_COLUMNS",
@@ -93,11 +95,17 @@ DRUM_COLUMNS: tuple[str, ...] = ("drum_speed", "motor_torque")
 #: N is (q1, q2, q3) + (base_n1, base_n2, base_n3).
 BASE_POSITION_COLUMNS: tuple[str, ...] = ("base_n1", "base_n2", "base_n3")
 BASE_VELOCITY_COLUMNS: tuple[str, ...] = ("base_v1", "base_v2", "base_v3")
+#: A ship's extra columns ([base] motion = "ship", ``base.ship.ShipBase.attitude``): the
+#: deck's roll, pitch and yaw (small rotations about the ship's x, y, z) and their rates.
+DECK_ATTITUDE_COLUMNS: tuple[str, ...] = ("deck_roll", "deck_pitch", "deck_yaw")
+DECK_RATE_COLUMNS: tuple[str, ...] = ("deck_roll_rate", "deck_pitch_rate", "deck_yaw_rate")
 EXTRA_UNITS: dict[str, str] = {
     "drum_speed": "rad/s",
     "motor_torque": "N m",
     **dict.fromkeys(BASE_POSITION_COLUMNS, "m"),
     **dict.fromkeys(BASE_VELOCITY_COLUMNS, "m/s"),
+    **dict.fromkeys(DECK_ATTITUDE_COLUMNS, "rad"),
+    **dict.fromkeys(DECK_RATE_COLUMNS, "rad/s"),
 }
 #: What each column means (docs/notation.md), written with its unit into a Parquet file's
 #: Arrow field metadata (``SimulationResult.to_parquet``); an estimate ``<name>_est`` is
@@ -136,7 +144,11 @@ RESULT_DESCRIPTIONS: dict[str, str] = {
     "motor_torque": "winch motor torque, averaged over the following sample",
     **{f"base_n{i}": f"position of the winch's base in N, axis n{i}" for i in (1, 2, 3)},
     **{f"base_v{i}": f"velocity of the winch's base in N, axis n{i}" for i in (1, 2, 3)},
-}
+    **{name: f"the ship's {name.removeprefix('deck_')} (about its {axis} axis, small angle)"
+       for name, axis in zip(DECK_ATTITUDE_COLUMNS, "xyz", strict=True)},
+    **{name: f"the rate of the ship's {name.removeprefix('deck_').removesuffix('_rate')}"
+       for name in DECK_RATE_COLUMNS},
+}  # fmt: skip
 #: File formats of a saved run's time series (``SimulationResult.save``): ``<stem>.csv`` (the
 #: default, text), ``<stem>.parquet`` (Apache Parquet through pandas + pyarrow, the ``data``
 #: extra) or ``<stem>.mcap`` (MCAP: the signals and a 3-D scene for Foxglove, through the

@@ -28,6 +28,7 @@ from .files import (
     _WIND,
     BASE_POSITION_COLUMNS,
     BASE_VELOCITY_COLUMNS,
+    DECK_ATTITUDE_COLUMNS,
     DRUM_COLUMNS,
     EXTRA_UNITS,
     INPUT_NAMES,
@@ -362,6 +363,25 @@ class SimulationResult(SummaryRepr):
             peaks[f"{k}_deg"] = math.degrees(peaks.pop(k))
         return peaks
 
+    def deck_motion(self) -> dict[str, float]:
+        """The NATO STANAG 4154 deck-motion figures of a run over a ship (``[base] motion =
+        "ship"``): RMS of the recorded ``deck_roll``, ``deck_pitch`` and of the pad's
+        vertical velocity ``base_v3`` over all samples (``base.ship.deck_motion_rms``;
+        the standard's limits 2.5 deg, 1.5 deg, 1.0 m/s).
+
+        Returns
+        -------
+        dict of str to float
+            ``deck_roll_rms`` [deg], ``deck_pitch_rms`` [deg], ``deck_heave_velocity_rms``
+            [m/s]; empty without the deck's columns (no ship).
+        """
+        from ..base.ship import deck_motion_rms
+
+        names = (*DECK_ATTITUDE_COLUMNS[:2], BASE_VELOCITY_COLUMNS[2])
+        if not all(name in self.extra for name in names):
+            return {}
+        return deck_motion_rms(*(self.extra[name] for name in names))
+
     def _summary_rows(self) -> list[tuple[str, str]]:
         duration = float(self.time[-1] - self.time[0]) if self.time.size else 0.0
         dt = self.configuration.get("control", {}).get("dt", "?")
@@ -378,6 +398,15 @@ class SimulationResult(SummaryRepr):
         ]
         if peaks:
             rows.append(("peak |deviation|", ", ".join(peaks)))
+        deck = self.deck_motion()
+        if deck:
+            rows.append((
+                "deck motion (RMS)",
+                f"roll {_number(deck['deck_roll_rms'], 'deg')}, pitch "
+                f"{_number(deck['deck_pitch_rms'], 'deg')}, heave velocity "
+                f"{_number(deck['deck_heave_velocity_rms'], 'm/s')} (STANAG 4154: 2.5 deg, "
+                "1.5 deg, 1 m/s)",
+            ))  # fmt: skip
         return rows
 
     def deviations(self) -> dict[str, np.ndarray]:

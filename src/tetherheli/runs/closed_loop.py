@@ -19,6 +19,7 @@ import numpy as np
 
 from .._version import __version__
 from ..base.compiled import CompiledBase, base_state
+from ..base.ship import ShipBase
 from ..control.base import Controller, Measurement
 from ..control.deck import DeckFeedforward
 from ..control.registry import controller_entry
@@ -40,7 +41,12 @@ from ..model import TrimPoint
 from ..model.kernels import angle_trig, angle_trig_from
 from ..params import Params
 from ..resources import check_memory
-from ..results.files import BASE_POSITION_COLUMNS, BASE_VELOCITY_COLUMNS
+from ..results.files import (
+    BASE_POSITION_COLUMNS,
+    BASE_VELOCITY_COLUMNS,
+    DECK_ATTITUDE_COLUMNS,
+    DECK_RATE_COLUMNS,
+)
 from ..results.result import DRUM_COLUMNS, TENSION_GROUND_COLUMN, SimulationResult, winch_limit_info
 from ..scenario.core import Scenario
 from ..sensing.config import N_CHANNELS, N_GROUPS
@@ -275,6 +281,11 @@ class _Recorder:
             for i in range(3):
                 extra[BASE_POSITION_COLUMNS[i]] = motion[:, 0, i].copy()
                 extra[BASE_VELOCITY_COLUMNS[i]] = motion[:, 1, i].copy()
+            if isinstance(scenario.base_motion, ShipBase):  # the deck's attitude, from the
+                deck = scenario.base_motion.attitude(np.arange(k) * scenario.control.dt)
+                for i in range(3):  # same components as the pad's motion
+                    extra[DECK_ATTITUDE_COLUMNS[i]] = deck[:, 0, i]
+                    extra[DECK_RATE_COLUMNS[i]] = deck[:, 1, i]
         # a run whose recorded values overflowed is never completed (status.finite_status):
         # the engine's series (a controller's own columns may hold NaN for "no value")
         engine_columns = [v for name, v in extra.items() if name not in (columns or {})]

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 from .._io import NONFINITE_JSON, OWN_FILE_STEMS
 from .._validation import MAX_SAMPLES, check_samples
 from ..base.motion import MOTION_KEYS, FileBase, _base_motion_from
+from ..base.ship import ShipBase
 from ..control.registry import CONTROLLER_REGISTRY, controller_entry
 from ..errors import ParameterError
 from ..params import Params, check_tether_length, check_tether_strain
@@ -306,6 +307,10 @@ def _check_base(s: Scenario, source: str | None) -> None:
             )  # fmt: skip
         # the run records the track it flew: its resolved path and the SHA-256 of its bytes
         base = dataclasses.replace(base, file=motion.source, file_sha256=motion.sha256)
+    if isinstance(motion, ShipBase) and base.rao_file:  # the RAO file it read, as a track's
+        base = dataclasses.replace(
+            base, rao_file=motion.rao_file, rao_file_sha256=motion.rao_file_sha256
+        )
     _set(s, "base", base)
     object.__setattr__(s, "_base_motion", motion)
     reference = s.control.reference

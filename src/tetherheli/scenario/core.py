@@ -221,15 +221,17 @@ class Scenario:
 
     @property
     def input_files(self) -> dict[str, str]:
-        """Every file the scenario names (the base's track), as read when the scenario was
-        built: resolved path -> SHA-256 of its bytes. Part of a run's identity (a Monte Carlo
-        resumes only over the same bytes) and protected like the scenario file by the output
-        rules (``cli._common.scenario_inputs``).
+        """Every file the scenario names (the base's track or a ship's RAOs), as read when
+        the scenario was built: resolved path -> SHA-256 of its bytes. Part of a run's
+        identity (a Monte Carlo resumes only over the same bytes) and protected like the
+        scenario file by the output rules (``cli._common.scenario_inputs``).
 
         Returns
         -------
         dict of str to str
         """
+        if self.base.motion == "ship" and self.base.rao_file:
+            return {self.base.rao_file: self.base.rao_file_sha256}
         if self.base.motion != "file":
             return {}
         return {self.base.file: self.base.file_sha256}
@@ -483,10 +485,12 @@ def _scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> S
         kwargs["winch"] = WinchSettings(**_table(source, "winch", data["winch"], WinchSettings))
     if "base" in data:
         table = _vectors(source, "base", data["base"], BaseSettings)
-        if isinstance(table.get("file"), str) and table["file"] and source is not None:
-            # a track file named relative to the scenario file's folder (an absolute path
-            # stays as it is); the checks record it resolved, with its SHA-256
-            table["file"] = str(Path(source).parent / table["file"])
+        for key in ("file", "rao_file"):
+            if isinstance(table.get(key), str) and table[key] and source is not None:
+                # a track or RAO file named relative to the scenario file's folder (an
+                # absolute path stays as it is); the checks record it resolved, with its
+                # SHA-256
+                table[key] = str(Path(source).parent / table[key])
         kwargs["base"] = BaseSettings(**table)
     if "maneuver" in data:
         table = _table(source, "maneuver", data["maneuver"], ManeuverSettings)

@@ -257,6 +257,35 @@ def _track_rows() -> list[str]:
     return out
 
 
+def _rao_rows() -> list[str]:
+    """The rules of an RAO file (``motion = "ship"``): its grammar, its columns."""
+    from ..base.ship import RAO_COLUMNS, RAO_HEADER, RAO_MAX_BYTES, RAO_MAX_ROWS
+
+    out = [
+        "",
+        '### RAO files (`motion = "ship"`)',
+        "",
+        "`base.rao_file` names a CSV of the ship's response amplitude operators, read and",
+        "recorded as a track file is (any regular file the user may read, relative to the",
+        "scenario file's folder; refusals name the row and the column, never a byte of the",
+        "file; `base.rao_file_sha256` records its bytes). Empty: the default ship",
+        "(`tetherheli.base.ship`, `benchmarks/ship_raos.py`). The header is",
+        f"`{','.join(RAO_HEADER)}`, then one row per wave frequency and heading: frequencies",
+        "increasing, under each the same headings, increasing; at least two frequencies; each",
+        f"cell a plain decimal number; at most {RAO_MAX_BYTES} bytes and {RAO_MAX_ROWS} rows.",
+        "Between rows the RAOs are interpolated linearly (complex values); below the lowest",
+        "frequency they are the lowest's, above the highest zero; `base.wave_heading` must lie",
+        "within the headings. The ship's axes: x forward, y to port, z up; a motion is",
+        "amplitude x a x cos(w t + e + phase) for waves a cos(w t + e) at the centre of motion.",
+        "",
+        "| column | meaning | unit | allowed |",
+        "|---|---|---|---|",
+    ]
+    for name, key in RAO_COLUMNS.items():
+        out.append(f"| `{name}` | {_cell(key.doc)} | {key.unit} | {_cell(key.allowed())} |")
+    return out
+
+
 def scenario_reference() -> str:
     """The scenario TOML reference as a Markdown page.
 
@@ -295,6 +324,7 @@ def scenario_reference() -> str:
         top += [*_HEADER, *_key_rows(f"{table}.", cls, defaults)]
         if table == "base":
             top += _track_rows()
+            top += _rao_rows()
     top += [
         "",
         "## `[params.helicopter]`, `[params.tether]`, `[params.tension_control]`",

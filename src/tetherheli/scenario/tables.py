@@ -587,12 +587,14 @@ class BaseSettings:
     """The winch's base (``[base]``): still at the origin of N (the paper's winch,
     the default), or moving (``tetherheli.base``). Over a moving base the engine flies the
     helicopter and the tether in the base's translating frame and the results record the
-    base's motion (``base_n1..3``, ``base_v1..3``).
+    base's motion (``base_n1..3``, ``base_v1..3``; over a ship also the deck's attitude,
+    ``deck_roll`` ...).
 
     Parameters
     ----------
     motion, position, velocity, amplitude, frequency, phase, significant_wave_height,
-    peak_period, peak_enhancement, seed, sway_scale, surge_scale, components, file, file_sha256
+    peak_period, peak_enhancement, seed, sway_scale, surge_scale, components, file, file_sha256,
+    wave_heading, speed, pad, rao_file, rao_file_sha256
         The keys of a scenario's ``[base]`` table, described once in
         ``tetherheli.base.motion.BASE_KEYS``; ``MOTION_KEYS`` says which keys each motion
         reads (the others keep their defaults).
@@ -613,6 +615,11 @@ class BaseSettings:
     components: int = _key(128, BASE_KEYS["components"])
     file: str = _key("", BASE_KEYS["file"])
     file_sha256: str = _key("", BASE_KEYS["file_sha256"])
+    wave_heading: float = _key(0.0, BASE_KEYS["wave_heading"])
+    speed: float = _key(0.0, BASE_KEYS["speed"])
+    pad: tuple[float, ...] = _key((0.0, 0.0, 0.0), BASE_KEYS["pad"])
+    rao_file: str = _key("", BASE_KEYS["rao_file"])
+    rao_file_sha256: str = _key("", BASE_KEYS["rao_file_sha256"])
 
 
 #: a landing's reference descends this far below the touchdown height [m], so that the
