@@ -13,7 +13,6 @@ import pytest
 from tetherheli.analysis import run_metrics
 from tetherheli.engine import lanes
 from tetherheli.engine import loop as engine
-from tetherheli.runs.batch import lane_block
 from tetherheli.layout import CTRL_LAW, LANES, SUMMARY_FIELDS, WIND_SINE, Signals
 from tetherheli.model.kernels import (
     SIN_BRANCHLESS_MAX_ARG,
@@ -22,7 +21,7 @@ from tetherheli.model.kernels import (
     sin_branchless,
 )
 from tetherheli.runs import simulate
-from tetherheli.runs.batch import run_batch
+from tetherheli.runs.batch import lane_block, run_batch
 from tetherheli.runs.setup import engine_setup
 from tetherheli.scenario.core import ActuatorSettings, load_scenario, paper_scenario
 from tetherheli.sensing.config import SensorConfig
@@ -136,7 +135,7 @@ def test_partial_block_and_padding():
     summary = np.empty((LANES, len(SUMMARY_FIELDS)))
     status = np.empty(LANES, np.int64)
     done = np.empty(LANES, np.int64)
-    lanes.run_lanes(*args, summary, status, done)
+    lanes.run_lanes(*args, (summary, status, done))
     single = np.empty(len(SUMMARY_FIELDS))
     for j in range(2):
         st, k = engine.run_closed_loop(
@@ -164,9 +163,11 @@ def test_run_lanes_refuses_mixed_substeps():
     with pytest.raises(ValueError, match="same RK4 steps"):
         lanes.run_lanes(
             *args,
-            np.empty((LANES, len(SUMMARY_FIELDS))),
-            np.empty(LANES, np.int64),
-            np.empty(LANES, np.int64),
+            (
+                np.empty((LANES, len(SUMMARY_FIELDS))),
+                np.empty(LANES, np.int64),
+                np.empty(LANES, np.int64),
+            ),
         )
 
 
@@ -320,7 +321,9 @@ def test_run_lanes_refuses_mixed_laws(runs):
     with pytest.raises(ValueError, match="same law"):
         lanes.run_lanes(
             *args,
-            np.empty((LANES, len(SUMMARY_FIELDS))),
-            np.empty(LANES, np.int64),
-            np.empty(LANES, np.int64),
+            (
+                np.empty((LANES, len(SUMMARY_FIELDS))),
+                np.empty(LANES, np.int64),
+                np.empty(LANES, np.int64),
+            ),
         )

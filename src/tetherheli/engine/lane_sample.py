@@ -51,6 +51,7 @@ from ..layout import (
     CFG_MAX_DEVIATION,
     CFG_MAX_TENSION,
     CFG_METRICS_FROM,
+    CONTROL_LAW_TETHER_LQI,
     CTRL_ANTI_WINDUP,
     CTRL_DT,
     CTRL_FFWD,
@@ -72,6 +73,7 @@ from ..layout import (
     HELD_REEL_RATE,
     HELD_SIZE,
     LANES,
+    SC_COS,
     SUMMARY_N_SAMPLES,
     SUMMARY_PEAK_Q1,
     SUMMARY_PEAK_Q4,
@@ -81,6 +83,12 @@ from ..layout import (
     SUMMARY_TENSION_MIN,
     WINCH_INTEGRAL,
     WINCH_PREVIOUS_RATE,
+    X_LN,
+    X_Q4,
+    X_Q5,
+    X_Q7,
+    X_Q8,
+    X_Q9,
 )
 from ..model.kernels import (
     angle_trig_lanes,
@@ -309,7 +317,9 @@ def _sense(k, x, s):
         t = k * cfg[CFG_DT * LANES + j]
         attached = cfg[CFG_ATTACHED * LANES + j] > 0.5
         k_c = cfg[CFG_K_C * LANES + j]
-        tension = tension_from_state(x[5 * LANES + j], x[12 * LANES + j], k_c) if attached else 0.0
+        tension = (
+            tension_from_state(x[X_Q9 * LANES + j], x[X_LN * LANES + j], k_c) if attached else 0.0
+        )
         broken = tension > act[ACT_BREAK * LANES + j]
         cleared = 0.0 if broken else 1.0
         cfg[CFG_ATTACHED * LANES + j] *= cleared
@@ -394,12 +404,15 @@ def _law(law, s, c, tether_law):
     tethered_outputs_lanes(x, s.sc_meas, c, y_est)
     for j in range(n):
         winch_on = ctrl[CTRL_WINCH * LANES + j] > 0.5
-        tethered = ctrl[CTRL_LAW * LANES + j] > 0.5
+        tethered = ctrl[CTRL_LAW * LANES + j] == CONTROL_LAW_TETHER_LQI
         use_off[j] = 1.0 if (tethered and not winch_on) else 0.0
         q9_tension = tension_q9_of(
-            x[5 * LANES + j], x[12 * LANES + j], s.measured[j], ctrl[CTRL_TENSION_K_C * LANES + j]
+            x[X_Q9 * LANES + j],
+            x[X_LN * LANES + j],
+            s.measured[j],
+            ctrl[CTRL_TENSION_K_C * LANES + j],
         )
-        q9[j] = q9_tension if (tethered and winch_on) else x[5 * LANES + j]
+        q9[j] = q9_tension if (tethered and winch_on) else x[X_Q9 * LANES + j]
     # the tethered LQI (9, 17) or the paper's law (4, 16) (``control.paper.check_law``): two
     # call sites, each with its shape a constant (``_lqi``)
     if tether_law:
@@ -441,7 +454,7 @@ def _law(law, s, c, tether_law):
                 reel[j] -= law.gain_reel[(n_x + col) * LANES + j] * z[col * LANES + j]
     for j in range(n):
         winch_on = ctrl[CTRL_WINCH * LANES + j] > 0.5
-        tethered = ctrl[CTRL_LAW * LANES + j] > 0.5
+        tethered = ctrl[CTRL_LAW * LANES + j] == CONTROL_LAW_TETHER_LQI
         previous = winch[WINCH_PREVIOUS_RATE * LANES + j]
         integral = winch[WINCH_INTEGRAL * LANES + j]
         dt = ctrl[CTRL_DT * LANES + j]
@@ -509,7 +522,7 @@ def _apply(k, x, s, lanes_drum, rows):
     for j in range(n):
         dt = cfg[CFG_DT * LANES + j]
         rate, which = payout_limited_rate(
-            s.rate[j], x[12 * LANES + j], dt, act[ACT_MIN_LENGTH * LANES + j],
+            s.rate[j], x[X_LN * LANES + j], dt, act[ACT_MIN_LENGTH * LANES + j],
             act[ACT_MAX_LENGTH * LANES + j],
         )  # fmt: skip
         stop = which != 0.0
@@ -541,12 +554,17 @@ def _check(x, s, law, c, sensed):
         for i in range(13):
             finite &= math.isfinite(x[i * LANES + j])
         s.status[j] = state_status(
-            finite, cfg[CFG_ATTACHED * LANES + j] > 0.5, x[j], x[LANES + j], x[3 * LANES + j],
-            x[4 * LANES + j], x[5 * LANES + j], x[12 * LANES + j], sc[6 * LANES + j],
-            sc[8 * LANES + j], sc[9 * LANES + j], y[j] - y_ref[j],
-            y[LANES + j] - y_ref[LANES + j], y[2 * LANES + j] - y_ref[2 * LANES + j],
-            y[2 * LANES + j], s.tension[j], cfg[CFG_MAX_TENSION * LANES + j],
-            cfg[CFG_MAX_ANGLE * LANES + j], cfg[CFG_MAX_DEVIATION * LANES + j],
+            finite, cfg[CFG_ATTACHED * LANES + j] > 0.5,
+            (x[X_Q4 * LANES + j], x[X_Q5 * LANES + j], x[X_Q7 * LANES + j],
+             x[X_Q8 * LANES + j]),
+            x[X_Q9 * LANES + j], x[X_LN * LANES + j],
+            (sc[(SC_COS + 1) * LANES + j], sc[(SC_COS + 3) * LANES + j],
+             sc[(SC_COS + 4) * LANES + j]),
+            (y[j] - y_ref[j], y[LANES + j] - y_ref[LANES + j],
+             y[2 * LANES + j] - y_ref[2 * LANES + j]),
+            y[2 * LANES + j], s.tension[j],
+            (cfg[CFG_MAX_TENSION * LANES + j], cfg[CFG_MAX_ANGLE * LANES + j],
+             cfg[CFG_MAX_DEVIATION * LANES + j]),
         )  # fmt: skip
 
 
@@ -588,14 +606,15 @@ def _position_metrics(summary, y, y_ref, on, a, j):
 
 
 @_jit_inline
-def lane_sample(k, x, s, law, c, active, lanes_sensed, sensors, lanes_drum, rows, tether_law):
+def lane_sample(k, x, s, law, c, active, sensing, lanes_drum, rows, tether_law):
     """One control sample at t = k dt of every lane of a block (``engine.paper_sample``,
     then ``summary.accumulate`` for the lanes in ``active``): x (13 LANES,) the lanes' true
     states, s its ``LaneState``, law its ``LaneLaw``, c (n_c LANES,) the model constants;
-    ``lanes_sensed``, ``lanes_drum`` (LANES,) which lanes have a noise table, a drum winch;
-    ``sensors`` as ``lanes.run_lanes``'s; rows = (x row, measured row, held row, act row),
-    scratch for the per-lane parts. s.status, s.rate, s.inp, s.sc_true then hold each lane's
-    status, reel rate, applied inputs and sin, cos of its true angles.
+    ``sensing`` = (lanes_sensed (LANES,), which lanes have a noise table, and ``sensors`` as
+    ``lanes.run_lanes``'s); ``lanes_drum`` (LANES,) which lanes have a drum winch; rows = (x
+    row, measured row, held row, act row), scratch for the per-lane parts. s.status, s.rate,
+    s.inp, s.sc_true then hold each lane's status, reel rate, applied inputs and sin, cos of
+    its true angles.
 
     Parameters
     ----------
@@ -611,10 +630,9 @@ def lane_sample(k, x, s, law, c, active, lanes_sensed, sensors, lanes_drum, rows
         The lanes' model constants, flat.
     active : numpy.ndarray of bool, shape (LANES,)
         The lanes still running (their metrics accumulate).
-    lanes_sensed : numpy.ndarray of bool, shape (LANES,)
-        The lanes with a noise table.
-    sensors : tuple
-        The lanes' sensors, as ``lanes.run_lanes``'s.
+    sensing : tuple
+        (lanes_sensed, sensors): the lanes with a noise table (bool (LANES,)) and the lanes'
+        sensors, as ``lanes.run_lanes``'s.
     lanes_drum : numpy.ndarray of bool, shape (LANES,)
         The lanes with a drum winch.
     rows : tuple of numpy.ndarray
@@ -622,6 +640,7 @@ def lane_sample(k, x, s, law, c, active, lanes_sensed, sensors, lanes_drum, rows
     tether_law : bool
         Whether the block flies the tethered LQI.
     """
+    lanes_sensed, sensors = sensing
     _sense(k, x, s)
     sensed = lanes_sensed.any()
     if sensed:
