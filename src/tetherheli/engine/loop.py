@@ -21,8 +21,14 @@ A lumped-mass tether (``[tether] model = "lumped"``) rides the same loop
 (``engine.lumped_step``): ``chain_ends`` sets its end tensions before the sample and
 ``lumped_interval`` replaces ``rk4_interval``.
 
-The packed arrays (``cfg``, ``ctrl``, ``act``, ``held``, the wind program, the summary, the
-chain) are laid out in ``tetherheli.layout``; run statuses are ``tetherheli.status.Status``.
+The phases take named records (``layout.Run``: the run's constants; ``layout.LoopState``:
+the control phases' state; ``layout.Scratch``; ``layout.Signals`` and the summary: the
+recording), built once per run on borrowed views (``_compile.borrowed``); a phase body
+compiled once takes the run's read-only view (``read_only_run``, ``control_run``). The
+plant is the vehicle slot's (``vehicle_derivative``, ``vehicle_outputs``, on
+``cfg[CFG_VEHICLE]``). The packed arrays (``cfg``, ``ctrl``, ``act``, ``held``, the wind
+program, the summary, the chain) and the state's slots (``X_*``) are laid out in
+``tetherheli.layout``; run statuses are ``tetherheli.status.Status``.
 """
 
 from __future__ import annotations
@@ -975,6 +981,25 @@ def read_only_run(run):
                frozen(run.wind), (), run.chain)  # fmt: skip
 
 
+@_jit_inline
+def control_run(run):
+    """``read_only_run`` without the wind and the chain (empty tuples): the record of the
+    phases that neither read (the controller, the actuators and checks), so that their
+    compiled bodies take (and compile) fewer arrays.
+
+    Parameters
+    ----------
+    run : Run
+        The run's record.
+
+    Returns
+    -------
+    Run
+        The same arrays, borrowed, the wind, sensors and chain left out.
+    """
+    return Run(run.cfg, run.ctrl, frozen(run.c), frozen(run.act), frozen(run.law), (), (), ())
+
+
 @_jit
 def _drum_step(w0, w_cmd, tension_torque, ffwd, dt, inertia, gain, torque_limit, viscous,
                coulomb):  # fmt: skip
@@ -1056,7 +1081,7 @@ def paper_law(run, loop, measured, action, action_mode):
     float
         The reel-rate command [m/s].
     """
-    return _paper_law(read_only_run(run), loop, measured, action, plain(action_mode))
+    return _paper_law(control_run(run), loop, measured, action, plain(action_mode))
 
 
 @_jit
@@ -1151,9 +1176,9 @@ def sample_apply(run, loop, x, k, rate, tension, measured, sensed, drum):
         The applied reel rate [m/s].
     """
     if drum:
-        return _sample_apply_drum(read_only_run(run), loop, x, k, rate, tension, measured,
+        return _sample_apply_drum(control_run(run), loop, x, k, rate, tension, measured,
                                   plain(sensed))  # fmt: skip
-    return _sample_apply_ideal(read_only_run(run), loop, x, k, rate, tension, measured,
+    return _sample_apply_ideal(control_run(run), loop, x, k, rate, tension, measured,
                                plain(sensed))  # fmt: skip
 
 
