@@ -102,7 +102,7 @@ def accuracy(t_end: float = 0.5) -> None:
                 x[1:-1] = y[: 3 * (n - 1)].reshape(-1, 3)
                 v[1:-1] = y[3 * (n - 1) :].reshape(-1, 3)
                 x[-1], v[-1] = _path(time_s)
-                tl.chain_forces(x, v, wind, L0, p, F, T, *blocks, False)
+                tl.chain_forces(x, v, wind, L0, p, F, T, tuple(blocks), False)
                 return np.concatenate([v[1:-1].ravel(), (F[1:-1] / m).ravel()])
 
             y0 = np.concatenate([x0[1:-1].ravel(), np.zeros(3 * (n - 1))])

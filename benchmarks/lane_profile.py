@@ -57,7 +57,7 @@ def rk4_only(n, x0, sc00, inp, rate, h, n_sub, attached, k_c, c, wind):
             sc0[i] = sc00[i]
         for j in range(h.shape[0]):
             t0[j] = k * 2.0 * h[j]
-        lanes.rk4_lanes(x, sc0, inp, rate, t0, h, n_sub, attached, k_c, c, wind, work)
+        lanes.rk4_lanes((x, sc0, inp, rate, t0, attached), h, n_sub, k_c, c, wind, work)
     return x[0]
 
 
@@ -117,7 +117,7 @@ def main() -> None:
     )  # fmt: skip
     sample_args = (n, x_init, cfg, block[3], block[7], block[8], c, law)
     parts = {
-        "whole": lambda: lanes.run_lanes(*block, summary, status, done),
+        "whole": lambda: lanes.run_lanes(*block, (summary, status, done)),
         "rk4": lambda: rk4_only(*rk4_args),
         "sample": lambda: sample_only(*sample_args),
     }

@@ -42,6 +42,7 @@ from tetherheli.layout import (
     SUMMARY_SUMSQ_Q1,
     SUMMARY_TENSION_MAX,
     SUMMARY_TENSION_MIN,
+    WindPack,
 )
 from tetherheli.model.kernels import angle_trig, tension_from_state, tethered_outputs
 from tetherheli.runs.batch import run_batch
@@ -134,7 +135,7 @@ def _piece(z0, ta, tb, mid, sign, held, setup, winch, tol):
     cfg, c, wind = setup.cfg, setup.model.constants, setup.wind
     r, inertia = winch.drum_radius, winch.drum_inertia
     b, tc = winch.viscous_friction, winch.coulomb_friction
-    dx, sc, force = np.empty(13), np.empty(10), np.empty(3)
+    dx, sc = np.empty(13), np.empty(10)
 
     def pull(z):  # the tether's torque on the drum, paying out
         return r * tension_from_state(z[5], z[12], cfg[CFG_K_C])
@@ -144,8 +145,8 @@ def _piece(z0, ta, tb, mid, sign, held, setup, winch, tol):
         w = 0.0 if sign == 0.0 else z[13]
         side = 1 if tt < mid else -1
         engine.plant_derivative(
-            z[:13], sc, inp, r * w, tt, side, cfg, c, wind.program, wind.gust, wind.drag,
-            STILL_BASE, force, dx,
+            z[:13], sc, inp, r * w, tt, side, cfg, c,
+            WindPack(wind.program, wind.gust, wind.drag, STILL_BASE), dx,
         )  # fmt: skip
         if sign == 0.0:
             return np.append(dx, 0.0)

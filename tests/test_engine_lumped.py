@@ -38,15 +38,12 @@ def _open_loop(EA: float, segments: int, coupling: int, duration: float, dt: flo
     setup = engine_setup(s)
     x, _, cfg, _, c, _, wind, _, _, chain = setup.engine_args(s.n_samples)
     cfg = cfg.copy()
-    program, gust, drag, base = wind
     work = np.empty((engine.RK4_WORK_ROWS, 13))
     cw = lumped_step.lumped_work(segments)
     inp = setup.trim.u_total.copy()
     xs, nodes = [x.copy()], [chain[CHAIN_NODES].copy()]
     for k in range(s.n_samples):
-        lumped_step.lumped_interval(
-            x, inp, 0.0, k * dt, cfg, c, program, gust, drag, base, work, chain, cw, coupling
-        )
+        lumped_step.lumped_interval(x, inp, 0.0, k * dt, cfg, c, wind, chain, (work, cw), coupling)
         xs.append(x.copy())
         nodes.append(chain[CHAIN_NODES].copy())
     return setup, np.arange(s.n_samples + 1) * dt, np.array(xs), np.array(nodes)
@@ -79,7 +76,7 @@ def _radau(setup, t_eval, nodes0, rtol=1e-9):
         kinematics_P_motion_sc(x, sc, arm, pm)
         xn = np.vstack([np.zeros(3), r, pm[:3]])
         vn = np.vstack([np.zeros(3), v, pm[3:]])
-        chain_forces(xn, vn, air, x[12], p, F, T, K, C, D, False)
+        chain_forces(xn, vn, air, x[12], p, F, T, (K, C, D), False)
         tethered_derivative_force_at_P(x, inp, wind, F[n].copy(), 0.0, c, arm, out)
         return np.concatenate([out, v.ravel(), (F[1:n] / m_node).ravel()])
 
@@ -386,7 +383,7 @@ def test_helicopter_and_chain_conserve_energy_without_drag_damping_and_winch():
         top, top_v = ends(x)
         xn = np.vstack([np.zeros(3), r, top])
         vn = np.vstack([np.zeros(3), v, top_v])
-        chain_forces(xn, vn, air, x[12], p, F, T, K, C, D, False)
+        chain_forces(xn, vn, air, x[12], p, F, T, (K, C, D), False)
         tethered_derivative_force_at_P(x, np.zeros(4), np.zeros(3), F[n].copy(), 0.0, c, arm, out)
         return np.concatenate([out, v.ravel(), (F[1:n] / m_node).ravel()])
 
@@ -438,7 +435,6 @@ def _engine_energy_drift(EA: float, substeps: int = 2, segments: int = 10, durat
     setup = engine_setup(s)
     x, _, cfg, _, c, _, wind, _, _, chain = setup.engine_args(s.n_samples)
     cfg = cfg.copy()
-    program, gust, drag, base = wind
     p = chain[CHAIN_PARAMS]
     p[3:5] = 0.0  # no normal and tangential drag (layout.LUMPED_CDN, LUMPED_CDT)
     work = np.empty((engine.RK4_WORK_ROWS, 13))
@@ -469,8 +465,8 @@ def _engine_energy_drift(EA: float, substeps: int = 2, segments: int = 10, durat
     e = [energy()]
     inp = np.zeros(4)
     for k in range(s.n_samples):
-        lumped_step.lumped_interval(x, inp, 0.0, k * 0.01, cfg, c, program, gust, drag, base,
-                                    work, chain, cw, lumped_step.COUPLING_CONDENSED)  # fmt: skip
+        lumped_step.lumped_interval(x, inp, 0.0, k * 0.01, cfg, c, wind, chain, (work, cw),
+                                    lumped_step.COUPLING_CONDENSED)  # fmt: skip
         e.append(energy())
     e = np.array(e)
     assert np.all(np.isfinite(e))

@@ -135,7 +135,7 @@ def test_partial_block_and_padding():
     summary = np.empty((LANES, len(SUMMARY_FIELDS)))
     status = np.empty(LANES, np.int64)
     done = np.empty(LANES, np.int64)
-    lanes.run_lanes(*args, summary, status, done)
+    lanes.run_lanes(*args, (summary, status, done))
     single = np.empty(len(SUMMARY_FIELDS))
     for j in range(2):
         st, k = engine.run_closed_loop(
@@ -163,9 +163,11 @@ def test_run_lanes_refuses_mixed_substeps():
     with pytest.raises(ValueError, match="same RK4 steps"):
         lanes.run_lanes(
             *args,
-            np.empty((LANES, len(SUMMARY_FIELDS))),
-            np.empty(LANES, np.int64),
-            np.empty(LANES, np.int64),
+            (
+                np.empty((LANES, len(SUMMARY_FIELDS))),
+                np.empty(LANES, np.int64),
+                np.empty(LANES, np.int64),
+            ),
         )
 
 
@@ -319,7 +321,9 @@ def test_run_lanes_refuses_mixed_laws(runs):
     with pytest.raises(ValueError, match="same law"):
         lanes.run_lanes(
             *args,
-            np.empty((LANES, len(SUMMARY_FIELDS))),
-            np.empty(LANES, np.int64),
-            np.empty(LANES, np.int64),
+            (
+                np.empty((LANES, len(SUMMARY_FIELDS))),
+                np.empty(LANES, np.int64),
+                np.empty(LANES, np.int64),
+            ),
         )

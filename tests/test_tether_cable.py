@@ -86,7 +86,7 @@ def test_force_at_P_within_5_percent_of_a_converged_run_at_the_engine_sample(axi
     ref = []
     for k in range(300 * m + 1):
         if k % m == 0:
-            chain_forces(x, v, air, PAPER.unstretched_length, p, F, T, J, J, J, False)
+            chain_forces(x, v, air, PAPER.unstretched_length, p, F, T, (J, J, J), False)
             ref.append(F[n].copy())
         if k < 300 * m:
             rp, vp = top((k + 1) * h)

@@ -114,7 +114,7 @@ def test_anti_windup_holds_the_integrators_while_clipped():
         y, inp, ffwd = np.empty(4), np.empty(4), np.empty(4)
         xx = x.copy()
         xx[0] += 0.01  # and an output error, so that integration would move z
-        paper_control(xx, 25.0, z, np.zeros(2), ctrl, c, K, x_ref, y_ref, u0, y, inp, ffwd)
+        paper_control(xx, 25.0, (z, np.zeros(2)), ctrl, c, (K, x_ref, y_ref, u0), (y, inp, ffwd))
         return z
 
     z_start = np.array([0.1, -0.2, 0.3, 0.0])
@@ -134,8 +134,8 @@ def test_after_release_the_free_rows_fly():
     x[6] += 0.3
     z = np.array([0.01, 0.02, 0.03, 0.04])
     y, inp, ffwd = np.empty(4), np.empty(4), np.empty(4)
-    rate = paper_control(x, 0.0, z.copy(), np.zeros(2), ctrl, _constants(setup), K, x_ref,
-                         y_ref, u0_free, y, inp, ffwd)  # fmt: skip
+    rate = paper_control(x, 0.0, (z.copy(), np.zeros(2)), ctrl, _constants(setup),
+                         (K, x_ref, y_ref, u0_free), (y, inp, ffwd))  # fmt: skip
     free = setup.gain.free
     expected = u0_free - free.Kx @ (x[:12] - x_ref[:12]) - free.Kz @ z
     np.testing.assert_allclose(inp, expected, rtol=1e-12)
@@ -167,9 +167,9 @@ def test_start_in_turbulence_is_an_equilibrium_of_the_law():
     setup = engine_setup(s)
     K, x_ref, y_ref, u0, _, z0 = setup.law
     y, inp, ffwd = np.empty(4), np.empty(4), np.empty(4)
-    rate = paper_control(setup.start.x, setup.start.trim.tension, z0.copy(), np.zeros(2),
-                         setup.ctrl.copy(), setup.model.constants, K, x_ref, y_ref, u0, y, inp,
-                         ffwd)  # fmt: skip
+    rate = paper_control(setup.start.x, setup.start.trim.tension, (z0.copy(), np.zeros(2)),
+                         setup.ctrl.copy(), setup.model.constants, (K, x_ref, y_ref, u0),
+                         (y, inp, ffwd))  # fmt: skip
     np.testing.assert_allclose(inp, setup.start.trim.u_total, rtol=0, atol=1e-9)
     assert abs(rate) < 1e-9
     np.testing.assert_allclose(y, y_ref, rtol=0, atol=1e-9)  # the windless trim's outputs

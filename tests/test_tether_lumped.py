@@ -47,7 +47,7 @@ def _forces(x, v, wind, L0, p):
     F = np.empty((n + 1, 3))
     T = np.empty(n)
     blocks = [np.empty((n, 3, 3)) for _ in range(3)]
-    tl.chain_forces(x, v, wind, L0, p, F, T, *blocks, False)
+    tl.chain_forces(x, v, wind, L0, p, F, T, tuple(blocks), False)
     return F, T
 
 

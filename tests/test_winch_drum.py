@@ -53,7 +53,9 @@ def _actuate(act, held, rate_cmd, tension, measured=None, length=1e6):
     inp = np.zeros(4)
     measured = tension if measured is None else measured
     drum = act[ACT_DRUM] > 0.5
-    return engine.actuate(inp, held, rate_cmd, act, DT, False, tension, measured, length, 0.0, drum)
+    return engine.actuate(
+        inp, held, rate_cmd, act, DT, False, (tension, measured), length, 0.0, drum
+    )
 
 
 # --- the drum alone ------------------------------------------------------------------------

@@ -54,7 +54,7 @@ def test_the_brake_stops_the_reel_at_the_limit_and_the_length_never_reaches_zero
     drum = model == "drum"
     for _ in range(5):
         rate = engine.actuate(
-            np.zeros(4), held, -100.0, act, DT, False, 25.0, 25.0, length, t, drum
+            np.zeros(4), held, -100.0, act, DT, False, (25.0, 25.0), length, t, drum
         )
         length += rate * DT
         t += DT
@@ -64,7 +64,7 @@ def test_the_brake_stops_the_reel_at_the_limit_and_the_length_never_reaches_zero
     assert held[HELD_LIMIT_WHICH] == -1.0 and held[HELD_LIMIT_TIME] == pytest.approx(DT)
     if model == "drum":
         assert held[HELD_DRUM_SPEED] == 0.0
-    rate = engine.actuate(np.zeros(4), held, 0.5, act, DT, False, 25.0, 25.0, length, t, drum)
+    rate = engine.actuate(np.zeros(4), held, 0.5, act, DT, False, (25.0, 25.0), length, t, drum)
     assert rate > 0.0  # paying out again: the brake let go
     assert held[HELD_LIMIT_WHICH] == -1.0 and held[HELD_LIMIT_TIME] == pytest.approx(DT)
 

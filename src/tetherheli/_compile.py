@@ -431,12 +431,25 @@ def borrowed(typingctx: Any, value: Any) -> Any:
     return value(value), codegen
 
 
+def _read_only_type(ty: Any) -> Any:
+    """``ty`` with every array in it (a tuple's, a named tuple's, nested) typed read-only."""
+    if isinstance(ty, types.Array):
+        return ty.copy(readonly=True)
+    if isinstance(ty, types.BaseTuple):
+        members = [_read_only_type(m) for m in ty.types]  # type: ignore[attr-defined]
+        if isinstance(ty, types.BaseNamedTuple):
+            return types.BaseTuple.from_types(members, ty.instance_class)  # type: ignore[attr-defined]
+        return types.BaseTuple.from_types(members)
+    return ty
+
+
 @intrinsic
 def frozen(typingctx: Any, value: Any) -> Any:
-    """In compiled code: an array as a borrowed view (``borrowed``) typed read-only, so that
-    callers holding the array writable or read-only select one signature of a callee that
-    only reads it (one compilation, not two)."""
-    kind = value.copy(readonly=True)
+    """In compiled code: an array (or a tuple or named record of arrays, nested) as a
+    borrowed view (``borrowed``) typed read-only, so that callers holding the array writable
+    or read-only select one signature of a callee that only reads it (one compilation, not
+    two)."""
+    kind = _read_only_type(value)
 
     def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
         return _borrow_value(context, builder, signature.args[0], args[0])

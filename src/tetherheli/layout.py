@@ -22,7 +22,10 @@ __all__ = [
     "SUMMARY_FIELDS",
     "WIND_COLUMNS",
     "LoopState",
+    "Run",
+    "Scratch",
     "Signals",
+    "WindPack",
     "default_actuators",
     "empty_chain",
 ]
@@ -52,7 +55,34 @@ CFG_LUMPED = 9  # 1: the lumped-mass tether (``chain``) pulls P, 0: eq 28's mass
 CFG_ARM = 10  # dO-P,3 - dO-HO,3 [m], the arm of the force at P (lumped tether)
 CFG_TENSION_TOP = 11  # the lumped chain's tension at P at this sample [N] (set by the engine)
 CFG_TENSION_GROUND = 12  # ... and at the winch [N], which the load cell measures
-CFG_SIZE = 13
+#: the vehicle flown (``VEHICLES``; 0, the default, the paper's helicopter): the engine's
+#: vehicle slot (``engine.loop.vehicle_derivative``, ``vehicle_outputs``) dispatches on it
+CFG_VEHICLE = 13
+CFG_SIZE = 14
+
+# --- the vehicles the engine's vehicle slot flies (``cfg[CFG_VEHICLE]``), chosen by name ----
+#: the vehicles by code: the paper's single-rotor helicopter (the generated tethered model,
+#: ``model.kernels``), and a multirotor (code reserved: its kernel,
+#: ``multirotor_derivative(p, s, cmd, wind, f_p, out)``, enters at the vehicle slot)
+VEHICLES = ("helicopter", "multirotor")
+VEHICLE_HELICOPTER = VEHICLES.index("helicopter")
+VEHICLE_MULTIROTOR = VEHICLES.index("multirotor")
+#: the vehicles whose kernels the engine's vehicle slot holds today
+VEHICLES_FLOWN = (VEHICLE_HELICOPTER,)
+
+# --- the plant's state x (13,) and its angles' sin, cos (10,), by name -----------------------
+#: the state [q4..q9, u1..u6, LN] (``docs/notation.md``): the attitude angles q4 (roll), q5
+#: (pitch), q6 (yaw), the tether's angles q7, q8 and length q9 (HO's distance from the winch)
+X_Q4, X_Q5, X_Q6, X_Q7, X_Q8, X_Q9 = range(6)
+X_U1 = 6  # (3,) HO's velocity u1..u3 in N [m/s]
+X_U4 = 9  # (3,) the body rates u4..u6 [rad/s]
+X_LN = 12  # the tether's natural length LN [m]
+X_SIZE = 13
+#: sin, cos of the angles x[X_Q4..X_Q8] (``model.kernels.angle_trig``): sines first, then
+#: cosines, in the angles' order
+SC_SIN = 0
+SC_COS = 5
+SC_SIZE = 10
 
 #: A base motion's packed form (``base.compiled``), one float64 array of BASE_COLUMNS columns.
 #: Row 0: counts and the constant parts
@@ -138,6 +168,8 @@ CTRL_SIZE = 19
 #: the compiled laws ``ctrl[CTRL_LAW]`` names, by code: the paper's LQI with feed-forward and
 #: winch PI (gain (4, 16)), and the tethered LQI (gain (9, 17), ``control.tether_lqi``)
 CONTROL_LAWS = ("paper", "tether_lqi")
+CONTROL_LAW_PAPER = CONTROL_LAWS.index("paper")
+CONTROL_LAW_TETHER_LQI = CONTROL_LAWS.index("tether_lqi")
 #: the gain's shape each compiled law takes (``layout.LAW_GAIN``), by code
 CONTROL_LAW_GAIN_SHAPES = ((4, 16), (9, 17))
 
@@ -294,6 +326,82 @@ class LoopState(NamedTuple):
     y_est: np.ndarray
     inputs: np.ndarray
     ffwd: np.ndarray
+
+
+class WindPack(NamedTuple):
+    """The wind of one run as the compiled engine takes it (``runs.setup.EngineSetup``): a
+    named record, in one shape for every single-run entry (an empty program for a Python
+    disturbance, no gust rows without a gust table).
+
+    Parameters
+    ----------
+    program : numpy.ndarray, shape (rows, WIND_COLUMNS)
+        The wind program (``WIND_*``), one row per built-in profile.
+    gust : numpy.ndarray, shape (rows, 3)
+        The gust table: the air's velocity [m/s] every cfg[CFG_GUST_DT] [s] (no rows: none).
+    drag : numpy.ndarray, shape (3,)
+        The bluff-body drag 0.5 rho CdA_i per axis of N [kg/m].
+    base : numpy.ndarray, shape (rows, BASE_COLUMNS)
+        The base motion's packed form (``BASE_*``, ``base.compiled``).
+    """
+
+    program: np.ndarray
+    gust: np.ndarray
+    drag: np.ndarray
+    base: np.ndarray
+
+
+class Run(NamedTuple):
+    """One run's constants as the compiled engine's phases take them (``engine.loop``): a
+    named record, built once per run (the compiled loop's own, ``stepping.StepRun``'s).
+
+    Parameters
+    ----------
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings (``CFG_*``), the run's own copy (a release switches it).
+    ctrl : numpy.ndarray, shape (CTRL_SIZE,)
+        The paper controller's settings (``CTRL_*``), the run's own copy.
+    c : numpy.ndarray
+        The vehicle's model constants (``kernels.model_constants("tethered", h)``).
+    act : numpy.ndarray, shape (ACT_SIZE,)
+        The actuators (``ACT_*``).
+    law : tuple of numpy.ndarray
+        The compiled law's arrays (``LAW_*``).
+    wind : WindPack
+        The wind.
+    sensors : tuple
+        ``runs.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history
+        ring).
+    chain : tuple of numpy.ndarray
+        The lumped chain (``CHAIN_*``; ``empty_chain()``: the massless tether).
+    """
+
+    cfg: np.ndarray
+    ctrl: np.ndarray
+    c: np.ndarray
+    act: np.ndarray
+    law: tuple
+    wind: WindPack
+    sensors: tuple
+    chain: tuple
+
+
+class Scratch(NamedTuple):
+    """One run's scratch arrays in the compiled engine (``engine.loop``).
+
+    Parameters
+    ----------
+    work : numpy.ndarray, shape (RK4_WORK_ROWS, 13)
+        The integrator's scratch (``engine.loop.rk4_interval``).
+    cw : tuple
+        A lumped chain's scratch (``engine.lumped_step.lumped_work``; unread when massless).
+    no_action : numpy.ndarray, shape (4,)
+        Zeros: the compiled law's action slot left empty.
+    """
+
+    work: np.ndarray
+    cw: tuple | np.ndarray
+    no_action: np.ndarray
 
 
 # --- the paper controller's law (``law``, ``engine.loop.paper_sample``): a tuple of arrays ------

@@ -13,6 +13,7 @@ from .._compile import compiled
 from ..errors import ParameterError
 from ..layout import (
     CONTROL_LAW_GAIN_SHAPES,
+    CONTROL_LAW_TETHER_LQI,
     CONTROL_LAWS,
     CTRL_ANTI_WINDUP,
     CTRL_DT,
@@ -31,6 +32,8 @@ from ..layout import (
     WINCH_INTEGRAL,
     WINCH_PREVIOUS_RATE,
     WINCH_SIZE,
+    X_LN,
+    X_Q9,
 )
 from ..model.kernels import angle_trig, tethered_outputs_sc, tethered_tether_torque_sc
 from .base import Command, Controller, Measurement
@@ -122,13 +125,16 @@ def winch_pi(integral, previous, measured_tension, k_p, k_i, t_ref, dt, rate_lim
 
 
 @_jit
-def paper_control(x, measured_tension, z, winch, ctrl, c, gain, x_ref, y_ref, u0, y, inp, ffwd):
+def paper_control(x, measured_tension, integrators, ctrl, c, law, outputs):
     """Eqs 50-56 at one sample; fills inp (4,), ffwd (4,), y (4,) and returns the reel rate.
 
     u = -K [x - x_ref; z] + u0 - C_f-fwd (eq 54), with C_f-fwd from the measured tension and
     the measured angles (eq 55); then z += dt (y_ref - y) (eq 50). The winch rate is
     RC = KP e + KI I with e = T - Tref, then I += dt e (eq 56, ``winch_step``). ``z`` (4,) and
     ``winch`` (WINCH_SIZE,) are updated in place; x is the (13,) tethered-coordinate state.
+    The arrays come in three groups (tuples, unpacked at no cost in compiled code): the
+    integrators (z, winch), the law about its trim (gain, x_ref, y_ref, u0) and the outputs
+    (y, inp, ffwd).
 
     Parameters
     ----------
@@ -137,29 +143,23 @@ def paper_control(x, measured_tension, z, winch, ctrl, c, gain, x_ref, y_ref, u0
         LN [m], u1..u3 [m/s], u4..u6 [rad/s].
     measured_tension : float
         The load cell's tension T [N].
-    z : numpy.ndarray, shape (4,)
-        The LQI's output-error integral (eq 50) [m s, rad s]; updated in place.
-    winch : numpy.ndarray, shape (WINCH_SIZE,)
-        The winch PI's state (``layout.WINCH_*``): I_k [N s] and the previous reel-rate
-        command [m/s]; updated in place.
+    integrators : tuple of numpy.ndarray
+        (z, winch): the LQI's output-error integral (eq 50) (4,) [m s, rad s] and the winch
+        PI's state (``layout.WINCH_*``): I_k [N s] and the previous reel-rate command [m/s];
+        updated in place.
     ctrl : numpy.ndarray, shape (CTRL_SIZE,)
         The controller's settings (``layout.CTRL_*``).
     c : numpy.ndarray
         The tethered model's constants (``kernels.model_constants("tethered", h)``).
-    gain : numpy.ndarray, shape (4, 16) or (9, 17)
-        The law's gain (``layout.LAW_GAIN``): K_LQI|F, or the tethered LQI's packed gain.
-    x_ref : numpy.ndarray, shape (12,) or (13,)
-        The state references (the trim's q4..u6, and LN for the tethered LQI), units as ``x``.
-    y_ref : numpy.ndarray, shape (4,)
-        The output references y0 [q1, q2, q3 in m, q6 in rad].
-    u0 : numpy.ndarray, shape (4,)
-        The trim inputs u0 [N, N m, N m, N].
-    y : numpy.ndarray, shape (4,)
-        Filled with the outputs [q1, q2, q3 in m, q6 in rad].
-    inp : numpy.ndarray, shape (4,)
-        Filled with the rotor inputs u [N, N m, N m, N] (feed-forward included).
-    ffwd : numpy.ndarray, shape (4,)
-        Filled with the feed-forward part C_f-fwd of the inputs (eq 55) [N, N m, N m, N].
+    law : tuple of numpy.ndarray
+        (gain, x_ref, y_ref, u0): the law's gain (``layout.LAW_GAIN``: K_LQI|F (4, 16), or
+        the tethered LQI's packed gain (9, 17)), the state references (12,) or (13,) (the
+        trim's q4..u6, and LN for the tethered LQI; units as ``x``), the output references
+        y0 (4,) [q1, q2, q3 in m, q6 in rad] and the trim inputs u0 (4,) [N, N m, N m, N].
+    outputs : tuple of numpy.ndarray
+        (y, inp, ffwd), each (4,), filled with the outputs [q1, q2, q3 in m, q6 in rad], the
+        rotor inputs u [N, N m, N m, N] (feed-forward included) and their feed-forward part
+        C_f-fwd (eq 55) [N, N m, N m, N].
 
     Returns
     -------
@@ -168,15 +168,11 @@ def paper_control(x, measured_tension, z, winch, ctrl, c, gain, x_ref, y_ref, u0
     """
     sc = np.empty(10)
     angle_trig(x, sc)
-    return paper_control_sc(
-        x, sc, measured_tension, z, winch, ctrl, c, gain, x_ref, y_ref, u0, y, inp, ffwd
-    )
+    return paper_control_sc(x, sc, measured_tension, integrators, ctrl, c, law, outputs)
 
 
 @_jit_inline
-def paper_control_sc(
-    x, sc, measured_tension, z, winch, ctrl, c, gain, x_ref, y_ref, u0, y, inp, ffwd
-):
+def paper_control_sc(x, sc, measured_tension, integrators, ctrl, c, law, outputs):
     """``paper_control`` with sc (10,) = sin, cos of x[0..4] given (``kernels.angle_trig``);
     the engine's entry point.
 
@@ -199,47 +195,44 @@ def paper_control_sc(
         sin and cos of x[0..4] (``kernels.angle_trig``).
     measured_tension : float
         The load cell's tension T [N].
-    z : numpy.ndarray, shape (4,)
-        The LQI's output-error integral (eq 50) [m s, rad s]; updated in place.
-    winch : numpy.ndarray, shape (WINCH_SIZE,)
-        The winch PI's state (``layout.WINCH_*``): I_k [N s] and the previous reel-rate
-        command [m/s]; updated in place.
+    integrators : tuple of numpy.ndarray
+        (z, winch): the LQI's output-error integral (eq 50) (4,) [m s, rad s] and the winch
+        PI's state (``layout.WINCH_*``): I_k [N s] and the previous reel-rate command [m/s];
+        updated in place.
     ctrl : numpy.ndarray, shape (CTRL_SIZE,)
         The controller's settings (``layout.CTRL_*``).
     c : numpy.ndarray
         The tethered model's constants (``kernels.model_constants("tethered", h)``).
-    gain : numpy.ndarray, shape (4, 16) or (9, 17)
-        The law's gain (``layout.LAW_GAIN``): K_LQI|F, or the tethered LQI's packed gain.
-    x_ref : numpy.ndarray, shape (12,) or (13,)
-        The state references (the trim's q4..u6, and LN for the tethered LQI), units as ``x``.
-    y_ref : numpy.ndarray, shape (4,)
-        The output references y0 [q1, q2, q3 in m, q6 in rad].
-    u0 : numpy.ndarray, shape (4,)
-        The trim inputs u0 [N, N m, N m, N].
-    y : numpy.ndarray, shape (4,)
-        Filled with the outputs [q1, q2, q3 in m, q6 in rad].
-    inp : numpy.ndarray, shape (4,)
-        Filled with the rotor inputs u [N, N m, N m, N] (feed-forward included).
-    ffwd : numpy.ndarray, shape (4,)
-        Filled with the feed-forward part C_f-fwd of the inputs (eq 55) [N, N m, N m, N].
+    law : tuple of numpy.ndarray
+        (gain, x_ref, y_ref, u0): the law's gain (``layout.LAW_GAIN``: K_LQI|F (4, 16), or
+        the tethered LQI's packed gain (9, 17)), the state references (12,) or (13,) (the
+        trim's q4..u6, and LN for the tethered LQI; units as ``x``), the output references
+        y0 (4,) [q1, q2, q3 in m, q6 in rad] and the trim inputs u0 (4,) [N, N m, N m, N].
+    outputs : tuple of numpy.ndarray
+        (y, inp, ffwd), each (4,), filled with the outputs [q1, q2, q3 in m, q6 in rad], the
+        rotor inputs u [N, N m, N m, N] (feed-forward included) and their feed-forward part
+        C_f-fwd (eq 55) [N, N m, N m, N].
 
     Returns
     -------
     float
         The reel rate R_C,k [m/s] (0 while the winch loop is off).
     """
+    z, winch = integrators
+    gain, x_ref, y_ref, u0 = law
+    y, inp, ffwd = outputs
     tethered_outputs_sc(x, sc, c, y)
     n_x = gain.shape[1] - 4
     winch_on = ctrl[CTRL_WINCH] > 0.5
-    tether_law = ctrl[CTRL_LAW] > 0.5
+    tether_law = ctrl[CTRL_LAW] == CONTROL_LAW_TETHER_LQI
     row0 = 5 if (tether_law and not winch_on) else 0
-    q9 = x[5]
+    q9 = x[X_Q9]
     if tether_law and winch_on:
         q9 = tension_q9(x, measured_tension, ctrl)
     for i in range(4):
         acc = u0[i]
         for j in range(n_x):
-            acc -= gain[row0 + i, j] * ((q9 if j == 5 else x[j]) - x_ref[j])
+            acc -= gain[row0 + i, j] * ((q9 if j == X_Q9 else x[j]) - x_ref[j])
         for j in range(4):
             acc -= gain[row0 + i, n_x + j] * z[j]
         inp[i] = acc
@@ -290,7 +283,7 @@ def tension_q9(x, measured_tension, ctrl):
     float
         The tether length q9 [m] the law feeds back.
     """
-    return tension_q9_of(x[5], x[12], measured_tension, ctrl[CTRL_TENSION_K_C])
+    return tension_q9_of(x[X_Q9], x[X_LN], measured_tension, ctrl[CTRL_TENSION_K_C])
 
 
 @_jit_inline
@@ -517,16 +510,10 @@ class PaperController(Controller):
         rate = paper_control(
             measurement.state,
             measurement.tension,
-            self._z,
-            self._winch,
+            (self._z, self._winch),
             self.ctrl,
             self.c,
-            self.gain,
-            self.x_ref,
-            self.y_ref,
-            u0,
-            y,
-            inp,
-            ffwd,
+            (self.gain, self.x_ref, self.y_ref, u0),
+            (y, inp, ffwd),
         )
         return Command(inputs=inp, reel_rate=float(rate), feedforward=ffwd)

@@ -51,6 +51,7 @@ from ..layout import (
     CFG_MAX_DEVIATION,
     CFG_MAX_TENSION,
     CFG_METRICS_FROM,
+    CONTROL_LAW_TETHER_LQI,
     CTRL_ANTI_WINDUP,
     CTRL_DT,
     CTRL_FFWD,
@@ -72,6 +73,7 @@ from ..layout import (
     HELD_REEL_RATE,
     HELD_SIZE,
     LANES,
+    SC_COS,
     SUMMARY_N_SAMPLES,
     SUMMARY_PEAK_Q1,
     SUMMARY_PEAK_Q4,
@@ -81,7 +83,12 @@ from ..layout import (
     SUMMARY_TENSION_MIN,
     WINCH_INTEGRAL,
     WINCH_PREVIOUS_RATE,
-    LoopState,
+    X_LN,
+    X_Q4,
+    X_Q5,
+    X_Q7,
+    X_Q8,
+    X_Q9,
 )
 from ..model.kernels import (
     angle_trig_lanes,
@@ -107,9 +114,8 @@ _jit_inline = compiled(error_model="numpy", inline="always")
 
 
 class LaneState(NamedTuple):
-    """A block's per-lane state of the control sample, flat (variable, lane): the run's
-    ``layout.LoopState`` in lane form (``loop``) with the run's mutable switches and its
-    metrics.
+    """A block's per-lane state of the control sample, flat (variable, lane): the lane form
+    of ``layout.LoopState`` with the run's mutable switches and its metrics.
 
     Parameters
     ----------
@@ -118,11 +124,12 @@ class LaneState(NamedTuple):
         CTRL_WINCH and CTRL_FFWD).
     lag : numpy.ndarray, shape (LANES,)
         The actuators' lag over a sample (``engine.actuator_lag_gain``).
-    loop : LoopState
-        ``layout.LoopState``'s fields, each flat (variable, lane): z (4 LANES,), winch
-        (WINCH_SIZE LANES,), held (HELD_SIZE LANES,), event (2 LANES,), x_meas (13 LANES,),
-        sc_meas, sc_true (10 LANES,), y, y_est, inputs, ffwd (4 LANES,); without sensors
-        x_meas is the true state x, sc_true is sc_meas and y is y_est (the same arrays).
+    z, winch, held, event : numpy.ndarray
+        As ``layout.LoopState``'s, (4 LANES,), (WINCH_SIZE LANES,), (HELD_SIZE LANES,),
+        (2 LANES,).
+    x_meas, sc_meas, sc_true, y, y_est, inp, ffwd : numpy.ndarray
+        As ``layout.LoopState``'s, each lane's column; without sensors x_meas is the true
+        state x, sc_true is sc_meas and y is y_est (the same arrays).
     tension, measured, rate, status : numpy.ndarray, shape (LANES,)
         The sample's true tension at P [N], measured tension [N], applied reel rate [m/s]
         and status (``Status``, as a float).
@@ -136,7 +143,17 @@ class LaneState(NamedTuple):
     ctrl: np.ndarray
     act: np.ndarray
     lag: np.ndarray
-    loop: LoopState
+    z: np.ndarray
+    winch: np.ndarray
+    held: np.ndarray
+    event: np.ndarray
+    x_meas: np.ndarray
+    sc_meas: np.ndarray
+    sc_true: np.ndarray
+    y: np.ndarray
+    y_est: np.ndarray
+    inp: np.ndarray
+    ffwd: np.ndarray
     tension: np.ndarray
     measured: np.ndarray
     rate: np.ndarray
@@ -270,19 +287,17 @@ def lane_state(cfg, ctrl, act, z0, x, sensed, n_summary):
         _flat(ctrl, np.empty(ctrl.shape[1] * LANES)),
         act_flat,
         lag,
-        LoopState(
-            _flat(z0, np.empty(4 * LANES)),
-            np.zeros(2 * LANES),
-            np.zeros(HELD_SIZE * LANES),
-            np.full(2 * LANES, np.nan),
-            x.copy() if sensed else x,
-            sc_meas,
-            np.empty(10 * LANES) if sensed else sc_meas,
-            np.empty(4 * LANES) if sensed else y_est,
-            y_est,
-            np.empty(4 * LANES),
-            np.empty(4 * LANES),
-        ),
+        _flat(z0, np.empty(4 * LANES)),
+        np.zeros(2 * LANES),
+        np.zeros(HELD_SIZE * LANES),
+        np.full(2 * LANES, np.nan),
+        x.copy() if sensed else x,
+        sc_meas,
+        np.empty(10 * LANES) if sensed else sc_meas,
+        np.empty(4 * LANES) if sensed else y_est,
+        y_est,
+        np.empty(4 * LANES),
+        np.empty(4 * LANES),
         np.zeros(LANES),
         np.zeros(LANES),
         np.zeros(LANES),
@@ -297,12 +312,14 @@ def _sense(k, x, s):
     """Phase 1 (``engine._sense`` of a massless tether): the tension of eq 28 (0 when
     removed or released), the safety device's release (``engine.release_if_broken``: the
     lane's switches cleared, the event recorded); the measured tension is the true one."""
-    cfg, ctrl, act, event = s.cfg, s.ctrl, s.act, s.loop.event
+    cfg, ctrl, act, event = s.cfg, s.ctrl, s.act, s.event
     for j in range(s.tension.shape[0]):
         t = k * cfg[CFG_DT * LANES + j]
         attached = cfg[CFG_ATTACHED * LANES + j] > 0.5
         k_c = cfg[CFG_K_C * LANES + j]
-        tension = tension_from_state(x[5 * LANES + j], x[12 * LANES + j], k_c) if attached else 0.0
+        tension = (
+            tension_from_state(x[X_Q9 * LANES + j], x[X_LN * LANES + j], k_c) if attached else 0.0
+        )
         broken = tension > act[ACT_BREAK * LANES + j]
         cleared = 0.0 if broken else 1.0
         cfg[CFG_ATTACHED * LANES + j] *= cleared
@@ -335,7 +352,7 @@ def _measure(k, x, s, lanes_sensed, sensors, rows):
             for i in range(13):
                 meas_row[i] = x_row[i]
         for i in range(13):
-            s.loop.x_meas[i * LANES + j] = meas_row[i]
+            s.x_meas[i * LANES + j] = meas_row[i]
 
 
 @_jit_inline
@@ -346,7 +363,7 @@ def _lqi(law, s, q9, use_off, n_cols, two_sets):
     ``n_cols`` is the gain's column count and ``two_sets`` whether the law has rows for the
     winch stopped (the tethered LQI's), constants at each call site: the sum over the
     columns then unrolls and the loop over the lanes, innermost, vectorises."""
-    x, z, cfg, inp = s.loop.x_meas, s.loop.z, s.cfg, s.loop.inputs
+    x, z, cfg, inp = s.x_meas, s.z, s.cfg, s.inp
     on, off, u0, u0_free, x_ref = law.gain_on, law.gain_off, law.u0_tethered, law.u0_free, law.x_ref
     n_x = n_cols - 4
     for i in range(4):
@@ -378,30 +395,31 @@ def _law(law, s, c, tether_law):
     (eq 50, held by the anti-windup), then the winch's command: the PI of eq 56
     (``winch_pi``) or, with ``tether_law`` (the block flies the tethered LQI), its reel row
     (``reel_command``); 0 while the winch is stopped. The command goes to s.rate."""
-    loop = s.loop
-    ctrl, x, z, inp, ffwd = s.ctrl, loop.x_meas, loop.z, loop.inputs, loop.ffwd
-    y_est, winch = loop.y_est, loop.winch
+    ctrl, x, z, inp, ffwd, y_est, winch = s.ctrl, s.x_meas, s.z, s.inp, s.ffwd, s.y_est, s.winch
     n = s.rate.shape[0]  # LANES, at run time: the loops vectorise, not unroll
     q9, use_off, _, integrate = _parts(s.scratch[: 4 * LANES], 4)
     torque = s.scratch[4 * LANES : 6 * LANES]
     reel = s.scratch[6 * LANES : 7 * LANES]
-    angle_trig_lanes(x, s.loop.sc_meas)
-    tethered_outputs_lanes(x, s.loop.sc_meas, c, y_est)
+    angle_trig_lanes(x, s.sc_meas)
+    tethered_outputs_lanes(x, s.sc_meas, c, y_est)
     for j in range(n):
         winch_on = ctrl[CTRL_WINCH * LANES + j] > 0.5
-        tethered = ctrl[CTRL_LAW * LANES + j] > 0.5
+        tethered = ctrl[CTRL_LAW * LANES + j] == CONTROL_LAW_TETHER_LQI
         use_off[j] = 1.0 if (tethered and not winch_on) else 0.0
         q9_tension = tension_q9_of(
-            x[5 * LANES + j], x[12 * LANES + j], s.measured[j], ctrl[CTRL_TENSION_K_C * LANES + j]
+            x[X_Q9 * LANES + j],
+            x[X_LN * LANES + j],
+            s.measured[j],
+            ctrl[CTRL_TENSION_K_C * LANES + j],
         )
-        q9[j] = q9_tension if (tethered and winch_on) else x[5 * LANES + j]
+        q9[j] = q9_tension if (tethered and winch_on) else x[X_Q9 * LANES + j]
     # the tethered LQI (9, 17) or the paper's law (4, 16) (``control.paper.check_law``): two
     # call sites, each with its shape a constant (``_lqi``)
     if tether_law:
         _lqi(law, s, q9, use_off, 17, True)
     else:
         _lqi(law, s, q9, use_off, 16, False)
-    tethered_tether_torque_lanes(x, s.loop.sc_meas, s.measured, c, torque)
+    tethered_tether_torque_lanes(x, s.sc_meas, s.measured, c, torque)
     for j in range(n):
         on = ctrl[CTRL_FFWD * LANES + j] > 0.5
         f1 = torque[j] if on else 0.0
@@ -436,7 +454,7 @@ def _law(law, s, c, tether_law):
                 reel[j] -= law.gain_reel[(n_x + col) * LANES + j] * z[col * LANES + j]
     for j in range(n):
         winch_on = ctrl[CTRL_WINCH * LANES + j] > 0.5
-        tethered = ctrl[CTRL_LAW * LANES + j] > 0.5
+        tethered = ctrl[CTRL_LAW * LANES + j] == CONTROL_LAW_TETHER_LQI
         previous = winch[WINCH_PREVIOUS_RATE * LANES + j]
         integral = winch[WINCH_INTEGRAL * LANES + j]
         dt = ctrl[CTRL_DT * LANES + j]
@@ -468,7 +486,7 @@ def _apply(k, x, s, lanes_drum, rows):
     command (``engine.clamp_reel_rate``, ``engine.drum_winch``, per lane on its rows, where
     ``lanes_drum``), the payout limits (``payout_limited_rate``) on the true length; s.rate
     becomes the applied rate."""
-    cfg, act, held, inp = s.cfg, s.act, s.loop.held, s.loop.inputs
+    cfg, act, held, inp = s.cfg, s.act, s.held, s.inp
     n = s.rate.shape[0]
     first = k == 0
     for i in range(4):
@@ -504,7 +522,7 @@ def _apply(k, x, s, lanes_drum, rows):
     for j in range(n):
         dt = cfg[CFG_DT * LANES + j]
         rate, which = payout_limited_rate(
-            s.rate[j], x[12 * LANES + j], dt, act[ACT_MIN_LENGTH * LANES + j],
+            s.rate[j], x[X_LN * LANES + j], dt, act[ACT_MIN_LENGTH * LANES + j],
             act[ACT_MAX_LENGTH * LANES + j],
         )  # fmt: skip
         stop = which != 0.0
@@ -528,20 +546,25 @@ def _check(x, s, law, c, sensed):
     cfg = s.cfg
     n = s.rate.shape[0]
     if sensed:  # the lanes without sensors get the same values: x_meas is x for them
-        angle_trig_lanes(x, s.loop.sc_true)
-        tethered_outputs_lanes(x, s.loop.sc_true, c, s.loop.y)
-    y, sc, y_ref = s.loop.y, s.loop.sc_true, law.y_ref
+        angle_trig_lanes(x, s.sc_true)
+        tethered_outputs_lanes(x, s.sc_true, c, s.y)
+    y, sc, y_ref = s.y, s.sc_true, law.y_ref
     for j in range(n):
         finite = True
         for i in range(13):
             finite &= math.isfinite(x[i * LANES + j])
         s.status[j] = state_status(
-            finite, cfg[CFG_ATTACHED * LANES + j] > 0.5, x[j], x[LANES + j], x[3 * LANES + j],
-            x[4 * LANES + j], x[5 * LANES + j], x[12 * LANES + j], sc[6 * LANES + j],
-            sc[8 * LANES + j], sc[9 * LANES + j], y[j] - y_ref[j],
-            y[LANES + j] - y_ref[LANES + j], y[2 * LANES + j] - y_ref[2 * LANES + j],
-            y[2 * LANES + j], s.tension[j], cfg[CFG_MAX_TENSION * LANES + j],
-            cfg[CFG_MAX_ANGLE * LANES + j], cfg[CFG_MAX_DEVIATION * LANES + j],
+            finite, cfg[CFG_ATTACHED * LANES + j] > 0.5,
+            (x[X_Q4 * LANES + j], x[X_Q5 * LANES + j], x[X_Q7 * LANES + j],
+             x[X_Q8 * LANES + j]),
+            x[X_Q9 * LANES + j], x[X_LN * LANES + j],
+            (sc[(SC_COS + 1) * LANES + j], sc[(SC_COS + 3) * LANES + j],
+             sc[(SC_COS + 4) * LANES + j]),
+            (y[j] - y_ref[j], y[LANES + j] - y_ref[LANES + j],
+             y[2 * LANES + j] - y_ref[2 * LANES + j]),
+            y[2 * LANES + j], s.tension[j],
+            (cfg[CFG_MAX_TENSION * LANES + j], cfg[CFG_MAX_ANGLE * LANES + j],
+             cfg[CFG_MAX_DEVIATION * LANES + j]),
         )  # fmt: skip
 
 
@@ -549,7 +572,7 @@ def _check(x, s, law, c, sensed):
 def _accumulate(k, x, s, law, active):
     """Phase 4's metrics (``summary.accumulate``) of the lanes still running whose sample
     passed its checks, from sample cfg[CFG_METRICS_FROM] on."""
-    summary, y, y_ref, x_ref, cfg = s.summary, s.loop.y, law.y_ref, law.x_ref, s.cfg
+    summary, y, y_ref, x_ref, cfg = s.summary, s.y, law.y_ref, law.x_ref, s.cfg
     n = s.rate.shape[0]
     for j in range(n):
         # a lane outside the metrics adds values that leave them as they are (0 to the peaks
@@ -583,14 +606,15 @@ def _position_metrics(summary, y, y_ref, on, a, j):
 
 
 @_jit_inline
-def lane_sample(k, x, s, law, c, active, lanes_sensed, sensors, lanes_drum, rows, tether_law):
+def lane_sample(k, x, s, law, c, active, sensing, lanes_drum, rows, tether_law):
     """One control sample at t = k dt of every lane of a block (``engine.paper_sample``,
     then ``summary.accumulate`` for the lanes in ``active``): x (13 LANES,) the lanes' true
     states, s its ``LaneState``, law its ``LaneLaw``, c (n_c LANES,) the model constants;
-    ``lanes_sensed``, ``lanes_drum`` (LANES,) which lanes have a noise table, a drum winch;
-    ``sensors`` as ``lanes.run_lanes``'s; rows = (x row, measured row, held row, act row),
-    scratch for the per-lane parts. s.status, s.rate, s.loop.inputs, s.loop.sc_true then hold
-    each lane's status, reel rate, applied inputs and sin, cos of its true angles.
+    ``sensing`` = (lanes_sensed (LANES,), which lanes have a noise table, and ``sensors`` as
+    ``lanes.run_lanes``'s); ``lanes_drum`` (LANES,) which lanes have a drum winch; rows = (x
+    row, measured row, held row, act row), scratch for the per-lane parts. s.status, s.rate,
+    s.inp, s.sc_true then hold each lane's status, reel rate, applied inputs and sin, cos of
+    its true angles.
 
     Parameters
     ----------
@@ -606,10 +630,9 @@ def lane_sample(k, x, s, law, c, active, lanes_sensed, sensors, lanes_drum, rows
         The lanes' model constants, flat.
     active : numpy.ndarray of bool, shape (LANES,)
         The lanes still running (their metrics accumulate).
-    lanes_sensed : numpy.ndarray of bool, shape (LANES,)
-        The lanes with a noise table.
-    sensors : tuple
-        The lanes' sensors, as ``lanes.run_lanes``'s.
+    sensing : tuple
+        (lanes_sensed, sensors): the lanes with a noise table (bool (LANES,)) and the lanes'
+        sensors, as ``lanes.run_lanes``'s.
     lanes_drum : numpy.ndarray of bool, shape (LANES,)
         The lanes with a drum winch.
     rows : tuple of numpy.ndarray
@@ -617,6 +640,7 @@ def lane_sample(k, x, s, law, c, active, lanes_sensed, sensors, lanes_drum, rows
     tether_law : bool
         Whether the block flies the tethered LQI.
     """
+    lanes_sensed, sensors = sensing
     _sense(k, x, s)
     sensed = lanes_sensed.any()
     if sensed:

@@ -28,11 +28,14 @@ from ..layout import (
     CFG_GUST_DT,
     CFG_K_C,
     CFG_N_SUB,
+    CFG_VEHICLE,
+    CONTROL_LAW_TETHER_LQI,
     CTRL_LAW,
     HELD_SIZE,
     LANES,
     SUMMARY_RELEASE_TENSION,
     SUMMARY_RELEASE_TIME,
+    VEHICLE_HELICOPTER,
     WIND_COLUMNS,
     WIND_CONSTANT,
     WIND_DIRECTION,
@@ -43,6 +46,9 @@ from ..layout import (
     WIND_PHASE,
     WIND_SINE,
     WIND_START,
+    X_LN,
+    X_Q9,
+    X_U1,
 )
 from ..model.kernels import (
     angle_trig_from_lanes,
@@ -115,9 +121,10 @@ def _lanes_program_force(programs, n_rows, t, side, out):
 
 
 @_jit
-def _lanes_stage(xs, sc, inp, rate, attached, k_c, c, program_force, gust_air, drag, force, out):
+def _lanes_stage(xs, sc, inp, rate, attached, k_c, c, air, force, out):
     """out (13 LANES,) = dx/dt of every lane at the stage state xs: the wind force of
-    ``wind_force`` (profiles plus bluff-body drag), the tension (eq 28: zero when slack or
+    ``wind_force`` (profiles plus bluff-body drag; air = (the profiles' force, the gust air
+    velocity, the drag), flat (variable, lane)), the tension (eq 28: zero when slack or
     released), eqs 10-12, 29-35 (``tethered_rhs_lanes``) and dLN/dt = RC (eq 37). ``force``
     (4 LANES,) receives the wind force and the tension."""
     # typed and lowered once for the four stages, inlined by LLVM (``inline_here``): Numba's
@@ -125,18 +132,19 @@ def _lanes_stage(xs, sc, inp, rate, attached, k_c, c, program_force, gust_air, d
     _wide_vectors()
     inline_here()
     restrict_arguments()  # separate arrays (``rk4_lanes``'s scratch and inputs)
+    program_force, gust_air, drag = air
     for j in range(rate.shape[0]):  # LANES, read at run time (see ``_lanes_axpy``)
-        r1 = gust_air[j] - xs[6 * LANES + j]
-        r2 = gust_air[LANES + j] - xs[7 * LANES + j]
-        r3 = gust_air[2 * LANES + j] - xs[8 * LANES + j]
+        r1 = gust_air[j] - xs[X_U1 * LANES + j]
+        r2 = gust_air[LANES + j] - xs[(X_U1 + 1) * LANES + j]
+        r3 = gust_air[2 * LANES + j] - xs[(X_U1 + 2) * LANES + j]
         speed = math.sqrt(r1 * r1 + r2 * r2 + r3 * r3)
         force[j] = program_force[j] + drag[j] * speed * r1
         force[LANES + j] = program_force[LANES + j] + drag[LANES + j] * speed * r2
         force[2 * LANES + j] = program_force[2 * LANES + j] + drag[2 * LANES + j] * speed * r3
-        stretch = xs[5 * LANES + j] - xs[12 * LANES + j]
+        stretch = xs[X_Q9 * LANES + j] - xs[X_LN * LANES + j]
         tied = attached[j] > 0.5
         force[3 * LANES + j] = k_c[j] * stretch if (tied and stretch > 0.0) else 0.0
-        out[12 * LANES + j] = rate[j] if tied else 0.0
+        out[X_LN * LANES + j] = rate[j] if tied else 0.0
     tethered_rhs_lanes(xs, sc, inp, force, force[3 * LANES :], c, out)
 
 
@@ -183,9 +191,10 @@ def _thirds(a):
 
 
 @_jit
-def rk4_lanes(x, sc0, inp, rate, t0, h, n_sub, attached, k_c, c, wind, work):
+def rk4_lanes(lane_in, h, n_sub, k_c, c, wind, work):
     """``rk4_interval`` for a block of LANES runs: advance every lane j of x (13 LANES,) over
-    its control sample [t0_j, t0_j + n_sub h_j] by n_sub RK4 steps of h_j.
+    its control sample [t0_j, t0_j + n_sub h_j] by n_sub RK4 steps of h_j; lane_in = (x, sc0,
+    inp, rate, t0, attached) (``set_lane``).
 
     Flat (variable, lane) arrays: sc0 (10 LANES,) sin, cos of the angles of x on entry
     (overwritten), inp (4 LANES,) the held rotor inputs, c (n_c LANES,) the model constants;
@@ -200,22 +209,16 @@ def rk4_lanes(x, sc0, inp, rate, t0, h, n_sub, attached, k_c, c, wind, work):
 
     Parameters
     ----------
-    x : numpy.ndarray, shape (13 LANES,)
-        The lanes' states [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m], advanced in place.
-    sc0 : numpy.ndarray, shape (10 LANES,)
-        sin, cos of x's angles on entry (overwritten).
-    inp : numpy.ndarray, shape (4 LANES,)
-        The held rotor inputs [N, N m, N m, N].
-    rate : numpy.ndarray, shape (LANES,)
-        The held reel rates [m/s].
-    t0 : numpy.ndarray, shape (LANES,)
-        The samples' start times [s].
+    lane_in : tuple of numpy.ndarray
+        (x, sc0, inp, rate, t0, attached): the lanes' states (13 LANES,) [q4..q9, u1..u6, LN]
+        in [rad, m, rad/s, m/s, m], advanced in place; sin, cos of x's angles on entry
+        (10 LANES,), overwritten; the held rotor inputs (4 LANES,) [N, N m, N m, N]; the held
+        reel rates (LANES,) [m/s]; the samples' start times (LANES,) [s]; 1 where the lane's
+        tether is attached, 0 where removed or released (LANES,).
     h : numpy.ndarray, shape (LANES,)
         The RK4 step of each lane [s].
     n_sub : int
         The RK4 steps per sample.
-    attached : numpy.ndarray, shape (LANES,)
-        1: the lane's tether is attached, 0: removed or released.
     k_c : numpy.ndarray, shape (LANES,)
         The tether's elasticity [N/m].
     c : numpy.ndarray, shape (n_c LANES,)
@@ -228,6 +231,7 @@ def rk4_lanes(x, sc0, inp, rate, t0, h, n_sub, attached, k_c, c, wind, work):
     """
     _wide_vectors()
     restrict_arguments()
+    x, sc0, inp, rate, t0, attached = lane_in
     programs, n_rows, gusts, gust_rows, gust_dt, drag = wind
     k1, k2, k3, k4, tmp, sc, force, program_force, gust_air, times = work
     pf_a, pf_m, pf_b = _thirds(program_force)
@@ -252,16 +256,16 @@ def rk4_lanes(x, sc0, inp, rate, t0, h, n_sub, attached, k_c, c, wind, work):
             gust = gusts[j, : gust_rows[j]]
             for t, air in ((ta[j], ga_a), (tm[j], ga_m), (tb[j], ga_b)):
                 air[j], air[LANES + j], air[2 * LANES + j] = gust_velocity(gust, gust_dt[j], t)
-        _lanes_stage(x, sc0, inp, rate, attached, k_c, c, pf_a, ga_a, drag, force, k1)
+        _lanes_stage(x, sc0, inp, rate, attached, k_c, c, (pf_a, ga_a, drag), force, k1)
         _lanes_axpy(tmp, x, 0.5, h, k1)
         angle_trig_from_lanes(tmp, x, sc0, sc)
-        _lanes_stage(tmp, sc, inp, rate, attached, k_c, c, pf_m, ga_m, drag, force, k2)
+        _lanes_stage(tmp, sc, inp, rate, attached, k_c, c, (pf_m, ga_m, drag), force, k2)
         _lanes_axpy(tmp, x, 0.5, h, k2)
         angle_trig_from_lanes(tmp, x, sc0, sc)
-        _lanes_stage(tmp, sc, inp, rate, attached, k_c, c, pf_m, ga_m, drag, force, k3)
+        _lanes_stage(tmp, sc, inp, rate, attached, k_c, c, (pf_m, ga_m, drag), force, k3)
         _lanes_axpy(tmp, x, 1.0, h, k3)
         angle_trig_from_lanes(tmp, x, sc0, sc)
-        _lanes_stage(tmp, sc, inp, rate, attached, k_c, c, pf_b, ga_b, drag, force, k4)
+        _lanes_stage(tmp, sc, inp, rate, attached, k_c, c, (pf_b, ga_b, drag), force, k4)
         for i in range(x.shape[0]):
             tmp[i] = x[i]  # the step's start, for the next step's trigonometry
         for i in range(13):
@@ -337,9 +341,7 @@ def park_lane(lane_in, j, x_park, sc_park, u_park):
 
 
 @compiled(error_model="numpy", nogil=True)
-def run_lanes(
-    x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, summary, status, done
-):
+def run_lanes(x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, results):
     """Run a block of LANES closed loops together (unrecorded); lane j for n_samples[j]
     samples, none where n_samples[j] < 0 (padding).
 
@@ -351,10 +353,10 @@ def run_lanes(
     N_CHANNELS), their rows in use) (``runs.packing.sensor_tuple`` per lane);
     wind = (programs flat (R WIND_COLUMNS LANES,), R, gusts (LANES, G, 3), gust rows in use,
     drag (LANES, 3)).
-    summary (LANES, len(SUMMARY_FIELDS)), status and done (LANES,) receive each lane's on-line
-    metrics, status and samples done, as ``run_closed_loop`` returns them for a single run.
-    Lanes may differ in every number but the RK4 steps per sample (cfg[:, CFG_N_SUB]) and
-    the law (ctrl[:, CTRL_LAW]).
+    results = (summary (LANES, len(SUMMARY_FIELDS)), status, done (LANES,)) receive each lane's
+    on-line metrics, status and samples done, as ``run_closed_loop`` returns them for a single
+    run. Lanes may differ in every number but the RK4 steps per sample (cfg[:, CFG_N_SUB]) and
+    the law (ctrl[:, CTRL_LAW]); they fly the helicopter (cfg[:, CFG_VEHICLE]).
 
     Each sample is ``lane_sample.lane_sample`` (sensors, controller, actuators, checks and
     metrics of every lane at once, each lane the single run's operations), then
@@ -384,23 +386,24 @@ def run_lanes(
         The lanes' actuators (``layout.ACT_*``).
     sensors : tuple
         The lanes' sensors, ``runs.packing.sensor_tuple`` per lane with a lane axis.
-    summary : numpy.ndarray, shape (LANES, len(SUMMARY_FIELDS))
-        Receives each lane's on-line metrics (``layout.SUMMARY_*``).
-    status : numpy.ndarray, shape (LANES,)
-        Receives each lane's status code (``Status``).
-    done : numpy.ndarray, shape (LANES,)
-        Receives each lane's samples done.
+    results : tuple of numpy.ndarray
+        (summary (LANES, len(SUMMARY_FIELDS)), status (LANES,), done (LANES,)): receive each
+        lane's on-line metrics (``layout.SUMMARY_*``), status code (``Status``) and samples
+        done.
     """
     _wide_vectors()
+    summary, status, done = results
     gain, x_ref, y_ref, u0, u0_free, z0 = law
     programs, n_rows, gusts, gust_rows, drag = wind
     n_sub = int(cfg_in[0, CFG_N_SUB])
-    tether_law = ctrl_in[0, CTRL_LAW] > 0.5
+    tether_law = ctrl_in[0, CTRL_LAW] == CONTROL_LAW_TETHER_LQI
     for j in range(LANES):
         if int(cfg_in[j, CFG_N_SUB]) != n_sub:
             raise ValueError("run_lanes: every lane must take the same RK4 steps per sample")
-        if (ctrl_in[j, CTRL_LAW] > 0.5) != tether_law:
+        if (ctrl_in[j, CTRL_LAW] == CONTROL_LAW_TETHER_LQI) != tether_law:
             raise ValueError("run_lanes: every lane must fly the same law")
+        if cfg_in[j, CFG_VEHICLE] != VEHICLE_HELICOPTER:
+            raise ValueError("run_lanes: the lane engine flies the helicopter only")
     if gain.shape[2] != (17 if tether_law else 16):  # the laws' shapes (``check_law``)
         raise ValueError("run_lanes: a gain of another law's shape")
     noise_rows = sensors[1]
@@ -460,8 +463,8 @@ def run_lanes(
         n_active += 1 if active[j] else 0
     k = plain(0)  # an int64 from the start (a literal 0 would compile callees twice)
     while n_active > 0:
-        lane_sample(k, x, state, lane_law_, c_lanes, active, lanes_sensed, sensors, lanes_drum,
-                    rows, tether_law)  # fmt: skip
+        lane_sample(k, x, state, lane_law_, c_lanes, active, (lanes_sensed, sensors),
+                    lanes_drum, rows, tether_law)  # fmt: skip
         for j in range(LANES):
             if not active[j]:
                 continue
@@ -489,13 +492,13 @@ def run_lanes(
             for i in range(10):
                 for j in range(LANES):
                     e = i * LANES + j
-                    state.loop.sc_true[e] = state.loop.sc_true[e] if active[j] else sc_init[e]
+                    state.sc_true[e] = state.sc_true[e] if active[j] else sc_init[e]
             for i in range(4):
                 for j in range(LANES):
                     e = i * LANES + j
-                    state.loop.inputs[e] = state.loop.inputs[e] if active[j] else u0[j, i]
-        rk4_lanes(x, state.loop.sc_true, state.loop.inputs, rate, t0, h, n_sub, attached, k_c,
-                  c_lanes, lane_wind, work)  # fmt: skip
+                    state.inp[e] = state.inp[e] if active[j] else u0[j, i]
+        rk4_lanes((x, state.sc_true, state.inp, rate, t0, attached), h, n_sub, k_c, c_lanes,
+                  lane_wind, work)  # fmt: skip
         k += 1
     keep_alive(own)
 
@@ -506,11 +509,11 @@ def _finish_lane(j, state, summary):
     metrics, release event and first payout limit (``summary.finish_summary``'s)."""
     for f in range(summary.shape[1]):
         summary[j, f] = state.summary[f * LANES + j]
-    summary[j, SUMMARY_RELEASE_TIME] = state.loop.event[j]
-    summary[j, SUMMARY_RELEASE_TENSION] = state.loop.event[LANES + j]
+    summary[j, SUMMARY_RELEASE_TIME] = state.event[j]
+    summary[j, SUMMARY_RELEASE_TENSION] = state.event[LANES + j]
     held = state.scratch[:HELD_SIZE]  # the lane's held row (``winch_limit_into`` reads it)
     for i in range(HELD_SIZE):
-        held[i] = state.loop.held[i * LANES + j]
+        held[i] = state.held[i * LANES + j]
     winch_limit_into(held, summary[j])
 
 

@@ -21,8 +21,14 @@ A lumped-mass tether (``[tether] model = "lumped"``) rides the same loop
 (``engine.lumped_step``): ``chain_ends`` sets its end tensions before the sample and
 ``lumped_interval`` replaces ``rk4_interval``.
 
-The packed arrays (``cfg``, ``ctrl``, ``act``, ``held``, the wind program, the summary, the
-chain) are laid out in ``tetherheli.layout``; run statuses are ``tetherheli.status.Status``.
+The phases take named records (``layout.Run``: the run's constants; ``layout.LoopState``:
+the control phases' state; ``layout.Scratch``; ``layout.Signals`` and the summary: the
+recording), built once per run on borrowed views (``_compile.borrowed``); a phase body
+compiled once takes the run's read-only view (``read_only_run``, ``control_run``). The
+plant is the vehicle slot's (``vehicle_derivative``, ``vehicle_outputs``, on
+``cfg[CFG_VEHICLE]``). The packed arrays (``cfg``, ``ctrl``, ``act``, ``held``, the wind
+program, the summary, the chain) and the state's slots (``X_*``) are laid out in
+``tetherheli.layout``; run statuses are ``tetherheli.status.Status``.
 """
 
 from __future__ import annotations
@@ -65,6 +71,7 @@ from ..layout import (
     CFG_SIZE,
     CFG_TENSION_GROUND,
     CFG_TENSION_TOP,
+    CFG_VEHICLE,
     CHAIN_NODES,
     CTRL_FFWD,
     CTRL_WINCH,
@@ -77,11 +84,28 @@ from ..layout import (
     HELD_MOTOR_TORQUE,
     HELD_REEL_RATE,
     HELD_SIZE,
+    LAW_GAIN,
+    LAW_U0,
+    LAW_U0_FREE,
+    LAW_X_REF,
+    LAW_Y_REF,
     LAW_Z0,
+    SC_COS,
     SUMMARY_FIELDS,
+    VEHICLE_HELICOPTER,
     WINCH_SIZE,
     WIND_COLUMNS,
+    X_LN,
+    X_Q4,
+    X_Q5,
+    X_Q7,
+    X_Q8,
+    X_Q9,
+    X_U1,
     LoopState,
+    Run,
+    Scratch,
+    WindPack,
     default_actuators,
 )
 from ..model.kernels import (
@@ -152,17 +176,17 @@ ACTION_REPLACE = 2
 
 
 @_jit_inline
-def plant_derivative(x, sc, inp, reel_rate, t, side, cfg, c, program, gust, drag, base, wind, out):
-    """dx/dt (13,) of the tethered-coordinate plant; tension 0 when the tether is removed.
-    sc (10,): sin and cos of x[0..4] (``kernels.angle_trig``); wind (3,) receives the force
-    (over a moving ``base`` with the frame's inertial force: ``base_frame_force``).
+def plant_derivative(x, sc, inp, reel_rate, t, side, cfg, c, wind, out):
+    """dx/dt (13,) of the vehicle's plant (``vehicle_derivative``) at t under the wind force
+    of ``wind`` (``layout.WindPack``; over a moving base with the frame's inertial force:
+    ``base_frame_force``); tension 0 when the tether is removed.
 
     Parameters
     ----------
     x : numpy.ndarray, shape (13,)
-        The state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+        The state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m] (``layout.X_*``).
     sc : numpy.ndarray, shape (10,)
-        sin and cos of the angles x[0..4] (``kernels.angle_trig``).
+        sin and cos of the angles x[0..4] (``kernels.angle_trig``, ``layout.SC_*``).
     inp : numpy.ndarray, shape (4,)
         The rotor inputs held over the sample [N, N m, N m, N].
     reel_rate : float
@@ -172,34 +196,90 @@ def plant_derivative(x, sc, inp, reel_rate, t, side, cfg, c, program, gust, drag
     side : int
         The side of a wind discontinuity at t: 1 the right limit, -1 the left limit.
     cfg : numpy.ndarray, shape (CFG_SIZE,)
-        The run's settings (``layout.CFG_*``).
+        The run's settings (``layout.CFG_*``), the vehicle among them.
     c : numpy.ndarray
-        The tethered model's constants (``kernels.model_constants("tethered", h)``).
-    program : numpy.ndarray, shape (rows, WIND_COLUMNS)
-        The wind program (``layout.WIND_*``), one row per profile.
-    gust : numpy.ndarray, shape (rows, 3)
-        The gust table: the air's velocity [m/s] every cfg[CFG_GUST_DT] [s] (no rows: none).
-    drag : numpy.ndarray, shape (3,)
-        The bluff-body drag 0.5 rho CdA_i per axis of N [kg/m].
-    base : numpy.ndarray, shape (rows, BASE_COLUMNS)
-        The base motion's packed form (``layout.BASE_*``, ``base.compiled``).
-    wind : numpy.ndarray, shape (3,)
-        Receives the wind force at t [N].
+        The vehicle's model constants (``kernels.model_constants("tethered", h)``).
+    wind : WindPack
+        The wind program, gust table, drag and base motion (``layout.WindPack``).
     out : numpy.ndarray, shape (13,)
         Receives dx/dt.
     """
-    base_frame_force(program, gust, cfg[CFG_GUST_DT], drag, base, t, side, x[6], x[7], x[8], wind)
-    _plant_in_wind(x, sc, inp, reel_rate, cfg, c, wind, out)
+    force = np.empty(3)
+    base_frame_force(wind.program, wind.gust, cfg[CFG_GUST_DT], wind.drag, wind.base, t, side,
+                     (x[X_U1], x[X_U1 + 1], x[X_U1 + 2]), force)  # fmt: skip
+    vehicle_derivative(x, sc, inp, reel_rate, cfg, c, force, out)
+
+
+# --- the vehicle slot: the plant's derivative and outputs, by ``cfg[CFG_VEHICLE]`` ------------
+# The engine flies the vehicle ``cfg[CFG_VEHICLE]`` names (``layout.VEHICLES``). Its
+# derivative and its outputs are these two functions' and nothing else of the loop's: a
+# second vehicle (the multirotor's ``multirotor_derivative(p, s, cmd, wind, f_p, out)``)
+# enters as one more branch of each, its constants in ``c``, with no change to the loop.
 
 
 @_jit_inline
-def _plant_in_wind(x, sc, inp, reel_rate, cfg, c, wind, out):
-    # one inlined copy of the generated right-hand side for both configurations (a removed
-    # tether is tension 0: the same arithmetic as a constant 0 would compile to)
-    attached = cfg[CFG_ATTACHED] > 0.5
-    tension = tension_from_state(x[5], x[12], cfg[CFG_K_C]) if attached else 0.0
-    tethered_rhs_sc(x, sc, inp, wind, tension, c, out)
-    out[12] = reel_rate if attached else 0.0
+def vehicle_derivative(x, sc, inp, reel_rate, cfg, c, force, out):
+    """dx/dt (13,) of the vehicle ``cfg[CFG_VEHICLE]`` under the air's force ``force`` (3,)
+    [N]: the paper's helicopter, the generated tethered model (``kernels.tethered_rhs_sc``),
+    with the tether's tension of eq 28 (0 when removed) and the reel rate as dLN/dt. A
+    vehicle whose kernel the slot does not hold (``layout.VEHICLES_FLOWN``) gets NaN (the
+    sample then fails as non-finite).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The state (``layout.X_*``) [rad, m, rad/s, m/s, m].
+    sc : numpy.ndarray, shape (10,)
+        sin and cos of the angles (``layout.SC_*``).
+    inp : numpy.ndarray, shape (4,)
+        The vehicle's inputs held over the sample [N, N m, N m, N].
+    reel_rate : float
+        The reel rate dLN/dt [m/s] (ignored when the tether is removed).
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings (``layout.CFG_*``): the vehicle, the tether's.
+    c : numpy.ndarray
+        The vehicle's model constants.
+    force : numpy.ndarray, shape (3,)
+        The air's force on the vehicle [N] in N.
+    out : numpy.ndarray, shape (13,)
+        Receives dx/dt.
+    """
+    if cfg[CFG_VEHICLE] == VEHICLE_HELICOPTER:
+        # one inlined copy of the generated right-hand side for both configurations (a
+        # removed tether is tension 0: the same arithmetic as a constant 0 would compile to)
+        attached = cfg[CFG_ATTACHED] > 0.5
+        tension = tension_from_state(x[X_Q9], x[X_LN], cfg[CFG_K_C]) if attached else 0.0
+        tethered_rhs_sc(x, sc, inp, force, tension, c, out)
+        out[X_LN] = reel_rate if attached else 0.0
+    else:  # the multirotor's slot (``layout.VEHICLE_MULTIROTOR``), not flown yet
+        for i in range(out.shape[0]):
+            out[i] = math.nan
+
+
+@_jit_inline
+def vehicle_outputs(x, sc, cfg, c, y):
+    """The outputs y (4,) of the vehicle ``cfg[CFG_VEHICLE]`` at x: HO's position q1, q2,
+    q3 [m] and the yaw q6 [rad] (``kernels.tethered_outputs_sc`` for the helicopter; NaN for
+    a vehicle the slot does not hold).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The state (``layout.X_*``).
+    sc : numpy.ndarray, shape (10,)
+        sin and cos of the angles (``layout.SC_*``).
+    cfg : numpy.ndarray, shape (CFG_SIZE,)
+        The run's settings: the vehicle.
+    c : numpy.ndarray
+        The vehicle's model constants.
+    y : numpy.ndarray, shape (4,)
+        Receives the outputs [m, m, m, rad].
+    """
+    if cfg[CFG_VEHICLE] == VEHICLE_HELICOPTER:
+        tethered_outputs_sc(x, sc, c, y)
+    else:
+        for i in range(y.shape[0]):
+            y[i] = math.nan
 
 
 #: sin/cos of the step-start angles are chained by angle addition for at most this many
@@ -235,7 +315,7 @@ def next_step_trig(x, start, sc0, sc, steps_done):
 
 
 @_jit
-def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, work, trig_given):
+def rk4_interval(x, inp, reel_rate, t0, cfg, c, wind, work, trig_given):
     """Advance x in place over one control sample [t0, t0 + dt] with n_sub RK4 steps.
 
     ``work`` (RK4_WORK_ROWS, 13) is scratch. sin and cos of the angles come from
@@ -261,11 +341,9 @@ def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, work,
     cfg : numpy.ndarray, shape (CFG_SIZE,)
         The run's settings (``layout.CFG_*``): dt, n_sub, the tether's.
     c : numpy.ndarray
-        The tethered model's constants (``kernels.model_constants("tethered", h)``).
-    program, gust, drag, base : numpy.ndarray
-        The wind program (``layout.WIND_*``), the gust table (air velocity [m/s], no rows:
-        none), the drag 0.5 rho CdA_i (3,) [kg/m] and the base motion (``layout.BASE_*``), as
-        for ``plant_derivative``.
+        The vehicle's model constants (``kernels.model_constants("tethered", h)``).
+    wind : WindPack
+        The wind program, gust table, drag and base motion (``layout.WindPack``).
     work : numpy.ndarray, shape (RK4_WORK_ROWS, 13)
         Scratch; work[6, :10] holds sin, cos of x's angles when ``trig_given``.
     trig_given : bool
@@ -276,8 +354,9 @@ def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, work,
     # borrowed views (``_compile.borrowed``; the caller holds the arrays): the stages below
     # pick their arrays at run time, with no reference counts
     x, work = borrowed((x, work))
-    k1, k2, k3, k4, tmp, wind = work[0], work[1], work[2], work[3], work[4], work[5]
+    k1, k2, k3, k4, tmp, force = work[0], work[1], work[2], work[3], work[4], work[5]
     sc0, sc = work[6], work[7]
+    program, gust, drag, base = wind.program, wind.gust, wind.drag, wind.base
     n = x.shape[0]
     gdt = cfg[CFG_GUST_DT]
     gusty = gdt > 0.0 and gust.shape[0] > 0
@@ -303,9 +382,9 @@ def rk4_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, work,
             # without a gust table the wind depends on t only: the third stage keeps the
             # second's (with one, the drag depends on the stage's velocity)
             if stage != 2 or gusty:
-                base_frame_force(program, gust, gdt, drag, base, ts, side, xs[6], xs[7], xs[8],
-                                 wind)  # fmt: skip
-            _plant_in_wind(xs, scs, inp, reel_rate, cfg, c, wind, work[stage])
+                base_frame_force(program, gust, gdt, drag, base, ts, side,
+                                 (xs[X_U1], xs[X_U1 + 1], xs[X_U1 + 2]), force)  # fmt: skip
+            vehicle_derivative(xs, scs, inp, reel_rate, cfg, c, force, work[stage])
         for i in range(n):
             tmp[i] = x[i]  # the step's start, for the next step's trigonometry
             x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
@@ -364,21 +443,20 @@ def check_state_sc(x, sc, y, y_ref, tension, cfg):
     for i in range(x.shape[0]):
         finite &= math.isfinite(x[i])
     return state_status(
-        finite, cfg[CFG_ATTACHED] > 0.5, x[0], x[1], x[3], x[4], x[5], x[12], sc[6], sc[8],
-        sc[9], y[0] - y_ref[0], y[1] - y_ref[1], y[2] - y_ref[2], y[2], tension,
-        cfg[CFG_MAX_TENSION], cfg[CFG_MAX_ANGLE], cfg[CFG_MAX_DEVIATION],
+        finite, cfg[CFG_ATTACHED] > 0.5, (x[X_Q4], x[X_Q5], x[X_Q7], x[X_Q8]), x[X_Q9],
+        x[X_LN], (sc[SC_COS + 1], sc[SC_COS + 3], sc[SC_COS + 4]),
+        (y[0] - y_ref[0], y[1] - y_ref[1], y[2] - y_ref[2]), y[2], tension,
+        (cfg[CFG_MAX_TENSION], cfg[CFG_MAX_ANGLE], cfg[CFG_MAX_DEVIATION]),
     )  # fmt: skip
 
 
 @_jit_inline
-def state_status(
-    finite, attached, q4, q5, q7, q8, q9, length, cos_q5, cos_q7, cos_q8, dev1, dev2, dev3,
-    height, tension, max_tension, max_angle, max_deviation,
-):  # fmt: skip
-    """The status of a sampled state (``Status``), in order of precedence, from its scalars:
-    whether every state is finite, the tether attached, the angles q4, q5, q7, q8 [rad], q9
-    and the natural length LN [m], cos q5, cos q7, cos q8, the outputs' deviations from
-    their references and HO's height y3 [m], the tension [N] and the limits (``cfg``'s
+def state_status(finite, attached, angles, q9, length, cosines, deviations, height, tension,
+                 limits):  # fmt: skip
+    """The status of a sampled state (``Status``), in order of precedence, from its scalars
+    (tuples of floats, unpacked at no cost): whether every state is finite, the tether
+    attached, the angles, q9 and the natural length LN, the cosines, the outputs' deviations
+    from their references, HO's height y3, the tension and the limits (``cfg``'s
     ``CFG_MAX_*``). The one rule of ``check_state_sc`` and the lane engine's checks.
 
     Parameters
@@ -387,32 +465,34 @@ def state_status(
         Whether every state is finite.
     attached : bool
         Whether the tether is attached.
-    q4, q5, q7, q8 : float
-        Roll, pitch and the tether's angles [rad].
+    angles : tuple of float
+        (q4, q5, q7, q8): roll, pitch and the tether's angles [rad].
     q9 : float
         The tether's length (HO's distance from the winch) [m].
     length : float
         The tether's natural length LN [m].
-    cos_q5, cos_q7, cos_q8 : float
-        cos q5, cos q7, cos q8.
-    dev1, dev2, dev3 : float
+    cosines : tuple of float
+        (cos q5, cos q7, cos q8).
+    deviations : tuple of float
         The deviations of the outputs y1, y2, y3 from their references [m].
     height : float
         HO's height y3 [m].
     tension : float
         The tether's tension [N].
-    max_tension : float
-        The largest tension allowed [N] (cfg[CFG_MAX_TENSION]).
-    max_angle : float
-        The largest |q4|, |q5|, |q7|, |q8| allowed [rad] (cfg[CFG_MAX_ANGLE]).
-    max_deviation : float
-        The largest output deviation allowed [m] (cfg[CFG_MAX_DEVIATION]).
+    limits : tuple of float
+        (max_tension [N], max_angle [rad], max_deviation [m]): the largest tension, the
+        largest |q4|, |q5|, |q7|, |q8| and the largest output deviation allowed
+        (cfg[CFG_MAX_TENSION], cfg[CFG_MAX_ANGLE], cfg[CFG_MAX_DEVIATION]).
 
     Returns
     -------
     int
         The status code (``Status``), the first check failed in order of precedence.
     """
+    q4, q5, q7, q8 = angles
+    cos_q5, cos_q7, cos_q8 = cosines
+    dev1, dev2, dev3 = deviations
+    max_tension, max_angle, max_deviation = limits
     if not finite:
         return STATUS_NONFINITE
     # an attached tether's natural (unstretched) length LN <= 0 is no physical tether
@@ -591,33 +671,27 @@ def winch_tension(cfg, tension):
 
 
 @_jit_inline
-def sense(x, k, t, cfg, ctrl, act, sensors, event, x_meas):
+def sense(run, x, k, t, sensed, event, x_meas):
     """Phase 1 of a sample at t = k dt: the tether's tension (0 when removed), the safety
     device's release check (``release_if_broken``; a lumped tether's tension at P, set in
     cfg by ``chain_ends``), then the sensors, whose load cell reads the tension at the winch
     (the lumped chain's ground end; eq 28's one tension otherwise): x_meas (13,) receives
     the measured state (``sensors.measure_sampled``: each sensor at its rate and latency,
-    with the noise table's rows, or the true state when the table is empty); ``sensors`` is
-    ``runs.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history ring).
-    Returns (true tension at P, measured tension) [N].
+    with the noise table's rows, or the true state when ``sensed`` is False). Returns (true
+    tension at P, measured tension) [N].
 
     Parameters
     ----------
+    run : Run
+        The run's record (``layout.Run``); a release changes its cfg and ctrl.
     x : numpy.ndarray, shape (13,)
-        The true state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+        The true state (``layout.X_*``) [rad, m, rad/s, m/s, m].
     k : int
         The control sample's index.
     t : float
         The sample's time k dt [s].
-    cfg : numpy.ndarray, shape (CFG_SIZE,)
-        The run's settings (``layout.CFG_*``), changed by a release.
-    ctrl : numpy.ndarray, shape (CTRL_SIZE,)
-        The paper controller's settings (``layout.CTRL_*``), changed by a release.
-    act : numpy.ndarray, shape (ACT_SIZE,)
-        The actuators (``layout.ACT_*``): the breaking tension.
-    sensors : tuple
-        ``runs.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history
-        ring).
+    sensed : bool
+        Whether the noise table has rows (``run.sensors[0]``; else the sensors are perfect).
     event : numpy.ndarray, shape (2,)
         Receives a release's time [s] and tension [N].
     x_meas : numpy.ndarray, shape (13,)
@@ -628,12 +702,7 @@ def sense(x, k, t, cfg, ctrl, act, sensors, event, x_meas):
     tuple of float
         (the true tension at P, the load cell's measured tension) [N].
     """
-    return _sense(x, k, t, cfg, ctrl, act, sensors, sensors[0].shape[0] > 0, event, x_meas)
-
-
-@_jit_inline
-def _sense(x, k, t, cfg, ctrl, act, sensors, sensed, event, x_meas):
-    # ``sense`` with ``sensed`` (the noise table has rows) given by the caller
+    cfg = run.cfg
     attached = cfg[CFG_ATTACHED] > 0.5
     lumped = cfg[CFG_LUMPED] > 0.5
     if not attached:
@@ -641,17 +710,17 @@ def _sense(x, k, t, cfg, ctrl, act, sensors, sensed, event, x_meas):
     elif lumped:  # the chain's ends at this sample (``chain_ends``)
         tension = cfg[CFG_TENSION_TOP]
     else:
-        tension = tension_from_state(x[5], x[12], cfg[CFG_K_C])
-    tension = release_if_broken(tension, t, cfg, ctrl, act, event)
+        tension = tension_from_state(x[X_Q9], x[X_LN], cfg[CFG_K_C])
+    tension = release_if_broken(tension, t, cfg, run.ctrl, run.act, event)
     load = winch_tension(cfg, tension)  # the load cell at the winch
     if sensed:
-        return tension, measure_sampled(x, load, k, sensors, x_meas)
+        return tension, measure_sampled(x, load, k, run.sensors, x_meas)
     copy_into(x_meas, x)
     return tension, load
 
 
 @_jit_inline
-def actuate(inp, held, rate, act, dt, first, tension_ground, measured_tension, length, t, drum):
+def actuate(inp, held, rate, act, dt, first, tensions, length, t, drum):
     """Phase 3: the actuators on a controller's command. Rotor inputs: saturation and lag
     (``apply_actuators``, in place). Reel rate, ideal winch: the acceleration limit relative
     to the rate applied at the previous sample (the paper's PI already keeps within it and
@@ -660,9 +729,9 @@ def actuate(inp, held, rate, act, dt, first, tension_ground, measured_tension, l
     feed-forward included, passes here last). Drum winch (``drum``, True
     when act[ACT_DRUM]; a constant of a specialised caller prunes the other winch's code):
     the command is the drive's speed reference and the drum is advanced over the sample
-    (``drum_winch``) under the tension at the winch, tension_ground [N] (the load cell reads
-    measured_tension [N]). Then the payout limits (``winch_limits``) on the natural length
-    ``length`` = x[12] [m] at the sample's time t [s]. Returns the reel rate applied over
+    (``drum_winch``) under the tension at the winch (the load cell reads the measured
+    tension). Then the payout limits (``winch_limits``) on the natural length
+    ``length`` = x[X_LN] [m] at the sample's time t [s]. Returns the reel rate applied over
     the sample [m/s].
 
     Parameters
@@ -679,12 +748,10 @@ def actuate(inp, held, rate, act, dt, first, tension_ground, measured_tension, l
         The sample time [s].
     first : bool
         Whether this is the run's first sample.
-    tension_ground : float
-        The tension at the winch [N].
-    measured_tension : float
-        The load cell's reading [N].
+    tensions : tuple of float
+        (the tension at the winch, the load cell's reading) [N].
     length : float
-        The natural length LN = x[12] [m].
+        The natural length LN = x[X_LN] [m].
     t : float
         The sample's time [s].
     drum : bool
@@ -695,6 +762,7 @@ def actuate(inp, held, rate, act, dt, first, tension_ground, measured_tension, l
     float
         The reel rate applied over the sample [m/s].
     """
+    tension_ground, measured_tension = tensions
     apply_actuators(inp, held, act, dt, first)
     if drum:
         speed_reference = clamp_reel_rate(rate, act)
@@ -851,39 +919,26 @@ def drum_winch(held, rate_cmd, act, dt, tension_ground, measured_tension):
 
 
 @_jit_inline
-def paper_sample(x, k, cfg, ctrl, act, sensors, c, law, loop, action, action_mode):
+def paper_sample(run, loop, x, k, action, action_mode):
     """One control sample of the paper's scheme at t = k dt (Fig. 5): ``sense``, the LQI with
     feed-forward and the winch PI (``paper_law``), an optional ``action`` on the rotor inputs
     (``ACTION_*``), ``actuate``, and the failure checks of the sampled state
-    (``sample_outputs``). ``law`` is (gain, x_ref, y_ref, u0, u0_free, z0) (``layout.LAW_*``):
-    once the tether is released (or in the free configuration) the LQI works about the free
-    trim's input u0_free; z0 is the integrators' start; ``loop`` the per-run arrays in the
-    order of ``layout.LOOP_*`` (z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est,
-    inp, ffwd), updated in place: inp then holds the applied inputs, y the true outputs,
+    (``sample_outputs``). Once the tether is released (or in the free configuration) the
+    LQI works about the free trim's input (``layout.LAW_U0_FREE``); ``loop`` (``LoopState``)
+    is updated in place: its inputs then hold the applied inputs, y the true outputs,
     sc_true sin and cos of the true angles. Returns (status, true tension [N], applied reel
     rate [m/s]).
 
     Parameters
     ----------
+    run : Run
+        The run's record (``layout.Run``).
+    loop : LoopState
+        The per-run arrays (``layout.LoopState``, ``new_loop_state``), updated.
     x : numpy.ndarray, shape (13,)
-        The true state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+        The true state (``layout.X_*``) [rad, m, rad/s, m/s, m].
     k : int
         The control sample's index.
-    cfg : numpy.ndarray, shape (CFG_SIZE,)
-        The run's settings (``layout.CFG_*``).
-    ctrl : numpy.ndarray, shape (CTRL_SIZE,)
-        The paper controller's settings (``layout.CTRL_*``).
-    act : numpy.ndarray, shape (ACT_SIZE,)
-        The actuators (``layout.ACT_*``).
-    sensors : tuple
-        ``runs.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history
-        ring).
-    c : numpy.ndarray
-        The tethered model's constants (``kernels.model_constants("tethered", h)``).
-    law : tuple of numpy.ndarray
-        The controller's arrays (``layout.LAW_*``).
-    loop : LoopState
-        The per-run arrays (``layout.LOOP_*``, ``new_loop_state``), updated.
     action : numpy.ndarray, shape (4,)
         An action on the rotor inputs [N, N m, N m, N] (read unless ``ACTION_NONE``).
     action_mode : int
@@ -898,30 +953,51 @@ def paper_sample(x, k, cfg, ctrl, act, sensors, c, law, loop, action, action_mod
     rate : float
         The applied reel rate [m/s].
     """
-    gain, x_ref, y_ref, u0_tethered, u0_free, _z0 = law
-    z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd = loop
-    return _paper_sample(
-        x, k, cfg, ctrl, act, sensors, sensors[0].shape[0] > 0, c, gain, x_ref, y_ref,
-        u0_tethered, u0_free, z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp,
-        ffwd, action, action_mode,
-    )  # fmt: skip
+    sensed = run.sensors[0].shape[0] > 0
+    tension, measured = sense(run, x, k, k * run.cfg[CFG_DT], sensed, loop.event, loop.x_meas)
+    rate = paper_law(run, loop, measured, action, action_mode)
+    status, rate = sample_apply(run, loop, x, k, rate, tension, measured, sensed,
+                                run.act[ACT_DRUM] > 0.5)  # fmt: skip
+    return status, tension, rate
 
 
 @_jit_inline
-def _paper_sample(
-    x, k, cfg, ctrl, act, sensors, sensed, c, gain, x_ref, y_ref, u0_tethered, u0_free, z,
-    winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd, action, action_mode,
-):  # fmt: skip
-    # ``paper_sample`` on the members of its tuples, unpacked by the caller. The compiled loop
-    # unpacks them once per run: every array taken out of a tuple is a reference count
-    # raised and dropped by an atomic instruction (unpacking once: a gain within noise, ~4 %)
-    tension, measured = _sense(x, k, k * cfg[CFG_DT], cfg, ctrl, act, sensors, sensed, event,
-                               x_meas)  # fmt: skip
-    rate = paper_law(x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered,
-                     u0_free, z, winch, y_est, inp, ffwd, action, action_mode)  # fmt: skip
-    status, rate = sample_apply(x, k, cfg, act, c, held, inp, rate, tension, measured, sensed,
-                                act[ACT_DRUM] > 0.5, y, y_est, sc_true, sc_meas, y_ref)  # fmt: skip
-    return status, tension, rate
+def read_only_run(run):
+    """``run`` (``layout.Run``) with the arrays the phases only read (c, act, law, wind)
+    typed read-only (``_compile.frozen``) and no sensors (read by ``sense`` alone, which is
+    inlined): every caller of a phase compiled once then selects the same signature.
+
+    Parameters
+    ----------
+    run : Run
+        The run's record.
+
+    Returns
+    -------
+    Run
+        The same arrays, borrowed.
+    """
+    return Run(run.cfg, run.ctrl, frozen(run.c), frozen(run.act), frozen(run.law),
+               frozen(run.wind), (), run.chain)  # fmt: skip
+
+
+@_jit_inline
+def control_run(run):
+    """``read_only_run`` without the wind and the chain (empty tuples): the record of the
+    phases that neither read (the controller, the actuators and checks), so that their
+    compiled bodies take (and compile) fewer arrays.
+
+    Parameters
+    ----------
+    run : Run
+        The run's record.
+
+    Returns
+    -------
+    Run
+        The same arrays, borrowed, the wind, sensors and chain left out.
+    """
+    return Run(run.cfg, run.ctrl, frozen(run.c), frozen(run.act), frozen(run.law), (), (), ())
 
 
 @_jit
@@ -943,94 +1019,58 @@ def _drum_step(w0, w_cmd, tension_torque, ffwd, dt, inertia, gain, torque_limit,
 
 
 @_jit_inline
-def sample_sense(
-    x, k, cfg, ctrl, act, sensors, sensed, event, x_meas, lumped, gust, base, chain, cw
-):  # fmt: skip
+def sample_sense(run, loop, scratch, x, k, sensed, lumped):
     """Phase 1 at t = k dt: a lumped chain's end tensions (``chain_ends``, while attached),
     then ``sense``. Returns (true tension at P, measured tension) [N].
 
     Parameters
     ----------
+    run : Run
+        The run's record (``layout.Run``); the chain's tensions are set in its cfg.
+    loop : LoopState
+        The control phases' state: the release event and the measured state are written.
+    scratch : Scratch
+        The run's scratch (``layout.Scratch``): the chain's.
     x : numpy.ndarray, shape (13,)
-        The true state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+        The true state (``layout.X_*``) [rad, m, rad/s, m/s, m].
     k : int
         The control sample's index.
-    cfg : numpy.ndarray, shape (CFG_SIZE,)
-        The run's settings (``layout.CFG_*``); the chain's tensions are set in it.
-    ctrl : numpy.ndarray, shape (CTRL_SIZE,)
-        The paper controller's settings (``layout.CTRL_*``).
-    act : numpy.ndarray, shape (ACT_SIZE,)
-        The actuators (``layout.ACT_*``).
-    sensors : tuple
-        ``runs.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history
-        ring).
     sensed : bool
         Whether the noise table has rows (else the sensors are perfect).
-    event : numpy.ndarray, shape (2,)
-        Receives a release's time [s] and tension [N].
-    x_meas : numpy.ndarray, shape (13,)
-        Receives the measured state.
     lumped : bool
         Whether the tether is a lumped chain.
-    gust, base : numpy.ndarray
-        The gust table (air velocity [m/s]) and the base motion (``layout.BASE_*``).
-    chain : tuple of numpy.ndarray
-        The lumped chain (``layout.CHAIN_*``).
-    cw : tuple
-        The chain's scratch (``lumped_step.lumped_work``; unread for a massless tether).
 
     Returns
     -------
     tuple of float
         (the true tension at P, the measured tension) [N].
     """
+    cfg = run.cfg
     t = k * cfg[CFG_DT]
     if lumped and cfg[CFG_ATTACHED] > 0.5:
-        chain_ends(x, t, cfg, gust, base, chain, cw)
-    return _sense(x, k, t, cfg, ctrl, act, sensors, sensed, event, x_meas)
+        chain_ends(x, t, cfg, run.wind.gust, run.wind.base, run.chain, scratch.cw)
+    return sense(run, x, k, t, sensed, loop.event, loop.x_meas)
 
 
 @_jit_inline
-def paper_law(
-    x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered, u0_free, z,
-    winch, y_est, inp, ffwd, action, action_mode,
-):  # fmt: skip
-    """Phase 2, the compiled controller: the paper's LQI with feed-forward and winch PI, or
-    the tethered LQI (``control.paper.paper_control_sc``) on the measured state x_meas, about
-    u0_tethered while the tether is attached and u0_free after (sc_meas receives sin, cos of
-    x_meas's angles, y_est its outputs, inp the rotor command, ffwd the feed-forward), then an
-    optional ``action`` added to or replacing the rotor command (``ACTION_*``). Returns the
+def paper_law(run, loop, measured, action, action_mode):
+    """Phase 2, the compiled controller: the law ``run.ctrl[CTRL_LAW]`` names
+    (``layout.CONTROL_LAWS``: the paper's LQI with feed-forward and winch PI, or the
+    tethered LQI; ``control.paper.paper_control_sc``) on the measured state
+    ``loop.x_meas``, about the tethered trim input while the tether is attached and the
+    free one after (``loop.sc_meas`` receives sin, cos of its angles, ``y_est`` its
+    outputs, ``inputs`` the rotor command, ``ffwd`` the feed-forward), then an optional
+    ``action`` added to or replacing the rotor command (``ACTION_*``). Returns the
     reel-rate command [m/s].
 
     Parameters
     ----------
-    x_meas : numpy.ndarray, shape (13,)
-        The measured state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
-    sc_meas : numpy.ndarray, shape (10,)
-        Receives sin, cos of x_meas's angles.
+    run : Run
+        The run's record (``layout.Run``).
+    loop : LoopState
+        The control phases' state, updated.
     measured : float
         The load cell's tension [N].
-    cfg : numpy.ndarray, shape (CFG_SIZE,)
-        The run's settings (``layout.CFG_*``).
-    ctrl : numpy.ndarray, shape (CTRL_SIZE,)
-        The paper controller's settings (``layout.CTRL_*``).
-    c : numpy.ndarray
-        The tethered model's constants (``kernels.model_constants("tethered", h)``).
-    gain, x_ref, y_ref : numpy.ndarray
-        The LQI's gain, the trim state and the trim outputs (``layout.LAW_GAIN``,
-        ``LAW_X_REF``, ``LAW_Y_REF``).
-    u0_tethered, u0_free : numpy.ndarray, shape (4,)
-        The tethered and the free trim inputs [N, N m, N m, N].
-    z : numpy.ndarray, shape (4,)
-        The LQI's output-error integral (eq 50), updated.
-    winch : numpy.ndarray, shape (WINCH_SIZE,)
-        The winch PI's state (``layout.WINCH_*``), updated.
-    y_est : numpy.ndarray, shape (4,)
-        Receives the controller's output estimate [m, m, m, rad].
-    inp : numpy.ndarray, shape (4,)
-        Receives the rotor command [N, N m, N m, N].
-    ffwd : numpy.ndarray, shape (4,)
-        Receives the feed-forward part of the command (eq 55).
     action : numpy.ndarray, shape (4,)
         An action on the rotor command [N, N m, N m, N].
     action_mode : int
@@ -1041,26 +1081,22 @@ def paper_law(
     float
         The reel-rate command [m/s].
     """
-    return _paper_law(
-        x_meas, sc_meas, measured, cfg, ctrl, frozen(c), frozen(gain), frozen(x_ref),
-        frozen(y_ref), frozen(u0_tethered), frozen(u0_free), z, winch, y_est, inp, ffwd, action,
-        plain(action_mode),
-    )  # fmt: skip
+    return _paper_law(control_run(run), loop, measured, action, plain(action_mode))
 
 
 @_jit
-def _paper_law(
-    x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered, u0_free, z,
-    winch, y_est, inp, ffwd, action, action_mode,
-):  # fmt: skip
+def _paper_law(run, loop, measured, action, action_mode):
     # ``paper_law``'s body, typed once for every caller (its read-only arrays frozen, its
     # constants plain: one signature) and inlined by LLVM (``inline_here``)
     inline_here()
-    u0 = u0_tethered if cfg[CFG_ATTACHED] > 0.5 else u0_free
-    angle_trig(x_meas, sc_meas)
+    law = run.law
+    u0 = law[LAW_U0] if run.cfg[CFG_ATTACHED] > 0.5 else law[LAW_U0_FREE]
+    angle_trig(loop.x_meas, loop.sc_meas)
     rate = paper_control_sc(
-        x_meas, sc_meas, measured, z, winch, ctrl, c, gain, x_ref, y_ref, u0, y_est, inp, ffwd
-    )
+        loop.x_meas, loop.sc_meas, measured, (loop.z, loop.winch), run.ctrl, run.c,
+        (law[LAW_GAIN], law[LAW_X_REF], law[LAW_Y_REF], u0), (loop.y_est, loop.inputs, loop.ffwd),
+    )  # fmt: skip
+    inp = loop.inputs
     if action_mode == ACTION_ADD:
         for i in range(4):
             inp[i] += action[i]
@@ -1071,74 +1107,56 @@ def _paper_law(
 
 
 @_jit_inline
-def sample_outputs(x, c, sensed, y, y_est, sc_true, sc_meas, y_ref, tension, cfg):
-    """The true outputs y and sin, cos of the true angles sc_true (copies of the estimate's
-    when the sensors are perfect, x_meas = x), then the failure checks (``check_state_sc``);
-    returns the status.
+def sample_outputs(run, loop, x, sensed, tension):
+    """The true outputs ``loop.y`` (``vehicle_outputs``) and sin, cos of the true angles
+    ``loop.sc_true`` (copies of the estimate's when the sensors are perfect, x_meas = x),
+    then the failure checks (``check_state_sc``); returns the status.
 
     Parameters
     ----------
+    run : Run
+        The run's record (``layout.Run``).
+    loop : LoopState
+        The control phases' state: y and sc_true are written.
     x : numpy.ndarray, shape (13,)
-        The true state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
-    c : numpy.ndarray
-        The tethered model's constants (``kernels.model_constants("tethered", h)``).
+        The true state (``layout.X_*``) [rad, m, rad/s, m/s, m].
     sensed : bool
         Whether the sensors are not perfect (x_meas differs from x).
-    y : numpy.ndarray, shape (4,)
-        Receives the true outputs q1, q2, q3, q6 [m, m, m, rad].
-    y_est : numpy.ndarray, shape (4,)
-        The controller's output estimate [m, m, m, rad].
-    sc_true : numpy.ndarray, shape (10,)
-        Receives sin, cos of the true angles.
-    sc_meas : numpy.ndarray, shape (10,)
-        sin, cos of the measured angles.
-    y_ref : numpy.ndarray, shape (4,)
-        The trim outputs [m, m, m, rad].
     tension : float
         The true tension at P [N].
-    cfg : numpy.ndarray, shape (CFG_SIZE,)
-        The run's settings (``layout.CFG_*``).
 
     Returns
     -------
     int
         The status code (``Status``).
     """
+    y, sc_true = loop.y, loop.sc_true
     if sensed:
         angle_trig(x, sc_true)
-        tethered_outputs_sc(x, sc_true, frozen(c), y)
+        vehicle_outputs(x, sc_true, run.cfg, frozen(run.c), y)
     else:
-        copy_into(y, y_est)
-        copy_into(sc_true, sc_meas)
-    return check_state_sc(x, sc_true, y, y_ref, tension, cfg)
+        copy_into(y, loop.y_est)
+        copy_into(sc_true, loop.sc_meas)
+    return check_state_sc(x, sc_true, y, frozen(run.law[LAW_Y_REF]), tension, run.cfg)
 
 
 @_jit_inline
-def sample_apply(
-    x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, drum, y, y_est, sc_true,
-    sc_meas, y_ref,
-):  # fmt: skip
-    """Phase 3: ``actuate`` on the controller's command (inp, the reel rate ``rate``), then
-    ``sample_outputs``. ``drum``: the run has a drum winch (act[ACT_DRUM]); where it is a
-    constant of the caller (the specialised loops) the other winch is not compiled.
-    Returns (status, applied reel rate [m/s]).
+def sample_apply(run, loop, x, k, rate, tension, measured, sensed, drum):
+    """Phase 3: ``actuate`` on the controller's command (``loop.inputs``, the reel rate
+    ``rate``), then ``sample_outputs``. ``drum``: the run has a drum winch (act[ACT_DRUM]);
+    where it is a constant of the caller (the specialised loops) the other winch is not
+    compiled. Returns (status, applied reel rate [m/s]).
 
     Parameters
     ----------
+    run : Run
+        The run's record (``layout.Run``).
+    loop : LoopState
+        The control phases' state: the held actuator state and the inputs are updated.
     x : numpy.ndarray, shape (13,)
-        The true state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
+        The true state (``layout.X_*``) [rad, m, rad/s, m/s, m].
     k : int
         The control sample's index.
-    cfg : numpy.ndarray, shape (CFG_SIZE,)
-        The run's settings (``layout.CFG_*``).
-    act : numpy.ndarray, shape (ACT_SIZE,)
-        The actuators (``layout.ACT_*``).
-    c : numpy.ndarray
-        The tethered model's constants (``kernels.model_constants("tethered", h)``).
-    held : numpy.ndarray, shape (HELD_SIZE,)
-        What the actuators hold between samples (``layout.HELD_*``), updated.
-    inp : numpy.ndarray, shape (4,)
-        The rotor command [N, N m, N m, N]; receives the applied inputs.
     rate : float
         The reel-rate command [m/s].
     tension : float
@@ -1149,16 +1167,6 @@ def sample_apply(
         Whether the sensors are not perfect.
     drum : bool
         Whether the run has a drum winch.
-    y : numpy.ndarray, shape (4,)
-        Receives the true outputs [m, m, m, rad].
-    y_est : numpy.ndarray, shape (4,)
-        The controller's output estimate [m, m, m, rad].
-    sc_true : numpy.ndarray, shape (10,)
-        Receives sin, cos of the true angles.
-    sc_meas : numpy.ndarray, shape (10,)
-        sin, cos of the measured angles.
-    y_ref : numpy.ndarray, shape (4,)
-        The trim outputs [m, m, m, rad].
 
     Returns
     -------
@@ -1168,14 +1176,10 @@ def sample_apply(
         The applied reel rate [m/s].
     """
     if drum:
-        return _sample_apply_drum(
-            x, k, cfg, frozen(act), frozen(c), held, inp, rate, tension, measured, plain(sensed),
-            y, y_est, sc_true, sc_meas, frozen(y_ref),
-        )  # fmt: skip
-    return _sample_apply_ideal(
-        x, k, cfg, frozen(act), frozen(c), held, inp, rate, tension, measured, plain(sensed), y,
-        y_est, sc_true, sc_meas, frozen(y_ref),
-    )  # fmt: skip
+        return _sample_apply_drum(control_run(run), loop, x, k, rate, tension, measured,
+                                  plain(sensed))  # fmt: skip
+    return _sample_apply_ideal(control_run(run), loop, x, k, rate, tension, measured,
+                               plain(sensed))  # fmt: skip
 
 
 def _specialised_apply(drum: bool):
@@ -1183,19 +1187,17 @@ def _specialised_apply(drum: bool):
     whose ``drum`` is a constant of the compiled code, so the ideal winch's body compiles no
     drum (``_drum_step``: about 1.5 s of a first ``tetherheli paper``)."""
 
-    def sample_apply_body(
-        x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, y, y_est, sc_true,
-        sc_meas, y_ref,
-    ):  # fmt: skip
+    def sample_apply_body(run, loop, x, k, rate, tension, measured, sensed):
         # typed once for every caller (its read-only arrays frozen, its constants plain: one
         # signature) and inlined by LLVM (``inline_here``)
         inline_here()
+        cfg = run.cfg
         dt = cfg[CFG_DT]
         rate = actuate(
-            inp, held, rate, act, dt, k == 0, winch_tension(cfg, tension), measured, x[12],
-            k * dt, drum,
+            loop.inputs, loop.held, rate, run.act, dt, k == 0,
+            (winch_tension(cfg, tension), measured), x[X_LN], k * dt, drum,
         )  # fmt: skip
-        status = sample_outputs(x, c, sensed, y, y_est, sc_true, sc_meas, y_ref, tension, cfg)
+        status = sample_outputs(run, loop, x, sensed, tension)
         return status, rate
 
     return sample_apply_body
@@ -1206,177 +1208,130 @@ _sample_apply_drum = _jit(_specialised_apply(True))
 
 
 @_jit_inline
-def sample_record(
-    k, cfg, act, summary, x, x_ref, y, y_ref, tension, rate, inp, ffwd, y_est, held, record,
-    out, program, gust, drag, base, scratch, nodes,
-):  # fmt: skip
+def sample_record(run, loop, summary, out, x, k, tension, rate, record, force):
     """Phase 4: the on-line metrics of the samples k >= cfg[CFG_METRICS_FROM] into
     ``summary`` (``accumulate``), and with ``record`` the sample's row of ``out``
-    (``layout.Signals``); ``scratch`` (>= 3,) receives the wind force.
+    (``layout.Signals``); ``force`` (>= 3,) receives the wind force.
 
     Parameters
     ----------
-    k : int
-        The control sample's index.
-    cfg : numpy.ndarray, shape (CFG_SIZE,)
-        The run's settings (``layout.CFG_*``).
-    act : numpy.ndarray, shape (ACT_SIZE,)
-        The actuators (``layout.ACT_*``).
+    run : Run
+        The run's record (``layout.Run``).
+    loop : LoopState
+        The control phases' state (outputs, inputs, held actuator state).
     summary : numpy.ndarray, shape (len(SUMMARY_FIELDS),)
         The on-line metrics (``layout.SUMMARY_*``), updated.
+    out : Signals
+        The recorded signals (``layout.Signals``).
     x : numpy.ndarray, shape (13,)
-        The true state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
-    x_ref : numpy.ndarray
-        The trim state (``layout.LAW_X_REF``).
-    y, y_ref : numpy.ndarray, shape (4,)
-        The true outputs and the trim outputs [m, m, m, rad].
+        The true state (``layout.X_*``) [rad, m, rad/s, m/s, m].
+    k : int
+        The control sample's index.
     tension : float
         The true tension at P [N].
     rate : float
         The applied reel rate [m/s].
-    inp, ffwd : numpy.ndarray, shape (4,)
-        The applied rotor inputs and their feed-forward part [N, N m, N m, N].
-    y_est : numpy.ndarray, shape (4,)
-        The controller's output estimate [m, m, m, rad].
-    held : numpy.ndarray, shape (HELD_SIZE,)
-        What the actuators hold between samples (``layout.HELD_*``).
     record : bool
         Whether to record the sample's row of ``out``.
-    out : Signals
-        The recorded signals (``layout.Signals``).
-    program, gust, drag, base : numpy.ndarray
-        The wind program, the gust table, the drag (3,) [kg/m] and the base motion, as for
-        ``plant_derivative``.
-    scratch : numpy.ndarray, shape (>= 3,)
+    force : numpy.ndarray, shape (>= 3,)
         Receives the wind force [N].
-    nodes : numpy.ndarray, shape (N + 1, 3)
-        A lumped chain's node positions [m] (no rows: none).
 
     Returns
     -------
     None
         Nothing: ``summary`` and ``out`` are written in place.
     """
-    return _sample_record(
-        k, cfg, act, summary, x, frozen(x_ref), y, frozen(y_ref), tension, rate, inp, ffwd, y_est,
-        held, plain(record), out, frozen(program), frozen(gust), frozen(drag), frozen(base),
-        scratch, nodes,
-    )  # fmt: skip
+    return _sample_record(read_only_run(run), loop, summary, out, x, k, tension, rate,
+                          plain(record), force)  # fmt: skip
 
 
 @_jit
-def _sample_record(
-    k, cfg, act, summary, x, x_ref, y, y_ref, tension, rate, inp, ffwd, y_est, held, record,
-    out, program, gust, drag, base, scratch, nodes,
-):  # fmt: skip
+def _sample_record(run, loop, summary, out, x, k, tension, rate, record, force):
     # ``sample_record``'s body, typed once for every caller (its read-only arrays frozen, its
     # constants plain: one signature) and inlined by LLVM (``inline_here``)
     inline_here()
-    if k >= cfg[CFG_METRICS_FROM]:  # the metrics' window (Scenario.metrics_start)
-        accumulate(summary, x, x_ref, y, y_ref, tension)
+    if k >= run.cfg[CFG_METRICS_FROM]:  # the metrics' window (Scenario.metrics_start)
+        accumulate(summary, x, run.law[LAW_X_REF], loop.y, run.law[LAW_Y_REF], tension)
     if record:
-        record_row(k, cfg, act, x, y, tension, rate, inp, ffwd, y_est, held, out, program,
-                   gust, drag, base, scratch, nodes)  # fmt: skip
+        record_row(run, loop, out, x, k, tension, rate, force)
 
 
 @_jit
-def record_row(
-    k, cfg, act, x, y, tension, rate, inp, ffwd, y_est, held, out, program, gust, drag, base,
-    scratch, nodes,
-):  # fmt: skip
+def record_row(run, loop, out, x, k, tension, rate, force):
     """``sample_record``'s row of ``out``: a call, not inlined (once per sample, and
     a first run compiles it apart).
 
     Parameters
     ----------
+    run : Run
+        The run's record (``layout.Run``): cfg, act, the wind and the chain's nodes.
+    loop : LoopState
+        The control phases' state: outputs, inputs, feed-forward, held actuator state.
+    out : Signals
+        The recorded signals (``layout.Signals``); row k is written.
+    x : numpy.ndarray, shape (13,)
+        The true state (``layout.X_*``) [rad, m, rad/s, m/s, m].
     k : int
         The control sample's index, the row of ``out``.
-    cfg : numpy.ndarray, shape (CFG_SIZE,)
-        The run's settings (``layout.CFG_*``).
-    act : numpy.ndarray, shape (ACT_SIZE,)
-        The actuators (``layout.ACT_*``).
-    x : numpy.ndarray, shape (13,)
-        The true state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m].
-    y : numpy.ndarray, shape (4,)
-        The true outputs [m, m, m, rad].
     tension : float
         The true tension at P [N].
     rate : float
         The applied reel rate [m/s].
-    inp, ffwd : numpy.ndarray, shape (4,)
-        The applied rotor inputs and their feed-forward part [N, N m, N m, N].
-    y_est : numpy.ndarray, shape (4,)
-        The controller's output estimate [m, m, m, rad].
-    held : numpy.ndarray, shape (HELD_SIZE,)
-        What the actuators hold between samples (``layout.HELD_*``).
-    out : Signals
-        The recorded signals (``layout.Signals``); row k is written.
-    program, gust, drag, base : numpy.ndarray
-        The wind program, the gust table, the drag (3,) [kg/m] and the base motion, as for
-        ``plant_derivative``.
-    scratch : numpy.ndarray, shape (>= 3,)
+    force : numpy.ndarray, shape (>= 3,)
         Receives the wind force [N].
-    nodes : numpy.ndarray, shape (N + 1, 3)
-        A lumped chain's node positions [m] (no rows: none).
     """
-    air_force_on_base(program, gust, cfg[CFG_GUST_DT], drag, base, k * cfg[CFG_DT], 1, x[6],
-                      x[7], x[8], scratch)  # fmt: skip
+    cfg, wind, held = run.cfg, run.wind, loop.held
+    air_force_on_base(wind.program, wind.gust, cfg[CFG_GUST_DT], wind.drag, wind.base,
+                      k * cfg[CFG_DT], 1, (x[X_U1], x[X_U1 + 1], x[X_U1 + 2]), force)  # fmt: skip
     copy_into(out.x[k], x)
-    copy_into(out.u[k], inp)
-    copy_into(out.ffwd[k], ffwd)
+    copy_into(out.u[k], loop.inputs)
+    copy_into(out.ffwd[k], loop.ffwd)
     out.rate[k] = rate
     out.tension[k] = tension
-    copy_into(out.wind[k], scratch[:3])
-    copy_into(out.y[k], y)
-    copy_into(out.y_est[k], y_est)
+    copy_into(out.wind[k], force[:3])
+    copy_into(out.y[k], loop.y)
+    copy_into(out.y_est[k], loop.y_est)
     out.tension_ground[k] = winch_tension(cfg, tension)
     if out.nodes.shape[0] > 0:
+        nodes = run.chain[CHAIN_NODES]
         row = out.nodes[k]
         for i in range(nodes.shape[0]):
             copy_into(row[i], nodes[i])
-    if act[ACT_DRUM] > 0.5:  # the drum's speed at t_k, its mean torque after t_k
+    if run.act[ACT_DRUM] > 0.5:  # the drum's speed at t_k, its mean torque after t_k
         out.winch[k, 0] = held[HELD_DRUM_SPEED_SAMPLED]
         out.winch[k, 1] = held[HELD_MOTOR_TORQUE]
 
 
 @_jit_inline
-def sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, base, work, chain, cw, lumped):
+def sample_advance(run, scratch, x, inp, rate, k, lumped):
     """Phase 5, the fixed-step integrator over [k dt, (k + 1) dt]: a lumped chain's coupled
     step while attached (``lumped_interval``), else ``rk4_interval`` (sin, cos of x's angles
-    already in work[6], ``sample_outputs``'s sc_true).
+    already in scratch.work[6], ``sample_outputs``'s sc_true).
 
     Parameters
     ----------
+    run : Run
+        The run's record (``layout.Run``); the chain is advanced in place.
+    scratch : Scratch
+        The run's scratch (``layout.Scratch``): the integrator's and the chain's.
     x : numpy.ndarray, shape (13,)
-        The true state [q4..q9, u1..u6, LN] in [rad, m, rad/s, m/s, m], advanced in place.
+        The true state (``layout.X_*``) [rad, m, rad/s, m/s, m], advanced in place.
     inp : numpy.ndarray, shape (4,)
         The applied rotor inputs [N, N m, N m, N].
     rate : float
         The applied reel rate [m/s].
     k : int
         The control sample's index.
-    cfg : numpy.ndarray, shape (CFG_SIZE,)
-        The run's settings (``layout.CFG_*``).
-    c : numpy.ndarray
-        The tethered model's constants (``kernels.model_constants("tethered", h)``).
-    program, gust, drag, base : numpy.ndarray
-        The wind program, the gust table, the drag (3,) [kg/m] and the base motion, as for
-        ``plant_derivative``.
-    work : numpy.ndarray, shape (RK4_WORK_ROWS, 13)
-        The integrator's scratch.
-    chain : tuple of numpy.ndarray
-        The lumped chain (``layout.CHAIN_*``), advanced in place.
-    cw : tuple
-        The chain's scratch (``lumped_step.lumped_work``; unread for a massless tether).
     lumped : bool
         Whether the tether is a lumped chain.
     """
+    cfg = run.cfg
     t = k * cfg[CFG_DT]
     if lumped and cfg[CFG_ATTACHED] > 0.5:
-        lumped_interval(x, inp, rate, t, cfg, c, program, gust, drag, base, work, chain, cw,
-                        plain(COUPLING_CONDENSED))  # fmt: skip
+        lumped_interval(x, inp, rate, t, cfg, run.c, run.wind, run.chain,
+                        (scratch.work, scratch.cw), plain(COUPLING_CONDENSED))  # fmt: skip
     else:
-        rk4_interval(x, inp, rate, t, cfg, c, program, gust, drag, base, work, plain(True))
+        rk4_interval(x, inp, rate, t, cfg, run.c, run.wind, scratch.work, plain(True))
 
 
 def new_loop_state(x_init: np.ndarray, z_init: np.ndarray, work: np.ndarray) -> LoopState:
@@ -1500,9 +1455,8 @@ def run_closed_loop(
         The samples done (n_samples + 1 for a complete run, else the failed sample's index).
     """
     loop = closed_loop_for(chain, sensors, act)
-    return loop(
-        x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out, summary
-    )
+    run = Run(cfg_in, ctrl_in, c, act, tuple(law), WindPack(*wind), sensors, chain)
+    return loop(x_init, n_samples, run, record, out, summary)
 
 
 def closed_loop_for(chain: tuple, sensors: tuple, act: np.ndarray) -> Any:
@@ -1537,58 +1491,44 @@ def _specialised_loop(lumped: bool, sensed: bool, drum: bool):
     inlined function's IR block by block, each block with every variable of the function, so
     inlining the whole loop cost about a quarter of a first run's compilation."""
 
-    def closed_loop(
-        x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out,
-        summary,
-    ):  # fmt: skip
+    def closed_loop(x_init, n_samples, run_in, record, out, summary):
         # The loop works on borrowed views (``_compile.borrowed``: no atomic reference counts):
         # of the arguments, which the caller holds, and of the run's own arrays, held below
         # (``keep_alive``) until the loop is done.
-        own_cfg, own_ctrl, own_x = cfg_in.copy(), ctrl_in.copy(), x_init.copy()
+        own_cfg, own_ctrl, own_x = run_in.cfg.copy(), run_in.ctrl.copy(), x_init.copy()
         own_work = np.empty((RK4_WORK_ROWS, 13))
-        own_loop = _loop_state(x_init, law[LAW_Z0], own_work)
+        own_loop = _loop_state(x_init, run_in.law[LAW_Z0], own_work)
         own_no_action = np.zeros(4)
         if lumped:
-            own_cw = _lumped_work(max(chain[CHAIN_NODES].shape[0] - 1, 1))
+            own_cw = _lumped_work(max(run_in.chain[CHAIN_NODES].shape[0] - 1, 1))
         else:  # never read: a massless loop's chain branches are pruned
             own_cw = np.empty(0)
         cfg, ctrl, x, work, no_action = borrowed(
             (own_cfg, own_ctrl, own_x, own_work, own_no_action)
         )
-        c, act, summary, sensors, chain, out, cw = borrowed(
-            (c, act, summary, sensors, chain, out, own_cw)
+        c, act, law, wind, sensors, chain = borrowed(
+            (run_in.c, run_in.act, run_in.law, run_in.wind, run_in.sensors, run_in.chain)
         )
-        program, gust, drag, base = borrowed(wind)
-        # the tuples' arrays taken out once, before the loop (see ``_paper_sample``)
-        gain, x_ref, y_ref, u0_tethered, u0_free, _z0 = borrowed(law)
-        z, winch, held, event, x_meas, sc_meas, sc_true, y, y_est, inp, ffwd = borrowed(own_loop)
+        summary, out, cw, loop = borrowed((summary, out, own_cw, own_loop))
+        # the run's records: built once, their fields read by name in the phases
+        run = Run(cfg, ctrl, c, act, law, wind, sensors, chain)
+        scratch = Scratch(work, cw, no_action)
         start_summary(summary)
         status, done = STATUS_OK, n_samples + 1
-        nodes = chain[CHAIN_NODES]
         for k in range(n_samples + 1):
-            tension, measured = sample_sense(
-                x, k, cfg, ctrl, act, sensors, sensed, event, x_meas, lumped, gust, base, chain, cw
-            )
-            rate = paper_law(
-                x_meas, sc_meas, measured, cfg, ctrl, c, gain, x_ref, y_ref, u0_tethered, u0_free,
-                z, winch, y_est, inp, ffwd, no_action, ACTION_NONE,
-            )  # fmt: skip
+            tension, measured = sample_sense(run, loop, scratch, x, k, sensed, lumped)
+            rate = paper_law(run, loop, measured, no_action, ACTION_NONE)
             sample_status, rate = sample_apply(
-                x, k, cfg, act, c, held, inp, rate, tension, measured, sensed, drum, y, y_est,
-                sc_true, sc_meas, y_ref,
-            )  # fmt: skip
+                run, loop, x, k, rate, tension, measured, sensed, drum
+            )
             if sample_status != STATUS_OK:
                 status, done = sample_status, k
                 break
-            sample_record(
-                k, cfg, act, summary, x, x_ref, y, y_ref, tension, rate, inp, ffwd, y_est, held,
-                record, out, program, gust, drag, base, work[5], nodes,
-            )  # fmt: skip
+            sample_record(run, loop, summary, out, x, k, tension, rate, record, work[5])
             if k == n_samples:
                 break
-            sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, base, work, chain, cw,
-                           lumped)  # fmt: skip
-        finish_summary(summary, event, held)
+            sample_advance(run, scratch, x, loop.inputs, rate, k, lumped)
+        finish_summary(summary, loop.event, loop.held)
         keep_alive((own_cfg, own_ctrl, own_x, own_work, own_loop, own_no_action, own_cw))
         return status, done
 

@@ -174,7 +174,7 @@ def chain_ends(x, t, cfg, gust, base, chain, cw):
         vel[n, j] = pm[3 + j]
     _node_air(gust, cfg[CFG_GUST_DT], t, air)
     chain_in_base_frame(base, t, air, p)
-    chain_forces(nodes, vel, air, x[12], p, F, T, K, C, D, plain(True))
+    chain_forces(nodes, vel, air, x[12], p, F, T, (K, C, D), plain(True))
     for j in range(3):
         force_P[j] = F[n, j]
     cfg[CFG_TENSION_TOP] = math.sqrt(F[n, 0] ** 2 + F[n, 1] ** 2 + F[n, 2] ** 2)
@@ -182,11 +182,10 @@ def chain_ends(x, t, cfg, gust, base, chain, cw):
 
 
 @_jit
-def _lumped_stage(
-    xs, sc, inp, reel_rate, t, tau, side, cfg, c, program, gust, drag, base, cw, out
-):  # fmt: skip
-    """dx/dt (13,) of the helicopter at a stage state xs (sin, cos sc) at t, tau [s] into
-    the step, pulled at P by the chain: the step-start force cw[6] minus (condensed coupling)
+def _lumped_stage(xs, sc, command, times, cfg, c, air_pack, cw, out):
+    """dx/dt (13,) of the helicopter at a stage state xs (sin, cos sc) under command = (inp,
+    reel_rate) at times = (t, tau [s] into the step, side), in ``air_pack`` (``layout.WindPack``),
+    pulled at P by the chain: the step-start force cw[6] minus (condensed coupling)
     the top segment's stiffness cw[13] times its stretch since the step's start (P's motion
     less the top interior node's, moving on from its start velocity cw[15] at its start
     acceleration cw[16]) and its damping cw[14]
@@ -194,9 +193,12 @@ def _lumped_stage(
     # typed and lowered once for the four stages, inlined by LLVM (``inline_here``): Numba's
     # inlining of the four (``tethered_rhs_sc`` in each) took 10 s of the first compile
     inline_here()
+    inp, reel_rate = command
+    t, tau, side = times
+    program, gust, drag, base = air_pack
     force_P, inp2, wind2, pm, fp, wind = cw[6], cw[7], cw[8], cw[9], cw[10], cw[11]
     pm0, kc, cc, v_top, a_top = cw[12], cw[13], cw[14], cw[15], cw[16]
-    base_frame_force(program, gust, cfg[CFG_GUST_DT], drag, base, t, side, xs[6], xs[7], xs[8],
+    base_frame_force(program, gust, cfg[CFG_GUST_DT], drag, base, t, side, (xs[6], xs[7], xs[8]),
                      wind)  # fmt: skip
     kinematics_P_motion_sc(xs, sc, cfg[CFG_ARM], pm)
     for a in range(3):
@@ -210,8 +212,7 @@ def _lumped_stage(
 
 
 @_jit
-def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, work, chain, cw,
-                    coupling):  # fmt: skip
+def lumped_interval(x, inp, reel_rate, t0, cfg, c, wind, chain, scratch, coupling):
     """Advance the helicopter x and its lumped chain over one control sample [t0, t0 + dt]:
     per substep h = dt / n_sub (n_sub the scenario's substeps, or more by the coupled step's
     rule ``tether_lumped.coupling_substeps``: h omega_max <= 2.5), ``chain_ends`` (the force
@@ -242,13 +243,13 @@ def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, wo
     ----------
     x : ndarray, shape (13,)
         The helicopter's state, x[12] the unstretched length L0 [m]; advanced in place.
-    inp, reel_rate, t0, cfg, c, program, gust, drag, base, work
+    inp, reel_rate, t0, cfg, c, wind
         As ``rk4_interval``'s (over a moving base the chain's step takes the air relative to
         the base and b'' at the step's middle).
     chain : tuple
         ``layout.CHAIN_*``: the chain, advanced in place.
-    cw : tuple
-        ``lumped_work(N)``.
+    scratch : tuple
+        (work, cw): ``rk4_interval``'s work array and ``lumped_work(N)``.
     coupling : int
         COUPLING_STAGGERED or COUPLING_CONDENSED.
 
@@ -262,6 +263,8 @@ def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, wo
         chain[CHAIN_PARAMS],
         chain[CHAIN_WORK],
     )
+    work, cw = scratch
+    gust, base = wind.gust, wind.base
     F, K, C, D, air = cw[0], cw[2], cw[3], cw[4], cw[5]
     pm, pm0, kc, cc = cw[9], cw[12], cw[13], cw[14]
     n = nodes.shape[0] - 1
@@ -293,21 +296,19 @@ def lumped_interval(x, inp, reel_rate, t0, cfg, c, program, gust, drag, base, wo
                     kc[3 * a + b] = 0.0
                     cc[3 * a + b] = 0.0
         angle_trig(x, sc0)
-        _lumped_stage(x, sc0, inp, rate, ta, zero, after, cfg, c, program, gust, drag, base, cw, k1)
+        _lumped_stage(x, sc0, (inp, rate), (ta, zero, after), cfg, c, wind, cw, k1)
         for i in range(13):
             tmp[i] = x[i] + 0.5 * h * k1[i]
         angle_trig_from(tmp, x, sc0, sc)
-        _lumped_stage(tmp, sc, inp, rate, tm, 0.5 * h, after, cfg, c, program, gust, drag, base, cw,
-                      k2)  # fmt: skip
+        _lumped_stage(tmp, sc, (inp, rate), (tm, 0.5 * h, after), cfg, c, wind, cw, k2)
         for i in range(13):
             tmp[i] = x[i] + 0.5 * h * k2[i]
         angle_trig_from(tmp, x, sc0, sc)
-        _lumped_stage(tmp, sc, inp, rate, tm, 0.5 * h, after, cfg, c, program, gust, drag, base, cw,
-                      k3)  # fmt: skip
+        _lumped_stage(tmp, sc, (inp, rate), (tm, 0.5 * h, after), cfg, c, wind, cw, k3)
         for i in range(13):
             tmp[i] = x[i] + h * k3[i]
         angle_trig_from(tmp, x, sc0, sc)
-        _lumped_stage(tmp, sc, inp, rate, tb, h, before, cfg, c, program, gust, drag, base, cw, k4)
+        _lumped_stage(tmp, sc, (inp, rate), (tb, h, before), cfg, c, wind, cw, k4)
         for i in range(13):
             x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         angle_trig(x, sc0)

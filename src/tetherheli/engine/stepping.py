@@ -16,8 +16,8 @@ from typing import NamedTuple
 import numpy as np
 
 from .._compile import compiled
-from ..layout import ACT_DRUM, CFG_ATTACHED, CHAIN_NODES, LAW_X_REF, LAW_Y_REF, LoopState, Signals
-from ..model.kernels import angle_trig, tethered_outputs_sc
+from ..layout import ACT_DRUM, CFG_ATTACHED, CHAIN_NODES, LoopState, Run, Scratch, Signals, WindPack
+from ..model.kernels import angle_trig
 from .loop import (
     STATUS_NONFINITE,
     STATUS_OK,
@@ -27,11 +27,13 @@ from .loop import (
     sample_outputs,
     sample_record,
     sample_sense,
+    vehicle_outputs,
 )
 
 __all__ = ["StepRun", "step_command", "step_finish", "step_sense"]
 
 _jit = compiled(error_model="numpy")
+_jit_inline = compiled(error_model="numpy", inline="always")
 
 
 class StepRun(NamedTuple):
@@ -52,9 +54,8 @@ class StepRun(NamedTuple):
         The tethered model's constants (``kernels.model_constants("tethered", h)``).
     law : tuple of numpy.ndarray
         The controller's arrays (``layout.LAW_*``; x_ref and y_ref are the metrics' references).
-    wind : tuple of numpy.ndarray
-        (program, gust table, drag, base) (``engine.plant_derivative``); an empty program for
-        a Python disturbance.
+    wind : WindPack
+        The wind (``layout.WindPack``); an empty program for a Python disturbance.
     act : numpy.ndarray, shape (ACT_SIZE,)
         The actuators (``layout.ACT_*``).
     sensors : tuple
@@ -78,7 +79,7 @@ class StepRun(NamedTuple):
     ctrl: np.ndarray  #: ``layout.CTRL_*``, a run's own copy
     c: np.ndarray  #: the model constants
     law: tuple  #: ``layout.LAW_*`` (x_ref and y_ref are the metrics' references)
-    wind: tuple  #: (program, gust table, drag, base); an empty program for a Python disturbance
+    wind: WindPack  #: an empty program for a Python disturbance
     act: np.ndarray  #: ``layout.ACT_*``
     sensors: tuple  #: ``runs.packing.sensor_tuple``
     chain: tuple  #: ``layout.CHAIN_*`` (``layout.empty_chain()``: massless)
@@ -87,6 +88,13 @@ class StepRun(NamedTuple):
     loop: LoopState  #: the control phases' state (``new_loop_state``)
     summary: np.ndarray  #: (len(SUMMARY_FIELDS),) the on-line metrics (``start_summary``)
     out: Signals  #: the recorded signals
+
+
+@_jit_inline
+def _records(run):
+    # a ``StepRun``'s run record (``layout.Run``) and scratch (``layout.Scratch``)
+    record = Run(run.cfg, run.ctrl, run.c, run.act, run.law, run.wind, run.sensors, run.chain)
+    return record, Scratch(run.work, run.cw, run.work[5, :4])
 
 
 @_jit
@@ -106,11 +114,9 @@ def step_sense(run, k):
     tuple of float
         (the true tension at P, the measured tension) [N].
     """
-    return sample_sense(
-        run.x, k, run.cfg, run.ctrl, run.act, run.sensors, run.sensors[0].shape[0] > 0,
-        run.loop.event, run.loop.x_meas, run.chain[CHAIN_NODES].shape[0] > 0, run.wind[1],
-        run.wind[3], run.chain, run.cw,
-    )  # fmt: skip
+    record, scratch = _records(run)
+    return sample_sense(record, run.loop, scratch, run.x, k, run.sensors[0].shape[0] > 0,
+                        run.chain[CHAIN_NODES].shape[0] > 0)  # fmt: skip
 
 
 @_jit
@@ -150,18 +156,11 @@ def step_command(run, k, command, reel_rate, feedforward, tension, measured, adv
     rate : float
         The applied reel rate [m/s].
     """
+    record, scratch = _records(run)
     loop = run.loop
-    held, x_meas, sc_meas, sc_true, y, y_est = (
-        loop.held,
-        loop.x_meas,
-        loop.sc_meas,
-        loop.sc_true,
-        loop.y,
-        loop.y_est,
-    )
+    x_meas, sc_meas, y_est = loop.x_meas, loop.sc_meas, loop.y_est
     inp, ffwd = loop.inputs, loop.ffwd
-    x, cfg, c = run.x, run.cfg, run.c
-    program, gust, drag, base = run.wind
+    x, cfg = run.x, run.cfg
     sensed = run.sensors[0].shape[0] > 0
     if cfg[CFG_ATTACHED] <= 0.5:
         reel_rate = 0.0
@@ -171,27 +170,20 @@ def step_command(run, k, command, reel_rate, feedforward, tension, measured, adv
         ffwd[i] = feedforward[i]
         finite = finite and math.isfinite(command[i])
     angle_trig(x_meas, sc_meas)
-    tethered_outputs_sc(x_meas, sc_meas, c, y_est)
+    vehicle_outputs(x_meas, sc_meas, cfg, run.c, y_est)
     if finite:
-        status, rate = sample_apply(
-            x, k, cfg, run.act, c, held, inp, reel_rate, tension, measured, sensed,
-            run.act[ACT_DRUM] > 0.5, y, y_est, sc_true, sc_meas, run.law[LAW_Y_REF],
-        )  # fmt: skip
+        status, rate = sample_apply(record, loop, x, k, reel_rate, tension, measured, sensed,
+                                    run.act[ACT_DRUM] > 0.5)  # fmt: skip
     else:
         rate = reel_rate
-        status = sample_outputs(x, c, sensed, y, y_est, sc_true, sc_meas, run.law[LAW_Y_REF],
-                                tension, cfg)  # fmt: skip
+        status = sample_outputs(record, loop, x, sensed, tension)
         if status == STATUS_OK:
             status = STATUS_NONFINITE
     if status == STATUS_OK:
-        sample_record(
-            k, cfg, run.act, run.summary, x, run.law[LAW_X_REF], y, run.law[LAW_Y_REF],
-            tension, rate, inp, ffwd, y_est, held, True, run.out, program, gust, drag, base,
-            run.work[5], run.chain[CHAIN_NODES],
-        )  # fmt: skip
+        sample_record(record, loop, run.summary, run.out, x, k, tension, rate, True,
+                      run.work[5])  # fmt: skip
         if advance:
-            sample_advance(x, inp, rate, k, cfg, c, program, gust, drag, base, run.work, run.chain,
-                           run.cw, run.chain[CHAIN_NODES].shape[0] > 0)  # fmt: skip
+            sample_advance(record, scratch, x, inp, rate, k, run.chain[CHAIN_NODES].shape[0] > 0)
     return status, rate
 
 

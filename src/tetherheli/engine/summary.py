@@ -21,6 +21,8 @@ from ..layout import (
     SUMMARY_TENSION_MIN,
     SUMMARY_WINCH_LIMIT,
     SUMMARY_WINCH_LIMIT_TIME,
+    X_Q4,
+    X_Q5,
 )
 
 __all__ = [
@@ -94,8 +96,8 @@ def accumulate(summary, x, x_ref, y, y_ref, tension):
         dev = y[a] - y_ref[a]
         summary[SUMMARY_PEAK_Q1 + a] = larger(summary[SUMMARY_PEAK_Q1 + a], abs(dev))
         summary[SUMMARY_SUMSQ_Q1 + a] += dev * dev
-    summary[SUMMARY_PEAK_Q4] = larger(summary[SUMMARY_PEAK_Q4], abs(x[0] - x_ref[0]))
-    summary[SUMMARY_PEAK_Q5] = larger(summary[SUMMARY_PEAK_Q5], abs(x[1] - x_ref[1]))
+    summary[SUMMARY_PEAK_Q4] = larger(summary[SUMMARY_PEAK_Q4], abs(x[X_Q4] - x_ref[X_Q4]))
+    summary[SUMMARY_PEAK_Q5] = larger(summary[SUMMARY_PEAK_Q5], abs(x[X_Q5] - x_ref[X_Q5]))
     summary[SUMMARY_TENSION_MIN] = smaller(summary[SUMMARY_TENSION_MIN], tension)
     summary[SUMMARY_TENSION_MAX] = larger(summary[SUMMARY_TENSION_MAX], tension)
     summary[SUMMARY_N_SAMPLES] += 1.0

@@ -90,7 +90,16 @@ from .._gym_registration import ENV_ID, MAX_EPISODE_STEPS, register_envs
 from .._validation import check_bool, check_number, check_vector
 from ..engine import loop as engine
 from ..errors import InfeasibleError, ParameterError
-from ..layout import CFG_GUST_DT, CTRL_T_REF, LAW_Z0, LOOP_EVENT, LOOP_INPUTS
+from ..layout import (
+    CFG_GUST_DT,
+    CTRL_T_REF,
+    LAW_Z0,
+    LOOP_EVENT,
+    LOOP_INPUTS,
+    Run,
+    WindPack,
+    empty_chain,
+)
 from ..model.kernels import tethered_outputs
 from ..names import FREE_STATE
 from ..runs.packing import actuator_array, read_only, sensor_schedule, sensor_tuple
@@ -158,6 +167,8 @@ DEFAULT_EPISODE_TIME = 30.0
 #: Wind kinds drawn by default (a scenario without wind, no ``wind`` argument).
 DEFAULT_WIND_KINDS = ("pulse", "sine", "turbulence")
 
+#: the chain of the environment's runs (the massless tether): the engine's record takes one
+_NO_CHAIN = empty_chain()
 _DEFAULT_ACTION_SCALE = (20.0, 2.0, 2.0, 5.0)
 _DEFAULT_DRAG = DragModel(cd_area_m2=(0.3, 0.3, 0.5))
 
@@ -629,30 +640,11 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         # the sample as the compiled loop runs it: release check, sensors, the paper's
         # controller with the action, the scenario's actuators (x itself was checked when
         # the previous step ended)
-        _, _, rate = engine.paper_sample(
-            x,
-            self._k,
-            self._cfg,
-            self._ctrl,
-            self._act,
-            self._sensor_args,
-            self._c,
-            self._law,
-            self._loop,
-            command,
-            mode,
-        )
-        engine.rk4_interval(
-            x,
-            self._inp,
-            rate,
-            t,
-            self._cfg,
-            self._c,
-            *self._wind_args,
-            self._work,
-            True,
-        )
+        wind_pack = WindPack(*self._wind_args)
+        run = Run(self._cfg, self._ctrl, self._c, self._act, tuple(self._law), wind_pack,
+                  self._sensor_args, _NO_CHAIN)  # fmt: skip
+        _, _, rate = engine.paper_sample(run, self._loop, x, self._k, command, mode)
+        engine.rk4_interval(x, self._inp, rate, t, self._cfg, self._c, wind_pack, self._work, True)
         self._k += 1
         status, reward, tension = finish_step(
             x, a, self._cfg, self._c, self._y, self._y_ref, self.effort_weight,
@@ -752,8 +744,8 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         """The observation at the current sample (``observe_into``)."""
         obs = np.empty(len(OBSERVATION_NAMES), dtype=np.float32)
         observe_into(
-            self._x, tension, self._k, self._sensor_args, self._c, self.trim.x, self._y_ref,
-            self._T_ref, self._x_meas, self._y_meas, obs,
+            self._x, tension, self._k, self._sensor_args, self._c,
+            (self.trim.x, self._y_ref, float(self._T_ref)), self._x_meas, self._y_meas, obs,
         )  # fmt: skip
         return obs
 

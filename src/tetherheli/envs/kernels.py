@@ -102,12 +102,12 @@ def finish_step(x, a, cfg, c, y, y_ref, effort_weight, penalty):
 
 
 @_jit
-def observe_into(x, tension, k, sensors, c, x0, y_ref, t_ref, x_meas, y_meas, obs):
+def observe_into(x, tension, k, sensors, c, trim, x_meas, y_meas, obs):
     """The observation (float32 (13,) ``obs``, order ``OBSERVATION_NAMES``) at sample k: what
     the sensors read (``sensors.measure_sampled``: each sensor at its rate and latency, the
     true state and tension when the noise table is empty; ``sensors`` is
     ``runs.packing.sensor_tuple``'s (noise, source code, arm, scratch, schedule, history ring),
-    as for ``engine.sense``) as deviations from the trim x0, y_ref, t_ref; NaN reads 0, values
+    as for ``engine.sense``) as deviations from the trim (x0, y_ref, t_ref); NaN reads 0, values
     are clipped to +-OBS_LIMIT. x_meas (13,), y_meas (4,) are scratch.
 
     Parameters
@@ -123,12 +123,9 @@ def observe_into(x, tension, k, sensors, c, x0, y_ref, t_ref, x_meas, y_meas, ob
         ring).
     c : ndarray
         The tethered model's constants (``kernels.model_constants("tethered", h)``).
-    x0 : ndarray, shape (13,)
-        The trim state the angles and rates are measured from.
-    y_ref : ndarray, shape (4,)
-        The trim outputs [q1, q2, q3, q6] in [m, m, m, rad].
-    t_ref : float
-        The reference tension [N].
+    trim : tuple
+        (x0, y_ref, t_ref): the trim state (13,) the angles and rates are measured from, the
+        trim outputs (4,) [q1, q2, q3, q6] in [m, m, m, rad] and the reference tension [N].
     x_meas : ndarray, shape (13,)
         Scratch: the measured state.
     y_meas : ndarray, shape (4,)
@@ -140,6 +137,7 @@ def observe_into(x, tension, k, sensors, c, x0, y_ref, t_ref, x_meas, y_meas, ob
     -------
     None
     """
+    x0, y_ref, t_ref = trim
     if sensors[0].shape[0] == 0:
         for i in range(13):
             x_meas[i] = x[i]

@@ -62,7 +62,7 @@ def episode_row(
     row[4:10] = x[:6]
     force = np.zeros(3)
     air_force_on_base(
-        wind.program, wind.gust, gust_dt, wind.drag, base, t, 1, x[6], x[7], x[8], force
+        wind.program, wind.gust, gust_dt, wind.drag, base, t, 1, (x[6], x[7], x[8]), force
     )  # fmt: skip
     row[10:13] = force
     row[13] = tension

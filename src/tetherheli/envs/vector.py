@@ -69,9 +69,12 @@ from ..layout import (
     LANES,
     LAW_U0,
     LAW_Y_REF,
+    LUMPED_SIZE,
     WINCH_SIZE,
     WIND_COLUMNS,
     LoopState,
+    Run,
+    WindPack,
 )
 from ..model.kernels import angle_trig, tethered_outputs
 from ..runs.packing import sensor_tuple
@@ -143,18 +146,23 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
     obs, reward, status, tension, rate, y = out
     y_ref, u0 = law[LAW_Y_REF], law[LAW_U0]
     n = reset.shape[0]
+    # the engine's record takes a chain: the massless tether's (never read by the sample)
+    no_chain = (np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(LUMPED_SIZE), np.zeros(0))
     for i in range(n):
         if reset[i]:
             restart_copy(i, copies, shared, wind, out)
         else:
             sensors = (noise[i, : noise_rows[i]], source, arm, scratch, schedule, ring[i])
-            loop = (
+            loop = LoopState(
                 z[i], winch[i], held[i], event[i], x_meas[i], sc_meas[i], sc_true[i],
                 y_loop[i], y_est[i], inp[i], ffwd[i],
             )  # fmt: skip
-            _, _, rate[i] = engine.paper_sample(
-                x[i], k[i], cfg[i], ctrl[i], act, sensors, c, law, loop, command[i], mode
-            )
+            copy_wind = WindPack(
+                frozen(copy_programs[i, : program_rows[i]]), frozen(gusts[i, : gust_rows[i]]),
+                frozen(copy_drag[i]), base,
+            )  # fmt: skip
+            run = Run(cfg[i], ctrl[i], c, act, law, copy_wind, sensors, no_chain)
+            _, _, rate[i] = engine.paper_sample(run, loop, x[i], k[i], command[i], mode)
     n_sub = int(cfg0[CFG_N_SUB])
     if moving:  # copy by copy, as TetheredHoverEnv.step (sin, cos of x in work[6])
         for i in range(n):
@@ -163,11 +171,12 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
                     rk4_work[6, v] = sc_true[i, v]
                 # the engine's own argument types (read-only wind, a plain flag): one
                 # compiled rk4_interval for both (tests/test_signatures.py)
-                engine.rk4_interval(
-                    x[i], inp[i], rate[i], k[i] * cfg[i, CFG_DT], cfg[i], c,
-                    frozen(copy_programs[i, : program_rows[i]]), frozen(gusts[i, : gust_rows[i]]),
-                    frozen(copy_drag[i]), base, rk4_work, plain(True),
+                copy_wind = WindPack(
+                    frozen(copy_programs[i, : program_rows[i]]),
+                    frozen(gusts[i, : gust_rows[i]]), frozen(copy_drag[i]), base,
                 )  # fmt: skip
+                engine.rk4_interval(x[i], inp[i], rate[i], k[i] * cfg[i, CFG_DT], cfg[i], c,
+                                    copy_wind, rk4_work, plain(True))  # fmt: skip
     else:  # the lane engine, LANES copies at a time
         for b in range(x_l.shape[0]):
             xb, scb, inpb = x_l[b], sc_l[b], inp_l[b]
@@ -193,7 +202,7 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
                 drag[b],
             )
             lane_engine.rk4_lanes(
-                xb, scb, inpb, rate_l, t0_l, h_l, n_sub, attached_l, k_c_l, c_l, lane_wind, work
+                (xb, scb, inpb, rate_l, t0_l, attached_l), h_l, n_sub, k_c_l, c_l, lane_wind, work
             )
             for j in range(LANES):
                 i = b * LANES + j
@@ -210,7 +219,7 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
             )
             sensors = (noise[i, : noise_rows[i]], source, arm, scratch, schedule, ring[i])
             observe_into(
-                x[i], tension[i], k[i], sensors, c, x_trim, y_ref, t_ref, x_scr, y_scr, obs[i]
+                x[i], tension[i], k[i], sensors, c, (x_trim, y_ref, t_ref), x_scr, y_scr, obs[i]
             )
 
 
@@ -297,7 +306,15 @@ def observe_start(i, copies, shared, out):
     tethered_outputs(x[i], frozen(c), y[i])
     sensors = (noise[i, : noise_rows[i]], source, arm, scratch, schedule, ring[i])
     observe_into(
-        x[i], tension[i], k[i], sensors, c, x_trim, law[LAW_Y_REF], t_ref, x_scr, y_scr, obs[i]
+        x[i],
+        tension[i],
+        k[i],
+        sensors,
+        c,
+        (x_trim, law[LAW_Y_REF], t_ref),
+        x_scr,
+        y_scr,
+        obs[i],
     )
 
 

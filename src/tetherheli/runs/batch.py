@@ -111,7 +111,7 @@ _NO_SIGNALS = Signals.zeros(1)
 
 
 def run_block(block_args: tuple, summary: np.ndarray, status: np.ndarray, done: np.ndarray) -> None:
-    """``lanes.run_lanes(*block_args, summary, status, done)``, which releases the GIL;
+    """``lanes.run_lanes(*block_args, (summary, status, done))``, which releases the GIL;
     ``block_args`` is ``batch.lane_block``'s. (A compiled wrapper would re-optimise the whole
     lane engine inside it: 10 s of the first compile.)
 
@@ -131,7 +131,7 @@ def run_block(block_args: tuple, summary: np.ndarray, status: np.ndarray, done: 
     None
         The results are written into ``summary``, ``status`` and ``done``.
     """
-    lanes.run_lanes(*block_args, summary, status, done)
+    lanes.run_lanes(*block_args, (summary, status, done))
 
 
 def summary_metrics(summary: np.ndarray) -> dict[str, float]:

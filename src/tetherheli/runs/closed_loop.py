@@ -35,7 +35,9 @@ from ..layout import (
     SUMMARY_WINCH_LIMIT,
     SUMMARY_WINCH_LIMIT_TIME,
     WIND_CONSTANT,
+    X_U1,
     Signals,
+    WindPack,
 )
 from ..model import TrimPoint
 from ..model.kernels import angle_trig, angle_trig_from
@@ -463,19 +465,19 @@ def _adaptive_interval(
 def _plant(x, sc, inp, rate, t, side, cfg, c, disturbance, wind, base, out):
     if wind is not None:
         engine.plant_derivative(
-            x, sc, inp, rate, t, side, cfg, c, wind.program, wind.gust, wind.drag, base,
-            np.empty(3), out,
+            x, sc, inp, rate, t, side, cfg, c, WindPack(wind.program, wind.gust, wind.drag, base),
+            out,
         )  # fmt: skip
         return
     # custom disturbance: evaluate in Python, then the compiled plant with a constant force;
     # at a step's end the left limit (the float just below t), as the engine does for its
     # built-in profiles, so a jump placed on a step boundary acts from that boundary on
     t_eval = t if side > 0 else math.nextafter(t, -math.inf)
-    force = np.asarray(disturbance.force_at(t_eval, x[6:9]), dtype=float)
+    force = np.asarray(disturbance.force_at(t_eval, x[X_U1 : X_U1 + 3]), dtype=float)
     program = np.array([[WIND_CONSTANT, 0, 0, 1.0, 0, 0, *force]])
     engine.plant_derivative(
-        x, sc, inp, rate, t, side, cfg, c, program, np.zeros((0, 3)), np.zeros(3), base,
-        np.empty(3), out,
+        x, sc, inp, rate, t, side, cfg, c, WindPack(program, np.zeros((0, 3)), np.zeros(3), base),
+        out,
     )  # fmt: skip
 
 

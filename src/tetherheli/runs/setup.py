@@ -58,6 +58,7 @@ from ..layout import (
     CTRL_WINCH,
     WIND_COLUMNS,
     Signals,
+    WindPack,
     empty_chain,
 )
 from ..model import TetheredHelicopter, TrimPoint
@@ -296,7 +297,7 @@ class EngineSetup:
             *self._engine_inputs(),
         )  # fmt: skip
 
-    def _engine_inputs(self) -> tuple[np.ndarray, tuple, tuple, np.ndarray, tuple, tuple]:
+    def _engine_inputs(self) -> tuple[np.ndarray, tuple, WindPack, np.ndarray, tuple, tuple]:
         # (model constants, law, wind, act, sensors, chain) as every engine entry takes them:
         # what it only reads as ``read_only`` views (one compiled signature), the chain a
         # fresh copy (the engine advances it); a custom disturbance (no compiled wind) an
@@ -308,7 +309,7 @@ class EngineSetup:
         return (
             read_only(self.model.constants),
             tuple(read_only(a) for a in self.law),
-            tuple(read_only(a) for a in wind),
+            WindPack(*(read_only(a) for a in wind)),
             read_only(self.act),
             self.sensors,
             tuple(a.copy() for a in self.chain),

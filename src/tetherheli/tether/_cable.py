@@ -375,7 +375,7 @@ def drive_cable(
     T = np.empty(n)
     J = np.empty((n, 3, 3))
     for k in range(k_max + 1):
-        chain_forces(x, v, air, L0, p, F, T, J, J, J, False)
+        chain_forces(x, v, air, L0, p, F, T, (J, J, J), False)
         nodes[k], vels[k], f_top[k], f_anchor[k] = x, v, F[n], F[0]
         if k == k_max:
             break
@@ -423,7 +423,7 @@ def _drive_on_base(motion, top, x, v, w, L0, p, dt, n_sub, work, t, nodes, vels,
         bk = motion.state(t[k])[0]
         air[:] = w - bk[1]
         p[LUMPED_BASE_ACC : LUMPED_BASE_ACC + 3] = bk[2]
-        chain_forces(x, v, air, L0, p, F, T, J, J, J, False)
+        chain_forces(x, v, air, L0, p, F, T, (J, J, J), False)
         nodes[k], vels[k], f_top[k], f_anchor[k] = x + bk[0], v + bk[1], F[n], F[0]
         if k == k_max:
             break

@@ -324,7 +324,7 @@ def end_forces(
         The segment tensions [N].
     """
     F, T, K, C, D = _scratch(x.shape[0] - 1)
-    chain_forces(x, v, wind, L0, p, F, T, K, C, D, False)
+    chain_forces(x, v, wind, L0, p, F, T, (K, C, D), False)
     return F[0].copy(), F[-1].copy(), T
 
 

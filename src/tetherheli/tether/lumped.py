@@ -114,10 +114,11 @@ _jit = compiled(fastmath={"nnan", "ninf"}, error_model="numpy")
 
 
 @_jit
-def chain_forces(x, v, wind, L0, p, F, T, K, Cax, D, jac):
+def chain_forces(x, v, wind, L0, p, F, T, blocks, jac):
     """Node forces F (N+1, 3) [N] (rows 0 and N: the force on the winch and on P, with half an
     end segment's weight and drag), segment tensions T (N,) [N]; if ``jac``, the per-segment
-    Jacobian blocks (N, 3, 3): K = d(T e)/d(d) (axial + geometric stiffness),
+    Jacobian blocks ``blocks`` = (K, Cax, D), each (N, 3, 3): K = d(T e)/d(d) (axial +
+    geometric stiffness),
     Cax = d(T e)/d(dv) (axial damping), D = -d(drag)/du (drag's velocity derivative); a slack
     segment gets the axial blocks of a just-taut one.
 
@@ -135,8 +136,9 @@ def chain_forces(x, v, wind, L0, p, F, T, K, Cax, D, jac):
         Receives the node forces [N].
     T : ndarray, shape (N,)
         Receives the segment tensions [N].
-    K, Cax, D : ndarray, shape (N, 3, 3)
-        Receive the Jacobian blocks [N/m, N s/m, N s/m] when ``jac``.
+    blocks : tuple of ndarray
+        (K, Cax, D), each (N, 3, 3): receive the Jacobian blocks [N/m, N s/m, N s/m] when
+        ``jac``.
     jac : bool
         Whether to fill K, Cax, D.
 
@@ -144,6 +146,7 @@ def chain_forces(x, v, wind, L0, p, F, T, K, Cax, D, jac):
     -------
     None
     """
+    K, Cax, D = blocks
     n = x.shape[0] - 1
     l0 = L0 / n
     mu = p[LUMPED_MU]
@@ -312,11 +315,16 @@ def ground_jacobian(x, v, L0, p, h, Gk, Gc):
 
 
 @_jit
-def _factor(n_free, m_node, K, Cax, D, Gk, Gc, cm, cc, ck, Dinv, B, piv, db):
+def _factor(n_free, m_node, blocks, ground, coefficients, factors):
     """Factor the symmetric block-tridiagonal matrix A = cm M + cc C + ck Kn of the free nodes
-    (Kn = dF/dx, C = dF/dv assembled from the segment blocks and the ground's node blocks Gk,
-    Gc of ``ground_jacobian``) by block Thomas: Dinv (n_free, 3, 3) the inverted pivots,
+    (Kn = dF/dx, C = dF/dv assembled from the segment blocks (K, Cax, D) and the ground's
+    node blocks ground = (Gk, Gc) of ``ground_jacobian``; coefficients = (cm, cc, ck)) by
+    block Thomas into factors = (Dinv, B, piv, db): Dinv (n_free, 3, 3) the inverted pivots,
     B (n_free, 3, 3) the super-diagonal blocks A[i, i+1]; piv, db (3, 3) scratch."""
+    K, Cax, D = blocks
+    Gk, Gc = ground
+    cm, cc, ck = coefficients
+    Dinv, B, piv, db = factors
     for i in range(n_free):
         s_lo = i  # segment below free node i (nodes i, i+1 of the chain)
         s_hi = i + 1  # segment above
@@ -526,10 +534,10 @@ def ros2_step(x, v, wind, L0, p, h, xP1, vP1, work):
     Gc = work[o : o + 9 * (n + 1)].reshape((n + 1, 3, 3))
     g = ROS2_GAMMA
     m_node = p[LUMPED_MU] * L0 / n
-    chain_forces(x, v, wind, L0, p, F, T, K, Cax, Dd, plain(True))
+    chain_forces(x, v, wind, L0, p, F, T, (K, Cax, Dd), plain(True))
     ground_jacobian(x, v, L0, p, h, Gk, Gc)
     # (M - g h C - g^2 h^2 Kn) kv = M b + g h Kn a, kr = a + g h kv  for (I - g h J) k = (a, b)
-    _factor(nf, m_node, K, Cax, Dd, Gk, Gc, 1.0, -g * h, -g * g * h * h, Dinv, B, piv, db)
+    _factor(nf, m_node, (K, Cax, Dd), (Gk, Gc), (1.0, -g * h, -g * g * h * h), (Dinv, B, piv, db))
     # the driven top point: d(F_{N-1})/dt = K_top vP + C_top aP, with aP over the step
     top = n - 1
     ft0 = 0.0
@@ -549,7 +557,7 @@ def ros2_step(x, v, wind, L0, p, h, xP1, vP1, work):
     rb[nf - 1, 0] += scale_t * ft0
     rb[nf - 1, 1] += scale_t * ft1
     rb[nf - 1, 2] += scale_t * ft2
-    _stage(nf, m_node, K, Gk, g * h, ra, rb, Dinv, B, k1r, k1v, rhs)
+    _stage(nf, m_node, K, Gk, g * h, (ra, rb), (Dinv, B), (k1r, k1v), rhs)
     # stage 2 at t + h, y + k1 (Verwer's form: (I - g h J) k2 = h f(y + k1) - 2 k1 - g h^2 f_t)
     for i in range(n + 1):
         for j in range(3):
@@ -562,7 +570,7 @@ def ros2_step(x, v, wind, L0, p, h, xP1, vP1, work):
     for j in range(3):
         x[n, j] = xP1[j]
         v[n, j] = vP1[j]
-    chain_forces(x, v, wind, L0, p, F, T, K, Cax, Dd, plain(False))
+    chain_forces(x, v, wind, L0, p, F, T, (K, Cax, Dd), plain(False))
     for i in range(nf):
         for j in range(3):
             ra[i, j] = h * v[i + 1, j] - 2.0 * k1r[i, j]
@@ -570,7 +578,7 @@ def ros2_step(x, v, wind, L0, p, h, xP1, vP1, work):
     rb[nf - 1, 0] -= scale_t * ft0
     rb[nf - 1, 1] -= scale_t * ft1
     rb[nf - 1, 2] -= scale_t * ft2
-    _stage(nf, m_node, K, Gk, g * h, ra, rb, Dinv, B, k2r, k2v, rhs)
+    _stage(nf, m_node, K, Gk, g * h, (ra, rb), (Dinv, B), (k2r, k2v), rhs)
     for i in range(nf):
         for j in range(3):
             x[i + 1, j] = x0[i + 1, j] + 1.5 * k1r[i, j] + 0.5 * k2r[i, j]
@@ -738,10 +746,14 @@ def chain_interval(x, v, wind, L0, p, h, xP1, vP1, work):
 
 
 @_jit
-def _stage(nf, m_node, K, Gk, gh, ra, rb, Dinv, B, kr, kv, rhs):
-    """Solve (I - gh J) (kr, kv) = (ra, rb) for J = [[0, I], [Kn/m, C/m]]: the factored A =
-    M - gh C - gh^2 Kn takes kv from M rb + gh Kn ra, then kr = ra + gh kv (rhs: scratch;
-    Kn with the ground's normal stiffness Gk)."""
+def _stage(nf, m_node, K, Gk, gh, given, factors, out, rhs):
+    """Solve (I - gh J) (kr, kv) = (ra, rb) for J = [[0, I], [Kn/m, C/m]] (given = (ra, rb),
+    out = (kr, kv), factors = (Dinv, B)): the factored A = M - gh C - gh^2 Kn takes kv from
+    M rb + gh Kn ra, then kr = ra + gh kv (rhs: scratch; Kn with the ground's normal
+    stiffness Gk)."""
+    ra, rb = given
+    Dinv, B = factors
+    kr, kv = out
     for i in range(nf):
         s_lo = i
         s_hi = i + 1

@@ -196,12 +196,12 @@ def air_relative_to_base(base, t, a1, a2, a3):
 
 
 @_jit_inline
-def base_frame_force(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, out):
+def base_frame_force(program, gust, gust_dt, drag, base, t, side, velocity, out):
     """``wind_force`` on a helicopter flown in the frame of a moving base (``base``'s packed
-    form, ``base.compiled``): (v1, v2, v3) is HO's velocity relative to the base, so the drag
-    sees the air relative to the base less v (``air_relative_to_base``), and the frame's
-    inertial force -m b''(t) is added (``derive(moving_base=True)``). A still base (the
-    paper's winch) is ``wind_force`` itself.
+    form, ``base.compiled``): ``velocity`` is HO's relative to the base, so the drag sees the
+    air relative to the base less it (``air_relative_to_base``), and the frame's inertial
+    force -m b''(t) is added (``derive(moving_base=True)``). A still base (the paper's winch)
+    is ``wind_force`` itself.
 
     Parameters
     ----------
@@ -219,19 +219,19 @@ def base_frame_force(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, ou
         Time [s].
     side : float
         +1: the right limit at t, -1: the left limit (a profile's switching instants).
-    v1, v2, v3 : float
-        HO's velocity relative to the base in N [m/s].
+    velocity : tuple of float
+        (v1, v2, v3): HO's velocity relative to the base in N [m/s].
     out : numpy.ndarray, shape (3,)
         Filled with the force on HO in N [N], the frame's inertial force included.
     """
     _base_frame(frozen(program), frozen(gust), gust_dt, frozen(drag), frozen(base), t,
-                plain(side), v1, v2, v3, out, plain(True))  # fmt: skip
+                plain(side), velocity, out, plain(True))  # fmt: skip
 
 
 @_jit_inline
-def air_force_on_base(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, out):
-    """The air's force alone (the recorded wind) on a helicopter moving at (v1, v2, v3)
-    relative to the base: the profiles and the drag of the air relative to the base less v
+def air_force_on_base(program, gust, gust_dt, drag, base, t, side, velocity, out):
+    """The air's force alone (the recorded wind) on a helicopter moving at ``velocity``
+    relative to the base: the profiles and the drag of the air relative to the base less it
     (``air_relative_to_base``).
 
     Parameters
@@ -250,17 +250,17 @@ def air_force_on_base(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, o
         Time [s].
     side : float
         +1: the right limit at t, -1: the left limit (a profile's switching instants).
-    v1, v2, v3 : float
-        HO's velocity relative to the base in N [m/s].
+    velocity : tuple of float
+        (v1, v2, v3): HO's velocity relative to the base in N [m/s].
     out : numpy.ndarray, shape (3,)
         Filled with the air's force on HO in N [N].
     """
     _base_frame(frozen(program), frozen(gust), gust_dt, frozen(drag), frozen(base), t,
-                plain(side), v1, v2, v3, out, plain(False))  # fmt: skip
+                plain(side), velocity, out, plain(False))  # fmt: skip
 
 
 @_jit
-def _base_frame(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, out, inertial):
+def _base_frame(program, gust, gust_dt, drag, base, t, side, velocity, out, inertial):
     # One inlined ``wind_force`` for a still and a moving base: the base's rates come from a
     # call (``base_rates``), so a still base's run compiles neither a second copy of the wind
     # nor ``base_at`` inline (a shorter first compilation). The still air seen from the base,
@@ -268,6 +268,7 @@ def _base_frame(program, gust, gust_dt, drag, base, t, side, v1, v2, v3, out, in
     # g + w - v is ``wind_force``'s at HO's velocity v - w. Typed once for every caller,
     # inlined by LLVM (``inline_here``).
     inline_here()
+    v1, v2, v3 = velocity
     w1, w2, w3 = air_relative_to_base(base, t, 0.0, 0.0, 0.0)
     wind_force(program, gust, gust_dt, drag, t, side, v1 - w1, v2 - w2, v3 - w3, out)
     if inertial and base[0, BASE_MOVING] > 0.5:
