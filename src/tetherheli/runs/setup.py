@@ -39,6 +39,7 @@ from ..layout import (
     CFG_METRICS_FROM,
     CFG_N_SUB,
     CFG_SIZE,
+    CFG_VEHICLE,
     CHAIN_NODES,
     CONTROL_LAWS,
     CTRL_ANTI_WINDUP,
@@ -55,6 +56,7 @@ from ..layout import (
     CTRL_U_MAX,
     CTRL_U_MIN,
     CTRL_WINCH,
+    VEHICLES,
     WIND_COLUMNS,
     Signals,
     WindPack,
@@ -219,6 +221,7 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
     cfg[CFG_METRICS_FROM] = scenario.metrics_first_sample
     cfg[CFG_LUMPED] = float(lumped)
     cfg[CFG_ARM] = params.helicopter.tether_arm
+    cfg[CFG_VEHICLE] = VEHICLES.index("helicopter")  # the engine's vehicle slot, by name
     check_law(ctrl, gain.K)  # the engine's law by name, with its gain (validated once, here)
     return RunSetup(model, trim, gain, ctrl, cfg)
 
