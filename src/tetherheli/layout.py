@@ -21,6 +21,7 @@ __all__ = [
     "LANES",
     "SUMMARY_FIELDS",
     "WIND_COLUMNS",
+    "LaneWind",
     "LoopState",
     "Run",
     "Scratch",
@@ -349,6 +350,35 @@ class WindPack(NamedTuple):
     gust: np.ndarray
     drag: np.ndarray
     base: np.ndarray
+
+
+class LaneWind(NamedTuple):
+    """The winds of a block of ``LANES`` runs in the lane engine's form
+    (``engine.lanes.rk4_lanes``): a named record, flat (variable, lane) where a lane axis is
+    last.
+
+    Parameters
+    ----------
+    programs : numpy.ndarray, shape (R WIND_COLUMNS LANES,)
+        The lanes' wind programs (``WIND_*``), flat, R rows each (unused rows inert).
+    n_rows : int
+        R, the program rows.
+    gusts : numpy.ndarray, shape (LANES, G, 3)
+        The lanes' gust tables: the air's velocity [m/s].
+    gust_rows : numpy.ndarray of int, shape (LANES,)
+        The gust rows in use per lane (0: none).
+    gust_dt : numpy.ndarray, shape (LANES,)
+        The gust tables' step per lane [s] (0: none).
+    drag : numpy.ndarray, shape (3 LANES,)
+        The bluff-body drag 0.5 rho CdA_i per axis of N and lane [kg/m].
+    """
+
+    programs: np.ndarray
+    n_rows: int
+    gusts: np.ndarray
+    gust_rows: np.ndarray
+    gust_dt: np.ndarray
+    drag: np.ndarray
 
 
 class Run(NamedTuple):

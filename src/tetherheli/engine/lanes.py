@@ -49,6 +49,7 @@ from ..layout import (
     X_LN,
     X_Q9,
     X_U1,
+    LaneWind,
 )
 from ..model.kernels import (
     angle_trig_from_lanes,
@@ -198,11 +199,11 @@ def rk4_lanes(lane_in, h, n_sub, k_c, c, wind, work):
 
     Flat (variable, lane) arrays: sc0 (10 LANES,) sin, cos of the angles of x on entry
     (overwritten), inp (4 LANES,) the held rotor inputs, c (n_c LANES,) the model constants;
-    rate, t0, h, attached (1/0), k_c (LANES,). wind = (programs (R WIND_COLUMNS LANES,), R,
-    gusts (LANES, G, 3), gust rows in use (LANES,), gust_dt (LANES,), drag (3 LANES,));
-    work = ``lane_work()``. The gust tables are read per lane; everything else runs in
-    branch-free passes over the lanes. Each lane performs the operations of ``rk4_interval``
-    in the same order, so it equals a single run bit for bit.
+    rate, t0, h, attached (1/0), k_c (LANES,). wind (``layout.LaneWind``) = (programs
+    (R WIND_COLUMNS LANES,), R, gusts (LANES, G, 3), gust rows in use (LANES,), gust_dt
+    (LANES,), drag (3 LANES,)); work = ``lane_work()``. The gust tables are read per lane;
+    everything else runs in branch-free passes over the lanes. Each lane performs the
+    operations of ``rk4_interval`` in the same order, so it equals a single run bit for bit.
 
     Every array argument must be a separate array (``restrict_arguments``: LLVM vectorises
     the lanes' loops without run-time overlap checks).
@@ -223,9 +224,10 @@ def rk4_lanes(lane_in, h, n_sub, k_c, c, wind, work):
         The tether's elasticity [N/m].
     c : numpy.ndarray, shape (n_c LANES,)
         The lanes' model constants, flat.
-    wind : tuple
-        (programs (R WIND_COLUMNS LANES,), R, gusts (LANES, G, 3) [m/s], gust rows in use
-        (LANES,), gust_dt (LANES,) [s], drag (3 LANES,) [kg/m]).
+    wind : LaneWind
+        The lanes' winds (``layout.LaneWind``: programs (R WIND_COLUMNS LANES,), R, gusts
+        (LANES, G, 3) [m/s], gust rows in use (LANES,), gust_dt (LANES,) [s], drag
+        (3 LANES,) [kg/m]).
     work : tuple of numpy.ndarray
         ``lane_work()``'s scratch.
     """
@@ -456,7 +458,7 @@ def run_lanes(x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, re
     )
     programs, n_rows, gusts, gust_rows = borrowed((programs, n_rows, gusts, gust_rows))
     sensors, lanes_sensed, lanes_drum = borrowed((sensors, lanes_sensed, lanes_drum))
-    lane_wind = (programs, n_rows, gusts, gust_rows, gust_dt, drag_lanes)
+    lane_wind = LaneWind(programs, n_rows, gusts, gust_rows, gust_dt, drag_lanes)
     cfg = state.cfg
     n_active = 0
     for j in range(LANES):

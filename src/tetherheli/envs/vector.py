@@ -72,6 +72,7 @@ from ..layout import (
     LUMPED_SIZE,
     WINCH_SIZE,
     WIND_COLUMNS,
+    LaneWind,
     LoopState,
     Run,
     WindPack,
@@ -193,7 +194,7 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
             if not busy:
                 continue
             lo, hi = b * LANES, (b + 1) * LANES
-            lane_wind = (
+            lane_wind = LaneWind(
                 programs[b],
                 n_rows,
                 gusts[lo:hi],

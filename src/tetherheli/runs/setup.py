@@ -40,6 +40,7 @@ from ..layout import (
     CFG_METRICS_FROM,
     CFG_N_SUB,
     CFG_SIZE,
+    CFG_VEHICLE,
     CHAIN_NODES,
     CONTROL_LAWS,
     CTRL_ANTI_WINDUP,
@@ -56,6 +57,7 @@ from ..layout import (
     CTRL_U_MAX,
     CTRL_U_MIN,
     CTRL_WINCH,
+    VEHICLES,
     WIND_COLUMNS,
     Signals,
     WindPack,
@@ -221,6 +223,7 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
     cfg[CFG_METRICS_FROM] = scenario.metrics_first_sample
     cfg[CFG_LUMPED] = float(lumped)
     cfg[CFG_ARM] = params.helicopter.tether_arm
+    cfg[CFG_VEHICLE] = VEHICLES.index("helicopter")  # the engine's vehicle slot, by name
     # the law by name with its gain (``control.paper.check_law``'s pair), both from
     # ``lqi_on_tether``: the engine trusts them
     return RunSetup(model, trim, gain, ctrl, cfg)
