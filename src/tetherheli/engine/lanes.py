@@ -494,12 +494,13 @@ def run_lanes(x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, re
             for i in range(10):
                 for j in range(LANES):
                     e = i * LANES + j
-                    state.sc_true[e] = state.sc_true[e] if active[j] else sc_init[e]
+                    state.loop.sc_true[e] = state.loop.sc_true[e] if active[j] else sc_init[e]
             for i in range(4):
                 for j in range(LANES):
                     e = i * LANES + j
-                    state.inp[e] = state.inp[e] if active[j] else u0[j, i]
-        rk4_lanes((x, state.sc_true, state.inp, rate, t0, attached), h, n_sub, k_c, c_lanes,
+                    state.loop.inputs[e] = state.loop.inputs[e] if active[j] else u0[j, i]
+        loop = state.loop
+        rk4_lanes((x, loop.sc_true, loop.inputs, rate, t0, attached), h, n_sub, k_c, c_lanes,
                   lane_wind, work)  # fmt: skip
         k += 1
     keep_alive(own)
@@ -511,11 +512,11 @@ def _finish_lane(j, state, summary):
     metrics, release event and first payout limit (``summary.finish_summary``'s)."""
     for f in range(summary.shape[1]):
         summary[j, f] = state.summary[f * LANES + j]
-    summary[j, SUMMARY_RELEASE_TIME] = state.event[j]
-    summary[j, SUMMARY_RELEASE_TENSION] = state.event[LANES + j]
+    summary[j, SUMMARY_RELEASE_TIME] = state.loop.event[j]
+    summary[j, SUMMARY_RELEASE_TENSION] = state.loop.event[LANES + j]
     held = state.scratch[:HELD_SIZE]  # the lane's held row (``winch_limit_into`` reads it)
     for i in range(HELD_SIZE):
-        held[i] = state.held[i * LANES + j]
+        held[i] = state.loop.held[i * LANES + j]
     winch_limit_into(held, summary[j])
 
 
