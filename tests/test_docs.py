@@ -258,8 +258,6 @@ API = {
                                    "tether_position_estimate", "hover_error_std"],
     "tetherheli.tether": ["Cable", "CableRun", "drive_cable", "drive_moordyn", "buoyant_gravity",
                           "moordyn_input"],
-    "tetherheli.tether._moordyn_cases": ["MoorDynCase", "CaseFigures", "compare_case",
-                                         "relative_rms", "shaking_top"],
     "tetherheli.progress": ["Progress"],
     "tetherheli.resources": ["check_memory", "memory_limit", "format_bytes"],
     "tetherheli.report.sweep": ["write_sweep"],
