@@ -1,0 +1,156 @@
+"""A landing's figure, metrics and scene (issue 46 item 8): the landing figure carries the
+recorded series and the touchdown at its recorded time; ``simulate``'s folder holds it in
+place of the hover's figures (which the hovers keep); the summary, summary.json and the
+report give the touchdown's figures, not the hover's peak deviations; the animation's deck
+follows the recorded heave and tilt."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+
+import numpy as np
+import pytest
+
+from tetherheli import simulate
+from tetherheli.report.paper import _run_figures, write_run
+from tetherheli.shipped import shipped_scenario
+from tetherheli.viz.plots import figure_inputs, figure_landing, figure_outputs
+
+
+def _short_landing(base=None):
+    """``landing_calm_deck`` from 2 m up, descending from t = 0.5 s: about 7 s, 0.1 s to fly."""
+    s = shipped_scenario("landing_calm_deck")
+    s = s.replace(q9=2.0, duration=10.0, **({} if base is None else {"base": base}))
+    return s.replace(maneuver=dataclasses.replace(s.maneuver, start_time=0.5))
+
+
+@pytest.fixture(scope="module")
+def ship_landing():
+    """The short landing over the shipped ship's pad (Hs = 1 m): heave, roll and pitch."""
+    ship = shipped_scenario("ship_hover_tethered").base
+    r = simulate(_short_landing(dataclasses.replace(ship, significant_wave_height=1.0)))
+    assert r.touchdown is not None, r.message
+    return r
+
+
+def _lines(fig, gid):
+    return [line for ax in fig.axes for line in ax.get_lines() if line.get_gid() == gid]
+
+
+def _axes_of(fig, gid):
+    (line,) = _lines(fig, gid)
+    return line.axes
+
+
+def test_the_landing_figure_draws_the_recorded_series(ship_landing):
+    """Height above the pad (HO and the gear), the deck's heave, roll and pitch, the tension
+    and the paid-out length, each line the run's own samples; no gear panel without its
+    columns."""
+    r = ship_landing
+    fig = figure_landing([r], r.name)
+    gear_height = r.configuration["maneuver"]["gear_height"]
+    expected = {
+        "height_HO": r.outputs[:, 2],
+        "height_gear": r.outputs[:, 2] - gear_height,
+        "deck_heave": r.extra["base_n3"],
+        "deck_roll": np.degrees(r.extra["deck_roll"]),
+        "deck_pitch": np.degrees(r.extra["deck_pitch"]),
+        "tension_P": r.tension,
+        "length": r.states[:, 12],
+    }
+    for gid, values in expected.items():
+        (line,) = _lines(fig, gid)
+        np.testing.assert_array_equal(line.get_xdata(), r.time, err_msg=gid)
+        np.testing.assert_allclose(line.get_ydata(), values, rtol=0, atol=1e-12, err_msg=gid)
+    assert np.ptp(r.extra["base_n3"]) > 0.1 and np.ptp(r.extra["deck_roll"]) > 0.0
+    assert _axes_of(fig, "height_HO") is _axes_of(fig, "height_gear")
+    assert _axes_of(fig, "deck_roll") is _axes_of(fig, "deck_pitch")
+    assert "height above" in _axes_of(fig, "height_HO").get_ylabel()
+    assert "heave" in _axes_of(fig, "deck_heave").get_ylabel()
+    assert "LN" in _axes_of(fig, "length").get_ylabel()
+    assert len(fig.axes) == 5  # height, heave, roll and pitch, tension, length
+    assert not _lines(fig, "gear_penetration") and not _lines(fig, "gear_force")
+
+
+def test_the_touchdown_is_marked_at_its_recorded_time(ship_landing):
+    """A vertical line at the touchdown's time on every panel, and the point where the gear
+    meets the deck; the settling too, when the record has it."""
+    r = ship_landing
+    fig = figure_landing([r])
+    t = r.touchdown["time"]
+    marks = _lines(fig, "touchdown")
+    assert len(marks) == len({id(line.axes) for line in _lines(fig, "touchdown")}) >= 5
+    for line in marks:
+        assert np.allclose(line.get_xdata(), t)
+    (point,) = _lines(fig, "touchdown_point")
+    assert point.get_xdata()[0] == pytest.approx(t) and point.get_ydata()[0] == 0.0
+    assert not _lines(fig, "settled")
+    settled = {**r.touchdown, "settled_time": t + 1.0}
+    fig = figure_landing([dataclasses.replace(r, touchdown=settled)])
+    assert all(np.allclose(line.get_xdata(), t + 1.0) for line in _lines(fig, "settled"))
+    assert _lines(fig, "settled")
+
+
+def test_the_gear_panels_appear_with_the_gears_columns(ship_landing):
+    """A run that records the gear's penetration and force gets their panels, with their
+    samples; the landing metrics report their largest values."""
+    r = ship_landing
+    n = r.time.size
+    pen, force = np.linspace(0.0, 0.01, n), np.linspace(0.0, 40.0, n)
+    r = dataclasses.replace(r, extra={**r.extra, "gear_penetration": pen, "gear_force": force})
+    fig = figure_landing([r])
+    (p,) = _lines(fig, "gear_penetration")
+    (f,) = _lines(fig, "gear_force")
+    np.testing.assert_array_equal(p.get_ydata(), pen)
+    np.testing.assert_array_equal(f.get_ydata(), force)
+    assert p.axes is not f.axes
+    m = r.landing_metrics()
+    assert m["max_gear_penetration"] == pytest.approx(0.01)
+    assert m["max_gear_force"] == pytest.approx(40.0)
+
+
+def test_the_landing_metrics_are_the_touchdowns(ship_landing):
+    """The touchdown's figures: the record's, and the speed across the deck and the tension
+    interpolated at its time (checked against the samples on either side)."""
+    r = ship_landing
+    m, td = r.landing_metrics(), r.touchdown
+    assert m["touched_down"] and m["touchdown_time"] == td["time"]
+    assert m["touchdown_vertical_speed"] == td["vertical_speed"]
+    assert m["touchdown_offset"] == td["offset"]
+    assert m["touchdown_attitude_deg"] == pytest.approx(math.degrees(td["attitude"]))
+    k = int(np.searchsorted(r.time, td["time"]))
+    lo, hi = sorted(r.tension[k - 1 : k + 1])
+    assert lo <= m["touchdown_tension"] <= hi
+    speeds = np.hypot(r.states[k - 1 : k + 1, 6], r.states[k - 1 : k + 1, 7])
+    assert speeds.min() - 1e-9 <= m["touchdown_horizontal_speed"] <= speeds.max() + 1e-9
+    assert m["lowest_gear_height"] <= 0.0  # the gear reached the deck
+
+
+def test_a_landings_summary_is_its_touchdown_not_a_hovers_peaks(ship_landing, tmp_path):
+    """The repr, summary.json and report.md of a landing give the touchdown's figures and no
+    peak deviation; ``simulate``'s folder holds the landing figure, not the hover's."""
+    r = ship_landing
+    text = repr(r)
+    assert "touchdown speed" in text and "touchdown tension" in text
+    assert "peak |deviation|" not in text and "q3" not in text
+    write_run(r, tmp_path / "out", command="test")
+    out = tmp_path / "out"
+    assert (out / "landing.png").is_file()
+    assert not (out / "outputs.png").exists() and not (out / "inputs.png").exists()
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["landing"]["touchdown_time"] == pytest.approx(r.touchdown["time"])
+    assert list(summary)[:5] == ["name", "status", "message", "tether_release", "landing"]
+    report = (out / "report.md").read_text()
+    assert "touchdown speed" in report and "![landing](landing.png)" in report
+    assert "peak_abs_dev" not in report
+
+
+def test_a_hover_keeps_its_figures_and_peaks():
+    """A hover (no maneuver) keeps Figs. 6-9's outputs and inputs and its peak deviations;
+    it has no landing metrics."""
+    r = simulate(shipped_scenario("paper_sim1_tethered").replace(duration=0.5))
+    assert _run_figures(r) == {"outputs": figure_outputs, "inputs": figure_inputs}
+    assert r.landing_metrics() == {}
+    assert "peak |deviation|" in repr(r) and "touchdown" not in repr(r)
