@@ -154,3 +154,90 @@ def test_a_hover_keeps_its_figures_and_peaks():
     assert _run_figures(r) == {"outputs": figure_outputs, "inputs": figure_inputs}
     assert r.landing_metrics() == {}
     assert "peak |deviation|" in repr(r) and "touchdown" not in repr(r)
+
+
+def _deck_run(*, moving: bool, landing: bool = True):
+    """A synthetic tethered run 11 samples long over a deck heaving 0.5 sin(2 pi t) m and,
+    when ``moving``, rolling 0.1 rad and pitching 0.05 rad (yaw 0)."""
+    from tetherheli import Params
+    from tetherheli.viz.run_data import RunData
+
+    n = 11
+    t = np.linspace(0.0, 1.0, n)
+    q = np.zeros((n, 9))
+    q[:, 2] = np.linspace(2.0, 0.35, n)
+    q[:, 8] = q[:, 2]
+    base = np.column_stack([0.0 * t, 0.0 * t, 0.5 * np.sin(2 * np.pi * t)]) if moving else None
+    attitude = np.column_stack([0.1 + 0 * t, 0.05 + 0 * t, 0 * t]) if moving else None
+    return RunData(
+        stem="deck", name="deck", configuration="tethered", time=t, q=q,
+        wind=np.zeros((n, 3)), tension=np.full(n, 20.0), trim_position=np.array([0, 0, 2.0]),
+        helicopter=Params.paper().helicopter, status=0, message="ok", version="test",
+        base=base, deck_attitude=attitude, gear_height=0.35 if landing else None,
+    )  # fmt: skip
+
+
+def test_the_animations_deck_follows_the_recorded_heave_and_tilt():
+    """Over a moving base the drawn deck (whole scene and a landing's close-up) is centred on
+    the recorded base at the frame's sample, tilted by the recorded roll and pitch (its
+    normal R e3 = (cos r sin p, -sin r, cos r cos p) for Rz(0) Ry(p) Rx(r)), the pad's ring
+    on it; no still ground is drawn."""
+    from tetherheli.viz.scene import _Scene
+
+    run = _deck_run(moving=True)
+    times = np.array([0.0, 0.3, 0.7])
+    scene = _Scene([run], times, rotor_radius=0.9, wind_scale=None, dpi=40)
+    assert len(scene.decks) == 2  # the whole scene's and the landing's close-up's
+    assert scene.decks[1].plate.axes is scene.views[-1].ax
+    r, p = 0.1, 0.05
+    normal = np.array([math.cos(r) * math.sin(p), -math.sin(r), math.cos(r) * math.cos(p)])
+    for k, t in enumerate(times):
+        scene.update(k)
+        j = int(np.argmin(np.abs(run.time - t)))
+        b = run.base[j]
+        assert abs(b[2]) > 0.1 or t == 0.0  # the deck is away from n3 = 0 at these samples
+        for i, deck in enumerate(scene.decks):
+            corners = scene.deck_corners(i)
+            np.testing.assert_allclose(corners.mean(axis=0), b, atol=1e-12)
+            edge = np.cross(corners[1] - corners[0], corners[3] - corners[0])
+            np.testing.assert_allclose(edge / np.linalg.norm(edge), normal, atol=1e-12)
+            ring = np.column_stack(deck.pad.get_data_3d())
+            np.testing.assert_allclose((ring - b) @ normal, 0.0, atol=1e-12)
+            np.testing.assert_allclose(np.column_stack(deck.winch.get_data_3d())[0], b)
+    ground = [c for c in scene.views[0].ax.collections if c.get_gid() == "ground"]
+    assert not ground
+    still = _Scene([_deck_run(moving=False)], times, rotor_radius=0.9, wind_scale=None, dpi=40)
+    assert [c for c in still.views[0].ax.collections if c.get_gid() == "ground"]
+    still.update(1)
+    np.testing.assert_allclose(still.deck_corners(0)[:, 2], 0.0)  # level, at NO
+
+
+def test_the_replay_tilts_the_deck_with_the_recorded_attitude():
+    """The replay's frames carry the deck's attitude as a quaternion (scalar last) that
+    turns n3 into the deck's normal; a level deck has none."""
+    from scipy.spatial.transform import Rotation
+
+    from tetherheli.viz.replay import replay_data
+
+    frames = replay_data([_deck_run(moving=True)], fps=10)["runs"][0]["frames"]
+    q = np.array(frames["deck_quaternion"]).reshape(-1, 4)
+    normal = Rotation.from_quat(q[3]).apply([0.0, 0.0, 1.0])
+    r, p = 0.1, 0.05
+    expected = [math.cos(r) * math.sin(p), -math.sin(r), math.cos(r) * math.cos(p)]
+    np.testing.assert_allclose(normal, expected, atol=1e-4)
+    level = replay_data([_deck_run(moving=False)], fps=10)["runs"][0]["frames"]
+    assert level["deck_quaternion"] is None
+
+
+def test_a_saved_landing_reads_back_with_its_deck_and_gear(ship_landing, tmp_path):
+    """``load_run`` of a saved landing over a ship: the deck's recorded roll, pitch and yaw
+    and the maneuver's gear height, which the animation draws."""
+    from tetherheli.viz.run_data import load_run
+
+    r = ship_landing
+    r.save(tmp_path)
+    run = load_run(tmp_path)
+    assert run.gear_height == r.configuration["maneuver"]["gear_height"]
+    assert run.deck_attitude is not None
+    for i, name in enumerate(("deck_roll", "deck_pitch", "deck_yaw")):
+        np.testing.assert_allclose(run.deck_attitude[:, i], r.extra[name], rtol=1e-12)
