@@ -241,3 +241,62 @@ def test_a_saved_landing_reads_back_with_its_deck_and_gear(ship_landing, tmp_pat
     assert run.deck_attitude is not None
     for i, name in enumerate(("deck_roll", "deck_pitch", "deck_yaw")):
         np.testing.assert_allclose(run.deck_attitude[:, i], r.extra[name], rtol=1e-12)
+
+
+def test_the_mcap_deck_frame_tilts_with_the_ship(ship_landing, tmp_path):
+    """A run over a ship saved as MCAP: the ``base`` frame (where the deck and pad are
+    drawn) is at the recorded base and turned by the recorded roll, pitch and yaw (extrinsic
+    x-y-z: the normal Rz(yaw) (cos r sin p, -sin r, cos r cos p))."""
+    pytest.importorskip("mcap")
+    from mcap.reader import make_reader
+    from scipy.spatial.transform import Rotation
+
+    r = ship_landing
+    path = r.save(tmp_path, format="mcap")["mcap"]
+    with open(path, "rb") as stream:
+        frames = [
+            json.loads(m.data)
+            for _, _, m in make_reader(stream).iter_messages(topics=["/tf"])
+            if json.loads(m.data)["child_frame_id"] == "base"
+        ]
+    k = int(np.argmax(np.abs(r.extra["deck_roll"])))  # where the deck is tilted most
+    q = frames[k]["rotation"]
+    normal = Rotation.from_quat([q["x"], q["y"], q["z"], q["w"]]).apply([0.0, 0.0, 1.0])
+    roll, pitch, yaw = (r.extra[f"deck_{a}"][k] for a in ("roll", "pitch", "yaw"))
+    x, y, z = math.cos(roll) * math.sin(pitch), -math.sin(roll), math.cos(roll) * math.cos(pitch)
+    expected = [math.cos(yaw) * x - math.sin(yaw) * y, math.sin(yaw) * x + math.cos(yaw) * y, z]
+    np.testing.assert_allclose(normal, expected, atol=1e-6)  # Rz(yaw) Ry(pitch) Rx(roll) n3
+    assert abs(roll) > 5e-3 and abs(yaw) > 0.0  # the deck is tilted there
+    assert frames[k]["translation"]["z"] == pytest.approx(r.extra["base_n3"][k])
+
+
+def test_simulate_writes_the_landing_figure_and_a_comparison_keeps_both_kinds(tmp_path, capsys):
+    """``tetherheli simulate`` of a landing writes ``landing.svg`` and no hover figure; a
+    landing beside a hover: the landing figure and the hover's outputs and inputs, the
+    report's hover deviations "-" for the landing and its touchdown rows "-" for the hover."""
+    from tetherheli.cli import main
+    from tetherheli.scenario.core import scenario_toml
+
+    landing, hover = tmp_path / "landing.toml", tmp_path / "hover.toml"
+    landing.write_text(scenario_toml(_short_landing().to_dict()))
+    short = shipped_scenario("paper_sim1_tethered").replace(duration=0.3)
+    hover.write_text(scenario_toml(short.to_dict()))
+    svg = ["--figure-format", "svg"]
+    assert main(["simulate", str(landing), "--out", str(tmp_path / "one"), *svg]) == 0
+    one = {p.name for p in (tmp_path / "one").iterdir()}
+    assert "landing.svg" in one and not {"outputs.svg", "inputs.svg"} & one
+    assert main(["simulate", str(landing), str(hover), "--out", str(tmp_path / "two"), *svg]) == 0
+    two = tmp_path / "two"
+    assert {"landing.svg", "outputs.svg", "inputs.svg"} <= {p.name for p in two.iterdir()}
+    assert {p.name for p in (two / "paper_sim1_tethered").iterdir()} >= {
+        "outputs.svg",
+        "inputs.svg",
+    }
+    rows = {
+        line.split("|")[1].strip(): [c.strip() for c in line.split("|")[2:-1]]
+        for line in (two / "report.md").read_text().splitlines()
+        if line.startswith("| ")
+    }
+    assert rows["peak_abs_dev q3 [m]"][0] == "-" and rows["peak_abs_dev q3 [m]"][1] != "-"
+    assert rows["touchdown_time"][0] != "-" and rows["touchdown_time"][1] == "-"
+    capsys.readouterr()
