@@ -10,8 +10,9 @@ the sample's time t (ns from the run's start):
   SI units, listed with descriptions in the file's ``units`` and ``descriptions`` metadata);
   a non-finite value is null. ``load_result`` reads the run back from these messages.
 - ``/tf`` (``foxglove.FrameTransform``): ``world`` (N, n3 up) -> ``base`` (the winch's base:
-  base_n1..3, or NO; over a ship turned by the deck's roll, pitch and yaw) and ``world`` -> ``fuselage`` (F at the reference point O: O in N and
-  F's attitude as a quaternion), per sample.
+  base_n1..3, or NO; over a ship turned by the deck's roll, pitch and yaw) and ``world`` ->
+  ``fuselage`` (F at the reference point O: O in N and F's attitude as a quaternion), per
+  sample.
 - ``/scene`` (``foxglove.SceneUpdate``): the deck and pad (frame ``base``) and the
   helicopter's body and rotor disc (frame ``fuselage``) once; per sample the tether
   (a line winch - P, or through a lumped chain's recorded nodes, coloured by tension) and the
