@@ -9,6 +9,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -113,18 +114,24 @@ def test_the_gear_panels_appear_with_the_gears_columns(ship_landing):
 
 def test_the_landing_metrics_are_the_touchdowns(ship_landing):
     """The touchdown's figures: the record's, and the speed across the deck and the tension
-    interpolated at its time (checked against the samples on either side)."""
+    interpolated linearly at its time between the samples on either side."""
     r = ship_landing
     m, td = r.landing_metrics(), r.touchdown
     assert m["touched_down"] and m["touchdown_time"] == td["time"]
     assert m["touchdown_vertical_speed"] == td["vertical_speed"]
     assert m["touchdown_offset"] == td["offset"]
     assert m["touchdown_attitude_deg"] == pytest.approx(math.degrees(td["attitude"]))
-    k = int(np.searchsorted(r.time, td["time"]))
-    lo, hi = sorted(r.tension[k - 1 : k + 1])
-    assert lo <= m["touchdown_tension"] <= hi
-    speeds = np.hypot(r.states[k - 1 : k + 1, 6], r.states[k - 1 : k + 1, 7])
-    assert speeds.min() - 1e-9 <= m["touchdown_horizontal_speed"] <= speeds.max() + 1e-9
+    k = int(np.searchsorted(r.time, td["time"]))  # the samples k - 1, k on either side
+    w = (td["time"] - r.time[k - 1]) / (r.time[k] - r.time[k - 1])
+    assert 0.0 < w < 1.0
+
+    def at(values):
+        return values[k - 1] + w * (values[k] - values[k - 1])
+
+    assert m["touchdown_tension"] == pytest.approx(at(r.tension), rel=1e-12)
+    u1, u2 = at(r.states[:, 6]), at(r.states[:, 7])
+    assert m["touchdown_horizontal_speed"] == pytest.approx(math.hypot(u1, u2), rel=1e-12)
+    assert m["touchdown_horizontal_speed"] > 1e-3  # not a vanishing term
     assert m["lowest_gear_height"] <= 0.0  # the gear reached the deck
 
 
@@ -300,3 +307,15 @@ def test_simulate_writes_the_landing_figure_and_a_comparison_keeps_both_kinds(tm
     assert rows["peak_abs_dev q3 [m]"][0] == "-" and rows["peak_abs_dev q3 [m]"][1] != "-"
     assert rows["touchdown_time"][0] != "-" and rows["touchdown_time"][1] == "-"
     capsys.readouterr()
+
+
+def test_a_landing_without_touchdown_or_moving_deck_draws_what_it_has(ship_landing):
+    """A landing over a still deck (no base columns) that never touched down: the height,
+    tension and length panels, no deck panel, no touchdown mark; its summary says "none"."""
+    r = dataclasses.replace(ship_landing, touchdown=None, extra={})
+    fig = figure_landing([r])
+    assert len(fig.axes) == 3
+    assert not _lines(fig, "touchdown") and not _lines(fig, "deck_heave")
+    m = r.landing_metrics()
+    assert m["touched_down"] is False and m["touchdown_time"] is None
+    assert re.search(r"\n\s+touchdown\s+none\n", repr(r))
