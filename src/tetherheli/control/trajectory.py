@@ -60,6 +60,10 @@ CSV_COLUMNS: tuple[str, ...] = ("t", "x", "y", "z", "yaw")
 _CSV_BOUNDS = (1e8, 1e4, 1e4, 1e4, 100.0)
 _CSV_MAX_LINE = 320
 _CSV_MIN_STEP_S = 1e-4
+#: Peak memory of a trajectory file per row while it is read and splined [bytes]: a row's
+#: list of five Python floats (about 270), the array and the spline's coefficients (about
+#: 200); margin kept.
+_CSV_BYTES_PER_ROW = 640
 _CELL = re.compile(rb"[ \t]*[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?[ \t]*")
 
 
@@ -455,7 +459,11 @@ def read_trajectory_csv(path: str | Path, *, sha256: str = "") -> CsvTrajectory:
 
     with open_user_file(path, field="reference.file", what="a CSV trajectory t,x,y,z[,yaw]",
                         max_bytes=FILE_MAX_BYTES) as (fh, resolved, size):  # fmt: skip
-        check_memory(f"reading the trajectory {src}", size * 8, hint="a shorter file")
+        # the most rows its size allows (a row takes 8 bytes at least), held as Python lists
+        # and splined: before anything is read
+        most = min(FILE_MAX_ROWS, size // 8 + 1)
+        check_memory(f"reading the trajectory {src} (up to {most} rows)",
+                     most * _CSV_BYTES_PER_ROW, hint="a shorter file (fewer rows)")  # fmt: skip
         row = 0
         while True:
             line = fh.readline(_CSV_MAX_LINE + 1)

@@ -179,6 +179,11 @@ def check_env_scenario(scenario: Scenario) -> None:
             "scenario.maneuver.type", scenario.maneuver.type, "'none' (the environments "
             "hold the hover; a landing is flown by simulate)"
         )  # fmt: skip
+    if scenario.trajectory.moving:
+        raise ParameterError(
+            "scenario.reference.type", scenario.trajectory.type, "'hold' (the environments "
+            "hold the hover; a [reference] is flown by simulate)"
+        )  # fmt: skip
     if c.base_feedforward:
         raise ParameterError(
             "scenario.control.base_feedforward", True, "false (the environments fly the "
