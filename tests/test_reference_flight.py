@@ -107,3 +107,31 @@ def test_hold_is_todays_hover_bit_for_bit():
     np.testing.assert_array_equal(held.states, today.states)
     np.testing.assert_array_equal(held.inputs, today.inputs)
     np.testing.assert_array_equal(held.tension, today.tension)
+
+
+@pytest.mark.parametrize("configuration", ["free", "tethered"])
+def test_min_snap_waypoints_with_yaw(configuration):
+    """The same path on minimum-snap segments with the yaw turning at each point (q6's
+    reference, u6 its rate): the last point and the last yaw (0) reached."""
+    reference = {**WAYPOINTS, "smoothing": "min_snap", "yaw": [0.3, 0.5, 0.0]}
+    _, r = _fly(configuration, reference, 40.0)
+    assert r.status == 0, r.message
+    assert r.limit_violations() == []
+    offset = r.outputs[-1] - r.trim_output
+    assert np.linalg.norm(offset[:3] - [0.0, 2.0, 1.0]) < END_TOLERANCE_M
+    assert abs(offset[3]) < 0.01
+    assert np.abs(r.outputs[:, 3] - r.trim_output[3]).max() > 0.4  # it did turn
+
+
+def test_a_csv_path_is_flown(tmp_path):
+    """A ramp of 2 m along n1 and 1 m up over 20 s in a file (s, m), the free helicopter."""
+    t = np.linspace(-1.0, 31.0, 321)
+    s = 2.0 * np.clip(t / 20.0, 0.0, 1.0)
+    path = tmp_path / "ramp.csv"
+    path.write_text("t,x,y,z\n" + "".join(f"{a:.6f},{b:.6f},0,{0.5 * b:.6f}\n"
+                                          for a, b in zip(t, s, strict=True)))  # fmt: skip
+    _, r = _fly("free", {"type": "csv", "file": str(path)}, 30.0)
+    assert r.status == 0, r.message
+    assert r.limit_violations() == []
+    offset = r.outputs[-1, :3] - r.trim_output[:3]
+    assert np.linalg.norm(offset - [2.0, 0.0, 1.0]) < END_TOLERANCE_M
