@@ -163,8 +163,6 @@ def _scenario(**reference):
           "maneuver": {"type": "tethered_landing", "landing_tension": 15.0},
           "winch": {"min_length": 0.02}, "params": {"tether": {"K_C": 400.0}}}, "reference.type"),
         (_scenario(type="steps", times=[30.0], x=[1.0], y=[0.0], z=[0.0]), "reference.times"),
-        (_scenario(type="waypoints", x=[1.0], y=[0.0], z=[0.0], speeds=[0.01]),
-         "reference.speeds"),  # ends after the run
         (_scenario(type="steps", times=[1.0], x=[1.0], y=[0.0, 1.0], z=[0.0]), "reference.y"),
         (_scenario(type="hold", speeds=[1.0]), "reference.speeds"),  # not the type's key
         ({**_scenario(type="takeoff", height=20.0), "configuration": "free"}, "reference.type"),

@@ -419,8 +419,9 @@ def _check_reference(s: Scenario, source: str | None) -> None:
     (``REFERENCE_KEYS``), the trajectory built (a CSV read, its path and SHA-256 recorded)
     and joined with the run: not with a landing, a controller that flies references
     (``ControllerEntry.reference``), the massless tether, no point of N held over a moving
-    base, a path that covers the run (steps and waypoints within the duration, a CSV from
-    t <= 0 to t >= duration), a take-off tethered, climbing above its start."""
+    base, a path that covers the run (steps within the duration, a CSV from t <= 0 to
+    t >= duration; a run shorter than a waypoints path flies its beginning), a take-off
+    tethered, climbing above its start."""
     if not isinstance(s.trajectory, ReferenceSettings):
         raise ParameterError("reference", s.trajectory, "a ReferenceSettings", source=source)
     r = _checked(ReferenceSettings, "reference", s.trajectory, source)
@@ -483,9 +484,6 @@ def _check_reference(s: Scenario, source: str | None) -> None:
     if r.type == "steps" and not path.end < s.duration:
         refuse("reference.times", r.times, f"times (plus transition) below duration "
                f"({s.duration:g} s)")  # fmt: skip
-    if r.type == "waypoints" and not path.end <= s.duration:
-        refuse("reference.speeds", r.speeds, f"speeds at which the path ends by duration "
-               f"({s.duration:g} s; it ends at {path.end:.4g} s)")  # fmt: skip
     if r.type == "csv":
         start = float(path.times[0])  # type: ignore[attr-defined]
         if start > 0.0 or path.end < s.duration:
