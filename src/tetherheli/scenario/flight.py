@@ -79,7 +79,7 @@ class ReferenceSettings:
     )
     start_time: float = _key(
         0.0, Key("hover before the first waypoint's segment or the take-off's climb", "s",
-                 low=0.0, note="below duration; waypoints, takeoff"),
+                 low=0.0, note="waypoints; takeoff (below duration)"),
     )  # fmt: skip
     times: tuple[float, ...] = _key(
         (), Key("when each setpoint starts", "s", kind="list", length=MAX_REFERENCE_POINTS,
