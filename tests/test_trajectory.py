@@ -166,6 +166,7 @@ def _scenario(**reference):
         (_scenario(type="steps", times=[1.0], x=[1.0], y=[0.0, 1.0], z=[0.0]), "reference.y"),
         (_scenario(type="hold", speeds=[1.0]), "reference.speeds"),  # not the type's key
         ({**_scenario(type="takeoff", height=20.0), "configuration": "free"}, "reference.type"),
+        (_scenario(type="takeoff", height=10.0), "reference.height"),  # below q9 = 10 m's HO
         ({**_scenario(type="steps", times=[1.0], x=[1.0], y=[0.0], z=[0.0]),
           "control": {"controller": "mpc"}}, "control.controller"),
     ],
@@ -183,3 +184,17 @@ def test_csv_reference_must_cover_the_run(tmp_path):
         scenario_from_dict(_scenario(type="csv", file=str(path)))
     s = scenario_from_dict({**_scenario(type="csv", file=str(path)), "duration": 3.0})
     assert s.input_files == {str(path.resolve()): s.trajectory.file_sha256}
+
+
+def test_a_montecarlo_refuses_a_takeoff(tmp_path):
+    """Each Monte Carlo draw flies free and tethered; a take-off has no free run."""
+    from tetherheli.studies.montecarlo.config import load_montecarlo
+
+    path = tmp_path / "mc.toml"
+    path.write_text(
+        'name = "mc"\nq9 = 1.0\n[params.tension_control]\nT_ref = 15.0\n'
+        '[reference]\ntype = "takeoff"\nheight = 5.0\n[montecarlo]\nruns = 2\n'
+    )
+    with pytest.raises(ParameterError, match=r"reference\.type = 'takeoff'") as err:
+        load_montecarlo(path)
+    assert "\n" not in str(err.value)
