@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from tetherheli.control.flight import ReferenceController
+from tetherheli.errors import ParameterError
 from tetherheli.runs.closed_loop import simulate
 from tetherheli.runs.flight import reference_controller
 from tetherheli.runs.setup import engine_setup, python_controlled
@@ -135,3 +136,20 @@ def test_a_csv_path_is_flown(tmp_path):
     assert r.limit_violations() == []
     offset = r.outputs[-1, :3] - r.trim_output[:3]
     assert np.linalg.norm(offset - [2.0, 0.0, 1.0]) < END_TOLERANCE_M
+
+
+def test_waypoints_over_a_moving_base_are_flown_relative_to_it():
+    """Over a base under way at 3 m/s along n1 the path is relative to the base (the engine
+    flies in its translating frame): the recorded outputs, relative to the base, end at the
+    last point; the tether follows."""
+    data = {"name": "ref", "duration": 30.0, "reference": WAYPOINTS,
+            "base": {"motion": "velocity", "velocity": [3.0, 0.0, 0.0]},
+            "control": {"reference": "base"}}  # fmt: skip
+    r = simulate(scenario_from_dict(data))
+    assert r.status == 0, r.message
+    assert r.limit_violations() == []
+    offset = r.outputs[-1, :3] - r.trim_output[:3]
+    assert np.linalg.norm(offset - [0.0, 2.0, 1.0]) < END_TOLERANCE_M
+    assert np.abs(r.tension - 25.0).max() < 0.5
+    with pytest.raises(ParameterError, match=r"^control\.reference = 'ground'"):
+        scenario_from_dict({**data, "control": {"reference": "ground"}})
