@@ -268,8 +268,8 @@ class Key:
         What the key means (with the paper's equation or section where it has one).
     unit : str, optional
         The unit, e.g. ``"s"``, ``"N m"`` (empty: dimensionless or not a number).
-    kind : {"number", "integer", "bool", "vector", "text"}, optional
-        The value's type; ``"vector"`` is ``length`` numbers.
+    kind : {"number", "integer", "bool", "vector", "list", "text"}, optional
+        The value's type; ``"vector"`` is ``length`` numbers, ``"list"`` at most ``length``.
     low, high : float, optional
         Bounds of a number, an integer or each entry of a vector (None: unbounded).
     low_open, high_open : bool, optional
@@ -325,10 +325,11 @@ class Key:
             if self.choices:
                 return "one of " + ", ".join(map(repr, self.choices))
             return "a string other than " + ", ".join(map(repr, NONFINITE_JSON))
-        if self.kind == "vector":
+        if self.kind in ("vector", "list"):
             numbers = "finite numbers" if self.finite else "numbers"
             return (
-                f"{self.length} {numbers}"
+                ("a list of at most " if self.kind == "list" else "")
+                + f"{self.length} {numbers}"
                 + _range(self.low, self.high, self.low_open, self.high_open, self._unit())
                 + ("" if self.finite else " (inf allowed)")
             )
@@ -388,6 +389,14 @@ class Key:
             return value
         if self.kind == "integer":
             return check_integer(field, value, low=low, high=high, source=source)
+        if self.kind == "list":
+            items = value.tolist() if isinstance(value, np.ndarray) else value
+            if not isinstance(items, (list, tuple)) or len(items) > self.length:
+                raise ParameterError(field, value, self.allowed(), source=source)
+            return check_vector(
+                field, items, len(items), low=low, high=high, low_open=low_open,
+                finite=self.finite, unit=self._unit(), allowed=self.allowed(), source=source,
+            )  # fmt: skip
         if self.kind == "vector":
             return check_vector(
                 field, value, self.length, low=low, high=high, low_open=low_open,

@@ -387,8 +387,9 @@ class EngineSetup:
 def python_controlled(scenario: Scenario) -> bool:
     """Whether ``scenario``'s controller is a Python ``Controller`` that ``simulate``'s loop
     flies around the engine's sample step, not a compiled law: the MPC, a tethered landing
-    (``runs.landing``), a point of N held over a moving base, the deck's heave fed forward
-    (``control.deck``). The one rule ``simulate`` and ``run_batch`` route runs by.
+    (``runs.landing``), a ``[reference]`` beyond hover (``runs.flight``), a point of N held
+    over a moving base, the deck's heave fed forward (``control.deck``). The one rule
+    ``simulate`` and ``run_batch`` route runs by.
 
     Parameters
     ----------
@@ -402,6 +403,7 @@ def python_controlled(scenario: Scenario) -> bool:
     return (
         not controller_entry(scenario.control.controller).compiled
         or scenario.maneuver.landing
+        or scenario.trajectory.moving
         or scenario.control.base_feedforward
         or (scenario.reference == "ground" and not scenario.base_motion.fixed)
     )

@@ -24,6 +24,7 @@ from ..params import Params, check_tether_length, check_tether_strain
 from ..sensing.config import SensorConfig
 from ..tether.chain import CABLE_KEYS
 from ..wind import Disturbance, check_wind_covers
+from .flight import REFERENCE_KEYS, ReferenceSettings, build_trajectory
 from .tables import (
     LANDING_MIN_LENGTH_M,
     LANDING_PRESS_M,
@@ -222,6 +223,8 @@ def validate_scenario(s: Scenario, source: str | None) -> None:
         s.sensors.check_configuration(tethered=s.configuration == "tethered")
         s.sensors._group_timing(dt)  # rates and latencies on the grid of the checked dt
     except ParameterError as exc:
+        if exc.source is not None:  # a file's own error, naming it
+            raise
         raise ParameterError(exc.field, exc.value, exc.allowed, source=source) from None
     _set(s, "seed", field_key(type(s), "seed").check("seed", s.seed, source=source))
     if not isinstance(s.params, Params):
@@ -271,6 +274,7 @@ def validate_scenario(s: Scenario, source: str | None) -> None:
     check_wind_covers(s.wind, s.duration, source=source)
     _check_base(s, source)
     _check_maneuver(s, source)
+    _check_reference(s, source)
 
 
 def _check_base(s: Scenario, source: str | None) -> None:
@@ -408,3 +412,103 @@ def _check_maneuver(s: Scenario, source: str | None) -> None:
     if s.winch.min_length > natural:
         refuse("winch.min_length", s.winch.min_length, f"at most the landing's final natural "
                f"length LN = q9 - T / KC = {natural:.4g} m (eq 28)")  # fmt: skip
+
+
+def _check_reference(s: Scenario, source: str | None) -> None:
+    """The ``[reference]`` table (``scenario.flight``): its keys, only its type's own
+    (``REFERENCE_KEYS``), the trajectory built (a CSV read, its path and SHA-256 recorded)
+    and joined with the run: not with a landing, a controller that flies references
+    (``ControllerEntry.reference``), the massless tether, no point of N held over a moving
+    base, a path that covers the run (steps within the duration, a CSV from t <= 0 to
+    t >= duration; a run shorter than a waypoints path flies its beginning), a take-off
+    tethered, climbing above its start."""
+    if not isinstance(s.trajectory, ReferenceSettings):
+        raise ParameterError("reference", s.trajectory, "a ReferenceSettings", source=source)
+    r = _checked(ReferenceSettings, "reference", s.trajectory, source)
+    defaults = ReferenceSettings()
+    used = REFERENCE_KEYS[r.type]
+    for f in dataclasses.fields(ReferenceSettings):
+        if (
+            f.name != "type"
+            and f.name not in used
+            and getattr(r, f.name) != getattr(defaults, f.name)
+        ):
+            raise ParameterError(
+                f"reference.{f.name}", getattr(r, f.name), f"unset with type = {r.type!r} "
+                f"(used by type = {[t for t, k in REFERENCE_KEYS.items() if f.name in k]})",
+                source=source,
+            )  # fmt: skip
+    _set(s, "trajectory", r)
+    if not r.moving:
+        return
+
+    def refuse(key: str, value: Any, allowed: str) -> None:
+        raise ParameterError(key, value, allowed, source=source)
+
+    if s.maneuver.landing:
+        refuse("reference.type", r.type, "'hold' with a landing maneuver ([maneuver] flies "
+               "its own descent)")  # fmt: skip
+    if not controller_entry(s.control.controller).reference:
+        able = [n for n, e in CONTROLLER_REGISTRY.items() if e.reference]
+        refuse(
+            "control.controller",
+            s.control.controller,
+            f"one of {able} with a "
+            "[reference] (the other controllers do not fly moving references yet)",
+        )
+    if s.tether.lumped:
+        refuse("tether.model", s.tether.model, "'elastic' with a [reference] (the lumped "
+               "chain is not flown along references yet)")  # fmt: skip
+    if s.reference == "ground" and not s.base_motion.fixed:
+        refuse("control.reference", "ground", "'base' or unset with a [reference] over a "
+               "moving base (the path is flown relative to the base)")  # fmt: skip
+    if r.type in ("steps", "waypoints"):
+        if not r.x:
+            refuse("reference.x", r.x, "at least one point")
+        for key in ("y", "z", "times") if r.type == "steps" else ("y", "z"):
+            if len(getattr(r, key)) != len(r.x):
+                refuse(f"reference.{key}", getattr(r, key), f"{len(r.x)} numbers, one per "
+                       "point (as reference.x)")  # fmt: skip
+    if r.type == "waypoints" and len(r.speeds) != len(r.x):
+        refuse("reference.speeds", r.speeds, f"{len(r.x)} speeds > 0 [m/s], one per point")
+    if r.yaw and len(r.yaw) != len(r.x):
+        refuse("reference.yaw", r.yaw, f"empty or {len(r.x)} angles [rad], one per point")
+    arm = s.params.helicopter.tether_arm  # HO = P - arm f3: HO is -arm above P
+    start_height = s.q9 - arm
+    try:
+        path = build_trajectory(r, start_height=start_height)
+    except ParameterError as exc:
+        if exc.source is not None:  # a file's own error, naming it
+            raise
+        raise ParameterError(exc.field, exc.value, exc.allowed, source=source) from None
+    if r.type == "steps" and not path.end < s.duration:
+        refuse("reference.times", r.times, f"times (plus transition) below duration "
+               f"({s.duration:g} s)")  # fmt: skip
+    if r.type == "csv":
+        start = float(path.times[0])  # type: ignore[attr-defined]
+        if start > 0.0 or path.end < s.duration:
+            refuse(
+                "reference.file",
+                r.file,
+                f"a path covering the run (t from <= 0 to >= "
+                f"duration = {s.duration:g} s; it covers [{start:g}, {path.end:g}] s)",
+            )
+        r = dataclasses.replace(r, file=path.source, file_sha256=path.sha256)  # type: ignore[attr-defined]
+        _set(s, "trajectory", r)
+    if r.type == "takeoff":
+        if s.configuration != "tethered":
+            refuse("reference.type", r.type, "'hold', 'steps', 'waypoints' or 'csv' in the "
+                   "free configuration (a take-off pays out the tether)")  # fmt: skip
+        if not r.start_time < s.duration:
+            refuse("reference.start_time", r.start_time, f"a time below duration "
+                   f"({s.duration:g} s)")  # fmt: skip
+        if not r.height >= start_height + 0.5:
+            refuse("reference.height", r.height, f"at least 0.5 m above the start's height of "
+                   f"HO ({start_height:.4g} m at q9 = {s.q9:g} m)")  # fmt: skip
+        top = s.params.tension_control.T_ref if r.top_tension is None else r.top_tension
+        if top >= s.limits.max_tension:
+            refuse(
+                "reference.top_tension",
+                top,
+                f"a tension below limits.max_tension ({s.limits.max_tension:g} N)",
+            )

@@ -58,6 +58,7 @@ from ..params import TETHER_LENGTH_RANGE, Params
 from ..sensing.config import SensorConfig, sensor_config_from_dict
 from ..wind import Disturbance, NoWind, disturbance_from_dict, paper_wind
 from .checks import MAX_SAMPLES, check_distinct_names, check_name, validate_scenario
+from .flight import ReferenceSettings
 from .tables import (
     CONTROLLERS,
     MPC_OBSERVERS,
@@ -94,6 +95,7 @@ __all__ = [
     "Limits",
     "MPCSettings",
     "ManeuverSettings",
+    "ReferenceSettings",
     "Scenario",
     "TetherLQISettings",
     "TetherSettings",
@@ -157,6 +159,10 @@ class Scenario:
         is its motion.
     maneuver : ManeuverSettings, optional
         A maneuver flown in the run (default none: the paper's station-keeping).
+    trajectory : ReferenceSettings, optional
+        The ``[reference]`` table: what the run flies beyond its hover (default hold: the
+        paper's station-keeping; ``scenario.flight``). Named ``trajectory`` here because
+        ``reference`` is the held point's frame (``control.reference``).
     """
 
     name: str = _key(
@@ -204,6 +210,7 @@ class Scenario:
     winch: WinchSettings = field(default_factory=WinchSettings)
     base: BaseSettings = field(default_factory=BaseSettings)
     maneuver: ManeuverSettings = field(default_factory=ManeuverSettings)
+    trajectory: ReferenceSettings = field(default_factory=ReferenceSettings)
 
     def __post_init__(self) -> None:
         validate_scenario(self, source=None)
@@ -221,7 +228,8 @@ class Scenario:
 
     @property
     def input_files(self) -> dict[str, str]:
-        """Every file the scenario names (the base's track or a ship's RAOs), as read when
+        """Every file the scenario names (the base's track, a ship's RAOs, a ``[reference]``
+        CSV trajectory), as read when
         the scenario was built: resolved path -> SHA-256 of its bytes. Part of a run's
         identity (a Monte Carlo resumes only over the same bytes) and protected like the
         scenario file by the output rules (``cli._common.scenario_inputs``).
@@ -230,11 +238,14 @@ class Scenario:
         -------
         dict of str to str
         """
+        files = {}
         if self.base.motion == "ship" and self.base.rao_file:
-            return {self.base.rao_file: self.base.rao_file_sha256}
-        if self.base.motion != "file":
-            return {}
-        return {self.base.file: self.base.file_sha256}
+            files[self.base.rao_file] = self.base.rao_file_sha256
+        if self.base.motion == "file":
+            files[self.base.file] = self.base.file_sha256
+        if self.trajectory.type == "csv":
+            files[self.trajectory.file] = self.trajectory.file_sha256
+        return files
 
     @property
     def reference(self) -> str:
@@ -299,6 +310,7 @@ class Scenario:
             "winch": dataclasses.asdict(self.winch),
             "base": dataclasses.asdict(self.base),
             "maneuver": dataclasses.asdict(self.maneuver),
+            "reference": dataclasses.asdict(self.trajectory),
         }
 
     def to_toml(self) -> str:
@@ -389,6 +401,7 @@ _TOP_KEYS = {
     "winch",
     "base",
     "maneuver",
+    "reference",
 }
 
 
@@ -398,7 +411,7 @@ def _vectors(source, key, value, cls) -> dict[str, Any]:
     table = dict(_table(source, key, value, cls))
     for f in dataclasses.fields(cls):
         spec = f.metadata.get("key")
-        if spec is None or spec.kind != "vector" or f.name not in table:
+        if spec is None or spec.kind not in ("vector", "list") or f.name not in table:
             continue
         if table[f.name] is None and spec.unset:  # unset (a JSON record's null)
             continue
@@ -495,6 +508,11 @@ def _scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> S
     if "maneuver" in data:
         table = _table(source, "maneuver", data["maneuver"], ManeuverSettings)
         kwargs["maneuver"] = ManeuverSettings(**table)
+    if "reference" in data:
+        table = _vectors(source, "reference", data["reference"], ReferenceSettings)
+        if isinstance(table.get("file"), str) and table["file"] and source is not None:
+            table["file"] = str(Path(source).parent / table["file"])  # as [base]'s track
+        kwargs["trajectory"] = ReferenceSettings(**table)
     if "sensors" in data:
         if not isinstance(data["sensors"], dict):
             raise ParameterError("sensors", data["sensors"], "a table", source=source)

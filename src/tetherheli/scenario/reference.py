@@ -41,6 +41,7 @@ from .core import (
     TetherSettings,
     WinchSettings,
 )
+from .flight import ReferenceSettings
 
 __all__ = ["scenario_reference"]
 
@@ -54,6 +55,7 @@ _TABLES = {
     "winch": WinchSettings,
     "base": BaseSettings,
     "maneuver": ManeuverSettings,
+    "reference": ReferenceSettings,
 }
 _PARAM_SECTIONS = {
     "helicopter": HelicopterParams,
@@ -320,7 +322,10 @@ def scenario_reference() -> str:
     ]
     for table, cls in _TABLES.items():
         top += ["", f"## `[{table}]`", "", _summary(cls), ""]
-        defaults = functools.reduce(getattr, table.split("."), scenario)
+        defaults = (  # (the field is ``trajectory``: ``Scenario.reference`` is the frame)
+            scenario.trajectory if table == "reference"
+            else functools.reduce(getattr, table.split("."), scenario)
+        )  # fmt: skip
         top += [*_HEADER, *_key_rows(f"{table}.", cls, defaults)]
         if table == "base":
             top += _track_rows()
@@ -368,5 +373,7 @@ def scenario_reference() -> str:
         {"": calibrated}, "wind.model", '`type = "gauss_markov"` with a `calibration`'
     )
     top += _wind_rows({"": wind_loader.DragModel}, "wind.drag", "The `drag` table")
-    assert set(_TOP_KEYS) >= {f.name for f in dataclasses.fields(Scenario)}
+    # (the field ``trajectory`` is the table ``[reference]``)
+    fields = {f.name for f in dataclasses.fields(Scenario)} - {"trajectory"}
+    assert set(_TOP_KEYS) >= fields | {"reference"}
     return "\n".join(top) + "\n"

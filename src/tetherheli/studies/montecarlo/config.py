@@ -189,6 +189,12 @@ def load_montecarlo(path: str | Path) -> tuple[Scenario, MonteCarloConfig]:
             "free and tethered, and a tethered landing has no free run: fly a landing with "
             "simulate, sweep or run_batch)", source=source,
         )  # fmt: skip
+    reference = data.get("reference")
+    if isinstance(reference, dict) and reference.get("type") == "takeoff":
+        raise ParameterError(
+            "reference.type", "takeoff", "another type in a Monte Carlo (each draw is flown "
+            "free and tethered, and a take-off has no free run)", source=source,
+        )  # fmt: skip
     scenario = scenario_from_dict(data, source=source)
     _wind_parts(scenario.wind, source)
     check_draw_names(scenario, source)
