@@ -510,6 +510,12 @@ def _scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> S
     if "params" in data:
         if not isinstance(data["params"], dict):
             raise ParameterError("params", data["params"], "a table", source=source)
+        tether_params = data["params"].get("tether")
+        if isinstance(tether_params, dict) and "EA" in tether_params:
+            raise ParameterError(
+                "params.tether.EA", tether_params["EA"], "not given here: the massless "
+                "tether's law is [tether] law and EA", source=source,
+            )  # fmt: skip
         kwargs["params"] = Params.from_mapping(data["params"], source=source)
     scenario = Scenario.__new__(Scenario)
     defaults = Scenario.__dataclass_fields__
