@@ -418,6 +418,11 @@ class TetherParams(_Validated):
         return self.K_C * q9 * MAX_TETHER_STRAIN / (1.0 + MAX_TETHER_STRAIN)
 
     @property
+    def _LN_text(self) -> str:
+        """The law's trim natural length as a formula, for messages."""
+        return "q9 EA/(EA + TC)" if self.EA > 0.0 else "q9 - TC/K_C"
+
+    @property
     def _law_text(self) -> str:
         """The law in words, for messages."""
         if self.EA > 0.0:
@@ -451,7 +456,7 @@ class TetherParams(_Validated):
                 field,
                 tension,
                 f"a tension <= {limit:.6g} N, the most this tether ({self._law_text}) "
-                f"gives at q9 = {q9:g} m: above it the natural length LN "
+                f"gives at q9 = {q9:g} m: above it the natural length LN = {self._LN_text} "
                 f"= {self.natural_length(q9, tension):.4g} m would be below "
                 f"q9/{1.0 + MAX_TETHER_STRAIN:g} (strain > {100 * MAX_TETHER_STRAIN:g}%)",
                 source=source,

@@ -15,12 +15,12 @@ from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
 
 from .._io import NONFINITE_JSON, OWN_FILE_STEMS
-from .._validation import MAX_SAMPLES, check_samples
+from .._validation import MAX_SAMPLES, check_samples, trusted
 from ..base.motion import MOTION_KEYS, FileBase, _base_motion_from
 from ..base.ship import ShipBase
 from ..control.registry import CONTROLLER_REGISTRY, controller_entry
 from ..errors import ParameterError
-from ..params import Params, check_tether_length, check_tether_strain
+from ..params import Params, TetherParams, check_tether_length, check_tether_strain
 from ..sensing.config import SensorConfig
 from ..tether.chain import CABLE_KEYS
 from ..wind import Disturbance, check_wind_covers
@@ -246,7 +246,10 @@ def validate_scenario(s: Scenario, source: str | None) -> None:
     _set(s, "winch", winch)
     if not isinstance(s.params, Params):
         raise ParameterError("params", s.params, "a tetherheli.Params", source=source)
-    _set(s, "params", s.params.replace(tether={"EA": _rope_EA(s, tether, source)}))
+    EA = _rope_EA(s, tether, source)  # checked: built trusted, no field checked twice
+    if EA != s.params.tether.EA:
+        law = trusted(TetherParams, **{**dataclasses.asdict(s.params.tether), "EA": EA})
+        _set(s, "params", dataclasses.replace(s.params, tether=law))
     if not isinstance(s.sensors, SensorConfig):
         raise ParameterError("sensors", s.sensors, "a SensorConfig", source=source)
     try:
