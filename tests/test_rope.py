@@ -180,3 +180,16 @@ def test_scenario_law_rules():
         with pytest.raises(ParameterError) as info:
             scenario_from_dict(data)
         assert info.value.field == field and "\n" not in str(info.value)
+
+
+def test_sweeps_and_dispersions_reach_the_law_through_the_scenario():
+    """The law's EA is the scenario's ``[tether] EA``: a sweep of ``tether.EA`` sets it there
+    (the rope's EA flown), a Monte Carlo dispersion of it is refused (one line)."""
+    from tetherheli.studies.montecarlo.config import montecarlo_config_from_dict
+    from tetherheli.studies.sweep import _with
+
+    landing = shipped_scenario("landing_calm_deck")
+    assert _with(landing, "tether.EA", 500.0).params.tether.EA == 500.0
+    with pytest.raises(ParameterError) as info:
+        montecarlo_config_from_dict({"params": {"tether.EA": 10.0}})
+    assert info.value.field == "montecarlo.params.tether.EA"
