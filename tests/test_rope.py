@@ -193,3 +193,26 @@ def test_sweeps_and_dispersions_reach_the_law_through_the_scenario():
     with pytest.raises(ParameterError) as info:
         montecarlo_config_from_dict({"params": {"tether.EA": 10.0}})
     assert info.value.field == "montecarlo.params.tether.EA"
+
+
+def test_rope_in_the_lanes_equals_the_single_run():
+    """A batch of rope runs in the lane engine (``engine.lanes``: the law per lane) gives the
+    single compiled runs' summaries; at q9 = 2 m the rope (EA / LN = 200 N/m) and eq 28 (40
+    N/m) fly differently."""
+    from tetherheli.runs.batch import run_batch
+    from tetherheli.scenario.core import paper_scenario
+
+    base = paper_scenario(1, "tethered").replace(duration=20.0, q9=2.0)  # the pulse at 10 s
+    rope = base.replace(tether=base.tether.__class__(law="rope", EA=EA))
+    runs = [rope, rope.replace(q9=3.0), base]
+    batch = run_batch(runs, workers=1)
+    for i, s in enumerate(runs):
+        single = simulate(s)
+        assert bool(batch.ok[i]) and single.ok
+        assert batch.metrics(i)["tension_max"] == pytest.approx(single.tension.max(), rel=1e-12)
+        assert batch.metrics(i)["peak_q1"] == pytest.approx(
+            np.abs(single.outputs[:, 0] - single.trim_output[0]).max(), rel=1e-12
+        )
+    assert batch.metrics(0)["tension_max"] != pytest.approx(
+        batch.metrics(2)["tension_max"], rel=1e-3
+    )
