@@ -237,8 +237,9 @@ def page(station, landing, seeds: int, seconds: float) -> str:
         "",
         "`landing_sea_state`: from the hover 10 m up the helicopter descends relative to the "
         "deck at 0.3 m/s from t = 5 s, the winch reeling in with the tension reference going "
-        "from 25 N to 15 N (a stiffer tether than the paper's, KC = 400 N/m, with eq 56's "
-        "gains scaled to it), the LQI's tether-angle gains scaled with the length; touchdown "
+        "from 25 N to 15 N (the tether a rope, EA = 375 N: the paper's 40 N/m at the hover, "
+        "stiffer as it shortens; eq 56's gains scaled to its stiffness at touchdown), the "
+        "LQI's tether-angle gains scaled with the length; touchdown "
         "when the gear (0.35 m below HO) reaches the deck, within 0.5 m/s, 0.5 m of the pad "
         "and 0.26 rad of tilt. The touchdown speed is relative to the deck.",
         "",

@@ -45,7 +45,7 @@ if not 1 <= LANES <= 256:
 # --- run configuration (``cfg``) ----------------------------------------------------------------
 CFG_DT = 0  # control sample time [s]
 CFG_N_SUB = 1  # RK4 steps per sample
-CFG_K_C = 2  # tether elasticity [N/m]
+CFG_K_C = 2  # tether elasticity KC [N/m] (eq 28; the rope's law: CFG_TETHER_EA)
 CFG_ATTACHED = 3  # 1: tether attached, 0: removed (free configuration) or released
 CFG_MAX_TENSION = 4  # [N]; a run stops when exceeded
 CFG_MAX_DEVIATION = 5  # [m]; a run stops as diverged when |y - y_ref| exceeds it
@@ -59,7 +59,10 @@ CFG_TENSION_GROUND = 12  # ... and at the winch [N], which the load cell measure
 #: the vehicle flown (``VEHICLES``; 0, the default, the paper's helicopter): the engine's
 #: vehicle slot (``engine.loop.vehicle_derivative``, ``vehicle_outputs``) dispatches on it
 CFG_VEHICLE = 13
-CFG_SIZE = 14
+#: the massless tether's law (``params.TetherParams``): the rope's axial stiffness EA [N],
+#: tension EA (q9 - LN) / LN; 0: the paper's eq 28 with CFG_K_C (``kernels.tether_tension``)
+CFG_TETHER_EA = 14
+CFG_SIZE = 15
 
 # --- the vehicles the engine's vehicle slot flies (``cfg[CFG_VEHICLE]``), chosen by name ----
 #: the vehicles by code: the paper's single-rotor helicopter (the generated tethered model,

@@ -51,6 +51,7 @@ from ..layout import (
     CFG_MAX_DEVIATION,
     CFG_MAX_TENSION,
     CFG_METRICS_FROM,
+    CFG_TETHER_EA,
     CONTROL_LAW_TETHER_LQI,
     CTRL_ANTI_WINDUP,
     CTRL_DT,
@@ -93,7 +94,7 @@ from ..layout import (
 )
 from ..model.kernels import (
     angle_trig_lanes,
-    tension_from_state,
+    tether_tension,
     tethered_outputs_lanes,
     tethered_tether_torque_lanes,
 )
@@ -310,8 +311,9 @@ def _sense(k, x, s):
         t = k * cfg[CFG_DT * LANES + j]
         attached = cfg[CFG_ATTACHED * LANES + j] > 0.5
         k_c = cfg[CFG_K_C * LANES + j]
+        ea = cfg[CFG_TETHER_EA * LANES + j]
         tension = (
-            tension_from_state(x[X_Q9 * LANES + j], x[X_LN * LANES + j], k_c) if attached else 0.0
+            tether_tension(x[X_Q9 * LANES + j], x[X_LN * LANES + j], k_c, ea) if attached else 0.0
         )
         broken = tension > act[ACT_BREAK * LANES + j]
         cleared = 0.0 if broken else 1.0

@@ -28,6 +28,7 @@ from ..layout import (
     CFG_GUST_DT,
     CFG_K_C,
     CFG_N_SUB,
+    CFG_TETHER_EA,
     CFG_VEHICLE,
     CONTROL_LAW_TETHER_LQI,
     CTRL_LAW,
@@ -144,7 +145,9 @@ def _lanes_stage(xs, sc, inp, rate, attached, k_c, c, air, force, out):
         force[2 * LANES + j] = program_force[2 * LANES + j] + drag[2 * LANES + j] * speed * r3
         stretch = xs[X_Q9 * LANES + j] - xs[X_LN * LANES + j]
         tied = attached[j] > 0.5
-        force[3 * LANES + j] = k_c[j] * stretch if (tied and stretch > 0.0) else 0.0
+        ea = k_c[LANES + j]  # the rope's EA (0: eq 28's KC; ``kernels.tether_tension``)
+        stiffness = ea / xs[X_LN * LANES + j] if ea > 0.0 else k_c[j]
+        force[3 * LANES + j] = stiffness * stretch if (tied and stretch > 0.0) else 0.0
         out[X_LN * LANES + j] = rate[j] if tied else 0.0
     tethered_rhs_lanes(xs, sc, inp, force, force[3 * LANES :], c, out)
 
@@ -220,8 +223,8 @@ def rk4_lanes(lane_in, h, n_sub, k_c, c, wind, work):
         The RK4 step of each lane [s].
     n_sub : int
         The RK4 steps per sample.
-    k_c : numpy.ndarray, shape (LANES,)
-        The tether's elasticity [N/m].
+    k_c : numpy.ndarray, shape (2 LANES,)
+        The tether's law per lane: eq 28's KC [N/m], then the rope's EA [N] (0: the paper's).
     c : numpy.ndarray, shape (n_c LANES,)
         The lanes' model constants, flat.
     wind : LaneWind
@@ -431,7 +434,7 @@ def run_lanes(x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, re
     t0 = np.zeros(LANES)
     h = np.empty(LANES)
     attached = np.empty(LANES)
-    k_c = np.empty(LANES)
+    k_c = np.empty(2 * LANES)
     sc_init = np.empty(10 * LANES)
     angle_trig_lanes(x, sc_init)
     active = np.zeros(LANES, np.bool_)
@@ -441,6 +444,7 @@ def run_lanes(x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, re
         done[j] = max(n_samples[j] + 1, 0)
         h[j] = cfg_in[j, CFG_DT] / n_sub
         k_c[j] = cfg_in[j, CFG_K_C]
+        k_c[LANES + j] = cfg_in[j, CFG_TETHER_EA]
         gust_dt[j] = cfg_in[j, CFG_GUST_DT]
         active[j] = n_samples[j] >= 0
     for f in range(summary.shape[1]):

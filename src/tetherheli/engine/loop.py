@@ -71,6 +71,7 @@ from ..layout import (
     CFG_SIZE,
     CFG_TENSION_GROUND,
     CFG_TENSION_TOP,
+    CFG_TETHER_EA,
     CFG_VEHICLE,
     CHAIN_NODES,
     CTRL_FFWD,
@@ -111,7 +112,7 @@ from ..layout import (
 from ..model.kernels import (
     angle_trig,
     angle_trig_from,
-    tension_from_state,
+    tether_tension,
     tethered_outputs_sc,
     tethered_rhs_sc,
 )
@@ -248,7 +249,9 @@ def vehicle_derivative(x, sc, inp, reel_rate, cfg, c, force, out):
         # one inlined copy of the generated right-hand side for both configurations (a
         # removed tether is tension 0: the same arithmetic as a constant 0 would compile to)
         attached = cfg[CFG_ATTACHED] > 0.5
-        tension = tension_from_state(x[X_Q9], x[X_LN], cfg[CFG_K_C]) if attached else 0.0
+        tension = (
+            tether_tension(x[X_Q9], x[X_LN], cfg[CFG_K_C], cfg[CFG_TETHER_EA]) if attached else 0.0
+        )
         tethered_rhs_sc(x, sc, inp, force, tension, c, out)
         out[X_LN] = reel_rate if attached else 0.0
     else:  # the multirotor's slot (``layout.VEHICLE_MULTIROTOR``), not flown yet
@@ -710,7 +713,7 @@ def sense(run, x, k, t, sensed, event, x_meas):
     elif lumped:  # the chain's ends at this sample (``chain_ends``)
         tension = cfg[CFG_TENSION_TOP]
     else:
-        tension = tension_from_state(x[X_Q9], x[X_LN], cfg[CFG_K_C])
+        tension = tether_tension(x[X_Q9], x[X_LN], cfg[CFG_K_C], cfg[CFG_TETHER_EA])
     tension = release_if_broken(tension, t, cfg, run.ctrl, run.act, event)
     load = winch_tension(cfg, tension)  # the load cell at the winch
     if sensed:

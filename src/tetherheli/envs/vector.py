@@ -65,6 +65,7 @@ from ..layout import (
     CFG_DT,
     CFG_K_C,
     CFG_N_SUB,
+    CFG_TETHER_EA,
     HELD_SIZE,
     LANES,
     LAW_U0,
@@ -449,7 +450,7 @@ class TetheredHoverVectorEnv(VectorEnv):
             np.zeros(LANES),
             np.full(LANES, cfg0[CFG_DT] / n_sub),
             np.zeros(LANES),
-            np.full(LANES, cfg0[CFG_K_C]),
+            np.repeat([cfg0[CFG_K_C], cfg0[CFG_TETHER_EA]], LANES),  # the law (``rk4_lanes``)
             np.repeat(env._c, LANES),  # (constant, lane) flat
             sc_park,
             lane_engine.lane_work(),

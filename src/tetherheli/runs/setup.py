@@ -40,6 +40,7 @@ from ..layout import (
     CFG_METRICS_FROM,
     CFG_N_SUB,
     CFG_SIZE,
+    CFG_TETHER_EA,
     CFG_VEHICLE,
     CHAIN_NODES,
     CONTROL_LAWS,
@@ -216,6 +217,7 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
     cfg[CFG_DT] = c.dt
     cfg[CFG_N_SUB] = c.substeps
     cfg[CFG_K_C] = params.tether.K_C
+    cfg[CFG_TETHER_EA] = params.tether.EA  # the law: 0 eq 28's, > 0 the rope's
     cfg[CFG_ATTACHED] = float(tethered)
     cfg[CFG_MAX_TENSION] = scenario.limits.max_tension
     cfg[CFG_MAX_DEVIATION] = scenario.limits.max_deviation

@@ -15,12 +15,12 @@ from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
 
 from .._io import NONFINITE_JSON, OWN_FILE_STEMS
-from .._validation import MAX_SAMPLES, check_samples
+from .._validation import MAX_SAMPLES, check_samples, trusted
 from ..base.motion import MOTION_KEYS, FileBase, _base_motion_from
 from ..base.ship import ShipBase
 from ..control.registry import CONTROLLER_REGISTRY, controller_entry
 from ..errors import ParameterError
-from ..params import Params, check_tether_length, check_tether_strain
+from ..params import Params, TetherParams, check_tether_length, check_tether_strain
 from ..sensing.config import SensorConfig
 from ..tether.chain import CABLE_KEYS
 from ..wind import Disturbance, check_wind_covers
@@ -28,6 +28,7 @@ from .flight import REFERENCE_KEYS, ReferenceSettings, build_trajectory
 from .tables import (
     LANDING_MIN_LENGTH_M,
     LANDING_PRESS_M,
+    PAPER_EA_N,
     ActuatorSettings,
     BaseSettings,
     ControlSettings,
@@ -124,6 +125,33 @@ def check_distinct_names(names: Iterable[str], *, key: str = "name") -> None:
             )
 
 
+def _rope_EA(s: Scenario, tether: TetherSettings, source: str | None) -> float:
+    """The massless tether's law as ``params.TetherParams.EA``: the rope's EA [N], or 0 for
+    the paper's eq 28; refuses a law the tether model cannot fly (``TetherSettings``)."""
+    law = tether.law
+    if law is None:  # landings default to the rope (issue 46), the rest to the paper's law
+        landing = getattr(s.maneuver, "type", None) == "tethered_landing" and not tether.lumped
+        law = "rope" if landing else "paper"
+        if landing and tether.EA == 0.0:
+            return PAPER_EA_N
+    if law == "rope" and tether.lumped:
+        raise ParameterError(
+            "tether.law", law, "'paper' or unset with model = 'lumped' (the chain is a rope "
+            "already: tether.EA is its axial stiffness)", source=source,
+        )  # fmt: skip
+    if law == "rope" and tether.EA == 0.0:
+        raise ParameterError(
+            "tether.EA", tether.EA, f"an axial stiffness >= 1 N with law = 'rope' (the "
+            f"paper's: EA = KC L0N = {PAPER_EA_N:g} N)", source=source,
+        )  # fmt: skip
+    if law == "paper" and not tether.lumped and tether.EA != 0.0:
+        raise ParameterError(
+            "tether.EA", tether.EA, "0 (unset) with the paper's law of the massless tether "
+            "(eq 28's KC, params.tether.K_C); law = 'rope' takes an EA", source=source,
+        )  # fmt: skip
+    return tether.EA if law == "rope" else 0.0
+
+
 def validate_scenario(s: Scenario, source: str | None) -> None:
     """Check every field of ``s`` and store the checked values (Python floats and ints, so a
     NumPy scalar is accepted and recorded as plain data).
@@ -217,6 +245,12 @@ def validate_scenario(s: Scenario, source: str | None) -> None:
         )  # fmt: skip
     _set(s, "tether", tether)
     _set(s, "winch", winch)
+    if not isinstance(s.params, Params):
+        raise ParameterError("params", s.params, "a tetherheli.Params", source=source)
+    EA = _rope_EA(s, tether, source)  # checked: built trusted, no field checked twice
+    if EA != s.params.tether.EA:
+        law = trusted(TetherParams, **{**dataclasses.asdict(s.params.tether), "EA": EA})
+        _set(s, "params", dataclasses.replace(s.params, tether=law))
     if not isinstance(s.sensors, SensorConfig):
         raise ParameterError("sensors", s.sensors, "a SensorConfig", source=source)
     try:
@@ -253,6 +287,16 @@ def validate_scenario(s: Scenario, source: str | None) -> None:
         raise ParameterError(
             "control.controller", s.control.controller, f"one of {able} in the "
             f"{s.configuration} configuration (control.registry)", source=source,
+        )  # fmt: skip
+    if (
+        s.params.tether.law == "rope"
+        and s.control.controller == "tether_lqi"
+        and s.control.tether_lqi.q9_from_tension
+        and not s.sensors.is_perfect
+    ):  # the compiled law's q9 = LN + TC / KC is eq 28's (``control.paper.tension_q9``)
+        raise ParameterError(
+            "control.tether_lqi.q9_from_tension", True, "false with [tether] law = 'rope' "
+            "(the tether length from the load cell is eq 28's LN + TC / KC)", source=source,
         )  # fmt: skip
     bounds = s.control.mpc.tension_bounds
     T_ref = s.params.tension_control.T_ref
@@ -399,19 +443,20 @@ def _check_maneuver(s: Scenario, source: str | None) -> None:
         refuse("maneuver.gear_height", m.gear_height, f"at least 0.5 m below the start's "
                f"height of HO ({start_height:.4g} m at q9 = {s.q9:g} m)")  # fmt: skip
     tension = s.params.tension_control.T_ref if m.landing_tension is None else m.landing_tension
-    K_C = s.params.tether.K_C
-    if tension > 0.5 * K_C * final_length:
-        refuse("maneuver.landing_tension", tension, f"at most KC q9 / 2 = "
-               f"{0.5 * K_C * final_length:.4g} N at the final tether length q9 = "
-               f"{final_length:.4g} m (eq 28: LN >= q9 / 2; a stiffer tether, "
-               "params.tether.K_C, allows more)")  # fmt: skip
+    law = s.params.tether  # eq 28's or the rope's (``TetherParams``)
+    if tension > law.max_tension(final_length):
+        refuse("maneuver.landing_tension", tension, f"at most "
+               f"{law.max_tension(final_length):.4g} N at the final tether length q9 = "
+               f"{final_length:.4g} m (LN >= q9 / 2: eq 28's KC q9 / 2, the rope's EA; a "
+               "stiffer tether, params.tether.K_C or tether.EA, allows more)")  # fmt: skip
     if tension >= s.limits.max_tension:
         refuse("maneuver.landing_tension", tension,
                f"a tension below limits.max_tension ({s.limits.max_tension:g} N)")  # fmt: skip
-    natural = final_length - tension / K_C
+    natural = law.natural_length(final_length, tension)
     if s.winch.min_length > natural:
         refuse("winch.min_length", s.winch.min_length, f"at most the landing's final natural "
-               f"length LN = q9 - T / KC = {natural:.4g} m (eq 28)")  # fmt: skip
+               f"length LN = {natural:.4g} m (q9 - T / KC, eq 28, or the rope's "
+               "q9 EA / (EA + T))")  # fmt: skip
 
 
 def _check_reference(s: Scenario, source: str | None) -> None:

@@ -525,10 +525,16 @@ def _scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> S
         kwargs["seed"] = data["seed"]  # checked by validate_scenario
     if "wind" in data:
         kwargs["wind"] = disturbance_from_dict(data["wind"], source=source)
+    echo_EA = None
     if "params" in data:
         if not isinstance(data["params"], dict):
             raise ParameterError("params", data["params"], "a table", source=source)
-        kwargs["params"] = Params.from_mapping(data["params"], source=source)
+        mapping = dict(data["params"])
+        if isinstance(mapping.get("tether"), dict) and "EA" in mapping["tether"]:
+            # the law's echo in a recorded scenario: [tether] law and EA set it
+            mapping["tether"] = dict(mapping["tether"])
+            echo_EA = mapping["tether"].pop("EA")
+        kwargs["params"] = Params.from_mapping(mapping, source=source)
     scenario = Scenario.__new__(Scenario)
     defaults = Scenario.__dataclass_fields__
     for name, f in defaults.items():
@@ -541,6 +547,11 @@ def _scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> S
             value = f.default_factory()
         object.__setattr__(scenario, name, value)
     validate_scenario(scenario, source)
+    if echo_EA is not None and echo_EA != scenario.params.tether.EA:
+        raise ParameterError(
+            "params.tether.EA", echo_EA, f"{scenario.params.tether.EA:g}, the law [tether] "
+            "gives (its law and EA set it; 0: the paper's eq 28)", source=source,
+        )  # fmt: skip
     return scenario
 
 

@@ -144,10 +144,11 @@ def montecarlo_config_from_dict(data: Any, *, source: str | None = None) -> Mont
             known = Params.field_docs()
             items = []
             for name, pct in p.items():
-                if name not in known:
+                if name not in known or name == "tether.EA":  # EA: the scenario's [tether]
                     raise ParameterError(
-                        f"montecarlo.params.{name}", pct, f"one of {sorted(known)}"
-                    )
+                        f"montecarlo.params.{name}", pct,
+                        f"one of {sorted(set(known) - {'tether.EA'})}",
+                    )  # fmt: skip
                 pct = check_number(
                     f"montecarlo.params.{name}", pct, low=0.0, high=100.0, high_open=True
                 )
