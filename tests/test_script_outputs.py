@@ -451,6 +451,7 @@ def test_gen_scenario_reference_and_moordyn_use_the_docs_rule(tmp_path, monkeypa
     (root / gen.PAGE).write_text("stale\n")
     assert gen.main([]) == 0
     assert (root / gen.PAGE).read_text() == scenario_reference()
+    monkeypatch.syspath_prepend(str(ROOT / "benchmarks"))  # its sibling moordyn_cases
     moordyn = _load("benchmarks/moordyn_validation.py")
     monkeypatch.setattr(moordyn, "ROOT", root)
     monkeypatch.setattr(moordyn, "page", _no_work)
