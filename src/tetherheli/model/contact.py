@@ -43,11 +43,22 @@ from ..layout import (
     GEAR_LAW_SIZE,
     GEAR_LAW_SLIP_SPEED,
     GEAR_LAW_STIFFNESS,
+    GEAR_WORK_BODY,
+    GEAR_WORK_DECK,
+    GEAR_WORK_INPUTS,
+    GEAR_WORK_LOADS,
+    GEAR_WORK_OUTPUTS,
+    GEAR_WORK_SIZE,
+    GEAR_WORK_WIND,
     LOADS_FORCE_N,
     LOADS_MOMENT_F,
     LOADS_SIZE,
+    X_U1,
+    X_U4,
+    Gear,
 )
 from ..params import HelicopterParams
+from .kernels import tethered_outputs_sc, wrench_loads_sc
 
 __all__ = [
     "BODY_SIZE",
@@ -57,11 +68,14 @@ __all__ = [
     "body_array",
     "deck_array",
     "gear_contact",
+    "gear_inputs_sc",
     "gear_law_array",
+    "gear_record",
     "tail_lever",
 ]
 
 _jit = compiled(fastmath={"nnan", "ninf"}, error_model="numpy")
+_jit_inline = compiled(error_model="numpy", inline="always")
 
 
 @_jit
@@ -152,6 +166,91 @@ def gear_contact(gear, law, body, deck, loads, penetration):
             body[r0 + j] * mx + body[r0 + 3 + j] * my + body[r0 + 6 + j] * mz
         )
     return in_contact
+
+
+@_jit_inline
+def gear_inputs_sc(x, sc, inp, force, c, gear):
+    """The rotor inputs and wind force that carry the gear's contact loads on the tethered
+    helicopter at x into the generated model (``gear_contact`` on the body's pose and motion
+    relative to the base against ``gear``'s deck, then ``kernels.wrench_loads_sc``): views
+    of ``gear.work`` (``layout.GEAR_WORK_*``); ``inp`` and ``force`` are not modified.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The tethered state relative to the base (``layout.X_*``) [rad, m, rad/s, m/s, m].
+    sc : numpy.ndarray, shape (10,)
+        sin and cos of the angles (``layout.SC_*``).
+    inp : numpy.ndarray, shape (4,)
+        The rotor inputs [N, N m, N m, N].
+    force : numpy.ndarray, shape (3,)
+        The air's force on the helicopter [N] in N.
+    c : numpy.ndarray
+        The tethered model's constants.
+    gear : layout.Gear
+        The gear (points, law, tail lever, scratch with the deck).
+
+    Returns
+    -------
+    inputs : numpy.ndarray, shape (4,)
+        The inputs with the gear's moment [N, N m, N m, N].
+    wind : numpy.ndarray, shape (3,)
+        The wind force with the gear's force [N].
+    """
+    work = gear.work
+    y = work[GEAR_WORK_OUTPUTS : GEAR_WORK_OUTPUTS + 4]
+    body = work[GEAR_WORK_BODY : GEAR_WORK_BODY + BODY_SIZE]
+    tethered_outputs_sc(x, sc, c, y)
+    s4, s5, s6 = sc[0], sc[1], sc[2]
+    c4, c5, c6 = sc[5], sc[6], sc[7]
+    r = BODY_R_NF  # N_R_F (Table I; ``kernels.kinematics_dcm``), row-major
+    body[r], body[r + 1], body[r + 2] = c5 * c6, -c5 * s6, s5
+    body[r + 3] = s5 * c6 * s4 + s6 * c4
+    body[r + 4] = c6 * c4 - s5 * s6 * s4
+    body[r + 5] = -c5 * s4
+    body[r + 6] = -c6 * s5 * c4 + s6 * s4
+    body[r + 7] = s5 * s6 * c4 + c6 * s4
+    body[r + 8] = c5 * c4
+    for j in range(3):
+        body[BODY_POSITION + j] = y[j]
+        body[BODY_VELOCITY + j] = x[X_U1 + j]
+        body[BODY_OMEGA_F + j] = x[X_U4 + j]
+    loads = work[GEAR_WORK_LOADS : GEAR_WORK_LOADS + LOADS_SIZE]
+    gear_contact(gear.points, gear.law, body, work[GEAR_WORK_DECK : GEAR_WORK_DECK + DECK_SIZE],
+                 loads, gear.penetration)  # fmt: skip
+    inputs = work[GEAR_WORK_INPUTS : GEAR_WORK_INPUTS + 4]
+    wind = work[GEAR_WORK_WIND : GEAR_WORK_WIND + 3]
+    force_N = loads[LOADS_FORCE_N : LOADS_FORCE_N + 3]
+    moment_F = loads[LOADS_MOMENT_F : LOADS_MOMENT_F + 3]
+    wrench_loads_sc(sc, inp, force, force_N, moment_F, gear.tail, inputs, wind)
+    return inputs, wind
+
+
+def gear_record(points: np.ndarray, law: np.ndarray, helicopter: HelicopterParams) -> Gear:
+    """The engine's ``layout.Gear`` of a helicopter's landing gear over the level deck
+    through the base (point 0, normal n3, at rest relative to the base).
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 3)
+        The gear points from HO in F [m].
+    law : numpy.ndarray, shape (GEAR_LAW_SIZE,)
+        The contact law (``gear_law_array``).
+    helicopter : HelicopterParams
+        The helicopter (its tail lever).
+
+    Returns
+    -------
+    layout.Gear
+        The record, with its own scratch.
+    """
+    pts = np.ascontiguousarray(points, dtype=float).reshape(-1, 3)
+    work = np.zeros(GEAR_WORK_SIZE)
+    work[GEAR_WORK_DECK : GEAR_WORK_DECK + DECK_SIZE] = deck_array(
+        np.zeros(3), np.array([0.0, 0.0, 1.0])
+    )
+    return Gear(pts, np.asarray(law, dtype=float).copy(), tail_lever(helicopter), work,
+                np.zeros(pts.shape[0]))  # fmt: skip
 
 
 def tail_lever(helicopter: HelicopterParams) -> np.ndarray:

@@ -69,6 +69,7 @@ from .tables import (
     ActuatorSettings,
     BaseSettings,
     ControlSettings,
+    LandingGearSettings,
     Limits,
     ManeuverSettings,
     MPCSettings,
@@ -91,6 +92,7 @@ __all__ = [
     "ActuatorSettings",
     "BaseSettings",
     "ControlSettings",
+    "LandingGearSettings",
     "Limits",
     "MPCSettings",
     "ManeuverSettings",
@@ -157,6 +159,8 @@ class Scenario:
         is its motion.
     maneuver : ManeuverSettings, optional
         A maneuver flown in the run (default none: the paper's station-keeping).
+    landing_gear : LandingGearSettings or None, optional
+        The landing gear in contact with the deck (``[landing_gear]``; default None: none).
     """
 
     name: str = _key(
@@ -204,6 +208,7 @@ class Scenario:
     winch: WinchSettings = field(default_factory=WinchSettings)
     base: BaseSettings = field(default_factory=BaseSettings)
     maneuver: ManeuverSettings = field(default_factory=ManeuverSettings)
+    landing_gear: LandingGearSettings | None = None
 
     def __post_init__(self) -> None:
         validate_scenario(self, source=None)
@@ -299,6 +304,9 @@ class Scenario:
             "winch": dataclasses.asdict(self.winch),
             "base": dataclasses.asdict(self.base),
             "maneuver": dataclasses.asdict(self.maneuver),
+            "landing_gear": None
+            if self.landing_gear is None
+            else dataclasses.asdict(self.landing_gear),
         }
 
     def to_toml(self) -> str:
@@ -389,6 +397,7 @@ _TOP_KEYS = {
     "winch",
     "base",
     "maneuver",
+    "landing_gear",
 }
 
 
@@ -495,6 +504,9 @@ def _scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> S
     if "maneuver" in data:
         table = _table(source, "maneuver", data["maneuver"], ManeuverSettings)
         kwargs["maneuver"] = ManeuverSettings(**table)
+    if "landing_gear" in data:
+        table = _table(source, "landing_gear", data["landing_gear"], LandingGearSettings)
+        kwargs["landing_gear"] = LandingGearSettings(**table)
     if "sensors" in data:
         if not isinstance(data["sensors"], dict):
             raise ParameterError("sensors", data["sensors"], "a table", source=source)

@@ -33,6 +33,7 @@ from .core import (
     ActuatorSettings,
     BaseSettings,
     ControlSettings,
+    LandingGearSettings,
     Limits,
     ManeuverSettings,
     MPCSettings,
@@ -54,6 +55,7 @@ _TABLES = {
     "winch": WinchSettings,
     "base": BaseSettings,
     "maneuver": ManeuverSettings,
+    "landing_gear": LandingGearSettings,
 }
 _PARAM_SECTIONS = {
     "helicopter": HelicopterParams,
@@ -75,7 +77,7 @@ def _value(value: Any) -> str:
     if isinstance(value, str):
         return f'"{value}"'
     if isinstance(value, (tuple, list)):
-        return "[" + ", ".join(_value(v) for v in value) + "]"
+        return "[" + ", ".join(_value(v) for v in value) + "]"  # nested for points
     return str(value)
 
 
@@ -321,6 +323,8 @@ def scenario_reference() -> str:
     for table, cls in _TABLES.items():
         top += ["", f"## `[{table}]`", "", _summary(cls), ""]
         defaults = functools.reduce(getattr, table.split("."), scenario)
+        if defaults is None:  # a table absent by default ([landing_gear]): its defaults
+            defaults = cls()
         top += [*_HEADER, *_key_rows(f"{table}.", cls, defaults)]
         if table == "base":
             top += _track_rows()
