@@ -409,6 +409,9 @@ class Gear(NamedTuple):
         Scratch (``GEAR_WORK_*``); its deck slots hold the level deck through the base.
     penetration : numpy.ndarray, shape (n,)
         Scratch: each point's penetration [m].
+    lock : numpy.ndarray, shape (n, LOCK_SIZE)
+        The deck lock (``LOCK_*``): which points are held and where (set from Python by a
+        landing's ``runs.landing.Touchdown``; all zero: none held).
     """
 
     points: np.ndarray
@@ -416,6 +419,7 @@ class Gear(NamedTuple):
     tail: np.ndarray
     work: np.ndarray
     penetration: np.ndarray
+    lock: np.ndarray
 
 
 def no_gear() -> Gear:
@@ -424,11 +428,11 @@ def no_gear() -> Gear:
     Returns
     -------
     Gear
-        Empty points and penetration, zero law, tail and scratch.
+        Empty points, penetration and lock, zero law, tail and scratch.
     """
     return Gear(
         np.zeros((0, 3)), np.zeros(GEAR_LAW_SIZE), np.zeros(2), np.zeros(GEAR_WORK_SIZE),
-        np.zeros(0),
+        np.zeros(0), np.zeros((0, LOCK_SIZE)),
     )  # fmt: skip
 
 
@@ -596,7 +600,14 @@ GEAR_WORK_WIND = 10  # (3,) [N]
 GEAR_WORK_BODY = 13  # (BODY_SIZE,)
 GEAR_WORK_DECK = 31  # (DECK_SIZE,)
 GEAR_WORK_OUTPUTS = 43  # (4,) HO from the base [m], q6 [rad]
-GEAR_WORK_SIZE = 47
+GEAR_WORK_LOCK_STIFFNESS = 47  # the deck lock's anchor stiffness per held point [N/m]
+GEAR_WORK_LOCK_DAMPING = 48  # ... and damping [N s/m]
+GEAR_WORK_SIZE = 49
+#: a gear point's deck lock (``Gear.lock``, a row per point): held (1) or not (0), and the
+#: anchor, where the point was captured, from the base in N [m]
+LOCK_HELD = 0
+LOCK_ANCHOR = 1  # (3,)
+LOCK_SIZE = 4
 
 # --- the multirotor's parameters (``mr``, ``model.multirotor.Multirotor.packed``) -------------
 #: a header of named slots, then one row of MR_ROTOR_COLUMNS per rotor from MR_HEADER on

@@ -71,6 +71,7 @@ from ..layout import (
     LANES,
     LAW_U0,
     LAW_Y_REF,
+    LOCK_SIZE,
     LUMPED_SIZE,
     WINCH_SIZE,
     WIND_COLUMNS,
@@ -153,7 +154,7 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
     no_chain = (np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(LUMPED_SIZE), np.zeros(0))
     # and a landing gear: none (``layout.no_gear()``'s)
     no_gear = Gear(np.zeros((0, 3)), np.zeros(GEAR_LAW_SIZE), np.zeros(2),
-                   np.zeros(GEAR_WORK_SIZE), np.zeros(0))  # fmt: skip
+                   np.zeros(GEAR_WORK_SIZE), np.zeros(0), np.zeros((0, LOCK_SIZE)))  # fmt: skip
     for i in range(n):
         if reset[i]:
             restart_copy(i, copies, shared, wind, out)

@@ -47,12 +47,17 @@ from ..layout import (
     GEAR_WORK_DECK,
     GEAR_WORK_INPUTS,
     GEAR_WORK_LOADS,
+    GEAR_WORK_LOCK_DAMPING,
+    GEAR_WORK_LOCK_STIFFNESS,
     GEAR_WORK_OUTPUTS,
     GEAR_WORK_SIZE,
     GEAR_WORK_WIND,
     LOADS_FORCE_N,
     LOADS_MOMENT_F,
     LOADS_SIZE,
+    LOCK_ANCHOR,
+    LOCK_HELD,
+    LOCK_SIZE,
     X_U1,
     X_U4,
     Gear,
@@ -71,6 +76,7 @@ __all__ = [
     "gear_inputs_sc",
     "gear_law_array",
     "gear_record",
+    "lock_loads",
     "tail_lever",
 ]
 
@@ -218,6 +224,9 @@ def gear_inputs_sc(x, sc, inp, force, c, gear):
     loads = work[GEAR_WORK_LOADS : GEAR_WORK_LOADS + LOADS_SIZE]
     gear_contact(gear.points, gear.law, body, work[GEAR_WORK_DECK : GEAR_WORK_DECK + DECK_SIZE],
                  loads, gear.penetration)  # fmt: skip
+    if gear.lock.shape[0] > 0:
+        lock_loads(gear.points, gear.lock, body, work[GEAR_WORK_LOCK_STIFFNESS],
+                   work[GEAR_WORK_LOCK_DAMPING], loads)  # fmt: skip
     inputs = work[GEAR_WORK_INPUTS : GEAR_WORK_INPUTS + 4]
     wind = work[GEAR_WORK_WIND : GEAR_WORK_WIND + 3]
     force_N = loads[LOADS_FORCE_N : LOADS_FORCE_N + 3]
@@ -226,9 +235,66 @@ def gear_inputs_sc(x, sc, inp, force, c, gear):
     return inputs, wind
 
 
-def gear_record(points: np.ndarray, law: np.ndarray, helicopter: HelicopterParams) -> Gear:
+@_jit
+def lock_loads(gear, lock, body, stiffness, damping, loads):
+    """The deck lock's loads added to ``loads`` (``layout.LOADS_*``): each held gear point
+    (``lock[i, LOCK_HELD]``) pulled to its anchor by a spring-damper, ``-k (x_g - a) - c
+    v_g`` (the harpoon in its grid; the anchor is at rest relative to the base).
+
+    Parameters
+    ----------
+    gear : numpy.ndarray, shape (n, 3)
+        The gear points from HO in F [m].
+    lock : numpy.ndarray, shape (n, LOCK_SIZE)
+        Held flags and anchors from the base in N [m] (``layout.LOCK_*``).
+    body : numpy.ndarray, shape (BODY_SIZE,)
+        The body's pose and motion relative to the base (``layout.BODY_*``).
+    stiffness : float
+        The anchor's stiffness [N/m].
+    damping : float
+        The anchor's damping [N s/m].
+    loads : numpy.ndarray, shape (LOADS_SIZE,)
+        The force in N [N] and moment about HO in F [N m], added to.
+    """
+    p0, v0, r0, w0 = BODY_POSITION, BODY_VELOCITY, BODY_R_NF, BODY_OMEGA_F
+    mx = my = mz = 0.0
+    for i in range(gear.shape[0]):
+        if lock[i, LOCK_HELD] < 0.5:
+            continue
+        gx, gy, gz = gear[i, 0], gear[i, 1], gear[i, 2]
+        rx = body[r0] * gx + body[r0 + 1] * gy + body[r0 + 2] * gz
+        ry = body[r0 + 3] * gx + body[r0 + 4] * gy + body[r0 + 5] * gz
+        rz = body[r0 + 6] * gx + body[r0 + 7] * gy + body[r0 + 8] * gz
+        wx, wy, wz = body[w0], body[w0 + 1], body[w0 + 2]
+        ux, uy, uz = wy * gz - wz * gy, wz * gx - wx * gz, wx * gy - wy * gx
+        vx = body[v0] + body[r0] * ux + body[r0 + 1] * uy + body[r0 + 2] * uz
+        vy = body[v0 + 1] + body[r0 + 3] * ux + body[r0 + 4] * uy + body[r0 + 5] * uz
+        vz = body[v0 + 2] + body[r0 + 6] * ux + body[r0 + 7] * uy + body[r0 + 8] * uz
+        a = LOCK_ANCHOR
+        fx = -stiffness * (body[p0] + rx - lock[i, a]) - damping * vx
+        fy = -stiffness * (body[p0 + 1] + ry - lock[i, a + 1]) - damping * vy
+        fz = -stiffness * (body[p0 + 2] + rz - lock[i, a + 2]) - damping * vz
+        loads[LOADS_FORCE_N] += fx
+        loads[LOADS_FORCE_N + 1] += fy
+        loads[LOADS_FORCE_N + 2] += fz
+        mx += ry * fz - rz * fy
+        my += rz * fx - rx * fz
+        mz += rx * fy - ry * fx
+    for j in range(3):  # the moment in F: R^T m
+        loads[LOADS_MOMENT_F + j] += (
+            body[r0 + j] * mx + body[r0 + 3 + j] * my + body[r0 + 6 + j] * mz
+        )
+
+
+def gear_record(
+    points: np.ndarray,
+    law: np.ndarray,
+    helicopter: HelicopterParams,
+    lock_stiffness: float = 0.0,
+    lock_damping: float = 0.0,
+) -> Gear:
     """The engine's ``layout.Gear`` of a helicopter's landing gear over the level deck
-    through the base (point 0, normal n3, at rest relative to the base).
+    through the base (point 0, normal n3, at rest relative to the base), no point held.
 
     Parameters
     ----------
@@ -238,6 +304,10 @@ def gear_record(points: np.ndarray, law: np.ndarray, helicopter: HelicopterParam
         The contact law (``gear_law_array``).
     helicopter : HelicopterParams
         The helicopter (its tail lever).
+    lock_stiffness : float, optional
+        The deck lock's anchor stiffness per held point [N/m] (``lock_loads``).
+    lock_damping : float, optional
+        The deck lock's anchor damping per held point [N s/m].
 
     Returns
     -------
@@ -249,8 +319,10 @@ def gear_record(points: np.ndarray, law: np.ndarray, helicopter: HelicopterParam
     work[GEAR_WORK_DECK : GEAR_WORK_DECK + DECK_SIZE] = deck_array(
         np.zeros(3), np.array([0.0, 0.0, 1.0])
     )
+    work[GEAR_WORK_LOCK_STIFFNESS] = lock_stiffness
+    work[GEAR_WORK_LOCK_DAMPING] = lock_damping
     return Gear(pts, np.asarray(law, dtype=float).copy(), tail_lever(helicopter), work,
-                np.zeros(pts.shape[0]))  # fmt: skip
+                np.zeros(pts.shape[0]), np.zeros((pts.shape[0], LOCK_SIZE)))  # fmt: skip
 
 
 def tail_lever(helicopter: HelicopterParams) -> np.ndarray:

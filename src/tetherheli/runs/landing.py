@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..control.landing import GroundHoldController, LandingController, LandingSchedule
-from ..layout import DECK_SIZE, GEAR_WORK_DECK, LOADS_FORCE_N, Gear
+from ..layout import DECK_SIZE, GEAR_WORK_DECK, LOADS_FORCE_N, LOCK_ANCHOR, LOCK_HELD, Gear
 from ..model.contact import body_array, gear_contact
 from ..model.kinematics import direction_cosines, tether_direction
 from ..model.trim import _hover_trim
@@ -306,10 +306,12 @@ class Touchdown:
             if not self.settles or status != Status.LANDED:
                 return status
             self._end = record["time"] + self.maneuver.settle_time
+            self._capture(x, y)
             return None
         assert self.gear is not None  # (settles)
         self._height(x, y)  # this sample's row
         depth = self._rows[-1]
+        self._capture(x, y)
         self._max_penetration = max(self._max_penetration, float(depth.max()))
         lowest = -float(depth.max())
         if lowest > BOUNCE_HEIGHT_M and not self._airborne:
@@ -321,6 +323,18 @@ class Touchdown:
         if k * self.dt < self._end - 1e-9:
             return None
         return self.settle(x, y, depth)
+
+    def _capture(self, x: np.ndarray, y: np.ndarray) -> None:
+        # the deck lock: each gear point in contact and not yet held is held where it is
+        # (the engine's ``contact.lock_loads`` reads the same ``Gear.lock``)
+        if self.maneuver.after_touchdown != "deck_lock" or self.gear is None:
+            return
+        lock, depth = self.gear.lock, self._rows[-1]
+        R = direction_cosines(x[0], x[1], x[2])
+        for i in range(depth.shape[0]):
+            if depth[i] > 0.0 and lock[i, LOCK_HELD] < 0.5:
+                lock[i, LOCK_ANCHOR : LOCK_ANCHOR + 3] = y[:3] + R @ self.gear.points[i]
+                lock[i, LOCK_HELD] = 1.0
 
     def settle(self, x: np.ndarray, y: np.ndarray, depth: np.ndarray, *, cut: bool = False) -> int:
         """The verdict at the end of the settling (or of the run, ``cut``): LANDED when every

@@ -68,6 +68,7 @@ from ..model.contact import gear_law_array, gear_record
 from ..model.trim import _hover_trim
 from ..params import Params
 from ..scenario.core import Scenario
+from ..scenario.tables import DECK_LOCK_DAMPING, DECK_LOCK_STIFFNESS
 from ..tether.lumped_trim import _hover_trim_lumped
 from ..wind import CompiledWind, compile_wind
 from ..wind.evaluate import air_relative_to_base
@@ -479,7 +480,8 @@ def run_gear(scenario: Scenario, model: TetheredHelicopter) -> Gear:
     if g is None:
         return no_gear()
     law = gear_law_array(g.stiffness, g.damping, g.friction, g.slip_speed)
-    return gear_record(np.array(g.points, dtype=float), law, model.params.helicopter)
+    return gear_record(np.array(g.points, dtype=float), law, model.params.helicopter,
+                       DECK_LOCK_STIFFNESS, DECK_LOCK_DAMPING)  # fmt: skip
 
 
 def run_base(scenario: Scenario, model: TetheredHelicopter) -> CompiledBase:

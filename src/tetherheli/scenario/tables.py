@@ -36,6 +36,8 @@ __all__ = [
     "AFTER_TOUCHDOWN",
     "BOUNCE_HEIGHT_M",
     "CONTROLLERS",
+    "DECK_LOCK_DAMPING",
+    "DECK_LOCK_STIFFNESS",
     "GEAR_IDLE_THRUST_FRACTION",
     "LANDING_MIN_LENGTH_M",
     "LANDING_PRESS_M",
@@ -642,6 +644,11 @@ AFTER_TOUCHDOWN: tuple[str, ...] = ("stop", "thrust_cut", "deck_lock")
 GEAR_IDLE_THRUST_FRACTION = 0.1
 #: a gear point rising more than this above the deck after the first contact is a bounce [m]
 BOUNCE_HEIGHT_M = 0.05
+#: the deck lock's anchor (``after_touchdown = "deck_lock"``, a harpoon in a grid): the
+#: stiffness [N/m] and damping [N s/m] holding each captured gear point (assumed: ten times
+#: the default gear's stiffness, about critically damped for a quarter of the mass)
+DECK_LOCK_STIFFNESS = 10000.0
+DECK_LOCK_DAMPING = 150.0
 #: the most gear points of a ``[landing_gear]``
 MAX_GEAR_POINTS = 16
 
