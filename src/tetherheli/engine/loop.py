@@ -26,9 +26,11 @@ the control phases' state; ``layout.Scratch``; ``layout.Signals`` and the summar
 recording), built once per run on borrowed views (``_compile.borrowed``); a phase body
 compiled once takes the run's read-only view (``read_only_run``, ``control_run``). The
 plant is the vehicle slot's (``vehicle_derivative``, ``vehicle_outputs``, on
-``cfg[CFG_VEHICLE]``). The packed arrays (``cfg``, ``ctrl``, ``act``, ``held``, the wind
-program, the summary, the chain) and the state's slots (``X_*``) are laid out in
-``tetherheli.layout``; run statuses are ``tetherheli.status.Status``.
+``cfg[CFG_VEHICLE]``), with the landing gear's contact with the deck when the run's
+``layout.Gear`` (``Run.gear``) has points (``model.contact.gear_rhs_sc``). The packed
+arrays (``cfg``, ``ctrl``, ``act``, ``held``, the wind program, the summary, the chain) and
+the state's slots (``X_*``) are laid out in ``tetherheli.layout``; run statuses are
+``tetherheli.status.Status``.
 """
 
 from __future__ import annotations
@@ -109,7 +111,7 @@ from ..layout import (
     default_actuators,
     no_gear,
 )
-from ..model.contact import gear_inputs_sc
+from ..model.contact import gear_rhs_sc
 from ..model.kernels import (
     angle_trig,
     angle_trig_from,
@@ -226,7 +228,7 @@ def vehicle_derivative(x, sc, inp, reel_rate, cfg, c, force, out, gear):
     """dx/dt (13,) of the vehicle ``cfg[CFG_VEHICLE]`` under the air's force ``force`` (3,)
     [N]: the paper's helicopter, the generated tethered model (``kernels.tethered_rhs_sc``),
     with the tether's tension of eq 28 (0 when removed), the reel rate as dLN/dt and, when
-    ``gear`` has points, the landing gear's contact with the deck (``contact.gear_inputs_sc``:
+    ``gear`` has points, the landing gear's contact with the deck (``contact.gear_rhs_sc``:
     the loads as equivalent inputs and wind force, in scratch; ``inp`` is not modified). A
     vehicle whose kernel the slot does not hold (``layout.VEHICLES_FLOWN``) gets NaN (the
     sample then fails as non-finite).
@@ -257,9 +259,10 @@ def vehicle_derivative(x, sc, inp, reel_rate, cfg, c, force, out, gear):
         # removed tether is tension 0: the same arithmetic as a constant 0 would compile to)
         attached = cfg[CFG_ATTACHED] > 0.5
         tension = tension_from_state(x[X_Q9], x[X_LN], cfg[CFG_K_C]) if attached else 0.0
-        if gear.points.shape[0] > 0:
-            inp, force = gear_inputs_sc(x, sc, inp, force, c, gear)
-        tethered_rhs_sc(x, sc, inp, force, tension, c, out)
+        if gear.points.shape[0] > 0:  # a call (its own copy of the model's right-hand side)
+            gear_rhs_sc(x, sc, inp, force, tension, c, gear, out)
+        else:
+            tethered_rhs_sc(x, sc, inp, force, tension, c, out)
         out[X_LN] = reel_rate if attached else 0.0
     else:  # the multirotor's slot (``layout.VEHICLE_MULTIROTOR``), not flown yet
         for i in range(out.shape[0]):
@@ -365,7 +368,7 @@ def rk4_interval(x, inp, reel_rate, t0, cfg, c, wind, work, trig_given, gear):
     h = cfg[CFG_DT] / n_sub
     # borrowed views (``_compile.borrowed``; the caller holds the arrays): the stages below
     # pick their arrays at run time, with no reference counts
-    x, work = borrowed((x, work))
+    x, work, gear = borrowed((x, work, gear))
     k1, k2, k3, k4, tmp, force = work[0], work[1], work[2], work[3], work[4], work[5]
     sc0, sc = work[6], work[7]
     program, gust, drag, base = wind.program, wind.gust, wind.drag, wind.base

@@ -63,7 +63,7 @@ from ..layout import (
     Gear,
 )
 from ..params import HelicopterParams
-from .kernels import tethered_outputs_sc, wrench_loads_sc
+from .kernels import tethered_outputs_sc, tethered_rhs_sc, wrench_loads_sc
 
 __all__ = [
     "BODY_SIZE",
@@ -76,12 +76,15 @@ __all__ = [
     "gear_inputs_sc",
     "gear_law_array",
     "gear_record",
+    "gear_rhs_sc",
     "lock_loads",
     "tail_lever",
 ]
 
 _jit = compiled(fastmath={"nnan", "ninf"}, error_model="numpy")
 _jit_inline = compiled(error_model="numpy", inline="always")
+#: a call, not inlined: the engine's derivative keeps only the branch to it
+_jit_call = compiled(error_model="numpy")
 
 
 @_jit
@@ -172,6 +175,35 @@ def gear_contact(gear, law, body, deck, loads, penetration):
             body[r0 + j] * mx + body[r0 + 3 + j] * my + body[r0 + 6 + j] * mz
         )
     return in_contact
+
+
+@_jit_call
+def gear_rhs_sc(x, sc, inp, force, tension, c, gear, out):
+    """dx/dt (13,) of the tethered model (``kernels.tethered_rhs_sc``) with the gear's
+    contact loads added (``gear_inputs_sc``): the engine's vehicle slot calls it when the
+    run has gear (a call, so that runs without gear keep the slot's inlined code alone).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The tethered state relative to the base (``layout.X_*``) [rad, m, rad/s, m/s, m].
+    sc : numpy.ndarray, shape (10,)
+        sin and cos of the angles (``layout.SC_*``).
+    inp : numpy.ndarray, shape (4,)
+        The rotor inputs [N, N m, N m, N] (not modified).
+    force : numpy.ndarray, shape (3,)
+        The air's force on the helicopter [N] in N (not modified).
+    tension : float
+        The tether's tension [N] (0: removed).
+    c : numpy.ndarray
+        The tethered model's constants.
+    gear : layout.Gear
+        The gear.
+    out : numpy.ndarray, shape (13,)
+        Receives dx/dt (its LN entry is the caller's).
+    """
+    inputs, wind = gear_inputs_sc(x, sc, inp, force, c, gear)
+    tethered_rhs_sc(x, sc, inputs, wind, tension, c, out)
 
 
 @_jit_inline
