@@ -22,7 +22,7 @@ def _loop(x, u, wind, p, K_C, out, n):
     acc = 0.0
     for i in range(n):
         x[6] = 1e-3 * (i % 7)  # defeat hoisting
-        kernels.tethered_derivative(x, u, wind, 0.0, p, K_C, out)
+        kernels.tethered_derivative(x, u, wind, 0.0, p, K_C, 0.0, out)
         acc += out[7]
     return acc
 

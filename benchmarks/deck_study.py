@@ -88,6 +88,28 @@ STATION_READING = [
 
 #: The ship's section (``[base] motion = "ship"``): its model, conventions, sources and
 #: checks; no runs of the study (``ship_hover_tethered`` is flown by ``tetherheli simulate``)
+#: what a landing's run folder, summary and animation show (issue 46 item 8)
+LANDING_OUTPUTS = (
+    "A landing's run folder (`tetherheli simulate scenarios/landing_sea_state.toml`, or "
+    'any scenario with `[maneuver] type = "tethered_landing"`) holds the landing figure '
+    "`landing.png` (`tetherheli.viz.plots.figure_landing`) in place of the hover's "
+    "`outputs.png` and `inputs.png`: HO's height above the pad with the gear's "
+    "(`gear_height` below HO) and the deck at zero; the deck's heave (`base_n3`) and, "
+    "over a ship, its roll and pitch; the tension at P and, for a lumped tether, at the "
+    "winch; the paid-out length LN; the gear's penetration and force when the run "
+    "records them; the touchdown as a vertical line on every panel (and the settling, "
+    "when recorded). Its `summary.json`, `report.md` and the result's summary (`repr`) "
+    "give the landing's figures (`SimulationResult.landing_metrics`: touchdown time, "
+    "vertical and horizontal speed relative to the deck, offset from the pad, tilt, "
+    "tension at P, the gear's lowest height and, when recorded, its largest penetration "
+    "and force) instead of the hover's peak deviations, which stay in `summary.json`'s "
+    "`metrics` only. The animation (`tetherheli animate`) and the replay (`tetherheli "
+    "view`) draw the deck as a plane moving with the recorded heave (`base_n1..3`) and, "
+    "over a ship, tilting with its roll, pitch and yaw, with the pad marked (a ring "
+    "around the winch); no still ground is drawn under a moving deck, and a landing's "
+    "close-up shows the deck."
+)
+
 SHIP_SECTION = [
     "## A ship in six degrees of freedom",
     "",
@@ -215,12 +237,15 @@ def page(station, landing, seeds: int, seconds: float) -> str:
         "",
         "`landing_sea_state`: from the hover 10 m up the helicopter descends relative to the "
         "deck at 0.3 m/s from t = 5 s, the winch reeling in with the tension reference going "
-        "from 25 N to 15 N (a stiffer tether than the paper's, KC = 400 N/m, with eq 56's "
-        "gains scaled to it), the LQI's tether-angle gains scaled with the length; touchdown "
+        "from 25 N to 15 N (the tether a rope, EA = 375 N: the paper's 40 N/m at the hover, "
+        "stiffer as it shortens; eq 56's gains scaled to its stiffness at touchdown), the "
+        "LQI's tether-angle gains scaled with the length; touchdown "
         "when the gear (0.35 m below HO) reaches the deck, within 0.5 m/s, 0.5 m of the pad "
         "and 0.26 rad of tilt. The touchdown speed is relative to the deck.",
         "",
         *landing_table(landing),
+        "",
+        LANDING_OUTPUTS,
         "",
         *SHIP_SECTION,
         f"Measured with tetherheli {__version__}, Python {platform.python_version()}, in "

@@ -38,6 +38,7 @@ from tetherheli.layout import (
     HELD_SIZE,
     LANES,
     SUMMARY_FIELDS,
+    LaneWind,
 )
 from tetherheli.model.kernels import angle_trig
 from tetherheli.runs.batch import lane_block
@@ -110,7 +111,9 @@ def main() -> None:
         angle_trig(x_init[j], sc_init[j])
     inp = flat(law[3])  # the trim inputs, held
     h = cfg[:, CFG_DT] / cfg[0, CFG_N_SUB]
-    lane_wind = (wind[0], wind[1], wind[2], wind[3], cfg[:, CFG_GUST_DT].copy(), flat(wind[4]))
+    lane_wind = LaneWind(
+        wind[0], wind[1], wind[2], wind[3], cfg[:, CFG_GUST_DT].copy(), flat(wind[4])
+    )
     rk4_args = (
         n, flat(x_init), flat(sc_init), inp, np.zeros(LANES), h, int(cfg[0, CFG_N_SUB]),
         cfg[:, CFG_ATTACHED].copy(), cfg[:, CFG_K_C].copy(), flat(c), lane_wind,

@@ -2,7 +2,7 @@
 tables of ``docs/studies/moordyn.md``.
 
 Run: python benchmarks/moordyn_validation.py [--print]
-Flies every case of ``tetherheli.tether._moordyn_cases.MOORDYN_CASES`` and
+Flies every case of ``moordyn_cases.MOORDYN_CASES`` (beside this script) and
 ``MOVING_ANCHOR_CASES`` in MoorDyn (dtM 1e-4 s, RK4, 20 couplings per 10 ms sample: the
 reference) and in ours (the engine's default 10 ms, and 10 ms / 64 as our converged run), then
 the differences by design, and writes the page whole at the end (the project's own file:
@@ -19,10 +19,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-
-from tetherheli.cli._script import docs_file, run_script, script_parser, write_docs_file
-from tetherheli.tether import buoyant_gravity, drive_cable, drive_moordyn
-from tetherheli.tether._moordyn_cases import (
+from moordyn_cases import (  # beside this script: the cases the tests fly too
     MOORDYN_CASES,
     MOVING_ANCHOR_CASES,
     compare_case,
@@ -31,6 +28,9 @@ from tetherheli.tether._moordyn_cases import (
     slack_push,
     steady_state,
 )
+
+from tetherheli.cli._script import docs_file, run_script, script_parser, write_docs_file
+from tetherheli.tether import buoyant_gravity, drive_cable, drive_moordyn
 
 ROOT = Path(__file__).resolve().parents[1]
 #: The page written (relative to ``ROOT``).

@@ -378,7 +378,7 @@ def test_a_moving_base_moves_the_deck_winch_and_helicopter(tmp_path: Path):
     times = np.array([0.0, 0.5, 1.5])
     scene = _Scene([run], times, rotor_radius=0.9, wind_scale=None, dpi=20)
     assert scene.whole and len(scene.decks) == 1  # a free run over a deck: the whole scene too
-    _, winch, _ = scene.decks[0]
+    winch = scene.decks[0].winch
     heights = []
     for k in range(len(times)):
         scene.update(k)

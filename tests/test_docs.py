@@ -57,6 +57,7 @@ def test_every_key_the_loader_accepts_is_documented():
         ("base", scenario_module.BaseSettings),
         ("maneuver", scenario_module.ManeuverSettings),
         ("landing_gear", scenario_module.LandingGearSettings),
+        ("reference", scenario_module.ReferenceSettings),
     ):
         # a nested table (a dataclass default) is documented by its own keys
         expected |= {
@@ -83,7 +84,7 @@ def test_every_key_the_loader_accepts_is_documented():
 
 
 _TABLE_KEYS = {"control", "limits", "wind", "params", "actuators", "sensors", "tether", "winch",
-               "base", "maneuver", "landing_gear"}  # fmt: skip
+               "base", "maneuver", "landing_gear", "reference"}  # fmt: skip
 _ROW = re.compile(r"^\| `([^`]+)` \| [^|]*(?:\\\|[^|]*)* \| [^|]* \| `([^`]*)` \| (.*) \|$", re.M)
 _RANGE = re.compile(
     r"^an? (?:nonzero )?(?:finite number|number|integer)"
@@ -190,7 +191,10 @@ API = {
     "tetherheli.viz.plots": ["figure_outputs", "figure_inputs", "figure_sweep",
                              "figure_limit_search", "figure_release", "figure_montecarlo",
                              "figure_paired", "figure_pareto", "figure_sensing", "save_figure",
-                             "metric_label", "plottable", "new_figure", "figures_for_files"],
+                             "metric_label", "plottable", "new_figure", "figures_for_files",
+                             "figure_landing"],
+    "tetherheli.results.landing": ["landing_metrics", "landing_rows", "is_landing",
+                                   "gear_columns"],
     "tetherheli.viz.formats": ["check_figure_format"],
     "tetherheli.sensing.estimation": ["Fixes", "PositionFilter", "position_filter",
                                       "run_filter", "EstimateResult", "normalized_squares",
@@ -259,8 +263,6 @@ API = {
                                    "tether_position_estimate", "hover_error_std"],
     "tetherheli.tether": ["Cable", "CableRun", "drive_cable", "drive_moordyn", "buoyant_gravity",
                           "moordyn_input"],
-    "tetherheli.tether._moordyn_cases": ["MoorDynCase", "CaseFigures", "compare_case",
-                                         "relative_rms", "shaking_top"],
     "tetherheli.progress": ["Progress"],
     "tetherheli.resources": ["check_memory", "memory_limit", "format_bytes"],
     "tetherheli.report.sweep": ["write_sweep"],

@@ -257,6 +257,7 @@ def _refused_scenarios() -> dict:
         "control.reference": Scenario(base=deck, control=ControlSettings(reference="ground")),
         "maneuver.type": shipped_scenario("landing_calm_deck"),
         "landing_gear": Scenario(landing_gear=LandingGearSettings()),
+        "trajectory.type": shipped_scenario("paper_waypoints_tethered"),
         "tether.model": Scenario(tether=TetherSettings(model="lumped")),
         "seed": Scenario(seed=3, sensors=SensorConfig(encoder_std=0.01)),
         "metrics_start": Scenario(metrics_start=1.0),

@@ -425,7 +425,7 @@ def test_radial_force_at_P_reproduces_the_tethered_model():
     wind = np.array([3.0, -1.0, 0.5])
     for x in _tethered_states(model, trim):
         out_ref = np.empty(13)
-        kernels.tethered_derivative(x, trim.u_total, wind, 0.2, c, K_C, out_ref)
+        kernels.tethered_derivative(x, trim.u_total, wind, 0.2, c, K_C, 0.0, out_ref)
         q7, q8, q9 = x[3:6]
         c3 = np.array([math.sin(q8), -math.sin(q7) * math.cos(q8), math.cos(q7) * math.cos(q8)])
         tension = kernels.tension_from_state(q9, x[12], K_C)

@@ -27,6 +27,8 @@ from __future__ import annotations
 
 import ast
 import contextlib
+import copy
+import gc
 import hashlib
 import json
 import os
@@ -42,7 +44,7 @@ import llvmlite.binding as llvm
 import numba
 from llvmlite import ir
 from numba import njit, types
-from numba.core import cgutils
+from numba.core import cgutils, event
 from numba.extending import intrinsic
 
 __all__ = [
@@ -71,6 +73,107 @@ VECTORIZER_OPTIONS = (
 )
 for _option in VECTORIZER_OPTIONS:
     llvm.set_option("", _option)
+
+
+# --- Numba's inliner: one copy of a callee's scope, not one per block ---------------------------
+# Numba inlines an ``inline="always"`` callee by deep-copying its IR block by block
+# (``inline_closurecall.InlineWorker.inline_ir``'s ``copy_ir``, twice per call site), each
+# block's copy with a copy of the callee's whole scope (every variable of the function): a
+# callee of b blocks and v variables costs b v variable copies where b + v would do
+# (numba/numba#8989; upstream kept the per-block copy). The engine's phases inline callees of
+# 50-60 blocks and 500-850 variables (the controller, the actuators, the wind), so these
+# copies took about a third of a first ``tetherheli paper``'s Numba-level compilation. Here
+# the blocks of one copy share one memo, as the blocks of a freshly built IR share one scope:
+# the copied IR is the same IR (the same statements, variables and locations), built once.
+class _SharedScopeCopy:
+    """``inline_closurecall``'s ``copy`` module as ``copy_ir`` uses it: ``deepcopy`` of the
+    blocks of one IR in a row shares one memo (one copy of their scope); everything else is
+    the ``copy`` module's."""
+
+    def __init__(self) -> None:
+        self._scope: Any = None
+        self._memo: dict[int, Any] = {}
+
+    def deepcopy(self, value: Any, memo: Any = None) -> Any:
+        """``copy.deepcopy``, sharing the memo between the blocks of one scope copied in turn
+        (a block seen before, or another scope, starts a fresh memo)."""
+        from numba.core import ir as numba_ir
+
+        if memo is not None or not isinstance(value, numba_ir.Block):
+            return copy.deepcopy(value, memo)
+        if value.scope is not self._scope or id(value) in self._memo:
+            self._scope, self._memo = value.scope, {}
+        return copy.deepcopy(value, self._memo)
+
+    def reset(self) -> None:
+        """Forget the last copy (its memo holds the originals and their copies)."""
+        self._scope, self._memo = None, {}
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(copy, name)
+
+
+def _share_inlined_scopes() -> bool:
+    """Install ``_SharedScopeCopy`` in Numba's inliner where its code is the one described
+    above (``copy.deepcopy`` of each block in ``inline_ir``); returns whether it did."""
+    from numba.core import inline_closurecall as icc
+
+    worker = getattr(icc, "InlineWorker", None)
+    inline_ir = getattr(worker, "inline_ir", None)
+    if getattr(icc, "copy", None) is not copy or inline_ir is None:
+        return False
+    names = inline_ir.__code__.co_consts
+    body = [c for c in names if isinstance(c, type(inline_ir.__code__))]
+    if not any("deepcopy" in c.co_names and "blocks" in c.co_names for c in body):
+        return False
+    shared = _SharedScopeCopy()
+
+    def inline_ir_shared(self: Any, *args: Any, **kwargs: Any) -> Any:
+        shared.reset()
+        try:
+            return inline_ir(self, *args, **kwargs)
+        finally:
+            shared.reset()
+
+    icc.copy = shared  # type: ignore[assignment]  # the module's one use: copy_ir's deepcopy
+    worker.inline_ir = inline_ir_shared  # type: ignore[union-attr]
+    return True
+
+
+SHARED_INLINED_SCOPES = _share_inlined_scopes()
+
+# --- the cyclic garbage collector while Numba compiles -----------------------------------------
+#: the collector's thresholds (``gc.set_threshold``) while a compilation runs: Numba's typing
+#: and lowering allocate millions of small objects (IR nodes, types, LLVM values), which at
+#: Python's default (700, 10, 10) start a collection every 700 allocations and a full one
+#: every 70,000, each scanning the growing IR; about a tenth of a first ``tetherheli paper``'s
+#: CPU time. Raised for the compilation only (``_CompilationCollector``), restored after it.
+COMPILE_GC_THRESHOLDS = (50_000, 20, 20)
+
+
+class _CompilationCollector(event.Listener):
+    """A listener on Numba's ``numba:compile`` events (broadcast under the compiler lock,
+    nested for callees): ``COMPILE_GC_THRESHOLDS`` from the outermost start to its end."""
+
+    def __init__(self) -> None:
+        self.depth = 0
+        self.saved = gc.get_threshold()
+
+    def on_start(self, ev: event.Event) -> None:
+        """Raise the thresholds at the outermost compilation's start."""
+        if self.depth == 0:
+            self.saved = gc.get_threshold()
+            gc.set_threshold(*COMPILE_GC_THRESHOLDS)
+        self.depth += 1
+
+    def on_end(self, ev: event.Event) -> None:
+        """Restore them at its end (also when it fails)."""
+        self.depth -= 1
+        if self.depth == 0:
+            gc.set_threshold(*self.saved)
+
+
+event.register("numba:compile", _CompilationCollector())
 
 
 def source_fingerprint(root: Path = PACKAGE_ROOT) -> str:

@@ -268,9 +268,9 @@ class Key:
         What the key means (with the paper's equation or section where it has one).
     unit : str, optional
         The unit, e.g. ``"s"``, ``"N m"`` (empty: dimensionless or not a number).
-    kind : {"number", "integer", "bool", "vector", "points", "text"}, optional
-        The value's type; ``"vector"`` is ``length`` numbers, ``"points"`` a list of 1 to
-        ``length`` points of 3 numbers each.
+    kind : {"number", "integer", "bool", "vector", "list", "points", "text"}, optional
+        The value's type; ``"vector"`` is ``length`` numbers, ``"list"`` at most ``length``,
+        ``"points"`` a list of 1 to ``length`` points of 3 numbers each.
     low, high : float, optional
         Bounds of a number, an integer or each entry of a vector (None: unbounded).
     low_open, high_open : bool, optional
@@ -330,10 +330,11 @@ class Key:
             return f"a list of 1 to {self.length} points of 3 finite numbers" + _range(
                 self.low, self.high, self.low_open, self.high_open, self._unit()
             )
-        if self.kind == "vector":
+        if self.kind in ("vector", "list"):
             numbers = "finite numbers" if self.finite else "numbers"
             return (
-                f"{self.length} {numbers}"
+                ("a list of at most " if self.kind == "list" else "")
+                + f"{self.length} {numbers}"
                 + _range(self.low, self.high, self.low_open, self.high_open, self._unit())
                 + ("" if self.finite else " (inf allowed)")
             )
@@ -400,6 +401,14 @@ class Key:
                 check_vector(f"{field}[{i}]", point, 3, low=low, high=high, low_open=low_open,
                              unit=self._unit(), source=source)
                 for i, point in enumerate(value)
+            )  # fmt: skip
+        if self.kind == "list":
+            items = value.tolist() if isinstance(value, np.ndarray) else value
+            if not isinstance(items, (list, tuple)) or len(items) > self.length:
+                raise ParameterError(field, value, self.allowed(), source=source)
+            return check_vector(
+                field, items, len(items), low=low, high=high, low_open=low_open,
+                finite=self.finite, unit=self._unit(), allowed=self.allowed(), source=source,
             )  # fmt: skip
         if self.kind == "vector":
             return check_vector(

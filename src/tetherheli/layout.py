@@ -22,6 +22,7 @@ __all__ = [
     "SUMMARY_FIELDS",
     "WIND_COLUMNS",
     "Gear",
+    "LaneWind",
     "LoopState",
     "Run",
     "Scratch",
@@ -46,7 +47,7 @@ if not 1 <= LANES <= 256:
 # --- run configuration (``cfg``) ----------------------------------------------------------------
 CFG_DT = 0  # control sample time [s]
 CFG_N_SUB = 1  # RK4 steps per sample
-CFG_K_C = 2  # tether elasticity [N/m]
+CFG_K_C = 2  # tether elasticity KC [N/m] (eq 28; the rope's law: CFG_TETHER_EA)
 CFG_ATTACHED = 3  # 1: tether attached, 0: removed (free configuration) or released
 CFG_MAX_TENSION = 4  # [N]; a run stops when exceeded
 CFG_MAX_DEVIATION = 5  # [m]; a run stops as diverged when |y - y_ref| exceeds it
@@ -60,7 +61,10 @@ CFG_TENSION_GROUND = 12  # ... and at the winch [N], which the load cell measure
 #: the vehicle flown (``VEHICLES``; 0, the default, the paper's helicopter): the engine's
 #: vehicle slot (``engine.loop.vehicle_derivative``, ``vehicle_outputs``) dispatches on it
 CFG_VEHICLE = 13
-CFG_SIZE = 14
+#: the massless tether's law (``params.TetherParams``): the rope's axial stiffness EA [N],
+#: tension EA (q9 - LN) / LN; 0: the paper's eq 28 with CFG_K_C (``kernels.tether_tension``)
+CFG_TETHER_EA = 14
+CFG_SIZE = 15
 
 # --- the vehicles the engine's vehicle slot flies (``cfg[CFG_VEHICLE]``), chosen by name ----
 #: the vehicles by code: the paper's single-rotor helicopter (the generated tethered model,
@@ -351,6 +355,35 @@ class WindPack(NamedTuple):
     gust: np.ndarray
     drag: np.ndarray
     base: np.ndarray
+
+
+class LaneWind(NamedTuple):
+    """The winds of a block of ``LANES`` runs in the lane engine's form
+    (``engine.lanes.rk4_lanes``): a named record, flat (variable, lane) where a lane axis is
+    last.
+
+    Parameters
+    ----------
+    programs : numpy.ndarray, shape (R WIND_COLUMNS LANES,)
+        The lanes' wind programs (``WIND_*``), flat, R rows each (unused rows inert).
+    n_rows : int
+        R, the program rows.
+    gusts : numpy.ndarray, shape (LANES, G, 3)
+        The lanes' gust tables: the air's velocity [m/s].
+    gust_rows : numpy.ndarray of int, shape (LANES,)
+        The gust rows in use per lane (0: none).
+    gust_dt : numpy.ndarray, shape (LANES,)
+        The gust tables' step per lane [s] (0: none).
+    drag : numpy.ndarray, shape (3 LANES,)
+        The bluff-body drag 0.5 rho CdA_i per axis of N and lane [kg/m].
+    """
+
+    programs: np.ndarray
+    n_rows: int
+    gusts: np.ndarray
+    gust_rows: np.ndarray
+    gust_dt: np.ndarray
+    drag: np.ndarray
 
 
 class Run(NamedTuple):

@@ -117,9 +117,11 @@ def _meta(
     nonzero: bool = False,
     nonnegative: bool = False,
     bounds: tuple[float, float] | None = None,
+    default: float | None = None,
 ):
     """A parameter field: its documentation (unit in brackets) and its ``Key``, the one
-    description the validation (``_Validated``) and the scenario reference use."""
+    description the validation (``_Validated``) and the scenario reference use; ``default``
+    gives the field a default value (None: none)."""
     low, high = bounds or (None, None)
     low_open = False
     if (positive or nonnegative) and (low is None or low <= 0.0):
@@ -129,6 +131,8 @@ def _meta(
         doc, unit.group(1) if unit else "", low=low, high=high, low_open=low_open,
         nonzero=nonzero,
     )  # fmt: skip
+    if default is not None:
+        return field(default=default, metadata={"doc": doc, "key": key})
     return field(metadata={"doc": doc, "key": key})
 
 
@@ -287,12 +291,22 @@ PARAM_ORDER: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(Helicopt
 
 @dataclass(frozen=True)
 class TetherParams(_Validated):
-    """Elastic tether and ground winch (paper Table III, eqs 28, 36-37).
+    """Elastic tether and ground winch (paper Table III, eqs 28, 36-37) and its law.
+
+    Two laws give the massless tether's tension TC from its length q9 and natural length LN
+    (the one source of both; the engine's compiled twin is ``model.kernels.tether_tension``):
+
+    - the paper's (eq 28), ``EA = 0``: TC = KC (q9 - LN), KC independent of the length;
+    - the rope (issue 46), ``EA > 0``: TC = EA (q9 - LN) / LN, a stiffness EA / LN that grows
+      as the tether is reeled in (the paper's hover: EA = KC L0N = 40 N/m x 9.375 m = 375 N).
+
+    Both are slack (TC = 0) for q9 <= LN.
 
     Parameters
     ----------
-    L_N0, K_C
-        Table III's values.
+    L_N0, K_C, EA
+        Table III's values and the rope's axial stiffness (0: the paper's law). A scenario
+        sets EA from ``[tether] law`` and ``EA`` (``scenario.tables.TetherSettings``).
         Each field's documentation and allowed range is its ``Key`` (``_meta``), printed
         in the scenario TOML reference (``docs/scenario_reference.md``).
     """
@@ -308,9 +322,44 @@ class TetherParams(_Validated):
         "tether elasticity constant KC [N/m] (Table III; printed 'Nm', see docs/paper.md)",
         positive=True,
     )
+    EA: float = _meta(
+        "the rope law's axial stiffness EA [N] (TC = EA (q9 - LN) / LN); 0: the paper's law "
+        "(eq 28, KC); set by a scenario's [tether] law and EA",
+        nonnegative=True,
+        default=0.0,
+    )
+
+    @property
+    def law(self) -> str:
+        """The tension law: "paper" (eq 28, EA = 0) or "rope" (EA > 0)."""
+        return "rope" if self.EA > 0.0 else "paper"
+
+    def tension(self, q9: float, natural_length: float) -> float:
+        """The tension TC [N] at length q9 and natural length LN: KC (q9 - LN) (eq 28) or
+        EA (q9 - LN) / LN (the rope) when taut, 0 when slack.
+
+        Parameters
+        ----------
+        q9 : float
+            Tether length [m].
+        natural_length : float
+            Natural length LN [m], > 0 for the rope.
+
+        Returns
+        -------
+        float
+            TC [N], >= 0.
+        """
+        stretch = q9 - natural_length
+        if stretch <= 0.0:
+            return 0.0
+        # the compiled twin's arithmetic, bit for bit (the stiffness times the stretch)
+        stiffness = self.EA / natural_length if self.EA > 0.0 else self.K_C
+        return stiffness * stretch
 
     def natural_length(self, q9: float, tension: float) -> float:
-        """Eq 28 at a taut tether: the natural length LN = q9 - TC / KC.
+        """The natural length LN [m] giving tension TC at length q9 (the trim's): eq 28's
+        LN = q9 - TC / KC, or the rope's LN = q9 EA / (EA + TC).
 
         Parameters
         ----------
@@ -324,7 +373,31 @@ class TetherParams(_Validated):
         float
             The natural length LN (m) giving that tension at that length.
         """
+        if self.EA > 0.0:
+            return q9 * self.EA / (self.EA + tension)
         return q9 - tension / self.K_C
+
+    def stiffness(self, q9: float, natural_length: float) -> tuple[float, float]:
+        """The tension's partial derivatives at a taut state, for the linearizations: eq 28's
+        (KC, -KC), the rope's (EA / LN, -EA q9 / LN^2).
+
+        Parameters
+        ----------
+        q9 : float
+            Tether length [m].
+        natural_length : float
+            Natural length LN [m], below q9 (taut).
+
+        Returns
+        -------
+        dT_dq9 : float
+            dTC/dq9 [N/m].
+        dT_dLN : float
+            dTC/dLN [N/m].
+        """
+        if self.EA > 0.0:
+            return self.EA / natural_length, -self.EA * q9 / natural_length**2
+        return self.K_C, -self.K_C
 
     def max_tension(self, q9: float) -> float:
         """The largest tension the tether gives at a length within ``MAX_TETHER_STRAIN``.
@@ -337,9 +410,24 @@ class TetherParams(_Validated):
         Returns
         -------
         float
-            KC (q9 - LN) with LN = q9 / (1 + MAX_TETHER_STRAIN) (N).
+            The tension (N) with LN = q9 / (1 + MAX_TETHER_STRAIN): KC (q9 - LN), or the
+            rope's EA MAX_TETHER_STRAIN.
         """
+        if self.EA > 0.0:
+            return self.EA * MAX_TETHER_STRAIN
         return self.K_C * q9 * MAX_TETHER_STRAIN / (1.0 + MAX_TETHER_STRAIN)
+
+    @property
+    def _LN_text(self) -> str:
+        """The law's trim natural length as a formula, for messages."""
+        return "q9 EA/(EA + TC)" if self.EA > 0.0 else "q9 - TC/K_C"
+
+    @property
+    def _law_text(self) -> str:
+        """The law in words, for messages."""
+        if self.EA > 0.0:
+            return f"a rope, EA = {self.EA:g} N"
+        return f"K_C = {self.K_C:g} N/m"
 
     def check_tension(
         self, tension: float, q9: float, field: str, source: str | None = None
@@ -367,8 +455,8 @@ class TetherParams(_Validated):
             raise InfeasibleError(
                 field,
                 tension,
-                f"a tension <= {limit:.6g} N, the most this tether (K_C = {self.K_C:g} N/m) "
-                f"gives at q9 = {q9:g} m: above it the natural length LN = q9 - TC/K_C "
+                f"a tension <= {limit:.6g} N, the most this tether ({self._law_text}) "
+                f"gives at q9 = {q9:g} m: above it the natural length LN = {self._LN_text} "
                 f"= {self.natural_length(q9, tension):.4g} m would be below "
                 f"q9/{1.0 + MAX_TETHER_STRAIN:g} (strain > {100 * MAX_TETHER_STRAIN:g}%)",
                 source=source,

@@ -10,8 +10,9 @@ holds there; the tension reference goes linearly with the height from the run's 
 along it: q9 and q3 (the tether is vertical at the paper's trim, whose attitude does not
 depend on the tether's length: a test checks it), u3 the descent's velocity, the trim input
 u0 and T_ref at the scheduled tension (hover trims at tensions spaced along the schedule,
-interpolated), and a reel-rate feed-forward dLN/dt of the reference (LN = q9 - T / KC, eq 28)
-added to eq 56's PI. The gain follows the tether's length: the paper's LQI is designed on the
+interpolated), and a reel-rate feed-forward dLN/dt of the reference (LN = q9 - T / KC by eq 28,
+or q9 EA / (EA + T) by the rope's law, ``params.TetherParams.natural_length``) added to eq 56's
+PI. The gain follows the tether's length: the paper's LQI is designed on the
 free helicopter in tethered coordinates, where HO's horizontal position is q9 times the tether
 angles (q1 ~ q9 q8, q2 ~ -q9 q7), so its columns on q7 and q8 scale with q9 / q9_design and
 the position feedback stays the one designed (exactly: the design at another length gives
@@ -30,6 +31,7 @@ import numpy as np
 
 from ..layout import CTRL_T_REF
 from ..model.kinematics import tether_angles
+from ..params import TetherParams
 from .base import Command, Measurement
 from .paper import PaperController
 
@@ -56,8 +58,8 @@ class LandingSchedule:
         HO's height above the winch at the start and where the reference stops [m].
     start_tension, landing_tension : float
         The tension reference at the start and at ``final_height`` [N].
-    K_C : float
-        The tether's elasticity of eq 28 [N/m].
+    tether : TetherParams
+        The tether and its law (eq 28's KC or the rope's EA).
     """
 
     start_time: float
@@ -66,7 +68,7 @@ class LandingSchedule:
     final_height: float
     start_tension: float
     landing_tension: float
-    K_C: float
+    tether: TetherParams
 
     @property
     def end_time(self) -> float:
@@ -102,21 +104,27 @@ class LandingSchedule:
         tension = self.start_tension + slope * (self.start_height - height)
         return height, -self.descent_rate, tension, slope * self.descent_rate
 
-    def natural_length_rate(self, t: float) -> float:
-        """dLN/dt of the reference, LN = q9 - T / KC (eq 28) [m/s].
+    def natural_length_rate(self, t: float, q9: float) -> float:
+        """dLN/dt of the reference [m/s]: LN = q9 - T / KC (eq 28) or q9 EA / (EA + T) (the
+        rope), with dq9/dt the height's rate (the tether vertical).
 
         Parameters
         ----------
         t : float
             Time [s] (relative to the run's start).
+        q9 : float
+            The reference's tether length at t [m] (the rope's law depends on it).
 
         Returns
         -------
         float
             dLN/dt of the reference [m/s].
         """
-        _, rate, _, tension_rate = self.at(t)
-        return rate - tension_rate / self.K_C
+        _, rate, tension, tension_rate = self.at(t)
+        EA = self.tether.EA
+        if EA > 0.0:
+            return (rate * (EA + tension) - q9 * tension_rate) * EA / (EA + tension) ** 2
+        return rate - tension_rate / self.tether.K_C
 
 
 class References(NamedTuple):
@@ -278,7 +286,7 @@ class LandingController(MovingReferenceController):
         y_ref = self._y_ref0.copy()
         y_ref[2] = height
         u0 = np.array([np.interp(tension, self._tensions, self._inputs[:, i]) for i in range(4)])
-        return References(x_ref, y_ref, u0, tension, self.schedule.natural_length_rate(t))
+        return References(x_ref, y_ref, u0, tension, self.schedule.natural_length_rate(t, x_ref[5]))
 
 
 class GroundHoldController(MovingReferenceController):

@@ -35,6 +35,9 @@ class ControllerEntry:
     ground_hold : bool
         Whether it holds a point of N over a moving base (``control.landing``'s
         ``GroundHoldController``: ``[control] reference = "ground"``).
+    reference : bool
+        Whether it flies a ``[reference]`` beyond hover (steps, waypoints, a CSV path, a
+        take-off: ``control.flight.ReferenceController``).
     design : str
         How it is built: the design function and the paper's equations.
     """
@@ -44,6 +47,7 @@ class ControllerEntry:
     configurations: tuple[str, ...]
     landing: bool
     ground_hold: bool
+    reference: bool
     design: str
 
     @property
@@ -71,6 +75,7 @@ CONTROLLER_REGISTRY: Mapping[str, ControllerEntry] = MappingProxyType(
                 configurations=("free", "tethered"),
                 landing=True,
                 ground_hold=True,
+                reference=True,
                 design="control.lqi.design_lqi on the free linearization (eqs 47-53) with "
                 "feed-forward (eqs 54-55) and the winch PI (eq 56, control.tension)",
             ),
@@ -80,6 +85,7 @@ CONTROLLER_REGISTRY: Mapping[str, ControllerEntry] = MappingProxyType(
                 configurations=("tethered",),
                 landing=False,
                 ground_hold=False,
+                reference=False,
                 design="control.tether_lqi.design_tether_lqi on the tethered linearization, "
                 "the reel rate a fifth input ([control.tether_lqi])",
             ),
@@ -89,6 +95,7 @@ CONTROLLER_REGISTRY: Mapping[str, ControllerEntry] = MappingProxyType(
                 configurations=("free", "tethered"),
                 landing=False,
                 ground_hold=False,
+                reference=False,
                 design="control.mpc_design.design_mpc and control.mpc.MPCController: the "
                 "constrained, offset-free MPC on the same model, OSQP every sample "
                 "([control.mpc])",

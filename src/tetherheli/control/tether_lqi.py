@@ -190,7 +190,8 @@ def tethered_design(params, T_ref: float, q9: float, dt: float):
     C : ndarray, shape (4, 13)
         The outputs [q1, q2, q3, q6] linearized at trim (eq 50's integrated outputs).
     c_tension : ndarray, shape (13,)
-        The tension deviation's row, dTC = KC (dq9 - dLN) (eq 28) [N per state unit].
+        The tension deviation's row, dTC = KC (dq9 - dLN) (eq 28; the rope's law:
+        ``TetherParams.stiffness``) [N per state unit].
     """
     from ..model.trim import check_trim_arguments
 
@@ -215,10 +216,10 @@ def _tethered_design(params, T_ref: float, q9: float, dt: float):
     lin = _linearize(model, trim)
     B = lin.input_matrix((*INPUT, REEL_RATE))
     G, H = _discretize_zoh(lin.A, B, dt)
-    K_C = params.tether.K_C
+    dT_dq9, dT_dLN = params.tether.stiffness(trim.x[5], trim.x[12])  # eq 28: (KC, -KC)
     c_t = np.zeros(lin.A.shape[0])
-    c_t[lin.state_names.index("q9")] = K_C  # eq 28: TC = KC (q9 - LN)
-    c_t[lin.state_names.index("LN")] = -K_C
+    c_t[lin.state_names.index("q9")] = dT_dq9
+    c_t[lin.state_names.index("LN")] = dT_dLN
     for a in (G, H, lin.C, c_t):
         a.setflags(write=False)
     return G, H, lin.C, c_t

@@ -51,6 +51,7 @@ from ..layout import (
     CFG_MAX_DEVIATION,
     CFG_MAX_TENSION,
     CFG_METRICS_FROM,
+    CFG_TETHER_EA,
     CONTROL_LAW_TETHER_LQI,
     CTRL_ANTI_WINDUP,
     CTRL_DT,
@@ -89,10 +90,11 @@ from ..layout import (
     X_Q7,
     X_Q8,
     X_Q9,
+    LoopState,
 )
 from ..model.kernels import (
     angle_trig_lanes,
-    tension_from_state,
+    tether_tension,
     tethered_outputs_lanes,
     tethered_tether_torque_lanes,
 )
@@ -114,8 +116,9 @@ _jit_inline = compiled(error_model="numpy", inline="always")
 
 
 class LaneState(NamedTuple):
-    """A block's per-lane state of the control sample, flat (variable, lane): the lane form
-    of ``layout.LoopState`` with the run's mutable switches and its metrics.
+    """A block's per-lane state of the control sample, flat (variable, lane): the run's
+    ``layout.LoopState`` in lane form (``loop``) with the run's mutable switches and its
+    metrics.
 
     Parameters
     ----------
@@ -124,12 +127,11 @@ class LaneState(NamedTuple):
         CTRL_WINCH and CTRL_FFWD).
     lag : numpy.ndarray, shape (LANES,)
         The actuators' lag over a sample (``engine.actuator_lag_gain``).
-    z, winch, held, event : numpy.ndarray
-        As ``layout.LoopState``'s, (4 LANES,), (WINCH_SIZE LANES,), (HELD_SIZE LANES,),
-        (2 LANES,).
-    x_meas, sc_meas, sc_true, y, y_est, inp, ffwd : numpy.ndarray
-        As ``layout.LoopState``'s, each lane's column; without sensors x_meas is the true
-        state x, sc_true is sc_meas and y is y_est (the same arrays).
+    loop : LoopState
+        ``layout.LoopState``'s fields, each flat (variable, lane): z (4 LANES,), winch
+        (WINCH_SIZE LANES,), held (HELD_SIZE LANES,), event (2 LANES,), x_meas (13 LANES,),
+        sc_meas, sc_true (10 LANES,), y, y_est, inputs, ffwd (4 LANES,); without sensors
+        x_meas is the true state x, sc_true is sc_meas and y is y_est (the same arrays).
     tension, measured, rate, status : numpy.ndarray, shape (LANES,)
         The sample's true tension at P [N], measured tension [N], applied reel rate [m/s]
         and status (``Status``, as a float).
@@ -143,17 +145,7 @@ class LaneState(NamedTuple):
     ctrl: np.ndarray
     act: np.ndarray
     lag: np.ndarray
-    z: np.ndarray
-    winch: np.ndarray
-    held: np.ndarray
-    event: np.ndarray
-    x_meas: np.ndarray
-    sc_meas: np.ndarray
-    sc_true: np.ndarray
-    y: np.ndarray
-    y_est: np.ndarray
-    inp: np.ndarray
-    ffwd: np.ndarray
+    loop: LoopState
     tension: np.ndarray
     measured: np.ndarray
     rate: np.ndarray
@@ -287,17 +279,19 @@ def lane_state(cfg, ctrl, act, z0, x, sensed, n_summary):
         _flat(ctrl, np.empty(ctrl.shape[1] * LANES)),
         act_flat,
         lag,
-        _flat(z0, np.empty(4 * LANES)),
-        np.zeros(2 * LANES),
-        np.zeros(HELD_SIZE * LANES),
-        np.full(2 * LANES, np.nan),
-        x.copy() if sensed else x,
-        sc_meas,
-        np.empty(10 * LANES) if sensed else sc_meas,
-        np.empty(4 * LANES) if sensed else y_est,
-        y_est,
-        np.empty(4 * LANES),
-        np.empty(4 * LANES),
+        LoopState(
+            _flat(z0, np.empty(4 * LANES)),
+            np.zeros(2 * LANES),
+            np.zeros(HELD_SIZE * LANES),
+            np.full(2 * LANES, np.nan),
+            x.copy() if sensed else x,
+            sc_meas,
+            np.empty(10 * LANES) if sensed else sc_meas,
+            np.empty(4 * LANES) if sensed else y_est,
+            y_est,
+            np.empty(4 * LANES),
+            np.empty(4 * LANES),
+        ),
         np.zeros(LANES),
         np.zeros(LANES),
         np.zeros(LANES),
@@ -312,13 +306,14 @@ def _sense(k, x, s):
     """Phase 1 (``engine._sense`` of a massless tether): the tension of eq 28 (0 when
     removed or released), the safety device's release (``engine.release_if_broken``: the
     lane's switches cleared, the event recorded); the measured tension is the true one."""
-    cfg, ctrl, act, event = s.cfg, s.ctrl, s.act, s.event
+    cfg, ctrl, act, event = s.cfg, s.ctrl, s.act, s.loop.event
     for j in range(s.tension.shape[0]):
         t = k * cfg[CFG_DT * LANES + j]
         attached = cfg[CFG_ATTACHED * LANES + j] > 0.5
         k_c = cfg[CFG_K_C * LANES + j]
+        ea = cfg[CFG_TETHER_EA * LANES + j]
         tension = (
-            tension_from_state(x[X_Q9 * LANES + j], x[X_LN * LANES + j], k_c) if attached else 0.0
+            tether_tension(x[X_Q9 * LANES + j], x[X_LN * LANES + j], k_c, ea) if attached else 0.0
         )
         broken = tension > act[ACT_BREAK * LANES + j]
         cleared = 0.0 if broken else 1.0
@@ -352,7 +347,7 @@ def _measure(k, x, s, lanes_sensed, sensors, rows):
             for i in range(13):
                 meas_row[i] = x_row[i]
         for i in range(13):
-            s.x_meas[i * LANES + j] = meas_row[i]
+            s.loop.x_meas[i * LANES + j] = meas_row[i]
 
 
 @_jit_inline
@@ -363,7 +358,7 @@ def _lqi(law, s, q9, use_off, n_cols, two_sets):
     ``n_cols`` is the gain's column count and ``two_sets`` whether the law has rows for the
     winch stopped (the tethered LQI's), constants at each call site: the sum over the
     columns then unrolls and the loop over the lanes, innermost, vectorises."""
-    x, z, cfg, inp = s.x_meas, s.z, s.cfg, s.inp
+    x, z, cfg, inp = s.loop.x_meas, s.loop.z, s.cfg, s.loop.inputs
     on, off, u0, u0_free, x_ref = law.gain_on, law.gain_off, law.u0_tethered, law.u0_free, law.x_ref
     n_x = n_cols - 4
     for i in range(4):
@@ -395,13 +390,15 @@ def _law(law, s, c, tether_law):
     (eq 50, held by the anti-windup), then the winch's command: the PI of eq 56
     (``winch_pi``) or, with ``tether_law`` (the block flies the tethered LQI), its reel row
     (``reel_command``); 0 while the winch is stopped. The command goes to s.rate."""
-    ctrl, x, z, inp, ffwd, y_est, winch = s.ctrl, s.x_meas, s.z, s.inp, s.ffwd, s.y_est, s.winch
+    loop = s.loop
+    ctrl, x, z, inp, ffwd = s.ctrl, loop.x_meas, loop.z, loop.inputs, loop.ffwd
+    y_est, winch = loop.y_est, loop.winch
     n = s.rate.shape[0]  # LANES, at run time: the loops vectorise, not unroll
     q9, use_off, _, integrate = _parts(s.scratch[: 4 * LANES], 4)
     torque = s.scratch[4 * LANES : 6 * LANES]
     reel = s.scratch[6 * LANES : 7 * LANES]
-    angle_trig_lanes(x, s.sc_meas)
-    tethered_outputs_lanes(x, s.sc_meas, c, y_est)
+    angle_trig_lanes(x, s.loop.sc_meas)
+    tethered_outputs_lanes(x, s.loop.sc_meas, c, y_est)
     for j in range(n):
         winch_on = ctrl[CTRL_WINCH * LANES + j] > 0.5
         tethered = ctrl[CTRL_LAW * LANES + j] == CONTROL_LAW_TETHER_LQI
@@ -419,7 +416,7 @@ def _law(law, s, c, tether_law):
         _lqi(law, s, q9, use_off, 17, True)
     else:
         _lqi(law, s, q9, use_off, 16, False)
-    tethered_tether_torque_lanes(x, s.sc_meas, s.measured, c, torque)
+    tethered_tether_torque_lanes(x, s.loop.sc_meas, s.measured, c, torque)
     for j in range(n):
         on = ctrl[CTRL_FFWD * LANES + j] > 0.5
         f1 = torque[j] if on else 0.0
@@ -486,7 +483,7 @@ def _apply(k, x, s, lanes_drum, rows):
     command (``engine.clamp_reel_rate``, ``engine.drum_winch``, per lane on its rows, where
     ``lanes_drum``), the payout limits (``payout_limited_rate``) on the true length; s.rate
     becomes the applied rate."""
-    cfg, act, held, inp = s.cfg, s.act, s.held, s.inp
+    cfg, act, held, inp = s.cfg, s.act, s.loop.held, s.loop.inputs
     n = s.rate.shape[0]
     first = k == 0
     for i in range(4):
@@ -546,9 +543,9 @@ def _check(x, s, law, c, sensed):
     cfg = s.cfg
     n = s.rate.shape[0]
     if sensed:  # the lanes without sensors get the same values: x_meas is x for them
-        angle_trig_lanes(x, s.sc_true)
-        tethered_outputs_lanes(x, s.sc_true, c, s.y)
-    y, sc, y_ref = s.y, s.sc_true, law.y_ref
+        angle_trig_lanes(x, s.loop.sc_true)
+        tethered_outputs_lanes(x, s.loop.sc_true, c, s.loop.y)
+    y, sc, y_ref = s.loop.y, s.loop.sc_true, law.y_ref
     for j in range(n):
         finite = True
         for i in range(13):
@@ -572,7 +569,7 @@ def _check(x, s, law, c, sensed):
 def _accumulate(k, x, s, law, active):
     """Phase 4's metrics (``summary.accumulate``) of the lanes still running whose sample
     passed its checks, from sample cfg[CFG_METRICS_FROM] on."""
-    summary, y, y_ref, x_ref, cfg = s.summary, s.y, law.y_ref, law.x_ref, s.cfg
+    summary, y, y_ref, x_ref, cfg = s.summary, s.loop.y, law.y_ref, law.x_ref, s.cfg
     n = s.rate.shape[0]
     for j in range(n):
         # a lane outside the metrics adds values that leave them as they are (0 to the peaks
@@ -613,8 +610,8 @@ def lane_sample(k, x, s, law, c, active, sensing, lanes_drum, rows, tether_law):
     ``sensing`` = (lanes_sensed (LANES,), which lanes have a noise table, and ``sensors`` as
     ``lanes.run_lanes``'s); ``lanes_drum`` (LANES,) which lanes have a drum winch; rows = (x
     row, measured row, held row, act row), scratch for the per-lane parts. s.status, s.rate,
-    s.inp, s.sc_true then hold each lane's status, reel rate, applied inputs and sin, cos of
-    its true angles.
+    s.loop.inputs, s.loop.sc_true then hold each lane's status, reel rate, applied inputs and
+    sin, cos of its true angles.
 
     Parameters
     ----------

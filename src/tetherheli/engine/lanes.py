@@ -28,6 +28,7 @@ from ..layout import (
     CFG_GUST_DT,
     CFG_K_C,
     CFG_N_SUB,
+    CFG_TETHER_EA,
     CFG_VEHICLE,
     CONTROL_LAW_TETHER_LQI,
     CTRL_LAW,
@@ -49,6 +50,7 @@ from ..layout import (
     X_LN,
     X_Q9,
     X_U1,
+    LaneWind,
 )
 from ..model.kernels import (
     angle_trig_from_lanes,
@@ -143,7 +145,9 @@ def _lanes_stage(xs, sc, inp, rate, attached, k_c, c, air, force, out):
         force[2 * LANES + j] = program_force[2 * LANES + j] + drag[2 * LANES + j] * speed * r3
         stretch = xs[X_Q9 * LANES + j] - xs[X_LN * LANES + j]
         tied = attached[j] > 0.5
-        force[3 * LANES + j] = k_c[j] * stretch if (tied and stretch > 0.0) else 0.0
+        ea = k_c[LANES + j]  # the rope's EA (0: eq 28's KC; ``kernels.tether_tension``)
+        stiffness = ea / xs[X_LN * LANES + j] if ea > 0.0 else k_c[j]
+        force[3 * LANES + j] = stiffness * stretch if (tied and stretch > 0.0) else 0.0
         out[X_LN * LANES + j] = rate[j] if tied else 0.0
     tethered_rhs_lanes(xs, sc, inp, force, force[3 * LANES :], c, out)
 
@@ -198,11 +202,11 @@ def rk4_lanes(lane_in, h, n_sub, k_c, c, wind, work):
 
     Flat (variable, lane) arrays: sc0 (10 LANES,) sin, cos of the angles of x on entry
     (overwritten), inp (4 LANES,) the held rotor inputs, c (n_c LANES,) the model constants;
-    rate, t0, h, attached (1/0), k_c (LANES,). wind = (programs (R WIND_COLUMNS LANES,), R,
-    gusts (LANES, G, 3), gust rows in use (LANES,), gust_dt (LANES,), drag (3 LANES,));
-    work = ``lane_work()``. The gust tables are read per lane; everything else runs in
-    branch-free passes over the lanes. Each lane performs the operations of ``rk4_interval``
-    in the same order, so it equals a single run bit for bit.
+    rate, t0, h, attached (1/0), k_c (LANES,). wind (``layout.LaneWind``) = (programs
+    (R WIND_COLUMNS LANES,), R, gusts (LANES, G, 3), gust rows in use (LANES,), gust_dt
+    (LANES,), drag (3 LANES,)); work = ``lane_work()``. The gust tables are read per lane;
+    everything else runs in branch-free passes over the lanes. Each lane performs the
+    operations of ``rk4_interval`` in the same order, so it equals a single run bit for bit.
 
     Every array argument must be a separate array (``restrict_arguments``: LLVM vectorises
     the lanes' loops without run-time overlap checks).
@@ -219,13 +223,14 @@ def rk4_lanes(lane_in, h, n_sub, k_c, c, wind, work):
         The RK4 step of each lane [s].
     n_sub : int
         The RK4 steps per sample.
-    k_c : numpy.ndarray, shape (LANES,)
-        The tether's elasticity [N/m].
+    k_c : numpy.ndarray, shape (2 LANES,)
+        The tether's law per lane: eq 28's KC [N/m], then the rope's EA [N] (0: the paper's).
     c : numpy.ndarray, shape (n_c LANES,)
         The lanes' model constants, flat.
-    wind : tuple
-        (programs (R WIND_COLUMNS LANES,), R, gusts (LANES, G, 3) [m/s], gust rows in use
-        (LANES,), gust_dt (LANES,) [s], drag (3 LANES,) [kg/m]).
+    wind : LaneWind
+        The lanes' winds (``layout.LaneWind``: programs (R WIND_COLUMNS LANES,), R, gusts
+        (LANES, G, 3) [m/s], gust rows in use (LANES,), gust_dt (LANES,) [s], drag
+        (3 LANES,) [kg/m]).
     work : tuple of numpy.ndarray
         ``lane_work()``'s scratch.
     """
@@ -429,7 +434,7 @@ def run_lanes(x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, re
     t0 = np.zeros(LANES)
     h = np.empty(LANES)
     attached = np.empty(LANES)
-    k_c = np.empty(LANES)
+    k_c = np.empty(2 * LANES)
     sc_init = np.empty(10 * LANES)
     angle_trig_lanes(x, sc_init)
     active = np.zeros(LANES, np.bool_)
@@ -439,6 +444,7 @@ def run_lanes(x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, re
         done[j] = max(n_samples[j] + 1, 0)
         h[j] = cfg_in[j, CFG_DT] / n_sub
         k_c[j] = cfg_in[j, CFG_K_C]
+        k_c[LANES + j] = cfg_in[j, CFG_TETHER_EA]
         gust_dt[j] = cfg_in[j, CFG_GUST_DT]
         active[j] = n_samples[j] >= 0
     for f in range(summary.shape[1]):
@@ -456,7 +462,7 @@ def run_lanes(x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, re
     )
     programs, n_rows, gusts, gust_rows = borrowed((programs, n_rows, gusts, gust_rows))
     sensors, lanes_sensed, lanes_drum = borrowed((sensors, lanes_sensed, lanes_drum))
-    lane_wind = (programs, n_rows, gusts, gust_rows, gust_dt, drag_lanes)
+    lane_wind = LaneWind(programs, n_rows, gusts, gust_rows, gust_dt, drag_lanes)
     cfg = state.cfg
     n_active = 0
     for j in range(LANES):
@@ -492,12 +498,13 @@ def run_lanes(x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, re
             for i in range(10):
                 for j in range(LANES):
                     e = i * LANES + j
-                    state.sc_true[e] = state.sc_true[e] if active[j] else sc_init[e]
+                    state.loop.sc_true[e] = state.loop.sc_true[e] if active[j] else sc_init[e]
             for i in range(4):
                 for j in range(LANES):
                     e = i * LANES + j
-                    state.inp[e] = state.inp[e] if active[j] else u0[j, i]
-        rk4_lanes((x, state.sc_true, state.inp, rate, t0, attached), h, n_sub, k_c, c_lanes,
+                    state.loop.inputs[e] = state.loop.inputs[e] if active[j] else u0[j, i]
+        loop = state.loop
+        rk4_lanes((x, loop.sc_true, loop.inputs, rate, t0, attached), h, n_sub, k_c, c_lanes,
                   lane_wind, work)  # fmt: skip
         k += 1
     keep_alive(own)
@@ -509,11 +516,11 @@ def _finish_lane(j, state, summary):
     metrics, release event and first payout limit (``summary.finish_summary``'s)."""
     for f in range(summary.shape[1]):
         summary[j, f] = state.summary[f * LANES + j]
-    summary[j, SUMMARY_RELEASE_TIME] = state.event[j]
-    summary[j, SUMMARY_RELEASE_TENSION] = state.event[LANES + j]
+    summary[j, SUMMARY_RELEASE_TIME] = state.loop.event[j]
+    summary[j, SUMMARY_RELEASE_TENSION] = state.loop.event[LANES + j]
     held = state.scratch[:HELD_SIZE]  # the lane's held row (``winch_limit_into`` reads it)
     for i in range(HELD_SIZE):
-        held[i] = state.held[i * LANES + j]
+        held[i] = state.loop.held[i * LANES + j]
     winch_limit_into(held, summary[j])
 
 

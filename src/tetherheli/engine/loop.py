@@ -73,6 +73,7 @@ from ..layout import (
     CFG_SIZE,
     CFG_TENSION_GROUND,
     CFG_TENSION_TOP,
+    CFG_TETHER_EA,
     CFG_VEHICLE,
     CHAIN_NODES,
     CTRL_FFWD,
@@ -115,7 +116,7 @@ from ..model.contact import gear_rhs_sc
 from ..model.kernels import (
     angle_trig,
     angle_trig_from,
-    tension_from_state,
+    tether_tension,
     tethered_outputs_sc,
     tethered_rhs_sc,
 )
@@ -258,7 +259,9 @@ def vehicle_derivative(x, sc, inp, reel_rate, cfg, c, force, out, gear):
         # one inlined copy of the generated right-hand side for both configurations (a
         # removed tether is tension 0: the same arithmetic as a constant 0 would compile to)
         attached = cfg[CFG_ATTACHED] > 0.5
-        tension = tension_from_state(x[X_Q9], x[X_LN], cfg[CFG_K_C]) if attached else 0.0
+        tension = (
+            tether_tension(x[X_Q9], x[X_LN], cfg[CFG_K_C], cfg[CFG_TETHER_EA]) if attached else 0.0
+        )
         if gear.points.shape[0] > 0:  # a call (its own copy of the model's right-hand side)
             gear_rhs_sc(x, sc, inp, force, tension, c, gear, out)
         else:
@@ -725,7 +728,7 @@ def sense(run, x, k, t, sensed, event, x_meas):
     elif lumped:  # the chain's ends at this sample (``chain_ends``)
         tension = cfg[CFG_TENSION_TOP]
     else:
-        tension = tension_from_state(x[X_Q9], x[X_LN], cfg[CFG_K_C])
+        tension = tether_tension(x[X_Q9], x[X_LN], cfg[CFG_K_C], cfg[CFG_TETHER_EA])
     tension = release_if_broken(tension, t, cfg, run.ctrl, run.act, event)
     load = winch_tension(cfg, tension)  # the load cell at the winch
     if sensed:

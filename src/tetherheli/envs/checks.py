@@ -60,6 +60,7 @@ SCENARIO_USE: dict[str, str] = {
     "base": "flown",  # the moving base through the engine's packed form, as simulate
     "maneuver": "refused",  # type 'none' only; its other keys are a landing's
     "landing_gear": "refused",  # none: the environments fly no landing gear
+    "trajectory": "refused",  # [reference] type 'hold' only (a moving one: simulate's)
 }
 
 #: The keys of ``reset(options=...)``: ``{"wind": Disturbance}``.
@@ -184,6 +185,11 @@ def check_env_scenario(scenario: Scenario) -> None:
         raise ParameterError(
             "scenario.landing_gear", "a table", "none (the environments fly no landing gear; "
             "simulate flies it)"
+        )  # fmt: skip
+    if scenario.trajectory.moving:
+        raise ParameterError(
+            "scenario.trajectory.type", scenario.trajectory.type, "'hold' (the environments "
+            "hold the hover; a [reference] is flown by simulate)"
         )  # fmt: skip
     if c.base_feedforward:
         raise ParameterError(

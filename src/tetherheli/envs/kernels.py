@@ -17,6 +17,7 @@ from ..layout import (
     CFG_ATTACHED,
     CFG_GUST_DT,
     CFG_K_C,
+    CFG_TETHER_EA,
     LOOP_EVENT,
     LOOP_HELD,
     LOOP_INPUTS,
@@ -24,7 +25,8 @@ from ..layout import (
     LOOP_X_MEAS,
     LOOP_Z,
 )
-from ..model.kernels import tension_from_state, tethered_outputs
+from ..model.kernels import tether_tension as law_tension
+from ..model.kernels import tethered_outputs
 from ..sensing.sensors import measure_sampled
 
 __all__ = ["OBS_LIMIT", "finish_step", "observe_into", "start_episode", "tether_tension"]
@@ -37,14 +39,16 @@ _jit = compiled(error_model="numpy")
 
 @_jit
 def tether_tension(x, cfg):
-    """The tether tension of state x [N] (eq 28), 0 when the tether is removed or released.
+    """The tether tension of state x [N] (its law: eq 28 or the rope), 0 when the tether is
+    removed or released.
 
     Parameters
     ----------
     x : ndarray, shape (13,)
         State q4..q9, u1..u6, LN (rad, m, m/s, rad/s, m).
     cfg : ndarray, shape (CFG_SIZE,)
-        The engine's configuration (``layout.CFG_*``; reads ``CFG_ATTACHED``, ``CFG_K_C``).
+        The engine's configuration (``layout.CFG_*``; reads ``CFG_ATTACHED`` and the law,
+        ``CFG_K_C`` and ``CFG_TETHER_EA``).
 
     Returns
     -------
@@ -53,7 +57,7 @@ def tether_tension(x, cfg):
     """
     if cfg[CFG_ATTACHED] <= 0.5:
         return 0.0
-    return tension_from_state(x[5], x[12], cfg[CFG_K_C])
+    return law_tension(x[5], x[12], cfg[CFG_K_C], cfg[CFG_TETHER_EA])
 
 
 @_jit

@@ -65,6 +65,7 @@ from ..layout import (
     CFG_DT,
     CFG_K_C,
     CFG_N_SUB,
+    CFG_TETHER_EA,
     GEAR_LAW_SIZE,
     GEAR_WORK_SIZE,
     HELD_SIZE,
@@ -76,6 +77,7 @@ from ..layout import (
     WINCH_SIZE,
     WIND_COLUMNS,
     Gear,
+    LaneWind,
     LoopState,
     Run,
     WindPack,
@@ -200,7 +202,7 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
             if not busy:
                 continue
             lo, hi = b * LANES, (b + 1) * LANES
-            lane_wind = (
+            lane_wind = LaneWind(
                 programs[b],
                 n_rows,
                 gusts[lo:hi],
@@ -455,7 +457,7 @@ class TetheredHoverVectorEnv(VectorEnv):
             np.zeros(LANES),
             np.full(LANES, cfg0[CFG_DT] / n_sub),
             np.zeros(LANES),
-            np.full(LANES, cfg0[CFG_K_C]),
+            np.repeat([cfg0[CFG_K_C], cfg0[CFG_TETHER_EA]], LANES),  # the law (``rk4_lanes``)
             np.repeat(env._c, LANES),  # (constant, lane) flat
             sc_park,
             lane_engine.lane_work(),

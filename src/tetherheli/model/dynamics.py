@@ -187,11 +187,11 @@ class TetheredHelicopter(_Helicopter):
         if not np.all(np.isfinite(rate)):
             raise ValueError("reel_rate is not finite; allowed: finite numbers [m/s]")
         out = np.empty_like(x)
-        K_C = self.params.tether.K_C
+        K_C, EA = self.params.tether.K_C, self.params.tether.EA
         if x.ndim == 1:
             if rate.ndim != 0:
                 raise ValueError(f"reel_rate has shape {rate.shape}; allowed: a scalar")
-            kernels.tethered_derivative(x, u, wind, float(rate), self._c, K_C, out)
+            kernels.tethered_derivative(x, u, wind, float(rate), self._c, K_C, EA, out)
         else:
             rate = np.ascontiguousarray(np.broadcast_to(rate, (x.shape[0],)))
             kernels.tethered_derivative_batch(
@@ -201,12 +201,14 @@ class TetheredHelicopter(_Helicopter):
                 rate,
                 self._c,
                 K_C,
+                EA,
                 out,
             )
         return out
 
     def tension(self, x: object) -> np.ndarray | float:
-        """Tether tension TC = KC max(q9 - LN, 0) (eq 28).
+        """Tether tension TC by the tether's law: KC max(q9 - LN, 0) (eq 28) or the rope's
+        EA max(q9 - LN, 0) / LN (``params.TetherParams.tension``).
 
         Parameters
         ----------
@@ -219,8 +221,8 @@ class TetheredHelicopter(_Helicopter):
             The tension (N); zero where the tether is slack.
         """
         x = self._check_state(x)
-        stretch = np.atleast_2d(x)[:, 5] - np.atleast_2d(x)[:, 12]
-        t = self.params.tether.K_C * np.maximum(stretch, 0.0)
+        rows = np.atleast_2d(x)
+        t = np.array([self.params.tether.tension(q9, L_N) for q9, L_N in rows[:, [5, 12]]])
         return float(t[0]) if x.ndim == 1 else t
 
     def tether_torque(self, x: object, tension: float | None = None) -> np.ndarray:

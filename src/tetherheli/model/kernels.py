@@ -35,6 +35,7 @@ __all__ = [
     "kinematics_tethered_HO",
     "model_constants",
     "tension_from_state",
+    "tether_tension",
     "tethered_derivative",
     "tethered_derivative_batch",
     "wrench_loads_sc",
@@ -339,8 +340,37 @@ def tension_from_state(q9: float, L_N: float, K_C: float) -> float:
     return K_C * stretch if stretch > 0.0 else 0.0
 
 
+@_jit_inline
+def tether_tension(q9: float, L_N: float, K_C: float, EA: float) -> float:
+    """The massless tether's tension [N] by its law (``params.TetherParams.tension``, the
+    Python twin): eq 28's KC (q9 - LN) when EA = 0, the rope's EA (q9 - LN) / LN when EA > 0;
+    0 when slack (q9 <= LN).
+
+    Parameters
+    ----------
+    q9 : float
+        The tether's length, winch to P [m].
+    L_N : float
+        Its natural length LN [m].
+    K_C : float
+        Eq 28's stiffness KC [N/m] (the paper's law).
+    EA : float
+        The rope's axial stiffness EA [N]; 0: the paper's law.
+
+    Returns
+    -------
+    float
+        The tension TC [N], >= 0.
+    """
+    stretch = q9 - L_N
+    if stretch <= 0.0:
+        return 0.0
+    stiffness = EA / L_N if EA > 0.0 else K_C
+    return stiffness * stretch
+
+
 @_jit
-def tethered_derivative(x, inp, wind, reel_rate, c, K_C, out):
+def tethered_derivative(x, inp, wind, reel_rate, c, K_C, EA, out):
     """out (13,) = dx/dt of the tethered model: eqs 10-12, 29-35 and dLN/dt = RC (eq 37).
 
     Parameters
@@ -356,11 +386,13 @@ def tethered_derivative(x, inp, wind, reel_rate, c, K_C, out):
     c : numpy.ndarray, shape (N_TETHERED_CONSTANTS,)
         The model's constants (``model_constants("tethered", ...)``).
     K_C : float
-        The tether's stiffness KC [N/m].
+        The tether's stiffness KC [N/m] (eq 28, the paper's law).
+    EA : float
+        The rope's axial stiffness EA [N]; 0: the paper's law (``tether_tension``).
     out : numpy.ndarray, shape (13,)
         Written: dx/dt ([rad/s], [m/s], [m/s^2], [rad/s^2], [m/s]).
     """
-    tension = tension_from_state(x[5], x[12], K_C)
+    tension = tether_tension(x[5], x[12], K_C, EA)
     tethered_rhs(x, inp, wind, tension, c, out)
     out[12] = reel_rate
 
@@ -386,7 +418,7 @@ def free_derivative(x, inp, wind, c, out):
 
 
 @_jit
-def tethered_derivative_batch(x, inp, wind, reel_rate, c, K_C, out):
+def tethered_derivative_batch(x, inp, wind, reel_rate, c, K_C, EA, out):
     """Row-wise ``tethered_derivative`` over (n, 13) states.
 
     Parameters
@@ -402,12 +434,14 @@ def tethered_derivative_batch(x, inp, wind, reel_rate, c, K_C, out):
     c : numpy.ndarray, shape (N_TETHERED_CONSTANTS,)
         The model's constants (``model_constants("tethered", ...)``).
     K_C : float
-        The tether's stiffness KC [N/m].
+        The tether's stiffness KC [N/m] (eq 28, the paper's law).
+    EA : float
+        The rope's axial stiffness EA [N]; 0: the paper's law.
     out : numpy.ndarray, shape (n, 13)
         Written: dx/dt of each row.
     """
     for i in range(x.shape[0]):
-        tethered_derivative(x[i], inp[i], wind[i], reel_rate[i], c, K_C, out[i])
+        tethered_derivative(x[i], inp[i], wind[i], reel_rate[i], c, K_C, EA, out[i])
 
 
 @_jit
@@ -438,5 +472,5 @@ def warm_up() -> None:
     x[5] = 10.0
     out = np.empty(13)
     c = model_constants("tethered", h)
-    tethered_derivative(x, np.zeros(4), np.zeros(3), 0.0, c, 40.0, out)
+    tethered_derivative(x, np.zeros(4), np.zeros(3), 0.0, c, 40.0, 0.0, out)
     free_derivative(x[:12], np.zeros(4), np.zeros(3), model_constants("free", h), out[:12])

@@ -306,16 +306,17 @@ def _linearize(model: TetheredHelicopter | FreeHelicopter, trim: TrimPoint) -> L
     E_T = np.zeros(12)
     C12 = np.zeros((4, 12))
     if isinstance(model, TetheredHelicopter):
-        tension = model.params.tether.K_C * max(x0[5] - x0[12], 0.0)  # eq 28, as model.tension
+        law = model.params.tether  # eq 28's or the rope's (``TetherParams``), as model.tension
+        tension = law.tension(x0[5], x0[12])
         tethered_jacobian(x0, u0, wind, tension, p, A12, B, E, E_T)
         tethered_output_jacobian(x0, p, C12)
         n = 13
         A = np.zeros((n, n))
         A[:12, :12] = A12
-        if tension > 0.0:  # taut: TC = KC (q9 - LN), eq 28
-            K_C = model.params.tether.K_C
-            A[:12, 5] += E_T * K_C
-            A[:12, 12] -= E_T * K_C
+        if tension > 0.0:  # taut: eq 28's dTC = KC (dq9 - dLN), or the rope's
+            dT_dq9, dT_dLN = law.stiffness(x0[5], x0[12])
+            A[:12, 5] += E_T * dT_dq9
+            A[:12, 12] += E_T * dT_dLN
         B_full = np.vstack([B, np.zeros((1, 4))])
         E_full = np.vstack([E, np.zeros((1, 3))])
         C = np.hstack([C12, np.zeros((4, 1))])

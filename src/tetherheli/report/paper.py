@@ -448,16 +448,17 @@ def _write_run_files(
     figure_format: str = "png",
 ) -> dict[str, Any]:
     from ..viz.figure import _save_figure  # the formats: checked at the entry
-    from ..viz.plots import figure_inputs, figure_outputs
 
     ext = figure_format
     directory.mkdir(exist_ok=True)
     metrics: dict[str, Any] = run_metrics(result).as_dict() if metric_samples(result) else {}
+    landing = result.landing_metrics()  # a descent's headline; its hover metrics stay below
     info = {
         "name": result.name,
         "status": result.status,
         "message": result.message,
         "tether_release": result.release_info(),
+        **({"landing": landing} if landing else {}),
         "metrics": metrics,
         "tetherheli_version": __version__,
         "command": command,
@@ -468,9 +469,9 @@ def _write_run_files(
     result._save(directory, result.name, format=data_format)
     if result.configuration.get("wind", {}).get("type") != "custom":  # else not re-runnable
         atomic_write_text(directory / SCENARIO_FILE, scenario_toml(result.configuration))
-    if result.time.size > 1:
-        _save_figure(figure_outputs([result], result.name), directory / f"outputs.{ext}")
-        _save_figure(figure_inputs([result], result.name), directory / f"inputs.{ext}")
+    figures = _run_figures(result) if result.time.size > 1 else {}
+    for stem, draw in figures.items():
+        _save_figure(draw([result], result.name), directory / f"{stem}.{ext}")
     write_json(directory / "summary.json", info)
     lines = [
         f"# {result.name}",
@@ -484,7 +485,13 @@ def _write_run_files(
         f"Produced by `{command}` with tetherheli {__version__}.",
         "",
     ]
-    if metrics:
+    if landing:  # a descent: the touchdown's figures, not the hover's deviations
+        from ..results.landing import landing_rows
+
+        lines += ["| landing | value |", "|---|---:|"]
+        lines += [f"| {k} | {v} |" for k, v in landing_rows(landing)]
+        lines.append("")
+    elif metrics:
         lines += ["| metric | value |", "|---|---:|"]
         for group in ("peak_abs_dev", "rms_dev"):
             for k, v in metrics[group].items():
@@ -494,10 +501,21 @@ def _write_run_files(
             f"| tension max [N] | {metrics['tension_max']:.5g} |",
             "",
         ]
-    if result.time.size > 1:
-        lines += [f"![outputs](outputs.{ext})", "", f"![inputs](inputs.{ext})", ""]
+    for stem in figures:
+        lines += [f"![{stem}]({stem}.{ext})", ""]
     atomic_write_text(directory / "report.md", "\n".join(lines))
     return info
+
+
+def _run_figures(result: SimulationResult) -> dict[str, Callable[..., Any]]:
+    """A run's figures, file stem -> drawing function: a landing's figure
+    (``viz.plots.figure_landing``) for a descent, else the hover's outputs and inputs
+    (Figs. 6-9's layout)."""
+    from ..viz.plots import figure_inputs, figure_landing, figure_outputs
+
+    if result.landing_metrics():
+        return {"landing": figure_landing}
+    return {"outputs": figure_outputs, "inputs": figure_inputs}
 
 
 def write_comparison(
@@ -547,17 +565,21 @@ def _write_comparison(
     """``write_comparison`` of formats the caller checked (``tetherheli simulate``, before its
     runs) and of runs with distinct names."""
     from ..viz.figure import _save_figure
-    from ..viz.plots import figure_inputs, figure_outputs
 
     with output_directory(out_dir, writer="simulate", inputs=inputs, force=force) as tmp:
         infos = {
             r.name: _write_run_files(r, tmp / r.name, command, data_format, ext) for r in results
         }
         plotted = [r for r in results if r.time.size > 1]
+        figures: dict[str, list[SimulationResult]] = {}  # landings and hovers apart
+        for r in plotted:
+            for stem in _run_figures(r):
+                figures.setdefault(stem, []).append(r)
         if plotted:
             title = " vs ".join(r.name for r in plotted)
-            _save_figure(figure_outputs(plotted, title), tmp / f"outputs.{ext}")
-            _save_figure(figure_inputs(plotted, title), tmp / f"inputs.{ext}")
+            for stem, runs in figures.items():
+                draw = _run_figures(runs[0])[stem]
+                _save_figure(draw(runs, " vs ".join(r.name for r in runs)), tmp / f"{stem}.{ext}")
         summary = {"tetherheli_version": __version__, "command": command, "runs": infos}
         write_json(tmp / "summary.json", summary)
         lines = [f"# {title if plotted else 'comparison'}", "", f"Produced by `{command}`.", ""]
@@ -569,13 +591,31 @@ def _write_comparison(
                 rows.append(
                     (f"{group} {k} [m]", lambda i, g=group, k=k: f"{i['metrics'][g][k]:.4g}")
                 )
-        for name, get in rows:
-            cells = [get(i) if i["metrics"] or name == "status" else "-" for i in infos.values()]
+        for name, get in rows:  # a landing's hover deviations are not its figures
+            cells = [
+                get(i) if name == "status" or (i["metrics"] and "landing" not in i) else "-"
+                for i in infos.values()
+            ]
             lines.append(f"| {name} | " + " | ".join(cells) + " |")
-        if plotted:
-            lines += ["", f"![outputs](outputs.{ext})", "", f"![inputs](inputs.{ext})"]
+        landings = [i.get("landing") for i in infos.values()]
+        for key in _COMPARED_LANDING if any(landings) else ():
+            cells = [_fmt(m.get(key), ".4g") if m else "-" for m in landings]
+            lines.append(f"| {key} | " + " | ".join(cells) + " |")
+        for stem in figures:
+            lines += ["", f"![{stem}]({stem}.{ext})"]
         atomic_write_text(tmp / "report.md", "\n".join(lines) + "\n")
     return summary
+
+
+#: a comparison's rows of the landings' figures (``results.landing.landing_metrics``)
+_COMPARED_LANDING = (
+    "touchdown_time",
+    "touchdown_vertical_speed",
+    "touchdown_horizontal_speed",
+    "touchdown_offset",
+    "touchdown_attitude_deg",
+    "touchdown_tension",
+)
 
 
 #: the GNSS outage of the shipped sensing runs with one [s]: 20 s in the sine phase

@@ -10,8 +10,9 @@ the sample's time t (ns from the run's start):
   SI units, listed with descriptions in the file's ``units`` and ``descriptions`` metadata);
   a non-finite value is null. ``load_result`` reads the run back from these messages.
 - ``/tf`` (``foxglove.FrameTransform``): ``world`` (N, n3 up) -> ``base`` (the winch's base:
-  base_n1..3, or NO) and ``world`` -> ``fuselage`` (F at the reference point O: O in N and
-  F's attitude as a quaternion), per sample.
+  base_n1..3, or NO; over a ship turned by the deck's roll, pitch and yaw) and ``world`` ->
+  ``fuselage`` (F at the reference point O: O in N and F's attitude as a quaternion), per
+  sample.
 - ``/scene`` (``foxglove.SceneUpdate``): the deck and pad (frame ``base``) and the
   helicopter's body and rotor disc (frame ``fuselage``) once; per sample the tether
   (a line winch - P, or through a lumped chain's recorded nodes, coloured by tension) and the
@@ -307,6 +308,11 @@ def write_mcap(
     base = np.zeros((n, 3))
     if all(f"base_n{i}" in columns for i in (1, 2, 3)):
         base = np.column_stack([columns[f"base_n{i}"] for i in (1, 2, 3)])
+    deck = np.tile([0.0, 0.0, 0.0, 1.0], (n, 1))  # a level deck; over a ship its tilt
+    if all(f"deck_{a}" in columns for a in ("roll", "pitch", "yaw")):
+        tilt = np.column_stack([columns[f"deck_{a}"] for a in ("roll", "pitch", "yaw")])
+        level = np.all(np.isfinite(tilt), axis=1)
+        deck[level] = Rotation.from_euler("xyz", tilt[level]).as_quat()
     position = np.column_stack([columns[k] for k in ("q1", "q2", "q3")])
     angles = np.column_stack([columns[k] for k in ("q4", "q5", "q6")])
     helicopter = _helicopter_params(configuration)
@@ -375,7 +381,7 @@ def write_mcap(
             row.update({name: _number(v) for name, v in zip(names, values[k], strict=True)})
             log("signals", row)
             for child, where, turn in (
-                ("base", base[k], _IDENTITY),
+                ("base", base[k], _quaternion(deck[k])),
                 ("fuselage", origin[k], _quaternion(quaternions[k])),
             ):
                 log(

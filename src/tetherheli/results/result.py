@@ -107,7 +107,8 @@ class SimulationResult(SummaryRepr):
 
     ``simulate`` builds it; plotting and export only read it. Its ``repr`` (and, in
     Jupyter, an HTML table) is a summary: name, configuration, status, duration, samples
-    and the peak deviations from trim (``peak_deviations``), never the arrays.
+    and the peak deviations from trim (``peak_deviations``; a landing's touchdown figures
+    instead, ``landing_metrics``), never the arrays.
 
     Parameters
     ----------
@@ -366,6 +367,20 @@ class SimulationResult(SummaryRepr):
             peaks[f"{k}_deg"] = math.degrees(peaks.pop(k))
         return peaks
 
+    def landing_metrics(self) -> dict[str, Any]:
+        """A landing's figures of merit (``results.landing.landing_metrics``): the
+        touchdown's time, speeds, offset, attitude and tension; empty for a run that is not a
+        landing (``[maneuver] type = "tethered_landing"``).
+
+        Returns
+        -------
+        dict of str to Any
+            ``results.landing.landing_metrics``'s keys and units.
+        """
+        from .landing import landing_metrics
+
+        return landing_metrics(self)
+
     def deck_motion(self) -> dict[str, float]:
         """The NATO STANAG 4154 deck-motion figures of a run over a ship (``[base] motion =
         "ship"``): RMS of the recorded ``deck_roll``, ``deck_pitch`` and of the pad's
@@ -395,12 +410,17 @@ class SimulationResult(SummaryRepr):
             ("duration", f"{duration:g} s (ended at t = {self.end_time:g} s)"),
             ("samples", f"{self.time.size} (dt = {dt} s)"),
         ]
+        landing = self.landing_metrics()  # a descent: its touchdown, not a hover's peaks
         peaks = [
             f"{k.removesuffix('_deg')} {_number(v, 'deg' if k.endswith('_deg') else 'm')}"
-            for k, v in self.peak_deviations().items()
+            for k, v in ({} if landing else self.peak_deviations()).items()
         ]
         if peaks:
             rows.append(("peak |deviation|", ", ".join(peaks)))
+        if landing:
+            from .landing import landing_rows
+
+            rows += landing_rows(landing)
         deck = self.deck_motion()
         if deck:
             rows.append((

@@ -54,6 +54,7 @@ from ..results.result import DRUM_COLUMNS, TENSION_GROUND_COLUMN, SimulationResu
 from ..scenario.core import Scenario
 from ..sensing.config import N_CHANNELS, N_GROUPS
 from ..status import FALLBACK_COLUMN, Status, finite_status, solver_status
+from .flight import reference_controller
 from .landing import Touchdown, gear_columns, ground_hold_controller, landing_controller
 from .mpc_setup import mpc_controller
 from .setup import engine_setup, python_controlled
@@ -193,6 +194,8 @@ def _simulate(
     if controller is None and not compiled:  # a scenario's controller in Python
         if landing:
             controller = landing_controller(scenario, setup)
+        elif scenario.trajectory.moving:  # a [reference] beyond hover (``runs.flight``)
+            controller = reference_controller(scenario, setup)
         elif scenario.reference == "ground" and not scenario.base_motion.fixed:
             controller = ground_hold_controller(scenario, setup)
         elif controller_entry(scenario.control.controller).compiled:  # its Python copy

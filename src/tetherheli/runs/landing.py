@@ -69,7 +69,7 @@ def landing_schedule(scenario: Scenario, setup: EngineSetup) -> LandingSchedule:
         final_height=m.gear_height - LANDING_PRESS_M,
         start_tension=T_ref,
         landing_tension=T_ref if m.landing_tension is None else m.landing_tension,
-        K_C=scenario.params.tether.K_C,
+        tether=scenario.params.tether,
     )
 
 

@@ -40,6 +40,8 @@ from ..layout import (
     CFG_METRICS_FROM,
     CFG_N_SUB,
     CFG_SIZE,
+    CFG_TETHER_EA,
+    CFG_VEHICLE,
     CHAIN_NODES,
     CONTROL_LAWS,
     CTRL_ANTI_WINDUP,
@@ -56,6 +58,7 @@ from ..layout import (
     CTRL_U_MAX,
     CTRL_U_MIN,
     CTRL_WINCH,
+    VEHICLES,
     WIND_COLUMNS,
     Gear,
     Signals,
@@ -218,6 +221,7 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
     cfg[CFG_DT] = c.dt
     cfg[CFG_N_SUB] = c.substeps
     cfg[CFG_K_C] = params.tether.K_C
+    cfg[CFG_TETHER_EA] = params.tether.EA  # the law: 0 eq 28's, > 0 the rope's
     cfg[CFG_ATTACHED] = float(tethered)
     cfg[CFG_MAX_TENSION] = scenario.limits.max_tension
     cfg[CFG_MAX_DEVIATION] = scenario.limits.max_deviation
@@ -225,6 +229,7 @@ def run_setup(scenario: Scenario, design_params: Params | None = None) -> RunSet
     cfg[CFG_METRICS_FROM] = scenario.metrics_first_sample
     cfg[CFG_LUMPED] = float(lumped)
     cfg[CFG_ARM] = params.helicopter.tether_arm
+    cfg[CFG_VEHICLE] = VEHICLES.index("helicopter")  # the engine's vehicle slot, by name
     # the law by name with its gain (``control.paper.check_law``'s pair), both from
     # ``lqi_on_tether``: the engine trusts them
     return RunSetup(model, trim, gain, ctrl, cfg)
@@ -392,8 +397,9 @@ class EngineSetup:
 def python_controlled(scenario: Scenario) -> bool:
     """Whether ``scenario``'s controller is a Python ``Controller`` that ``simulate``'s loop
     flies around the engine's sample step, not a compiled law: the MPC, a tethered landing
-    (``runs.landing``), a point of N held over a moving base, the deck's heave fed forward
-    (``control.deck``). The one rule ``simulate`` and ``run_batch`` route runs by.
+    (``runs.landing``), a ``[reference]`` beyond hover (``runs.flight``), a point of N held
+    over a moving base, the deck's heave fed forward (``control.deck``). The one rule
+    ``simulate`` and ``run_batch`` route runs by.
 
     Parameters
     ----------
@@ -407,6 +413,7 @@ def python_controlled(scenario: Scenario) -> bool:
     return (
         not controller_entry(scenario.control.controller).compiled
         or scenario.maneuver.landing
+        or scenario.trajectory.moving
         or scenario.control.base_feedforward
         or (scenario.reference == "ground" and not scenario.base_motion.fixed)
     )

@@ -15,18 +15,20 @@ from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
 
 from .._io import NONFINITE_JSON, OWN_FILE_STEMS
-from .._validation import MAX_SAMPLES, check_samples
+from .._validation import MAX_SAMPLES, check_samples, trusted
 from ..base.motion import MOTION_KEYS, FileBase, _base_motion_from
 from ..base.ship import ShipBase
 from ..control.registry import CONTROLLER_REGISTRY, controller_entry
 from ..errors import ParameterError
-from ..params import Params, check_tether_length, check_tether_strain
+from ..params import Params, TetherParams, check_tether_length, check_tether_strain
 from ..sensing.config import SensorConfig
 from ..tether.chain import CABLE_KEYS
 from ..wind import Disturbance, check_wind_covers
+from .flight import REFERENCE_KEYS, ReferenceSettings, build_trajectory
 from .tables import (
     LANDING_MIN_LENGTH_M,
     LANDING_PRESS_M,
+    PAPER_EA_N,
     ActuatorSettings,
     BaseSettings,
     ControlSettings,
@@ -124,6 +126,33 @@ def check_distinct_names(names: Iterable[str], *, key: str = "name") -> None:
             )
 
 
+def _rope_EA(s: Scenario, tether: TetherSettings, source: str | None) -> float:
+    """The massless tether's law as ``params.TetherParams.EA``: the rope's EA [N], or 0 for
+    the paper's eq 28; refuses a law the tether model cannot fly (``TetherSettings``)."""
+    law = tether.law
+    if law is None:  # landings default to the rope (issue 46), the rest to the paper's law
+        landing = getattr(s.maneuver, "type", None) == "tethered_landing" and not tether.lumped
+        law = "rope" if landing else "paper"
+        if landing and tether.EA == 0.0:
+            return PAPER_EA_N
+    if law == "rope" and tether.lumped:
+        raise ParameterError(
+            "tether.law", law, "'paper' or unset with model = 'lumped' (the chain is a rope "
+            "already: tether.EA is its axial stiffness)", source=source,
+        )  # fmt: skip
+    if law == "rope" and tether.EA == 0.0:
+        raise ParameterError(
+            "tether.EA", tether.EA, f"an axial stiffness >= 1 N with law = 'rope' (the "
+            f"paper's: EA = KC L0N = {PAPER_EA_N:g} N)", source=source,
+        )  # fmt: skip
+    if law == "paper" and not tether.lumped and tether.EA != 0.0:
+        raise ParameterError(
+            "tether.EA", tether.EA, "0 (unset) with the paper's law of the massless tether "
+            "(eq 28's KC, params.tether.K_C); law = 'rope' takes an EA", source=source,
+        )  # fmt: skip
+    return tether.EA if law == "rope" else 0.0
+
+
 def validate_scenario(s: Scenario, source: str | None) -> None:
     """Check every field of ``s`` and store the checked values (Python floats and ints, so a
     NumPy scalar is accepted and recorded as plain data).
@@ -217,12 +246,20 @@ def validate_scenario(s: Scenario, source: str | None) -> None:
         )  # fmt: skip
     _set(s, "tether", tether)
     _set(s, "winch", winch)
+    if not isinstance(s.params, Params):
+        raise ParameterError("params", s.params, "a tetherheli.Params", source=source)
+    EA = _rope_EA(s, tether, source)  # checked: built trusted, no field checked twice
+    if EA != s.params.tether.EA:
+        law = trusted(TetherParams, **{**dataclasses.asdict(s.params.tether), "EA": EA})
+        _set(s, "params", dataclasses.replace(s.params, tether=law))
     if not isinstance(s.sensors, SensorConfig):
         raise ParameterError("sensors", s.sensors, "a SensorConfig", source=source)
     try:
         s.sensors.check_configuration(tethered=s.configuration == "tethered")
         s.sensors._group_timing(dt)  # rates and latencies on the grid of the checked dt
     except ParameterError as exc:
+        if exc.source is not None:  # a file's own error, naming it
+            raise
         raise ParameterError(exc.field, exc.value, exc.allowed, source=source) from None
     _set(s, "seed", field_key(type(s), "seed").check("seed", s.seed, source=source))
     if not isinstance(s.params, Params):
@@ -252,6 +289,16 @@ def validate_scenario(s: Scenario, source: str | None) -> None:
             "control.controller", s.control.controller, f"one of {able} in the "
             f"{s.configuration} configuration (control.registry)", source=source,
         )  # fmt: skip
+    if (
+        s.params.tether.law == "rope"
+        and s.control.controller == "tether_lqi"
+        and s.control.tether_lqi.q9_from_tension
+        and not s.sensors.is_perfect
+    ):  # the compiled law's q9 = LN + TC / KC is eq 28's (``control.paper.tension_q9``)
+        raise ParameterError(
+            "control.tether_lqi.q9_from_tension", True, "false with [tether] law = 'rope' "
+            "(the tether length from the load cell is eq 28's LN + TC / KC)", source=source,
+        )  # fmt: skip
     bounds = s.control.mpc.tension_bounds
     T_ref = s.params.tension_control.T_ref
     if s.configuration == "tethered" and s.control.controller == "mpc" and bounds is not None:
@@ -273,6 +320,7 @@ def validate_scenario(s: Scenario, source: str | None) -> None:
     _check_base(s, source)
     _check_maneuver(s, source)
     _check_landing_gear(s, source)
+    _check_reference(s, source)
 
 
 def _check_base(s: Scenario, source: str | None) -> None:
@@ -424,16 +472,117 @@ def _check_maneuver(s: Scenario, source: str | None) -> None:
         refuse("maneuver.gear_height", m.gear_height, f"at least 0.5 m below the start's "
                f"height of HO ({start_height:.4g} m at q9 = {s.q9:g} m)")  # fmt: skip
     tension = s.params.tension_control.T_ref if m.landing_tension is None else m.landing_tension
-    K_C = s.params.tether.K_C
-    if tension > 0.5 * K_C * final_length:
-        refuse("maneuver.landing_tension", tension, f"at most KC q9 / 2 = "
-               f"{0.5 * K_C * final_length:.4g} N at the final tether length q9 = "
-               f"{final_length:.4g} m (eq 28: LN >= q9 / 2; a stiffer tether, "
-               "params.tether.K_C, allows more)")  # fmt: skip
+    law = s.params.tether  # eq 28's or the rope's (``TetherParams``)
+    if tension > law.max_tension(final_length):
+        refuse("maneuver.landing_tension", tension, f"at most "
+               f"{law.max_tension(final_length):.4g} N at the final tether length q9 = "
+               f"{final_length:.4g} m (LN >= q9 / 2: eq 28's KC q9 / 2, the rope's EA; a "
+               "stiffer tether, params.tether.K_C or tether.EA, allows more)")  # fmt: skip
     if tension >= s.limits.max_tension:
         refuse("maneuver.landing_tension", tension,
                f"a tension below limits.max_tension ({s.limits.max_tension:g} N)")  # fmt: skip
-    natural = final_length - tension / K_C
+    natural = law.natural_length(final_length, tension)
     if s.winch.min_length > natural:
         refuse("winch.min_length", s.winch.min_length, f"at most the landing's final natural "
-               f"length LN = q9 - T / KC = {natural:.4g} m (eq 28)")  # fmt: skip
+               f"length LN = {natural:.4g} m (q9 - T / KC, eq 28, or the rope's "
+               "q9 EA / (EA + T))")  # fmt: skip
+
+
+def _check_reference(s: Scenario, source: str | None) -> None:
+    """The ``[reference]`` table (``scenario.flight``): its keys, only its type's own
+    (``REFERENCE_KEYS``), the trajectory built (a CSV read, its path and SHA-256 recorded)
+    and joined with the run: not with a landing, a controller that flies references
+    (``ControllerEntry.reference``), the massless tether, no point of N held over a moving
+    base, a path that covers the run (steps within the duration, a CSV from t <= 0 to
+    t >= duration; a run shorter than a waypoints path flies its beginning), a take-off
+    tethered, climbing above its start."""
+    if not isinstance(s.trajectory, ReferenceSettings):
+        raise ParameterError("reference", s.trajectory, "a ReferenceSettings", source=source)
+    r = _checked(ReferenceSettings, "reference", s.trajectory, source)
+    defaults = ReferenceSettings()
+    used = REFERENCE_KEYS[r.type]
+    for f in dataclasses.fields(ReferenceSettings):
+        if (
+            f.name != "type"
+            and f.name not in used
+            and getattr(r, f.name) != getattr(defaults, f.name)
+        ):
+            raise ParameterError(
+                f"reference.{f.name}", getattr(r, f.name), f"unset with type = {r.type!r} "
+                f"(used by type = {[t for t, k in REFERENCE_KEYS.items() if f.name in k]})",
+                source=source,
+            )  # fmt: skip
+    _set(s, "trajectory", r)
+    if not r.moving:
+        return
+
+    def refuse(key: str, value: Any, allowed: str) -> None:
+        raise ParameterError(key, value, allowed, source=source)
+
+    if s.maneuver.landing:
+        refuse("reference.type", r.type, "'hold' with a landing maneuver ([maneuver] flies "
+               "its own descent)")  # fmt: skip
+    if not controller_entry(s.control.controller).reference:
+        able = [n for n, e in CONTROLLER_REGISTRY.items() if e.reference]
+        refuse(
+            "control.controller",
+            s.control.controller,
+            f"one of {able} with a "
+            "[reference] (the other controllers do not fly moving references yet)",
+        )
+    if s.tether.lumped:
+        refuse("tether.model", s.tether.model, "'elastic' with a [reference] (the lumped "
+               "chain is not flown along references yet)")  # fmt: skip
+    if s.reference == "ground" and not s.base_motion.fixed:
+        refuse("control.reference", "ground", "'base' or unset with a [reference] over a "
+               "moving base (the path is flown relative to the base)")  # fmt: skip
+    if r.type in ("steps", "waypoints"):
+        if not r.x:
+            refuse("reference.x", r.x, "at least one point")
+        for key in ("y", "z", "times") if r.type == "steps" else ("y", "z"):
+            if len(getattr(r, key)) != len(r.x):
+                refuse(f"reference.{key}", getattr(r, key), f"{len(r.x)} numbers, one per "
+                       "point (as reference.x)")  # fmt: skip
+    if r.type == "waypoints" and len(r.speeds) != len(r.x):
+        refuse("reference.speeds", r.speeds, f"{len(r.x)} speeds > 0 [m/s], one per point")
+    if r.yaw and len(r.yaw) != len(r.x):
+        refuse("reference.yaw", r.yaw, f"empty or {len(r.x)} angles [rad], one per point")
+    arm = s.params.helicopter.tether_arm  # HO = P - arm f3: HO is -arm above P
+    start_height = s.q9 - arm
+    try:
+        path = build_trajectory(r, start_height=start_height)
+    except ParameterError as exc:
+        if exc.source is not None:  # a file's own error, naming it
+            raise
+        raise ParameterError(exc.field, exc.value, exc.allowed, source=source) from None
+    if r.type == "steps" and not path.end < s.duration:
+        refuse("reference.times", r.times, f"times (plus transition) below duration "
+               f"({s.duration:g} s)")  # fmt: skip
+    if r.type == "csv":
+        start = float(path.times[0])  # type: ignore[attr-defined]
+        if start > 0.0 or path.end < s.duration:
+            refuse(
+                "reference.file",
+                r.file,
+                f"a path covering the run (t from <= 0 to >= "
+                f"duration = {s.duration:g} s; it covers [{start:g}, {path.end:g}] s)",
+            )
+        r = dataclasses.replace(r, file=path.source, file_sha256=path.sha256)  # type: ignore[attr-defined]
+        _set(s, "trajectory", r)
+    if r.type == "takeoff":
+        if s.configuration != "tethered":
+            refuse("reference.type", r.type, "'hold', 'steps', 'waypoints' or 'csv' in the "
+                   "free configuration (a take-off pays out the tether)")  # fmt: skip
+        if not r.start_time < s.duration:
+            refuse("reference.start_time", r.start_time, f"a time below duration "
+                   f"({s.duration:g} s)")  # fmt: skip
+        if not r.height >= start_height + 0.5:
+            refuse("reference.height", r.height, f"at least 0.5 m above the start's height of "
+                   f"HO ({start_height:.4g} m at q9 = {s.q9:g} m)")  # fmt: skip
+        top = s.params.tension_control.T_ref if r.top_tension is None else r.top_tension
+        if top >= s.limits.max_tension:
+            refuse(
+                "reference.top_tension",
+                top,
+                f"a tension below limits.max_tension ({s.limits.max_tension:g} N)",
+            )

@@ -58,6 +58,7 @@ from ..params import TETHER_LENGTH_RANGE, Params
 from ..sensing.config import SensorConfig, sensor_config_from_dict
 from ..wind import Disturbance, NoWind, disturbance_from_dict, paper_wind
 from .checks import MAX_SAMPLES, check_distinct_names, check_name, validate_scenario
+from .flight import ReferenceSettings
 from .tables import (
     CONTROLLERS,
     MPC_OBSERVERS,
@@ -96,6 +97,7 @@ __all__ = [
     "Limits",
     "MPCSettings",
     "ManeuverSettings",
+    "ReferenceSettings",
     "Scenario",
     "TetherLQISettings",
     "TetherSettings",
@@ -161,6 +163,10 @@ class Scenario:
         A maneuver flown in the run (default none: the paper's station-keeping).
     landing_gear : LandingGearSettings or None, optional
         The landing gear in contact with the deck (``[landing_gear]``; default None: none).
+    trajectory : ReferenceSettings, optional
+        The ``[reference]`` table: what the run flies beyond its hover (default hold: the
+        paper's station-keeping; ``scenario.flight``). Named ``trajectory`` here because
+        ``reference`` is the held point's frame (``control.reference``).
     """
 
     name: str = _key(
@@ -209,6 +215,7 @@ class Scenario:
     base: BaseSettings = field(default_factory=BaseSettings)
     maneuver: ManeuverSettings = field(default_factory=ManeuverSettings)
     landing_gear: LandingGearSettings | None = None
+    trajectory: ReferenceSettings = field(default_factory=ReferenceSettings)
 
     def __post_init__(self) -> None:
         validate_scenario(self, source=None)
@@ -226,7 +233,8 @@ class Scenario:
 
     @property
     def input_files(self) -> dict[str, str]:
-        """Every file the scenario names (the base's track or a ship's RAOs), as read when
+        """Every file the scenario names (the base's track, a ship's RAOs, a ``[reference]``
+        CSV trajectory), as read when
         the scenario was built: resolved path -> SHA-256 of its bytes. Part of a run's
         identity (a Monte Carlo resumes only over the same bytes) and protected like the
         scenario file by the output rules (``cli._common.scenario_inputs``).
@@ -235,11 +243,14 @@ class Scenario:
         -------
         dict of str to str
         """
+        files = {}
         if self.base.motion == "ship" and self.base.rao_file:
-            return {self.base.rao_file: self.base.rao_file_sha256}
-        if self.base.motion != "file":
-            return {}
-        return {self.base.file: self.base.file_sha256}
+            files[self.base.rao_file] = self.base.rao_file_sha256
+        if self.base.motion == "file":
+            files[self.base.file] = self.base.file_sha256
+        if self.trajectory.type == "csv":
+            files[self.trajectory.file] = self.trajectory.file_sha256
+        return files
 
     @property
     def reference(self) -> str:
@@ -307,6 +318,7 @@ class Scenario:
             "landing_gear": None
             if self.landing_gear is None
             else dataclasses.asdict(self.landing_gear),
+            "reference": dataclasses.asdict(self.trajectory),
         }
 
     def to_toml(self) -> str:
@@ -398,6 +410,7 @@ _TOP_KEYS = {
     "base",
     "maneuver",
     "landing_gear",
+    "reference",
 }
 
 
@@ -407,7 +420,7 @@ def _vectors(source, key, value, cls) -> dict[str, Any]:
     table = dict(_table(source, key, value, cls))
     for f in dataclasses.fields(cls):
         spec = f.metadata.get("key")
-        if spec is None or spec.kind != "vector" or f.name not in table:
+        if spec is None or spec.kind not in ("vector", "list") or f.name not in table:
             continue
         if table[f.name] is None and spec.unset:  # unset (a JSON record's null)
             continue
@@ -507,6 +520,11 @@ def _scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> S
     if "landing_gear" in data:
         table = _table(source, "landing_gear", data["landing_gear"], LandingGearSettings)
         kwargs["landing_gear"] = LandingGearSettings(**table)
+    if "reference" in data:
+        table = _vectors(source, "reference", data["reference"], ReferenceSettings)
+        if isinstance(table.get("file"), str) and table["file"] and source is not None:
+            table["file"] = str(Path(source).parent / table["file"])  # as [base]'s track
+        kwargs["trajectory"] = ReferenceSettings(**table)
     if "sensors" in data:
         if not isinstance(data["sensors"], dict):
             raise ParameterError("sensors", data["sensors"], "a table", source=source)
@@ -519,10 +537,16 @@ def _scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> S
         kwargs["seed"] = data["seed"]  # checked by validate_scenario
     if "wind" in data:
         kwargs["wind"] = disturbance_from_dict(data["wind"], source=source)
+    echo_EA = None
     if "params" in data:
         if not isinstance(data["params"], dict):
             raise ParameterError("params", data["params"], "a table", source=source)
-        kwargs["params"] = Params.from_mapping(data["params"], source=source)
+        mapping = dict(data["params"])
+        if isinstance(mapping.get("tether"), dict) and "EA" in mapping["tether"]:
+            # the law's echo in a recorded scenario: [tether] law and EA set it
+            mapping["tether"] = dict(mapping["tether"])
+            echo_EA = mapping["tether"].pop("EA")
+        kwargs["params"] = Params.from_mapping(mapping, source=source)
     scenario = Scenario.__new__(Scenario)
     defaults = Scenario.__dataclass_fields__
     for name, f in defaults.items():
@@ -535,6 +559,11 @@ def _scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> S
             value = f.default_factory()
         object.__setattr__(scenario, name, value)
     validate_scenario(scenario, source)
+    if echo_EA is not None and echo_EA != scenario.params.tether.EA:
+        raise ParameterError(
+            "params.tether.EA", echo_EA, f"{scenario.params.tether.EA:g}, the law [tether] "
+            "gives (its law and EA set it; 0: the paper's eq 28)", source=source,
+        )  # fmt: skip
     return scenario
 
 

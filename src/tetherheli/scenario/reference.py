@@ -42,6 +42,7 @@ from .core import (
     TetherSettings,
     WinchSettings,
 )
+from .flight import ReferenceSettings
 
 __all__ = ["scenario_reference"]
 
@@ -56,6 +57,7 @@ _TABLES = {
     "base": BaseSettings,
     "maneuver": ManeuverSettings,
     "landing_gear": LandingGearSettings,
+    "reference": ReferenceSettings,
 }
 _PARAM_SECTIONS = {
     "helicopter": HelicopterParams,
@@ -322,7 +324,10 @@ def scenario_reference() -> str:
     ]
     for table, cls in _TABLES.items():
         top += ["", f"## `[{table}]`", "", _summary(cls), ""]
-        defaults = functools.reduce(getattr, table.split("."), scenario)
+        defaults = (  # (the field is ``trajectory``: ``Scenario.reference`` is the frame)
+            scenario.trajectory if table == "reference"
+            else functools.reduce(getattr, table.split("."), scenario)
+        )  # fmt: skip
         if defaults is None:  # a table absent by default ([landing_gear]): its defaults
             defaults = cls()
         top += [*_HEADER, *_key_rows(f"{table}.", cls, defaults)]
@@ -372,5 +377,7 @@ def scenario_reference() -> str:
         {"": calibrated}, "wind.model", '`type = "gauss_markov"` with a `calibration`'
     )
     top += _wind_rows({"": wind_loader.DragModel}, "wind.drag", "The `drag` table")
-    assert set(_TOP_KEYS) >= {f.name for f in dataclasses.fields(Scenario)}
+    # (the field ``trajectory`` is the table ``[reference]``)
+    fields = {f.name for f in dataclasses.fields(Scenario)} - {"trajectory"}
+    assert set(_TOP_KEYS) >= fields | {"reference"}
     return "\n".join(top) + "\n"

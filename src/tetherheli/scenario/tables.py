@@ -44,7 +44,9 @@ __all__ = [
     "MANEUVERS",
     "MPC_OBSERVERS",
     "MPC_QY_GNSS",
+    "PAPER_EA_N",
     "REFERENCES",
+    "TETHER_LAWS",
     "TETHER_MODELS",
     "WINCH_MODELS",
     "ActuatorSettings",
@@ -433,6 +435,12 @@ class ActuatorSettings:
 #: The tether models ``[tether] model`` selects: the paper's massless elastic tether (eq 28)
 #: and the lumped-mass chain (``tether.lumped``).
 TETHER_MODELS: tuple[str, ...] = ("elastic", "lumped")
+#: The massless tether's laws ``[tether] law`` selects (``params.TetherParams``): the paper's
+#: eq 28, TC = KC (q9 - LN), and a rope's TC = EA (q9 - LN) / LN (issue 46).
+TETHER_LAWS: tuple[str, ...] = ("paper", "rope")
+#: The paper's EA [N]: Table III's KC = 40 N/m at L0N = 9.375 m, EA = KC L0N, the rope a
+#: tethered landing flies when its scenario names no law.
+PAPER_EA_N = 40.0 * 9.375
 
 
 @dataclass(frozen=True)
@@ -447,6 +455,15 @@ class TetherSettings:
     massless trim's natural length LN = q9 - T_ref / K_C is EA / LN, so EA = K_C LN
     (``LumpedTether.from_paper_stiffness``; 375 N at the paper's hover).
 
+    ``law`` chooses the massless ("elastic") tether's tension law: the paper's eq 28 (KC
+    independent of the length) or a rope, TC = EA (q9 - LN) / LN with ``EA`` its axial
+    stiffness (required with it), whose stiffness EA / LN grows as the winch reels in: the
+    short tether of a landing. Unset, a tethered landing flies the rope with the paper's
+    EA = KC L0N = 375 N (or ``EA`` when given), every other run the paper's law. The lumped
+    chain is a rope already (each segment EA strain): with it ``law`` stays unset or
+    "paper" and ``EA`` is the chain's; at the same EA and unstretched length the massless
+    rope is the chain's limit of zero mass (``tests/test_rope.py``).
+
     A lumped run starts from ``hover_trim_lumped``'s equilibrium (the chain hanging still,
     T_ref at the winch; even in a gust table, whose drag then acts from t = 0) and the paper
     controller flies about that trim. The load cell (eq 56's PI, the sensors) reads the
@@ -458,7 +475,7 @@ class TetherSettings:
 
     Parameters
     ----------
-    model, segments, mass_per_length, EA, damping_ratio, internal_damping, diameter,
+    model, law, segments, mass_per_length, EA, damping_ratio, internal_damping, diameter,
     drag_coefficient, tangential_drag_coefficient, ground_stiffness, ground_damping,
     ground_friction, ground_friction_speed, record_nodes
         The keys of a scenario's ``[tether]`` table; each field's ``Key`` gives its meaning,
@@ -472,16 +489,24 @@ class TetherSettings:
             "chain with sag and drag (tether.lumped)", kind="text",
             choices=TETHER_MODELS),
     )  # fmt: skip
+    law: str | None = _key(
+        None,
+        Key("the massless tether's tension law: the paper's eq 28, KC (q9 - LN), or a rope's "
+            "EA (q9 - LN) / LN", kind="text", choices=TETHER_LAWS,
+            note="'rope' with model = 'elastic' only",
+            unset="'rope' with EA = 375 N (the paper's KC L0N) in a tethered landing, else "
+            "'paper'"),
+    )  # fmt: skip
     segments: int = _key(10, CABLE_KEYS["segments"])
     mass_per_length: float = _key(0.02, CABLE_KEYS["mass_per_length"])
     EA: float = _key(
         0.0,
         dataclasses.replace(
             CABLE_KEYS["EA"],
-            doc="axial stiffness; 0: the paper's K_C times the massless trim's natural length "
-            "q9 - T_ref / K_C",
+            doc="axial stiffness: the lumped chain's (0: the paper's K_C times the massless "
+            "trim's natural length q9 - T_ref / K_C) or the rope law's (law = 'rope')",
             low=0.0,
-            note="0 or at least 1",
+            note="0 or at least 1; with model = 'elastic' only with the rope, then required",
         ),
     )
     damping_ratio: float = _key(0.1, CABLE_KEYS["damping_ratio"])
@@ -731,7 +756,8 @@ class ManeuverSettings:
         None,
         Key("the tension reference at touchdown; it goes linearly with the height from "
             "params.tension_control.T_ref", "N", low=0.0, low_open=True,
-            note="at most KC q9 / 2 at touchdown (eq 28: LN >= q9 / 2)",
+            note="at most the tension at LN = q9 / 2 at touchdown (eq 28's KC q9 / 2, the "
+            "rope's EA)",
             unset="params.tension_control.T_ref"),
     )  # fmt: skip
     gear_height: float = _key(

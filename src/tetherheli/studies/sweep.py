@@ -173,6 +173,8 @@ def _with(scenario: Scenario, parameter: str, value: float) -> Scenario:
     if parameter in _ACTUATOR_FIELDS:
         field = parameter.partition(".")[2]
         return scenario.replace(actuators=dataclasses.replace(scenario.actuators, **{field: value}))
+    if parameter == "tether.EA":  # the law's EA is the scenario's [tether] EA (the rope's)
+        return scenario.replace(tether=dataclasses.replace(scenario.tether, EA=value))
     return scenario.replace(params=scenario.params.replace({parameter: value}))
 
 

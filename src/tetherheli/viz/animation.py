@@ -1,4 +1,4 @@
-"""3-D animation of saved simulation runs: fuselage, rotor disc, tether, ground winch, wind.
+"""3-D animation of saved simulation runs: fuselage, rotor disc, tether, winch on its deck, wind.
 
 The animation only reads results written by ``SimulationResult.save(directory, stem)``: one
 ``<stem>.csv`` (time series, SI units, angles in rad) and one ``<stem>.json`` (configuration,
@@ -44,7 +44,14 @@ from ..model.kinematics import HelicopterPoints, direction_cosines, helicopter_p
 from ..progress import Progress
 from ..resources import check_memory
 from .run_data import RunData, _load_runs, list_runs, load_run
-from .scene import _FIGURE_INCHES, _WIND_COLOUR, _frame_times, _Scene, run_colours
+from .scene import (
+    _FIGURE_INCHES,
+    _PAD_COLOUR,
+    _WIND_COLOUR,
+    _frame_times,
+    _Scene,
+    run_colours,
+)
 
 __all__ = [
     "HelicopterPoints",
@@ -218,7 +225,7 @@ def _gif_palette(scene: _Scene) -> Image.Image:
     from matplotlib.colors import to_rgb
 
     n = len(scene.times)
-    named = [*scene.colours, _WIND_COLOUR, "black", "white", "0.5", "0.85"]
+    named = [*scene.colours, _WIND_COLOUR, _PAD_COLOUR, "black", "white", "0.5", "0.85"]
     fixed = [to_rgb(c) for c in named] + [scene.cmap(x)[:3] for x in np.linspace(0, 1, 64)]
     fixed_rgb = (np.array(fixed) * 255).round().astype(np.uint8)
     samples = [_rgb(scene.render(k)) for k in sorted({0, n // 2, n - 1})]

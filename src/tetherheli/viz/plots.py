@@ -16,8 +16,9 @@ the animation). A failed run is drawn up to its last
 recorded sample and says so in the legend; samples that cannot be drawn (non-finite, or beyond
 ``PLOT_LIMIT``) are left out as gaps, with a note on the figure.
 
-This module draws the runs (Figs. 6-9); ``viz.study_figures`` the studies' figures and
-``viz.figure`` what every figure shares. Their names are re-exported here, where callers
+This module draws the runs (Figs. 6-9); ``viz.landing`` a landing's figure (in place of
+Figs. 6-9 for a descent), ``viz.study_figures`` the studies' figures and ``viz.figure`` what
+every figure shares. Their names are re-exported here, where callers
 import them.
 """
 
@@ -46,6 +47,7 @@ from .figure import (
     save_figure,
 )
 from .formats import FIGURE_FORMATS, PRINT_DPI
+from .landing import LANDING_SERIES, figure_landing
 from .study_figures import (
     ControllerSpread,
     figure_compare,
@@ -62,6 +64,7 @@ from .study_figures import (
 __all__ = [
     "CONFIGURATION_COLOURS",
     "FIGURE_FORMATS",
+    "LANDING_SERIES",
     "PLOT_LIMIT",
     "PRINT_DPI",
     "ControllerSpread",
@@ -70,6 +73,7 @@ __all__ = [
     "figure_compare_spread",
     "figure_dpi",
     "figure_inputs",
+    "figure_landing",
     "figure_limit_search",
     "figure_montecarlo",
     "figure_outputs",

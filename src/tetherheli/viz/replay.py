@@ -3,11 +3,12 @@
 The page shows each run's helicopter (a simple body with its attitude, rotor disc and tail
 rotor), its tether coloured by tension (the lumped chain's recorded nodes when present, else
 the straight line winch - P), the deck and its pad following the recorded base motion
-(``base_n1..3``), the wind force as an arrow at HO and the path of HO, with a time slider,
-play/pause and a speed choice; all the runs of a folder are overlaid, in the animation's
-colours (``viz.scene.run_colours``). The 3-D library, three.js r170 (MIT licence,
-``replay_assets/three.LICENSE``), and the data are inlined, so the file opens from disk
-with no network. The URL may name a time: ``replay.html#t=12.5`` shows t = 12.5 s, paused.
+(``base_n1..3``) and, over a ship, tilting with its roll, pitch and yaw, the wind force as
+an arrow at HO and the path of HO, with a time slider, play/pause and a speed choice; all
+the runs of a folder are overlaid, in the animation's colours (``viz.scene.run_colours``).
+The 3-D library, three.js r170 (MIT licence, ``replay_assets/three.LICENSE``), and the
+data are inlined, so the file opens from disk with no network. The URL may name a time:
+``replay.html#t=12.5`` shows t = 12.5 s, paused.
 
 The data are the recorded samples nearest to frames ``1 / fps`` seconds of simulated time
 apart (``fps`` = 25 by default): the file stays small (some 60 kB per run and simulated
@@ -75,7 +76,11 @@ def _run_frames(run: RunData, index: np.ndarray) -> dict[str, Any]:
         "deviation": _numbers(np.linalg.norm(run.position[index] - run.trim_position, axis=1), 3),
         "nodes": None,
         "node_count": 0,
+        "deck_quaternion": None,
     }
+    if run.deck_attitude is not None:  # over a ship: the deck's tilt (scalar last)
+        deck = Rotation.from_matrix(np.asarray(run.deck_rotation)[index]).as_quat()
+        frames["deck_quaternion"] = _numbers(deck, quat)
     if run.nodes is not None:
         nodes = run.nodes[index] + base[:, None, :]
         frames["nodes"] = _numbers(nodes, length)

@@ -15,7 +15,8 @@ import numpy as np
 from ..errors import ParameterError
 from ..model.kinematics import HelicopterPoints, helicopter_points
 from ..params import HelicopterParams, Params
-from ..results.files import BASE_POSITION_COLUMNS, _series_path
+from ..results.files import BASE_POSITION_COLUMNS, DECK_ATTITUDE_COLUMNS, _series_path
+from ..results.landing import is_landing
 from ..results.result import list_results, load_result
 
 __all__ = ["RunData", "list_runs", "load_run"]
@@ -59,6 +60,12 @@ class RunData:
     nodes : ndarray, shape (n, N + 1, 3), optional
         A lumped tether's recorded node positions relative to the base [m], row 0 the winch
         and row N the point P (``node<i>_n<a>``; None when not recorded).
+    deck_attitude : ndarray, shape (n, 3), optional
+        The deck's roll, pitch and yaw [rad] over a ship (``deck_roll``, ``deck_pitch``,
+        ``deck_yaw``: rotations about n1, n2, n3, ``base.ship``); None: a level deck.
+    gear_height : float, optional
+        A landing's gear height below HO [m] (``[maneuver] gear_height``); None: not a
+        landing.
     """
 
     stem: str
@@ -75,11 +82,14 @@ class RunData:
     version: str
     base: np.ndarray = None  # type: ignore[assignment]  # None: zeros (__post_init__)
     nodes: np.ndarray | None = None
+    deck_attitude: np.ndarray | None = None
+    gear_height: float | None = None
 
     def __post_init__(self) -> None:
         if self.base is None:
             object.__setattr__(self, "base", np.zeros((len(self.time), 3)))
-        for name in ("time", "q", "wind", "tension", "trim_position", "base", "nodes"):
+        for name in ("time", "q", "wind", "tension", "trim_position", "base", "nodes",
+                     "deck_attitude"):  # fmt: skip
             value = getattr(self, name)
             if value is not None:
                 value.setflags(write=False)
@@ -98,6 +108,18 @@ class RunData:
     def base_moves(self) -> bool:
         """True when the recorded base moved (any ``base_n1..3`` other than its first)."""
         return bool(np.any(self.base != self.base[:1]))
+
+    @property
+    def deck_rotation(self) -> np.ndarray:
+        """The deck's rotation from N at every sample, (n, 3, 3): roll, pitch, yaw about n1,
+        n2, n3 (extrinsic x-y-z, ``deck_attitude``); the identity for a level deck."""
+        n = len(self.time)
+        if self.deck_attitude is None:
+            return np.broadcast_to(np.eye(3), (n, 3, 3))
+        from scipy.spatial.transform import Rotation
+
+        angles = np.nan_to_num(np.asarray(self.deck_attitude, dtype=float))
+        return Rotation.from_euler("xyz", angles).as_matrix()
 
     @property
     def angles(self) -> np.ndarray:
@@ -172,6 +194,16 @@ def load_run(directory: str | Path, stem: str | None = None) -> RunData:
         version=result.version,
         base=_base(result.extra, len(result.time)),
         nodes=_nodes(result.extra),
+        deck_attitude=(
+            np.column_stack([result.extra[c] for c in DECK_ATTITUDE_COLUMNS])
+            if all(c in result.extra for c in DECK_ATTITUDE_COLUMNS)
+            else None
+        ),
+        gear_height=(
+            float(result.configuration["maneuver"]["gear_height"])
+            if is_landing(result.configuration)
+            else None
+        ),
     )
 
 

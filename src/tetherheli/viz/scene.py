@@ -1,7 +1,12 @@
 """The drawing of an animation's frames: the helicopter's wireframe, rotor disc, tether
-(coloured by tension), ground winch and wind arrow of each run in a 3-D scene with a close-up
+(coloured by tension), winch and wind arrow of each run in a 3-D scene with a close-up
 (``_Scene``), the runs' colours (``run_colours``) and the frame times. ``viz.animation``
 renders and writes the frames.
+
+The deck is a square plane around the winch with the pad (a ring) marked: over a moving
+base it follows the recorded base position (its heave included) and, over a ship, tilts
+with the recorded roll, pitch and yaw (``RunData.deck_rotation``), in place of a still
+ground; for a landing the close-up shows it too.
 """
 
 from __future__ import annotations
@@ -32,6 +37,7 @@ __all__ = ["run_colours"]
 #: first tethered run blue, as in every figure: ``viz.plots.CONFIGURATION_COLOURS``)
 _MORE_COLOURS = ("tab:purple", "tab:brown", "tab:pink", "tab:gray", "tab:olive", "tab:cyan")
 _WIND_COLOUR = "darkorange"
+_PAD_COLOUR = "gold"
 _TENSION_CMAP = "viridis"
 _SLACK = 1e-9  # [N] a tension at or below this is drawn as a slack tether
 _WIND_ARROW = 1.0  # [m] drawn length of the largest wind force when auto-scaling
@@ -39,6 +45,8 @@ _ZOOM = 1.15  # the close-up box fills more of its panel than Matplotlib's defau
 _MARGIN = 0.3  # [m] free space around the drawn helicopter(s) in the close-up
 _FIGURE_INCHES = (10.0, 6.0)  # [in] the animation's figure
 _DECK = 1.5  # [m] half the side of the drawn deck around the winch
+_CLOSE_DECK = 0.9  # [m] half the side of the deck drawn in a landing's close-up
+_PAD = 0.5  # [m] radius of the drawn pad (a ring around the winch)
 _LABEL_X = 0.2  # the run lines start here (figure fraction), right of the clock
 _LABEL_POINTS = 8.5  # [pt] their font size
 _MONO_WIDTH = 0.6  # a monospace character's advance over its font size
@@ -120,6 +128,19 @@ class _Shape:
     P: np.ndarray  # (m, 3)
     base: np.ndarray  # (m, 3) the winch's base (the deck's pad)
     nodes: np.ndarray | None  # (m, N + 1, 3) a lumped chain's recorded nodes, or None
+    deck: np.ndarray  # (m, 3, 3) the deck's rotation from N (the identity: level)
+
+    def deck_plane(self, k: int, half: float) -> np.ndarray:
+        """The deck's corners at frame k, a square of half side ``half`` [m] around the
+        winch, tilted with the deck, (4, 3) [m]."""
+        square = half * np.array([[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0],
+                                  [-1.0, 1.0, 0.0]])  # fmt: skip
+        return self.base[k] + square @ self.deck[k].T
+
+    def pad_ring(self, k: int) -> np.ndarray:
+        """The pad's ring at frame k (radius ``_PAD`` around the winch, on the deck), (j, 3)."""
+        ring = _circle(np.zeros(3), _PAD, (0, 1), 49)
+        return self.base[k] + ring @ self.deck[k].T
 
 
 def _shape(run: RunData, index: np.ndarray, rotor_radius: float) -> _Shape:
@@ -138,7 +159,8 @@ def _shape(run: RunData, index: np.ndarray, rotor_radius: float) -> _Shape:
         return out.reshape((len(index), *local.shape))
 
     nodes = None if run.nodes is None else run.nodes[index] + base[:, None, :]
-    return _Shape(place(tmpl), place(rim), place(tail), pts.N_p_HO, pts.N_p_P, base, nodes)
+    deck = np.asarray(run.deck_rotation)[index]
+    return _Shape(place(tmpl), place(rim), place(tail), pts.N_p_HO, pts.N_p_P, base, nodes, deck)
 
 
 def _frame_times(runs: Sequence[RunData], fps: float, speed: float, max_frames: int):
@@ -191,6 +213,18 @@ class _View:
     lo: np.ndarray
     hi: np.ndarray
     close_up: bool
+
+
+@dataclass(frozen=True, eq=False)
+class _Deck:
+    """A drawn deck: its plane, the pad's ring and the winch, of run ``run``'s base, a
+    square of half side ``half`` [m]."""
+
+    plate: Poly3DCollection
+    pad: Any
+    winch: Any
+    run: int
+    half: float
 
 
 @dataclass(frozen=True, eq=False)
@@ -249,6 +283,10 @@ class _Scene:
                 flat = pts.reshape(-1, 3)
                 close_lo = np.minimum(close_lo, flat.min(axis=0))
                 close_hi = np.maximum(close_hi, flat.max(axis=0))
+            if r.gear_height is not None:  # a landing: its close-up holds the deck
+                half = np.array([_CLOSE_DECK, _CLOSE_DECK, 0.0])
+                close_lo = np.minimum(close_lo, r.base.min(axis=0) - half)
+                close_hi = np.maximum(close_hi, r.base.max(axis=0) + half)
         close_lo, close_hi = close_lo - _MARGIN, close_hi + _MARGIN
 
         self.fig = Figure(figsize=_FIGURE_INCHES, dpi=dpi)
@@ -264,13 +302,15 @@ class _Scene:
             ax = self.fig.add_axes((0.0, bottom, 0.34, top - bottom), projection="3d")
             self.views.append(_View(ax, lo, hi, close_up=False))
             self._decorate(ax, "whole scene", bins=3)
-            ground = [
-                [(lo[0], lo[1], 0.0), (hi[0], lo[1], 0.0), (hi[0], hi[1], 0.0), (lo[0], hi[1], 0.0)]
-            ]
-            ax.add_collection(
-                Poly3DCollection(ground, facecolor="0.85", edgecolor="0.6", alpha=0.5),
-                autolim=False,
-            )
+            if not self.moving_base:  # a still ground; a moving deck is drawn per frame
+                ground = [[(lo[0], lo[1], 0.0), (hi[0], lo[1], 0.0), (hi[0], hi[1], 0.0),
+                           (lo[0], hi[1], 0.0)]]  # fmt: skip
+                ax.add_collection(
+                    Poly3DCollection(
+                        ground, facecolor="0.85", edgecolor="0.6", alpha=0.5, gid="ground"
+                    ),
+                    autolim=False,
+                )
         if self.tethered:
             cax = self.fig.add_axes((0.915, 0.28, 0.012, 0.44))
             bar = self.fig.colorbar(ScalarMappable(self.norm, self.cmap), cax=cax)
@@ -288,22 +328,20 @@ class _Scene:
         self.trim_marker: Any = ax.plot(
             *trims.T, marker="x", markersize=8, linestyle="", color="black"
         )[0]
-        # the deck (a square around the winch) and the winch, where the base is
-        self.decks: list[tuple[Any, Any, int]] = []
-        if self.whole:
-            seen: list[np.ndarray] = []
-            for i, r in enumerate(runs):
-                if any(np.array_equal(r.base, b) for b in seen):
-                    continue
-                seen.append(r.base)
-                plate = Poly3DCollection(
-                    [], facecolor="0.55", edgecolor="0.35", alpha=0.7, linewidths=0.8
-                )
-                self.views[0].ax.add_collection(plate, autolim=False)
-                winch = self.views[0].ax.plot(
-                    [], [], [], marker="s", markersize=6, color="black", linestyle=""
-                )[0]
-                self.decks.append((plate, winch, i))
+        # the deck (a square around the winch, tilted with a ship's), its pad and the winch,
+        # where the base is: in the whole scene, and in a landing's close-up
+        self.decks: list[_Deck] = []
+        self._deck_corners: list[np.ndarray] = []
+        seen: list[tuple[np.ndarray, np.ndarray]] = []
+        for i, r in enumerate(runs):
+            rotation = np.asarray(r.deck_rotation)
+            if any(np.array_equal(r.base, b) and np.array_equal(rotation, d) for b, d in seen):
+                continue
+            seen.append((r.base, rotation))
+            if self.whole:
+                self.decks.append(self._add_deck(self.views[0].ax, i, _DECK))
+            if r.gear_height is not None:
+                self.decks.append(self._add_deck(self.views[-1].ax, i, _CLOSE_DECK))
 
         self.artists = [
             [self._add_run(v.ax, r, c) for r, c in zip(runs, self.colours, strict=True)]
@@ -330,6 +368,32 @@ class _Scene:
         room = (0.99 - _LABEL_X) * _FIGURE_INCHES[0] * 72.0
         self.label_chars = max(int(room / (_MONO_WIDTH * _LABEL_POINTS)), 20)
         self._legend()
+
+    @staticmethod
+    def _add_deck(ax: Any, i: int, half: float) -> _Deck:
+        """The deck of run ``i`` in the axes ``ax``: a square of half side ``half`` [m], the
+        pad's ring and the winch (drawn by ``update``)."""
+        plate = Poly3DCollection([], facecolor="0.55", edgecolor="0.35", alpha=0.7,
+                                 linewidths=0.8)  # fmt: skip
+        ax.add_collection(plate, autolim=False)
+        pad = ax.plot([], [], [], color=_PAD_COLOUR, linewidth=1.6)[0]
+        winch = ax.plot([], [], [], marker="s", markersize=6, color="black", linestyle="")[0]
+        return _Deck(plate, pad, winch, i, half)
+
+    def deck_corners(self, j: int) -> np.ndarray:
+        """The corners of deck ``j`` (of ``decks``) as last drawn by ``update``, (4, 3) [m].
+
+        Parameters
+        ----------
+        j : int
+            The deck's index in ``decks``.
+
+        Returns
+        -------
+        numpy.ndarray
+            The drawn square's corners in N [m].
+        """
+        return self._deck_corners[j]
 
     @staticmethod
     def _decorate(ax: Any, title: str, bins: int) -> None:
@@ -390,7 +454,7 @@ class _Scene:
             handles.append(
                 Line2D(
                     [], [], color="0.55", marker="s", linestyle="", markersize=8,
-                    label="deck, winch" + (" (moving base)" if self.moving_base else " NO"),
+                    label="deck, pad, winch" + (" (moving base)" if self.moving_base else " NO"),
                 )
             )  # fmt: skip
         handles.append(Line2D([], [], color="black", marker="x", linestyle="", label="trim point"))
@@ -428,12 +492,16 @@ class _Scene:
     def _label(self, r: RunData, j: int) -> str:
         """The run's line at its sample j, cut to ``label_chars`` characters."""
         wind = float(np.linalg.norm(r.wind[j]))
-        dev = float(np.linalg.norm(r.position[j] - r.trim_position))
-        text = f"{r.name}: |Fw| {wind:5.1f} N  |HO-trim| {dev:5.2f} m"
+        if r.gear_height is None:  # a hover: the distance from its trim point
+            dev = float(np.linalg.norm(r.position[j] - r.trim_position))
+            text = f"{r.name}: |Fw| {wind:5.1f} N  |HO-trim| {dev:5.2f} m"
+        else:  # a landing: the gear's height above the pad
+            gear = float(r.position[j, 2]) - r.gear_height
+            text = f"{r.name}: |Fw| {wind:5.1f} N  gear {gear:5.2f} m above the pad"
         if r.tethered:
             text += f"  TC {float(r.tension[j]):6.1f} N"
-        if j == len(r.time) - 1 and r.status != 0:
-            text += f"  stopped: {r.message}"
+        if j == len(r.time) - 1 and r.status != 0:  # a landing ends at its touchdown
+            text += f"  {'' if r.gear_height is not None else 'stopped: '}{r.message}"
         if len(text) > self.label_chars:
             text = text[: self.label_chars - 3] + "..."
         return text
@@ -442,11 +510,15 @@ class _Scene:
         """Draw frame k (time ``times[k]``)."""
         t = self.times[k]
         self.clock.set_text(f"t = {t:6.2f} s")
-        for plate, winch, i in self.decks:
-            b = self.shapes[i].base[k]
-            corners = [(-1, -1), (1, -1), (1, 1), (-1, 1)]
-            plate.set_verts([[(b[0] + _DECK * x, b[1] + _DECK * y, b[2]) for x, y in corners]])
-            winch.set_data_3d([b[0]], [b[1]], [b[2]])
+        self._deck_corners = []
+        for d in self.decks:
+            shape = self.shapes[d.run]
+            corners = shape.deck_plane(k, d.half)
+            self._deck_corners.append(corners)
+            d.plate.set_verts([corners])
+            d.pad.set_data_3d(*shape.pad_ring(k).T)
+            b = shape.base[k]
+            d.winch.set_data_3d([b[0]], [b[1]], [b[2]])
         if self.moving_base:
             trims = np.array(
                 [r.trim_position + s.base[k] for r, s in zip(self.runs, self.shapes, strict=True)]
@@ -471,7 +543,7 @@ class _Scene:
 
     def _moving(self) -> list[Any]:
         """The artists that change from frame to frame, back to front."""
-        out: list[Any] = [a for plate, winch, _ in self.decks for a in (plate, winch)]
+        out: list[Any] = [a for d in self.decks for a in (d.plate, d.pad, d.winch)]
         if self.moving_base:
             out.append(self.trim_marker)
         for per_run in self.artists:

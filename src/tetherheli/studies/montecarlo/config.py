@@ -144,10 +144,11 @@ def montecarlo_config_from_dict(data: Any, *, source: str | None = None) -> Mont
             known = Params.field_docs()
             items = []
             for name, pct in p.items():
-                if name not in known:
+                if name not in known or name == "tether.EA":  # EA: the scenario's [tether]
                     raise ParameterError(
-                        f"montecarlo.params.{name}", pct, f"one of {sorted(known)}"
-                    )
+                        f"montecarlo.params.{name}", pct,
+                        f"one of {sorted(set(known) - {'tether.EA'})}",
+                    )  # fmt: skip
                 pct = check_number(
                     f"montecarlo.params.{name}", pct, low=0.0, high=100.0, high_open=True
                 )
@@ -188,6 +189,12 @@ def load_montecarlo(path: str | Path) -> tuple[Scenario, MonteCarloConfig]:
             "maneuver.type", maneuver["type"], "'none' in a Monte Carlo (each draw is flown "
             "free and tethered, and a tethered landing has no free run: fly a landing with "
             "simulate, sweep or run_batch)", source=source,
+        )  # fmt: skip
+    reference = data.get("reference")
+    if isinstance(reference, dict) and reference.get("type") == "takeoff":
+        raise ParameterError(
+            "reference.type", "takeoff", "another type in a Monte Carlo (each draw is flown "
+            "free and tethered, and a take-off has no free run)", source=source,
         )  # fmt: skip
     scenario = scenario_from_dict(data, source=source)
     _wind_parts(scenario.wind, source)

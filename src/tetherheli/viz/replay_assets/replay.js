@@ -124,7 +124,7 @@ const finite = (flat, k, width = 3) => flat[width * k] !== null && flat[width * 
 // the deck and its pad, one per distinct base motion (runs over the same deck share it)
 const decks = new Map();
 for (const run of runs) {
-  const key = JSON.stringify(run.frames.base);
+  const key = JSON.stringify([run.frames.base, run.frames.deck_quaternion]);
   if (decks.has(key)) continue;
   const deck = new THREE.Group();
   deck.add(box([3, 3, 0.1], [0, 0, -0.05], solid(0x8d96a3)));
@@ -136,7 +136,7 @@ for (const run of runs) {
   deck.add(pad);
   deck.add(box([0.2, 0.2, 0.12], [0, 0, 0.06], dark));
   scene.add(deck);
-  decks.set(key, { deck, base: run.frames.base });
+  decks.set(key, { deck, base: run.frames.base, tilt: run.frames.deck_quaternion });
 }
 
 // --- per run: body, tether, wind arrow, path ----------------------------------------------
@@ -191,9 +191,12 @@ function fmt(x, digits, width) {
 const colour = new THREE.Color();
 const quaternion = new THREE.Quaternion();
 function update(k) {
-  for (const { deck, base } of decks.values()) {
+  for (const { deck, base, tilt } of decks.values()) {
     deck.visible = finite(base, k);
     if (deck.visible) deck.position.copy(vec(base, k));
+    if (deck.visible && tilt && finite(tilt, k, 4)) {  // over a ship: roll, pitch, yaw
+      deck.quaternion.set(tilt[4 * k], tilt[4 * k + 1], tilt[4 * k + 2], tilt[4 * k + 3]);
+    }
   }
   const t = times[k];
   drawn.forEach(({ run, body, segments, tetherMaterial, arrow }, i) => {

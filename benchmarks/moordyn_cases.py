@@ -18,9 +18,9 @@ from typing import Any
 
 import numpy as np
 
-from ..base.motion import HarmonicBase
-from ._cable import Cable, CableRun, drive_cable
-from ._moordyn import buoyant_gravity, drive_moordyn
+from tetherheli.base.motion import HarmonicBase
+from tetherheli.tether._cable import Cable, CableRun, drive_cable
+from tetherheli.tether._moordyn import buoyant_gravity, drive_moordyn
 
 __all__ = ["HEAVY_CABLE", "MOORDYN_CASES", "MOVING_ANCHOR_CASES", "PAPER_CABLE", "CaseFigures",
            "MoorDynCase", "compare_case", "half_segment_inertia", "relative_rms", "shaking_top",
