@@ -43,6 +43,7 @@ from tetherheli.layout import (
     SUMMARY_TENSION_MAX,
     SUMMARY_TENSION_MIN,
     WindPack,
+    no_gear,
 )
 from tetherheli.model.kernels import angle_trig, tension_from_state, tethered_outputs
 from tetherheli.runs.batch import run_batch
@@ -145,7 +146,7 @@ def _piece(z0, ta, tb, mid, sign, held, setup, winch, tol):
         w = 0.0 if sign == 0.0 else z[13]
         side = 1 if tt < mid else -1
         engine.plant_derivative(
-            z[:13], sc, inp, r * w, tt, side, cfg, c,
+            z[:13], sc, inp, r * w, tt, side, cfg, (c, no_gear()),
             WindPack(wind.program, wind.gust, wind.drag, STILL_BASE), dx,
         )  # fmt: skip
         if sign == 0.0:

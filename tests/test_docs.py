@@ -56,6 +56,7 @@ def test_every_key_the_loader_accepts_is_documented():
         ("winch", scenario_module.WinchSettings),
         ("base", scenario_module.BaseSettings),
         ("maneuver", scenario_module.ManeuverSettings),
+        ("landing_gear", scenario_module.LandingGearSettings),
         ("reference", scenario_module.ReferenceSettings),
     ):
         # a nested table (a dataclass default) is documented by its own keys
@@ -83,7 +84,7 @@ def test_every_key_the_loader_accepts_is_documented():
 
 
 _TABLE_KEYS = {"control", "limits", "wind", "params", "actuators", "sensors", "tether", "winch",
-               "base", "maneuver", "reference"}  # fmt: skip
+               "base", "maneuver", "landing_gear", "reference"}  # fmt: skip
 _ROW = re.compile(r"^\| `([^`]+)` \| [^|]*(?:\\\|[^|]*)* \| [^|]* \| `([^`]*)` \| (.*) \|$", re.M)
 _RANGE = re.compile(
     r"^an? (?:nonzero )?(?:finite number|number|integer)"

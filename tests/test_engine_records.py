@@ -73,10 +73,10 @@ def test_the_vehicle_slot_dispatches_on_the_vehicle():
     cfg = np.zeros(layout.CFG_SIZE)
     cfg[layout.CFG_ATTACHED], cfg[layout.CFG_K_C] = 1.0, 1000.0
     out = np.empty(13)
-    engine.vehicle_derivative(x, sc, np.zeros(4), 0.5, cfg, c, np.zeros(3), out)
+    engine.vehicle_derivative(x, sc, np.zeros(4), 0.5, cfg, c, np.zeros(3), out, layout.no_gear())
     assert np.all(np.isfinite(out)) and out[layout.X_LN] == 0.5
     cfg[layout.CFG_VEHICLE] = layout.VEHICLE_MULTIROTOR  # reserved: no kernel in the slot yet
-    engine.vehicle_derivative(x, sc, np.zeros(4), 0.5, cfg, c, np.zeros(3), out)
+    engine.vehicle_derivative(x, sc, np.zeros(4), 0.5, cfg, c, np.zeros(3), out, layout.no_gear())
     assert np.all(np.isnan(out))
 
 

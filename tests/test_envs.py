@@ -239,7 +239,12 @@ def test_moving_base_zero_residual_equals_simulate():
 def _refused_scenarios() -> dict:
     """A scenario per key an environment refuses (``env_checks.SCENARIO_USE``'s "refused"
     fields), each otherwise valid for ``simulate``."""
-    from tetherheli.scenario.core import BaseSettings, ControlSettings, TetherSettings
+    from tetherheli.scenario.core import (
+        BaseSettings,
+        ControlSettings,
+        LandingGearSettings,
+        TetherSettings,
+    )
     from tetherheli.sensing.config import SensorConfig
     from tetherheli.shipped import shipped_scenario
 
@@ -251,6 +256,7 @@ def _refused_scenarios() -> dict:
         ),
         "control.reference": Scenario(base=deck, control=ControlSettings(reference="ground")),
         "maneuver.type": shipped_scenario("landing_calm_deck"),
+        "landing_gear": Scenario(landing_gear=LandingGearSettings()),
         "trajectory.type": shipped_scenario("paper_waypoints_tethered"),
         "tether.model": Scenario(tether=TetherSettings(model="lumped")),
         "seed": Scenario(seed=3, sensors=SensorConfig(encoder_std=0.01)),

@@ -21,10 +21,12 @@ from tetherheli.viz.plots import figure_inputs, figure_landing, figure_outputs
 
 
 def _short_landing(base=None):
-    """``landing_calm_deck`` from 2 m up, descending from t = 0.5 s: about 7 s, 0.1 s to fly."""
+    """``landing_calm_deck`` from 2 m up, descending from t = 0.5 s: about 7 s, 0.1 s to fly;
+    its touchdown a gate (no landing gear: the figure's gear panels are tested apart)."""
     s = shipped_scenario("landing_calm_deck")
-    s = s.replace(q9=2.0, duration=10.0, **({} if base is None else {"base": base}))
-    return s.replace(maneuver=dataclasses.replace(s.maneuver, start_time=0.5))
+    gate = dataclasses.replace(s.maneuver, start_time=0.5, after_touchdown="stop")
+    return s.replace(q9=2.0, duration=10.0, landing_gear=None, maneuver=gate,
+                     **({} if base is None else {"base": base}))  # fmt: skip
 
 
 @pytest.fixture(scope="module")

@@ -268,8 +268,9 @@ class Key:
         What the key means (with the paper's equation or section where it has one).
     unit : str, optional
         The unit, e.g. ``"s"``, ``"N m"`` (empty: dimensionless or not a number).
-    kind : {"number", "integer", "bool", "vector", "list", "text"}, optional
-        The value's type; ``"vector"`` is ``length`` numbers, ``"list"`` at most ``length``.
+    kind : {"number", "integer", "bool", "vector", "list", "points", "text"}, optional
+        The value's type; ``"vector"`` is ``length`` numbers, ``"list"`` at most ``length``,
+        ``"points"`` a list of 1 to ``length`` points of 3 numbers each.
     low, high : float, optional
         Bounds of a number, an integer or each entry of a vector (None: unbounded).
     low_open, high_open : bool, optional
@@ -325,6 +326,10 @@ class Key:
             if self.choices:
                 return "one of " + ", ".join(map(repr, self.choices))
             return "a string other than " + ", ".join(map(repr, NONFINITE_JSON))
+        if self.kind == "points":
+            return f"a list of 1 to {self.length} points of 3 finite numbers" + _range(
+                self.low, self.high, self.low_open, self.high_open, self._unit()
+            )
         if self.kind in ("vector", "list"):
             numbers = "finite numbers" if self.finite else "numbers"
             return (
@@ -389,6 +394,14 @@ class Key:
             return value
         if self.kind == "integer":
             return check_integer(field, value, low=low, high=high, source=source)
+        if self.kind == "points":
+            if not isinstance(value, (list, tuple)) or not 1 <= len(value) <= self.length:
+                raise ParameterError(field, value, self.allowed(), source=source)
+            return tuple(
+                check_vector(f"{field}[{i}]", point, 3, low=low, high=high, low_open=low_open,
+                             unit=self._unit(), source=source)
+                for i, point in enumerate(value)
+            )  # fmt: skip
         if self.kind == "list":
             items = value.tolist() if isinstance(value, np.ndarray) else value
             if not isinstance(items, (list, tuple)) or len(items) > self.length:

@@ -21,6 +21,7 @@ __all__ = [
     "LANES",
     "SUMMARY_FIELDS",
     "WIND_COLUMNS",
+    "Gear",
     "LaneWind",
     "LoopState",
     "Run",
@@ -29,6 +30,7 @@ __all__ = [
     "WindPack",
     "default_actuators",
     "empty_chain",
+    "no_gear",
 ]
 
 # --- the lane engine (``engine.lanes.run_lanes``) ---------------------------------------------
@@ -407,6 +409,9 @@ class Run(NamedTuple):
         ring).
     chain : tuple of numpy.ndarray
         The lumped chain (``CHAIN_*``; ``empty_chain()``: the massless tether).
+    gear : Gear or tuple
+        The landing gear (``Gear``; ``no_gear()``: none); an empty tuple in the records of
+        the phases that do not integrate (``engine.loop.control_run``).
     """
 
     cfg: np.ndarray
@@ -417,6 +422,51 @@ class Run(NamedTuple):
     wind: WindPack
     sensors: tuple
     chain: tuple
+    gear: Gear | tuple
+
+
+class Gear(NamedTuple):
+    """The landing gear of one run as the engine's vehicle slot takes it
+    (``engine.loop.vehicle_derivative``): its points, contact law and scratch; no points
+    (``no_gear()``): no gear, the same types (one compiled signature).
+
+    Parameters
+    ----------
+    points : numpy.ndarray, shape (n, 3)
+        The gear points from HO in F [m] (n = 0: no gear).
+    law : numpy.ndarray, shape (GEAR_LAW_SIZE,)
+        The contact law (``GEAR_LAW_*``).
+    tail : numpy.ndarray, shape (2,)
+        TRO from HO in F, its f1 and f3 offsets [m] (``model.contact.tail_lever``).
+    work : numpy.ndarray, shape (GEAR_WORK_SIZE,)
+        Scratch (``GEAR_WORK_*``); its deck slots hold the level deck through the base.
+    penetration : numpy.ndarray, shape (n,)
+        Scratch: each point's penetration [m].
+    lock : numpy.ndarray, shape (n, LOCK_SIZE)
+        The deck lock (``LOCK_*``): which points are held and where (set from Python by a
+        landing's ``runs.landing.Touchdown``; all zero: none held).
+    """
+
+    points: np.ndarray
+    law: np.ndarray
+    tail: np.ndarray
+    work: np.ndarray
+    penetration: np.ndarray
+    lock: np.ndarray
+
+
+def no_gear() -> Gear:
+    """The ``Gear`` of a run without landing gear: no points.
+
+    Returns
+    -------
+    Gear
+        Empty points, penetration and lock, zero law, tail and scratch.
+    """
+    return Gear(
+        np.zeros((0, 3)), np.zeros(GEAR_LAW_SIZE), np.zeros(2), np.zeros(GEAR_WORK_SIZE),
+        np.zeros(0), np.zeros((0, LOCK_SIZE)),
+    )  # fmt: skip
 
 
 class Scratch(NamedTuple):
@@ -574,6 +624,23 @@ DECK_SIZE = 12
 LOADS_FORCE_N = 0  # (3,) the total force in N [N]
 LOADS_MOMENT_F = 3  # (3,) its moment about HO, F components [N m]
 LOADS_SIZE = 6
+#: the gear's scratch in the engine (``Gear.work``): the loads, the inputs and wind force they
+#: become (``kernels.wrench_loads_sc``), the body, the deck (level, through the base: set once)
+#: and HO's position (``tethered_outputs_sc``)
+GEAR_WORK_LOADS = 0  # (LOADS_SIZE,)
+GEAR_WORK_INPUTS = 6  # (4,) [N, N m, N m, N]
+GEAR_WORK_WIND = 10  # (3,) [N]
+GEAR_WORK_BODY = 13  # (BODY_SIZE,)
+GEAR_WORK_DECK = 31  # (DECK_SIZE,)
+GEAR_WORK_OUTPUTS = 43  # (4,) HO from the base [m], q6 [rad]
+GEAR_WORK_LOCK_STIFFNESS = 47  # the deck lock's anchor stiffness per held point [N/m]
+GEAR_WORK_LOCK_DAMPING = 48  # ... and damping [N s/m]
+GEAR_WORK_SIZE = 49
+#: a gear point's deck lock (``Gear.lock``, a row per point): held (1) or not (0), and the
+#: anchor, where the point was captured, from the base in N [m]
+LOCK_HELD = 0
+LOCK_ANCHOR = 1  # (3,)
+LOCK_SIZE = 4
 
 # --- the multirotor's parameters (``mr``, ``model.multirotor.Multirotor.packed``) -------------
 #: a header of named slots, then one row of MR_ROTOR_COLUMNS per rotor from MR_HEADER on

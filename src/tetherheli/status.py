@@ -89,6 +89,10 @@ class Status(enum.IntEnum):
         reason follows in the message).
     NOT_LANDED : int
         12: a landing maneuver reached the run's end without touching down.
+    NOT_SETTLED : int
+        13: a landing on its gear touched down but did not settle (``[maneuver]
+        after_touchdown``): a gear point off the deck at the end of the settling, a bounce,
+        a tip-over or off the pad (the reason follows in the message).
     """
 
     OK = 0
@@ -104,6 +108,7 @@ class Status(enum.IntEnum):
     LANDED = 10  # a landing's statuses: set by the Python loop at touchdown (runs.landing)
     HARD_TOUCHDOWN = 11
     NOT_LANDED = 12
+    NOT_SETTLED = 13
 
     @property
     def message(self) -> str:
@@ -197,6 +202,7 @@ _MESSAGES = {
     Status.LANDED: "landed: touched down within the maneuver's limits",
     Status.HARD_TOUCHDOWN: "failed: touched down outside the maneuver's limits",
     Status.NOT_LANDED: "failed: the landing did not touch down before the run's end",
+    Status.NOT_SETTLED: "failed: touched down, but did not settle on the landing gear",
 }
 
 

@@ -26,9 +26,11 @@ the control phases' state; ``layout.Scratch``; ``layout.Signals`` and the summar
 recording), built once per run on borrowed views (``_compile.borrowed``); a phase body
 compiled once takes the run's read-only view (``read_only_run``, ``control_run``). The
 plant is the vehicle slot's (``vehicle_derivative``, ``vehicle_outputs``, on
-``cfg[CFG_VEHICLE]``). The packed arrays (``cfg``, ``ctrl``, ``act``, ``held``, the wind
-program, the summary, the chain) and the state's slots (``X_*``) are laid out in
-``tetherheli.layout``; run statuses are ``tetherheli.status.Status``.
+``cfg[CFG_VEHICLE]``), with the landing gear's contact with the deck when the run's
+``layout.Gear`` (``Run.gear``) has points (``model.contact.gear_rhs_sc``). The packed
+arrays (``cfg``, ``ctrl``, ``act``, ``held``, the wind program, the summary, the chain) and
+the state's slots (``X_*``) are laid out in ``tetherheli.layout``; run statuses are
+``tetherheli.status.Status``.
 """
 
 from __future__ import annotations
@@ -108,7 +110,9 @@ from ..layout import (
     Scratch,
     WindPack,
     default_actuators,
+    no_gear,
 )
+from ..model.contact import gear_rhs_sc
 from ..model.kernels import (
     angle_trig,
     angle_trig_from,
@@ -177,7 +181,7 @@ ACTION_REPLACE = 2
 
 
 @_jit_inline
-def plant_derivative(x, sc, inp, reel_rate, t, side, cfg, c, wind, out):
+def plant_derivative(x, sc, inp, reel_rate, t, side, cfg, vehicle, wind, out):
     """dx/dt (13,) of the vehicle's plant (``vehicle_derivative``) at t under the wind force
     of ``wind`` (``layout.WindPack``; over a moving base with the frame's inertial force:
     ``base_frame_force``); tension 0 when the tether is removed.
@@ -198,17 +202,19 @@ def plant_derivative(x, sc, inp, reel_rate, t, side, cfg, c, wind, out):
         The side of a wind discontinuity at t: 1 the right limit, -1 the left limit.
     cfg : numpy.ndarray, shape (CFG_SIZE,)
         The run's settings (``layout.CFG_*``), the vehicle among them.
-    c : numpy.ndarray
-        The vehicle's model constants (``kernels.model_constants("tethered", h)``).
+    vehicle : tuple
+        (c, gear): the vehicle's model constants (``kernels.model_constants("tethered",
+        h)``) and its landing gear (``layout.Gear``; ``layout.no_gear()``: none).
     wind : WindPack
         The wind program, gust table, drag and base motion (``layout.WindPack``).
     out : numpy.ndarray, shape (13,)
         Receives dx/dt.
     """
+    c, gear = vehicle
     force = np.empty(3)
     base_frame_force(wind.program, wind.gust, cfg[CFG_GUST_DT], wind.drag, wind.base, t, side,
                      (x[X_U1], x[X_U1 + 1], x[X_U1 + 2]), force)  # fmt: skip
-    vehicle_derivative(x, sc, inp, reel_rate, cfg, c, force, out)
+    vehicle_derivative(x, sc, inp, reel_rate, cfg, c, force, out, gear)
 
 
 # --- the vehicle slot: the plant's derivative and outputs, by ``cfg[CFG_VEHICLE]`` ------------
@@ -219,10 +225,12 @@ def plant_derivative(x, sc, inp, reel_rate, t, side, cfg, c, wind, out):
 
 
 @_jit_inline
-def vehicle_derivative(x, sc, inp, reel_rate, cfg, c, force, out):
+def vehicle_derivative(x, sc, inp, reel_rate, cfg, c, force, out, gear):
     """dx/dt (13,) of the vehicle ``cfg[CFG_VEHICLE]`` under the air's force ``force`` (3,)
     [N]: the paper's helicopter, the generated tethered model (``kernels.tethered_rhs_sc``),
-    with the tether's tension of eq 28 (0 when removed) and the reel rate as dLN/dt. A
+    with the tether's tension of eq 28 (0 when removed), the reel rate as dLN/dt and, when
+    ``gear`` has points, the landing gear's contact with the deck (``contact.gear_rhs_sc``:
+    the loads as equivalent inputs and wind force, in scratch; ``inp`` is not modified). A
     vehicle whose kernel the slot does not hold (``layout.VEHICLES_FLOWN``) gets NaN (the
     sample then fails as non-finite).
 
@@ -244,6 +252,8 @@ def vehicle_derivative(x, sc, inp, reel_rate, cfg, c, force, out):
         The air's force on the vehicle [N] in N.
     out : numpy.ndarray, shape (13,)
         Receives dx/dt.
+    gear : Gear
+        The landing gear (``layout.Gear``; ``layout.no_gear()``: none).
     """
     if cfg[CFG_VEHICLE] == VEHICLE_HELICOPTER:
         # one inlined copy of the generated right-hand side for both configurations (a
@@ -252,7 +262,10 @@ def vehicle_derivative(x, sc, inp, reel_rate, cfg, c, force, out):
         tension = (
             tether_tension(x[X_Q9], x[X_LN], cfg[CFG_K_C], cfg[CFG_TETHER_EA]) if attached else 0.0
         )
-        tethered_rhs_sc(x, sc, inp, force, tension, c, out)
+        if gear.points.shape[0] > 0:  # a call (its own copy of the model's right-hand side)
+            gear_rhs_sc(x, sc, inp, force, tension, c, gear, out)
+        else:
+            tethered_rhs_sc(x, sc, inp, force, tension, c, out)
         out[X_LN] = reel_rate if attached else 0.0
     else:  # the multirotor's slot (``layout.VEHICLE_MULTIROTOR``), not flown yet
         for i in range(out.shape[0]):
@@ -318,7 +331,7 @@ def next_step_trig(x, start, sc0, sc, steps_done):
 
 
 @_jit
-def rk4_interval(x, inp, reel_rate, t0, cfg, c, wind, work, trig_given):
+def rk4_interval(x, inp, reel_rate, t0, cfg, c, wind, work, trig_given, gear):
     """Advance x in place over one control sample [t0, t0 + dt] with n_sub RK4 steps.
 
     ``work`` (RK4_WORK_ROWS, 13) is scratch. sin and cos of the angles come from
@@ -351,12 +364,14 @@ def rk4_interval(x, inp, reel_rate, t0, cfg, c, wind, work, trig_given):
         Scratch; work[6, :10] holds sin, cos of x's angles when ``trig_given``.
     trig_given : bool
         Whether work[6, :10] already holds sin, cos of x's angles.
+    gear : Gear
+        The landing gear (``layout.Gear``; ``layout.no_gear()``: none).
     """
     n_sub = int(cfg[CFG_N_SUB])
     h = cfg[CFG_DT] / n_sub
     # borrowed views (``_compile.borrowed``; the caller holds the arrays): the stages below
     # pick their arrays at run time, with no reference counts
-    x, work = borrowed((x, work))
+    x, work, gear = borrowed((x, work, gear))
     k1, k2, k3, k4, tmp, force = work[0], work[1], work[2], work[3], work[4], work[5]
     sc0, sc = work[6], work[7]
     program, gust, drag, base = wind.program, wind.gust, wind.drag, wind.base
@@ -387,7 +402,7 @@ def rk4_interval(x, inp, reel_rate, t0, cfg, c, wind, work, trig_given):
             if stage != 2 or gusty:
                 base_frame_force(program, gust, gdt, drag, base, ts, side,
                                  (xs[X_U1], xs[X_U1 + 1], xs[X_U1 + 2]), force)  # fmt: skip
-            vehicle_derivative(xs, scs, inp, reel_rate, cfg, c, force, work[stage])
+            vehicle_derivative(xs, scs, inp, reel_rate, cfg, c, force, work[stage], gear)
         for i in range(n):
             tmp[i] = x[i]  # the step's start, for the next step's trigonometry
             x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
@@ -981,7 +996,7 @@ def read_only_run(run):
         The same arrays, borrowed.
     """
     return Run(run.cfg, run.ctrl, frozen(run.c), frozen(run.act), frozen(run.law),
-               frozen(run.wind), (), run.chain)  # fmt: skip
+               frozen(run.wind), (), run.chain, run.gear)  # fmt: skip
 
 
 @_jit_inline
@@ -1000,7 +1015,8 @@ def control_run(run):
     Run
         The same arrays, borrowed, the wind, sensors and chain left out.
     """
-    return Run(run.cfg, run.ctrl, frozen(run.c), frozen(run.act), frozen(run.law), (), (), ())
+    return Run(run.cfg, run.ctrl, frozen(run.c), frozen(run.act), frozen(run.law), (), (), (),
+               ())  # fmt: skip
 
 
 @_jit
@@ -1334,7 +1350,7 @@ def sample_advance(run, scratch, x, inp, rate, k, lumped):
         lumped_interval(x, inp, rate, t, cfg, run.c, run.wind, run.chain,
                         (scratch.work, scratch.cw), plain(COUPLING_CONDENSED))  # fmt: skip
     else:
-        rk4_interval(x, inp, rate, t, cfg, run.c, run.wind, scratch.work, plain(True))
+        rk4_interval(x, inp, rate, t, cfg, run.c, run.wind, scratch.work, plain(True), run.gear)
 
 
 def new_loop_state(x_init: np.ndarray, z_init: np.ndarray, work: np.ndarray) -> LoopState:
@@ -1394,7 +1410,8 @@ def is_lumped(chain: tuple) -> bool:
 
 
 def run_closed_loop(
-    x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out, summary
+    x_init, n_samples, cfg_in, ctrl_in, c, law, wind, act, sensors, chain, record, out, summary,
+    gear=None,
 ):  # fmt: skip
     """Run the closed loop for n_samples control samples; returns (status, samples done).
 
@@ -1449,6 +1466,8 @@ def run_closed_loop(
         The recorded signals (``layout.Signals``).
     summary : numpy.ndarray, shape (len(SUMMARY_FIELDS),)
         Receives the on-line metrics (``layout.SUMMARY_*``).
+    gear : Gear, optional
+        The landing gear (``layout.Gear``; default none, ``layout.no_gear()``).
 
     Returns
     -------
@@ -1458,7 +1477,8 @@ def run_closed_loop(
         The samples done (n_samples + 1 for a complete run, else the failed sample's index).
     """
     loop = closed_loop_for(chain, sensors, act)
-    run = Run(cfg_in, ctrl_in, c, act, tuple(law), WindPack(*wind), sensors, chain)
+    gear = no_gear() if gear is None else gear
+    run = Run(cfg_in, ctrl_in, c, act, tuple(law), WindPack(*wind), sensors, chain, gear)
     return loop(x_init, n_samples, run, record, out, summary)
 
 
@@ -1509,12 +1529,13 @@ def _specialised_loop(lumped: bool, sensed: bool, drum: bool):
         cfg, ctrl, x, work, no_action = borrowed(
             (own_cfg, own_ctrl, own_x, own_work, own_no_action)
         )
-        c, act, law, wind, sensors, chain = borrowed(
-            (run_in.c, run_in.act, run_in.law, run_in.wind, run_in.sensors, run_in.chain)
-        )
+        c, act, law, wind, sensors, chain, gear = borrowed(
+            (run_in.c, run_in.act, run_in.law, run_in.wind, run_in.sensors, run_in.chain,
+             run_in.gear)
+        )  # fmt: skip
         summary, out, cw, loop = borrowed((summary, out, own_cw, own_loop))
         # the run's records: built once, their fields read by name in the phases
-        run = Run(cfg, ctrl, c, act, law, wind, sensors, chain)
+        run = Run(cfg, ctrl, c, act, law, wind, sensors, chain, gear)
         scratch = Scratch(work, cw, no_action)
         start_summary(summary)
         status, done = STATUS_OK, n_samples + 1

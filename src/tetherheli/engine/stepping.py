@@ -16,7 +16,17 @@ from typing import NamedTuple
 import numpy as np
 
 from .._compile import compiled
-from ..layout import ACT_DRUM, CFG_ATTACHED, CHAIN_NODES, LoopState, Run, Scratch, Signals, WindPack
+from ..layout import (
+    ACT_DRUM,
+    CFG_ATTACHED,
+    CHAIN_NODES,
+    Gear,
+    LoopState,
+    Run,
+    Scratch,
+    Signals,
+    WindPack,
+)
 from ..model.kernels import angle_trig
 from .loop import (
     STATUS_NONFINITE,
@@ -62,6 +72,8 @@ class StepRun(NamedTuple):
         ``runs.packing.sensor_tuple``'s.
     chain : tuple of numpy.ndarray
         The lumped chain (``layout.CHAIN_*``; ``layout.empty_chain()``: massless).
+    gear : Gear
+        The landing gear (``layout.Gear``; ``layout.no_gear()``: none).
     cw : tuple
         The chain's scratch (``lumped_work``).
     work : numpy.ndarray, shape (RK4_WORK_ROWS, 13)
@@ -83,6 +95,7 @@ class StepRun(NamedTuple):
     act: np.ndarray  #: ``layout.ACT_*``
     sensors: tuple  #: ``runs.packing.sensor_tuple``
     chain: tuple  #: ``layout.CHAIN_*`` (``layout.empty_chain()``: massless)
+    gear: Gear  #: ``layout.Gear`` (``layout.no_gear()``: none)
     cw: tuple  #: the chain's scratch (``lumped_work``)
     work: np.ndarray  #: (RK4_WORK_ROWS, 13) the integrator's scratch
     loop: LoopState  #: the control phases' state (``new_loop_state``)
@@ -93,7 +106,8 @@ class StepRun(NamedTuple):
 @_jit_inline
 def _records(run):
     # a ``StepRun``'s run record (``layout.Run``) and scratch (``layout.Scratch``)
-    record = Run(run.cfg, run.ctrl, run.c, run.act, run.law, run.wind, run.sensors, run.chain)
+    record = Run(run.cfg, run.ctrl, run.c, run.act, run.law, run.wind, run.sensors, run.chain,
+                 run.gear)  # fmt: skip
     return record, Scratch(run.work, run.cw, run.work[5, :4])
 
 

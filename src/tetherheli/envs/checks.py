@@ -59,6 +59,7 @@ SCENARIO_USE: dict[str, str] = {
     "winch": "flown",
     "base": "flown",  # the moving base through the engine's packed form, as simulate
     "maneuver": "refused",  # type 'none' only; its other keys are a landing's
+    "landing_gear": "refused",  # none: the environments fly no landing gear
     "trajectory": "refused",  # [reference] type 'hold' only (a moving one: simulate's)
 }
 
@@ -179,6 +180,11 @@ def check_env_scenario(scenario: Scenario) -> None:
         raise ParameterError(
             "scenario.maneuver.type", scenario.maneuver.type, "'none' (the environments "
             "hold the hover; a landing is flown by simulate)"
+        )  # fmt: skip
+    if scenario.landing_gear is not None:
+        raise ParameterError(
+            "scenario.landing_gear", "a table", "none (the environments fly no landing gear; "
+            "simulate flies it)"
         )  # fmt: skip
     if scenario.trajectory.moving:
         raise ParameterError(

@@ -99,6 +99,7 @@ from ..layout import (
     Run,
     WindPack,
     empty_chain,
+    no_gear,
 )
 from ..model.kernels import tethered_outputs
 from ..names import FREE_STATE
@@ -169,6 +170,7 @@ DEFAULT_WIND_KINDS = ("pulse", "sine", "turbulence")
 
 #: the chain of the environment's runs (the massless tether): the engine's record takes one
 _NO_CHAIN = empty_chain()
+_NO_GEAR = no_gear()  # the environments fly no landing gear
 _DEFAULT_ACTION_SCALE = (20.0, 2.0, 2.0, 5.0)
 _DEFAULT_DRAG = DragModel(cd_area_m2=(0.3, 0.3, 0.5))
 
@@ -642,9 +644,10 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         # the previous step ended)
         wind_pack = WindPack(*self._wind_args)
         run = Run(self._cfg, self._ctrl, self._c, self._act, tuple(self._law), wind_pack,
-                  self._sensor_args, _NO_CHAIN)  # fmt: skip
+                  self._sensor_args, _NO_CHAIN, _NO_GEAR)  # fmt: skip
         _, _, rate = engine.paper_sample(run, self._loop, x, self._k, command, mode)
-        engine.rk4_interval(x, self._inp, rate, t, self._cfg, self._c, wind_pack, self._work, True)
+        engine.rk4_interval(x, self._inp, rate, t, self._cfg, self._c, wind_pack, self._work, True,
+                            _NO_GEAR)  # fmt: skip
         self._k += 1
         status, reward, tension = finish_step(
             x, a, self._cfg, self._c, self._y, self._y_ref, self.effort_weight,

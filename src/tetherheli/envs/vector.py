@@ -66,13 +66,17 @@ from ..layout import (
     CFG_K_C,
     CFG_N_SUB,
     CFG_TETHER_EA,
+    GEAR_LAW_SIZE,
+    GEAR_WORK_SIZE,
     HELD_SIZE,
     LANES,
     LAW_U0,
     LAW_Y_REF,
+    LOCK_SIZE,
     LUMPED_SIZE,
     WINCH_SIZE,
     WIND_COLUMNS,
+    Gear,
     LaneWind,
     LoopState,
     Run,
@@ -150,6 +154,9 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
     n = reset.shape[0]
     # the engine's record takes a chain: the massless tether's (never read by the sample)
     no_chain = (np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(LUMPED_SIZE), np.zeros(0))
+    # and a landing gear: none (``layout.no_gear()``'s)
+    no_gear = Gear(np.zeros((0, 3)), np.zeros(GEAR_LAW_SIZE), np.zeros(2),
+                   np.zeros(GEAR_WORK_SIZE), np.zeros(0), np.zeros((0, LOCK_SIZE)))  # fmt: skip
     for i in range(n):
         if reset[i]:
             restart_copy(i, copies, shared, wind, out)
@@ -163,7 +170,7 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
                 frozen(copy_programs[i, : program_rows[i]]), frozen(gusts[i, : gust_rows[i]]),
                 frozen(copy_drag[i]), base,
             )  # fmt: skip
-            run = Run(cfg[i], ctrl[i], c, act, law, copy_wind, sensors, no_chain)
+            run = Run(cfg[i], ctrl[i], c, act, law, copy_wind, sensors, no_chain, no_gear)
             _, _, rate[i] = engine.paper_sample(run, loop, x[i], k[i], command[i], mode)
     n_sub = int(cfg0[CFG_N_SUB])
     if moving:  # copy by copy, as TetheredHoverEnv.step (sin, cos of x in work[6])
@@ -178,7 +185,7 @@ def vector_step(reset, a, command, mode, copies, shared, lanes, wind, out):
                     frozen(gusts[i, : gust_rows[i]]), frozen(copy_drag[i]), base,
                 )  # fmt: skip
                 engine.rk4_interval(x[i], inp[i], rate[i], k[i] * cfg[i, CFG_DT], cfg[i], c,
-                                    copy_wind, rk4_work, plain(True))  # fmt: skip
+                                    copy_wind, rk4_work, plain(True), no_gear)  # fmt: skip
     else:  # the lane engine, LANES copies at a time
         for b in range(x_l.shape[0]):
             xb, scb, inpb = x_l[b], sc_l[b], inp_l[b]

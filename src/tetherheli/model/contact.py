@@ -43,11 +43,27 @@ from ..layout import (
     GEAR_LAW_SIZE,
     GEAR_LAW_SLIP_SPEED,
     GEAR_LAW_STIFFNESS,
+    GEAR_WORK_BODY,
+    GEAR_WORK_DECK,
+    GEAR_WORK_INPUTS,
+    GEAR_WORK_LOADS,
+    GEAR_WORK_LOCK_DAMPING,
+    GEAR_WORK_LOCK_STIFFNESS,
+    GEAR_WORK_OUTPUTS,
+    GEAR_WORK_SIZE,
+    GEAR_WORK_WIND,
     LOADS_FORCE_N,
     LOADS_MOMENT_F,
     LOADS_SIZE,
+    LOCK_ANCHOR,
+    LOCK_HELD,
+    LOCK_SIZE,
+    X_U1,
+    X_U4,
+    Gear,
 )
 from ..params import HelicopterParams
+from .kernels import tethered_outputs_sc, tethered_rhs_sc, wrench_loads_sc
 
 __all__ = [
     "BODY_SIZE",
@@ -57,11 +73,18 @@ __all__ = [
     "body_array",
     "deck_array",
     "gear_contact",
+    "gear_inputs_sc",
     "gear_law_array",
+    "gear_record",
+    "gear_rhs_sc",
+    "lock_loads",
     "tail_lever",
 ]
 
 _jit = compiled(fastmath={"nnan", "ninf"}, error_model="numpy")
+_jit_inline = compiled(error_model="numpy", inline="always")
+#: a call, not inlined: the engine's derivative keeps only the branch to it
+_jit_call = compiled(error_model="numpy")
 
 
 @_jit
@@ -152,6 +175,186 @@ def gear_contact(gear, law, body, deck, loads, penetration):
             body[r0 + j] * mx + body[r0 + 3 + j] * my + body[r0 + 6 + j] * mz
         )
     return in_contact
+
+
+@_jit_call
+def gear_rhs_sc(x, sc, inp, force, tension, c, gear, out):
+    """dx/dt (13,) of the tethered model (``kernels.tethered_rhs_sc``) with the gear's
+    contact loads added (``gear_inputs_sc``): the engine's vehicle slot calls it when the
+    run has gear (a call, so that runs without gear keep the slot's inlined code alone).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The tethered state relative to the base (``layout.X_*``) [rad, m, rad/s, m/s, m].
+    sc : numpy.ndarray, shape (10,)
+        sin and cos of the angles (``layout.SC_*``).
+    inp : numpy.ndarray, shape (4,)
+        The rotor inputs [N, N m, N m, N] (not modified).
+    force : numpy.ndarray, shape (3,)
+        The air's force on the helicopter [N] in N (not modified).
+    tension : float
+        The tether's tension [N] (0: removed).
+    c : numpy.ndarray
+        The tethered model's constants.
+    gear : layout.Gear
+        The gear.
+    out : numpy.ndarray, shape (13,)
+        Receives dx/dt (its LN entry is the caller's).
+    """
+    inputs, wind = gear_inputs_sc(x, sc, inp, force, c, gear)
+    tethered_rhs_sc(x, sc, inputs, wind, tension, c, out)
+
+
+@_jit_inline
+def gear_inputs_sc(x, sc, inp, force, c, gear):
+    """The rotor inputs and wind force that carry the gear's contact loads on the tethered
+    helicopter at x into the generated model (``gear_contact`` on the body's pose and motion
+    relative to the base against ``gear``'s deck, then ``kernels.wrench_loads_sc``): views
+    of ``gear.work`` (``layout.GEAR_WORK_*``); ``inp`` and ``force`` are not modified.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (13,)
+        The tethered state relative to the base (``layout.X_*``) [rad, m, rad/s, m/s, m].
+    sc : numpy.ndarray, shape (10,)
+        sin and cos of the angles (``layout.SC_*``).
+    inp : numpy.ndarray, shape (4,)
+        The rotor inputs [N, N m, N m, N].
+    force : numpy.ndarray, shape (3,)
+        The air's force on the helicopter [N] in N.
+    c : numpy.ndarray
+        The tethered model's constants.
+    gear : layout.Gear
+        The gear (points, law, tail lever, scratch with the deck).
+
+    Returns
+    -------
+    inputs : numpy.ndarray, shape (4,)
+        The inputs with the gear's moment [N, N m, N m, N].
+    wind : numpy.ndarray, shape (3,)
+        The wind force with the gear's force [N].
+    """
+    work = gear.work
+    y = work[GEAR_WORK_OUTPUTS : GEAR_WORK_OUTPUTS + 4]
+    body = work[GEAR_WORK_BODY : GEAR_WORK_BODY + BODY_SIZE]
+    tethered_outputs_sc(x, sc, c, y)
+    s4, s5, s6 = sc[0], sc[1], sc[2]
+    c4, c5, c6 = sc[5], sc[6], sc[7]
+    r = BODY_R_NF  # N_R_F (Table I; ``kernels.kinematics_dcm``), row-major
+    body[r], body[r + 1], body[r + 2] = c5 * c6, -c5 * s6, s5
+    body[r + 3] = s5 * c6 * s4 + s6 * c4
+    body[r + 4] = c6 * c4 - s5 * s6 * s4
+    body[r + 5] = -c5 * s4
+    body[r + 6] = -c6 * s5 * c4 + s6 * s4
+    body[r + 7] = s5 * s6 * c4 + c6 * s4
+    body[r + 8] = c5 * c4
+    for j in range(3):
+        body[BODY_POSITION + j] = y[j]
+        body[BODY_VELOCITY + j] = x[X_U1 + j]
+        body[BODY_OMEGA_F + j] = x[X_U4 + j]
+    loads = work[GEAR_WORK_LOADS : GEAR_WORK_LOADS + LOADS_SIZE]
+    gear_contact(gear.points, gear.law, body, work[GEAR_WORK_DECK : GEAR_WORK_DECK + DECK_SIZE],
+                 loads, gear.penetration)  # fmt: skip
+    if gear.lock.shape[0] > 0:
+        lock_loads(gear.points, gear.lock, body, work[GEAR_WORK_LOCK_STIFFNESS],
+                   work[GEAR_WORK_LOCK_DAMPING], loads)  # fmt: skip
+    inputs = work[GEAR_WORK_INPUTS : GEAR_WORK_INPUTS + 4]
+    wind = work[GEAR_WORK_WIND : GEAR_WORK_WIND + 3]
+    force_N = loads[LOADS_FORCE_N : LOADS_FORCE_N + 3]
+    moment_F = loads[LOADS_MOMENT_F : LOADS_MOMENT_F + 3]
+    wrench_loads_sc(sc, inp, force, force_N, moment_F, gear.tail, inputs, wind)
+    return inputs, wind
+
+
+@_jit
+def lock_loads(gear, lock, body, stiffness, damping, loads):
+    """The deck lock's loads added to ``loads`` (``layout.LOADS_*``): each held gear point
+    (``lock[i, LOCK_HELD]``) pulled to its anchor by a spring-damper, ``-k (x_g - a) - c
+    v_g`` (the harpoon in its grid; the anchor is at rest relative to the base).
+
+    Parameters
+    ----------
+    gear : numpy.ndarray, shape (n, 3)
+        The gear points from HO in F [m].
+    lock : numpy.ndarray, shape (n, LOCK_SIZE)
+        Held flags and anchors from the base in N [m] (``layout.LOCK_*``).
+    body : numpy.ndarray, shape (BODY_SIZE,)
+        The body's pose and motion relative to the base (``layout.BODY_*``).
+    stiffness : float
+        The anchor's stiffness [N/m].
+    damping : float
+        The anchor's damping [N s/m].
+    loads : numpy.ndarray, shape (LOADS_SIZE,)
+        The force in N [N] and moment about HO in F [N m], added to.
+    """
+    p0, v0, r0, w0 = BODY_POSITION, BODY_VELOCITY, BODY_R_NF, BODY_OMEGA_F
+    mx = my = mz = 0.0
+    for i in range(gear.shape[0]):
+        if lock[i, LOCK_HELD] < 0.5:
+            continue
+        gx, gy, gz = gear[i, 0], gear[i, 1], gear[i, 2]
+        rx = body[r0] * gx + body[r0 + 1] * gy + body[r0 + 2] * gz
+        ry = body[r0 + 3] * gx + body[r0 + 4] * gy + body[r0 + 5] * gz
+        rz = body[r0 + 6] * gx + body[r0 + 7] * gy + body[r0 + 8] * gz
+        wx, wy, wz = body[w0], body[w0 + 1], body[w0 + 2]
+        ux, uy, uz = wy * gz - wz * gy, wz * gx - wx * gz, wx * gy - wy * gx
+        vx = body[v0] + body[r0] * ux + body[r0 + 1] * uy + body[r0 + 2] * uz
+        vy = body[v0 + 1] + body[r0 + 3] * ux + body[r0 + 4] * uy + body[r0 + 5] * uz
+        vz = body[v0 + 2] + body[r0 + 6] * ux + body[r0 + 7] * uy + body[r0 + 8] * uz
+        a = LOCK_ANCHOR
+        fx = -stiffness * (body[p0] + rx - lock[i, a]) - damping * vx
+        fy = -stiffness * (body[p0 + 1] + ry - lock[i, a + 1]) - damping * vy
+        fz = -stiffness * (body[p0 + 2] + rz - lock[i, a + 2]) - damping * vz
+        loads[LOADS_FORCE_N] += fx
+        loads[LOADS_FORCE_N + 1] += fy
+        loads[LOADS_FORCE_N + 2] += fz
+        mx += ry * fz - rz * fy
+        my += rz * fx - rx * fz
+        mz += rx * fy - ry * fx
+    for j in range(3):  # the moment in F: R^T m
+        loads[LOADS_MOMENT_F + j] += (
+            body[r0 + j] * mx + body[r0 + 3 + j] * my + body[r0 + 6 + j] * mz
+        )
+
+
+def gear_record(
+    points: np.ndarray,
+    law: np.ndarray,
+    helicopter: HelicopterParams,
+    lock_stiffness: float = 0.0,
+    lock_damping: float = 0.0,
+) -> Gear:
+    """The engine's ``layout.Gear`` of a helicopter's landing gear over the level deck
+    through the base (point 0, normal n3, at rest relative to the base), no point held.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 3)
+        The gear points from HO in F [m].
+    law : numpy.ndarray, shape (GEAR_LAW_SIZE,)
+        The contact law (``gear_law_array``).
+    helicopter : HelicopterParams
+        The helicopter (its tail lever).
+    lock_stiffness : float, optional
+        The deck lock's anchor stiffness per held point [N/m] (``lock_loads``).
+    lock_damping : float, optional
+        The deck lock's anchor damping per held point [N s/m].
+
+    Returns
+    -------
+    layout.Gear
+        The record, with its own scratch.
+    """
+    pts = np.ascontiguousarray(points, dtype=float).reshape(-1, 3)
+    work = np.zeros(GEAR_WORK_SIZE)
+    work[GEAR_WORK_DECK : GEAR_WORK_DECK + DECK_SIZE] = deck_array(
+        np.zeros(3), np.array([0.0, 0.0, 1.0])
+    )
+    work[GEAR_WORK_LOCK_STIFFNESS] = lock_stiffness
+    work[GEAR_WORK_LOCK_DAMPING] = lock_damping
+    return Gear(pts, np.asarray(law, dtype=float).copy(), tail_lever(helicopter), work,
+                np.zeros(pts.shape[0]), np.zeros((pts.shape[0], LOCK_SIZE)))  # fmt: skip
 
 
 def tail_lever(helicopter: HelicopterParams) -> np.ndarray:

@@ -37,6 +37,9 @@ __all__ = [
     "DECK_RATE_COLUMNS",
     "DRUM_COLUMNS",
     "EXTRA_UNITS",
+    "GEAR_CONTACT_PREFIX",
+    "GEAR_FORCE_COLUMN",
+    "GEAR_PENETRATION_PREFIX",
     "RESULT_COLUMNS",
     "RESULT_DESCRIPTIONS",
     "RESULT_FORMATS",
@@ -99,7 +102,14 @@ BASE_VELOCITY_COLUMNS: tuple[str, ...] = ("base_v1", "base_v2", "base_v3")
 #: deck's roll, pitch and yaw (small rotations about the ship's x, y, z) and their rates.
 DECK_ATTITUDE_COLUMNS: tuple[str, ...] = ("deck_roll", "deck_pitch", "deck_yaw")
 DECK_RATE_COLUMNS: tuple[str, ...] = ("deck_roll_rate", "deck_pitch_rate", "deck_yaw_rate")
+#: A landing gear's extra columns ([landing_gear], a landing's run): the deck's total normal
+#: force on the gear, and per gear point i its penetration and contact flag (1: in contact).
+GEAR_FORCE_COLUMN = "gear_force"
+GEAR_PENETRATION_PREFIX = "gear_penetration"
+GEAR_CONTACT_PREFIX = "gear_contact"
 EXTRA_UNITS: dict[str, str] = {
+    GEAR_FORCE_COLUMN: "N",
+    **{f"{GEAR_PENETRATION_PREFIX}{i}": "m" for i in range(16)},
     "drum_speed": "rad/s",
     "motor_torque": "N m",
     **dict.fromkeys(BASE_POSITION_COLUMNS, "m"),
@@ -617,10 +627,17 @@ def _touchdown(meta: dict[str, Any], source: str) -> dict[str, Any] | None:
         if not isinstance(reasons, list) or not all(isinstance(r, str) for r in reasons):
             raise TypeError
         out["reasons"] = list(reasons)
+        if "settled" in info:  # a landing on its gear (``runs.landing.Touchdown.settle``)
+            if not isinstance(info["settled"], bool) or isinstance(info["bounces"], bool):
+                raise TypeError
+            out["settled"] = info["settled"]
+            out["max_penetration"] = float(info["max_penetration"])
+            out["bounces"] = int(info["bounces"])
     except (KeyError, TypeError, ValueError):
         raise ParameterError(
             "touchdown", info, "null or a table with numbers time [s], vertical_speed [m/s], "
-            "offset [m], attitude [rad] and a list of reasons", source=source,
+            "offset [m], attitude [rad], a list of reasons and, on landing gear, settled "
+            "(true or false), max_penetration [m] and bounces", source=source,
         ) from None  # fmt: skip
     return out
 

@@ -156,7 +156,10 @@ class SimulationResult(SummaryRepr):
         "vertical_speed", "offset", "attitude", "reasons"}``, the time [s] the landing gear
         reached the deck (interpolated between samples), the vertical speed relative to the
         deck [m/s, > 0 downward], HO's horizontal distance from the pad [m], the fuselage's
-        tilt [rad], and the limits it broke (empty for status LANDED); None: no touchdown.
+        tilt [rad], and the limits it broke (empty for status LANDED); on landing gear also
+        ``"settled"`` (every gear point in contact at the end of the settling),
+        ``"max_penetration"`` [m] (the deepest gear point from the first contact on) and
+        ``"bounces"`` (rises above ``scenario.tables.BOUNCE_HEIGHT_M``); None: no touchdown.
     """
 
     time: np.ndarray

@@ -311,6 +311,9 @@ def _check(scenario: Scenario) -> None:
             type(scenario.wind).__name__,
             "built-in disturbances only (run_batch uses the compiled engine)",
         )
+    if scenario.landing_gear is not None and not python_controlled(scenario):
+        raise ParameterError(f"{scenario.name}.landing_gear", "a table", "absent in run_batch "
+                             "outside a landing (the lanes fly no landing gear)")  # fmt: skip
 
 
 def _python_run(

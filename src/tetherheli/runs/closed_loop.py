@@ -38,6 +38,7 @@ from ..layout import (
     X_U1,
     Signals,
     WindPack,
+    no_gear,
 )
 from ..model import TrimPoint
 from ..model.kernels import angle_trig, angle_trig_from
@@ -54,7 +55,7 @@ from ..scenario.core import Scenario
 from ..sensing.config import N_CHANNELS, N_GROUPS
 from ..status import FALLBACK_COLUMN, Status, finite_status, solver_status
 from .flight import reference_controller
-from .landing import Touchdown, ground_hold_controller, landing_controller
+from .landing import Touchdown, gear_columns, ground_hold_controller, landing_controller
 from .mpc_setup import mpc_controller
 from .setup import engine_setup, python_controlled
 
@@ -66,6 +67,8 @@ Method = Literal["rk4", "adaptive"]
 #: Peak memory of a recorded run over its recorded arrays: the result, the metrics'
 #: temporaries and the figures' copies of the plotted lines (measured about 2.2; margin kept).
 _RECORDED_PEAK_FACTOR = 3
+#: the adaptive reference flies no landing gear (the scenario's checks refuse it)
+_NO_GEAR = no_gear()
 
 
 def check_run_memory(
@@ -205,12 +208,17 @@ def _simulate(
         controller = DeckFeedforward(
             controller, lambda t: motion.state(t)[0, 2], scenario.params.helicopter.m
         )
-    touchdown = Touchdown(scenario) if landing else None
+    touchdown = Touchdown(scenario, setup.gear, trim.u) if landing else None
     lumped = scenario.tether.lumped
     if wind is None and setup.base.moving:
         raise ParameterError(
             "wind", type(scenario.wind).__name__, "a built-in wind over a moving base ([base]; "
             "a Python disturbance would see the velocity relative to the base)"
+        )  # fmt: skip
+    if scenario.landing_gear is not None and not (method == "rk4" and wind is not None):
+        raise ParameterError(
+            "method", method, "'rk4' with built-in winds for a run with [landing_gear] (the "
+            "adaptive reference and a Python disturbance fly no gear)"
         )  # fmt: skip
     if lumped and not (method == "rk4" and wind is not None):
         raise ParameterError(
@@ -221,7 +229,9 @@ def _simulate(
         n, drum=scenario.winch.model == "drum", lumped=lumped, nodes=_recorded_nodes(scenario)
     )
     if controller is None:  # the compiled law
-        status, done = engine.run_closed_loop(*setup.engine_args(n), True, rec.signals, rec.summary)
+        status, done = engine.run_closed_loop(
+            *setup.engine_args(n), True, rec.signals, rec.summary, gear=setup.gear
+        )
         columns: dict[str, np.ndarray] = {}
     else:  # the same sample step, the controller's slot in Python
         run = setup.step_run(rec.signals, rec.summary)
@@ -229,6 +239,7 @@ def _simulate(
             scenario, setup, run, controller, method, touchdown, rtol=rtol, atol=atol
         )
         columns = controller.recorded()  # e.g. the MPC's fallbacks
+    columns = {**columns, **gear_columns(setup.gear, rec.signals.x[:done], rec.signals.y[:done])}
     # a run whose solver failed too often is degraded or failed (status.solver_status)
     status = solver_status(status, columns.get(FALLBACK_COLUMN, ())[:done])
     result = rec.result(
@@ -404,6 +415,8 @@ def _python_loop(scenario, setup, run, controller, method, touchdown=None, *, rt
         cmd = controller.step(t, Measurement(state=x_meas.copy(), tension=measured,
                                              attached=attached))  # fmt: skip
         inp = _command_array(cmd.inputs, "inputs")
+        if touchdown is not None:  # after a touchdown that settles: the thrust cut
+            inp = touchdown.inputs(inp)
         ffwd = _command_array(cmd.feedforward, "feedforward")
         advance = compiled_step and k < n
         status, rate = command(run, k, inp, float(cmd.reel_rate), ffwd, tension, measured,
@@ -412,9 +425,10 @@ def _python_loop(scenario, setup, run, controller, method, touchdown=None, *, rt
             done = k
             break
         if touchdown is not None:
-            record = touchdown.observe(k, run.out.x[k], run.out.y[k])
-            if record is not None:
-                status, done = touchdown.judge(record), k + 1
+            ended = touchdown.step(k, run.out.x[k], run.out.y[k])
+            record = touchdown.record
+            if ended is not None:
+                status, done = ended, k + 1
                 break
         if disturbance is not None:  # the engine's empty wind program recorded zero
             out_wind[k] = np.asarray(disturbance.force_at(t, x[6:9]), dtype=float)
@@ -435,6 +449,9 @@ def _python_loop(scenario, setup, run, controller, method, touchdown=None, *, rt
     stepping.step_finish(run)
     if touchdown is not None and record is None and status == Status.OK:
         status = Status.NOT_LANDED
+    elif touchdown is not None and status == Status.OK and done > 0:  # settling cut short
+        ended = touchdown.finish(run.out.x[done - 1], run.out.y[done - 1])
+        status = status if ended is None else ended
     return status, done, record
 
 
@@ -468,8 +485,8 @@ def _adaptive_interval(
 def _plant(x, sc, inp, rate, t, side, cfg, c, disturbance, wind, base, out):
     if wind is not None:
         engine.plant_derivative(
-            x, sc, inp, rate, t, side, cfg, c, WindPack(wind.program, wind.gust, wind.drag, base),
-            out,
+            x, sc, inp, rate, t, side, cfg, (c, _NO_GEAR),
+            WindPack(wind.program, wind.gust, wind.drag, base), out,
         )  # fmt: skip
         return
     # custom disturbance: evaluate in Python, then the compiled plant with a constant force;
@@ -479,8 +496,8 @@ def _plant(x, sc, inp, rate, t, side, cfg, c, disturbance, wind, base, out):
     force = np.asarray(disturbance.force_at(t_eval, x[X_U1 : X_U1 + 3]), dtype=float)
     program = np.array([[WIND_CONSTANT, 0, 0, 1.0, 0, 0, *force]])
     engine.plant_derivative(
-        x, sc, inp, rate, t, side, cfg, c, WindPack(program, np.zeros((0, 3)), np.zeros(3), base),
-        out,
+        x, sc, inp, rate, t, side, cfg, (c, _NO_GEAR),
+        WindPack(program, np.zeros((0, 3)), np.zeros(3), base), out,
     )  # fmt: skip
 
 

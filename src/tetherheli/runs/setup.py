@@ -60,14 +60,18 @@ from ..layout import (
     CTRL_WINCH,
     VEHICLES,
     WIND_COLUMNS,
+    Gear,
     Signals,
     WindPack,
     empty_chain,
+    no_gear,
 )
 from ..model import TetheredHelicopter, TrimPoint
+from ..model.contact import gear_law_array, gear_record
 from ..model.trim import _hover_trim
 from ..params import Params
 from ..scenario.core import Scenario
+from ..scenario.tables import DECK_LOCK_DAMPING, DECK_LOCK_STIFFNESS
 from ..tether.lumped_trim import _hover_trim_lumped
 from ..wind import CompiledWind, compile_wind
 from ..wind.evaluate import air_relative_to_base
@@ -261,6 +265,8 @@ class EngineSetup:
     base : CompiledBase
         The winch's base in the engine's packed form (``base.compile_base``; default the
         paper's still winch).
+    gear : layout.Gear
+        The landing gear (``run_gear``; default ``layout.no_gear()``: none).
     """
 
     model: TetheredHelicopter
@@ -278,6 +284,7 @@ class EngineSetup:
     start: StartPoint
     chain: tuple = field(default_factory=empty_chain)
     base: CompiledBase = field(default_factory=lambda: compile_base(None))
+    gear: Gear = field(default_factory=no_gear)
 
     def engine_args(
         self, n_samples: int
@@ -353,6 +360,7 @@ class EngineSetup:
             act=act,
             sensors=sensors,
             chain=chain,
+            gear=self.gear,
             cw=lumped_step.lumped_work(segments),
             work=work,
             loop=engine.new_loop_state(x, read_only(self.start.z), work),
@@ -454,7 +462,33 @@ def engine_setup(scenario: Scenario, design_params: Params | None = None) -> Eng
         start,
         chain_start(scenario, trim),
         run_base(scenario, model),
+        run_gear(scenario, model),
     )
+
+
+def run_gear(scenario: Scenario, model: TetheredHelicopter) -> Gear:
+    """The landing gear of a run as the engine takes it (``layout.Gear``, over the level
+    deck through the base: ``model.contact.gear_record``); ``layout.no_gear()`` without a
+    ``[landing_gear]`` table.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The run.
+    model : TetheredHelicopter
+        Its model (the tail lever).
+
+    Returns
+    -------
+    layout.Gear
+        The run's own record (its scratch is written by the engine).
+    """
+    g = scenario.landing_gear
+    if g is None:
+        return no_gear()
+    law = gear_law_array(g.stiffness, g.damping, g.friction, g.slip_speed)
+    return gear_record(np.array(g.points, dtype=float), law, model.params.helicopter,
+                       DECK_LOCK_STIFFNESS, DECK_LOCK_DAMPING)  # fmt: skip
 
 
 def run_base(scenario: Scenario, model: TetheredHelicopter) -> CompiledBase:

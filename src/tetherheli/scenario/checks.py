@@ -32,6 +32,7 @@ from .tables import (
     ActuatorSettings,
     BaseSettings,
     ControlSettings,
+    LandingGearSettings,
     Limits,
     ManeuverSettings,
     MPCSettings,
@@ -318,6 +319,7 @@ def validate_scenario(s: Scenario, source: str | None) -> None:
     check_wind_covers(s.wind, s.duration, source=source)
     _check_base(s, source)
     _check_maneuver(s, source)
+    _check_landing_gear(s, source)
     _check_reference(s, source)
 
 
@@ -402,6 +404,33 @@ def _checked(cls: type, section: str, value: Any, source: str | None, **done: An
             for f in dataclasses.fields(cls)
         }
     )  # fmt: skip
+
+
+def _check_landing_gear(s: Scenario, source: str | None) -> None:
+    """The ``[landing_gear]`` table: its keys, the lowest point below HO, a run that flies
+    it (the massless tether's step: not the lumped chain's), and a landing whose touchdown
+    gate (``maneuver.gear_height``) is that lowest point; a landing that goes on after the
+    first contact (``maneuver.after_touchdown``) needs it."""
+    gear, m = s.landing_gear, s.maneuver
+    if gear is None:
+        if m.landing and m.after_touchdown != "stop":
+            raise ParameterError("maneuver.after_touchdown", m.after_touchdown, "'stop' "
+                                 "without [landing_gear]", source=source)  # fmt: skip
+        return
+    if not isinstance(gear, LandingGearSettings):
+        raise ParameterError("landing_gear", gear, "a LandingGearSettings", source=source)
+    gear = _checked(LandingGearSettings, "landing_gear", gear, source)
+    _set(s, "landing_gear", gear)
+    if not gear.gear_height > 0.0:
+        raise ParameterError("landing_gear.points", gear.points, "a lowest point below HO "
+                             "(an f3 component < 0)", source=source)  # fmt: skip
+    if s.tether.lumped:
+        raise ParameterError("tether.model", s.tether.model, "'elastic' with [landing_gear] "
+                             "(the lumped chain's step flies no gear)", source=source)  # fmt: skip
+    if m.landing and abs(m.gear_height - gear.gear_height) > 1e-9:
+        raise ParameterError("maneuver.gear_height", m.gear_height, f"the lowest gear point's "
+                             f"depth below HO, {gear.gear_height:g} m ([landing_gear] points: "
+                             "the touchdown gate)", source=source)  # fmt: skip
 
 
 def _check_maneuver(s: Scenario, source: str | None) -> None:

@@ -70,6 +70,7 @@ from .tables import (
     ActuatorSettings,
     BaseSettings,
     ControlSettings,
+    LandingGearSettings,
     Limits,
     ManeuverSettings,
     MPCSettings,
@@ -92,6 +93,7 @@ __all__ = [
     "ActuatorSettings",
     "BaseSettings",
     "ControlSettings",
+    "LandingGearSettings",
     "Limits",
     "MPCSettings",
     "ManeuverSettings",
@@ -159,6 +161,8 @@ class Scenario:
         is its motion.
     maneuver : ManeuverSettings, optional
         A maneuver flown in the run (default none: the paper's station-keeping).
+    landing_gear : LandingGearSettings or None, optional
+        The landing gear in contact with the deck (``[landing_gear]``; default None: none).
     trajectory : ReferenceSettings, optional
         The ``[reference]`` table: what the run flies beyond its hover (default hold: the
         paper's station-keeping; ``scenario.flight``). Named ``trajectory`` here because
@@ -210,6 +214,7 @@ class Scenario:
     winch: WinchSettings = field(default_factory=WinchSettings)
     base: BaseSettings = field(default_factory=BaseSettings)
     maneuver: ManeuverSettings = field(default_factory=ManeuverSettings)
+    landing_gear: LandingGearSettings | None = None
     trajectory: ReferenceSettings = field(default_factory=ReferenceSettings)
 
     def __post_init__(self) -> None:
@@ -310,6 +315,9 @@ class Scenario:
             "winch": dataclasses.asdict(self.winch),
             "base": dataclasses.asdict(self.base),
             "maneuver": dataclasses.asdict(self.maneuver),
+            "landing_gear": None
+            if self.landing_gear is None
+            else dataclasses.asdict(self.landing_gear),
             "reference": dataclasses.asdict(self.trajectory),
         }
 
@@ -401,6 +409,7 @@ _TOP_KEYS = {
     "winch",
     "base",
     "maneuver",
+    "landing_gear",
     "reference",
 }
 
@@ -508,6 +517,9 @@ def _scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> S
     if "maneuver" in data:
         table = _table(source, "maneuver", data["maneuver"], ManeuverSettings)
         kwargs["maneuver"] = ManeuverSettings(**table)
+    if "landing_gear" in data:
+        table = _table(source, "landing_gear", data["landing_gear"], LandingGearSettings)
+        kwargs["landing_gear"] = LandingGearSettings(**table)
     if "reference" in data:
         table = _vectors(source, "reference", data["reference"], ReferenceSettings)
         if isinstance(table.get("file"), str) and table["file"] and source is not None:

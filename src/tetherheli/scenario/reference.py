@@ -33,6 +33,7 @@ from .core import (
     ActuatorSettings,
     BaseSettings,
     ControlSettings,
+    LandingGearSettings,
     Limits,
     ManeuverSettings,
     MPCSettings,
@@ -55,6 +56,7 @@ _TABLES = {
     "winch": WinchSettings,
     "base": BaseSettings,
     "maneuver": ManeuverSettings,
+    "landing_gear": LandingGearSettings,
     "reference": ReferenceSettings,
 }
 _PARAM_SECTIONS = {
@@ -77,7 +79,7 @@ def _value(value: Any) -> str:
     if isinstance(value, str):
         return f'"{value}"'
     if isinstance(value, (tuple, list)):
-        return "[" + ", ".join(_value(v) for v in value) + "]"
+        return "[" + ", ".join(_value(v) for v in value) + "]"  # nested for points
     return str(value)
 
 
@@ -326,6 +328,8 @@ def scenario_reference() -> str:
             scenario.trajectory if table == "reference"
             else functools.reduce(getattr, table.split("."), scenario)
         )  # fmt: skip
+        if defaults is None:  # a table absent by default ([landing_gear]): its defaults
+            defaults = cls()
         top += [*_HEADER, *_key_rows(f"{table}.", cls, defaults)]
         if table == "base":
             top += _track_rows()

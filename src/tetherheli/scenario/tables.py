@@ -33,7 +33,12 @@ if TYPE_CHECKING:
     from _typeshed import DataclassInstance
 
 __all__ = [
+    "AFTER_TOUCHDOWN",
+    "BOUNCE_HEIGHT_M",
     "CONTROLLERS",
+    "DECK_LOCK_DAMPING",
+    "DECK_LOCK_STIFFNESS",
+    "GEAR_IDLE_THRUST_FRACTION",
     "LANDING_MIN_LENGTH_M",
     "LANDING_PRESS_M",
     "MANEUVERS",
@@ -47,6 +52,7 @@ __all__ = [
     "ActuatorSettings",
     "BaseSettings",
     "ControlSettings",
+    "LandingGearSettings",
     "Limits",
     "MPCSettings",
     "ManeuverSettings",
@@ -654,6 +660,64 @@ LANDING_PRESS_M = 0.05
 #: deck keeps the spherical coordinates (eq 27) away from q9 = 0
 LANDING_MIN_LENGTH_M = 0.08
 #: the maneuvers a ``[maneuver]`` table's ``type`` names: none (hold the hover) or a tethered
+#: what follows the first contact of a landing's gear: the run ends there ("stop", the
+#: touchdown gate; no ``[landing_gear]`` needed), or goes on with the thrust at ground idle
+#: ("thrust_cut") or with the gear points in contact held by the deck lock ("deck_lock")
+AFTER_TOUCHDOWN: tuple[str, ...] = ("stop", "thrust_cut", "deck_lock")
+#: the ground-idle thrust after a thrust cut, as a fraction of the helicopter's weight m g
+#: (assumed: the rotor kept turning at a collective giving a tenth of hover thrust)
+GEAR_IDLE_THRUST_FRACTION = 0.1
+#: a gear point rising more than this above the deck after the first contact is a bounce [m]
+BOUNCE_HEIGHT_M = 0.05
+#: the deck lock's anchor (``after_touchdown = "deck_lock"``, a harpoon in a grid): the
+#: stiffness [N/m] and damping [N s/m] holding each captured gear point (assumed: ten times
+#: the default gear's stiffness, about critically damped for a quarter of the mass)
+DECK_LOCK_STIFFNESS = 10000.0
+DECK_LOCK_DAMPING = 150.0
+#: the most gear points of a ``[landing_gear]``
+MAX_GEAR_POINTS = 16
+
+
+@dataclass(frozen=True)
+class LandingGearSettings:
+    """The landing gear (``[landing_gear]``): points fixed in the fuselage that touch the deck
+    (the plane through the winch's base, normal n3) through a compliant contact
+    (``model.contact.gear_contact``: Kelvin-Voigt normal force, regularised Coulomb
+    friction), part of the one sample step. The default is a skid for the paper's
+    helicopter (assumed: four points at (+-0.4, +-0.3, -0.35) m from HO in F, the 0.35 m
+    of ``maneuver.gear_height``), stiff enough for a static deflection m g / (n k) of
+    about 1.6 cm and damped at about 0.6 of critical per point (m / n each).
+
+    Parameters
+    ----------
+    points, stiffness, damping, friction, slip_speed
+        The keys of a scenario's ``[landing_gear]`` table; each field's ``Key`` gives its
+        meaning, unit, default and allowed range.
+    """
+
+    points: tuple[tuple[float, float, float], ...] = _key(
+        ((0.4, 0.3, -0.35), (0.4, -0.3, -0.35), (-0.4, 0.3, -0.35), (-0.4, -0.3, -0.35)),
+        Key("the gear points from HO in F (f3 up through the rotor: below HO is negative)",
+            "m", kind="points", length=MAX_GEAR_POINTS, low=-5.0, high=5.0,
+            note="the lowest below HO (f3 component < 0)"),
+    )  # fmt: skip
+    stiffness: float = _key(
+        2000.0, Key("normal stiffness per gear point", "N/m", low=0.0, low_open=True, high=1e7)
+    )
+    damping: float = _key(100.0, Key("normal damping per gear point", "N s/m", low=0.0, high=1e6))
+    friction: float = _key(0.5, Key("Coulomb friction coefficient", "", low=0.0, high=2.0))
+    slip_speed: float = _key(
+        0.01,
+        Key("slip speed below which the friction is viscous (regularised Coulomb)", "m/s",
+            low=0.0, low_open=True, high=1.0),
+    )  # fmt: skip
+
+    @property
+    def gear_height(self) -> float:
+        """The lowest gear point's depth below HO along f3 [m]."""
+        return -min(p[2] for p in self.points)
+
+
 #: landing (``control.landing``)
 MANEUVERS: tuple[str, ...] = ("none", "tethered_landing")
 
@@ -663,13 +727,14 @@ class ManeuverSettings:
     """A maneuver flown in the run (``[maneuver]``): by default none (the paper's
     station-keeping); ``type = "tethered_landing"``: from the hover over the winch's base,
     descend relative to it while the winch reels in under a tension schedule, and touch
-    down (``control.landing``). The run ends at touchdown with status "landed", or a
-    failure with its reason, and records the touchdown (``SimulationResult.touchdown``).
+    down (``control.landing``). The run ends at touchdown (``after_touchdown = "stop"``), or
+    goes on ``settle_time`` on the landing gear (``[landing_gear]``), with status "landed",
+    or a failure with its reason, and records the touchdown (``SimulationResult.touchdown``).
 
     Parameters
     ----------
     type, start_time, descent_rate, landing_tension, gear_height, max_touchdown_speed,
-    max_touchdown_offset, max_touchdown_attitude
+    max_touchdown_offset, max_touchdown_attitude, after_touchdown, settle_time, pad_radius
         The keys of a scenario's ``[maneuver]`` table; each field's ``Key`` gives its
         meaning, unit, default and allowed range.
     """
@@ -716,6 +781,22 @@ class ManeuverSettings:
         0.26,
         Key("the largest tilt of the fuselage (the angle between f3 and n3) at touchdown",
             "rad", low=0.0, low_open=True, high=1.5),
+    )  # fmt: skip
+    after_touchdown: str = _key(
+        "stop",
+        Key("after the first contact: the run ends (stop), or goes on with the thrust at "
+            f"ground idle ({GEAR_IDLE_THRUST_FRACTION:g} m g) and the cyclic and tail at trim "
+            "(thrust_cut), or with that and the gear points in contact held where they "
+            "touched (deck_lock)", kind="text", choices=AFTER_TOUCHDOWN,
+            note="thrust_cut and deck_lock need [landing_gear]"),
+    )  # fmt: skip
+    settle_time: float = _key(
+        3.0, Key("how long the run goes on after the first contact", "s", low=0.0,
+                 low_open=True, high=60.0),
+    )  # fmt: skip
+    pad_radius: float = _key(
+        1.0, Key("the landing pad's radius about the winch: HO inside it at the end of the "
+                 "settling", "m", low=0.0, low_open=True, high=50.0),
     )  # fmt: skip
 
     @property
