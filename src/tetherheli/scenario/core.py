@@ -517,7 +517,7 @@ def _scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> S
     if "maneuver" in data:
         table = _table(source, "maneuver", data["maneuver"], ManeuverSettings)
         kwargs["maneuver"] = ManeuverSettings(**table)
-    if "landing_gear" in data:
+    if data.get("landing_gear") is not None:  # to_dict writes None for no gear
         table = _table(source, "landing_gear", data["landing_gear"], LandingGearSettings)
         kwargs["landing_gear"] = LandingGearSettings(**table)
     if "reference" in data:
