@@ -120,6 +120,7 @@ from ..wind import (
     Pulse,
     Sine,
     Turbulence,
+    check_gust_grid,
     check_wind_covers,
     compile_wind,
 )
@@ -313,6 +314,8 @@ class TetheredHoverEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         if not isinstance(self.drag, DragModel):
             raise ParameterError("drag", drag, "a DragModel or None")
 
+        if "turbulence" in self._kinds:  # the episodes' gust grid, T + gust_dt long
+            check_gust_grid("gust_dt", self.scenario.duration + self.gust_dt, self.gust_dt)
         check_env_memory(self.scenario, 1, self.gust_dt)  # before an episode's tables exist
         model, trim, gain, ctrl, cfg = run_setup(self.scenario)
         self._model, self._lqi = model, gain

@@ -40,6 +40,7 @@ __all__ = [
     "GustModel",
     "SteadyWind",
     "Turbulence",
+    "check_gust_grid",
     "check_wind_covers",
     "gust_calibration",
     "heading_axes",
@@ -106,11 +107,8 @@ class Turbulence(Disturbance):
         )
         duration = check_number("Turbulence.duration", self.duration, low=0.0, low_open=True)
         dt = check_number("Turbulence.dt", self.dt, low=0.0, low_open=True, high=duration)
+        check_gust_grid("Turbulence.dt", duration, dt)
         n = math.ceil(duration / dt - 1e-9)
-        if n + 1 > _MAX_SAMPLES:
-            raise ParameterError(
-                "Turbulence.dt", self.dt, f"a step giving at most {_MAX_SAMPLES} samples"
-            )
         _set(self, "duration", duration)
         _set(self, "dt", dt)
         _set(self, "N_v_mean_wind", check_vector("Turbulence.N_v_mean_wind", self.N_v_mean_wind, 3))
@@ -294,6 +292,33 @@ class SteadyWind(Disturbance):
         out = _plain_dict(self)
         out["drag"] = self.drag.to_dict()
         return out
+
+
+def check_gust_grid(name: str, duration: float, dt: float) -> None:
+    """Refuse a gust grid of step ``dt`` over ``duration`` with more than ``_MAX_SAMPLES``
+    samples (the one rule: ``Turbulence`` applies it, the Gymnasium environment at its
+    construction for the episodes' turbulence).
+
+    Parameters
+    ----------
+    name : str
+        The field the error names.
+    duration : float
+        The grid's time span [s], > 0.
+    dt : float
+        The grid's step [s], > 0.
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    ParameterError
+        Naming ``name`` with ``dt``.
+    """
+    if math.ceil(duration / dt - 1e-9) + 1 > _MAX_SAMPLES:
+        raise ParameterError(name, dt, f"a step giving at most {_MAX_SAMPLES} samples")
 
 
 def _check_calibrated_mean_wind(model: CalibratedGaussMarkovTurbulence, N_v_mean: Vec3) -> None:
