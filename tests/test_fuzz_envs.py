@@ -224,7 +224,12 @@ def test_sb3_vec_env_arguments(kwargs, n):
     except Exception as exc:
         _assert_refusal(exc, (*ARGUMENTS, "num_envs"))
         return
-    obs = env.reset()
+    env.seed(0)  # the episodes' winds drawn from a fixed seed, as the other fuzzers' resets
+    try:
+        obs = env.reset()
+    except Exception as exc:  # a drawn wind without a trim at rest, named by its bound
+        _assert_refusal(exc, ("seed", "wind", "max_mean_wind", "max_wind_force"))
+        return
     _assert_observations(env.venv.observation_space, obs)
     env.step_async(np.zeros((n, 4)))
     obs, *_ = env.step_wait()
